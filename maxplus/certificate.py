@@ -1,0 +1,155 @@
+"""Independent, exact checking of cycle-ratio certificates.
+
+A certificate (see :class:`maxplus.cycle_ratio.CycleRatioCertificate`) claims
+a cycle time per node, potentials and a policy. It proves the cycle times when
+
+1. along every arc ``j -> i`` between nodes with cycle times, ``χ_i >= χ_j``,
+   and when they are equal, ``X_i >= X_j + w·T - W·t`` (``χ = W/T`` in lowest
+   terms, ``X`` the potential scaled by ``T``): summed around any circuit this
+   gives ``Σw / Σt <= χ`` (the potential argument of Karp 1978 and of
+   Cochet-Terrasson et al. 1998);
+2. every node's policy arc comes from a node of the same cycle time and is
+   tight, so following it backwards reaches a circuit of ratio exactly ``χ_i``;
+3. no arc leaves the nodes with a cycle time, and the other nodes span no circuit.
+
+This module recomputes all of that from the arcs with integer arithmetic and
+trusts nothing computed by the solver but the claimed numbers.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .errors import CertificateError
+from .policy_iteration import gcd_arrays
+
+if TYPE_CHECKING:
+    from .cycle_ratio import CycleRatioResult
+
+__all__ = ["verify_cycle_ratio"]
+
+_INT64_SAFE = 2**62
+
+
+def verify_cycle_ratio(result: "CycleRatioResult") -> None:
+    """Check the certificate of a cycle-ratio result in exact arithmetic.
+
+    Parameters
+    ----------
+    result : CycleRatioResult
+
+    Raises
+    ------
+    CertificateError
+        Naming the arc, node or circuit where the proof fails.
+
+    Examples
+    --------
+    >>> from maxplus.cycle_ratio import max_cycle_ratio
+    >>> r = max_cycle_ratio([0, 1], [1, 0], [3, 4], [1, 1])
+    >>> verify_cycle_ratio(r) is None
+    True
+    """
+    c = result.certificate
+    src, dst, w, t = result.src, result.dst, result.weight, result.tokens
+    n = result.n_nodes
+    W, T, X = c.ratio_num, c.ratio_den, c.potential
+    live = T != 0
+    if (np.asarray(T)[live] < 0).any():
+        raise CertificateError("a ratio denominator is negative")
+    if live.any():
+        g = gcd_arrays(np.asarray(W)[live], np.asarray(T)[live])
+        if (g != 1).any():
+            raise CertificateError("cycle-time fractions in a certificate must be in lowest terms")
+    # Both fractions reduced and T > 0: equal ratios have equal (W, T), so each
+    # check below needs only one product of a ratio part and an arc datum.
+    big_ratio = int(np.abs(W).max(initial=0)) * int(np.abs(T).max(initial=0))
+    big_value = (int(np.abs(X).max(initial=0)) + int(np.abs(w).max(initial=0)) * int(np.abs(T).max(initial=0))
+                 + int(np.abs(W).max(initial=0)) * int(t.max(initial=0)))
+    dtype = np.int64 if 2 * max(big_ratio, big_value) < _INT64_SAFE else object
+    W, T, X, w, t = (np.asarray(a).astype(dtype) for a in (W, T, X, w, t))
+    both = live[src] & live[dst]
+    leak = np.flatnonzero(live[src] & ~live[dst])
+    if len(leak):
+        a = int(leak[0])
+        raise CertificateError(
+            f"arc {a} ({src[a]} -> {dst[a]}) leaves a node with a cycle time for one without"
+        )
+    dead = np.flatnonzero(~live[src] & ~live[dst])
+    from .cycle_ratio import find_circuit
+
+    loop = find_circuit(src, dst, n, dead)
+    if loop:
+        raise CertificateError(f"circuit of arcs {loop} has no cycle time in the certificate")
+    a_idx = np.flatnonzero(both)
+    i, j = dst[a_idx], src[a_idx]
+    slower = W[j] * T[i] > W[i] * T[j]
+    if slower.any():
+        a = int(a_idx[np.flatnonzero(slower)[0]])
+        raise CertificateError(
+            f"arc {a} ({src[a]} -> {dst[a]}) goes from a larger cycle time to a smaller one"
+        )
+    same = (W[j] == W[i]) & (T[j] == T[i])
+    value = X[j] + w[a_idx] * T[i] - W[i] * t[a_idx]
+    broken = same & (value > X[i])
+    if broken.any():
+        a = int(a_idx[np.flatnonzero(broken)[0]])
+        raise CertificateError(
+            f"arc {a} ({src[a]} -> {dst[a]}) violates the potential inequality: "
+            "some circuit through it may exceed the claimed cycle time"
+        )
+    nodes = np.flatnonzero(live)
+    pol = np.asarray(c.policy)[nodes]
+    if len(nodes):
+        if (pol < 0).any() or (pol >= len(src)).any() or (dst[pol] != nodes).any():
+            raise CertificateError("a policy arc does not end at its node")
+        j = src[pol]
+        if not live[j].all():
+            raise CertificateError("a policy arc comes from a node without cycle time")
+        i = nodes
+        same_pol = (W[j] == W[i]) & (T[j] == T[i])
+        eq = X[j] + w[pol] * T[i] - W[i] * t[pol] == X[i]
+        bad = np.flatnonzero(~(same_pol & eq))
+        if len(bad):
+            k = int(nodes[bad[0]])
+            raise CertificateError(f"the policy arc of node {k} is not tight")
+    _verify_circuit(result)
+
+
+def _verify_circuit(result: "CycleRatioResult") -> None:
+    c = result.certificate
+    arcs = np.asarray(result.circuit, dtype=np.int64)
+    live = c.ratio_den != 0
+    if result.ratio is None:
+        if live.any() or len(arcs):
+            raise CertificateError("no ratio is claimed, but some node has a cycle time")
+        return
+    if len(arcs) == 0:
+        raise CertificateError("a ratio is claimed without a circuit")
+    src, dst = result.src, result.dst
+    if not np.array_equal(dst[arcs], src[np.roll(arcs, -1)]):
+        raise CertificateError(f"arcs {arcs.tolist()} do not form a circuit")
+    total_w = sum(int(v) for v in result.weight[arcs].tolist())
+    total_t = sum(int(v) for v in result.tokens[arcs].tolist())
+    if total_t == 0 or Fraction(total_w, c.scale * total_t) != result.ratio:
+        raise CertificateError(
+            f"circuit {arcs.tolist()} has ratio "
+            f"{Fraction(total_w, c.scale * max(total_t, 1))}, not {result.ratio}"
+        )
+    nodes = np.flatnonzero(live)
+    from .cycle_ratio import _argmax_ratio
+
+    best = _argmax_ratio(c.ratio_num[nodes], c.ratio_den[nodes])
+    top = Fraction(int(c.ratio_num[nodes[best]]), c.scale * int(c.ratio_den[nodes[best]]))
+    if top != result.ratio:
+        raise CertificateError(f"the largest cycle time is {top}, not the claimed {result.ratio}")
+    claimed = [
+        (int(a), int(b)) for a, b in zip(result.cycle_time_num[nodes].tolist(),
+                                         result.cycle_time_den[nodes].tolist())
+    ]
+    for k, (a, b) in zip(nodes.tolist(), claimed):
+        if b == 0 or Fraction(a, b) != Fraction(int(c.ratio_num[k]), c.scale * int(c.ratio_den[k])):
+            raise CertificateError(f"the cycle time of node {k} disagrees with its certificate")

@@ -1,0 +1,222 @@
+"""Howard's multichain policy iteration for cycle ratios, in exact integers.
+
+The kernel behind :func:`maxplus.cycle_ratio.max_cycle_ratio`. Arrays in,
+arrays out; nothing here validates input (that is done once, at the edge).
+
+A *policy* keeps one in-arc per node; following policy arcs backwards from
+any node ends on a policy circuit. *Value determination* gives every node the
+ratio ``W/T`` of the circuit it reaches (reduced fraction) and a potential
+``X`` (the bias multiplied by ``T``) that is tight along policy arcs.
+*Policy improvement* switches a node to an in-arc from a node of strictly
+larger ratio, or, failing that, to an in-arc of the same ratio with a strictly
+larger potential. When nothing improves, the potentials satisfy the
+optimality inequalities everywhere: that is the certificate.
+
+Reference: J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+algebra", IFAC Conference on System Structure and Control, 1998; A. Dasdan,
+"Experimental analysis of the fastest optimum cycle ratio and mean
+algorithms", ACM TODAES 9(4), 2004 (cycle-ratio form).
+
+Every quantity is an integer (int64 when the caller has proven that no value
+can exceed 2**62, Python ints in object arrays otherwise), so no comparison
+needs a tolerance. Ratios are compared through their *rank* among the
+distinct ratios of the current policy, computed once per iteration.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+__all__ = ["howard_arrays", "gcd_arrays"]
+
+
+def gcd_arrays(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Elementwise gcd of two integer arrays (int64 or object).
+
+    >>> gcd_arrays(np.array([4, 9]), np.array([6, 3])).tolist()
+    [2, 3]
+    """
+    if a.dtype == object or b.dtype == object:
+        return np.frompyfunc(math.gcd, 2, 1)(a, b)
+    return np.gcd(a, b)
+
+
+def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray,
+                  n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Optimal policy of a graph in which every node has at least one in-arc.
+
+    Parameters
+    ----------
+    src, dst : numpy.ndarray of int64
+        Arcs; every node in ``range(n)`` must be the ``dst`` of some arc.
+    w, t : numpy.ndarray
+        Integer weights and token counts (same dtype: int64 or object), with
+        no circuit of zero tokens.
+    n : int
+        Number of nodes.
+
+    Returns
+    -------
+    ratio_num, ratio_den, potential, policy : numpy.ndarray
+        Per node: the cycle time ``ratio_num/ratio_den`` (lowest terms), the
+        potential (bias times ``ratio_den``) and the index of its policy arc.
+
+    Examples
+    --------
+    Circuit 0 -> 1 -> 0 of ratio (5+3)/2 and a self-loop of ratio 3 on node 1:
+
+    >>> num, den, pot, pol = howard_arrays(np.array([0, 1, 1]), np.array([1, 0, 1]),
+    ...     np.array([5, 3, 3]), np.array([1, 1, 1]), 2)
+    >>> (num // den).tolist(), pol.tolist()
+    ([4, 4], [1, 0])
+    """
+    order = np.argsort(dst, kind="stable")
+    s_src, s_w, s_t = src[order], w[order], t[order]
+    counts = np.bincount(dst, minlength=n)
+    starts = np.r_[0, np.cumsum(counts)[:-1]]
+    seg = np.repeat(np.arange(n), counts)
+    # Initial policy: the heaviest in-arc of each node, a good first guess.
+    pol = starts + _segment_argmax(s_w, starts, seg)
+    W = np.zeros(n, dtype=w.dtype)
+    T = np.zeros(n, dtype=w.dtype)
+    X = np.zeros(n, dtype=w.dtype)
+    first = True
+    while True:
+        W, T, X, rank = _value_determination(pol, s_src, s_w, s_t, n, W, T, X, first)
+        first = False
+        rank_src = rank[s_src]
+        rank_dst = np.repeat(rank, counts)
+        # 1. Ratio improvement: a predecessor whose ratio is strictly larger.
+        better = rank_src > rank_dst
+        if better.any():
+            cand = starts + _segment_argmax(np.where(better, rank_src, -1), starts, seg)
+            pol = np.where(better[cand], cand, pol)
+            continue
+        # 2. Bias improvement among predecessors of the same ratio (then the
+        #    potentials share the denominator T, so integers compare directly).
+        value = X[s_src] + s_w * np.repeat(T, counts) - np.repeat(W, counts) * s_t
+        gain = (rank_src == rank_dst) & (value > np.repeat(X, counts))
+        if not gain.any():
+            return W, T, X, order[pol]
+        masked = np.where(gain, value, _lowest(value))
+        cand = starts + _segment_argmax(masked, starts, seg)
+        pol = np.where(gain[cand], cand, pol)
+
+
+def _lowest(values: np.ndarray) -> Any:
+    if values.dtype == object:
+        return min(values.tolist()) - 1 if len(values) else 0
+    return np.iinfo(np.int64).min
+
+
+def _segment_argmax(values: np.ndarray, starts: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Offset, within its segment, of the first maximum of each (non-empty) segment."""
+    if values.dtype == object:
+        ends = np.r_[starts[1:], len(values)]
+        seg_max = np.empty(len(starts), dtype=object)
+        seg_max[:] = [max(values[a:b].tolist()) for a, b in zip(starts, ends)]
+    else:
+        seg_max = np.maximum.reduceat(values, starts)
+    hit = np.flatnonzero(values == seg_max[seg])
+    first = np.r_[True, seg[hit[1:]] != seg[hit[:-1]]]
+    return hit[first] - starts[seg[hit[first]]]
+
+
+def _value_determination(pol: np.ndarray, s_src: np.ndarray, s_w: np.ndarray, s_t: np.ndarray,
+                         n: int, W_old: np.ndarray, T_old: np.ndarray, X_old: np.ndarray,
+                         first: bool):
+    """Ratio, potential and ratio rank of every node under a policy."""
+    index = np.int32 if n < 2**31 else np.int64
+    pred = s_src[pol].astype(index)
+    nodes = np.arange(n, dtype=index)
+    # 2**steps >= n jumps backwards from any node land on its policy circuit,
+    # and every circuit node is hit (the jump permutes each circuit).
+    steps = max(1, int(n).bit_length())
+    landing = pred
+    for _ in range(steps):
+        landing = landing[landing]
+    on_cycle = np.zeros(n, dtype=bool)
+    on_cycle[landing] = True
+    cycle_nodes = np.flatnonzero(on_cycle).astype(index)
+    # Root of each circuit: its smallest node (min-doubling around the circuit),
+    # so that an unchanged circuit keeps its root from one iteration to the next.
+    local = np.full(n, -1, dtype=index)
+    local[cycle_nodes] = np.arange(len(cycle_nodes), dtype=index)
+    around = local[pred[cycle_nodes]]
+    smallest = cycle_nodes.copy()
+    for _ in range(max(1, len(cycle_nodes).bit_length())):
+        smallest = np.minimum(smallest, smallest[around])
+        around = around[around]
+    is_root = np.zeros(n, dtype=bool)
+    is_root[cycle_nodes[smallest == cycle_nodes]] = True
+    # Pointer doubling over the policy forest cut at the roots: sum_w[i] and
+    # sum_t[i] add weights and tokens from i (included) to jump[i] (excluded).
+    # Nodes whose jump reached a root are final and drop out.
+    sum_w = np.where(is_root, 0, s_w[pol])
+    sum_t = np.where(is_root, 0, s_t[pol])
+    jump = np.where(is_root, nodes, pred)
+    active = np.flatnonzero(~is_root[jump])
+    while len(active):
+        target = jump[active]
+        sum_w[active] += sum_w[target]
+        sum_t[active] += sum_t[target]
+        jump[active] = jump[target]
+        active = active[~is_root[jump[active]]]
+    # The circuit of root r: its nodes' policy arcs, whose sums are those of r's
+    # in-arc plus the path back to r, i.e. sum over the circuit.
+    roots = np.flatnonzero(is_root)
+    closing = pol[roots]
+    before = s_src[closing]
+    W_root = s_w[closing] + sum_w[before]
+    T_root = s_t[closing] + sum_t[before]
+    g = gcd_arrays(W_root, T_root)
+    g = np.where(g == 0, 1, g)
+    W_root, T_root = W_root // g, T_root // g
+    rank_root = _rank_ratios(W_root, T_root)
+    slot = np.zeros(n, dtype=index)
+    slot[roots] = np.arange(len(roots), dtype=index)
+    which = slot[jump]
+    W, T, rank = W_root[which], T_root[which], rank_root[which]
+    # A circuit that was already a policy circuit keeps its root's potential
+    # (Cochet-Terrasson et al.): potentials then never decrease between
+    # iterations of equal ratios, which rules out cycling.
+    if first:
+        root_value = np.zeros(len(roots), dtype=s_w.dtype)
+    else:
+        keep = (W_old[roots] == W_root) & (T_old[roots] == T_root)
+        root_value = np.where(keep, X_old[roots], 0)
+    X = sum_w * T - W * sum_t + root_value[which]
+    return W, T, X, rank
+
+
+def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
+    """Dense rank of each fraction num/den (den > 0 for used entries; 0 = unused).
+
+    Floats sort the fractions; exact cross-multiplication then checks every
+    adjacent pair, and decides equality. If floats misordered a pair (ratios
+    closer than float precision), the order is redone with exact Fractions.
+    """
+    k = len(num)
+    used = den != 0
+    rank = np.full(k, -1, dtype=np.int64)
+    idx = np.flatnonzero(used)
+    if len(idx) == 0:
+        return rank
+    approx = num[idx].astype(float) / den[idx].astype(float)
+    order = idx[np.argsort(approx, kind="stable")]
+    a_num, a_den = num[order[:-1]], den[order[:-1]]
+    b_num, b_den = num[order[1:]], den[order[1:]]
+    left, right = a_num * b_den, b_num * a_den
+    if (left > right).any():
+        order = np.array(sorted(idx.tolist(), key=lambda i: Fraction(int(num[i]), int(den[i]))),
+                         dtype=np.int64)
+        a_num, a_den = num[order[:-1]], den[order[:-1]]
+        b_num, b_den = num[order[1:]], den[order[1:]]
+        left, right = a_num * b_den, b_num * a_den
+    rank[order] = np.r_[0, np.cumsum(left != right)]
+    return rank

@@ -1,0 +1,19 @@
+"""Shared test fixtures: where the external reference data lives."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+# CI clones the repository with shared/ beside it; a developer's checkout has
+# it at the same place (../shared).
+ANCHORS = REPO.parent / "shared" / "anchors"
+
+
+@pytest.fixture(scope="session")
+def anchors() -> Path:
+    """The read-only reference data directory (never edited by tests)."""
+    assert ANCHORS.is_dir(), f"reference data not found at {ANCHORS}"
+    return ANCHORS
