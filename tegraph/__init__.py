@@ -2,6 +2,7 @@
 task sets, through timed event graphs and (max,+) algebra."""
 
 from .errors import InputError, ModelError, NotLiveError, SkeletonError, TegraphError
+from .io.skeleton_file import load_skeleton
 from .skeleton import Clock, Link, Protocol, Skeleton, Task
 
 __all__ = [
@@ -15,4 +16,10 @@ __all__ = [
     "Clock",
     "Link",
     "Protocol",
+    "load_skeleton",
 ]
+
+from .teg import TimedEventGraph  # noqa: E402
+from .build import build_teg  # noqa: E402
+
+__all__ += ["TimedEventGraph", "build_teg"]

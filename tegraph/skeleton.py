@@ -100,7 +100,9 @@ class Skeleton:
     links: list[Link] = field(default_factory=list)
     threads: list[tuple[str, ...]] = field(default_factory=list)
     unit: str = "ms"
-    source: str | None = None
+    source: str | None = field(default=None, compare=False)
+    """Where it was read from: not part of the skeleton, so a copy read from
+    another file (``load_skeleton(dump_skeleton(sk, path))``) compares equal."""
     extra: dict[str, Any] = field(default_factory=dict)
     """Optional keys of format extensions (priority, processor, chains...)."""
 

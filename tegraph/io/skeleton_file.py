@@ -1,0 +1,314 @@
+"""Read and write skeleton files (spec §1): YAML or JSON, every refusal located.
+
+The YAML document is composed into nodes and built here rather than by
+PyYAML's constructor, for three reasons: duplicate keys are refused (YAML
+would silently keep the last one), every key and list item gets its 1-based
+line for the messages, and names and numbers are taken from the text the
+user wrote (YAML 1.1 reads the port ``on`` as true and ``010`` as eight).
+The checks themselves live in :mod:`tegraph.io.skeleton_schema` and
+:mod:`tegraph.io.skeleton_checks`, shared with skeletons built in code.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from decimal import Decimal
+from pathlib import Path
+from typing import Any
+
+import yaml
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from ..errors import SkeletonError
+from ..skeleton import Skeleton
+from .skeleton_checks import KeyPath, Locator, validate_skeleton
+from .skeleton_schema import skeleton_from_data, skeleton_to_data
+
+__all__ = [
+    "dump_skeleton",
+    "load_skeleton",
+    "skeleton_from_data",
+    "skeleton_to_data",
+    "validate_skeleton",
+]
+
+_MAP_TAG = "tag:yaml.org,2002:map"
+_SEQ_TAG = "tag:yaml.org,2002:seq"
+_MERGE_TAG = "tag:yaml.org,2002:merge"
+# Aliases can expand a small file exponentially ("billion laughs"): stop early.
+_MAX_ELEMENTS = 1_000_000
+
+
+class _Builder:
+    """Build Python data from composed YAML nodes, recording lines and source texts."""
+
+    def __init__(self, loader: yaml.SafeLoader, loc: Locator) -> None:
+        self.loader = loader
+        self.loc = loc
+        self.budget = _MAX_ELEMENTS
+        self.open: set[int] = set()  # nodes being built: an alias to one is recursive
+        self.flattened: set[int] = set()
+
+    def build(self, node: Node, path: KeyPath) -> Any:
+        self.budget -= 1
+        if self.budget < 0:
+            raise self.loc.error(
+                f"the document expands to more than {_MAX_ELEMENTS} elements through "
+                "aliases; expected a skeleton of ordinary size",
+                path,
+            )
+        if isinstance(node, ScalarNode):
+            return self.scalar(node, path)
+        if id(node) in self.open:
+            raise self.loc.error("a recursive alias; expected a tree of mappings and lists", path)
+        self.open.add(id(node))
+        try:
+            if isinstance(node, SequenceNode) and node.tag == _SEQ_TAG:
+                items = []
+                for i, item in enumerate(node.value):
+                    self.loc.lines[(*path, i)] = item.start_mark.line + 1
+                    items.append(self.build(item, (*path, i)))
+                return items
+            if isinstance(node, MappingNode) and node.tag == _MAP_TAG:
+                return self.mapping(node, path)
+            raise self.loc.error(
+                f"unsupported YAML tag {node.tag!r}; expected plain mappings and lists", path
+            )
+        finally:
+            self.open.discard(id(node))
+
+    def key(self, node: Node, path: KeyPath) -> str:
+        if not isinstance(node, ScalarNode):
+            self.loc.lines[path] = node.start_mark.line + 1
+            raise self.loc.error("a key that is a mapping or a list; expected a name", path)
+        return str(node.value)  # the text as written: `1:` and `on:` are names too
+
+    def mapping(self, node: MappingNode, path: KeyPath) -> dict[str, Any]:
+        if id(node) not in self.flattened:
+            # Look for duplicates before merging `<<` keys: a merged key that the
+            # mapping overrides is YAML's intended use, not a duplicate.
+            first: dict[str, int] = {}
+            for key_node, _ in node.value:
+                if key_node.tag == _MERGE_TAG:
+                    continue
+                key = self.key(key_node, path)
+                line = key_node.start_mark.line + 1
+                if key in first:
+                    self.loc.lines[(*path, key)] = line
+                    raise self.loc.error(
+                        f"duplicate key {key!r} (first at line {first[key]}); expected each "
+                        "key once: a reader would silently keep only the last value",
+                        (*path, key),
+                    )
+                first[key] = line
+            self.loader.flatten_mapping(node)
+            self.flattened.add(id(node))
+        out: dict[str, Any] = {}
+        for key_node, value_node in node.value:
+            key = self.key(key_node, path)
+            self.loc.lines[(*path, key)] = key_node.start_mark.line + 1
+            out[key] = self.build(value_node, (*path, key))
+        return out
+
+    def scalar(self, node: ScalarNode, path: KeyPath) -> Any:
+        try:
+            value = self.loader.construct_object(node)
+        except ValueError as err:  # e.g. an int of more digits than Python converts
+            raise self.loc.error(f"cannot read this value ({err}); expected a number "
+                                 "or a name", path) from None
+        if node.style is None and not isinstance(value, str):
+            self.loc.raw[path] = node.value
+        return value
+
+
+def _read_yaml(text: str, loc: Locator) -> Any:
+    loader = yaml.SafeLoader(text)
+    try:
+        node = loader.get_single_node()
+        return None if node is None else _Builder(loader, loc).build(node, ())
+    except yaml.MarkedYAMLError as err:
+        mark = err.problem_mark or err.context_mark
+        problem = err.problem or err.context or "unreadable"
+        raise SkeletonError(
+            f"not valid YAML: {problem}; expected a YAML mapping as in the skeleton format",
+            file=loc.file, line=mark.line + 1 if mark else None,
+        ) from None
+    except (yaml.YAMLError, RecursionError) as err:
+        raise SkeletonError(
+            f"not valid YAML: {err or 'nested too deeply'}; expected a YAML mapping as in "
+            "the skeleton format", file=loc.file,
+        ) from None
+    finally:
+        loader.dispose()
+
+
+class _DuplicateKey(Exception):
+    def __init__(self, key: str) -> None:
+        super().__init__(key)
+        self.key = key
+
+
+def _unique_pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise _DuplicateKey(key)
+        out[key] = value
+    return out
+
+
+def _read_json(text: str, loc: Locator) -> Any:
+    # Most JSON is YAML too: composing it as YAML gives the lines (and the place of
+    # a duplicate key); when it is not, the messages just go without lines.
+    probe = Locator(file=loc.file)
+    try:
+        _read_yaml(text, probe)
+        yaml_error = None
+    except SkeletonError as err:
+        yaml_error = err
+    try:
+        # Decimal keeps "0.1" exact and never overflows to inf.
+        data = json.loads(text, object_pairs_hook=_unique_pairs, parse_float=Decimal)
+    except _DuplicateKey as dup:
+        if yaml_error is not None and yaml_error.reason.startswith("duplicate key"):
+            raise yaml_error from None
+        raise SkeletonError(f"duplicate key {dup.key!r}; expected each key once",
+                            file=loc.file) from None
+    except json.JSONDecodeError as err:
+        raise SkeletonError(f"not valid JSON: {err.msg} (column {err.colno}); expected a "
+                            "JSON object as in the skeleton format",
+                            file=loc.file, line=err.lineno) from None
+    except (ValueError, RecursionError) as err:
+        raise SkeletonError(f"not valid JSON: {err or 'nested too deeply'}; expected a JSON "
+                            "object as in the skeleton format", file=loc.file) from None
+    loc.lines.update(probe.lines)
+    return data
+
+
+def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
+    """Read a skeleton file and check every rule of spec §1.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A ``.json`` file is read as JSON, anything else (``.yaml``, ``.yml``)
+        as YAML.
+
+    Returns
+    -------
+    Skeleton
+        Named by the file's ``name`` key, else by the file's stem; ``source``
+        is ``path`` as given.
+
+    Raises
+    ------
+    SkeletonError
+        The file does not exist, is empty, is not valid YAML/JSON, or breaks a
+        rule of the format; the message names the file, the key path, the line
+        when known, and what is expected.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "demo.yaml"
+    >>> _ = f.write_text("tasks:\\n  A: {duration: 0.1, period: '7/3'}\\n")
+    >>> sk = load_skeleton(f)
+    >>> sk.name, sk.tasks["A"].duration, sk.clocks["A.clock"].period
+    ('demo', Fraction(1, 10), Fraction(7, 3))
+    """
+    file = os.fspath(path)
+    where = Path(file)
+    loc = Locator(file=file)
+    try:
+        raw = where.read_bytes()
+    except FileNotFoundError:
+        raise SkeletonError("no such file; expected an existing skeleton file "
+                            "(.yaml, .yml or .json)", file=file) from None
+    except IsADirectoryError:
+        raise SkeletonError("is a directory; expected a skeleton file", file=file) from None
+    except OSError as err:
+        raise SkeletonError(f"cannot be read ({err.strerror}); expected a readable "
+                            "skeleton file", file=file) from None
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        raise SkeletonError(f"not UTF-8 text (byte 0x{raw[err.start]:02x} at offset "
+                            f"{err.start}); expected a YAML or JSON text file", file=file,
+                            line=raw[:err.start].count(b"\n") + 1) from None
+    data = None
+    if text.strip():
+        data = _read_json(text, loc) if where.suffix.lower() == ".json" else _read_yaml(text, loc)
+    if data is None:  # nothing but blanks or comments
+        raise SkeletonError("the file is empty; expected a skeleton with at least 'tasks'",
+                            file=file)
+    return skeleton_from_data(data, default_name=where.stem, source=file, locator=loc)
+
+
+class _Dumper(yaml.SafeDumper):
+    """Block mappings, but lists of names on one line: ``inputs: [a, b]``."""
+
+    def ignore_aliases(self, data: Any) -> bool:
+        return True
+
+    def represent_list(self, data: Any) -> yaml.Node:
+        flow = all(isinstance(item, (str, int)) for item in data)
+        return self.represent_sequence(_SEQ_TAG, data, flow_style=flow)
+
+
+_Dumper.add_representer(list, _Dumper.represent_list)
+
+
+def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
+    """Write a skeleton file that :func:`load_skeleton` reads back equal.
+
+    Parameters
+    ----------
+    sk : Skeleton
+    path : str or path-like
+        ``.json`` writes JSON, anything else YAML.
+    overwrite : bool
+        Replace an existing file; without it an existing file is never touched.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Raises
+    ------
+    FileExistsError
+        ``path`` exists and ``overwrite`` is False.
+    SkeletonError
+        ``sk`` breaks a rule of spec §1 (nothing is written).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> sk = skeleton_from_data({"tasks": {"A": {"duration": "7/3", "period": 4}}}, "s")
+    >>> f = dump_skeleton(sk, pathlib.Path(tempfile.mkdtemp()) / "s.yaml")
+    >>> print(f.read_text(), end="")
+    name: s
+    unit: ms
+    tasks:
+      A:
+        duration: 7/3
+        period: 4
+    >>> load_skeleton(f) == sk
+    True
+    """
+    data = skeleton_to_data(sk)
+    target = Path(os.fspath(path))
+    if target.suffix.lower() == ".json":
+        text = json.dumps(data, indent=2, ensure_ascii=False) + "\n"
+    else:
+        text = yaml.dump(data, Dumper=_Dumper, sort_keys=False, allow_unicode=True,
+                         default_flow_style=False)
+    try:
+        # Mode "x" refuses an existing file atomically (no check-then-write race).
+        with open(target, "w" if overwrite else "x", encoding="utf-8") as out:
+            out.write(text)
+    except FileExistsError:
+        raise FileExistsError(f"{target}: the file exists already; pass overwrite=True "
+                              "to replace it") from None
+    return target
