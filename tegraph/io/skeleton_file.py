@@ -117,13 +117,17 @@ class _Builder:
         except ValueError as err:  # e.g. an int of more digits than Python converts
             raise self.loc.error(f"cannot read this value ({err}); expected a number "
                                  "or a name", path) from None
-        if node.style is None and not isinstance(value, str):
+        if not node.style and not isinstance(value, str):  # plain scalar (None or "" by parser)
             self.loc.raw[path] = node.value
         return value
 
 
+# libyaml's parser is an order of magnitude faster; its nodes carry the same marks.
+_Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
 def _read_yaml(text: str, loc: Locator) -> Any:
-    loader = yaml.SafeLoader(text)
+    loader = _Loader(text)
     try:
         node = loader.get_single_node()
         return None if node is None else _Builder(loader, loc).build(node, ())
@@ -159,20 +163,17 @@ def _unique_pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
 
 
 def _read_json(text: str, loc: Locator) -> Any:
-    # Most JSON is YAML too: composing it as YAML gives the lines (and the place of
-    # a duplicate key); when it is not, the messages just go without lines.
-    probe = Locator(file=loc.file)
-    try:
-        _read_yaml(text, probe)
-        yaml_error = None
-    except SkeletonError as err:
-        yaml_error = err
     try:
         # Decimal keeps "0.1" exact and never overflows to inf.
-        data = json.loads(text, object_pairs_hook=_unique_pairs, parse_float=Decimal)
+        return json.loads(text, object_pairs_hook=_unique_pairs, parse_float=Decimal)
     except _DuplicateKey as dup:
-        if yaml_error is not None and yaml_error.reason.startswith("duplicate key"):
-            raise yaml_error from None
+        # Composing the text as YAML (most JSON is YAML) finds the line of the
+        # duplicate; when it cannot, the message goes without a line.
+        try:
+            _read_yaml(text, Locator(file=loc.file))
+        except SkeletonError as err:
+            if err.reason.startswith("duplicate key"):
+                raise err from None
         raise SkeletonError(f"duplicate key {dup.key!r}; expected each key once",
                             file=loc.file) from None
     except json.JSONDecodeError as err:
@@ -182,8 +183,16 @@ def _read_json(text: str, loc: Locator) -> Any:
     except (ValueError, RecursionError) as err:
         raise SkeletonError(f"not valid JSON: {err or 'nested too deeply'}; expected a JSON "
                             "object as in the skeleton format", file=loc.file) from None
+
+
+def _json_lines(text: str, loc: Locator) -> None:
+    """Fill ``loc`` with the line of every key path, by composing the JSON as YAML."""
+    probe = Locator(file=loc.file)
+    try:
+        _read_yaml(text, probe)
+    except SkeletonError:
+        return
     loc.lines.update(probe.lines)
-    return data
 
 
 def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
@@ -242,7 +251,14 @@ def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
     if data is None:  # nothing but blanks or comments
         raise SkeletonError("the file is empty; expected a skeleton with at least 'tasks'",
                             file=file)
-    return skeleton_from_data(data, default_name=where.stem, source=file, locator=loc)
+    if where.suffix.lower() != ".json":
+        return skeleton_from_data(data, default_name=where.stem, source=file, locator=loc)
+    try:
+        return skeleton_from_data(data, default_name=where.stem, source=file, locator=loc)
+    except SkeletonError:
+        # Lines of a JSON file are looked up only when there is an error to place.
+        _json_lines(text, loc)
+        return skeleton_from_data(data, default_name=where.stem, source=file, locator=loc)
 
 
 class _Dumper(yaml.SafeDumper):

@@ -230,7 +230,7 @@ REFUSALS = [
                  id="recursive-alias"),
     # -- the file is not valid YAML / empty ------------------------------------------
     pytest.param(y("tasks:", "  A: {duration: 1}", "  B: duration: 2"), "",
-                 "not valid YAML: mapping values are not allowed here; expected a YAML mapping",
+                 "not valid YAML: mapping values are not allowed",
                  3, id="invalid-yaml"),
     pytest.param("", "", "the file is empty; expected a skeleton with at least 'tasks'", None,
                  id="empty-file"),
