@@ -1,0 +1,312 @@
+"""Exact dater simulation, periodic regime detection and overrun search.
+
+The daters of a timed event graph follow (``docs/skeleton.md`` §3)::
+
+    x_e(k) = max over places p into e of  x_src(p)(k - m_p) + h_p   if k > m_p
+                                          a_p                       otherwise
+
+All times are scaled to integers by their common denominator, so every value
+here is an exact int64. Events are computed level by level in a topological
+order of the 0-token places, each level one numpy operation, and all groups
+of a skeleton advance together.
+
+**Periodic regime, proven.** For a set ``S`` of events closed under
+predecessors (no place enters ``S`` from outside) whose events all have the
+cycle time λ, the (max,+) recurrence is homogeneous: adding a constant to
+every ``x_e(k-m)`` adds it to ``x_e(k)``. Hence if the state
+``(x(j-M+1), ..., x(j))`` restricted to ``S`` equals an earlier one shifted by
+``c·λ`` (``M`` the largest token count), it does so forever after: the
+regime ``x_e(k+c) = x_e(k) + c·λ`` holds for every ``k >= j-M+1-c``. The first
+repetition found gives the smallest such ``k`` (the transient) and, with it,
+the smallest ``c`` (the cyclicity): a shorter period or an earlier start
+would have repeated sooner (see the proof in ``docs/analysis.md``). This is
+the (max,+) counterpart of the ORCCAD paper's search for a repeated marking
+(§5), and it needs no reachability graph.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["DaterSimulation", "Regime", "OverrunWatch", "explore"]
+
+_NONE = np.iinfo(np.int64).min // 4
+_BIG_NONE = -(2**256)
+_INT64_ROOM = 2**60
+
+
+class DaterSimulation:
+    """Step-by-step exact daters ``x(1), x(2), ...`` of the events in ``active``.
+
+    Parameters
+    ----------
+    src, dst, tokens : numpy.ndarray of int64
+        Places (input event, output event, initial tokens).
+    holding, initial : numpy.ndarray of int64
+        Holding times and availability times of initial tokens, scaled.
+    n_events : int
+    active : numpy.ndarray of bool, optional
+        Events to simulate (default all); places touching other events are
+        ignored, so ``active`` must be closed under predecessors and free of
+        token-free circuits.
+
+    Examples
+    --------
+    A clock of period 4 and phase 1 (self-loop, 1 token, available at 1) and a
+    task ``compute`` of duration 3 it activates (return place, 1 token):
+
+    >>> sim = DaterSimulation(np.array([0, 0, 1]), np.array([0, 1, 1]), np.array([1, 0, 1]),
+    ...                       np.array([4, 0, 3]), np.array([1, 0, 0]), 2)
+    >>> [sim.step().tolist() for _ in range(3)]
+    [[1, 1], [5, 5], [9, 9]]
+    """
+
+    def __init__(self, src: np.ndarray, dst: np.ndarray, tokens: np.ndarray, holding: np.ndarray,
+                 initial: np.ndarray, n_events: int, active: np.ndarray | None = None) -> None:
+        if active is None:
+            active = np.ones(n_events, dtype=bool)
+        # Scaled times are exact int64 until they near 2**60; then (or when
+        # the scaled inputs are already huge) the same code runs on Python ints.
+        self.dtype: type = object if object in (holding.dtype, initial.dtype) else np.int64
+        self.none = _BIG_NONE if self.dtype is object else _NONE
+        holding, initial = holding.astype(self.dtype), initial.astype(self.dtype)
+        keep = active[src] & active[dst]
+        self.n_events = n_events
+        self.active = active
+        self.k = 0
+        self.depth = int(tokens[keep].max(initial=0))
+        self.history: list[np.ndarray] = []
+        marked = keep & (tokens > 0)
+        order = np.argsort(dst[marked], kind="stable")
+        self._m_src = src[marked][order]
+        self._m_dst = dst[marked][order]
+        self._m_tok = tokens[marked][order]
+        self._m_h = holding[marked][order]
+        self._m_a = initial[marked][order]
+        self._m_starts, self._m_targets = _segments(self._m_dst)
+        self._levels = _levels(src[keep & (tokens == 0)], dst[keep & (tokens == 0)],
+                               holding[keep & (tokens == 0)], active)
+        # Events with no input place at all fire at time 0 (max over nothing
+        # taken as the origin of time); a skeleton never has one.
+        has_input = np.zeros(n_events, dtype=bool)
+        has_input[dst[keep]] = True
+        self._sourceless = active & ~has_input
+
+    def step(self) -> np.ndarray:
+        """Compute and return ``x(k)`` for the next ``k`` (inactive events: a huge negative)."""
+        self.k += 1
+        k = self.k
+        x = np.full(self.n_events, self.none, dtype=self.dtype)
+        x[self._sourceless] = 0
+        if len(self._m_src):
+            late = k > self._m_tok
+            value = self._m_a.copy()
+            if late.any():
+                idx = np.flatnonzero(late)
+                rows = np.stack(self.history[-self.depth:]) if self.history else None
+                back = self._m_tok[idx]
+                # history[-m] is x(k - m); only rows that exist are read.
+                value[idx] = rows[len(rows) - back, self._m_src[idx]] + self._m_h[idx]
+            x[self._m_targets] = np.maximum.reduceat(value, self._m_starts)
+        for events, starts, p_src, p_h in self._levels:
+            if len(p_src):
+                best = np.maximum.reduceat(x[p_src] + p_h, starts)
+                x[events] = np.maximum(x[events], best)
+        self.history.append(x)
+        if len(self.history) > max(self.depth, 1):
+            self.history.pop(0)
+        if self.dtype is not object and int(x.max(initial=0)) > _INT64_ROOM:
+            self._to_python_ints()
+        return x
+
+    def _to_python_ints(self) -> None:
+        def widen(a: np.ndarray) -> np.ndarray:
+            out = a.astype(object)
+            out[a == _NONE] = _BIG_NONE
+            return out
+
+        self.dtype, self.none = object, _BIG_NONE
+        self.history = [widen(row) for row in self.history]
+        self._m_h, self._m_a = self._m_h.astype(object), self._m_a.astype(object)
+        self._levels = [(e, st, ps, ph.astype(object)) for e, st, ps, ph in self._levels]
+
+
+def _segments(sorted_keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    if len(sorted_keys) == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    starts = np.flatnonzero(np.r_[True, sorted_keys[1:] != sorted_keys[:-1]])
+    return starts, sorted_keys[starts]
+
+
+def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.ndarray):
+    """Group 0-token places by the topological level of their output event."""
+    n = len(active)
+    indegree = np.bincount(dst, minlength=n)
+    level = np.full(n, -1, dtype=np.int64)
+    frontier = np.flatnonzero(active & (indegree == 0))
+    order = np.argsort(src, kind="stable")
+    s_sorted, d_by_src = src[order], dst[order]
+    starts_src = np.searchsorted(s_sorted, np.arange(n))
+    ends_src = np.searchsorted(s_sorted, np.arange(n), side="right")
+    depth = 0
+    remaining = indegree.copy()
+    while len(frontier):
+        level[frontier] = depth
+        lengths = ends_src[frontier] - starts_src[frontier]
+        if lengths.sum() == 0:
+            break
+        idx = np.repeat(starts_src[frontier], lengths) + _ragged_arange(lengths)
+        succ = d_by_src[idx]
+        np.subtract.at(remaining, succ, 1)
+        frontier = np.unique(succ[remaining[succ] == 0])
+        depth += 1
+    if (active & (level < 0)).any():
+        raise ValueError("the 0-token places of the simulated events contain a circuit")
+    out = []
+    place_level = level[dst]
+    for lev in range(1, depth + 1):
+        sel = np.flatnonzero(place_level == lev)
+        if len(sel) == 0:
+            continue
+        by_dst = sel[np.argsort(dst[sel], kind="stable")]
+        starts, events = _segments(dst[by_dst])
+        out.append((events, starts, src[by_dst], holding[by_dst]))
+    return out
+
+
+def _ragged_arange(lengths: np.ndarray) -> np.ndarray:
+    """Concatenation of arange(l) for every l in lengths."""
+    total = int(lengths.sum())
+    offsets = np.repeat(np.cumsum(lengths) - lengths, lengths)
+    return np.arange(total) - offsets
+
+
+@dataclass
+class Regime:
+    """A set of events closed under predecessors, all of cycle time ``num/den``.
+
+    After :func:`explore`, ``transient`` and ``cyclicity`` hold the smallest K
+    and c with ``x_e(k+c) = x_e(k) + c·λ`` for all its events and all k >= K
+    (None when the budget ran out first).
+    """
+
+    events: np.ndarray
+    num: int
+    den: int
+    start: int = 1
+    """States are compared only from this firing index on (see regime_bounds)."""
+    transient: int | None = None
+    cyclicity: int | None = None
+    _seen: dict = field(default_factory=dict, repr=False)
+
+
+@dataclass
+class OverrunWatch:
+    """Watch ``x_last(k-1) > x_tick(k)`` for one clocked task.
+
+    ``regime`` is the index of a proven-periodic :class:`Regime` holding both
+    events (then "never" can be proven), or None when only an overrun can end
+    the search (``certain`` says whether an overrun is known to come).
+    After :func:`explore`: ``overrun_at`` (int or None) and ``decided``.
+    """
+
+    last_event: int
+    tick_event: int
+    regime: int | None
+    certain: bool = False
+    overrun_at: int | None = None
+    decided: bool = False
+
+
+def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: list[OverrunWatch],
+            max_steps: int = 100_000) -> int:
+    """Advance the daters until every regime is found and every watch decided.
+
+    Parameters
+    ----------
+    sim : DaterSimulation
+    scale : int
+        Common denominator of the scaled times.
+    regimes : list of Regime
+        Filled in place.
+    watches : list of OverrunWatch
+        Filled in place.
+    max_steps : int
+        Budget on the firing index k.
+
+    Returns
+    -------
+    int
+        The number of steps simulated.
+    """
+    pending_regimes = set(range(len(regimes)))
+    pending_watches = set(range(len(watches)))
+    depth = max(sim.depth, 1)
+    window: list[np.ndarray] = []
+    previous: np.ndarray | None = None
+    while (pending_regimes or pending_watches) and sim.k < max_steps:
+        x = sim.step()
+        k = sim.k
+        window.append(x)
+        if len(window) > depth:
+            window.pop(0)
+        if previous is not None:
+            for w in list(pending_watches):
+                watch = watches[w]
+                if previous[watch.last_event] > x[watch.tick_event]:
+                    watch.overrun_at, watch.decided = k, True
+                    pending_watches.discard(w)
+        previous = x
+        if k < depth:
+            continue
+        for r in list(pending_regimes):
+            regime = regimes[r]
+            if k - depth + 1 < regime.start:
+                continue
+            ev = regime.events
+            # Normalized state: x·den - k·num·scale is invariant exactly when
+            # x(k) = x(k') + (k-k')·λ, with λ = num/den in unscaled units.
+            state = _normalized_state(window, ev, k, regime.num, regime.den, scale)
+            earlier = regime._seen.get(state)
+            if earlier is None:
+                regime._seen[state] = k
+                continue
+            regime.cyclicity = k - earlier
+            regime.transient = earlier - depth + 1
+            regime._seen = {}
+            pending_regimes.discard(r)
+        for w in list(pending_watches):
+            watch = watches[w]
+            if watch.regime is not None and watch.regime not in pending_regimes:
+                regime = regimes[watch.regime]
+                # Every residue of k modulo the cyclicity has been checked from
+                # the transient on: the difference is periodic from there.
+                if k >= regime.transient + regime.cyclicity:
+                    watch.decided = True
+                    pending_watches.discard(w)
+    return sim.k
+
+
+def _normalized_state(window: list[np.ndarray], events: np.ndarray, k: int, num: int, den: int,
+                      scale: int) -> bytes | tuple:
+    """The window of daters shifted back by k·λ: equal keys mean a repeated state.
+
+    ``x·den - index·num·scale`` is the dater minus ``index·λ``, times ``den·scale``
+    (λ = num/den in unscaled time units, daters scaled by ``scale``).
+    """
+    parts = []
+    wide = False
+    for offset, row in zip(range(len(window) - 1, -1, -1), window):
+        values = row[events]
+        shift = (k - offset) * num * scale
+        if values.dtype != object:
+            top = int(np.abs(values).max(initial=0))
+            if top * den + abs(shift) >= 2**62:
+                values = values.astype(object)
+        wide = wide or values.dtype == object
+        parts.append(values * den - shift)
+    state = np.concatenate(parts)
+    # Object arrays hold pointers, so they are keyed by value, not by bytes.
+    return tuple(state.tolist()) if wide else state.tobytes()

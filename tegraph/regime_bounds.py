@@ -1,0 +1,146 @@
+"""When faster upstream events stop mattering: a proven start for a periodic regime.
+
+A clocked task ``T`` keeps pace with its clock (period ``P``) while some events
+upstream of it run faster (cycle time below ``P``): a writer on a faster clock,
+say. Its group is then not rate-consistent, no full state ever repeats, and
+the overrun question cannot be settled by a repeated state alone. It can be
+settled this way (all bounds exact):
+
+1. Split the upstream closure ``U`` of ``last(T)`` into ``S`` (cycle time
+   ``P``) and ``F`` (cycle time below ``P``; ``F`` is closed under predecessors).
+2. *Upper bound on F.* With ``μ`` the largest cycle time in ``F`` and ``V``
+   the longest-path potentials of the weights ``h - μ·m`` inside ``F`` (finite,
+   since no circuit of ``F`` has a ratio above ``μ``), induction on the
+   recurrence gives ``x_f(k) <= V_f + k·μ + β`` for every ``k``, with ``β``
+   read off the first ``M`` firings.
+3. *Lower bound on S.* Let ``y`` be the daters of ``S`` with the places from
+   ``F`` removed. ``y <= x`` on ``S`` (fewer constraints), and ``S`` alone is
+   rate-consistent, so ``y`` reaches a proven periodic regime; from it,
+   ``y_s(k) >= L_s + k·P`` for ``k`` past that regime's start.
+4. A place ``f -> s`` (``m`` tokens, holding ``h``) can no longer decide
+   ``x_s(k)`` once ``V_f + (k-m)·μ + β + h <= L_s + k·P``: the other places
+   into ``s`` already give at least ``y_s(k)``. From the largest such ``k``
+   (``K*``) on, ``S`` evolves by its own places only, so a repeated state of
+   ``S`` found at indices ``>= K*`` proves its periodic regime (homogeneity).
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+
+from .dynamics import DaterSimulation, Regime, explore
+
+__all__ = ["autonomous_from"]
+
+
+def autonomous_from(upstream: np.ndarray, cycle_time: list, period: Fraction, src: np.ndarray,
+                    dst: np.ndarray, tokens: np.ndarray, holding: np.ndarray, initial: np.ndarray,
+                    scale: int, n_events: int, max_steps: int) -> tuple[np.ndarray, int] | None:
+    """The events ``S`` of ``upstream`` at the clock's rate and the index ``K*``.
+
+    Parameters
+    ----------
+    upstream : numpy.ndarray
+        A set of events closed under predecessors.
+    cycle_time : list of Fraction
+        Cycle time of every event (unscaled).
+    period : Fraction
+        The clock period ``P`` (the largest cycle time in ``upstream``).
+    src, dst, tokens, holding, initial, scale, n_events
+        The timed event graph as arrays (scaled times).
+    max_steps : int
+        Budget for the regime of the reduced system ``y``.
+
+    Returns
+    -------
+    (S, K*) or None
+        From firing ``K*`` on, the events ``S`` depend only on each other;
+        None when the budget ran out before ``y`` became periodic.
+    """
+    up = np.zeros(n_events, dtype=bool)
+    up[upstream] = True
+    slow_mask = up & np.array([cycle_time[e] == period if up[e] else False for e in range(n_events)])
+    fast_mask = up & ~slow_mask
+    slow = np.flatnonzero(slow_mask)
+    crossing = np.flatnonzero(fast_mask[src] & slow_mask[dst])
+    if len(crossing) == 0:
+        return slow, 1
+    mu = max(cycle_time[e] for e in np.flatnonzero(fast_mask).tolist())
+    potential = _potentials(np.flatnonzero(fast_mask), fast_mask, mu, src, dst, tokens, holding, scale)
+    depth = max(int(tokens[up[src] & up[dst]].max(initial=0)), 1)
+    beta = _beta(fast_mask, potential, mu, src, dst, tokens, holding, initial, scale, n_events, up, depth)
+    lower = _lower_bounds(slow, slow_mask, period, src, dst, tokens, holding, initial, scale,
+                          n_events, {int(dst[p]) for p in crossing.tolist()}, max_steps)
+    if lower is None:
+        return None
+    bounds, start = lower
+    k_star = start
+    gap = period - mu
+    for p in crossing.tolist():
+        f, s = int(src[p]), int(dst[p])
+        m, h = int(tokens[p]), Fraction(int(holding[p]), scale)
+        need = (potential[f] - m * mu + beta + h - bounds[s]) / gap
+        k_star = max(k_star, math.ceil(need))
+    return slow, max(k_star, 1)
+
+
+def _potentials(fast: np.ndarray, fast_mask: np.ndarray, mu: Fraction, src, dst, tokens, holding,
+                scale: int) -> dict[int, Fraction]:
+    """Longest-path potentials of ``h - μ·m`` inside F (Bellman-Ford from a virtual source)."""
+    places = np.flatnonzero(fast_mask[src] & fast_mask[dst]).tolist()
+    weight = {p: Fraction(int(holding[p]), scale) - mu * int(tokens[p]) for p in places}
+    value = {int(e): Fraction(0) for e in fast.tolist()}
+    for _ in range(len(value) + 1):
+        changed = False
+        for p in places:
+            a, b = int(src[p]), int(dst[p])
+            candidate = value[a] + weight[p]
+            if candidate > value[b]:
+                value[b] = candidate
+                changed = True
+        if not changed:
+            return value
+    raise AssertionError("internal error: a circuit of F exceeds its largest cycle time")
+
+
+def _beta(fast_mask, potential, mu, src, dst, tokens, holding, initial, scale, n_events, up,
+          depth: int) -> Fraction:
+    """Smallest β with x_f(k) <= V_f + k·μ + β over the first ``depth`` firings (then all k)."""
+    sim = DaterSimulation(src, dst, tokens, holding, initial, n_events, up)
+    beta = None
+    for k in range(1, depth + 1):
+        x = sim.step()
+        for f in np.flatnonzero(fast_mask).tolist():
+            gap = Fraction(int(x[f]), scale) - potential[f] - k * mu
+            beta = gap if beta is None else max(beta, gap)
+    return beta if beta is not None else Fraction(0)
+
+
+def _lower_bounds(slow, slow_mask, period, src, dst, tokens, holding, initial, scale, n_events,
+                  targets: set[int], max_steps: int):
+    """``L_s`` with ``y_s(k) >= L_s + k·P`` for k >= the returned start, ``y`` = S without F."""
+    sim = DaterSimulation(src, dst, tokens, holding, initial, n_events, slow_mask)
+    regime = Regime(slow, period.numerator, period.denominator)
+    rows: list[np.ndarray] = []
+    target_list = sorted(targets)
+
+    original_step = sim.step
+
+    def step() -> np.ndarray:
+        x = original_step()
+        rows.append(x[target_list].copy())
+        return x
+
+    sim.step = step  # type: ignore[method-assign]
+    explore(sim, scale, [regime], [], max_steps)
+    if regime.transient is None:
+        return None
+    start, cycle = regime.transient, regime.cyclicity
+    bounds = {}
+    for i, s in enumerate(target_list):
+        bounds[s] = min(Fraction(int(rows[k - 1][i]), scale) - k * period
+                        for k in range(start, start + cycle))
+    return bounds, start
