@@ -30,3 +30,61 @@ __all__ = [
     "ReducibleMatrixError",
     "CertificateError",
 ]
+
+# Dense algebra, spectral theory and implicit systems (maxplus.dense,
+# maxplus.spectral, maxplus.implicit).
+from .dense import (
+    identity,
+    left_residual,
+    oplus,
+    otimes,
+    plus,
+    power,
+    right_residual,
+    solve,
+    star,
+)
+from .implicit import ExplicitSystem, simulate, to_explicit
+from .spectral import (
+    CriticalGraph,
+    HowardResult,
+    critical_graph,
+    cycle_time_vector,
+    cyclicity,
+    eigenspace,
+    eigenvalue,
+    eigenvector,
+    howard,
+    is_irreducible,
+    karp,
+)
+from .transient import TrajectoryPeriodicity, trajectory_transient, transient
+
+__all__ += [
+    "identity",
+    "oplus",
+    "otimes",
+    "power",
+    "star",
+    "plus",
+    "solve",
+    "left_residual",
+    "right_residual",
+    "CriticalGraph",
+    "HowardResult",
+    "TrajectoryPeriodicity",
+    "eigenvalue",
+    "cycle_time_vector",
+    "eigenvector",
+    "eigenspace",
+    "critical_graph",
+    "cyclicity",
+    "transient",
+    "trajectory_transient",
+    "karp",
+    "howard",
+    "is_irreducible",
+    "ExplicitSystem",
+    "to_explicit",
+    "simulate",
+]

@@ -61,8 +61,9 @@ class ZeroTokenCircuitError(MaxPlusError, ValueError):
 
     Attributes
     ----------
-    circuit : list of int
-        Indices of the arcs of the circuit, in order.
+    circuit : list
+        The arcs of the circuit, in order: arc indices for arc arrays, matrix
+        entries ``(i, j)`` (the arc ``j -> i``) for a matrix.
     nodes : list of int
         Nodes visited, ``nodes[i]`` is the source of ``circuit[i]``.
     """

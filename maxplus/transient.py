@@ -1,0 +1,315 @@
+"""Transients of (max,+) matrices and trajectories: when periodicity starts.
+
+For irreducible A, ``A^(t+c) = λ^c ⊗ A^t`` for all large t, with c the
+cyclicity of the critical graph (Baccelli, Cohen, Olsder, Quadrat,
+*Synchronization and Linearity*, 1992, Thm 3.109); :func:`transient` finds the
+smallest such t, and decides exactly, for reducible A, whether that identity
+ever holds. :func:`trajectory_transient` does the same for one trajectory
+``x(k) = A^k ⊗ x0``. Convention as in the whole package: ``A[i][j]`` is the
+weight of the arc ``j -> i``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections import deque
+from fractions import Fraction
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .dense import _downstream, _identity_scaled, _product_scaled, _scale_together, _square
+from .errors import MaxPlusError, MaxPlusValueError, ReducibleMatrixError
+from .scalar import EPS, exact_vector, to_scaled
+from .spectral import (
+    CriticalGraph,
+    _adjacency,
+    _bool_product,
+    _classes,
+    _critical,
+    _cyclic_nodes,
+    _cyclicity,
+    _irreducible,
+    _kernel,
+    _reach_closure,
+    karp,
+)
+
+__all__ = ["TrajectoryPeriodicity", "transient", "trajectory_transient"]
+
+
+class TrajectoryPeriodicity(NamedTuple):
+    """``x(k + period) = period·rate ⊗ x(k)`` for every ``k >= transient``."""
+
+    transient: int
+    period: int
+    rate: Fraction | None
+
+
+
+
+# --------------------------------------------------------------------------- transients
+
+
+def _lasting_violation(adj: np.ndarray, marked: np.ndarray, start: np.ndarray,
+                       budget: int) -> tuple[int, int, int, int] | None:
+    """Decide whether, for all large t, every node reached from a start column by
+    a walk of length t is also reached by a walk of length t through a marked node.
+
+    Walks are tracked on two copies of the graph (not yet / already through a
+    marked node). The pair of boolean matrices evolves deterministically, so
+    once a state repeats (at t0 and t) the sequence is periodic from t0 and a
+    violation at some time in [t0, t) recurs forever, while earlier ones die
+    out. Returns None, or (node i, start column, time t, period p) of a
+    violation that recurs at every t + m·p.
+    """
+    mark = marked[:, None]
+    first = (start & ~mark, start & mark)
+
+    def step(state: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        before, after = state
+        moved_before = _bool_product(adj, before)
+        return moved_before & ~mark, _bool_product(adj, after) | (moved_before & mark)
+
+    def key(state: tuple[np.ndarray, np.ndarray]) -> bytes:
+        raw = np.packbits(state[0]).tobytes() + np.packbits(state[1]).tobytes()
+        return hashlib.blake2b(raw, digest_size=20).digest()
+
+    seen: dict[bytes, int] = {}
+    violations: list[tuple[int, int, int]] = []
+    state = first
+    for t in range(budget + 1):
+        k = key(state)
+        if k in seen:
+            t0 = seen[k]
+            replay = first
+            for _ in range(t0):
+                replay = step(replay)
+            if all(np.array_equal(a, b) for a, b in zip(replay, state)):
+                for when, i, col in violations:
+                    if when >= t0:
+                        return i, col, when, t - t0
+                return None
+        seen[k] = t
+        bad = state[0] & ~state[1]
+        if bad.any():
+            i, col = np.argwhere(bad)[0]
+            violations.append((t, int(i), int(col)))
+        state = step(state)
+    raise MaxPlusError(
+        f"could not decide periodicity within max_steps={budget} steps; raise max_steps"
+    )
+
+
+def _check_matrix_periodicity(M: np.ndarray, graph: CriticalGraph) -> None:
+    """Raise ReducibleMatrixError when ``A^(t+c) = λ^c ⊗ A^t`` holds for no t.
+
+    Necessary: an entry fed only by circuits of mean < λ grows slower than kλ.
+    Sufficient: applied to the pair (s, s), the condition puts a critical
+    circuit in the class of every node s lying on a circuit; a walk of large
+    length k spends a long stretch inside one class, and that stretch can be
+    replaced by one of the same length through the class's critical circuit
+    (in a strongly connected class all long enough lengths of the right residue
+    modulo its period are realized through any given node). So for large k the
+    best walk of every length is dominated by walks through the critical graph,
+    whose weights are eventually λ-periodic with period c (BCOQ Thm 3.109;
+    De Schutter 2000).
+    """
+    adj = _adjacency(M)
+    n = len(M)
+    cyclic = _cyclic_nodes(adj)
+    critical = np.zeros(n, dtype=bool)
+    critical[graph.nodes] = True
+    R = _reach_closure(adj)
+    through_any = _bool_product(R[:, cyclic], R[cyclic, :])
+    through_critical = _bool_product(R[:, critical], R[critical, :])
+    bad = through_any & ~through_critical
+    if bad.any():
+        # A^k[i][j] then grows like the largest mean of the classes on the walks
+        # j -> i, which is < λ: the ratio A^(k+c)[i][j] − A^k[i][j] never reaches cλ.
+        i, j = (int(v) for v in np.argwhere(bad)[0])
+        _, labels = _classes(adj)
+        culprit = next(int(c) for c in np.flatnonzero(cyclic) if R[i, c] and R[c, j])
+        members = np.flatnonzero(labels == labels[culprit]).tolist()
+        mean = karp(M[np.ix_(members, members)])
+        raise ReducibleMatrixError(
+            f"A^(t+c) = λ^c ⊗ A^t holds for no t: the walks from node {j} to node {i} "
+            f"pass through the class {members} (max cycle mean {mean}) but through no "
+            f"critical circuit (mean λ = {graph.eigenvalue}), so A^k[{i}][{j}] grows "
+            f"slower than kλ"
+        )
+
+
+def transient(A: Any, max_power: int = 10_000) -> int:
+    """Smallest t >= 0 with ``A^(t+c) = λ^c ⊗ A^t``, c = :func:`cyclicity`.
+
+    The identity then holds for every larger t (multiply by A). For
+    irreducible A it holds eventually (BCOQ Thm 3.109). For reducible A this
+    is first decided exactly: it holds iff every pair (j, i) joined by a walk
+    through some circuit is also joined by a walk through a circuit of mean λ
+    (in particular every class with a circuit must contain a critical one).
+    Without circuit (λ = ε), t is the least with ``A^(t+1) = ε``.
+
+    Parameters
+    ----------
+    A : square matrix
+    max_power : int
+        Budget: the largest power of A (and the longest walk length in the
+        decision) that may be examined.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    MaxPlusValueError
+        A bad entry or a non-square matrix.
+    ReducibleMatrixError
+        The identity holds for no t; the message names a pair of nodes (and
+        the class whose circuits are all slower than λ).
+    MaxPlusError
+        The budget ``max_power`` is exceeded.
+
+    Notes
+    -----
+    BCOQ 1992, Thm 3.109 (cyclicity theorem); for reducible matrices,
+    B. De Schutter, "On the ultimate behavior of the sequence of consecutive
+    powers of a matrix in the max-plus algebra", Linear Algebra Appl. 307, 2000.
+
+    Examples
+    --------
+    >>> transient([[3, 7], [2, 4]]), transient([[10, 0], [0, 9]])
+    (2, 20)
+    """
+    M = _square(A)
+    graph = _critical(M)[0]
+    n = len(M)
+    c = _cyclicity(graph)
+    lam = graph.eigenvalue
+    if lam is None:
+        # Nilpotent: A^(t+1) = ε ⊗ A^t = ε for t >= the longest path length.
+        S, _ = to_scaled(M, growth=n + 2)
+        current = S  # A^(t+1)
+        for t in range(n + 1):
+            if np.all(current == -np.inf):
+                return t
+            current = _product_scaled(current, S)
+        raise AssertionError("an acyclic matrix is nilpotent of index <= n")
+    if not _irreducible(_adjacency(M)):
+        _check_matrix_periodicity(M, graph)
+    shifted = np.empty(M.shape, dtype=object)
+    shifted.reshape(-1)[:] = [v - lam for v in M.ravel().tolist()]
+    # With N = A − λ the identity reads N^(t+c) = N^t; entries of N^t are sums
+    # of t entries, so growth max_power keeps float64 exact.
+    N, _ = to_scaled(shifted, growth=max_power + c + 2)
+    window = deque([_identity_scaled(n, N.dtype)])
+    for _ in range(c):
+        window.append(_product_scaled(window[-1], N))
+    t = 0
+    while True:
+        if np.all(np.asarray(window[0] == window[-1], dtype=bool)):
+            return t
+        if t + c >= max_power:
+            raise MaxPlusError(
+                f"the transient exceeds max_power={max_power}: A^(t+{c}) != λ^{c} ⊗ A^t "
+                f"for every t <= {t}; raise max_power"
+            )
+        window.popleft()
+        window.append(_product_scaled(window[-1], N))
+        t += 1
+
+
+def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> TrajectoryPeriodicity:
+    """Smallest K, then smallest c, with ``x(k+c) = c·μ ⊗ x(k)`` for all k >= K,
+    along ``x(k+1) = A ⊗ x(k)``, ``x(0) = x0``.
+
+    Found as the first k with ``x(k) − kμ = x(K) − Kμ``; the identity then holds
+    for every k >= K by homogeneity: ``x(k+c+1) = A ⊗ (cμ ⊗ x(k)) = cμ ⊗ x(k+1)``.
+    ``μ`` is the growth rate of this trajectory: λ for irreducible A; for
+    reducible A, the common cycle time of the nodes that x0 reaches through a
+    circuit (an error when they differ); None when the trajectory dies out
+    (becomes ε everywhere, then K is the first such k and c = 1).
+
+    Parameters
+    ----------
+    A : square matrix
+    x0 : vector
+        Initial state, not ε everywhere.
+    max_steps : int
+        Budget on the number of steps simulated.
+
+    Returns
+    -------
+    TrajectoryPeriodicity
+        ``(transient K, period c, rate μ)``.
+
+    Raises
+    ------
+    MaxPlusValueError
+        A bad entry, a size mismatch, or ``x0`` ε everywhere.
+    ReducibleMatrixError
+        The trajectory never becomes periodic (nodes reached from x0 grow at
+        different rates, or some residue of k grows slower than the rest).
+    MaxPlusError
+        The budget is exceeded.
+
+    Notes
+    -----
+    BCOQ 1992, Thm 3.109 and §3.7 (periodic regime of trajectories).
+
+    Examples
+    --------
+    >>> trajectory_transient([[3, 7], [2, 4]], [0, 0])
+    TrajectoryPeriodicity(transient=1, period=2, rate=Fraction(9, 2))
+    """
+    M = _square(A)
+    n = len(M)
+    x = exact_vector(x0, "x0")
+    if len(x) != n:
+        raise MaxPlusValueError(f"expected {n} entries to match A, got {len(x)}", "x0")
+    support = np.array([v != EPS for v in x], dtype=bool)
+    if not support.any():
+        raise MaxPlusValueError("x0 is ε everywhere: the trajectory is trivially ε", "x0")
+    adj = _adjacency(M)
+    nodes = np.flatnonzero(_downstream(adj, support))
+    sub = M[np.ix_(nodes, nodes)]
+    result, _ = _kernel(sub)
+    rates = result.cycle_times
+    distinct = sorted({r for r in rates if r is not None})
+    if len(distinct) > 1:
+        slow = int(nodes[rates.index(distinct[0])])
+        fast = int(nodes[rates.index(distinct[-1])])
+        raise ReducibleMatrixError(
+            f"the trajectory never becomes periodic: node {slow} grows at rate {distinct[0]} "
+            f"and node {fast} at rate {distinct[-1]}"
+        )
+    rate = distinct[0] if distinct else None
+    if rate is not None and not _irreducible(adj):
+        graph = _critical(sub)[0]
+        marked = np.zeros(len(nodes), dtype=bool)
+        marked[graph.nodes] = True
+        found = _lasting_violation(_adjacency(sub), marked, support[nodes][:, None], max_steps)
+        if found is not None:
+            i, _, t, p = found
+            raise ReducibleMatrixError(
+                f"the trajectory never becomes periodic: for every k ≡ {t % p} (mod {p}) "
+                f"large enough, x_{int(nodes[i])}(k) only depends on walks avoiding the "
+                f"circuits of mean {rate}, so it grows slower along those k"
+            )
+    vec = np.empty((n, 1), dtype=object)
+    vec[:, 0] = x
+    (S, X), scale = _scale_together([M, vec], growth=max_steps + 2)
+    num, den = (rate.numerator, rate.denominator) if rate is not None else (0, 1)
+    state = X[:, 0]
+    seen: dict[tuple, int] = {}
+    for k in range(max_steps + 1):
+        # x(k) − kμ, scaled by den so that everything stays an integer.
+        key = tuple(v if v == -np.inf else int(v) * den - k * num * scale for v in state.tolist())
+        if key in seen:
+            return TrajectoryPeriodicity(seen[key], k - seen[key], rate)
+        seen[key] = k
+        state = (S + state[None, :]).max(axis=1)
+    raise MaxPlusError(
+        f"the trajectory is not periodic within max_steps={max_steps}; raise max_steps"
+    )
