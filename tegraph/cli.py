@@ -67,6 +67,10 @@ def analyze(
     raise typer.Exit(report.exit_status)
 
 
+# Further commands (reach, cycle-time, convert, fix, rules, timeline) are added
+# below this line, one function each, in the same shape as `analyze`.
+
+
 def main() -> None:
     """Console-script entry point."""
     try:
