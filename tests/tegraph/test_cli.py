@@ -1,0 +1,114 @@
+"""The command line: exit statuses, output formats, refusals without tracebacks."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+LIVE = """\
+name: pipeline
+tasks:
+  A: {duration: 2, period: 10, outputs: [x]}
+  B: {duration: "7/3", inputs: [x]}
+links:
+  - {from: "A:x", to: "B:x", protocol: ASYN/SYN}
+"""
+
+# Figure 7a of the ORCCAD paper: each task waits to read from the next one.
+CIRCULAR = """\
+tasks:
+  MT1: {duration: 1, inputs: [c], outputs: [a]}
+  MT2: {duration: 1, inputs: [a], outputs: [b]}
+  MT3: {duration: 1, inputs: [b], outputs: [c]}
+links:
+  - {from: "MT1:a", to: "MT2:a", protocol: ASYN/SYN}
+  - {from: "MT2:b", to: "MT3:b", protocol: ASYN/SYN}
+  - {from: "MT3:c", to: "MT1:c", protocol: ASYN/SYN}
+"""
+
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args],
+                          capture_output=True, text=True, timeout=120)
+
+
+@pytest.fixture
+def live_file(tmp_path: Path) -> Path:
+    path = tmp_path / "pipeline.yaml"
+    path.write_text(LIVE)
+    return path
+
+
+def test_live_and_consistent_exits_0_with_exact_figures(live_file):
+    out = run("analyze", str(live_file), "--json")
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    # One group under A's clock: period 10. No path leads from B back to A, so
+    # the only circuit through B.compute is B's chain (read -> compute ->
+    # return place holding 7/3, 1 token): slack 10*1 - 7/3 = 23/3. A's only
+    # circuit through A.compute is its chain (holding 2, 1 token): slack 8.
+    assert report["groups"][0]["period"] == "10"
+    assert report["tasks"]["B"]["period"] == "10"
+    assert report["tasks"]["B"]["slack"] == "23/3"
+    assert report["tasks"]["A"]["slack"] == "8"
+    assert report["live"] is True and report["consistent"] is True
+    assert report["schema_version"] == 1
+
+
+def test_human_report_names_verdicts_and_methods(live_file):
+    out = run("analyze", str(live_file))
+    assert out.returncode == 0
+    assert "live" in out.stdout and "Commoner" in out.stdout
+    assert "23/3 ms (7.667)" in out.stdout
+
+
+def test_deadlock_exits_1_and_names_the_circuit(tmp_path):
+    path = tmp_path / "fig7a.yaml"
+    path.write_text(CIRCULAR)
+    out = run("analyze", str(path), "--json")
+    assert out.returncode == 1
+    report = json.loads(out.stdout)
+    assert report["live"] is False
+    assert report["reorder"]["possible"] is False
+    (deadlock,) = report["deadlocks"]
+    assert sorted(deadlock["tasks"]) == ["MT1", "MT2", "MT3"]
+    assert "MT1.read:c" in deadlock["events"]
+
+
+@pytest.mark.parametrize("text, where", [
+    ("tasks:\n  A: {duration: -1}\n", "tasks.A.duration"),
+    ("tasks: {}\n", "tasks"),
+    ("tasks:\n  A: {duration: 1, colour: red}\n", "tasks.A.colour"),
+])
+def test_refused_input_exits_2_with_one_line(tmp_path, text, where):
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    out = run("analyze", str(path))
+    assert out.returncode == 2
+    assert out.stdout == ""
+    assert "Traceback" not in out.stderr
+    line = out.stderr.strip()
+    assert line.startswith("tegraph: error: ") and str(path) in line and where in line
+
+
+def test_missing_file_exits_2(tmp_path):
+    out = run("analyze", str(tmp_path / "nothing.yaml"))
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert "nothing.yaml" in out.stderr
+
+
+def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
+    out_dir = tmp_path / "tables"
+    assert run("analyze", str(live_file), "--csv", str(out_dir)).returncode == 0
+    rows = (out_dir / "tasks.csv").read_text().splitlines()
+    assert rows[0] == "task,group,period,overrun_at,slack,critical"
+    assert rows[2] == "B,0,10,,23/3,False"
+    (out_dir / "tasks.csv").write_text("mine")
+    again = run("analyze", str(live_file), "--csv", str(out_dir))
+    assert again.returncode == 2 and "exists" in again.stderr
+    assert (out_dir / "tasks.csv").read_text() == "mine"
+    assert run("analyze", str(live_file), "--csv", str(out_dir), "--force").returncode == 0
