@@ -1,0 +1,94 @@
+"""Generate large synchronization skeletons for the analysis benchmark.
+
+Tasks come in synchronized groups of 3 to 30: the first task of a group has a
+clock; every other task reads from an earlier task of its group through
+ASYN/SYN (mostly), SYN/ASYN or SYN/SYN, so each group is one weakly connected
+part of the timed event graph. A few tasks share a thread with the task they
+read from, and ASYN/ASYN links join some groups (they add no place). Durations
+are small against the clock period, so most groups are consistent; a few
+groups get a second clock on one of their tasks (double synchronization, the
+ORCCAD paper's Figure 12), which makes them overrun.
+
+Usage::
+
+    python benchmarks/generate_skeleton.py 10000 -o /tmp/sk10k.yaml [--seed 0]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import random
+from pathlib import Path
+
+
+def generate(n_tasks: int, seed: int = 0) -> dict:
+    rng = random.Random(seed)
+    tasks: dict[str, dict] = {}
+    links: list[dict] = []
+    threads: list[list[str]] = []
+    in_thread: set[str] = set()
+    group_first: list[str] = []
+    made = 0
+    g = 0
+    while made < n_tasks:
+        size = min(rng.randint(3, 30), n_tasks - made)
+        period = rng.choice([1, 2, 5, 10, 20, 50])
+        names = [f"G{g}.T{k}" for k in range(size)]
+        budget = period * 0.8
+        for k, name in enumerate(names):
+            task: dict = {"duration": f"{rng.randint(1, 100)}/{int(1000 / budget * size) or 1}",
+                          "inputs": [], "outputs": []}
+            if k == 0:
+                task["period"] = period
+            tasks[name] = task
+        for k in range(1, size):
+            parent = names[rng.randrange(k)]
+            child = names[k]
+            roll = rng.random()
+            protocol = "ASYN/SYN" if roll < 0.7 else ("SYN/ASYN" if roll < 0.85 else "SYN/SYN")
+            port = f"d{k}"
+            tasks[parent]["outputs"].append(port)
+            tasks[child]["inputs"].append(port)
+            links.append({"from": f"{parent}:{port}", "to": f"{child}:{port}", "protocol": protocol})
+            if (protocol == "ASYN/SYN" and rng.random() < 0.05
+                    and parent not in in_thread and child not in in_thread):
+                threads.append([parent, child])
+                in_thread.update((parent, child))
+        if rng.random() < 0.05 and size > 1:
+            # Double synchronization: a synchronized task also gets a fast clock.
+            victim = names[rng.randrange(1, size)]
+            tasks[victim]["period"] = max(1, period // 2)
+        if group_first and rng.random() < 0.5:
+            other = rng.choice(group_first)
+            tasks[other]["outputs"].append(f"x{g}")
+            tasks[names[0]]["inputs"].append(f"x{g}")
+            links.append({"from": f"{other}:x{g}", "to": f"{names[0]}:x{g}",
+                          "protocol": "ASYN/ASYN"})
+        group_first.append(names[0])
+        made += size
+        g += 1
+    for task in tasks.values():
+        if not task["inputs"]:
+            del task["inputs"]
+        if not task["outputs"]:
+            del task["outputs"]
+    doc = {"name": f"generated-{n_tasks}", "tasks": tasks, "links": links}
+    if threads:
+        doc["threads"] = threads
+    return doc
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("n_tasks", type=int)
+    parser.add_argument("-o", "--output", type=Path, required=True)
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+    doc = generate(args.n_tasks, args.seed)
+    # JSON is a subset of YAML and loads much faster for large files.
+    args.output.write_text(json.dumps(doc, indent=1))
+
+
+if __name__ == "__main__":
+    main()
