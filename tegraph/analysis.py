@@ -105,6 +105,7 @@ class Analysis:
         self.holding, self.initial, self.scale = a.holding, a.initial, a.scale
         self.n = self.teg.n_transitions
         self.names = self.teg.transition_names
+        self.places = self.teg.places
         self.notes: list[str] = []
 
     # ------------------------------------------------------------------ structure
@@ -150,8 +151,15 @@ class Analysis:
                 number[lab] = len(number)
                 self.group_tasks.append([])
             self.group_tasks[number[lab]].append(name)
-        self.group_of_event = np.array([number.get(int(lab), -1) for lab in label], dtype=np.int64)
+        relabel = np.full(int(label.max(initial=-1)) + 1, -1, dtype=np.int64)
+        for lab, g in number.items():
+            relabel[lab] = g
+        self.group_of_event = relabel[label]
         self.task_group = {t: g for g, ts in enumerate(self.group_tasks) for t in ts}
+        # Events and places of each group, split once (groups can be thousands).
+        n_groups = len(self.group_tasks)
+        self.events_of_group = _split_by(self.group_of_event, n_groups)
+        self.places_of_group = _split_by(self.group_of_event[self.src], n_groups)
 
     def _deadlocks(self) -> list[Deadlock]:
         circuits = token_free_circuits(self.src, self.dst, self.tokens, self.n)
@@ -164,8 +172,8 @@ class Analysis:
                 for t in self._event_tasks(int(self.src[p])):
                     if t not in tasks:
                         tasks.append(t)
-            links = [self.teg.places[p].origin["link"] for p in circuit
-                     if self.teg.places[p].kind in ("asyn-syn", "syn-asyn")]
+            links = [self.places[p].origin["link"] for p in circuit
+                     if self.places[p].kind in ("asyn-syn", "syn-asyn")]
             out.append(Deadlock(events, tasks, links, ""))
         return out
 
@@ -204,15 +212,18 @@ class Analysis:
         ]
 
     def _unbounded_places(self) -> list[UnboundedPlace]:
+        lp = self.live_places
+        num, den = self.mcr.cycle_time_num, self.mcr.cycle_time_den
+        a, b = self.src[lp], self.dst[lp]
+        # chi_b > chi_a, compared exactly by cross-multiplication.
+        slower = num[b] * den[a] > num[a] * den[b]
         out = []
-        for k in self.live_places.tolist():
+        for k in lp[slower].tolist():
             a, b = int(self.src[k]), int(self.dst[k])
-            if self.ct[b] > self.ct[a]:  # type: ignore[operator]
-                place = self.teg.places[k]
-                kind = _KIND_REPORTED.get(place.kind, "chain")
-                out.append(UnboundedPlace(
-                    self.names[a], self.names[b], kind, self.ct[a], self.ct[b],  # type: ignore[arg-type]
-                    int(self.group_of_event[a]), self._unbounded_advice(kind, a, b)))
+            kind = _KIND_REPORTED.get(self.places[k].kind, "chain")
+            out.append(UnboundedPlace(
+                self.names[a], self.names[b], kind, self.ct[a], self.ct[b],  # type: ignore[arg-type]
+                int(self.group_of_event[a]), self._unbounded_advice(kind, a, b)))
         return out
 
     def _unbounded_advice(self, kind: str, a: int, b: int) -> str:
@@ -249,7 +260,7 @@ class Analysis:
             circuit: list[str] = []
             cycle_times = {}
             if live:
-                events = np.flatnonzero(self.group_of_event == g)
+                events = self.events_of_group[g]
                 cycle_times = {t: self.ct[self._compute(t)] for t in tasks}
                 slowest = max(events.tolist(), key=lambda e: self.ct[e])
                 arcs = _policy_circuit(slowest, src_policy, self.mcr.src)
@@ -275,8 +286,8 @@ class Analysis:
         for group in groups:
             if not group.rate_consistent:
                 continue
-            events = np.flatnonzero(self.group_of_event == group.index)
-            places = self.live_places[self.group_of_event[self.src[self.live_places]] == group.index]
+            events = self.events_of_group[group.index]
+            places = self.places_of_group[group.index]
             W = int(cert.ratio_num[events[0]])
             T = int(cert.ratio_den[events[0]])
             X = cert.potential
@@ -307,12 +318,11 @@ class Analysis:
         for g in groups:
             if g.rate_consistent:
                 group_regime[g.index] = len(regimes)
-                events = np.flatnonzero(self.group_of_event == g.index)
+                events = self.events_of_group[g.index]
                 regimes.append(Regime(events, g.period.numerator, g.period.denominator))  # type: ignore[union-attr]
         watches: list[OverrunWatch] = []
         watched: list[str] = []
         closure_regime: dict[bytes, int | None] = {}
-        reverse = None
         for name, t in tasks.items():
             clock = self.sk.tasks[name].clock
             if clock is None or not groups[t.group].live:
@@ -321,20 +331,12 @@ class Analysis:
             if t.group in group_regime:
                 watches.append(OverrunWatch(last, tick, group_regime[t.group]))
             else:
-                if reverse is None:
-                    reverse = sp.csr_matrix(
-                        (np.ones(len(self.src), dtype=np.int8), (self.dst, self.src)),
-                        shape=(self.n, self.n))
-                upstream = np.sort(breadth_first_order(reverse, last, directed=True,
-                                                       return_predecessors=False))
                 period = self.ct[tick]
                 proven = None
                 if self.ct[last] == period:
+                    upstream, found = self._closure(t.group, last, period)
                     key = upstream.tobytes()
                     if key not in closure_regime:
-                        found = autonomous_from(upstream, self.ct, period, self.src, self.dst,
-                                                self.tokens, self.holding, self.initial, self.scale,
-                                                self.n, self.max_steps)
                         closure_regime[key] = None if found is None else len(regimes)
                         if found is not None:
                             regimes.append(Regime(found[0], period.numerator, period.denominator,
@@ -362,6 +364,30 @@ class Analysis:
                     f"overrun of {name} undecided after {self.steps} activations: tasks upstream "
                     "of it run faster than its clock, so no state repeats; raise --max-steps")
 
+    def _closure(self, group: int, last: int, period: Fraction):
+        """Upstream closure of ``last`` in its group, and the proven start of its regime."""
+        if not hasattr(self, "_local"):
+            self._local: dict[int, tuple] = {}
+        if group not in self._local:
+            events = self.events_of_group[group]
+            places = self.places_of_group[group]
+            local = {int(e): i for i, e in enumerate(events.tolist())}
+            ls = np.array([local[int(e)] for e in self.src[places].tolist()], dtype=np.int64)
+            ld = np.array([local[int(e)] for e in self.dst[places].tolist()], dtype=np.int64)
+            reverse = sp.csr_matrix((np.ones(len(places), dtype=np.int8), (ld, ls)),
+                                    shape=(len(events), len(events)))
+            self._local[group] = (events, places, local, ls, ld, reverse)
+        events, places, local, ls, ld, reverse = self._local[group]
+        up_local = np.sort(breadth_first_order(reverse, local[last], directed=True,
+                                               return_predecessors=False))
+        found = autonomous_from(up_local, [self.ct[e] for e in events.tolist()], period, ls, ld,
+                                self.tokens[places], self.holding[places], self.initial[places],
+                                self.scale, len(events), self.max_steps)
+        upstream = events[up_local]
+        if found is None:
+            return upstream, None
+        return upstream, (events[found[0]], found[1])
+
     # ------------------------------------------------------------------ invariants
 
     def _invariants(self, live: bool) -> InvariantCheck:
@@ -370,11 +396,10 @@ class Analysis:
             return InvariantCheck(False, None, None, reason=(
                 f"{n_places} places exceed the semiflow budget of {self.semiflow_max_places}"))
         incidence = self.teg.incidence_matrix().tocsr()
-        place_group = self.group_of_event[self.src]
         count = unmarked = 0
         for g in range(len(self.group_tasks)):
-            places = np.flatnonzero(place_group == g)
-            events = np.flatnonzero(self.group_of_event == g)
+            places = self.places_of_group[g]
+            events = self.events_of_group[g]
             sub = incidence[places][:, events].toarray()
             result = minimal_semiflows(sub, self.semiflow_budget)
             if not result.computed:
@@ -462,3 +487,10 @@ def _all_distances(events: np.ndarray, s: np.ndarray, d: np.ndarray, weights: li
                     heapq.heappush(heap, (dv + wt, b))
         rows.append({int(events[i]): dv for i, dv in best.items()})
     return rows
+
+
+def _split_by(key: np.ndarray, n_parts: int) -> list[np.ndarray]:
+    """Indices i grouped by key[i] in 0..n_parts-1 (others dropped), each sorted."""
+    order = np.argsort(key, kind="stable")
+    bounds = np.searchsorted(key[order], np.arange(n_parts + 1))
+    return [order[bounds[g]:bounds[g + 1]] for g in range(n_parts)]

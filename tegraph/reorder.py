@@ -95,7 +95,8 @@ def reorder_ports(skeleton: Skeleton) -> ReorderResult:
         circuit = graph.find_circuit()
         names = [graph.names[v] for v in circuit]
         on = set(circuit)
-        links = [label for (a, b), label in graph.link_edges.items() if a in on and b in on]
+        links = [label for (a, b), labels in graph.link_edges.items() if a in on and b in on
+                 for label in labels]
         return ReorderResult(False, circuit=names, links=links)
     position = {v: i for i, v in enumerate(order)}
     orders: dict[str, dict[str, list[str]]] = {}
@@ -117,7 +118,7 @@ class _PrecedenceGraph:
         self.names: list[str] = []
         self.priority: list[int] = []
         self.succ: list[list[int]] = []
-        self.link_edges: dict[tuple[int, int], str] = {}
+        self.link_edges: dict[tuple[int, int], list[str]] = {}
         self.read: dict[tuple[str, str], int] = {}
         self.write: dict[tuple[str, str], int] = {}
         self._ticks: dict[str, int] = {}
@@ -138,6 +139,14 @@ class _PrecedenceGraph:
                 self.read[name, port] = node
                 reads.append(node)
             writes = [self.write[name, port] for port in task.outputs]
+            # Two SYN/SYN inputs on one writer port make one event appear twice
+            # in the chain: the place between the copies is a 0-token self-loop,
+            # a deadlock whatever the order.
+            seen: set[int] = set()
+            for node in reads:
+                if node in seen:
+                    self._edge(node, node)
+                seen.add(node)
             for r in reads:
                 if activate is not None:
                     self._edge(activate, r)
@@ -154,12 +163,12 @@ class _PrecedenceGraph:
             w, r = self.write[link.writer], self.read[link.reader]
             if link.protocol is Protocol.ASYN_SYN:
                 self._edge(w, r)
-                self.link_edges[w, r] = link.label
+                self.link_edges.setdefault((w, r), []).append(link.label)
             elif link.protocol is Protocol.SYN_ASYN:
                 self._edge(r, w)
-                self.link_edges[r, w] = link.label
+                self.link_edges.setdefault((r, w), []).append(link.label)
             elif link.protocol is Protocol.SYN_SYN:
-                self.link_edges[w, w] = link.label
+                self.link_edges.setdefault((w, w), []).append(link.label)
         for k, thread in enumerate(sk.threads):
             for a, b in zip(thread, thread[1:]):
                 end = self._node(f"thread[{k}]:{a}.end", 0)
