@@ -1,0 +1,468 @@
+"""The example skeletons of ``examples/``: the analysis reproduces the figures
+derived BY HAND in each file's comment block (spec ``skeleton.md`` §2-§5).
+
+Every expected value below is copied from the derivation in the example's
+own comment, not from a run of the library; where a figure can be checked on
+the daters (spec §3), the first firings computed by hand are compared with
+:meth:`TimedEventGraph.simulate` too.
+"""
+
+from __future__ import annotations
+
+import json
+from fractions import Fraction as F
+from functools import cache
+from pathlib import Path
+
+import pytest
+
+from tegraph import NotLiveError, build_teg, load_skeleton
+from tegraph.analysis import analyze
+from tegraph.build import last_event
+from tegraph.reorder import reorder_ports
+from tegraph.skeleton import Skeleton
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+ALL_EXAMPLES = [
+    "fig4_pipeline_unsynchronized.yaml",
+    "fig4_pipeline_synchronized.yaml",
+    "fig7a_circular_wait.yaml",
+    "fig7b_wrong_order.yaml",
+    "fig11_fixed_order.yaml",
+    "fig12_double_sync.yaml",
+    "computed_torque.yaml",
+    "rendezvous_two_clocks.yaml",
+    "overrun_in_step.yaml",
+    "threads.yaml",
+    "ring_two_tokens.yaml",
+]
+
+
+@cache
+def _load(name: str) -> Skeleton:
+    return load_skeleton(EXAMPLES / name)
+
+
+@cache
+def _report(name: str):
+    return analyze(_load(name))
+
+
+def report_dict(name: str) -> dict:
+    """The §5 JSON document, through a real JSON round trip."""
+    return json.loads(_report(name).to_json())
+
+
+def is_rotation(got: list[str], expected: list[str]) -> bool:
+    """``got`` is the circuit ``expected`` started at some event."""
+    if len(got) != len(expected) or not got:
+        return False
+    i = expected.index(got[0]) if got[0] in expected else -1
+    return i >= 0 and expected[i:] + expected[:i] == got
+
+
+def daters(name: str, n: int) -> dict[str, list[F]]:
+    return build_teg(_load(name)).simulate(n).to_dict()
+
+
+def check_tasks(d: dict, expected: dict[str, tuple]) -> None:
+    """expected: task -> (group, period, overrun_at, slack, critical) as §5 strings."""
+    assert list(d["tasks"]) == list(expected)
+    for task, (group, period, overrun, slack, critical) in expected.items():
+        got = d["tasks"][task]
+        assert (got["group"], got["period"], got["overrun_at"], got["slack"], got["critical"]) \
+            == (group, period, overrun, slack, critical), task
+
+
+def check_group(g: dict, tasks, clocks, period, transient) -> None:
+    assert g["tasks"] == tasks
+    assert g["clocks"] == clocks
+    assert g["period"] == period
+    assert g["transient"] == (None if transient is None
+                              else {"k": transient[0], "cyclicity": transient[1]})
+
+
+# ----------------------------------------------------------------------- files
+
+def test_every_example_is_tested_and_documented():
+    on_disk = sorted(p.name for p in EXAMPLES.glob("*.yaml"))
+    assert on_disk == sorted(ALL_EXAMPLES)
+    for name in ALL_EXAMPLES:
+        text = (EXAMPLES / name).read_text()
+        head = text.splitlines()[:10]
+        assert all(line.startswith("#") for line in head), name
+        assert "Hand derivation" in text, name
+
+
+@pytest.mark.parametrize("name", ALL_EXAMPLES)
+def test_report_is_spec_json(name):
+    d = report_dict(name)
+    for key in ("name", "unit", "live", "consistent", "deadlocks", "reorder", "groups",
+                "tasks", "unbounded_places", "invariants"):
+        assert key in d, key
+    assert d["name"] == _load(name).name
+    assert d["unit"] == "ms"
+    assert d["invariants"]["computed"] is True
+    assert d["invariants"]["liveness_agrees"] is True
+    assert (d["reorder"] is None) == d["live"]
+
+
+# ----------------------------------------------------------- Figure 4 (ASYN)
+
+def test_fig4_unsynchronized():
+    d = report_dict("fig4_pipeline_unsynchronized.yaml")
+    assert d["live"] is True and d["consistent"] is True
+    assert d["deadlocks"] == [] and d["reorder"] is None and d["unbounded_places"] == []
+    assert len(d["groups"]) == 4
+    for i, g in enumerate(d["groups"]):
+        t = f"MT{i + 1}"
+        check_group(g, [t], [f"{t}.clock"], "10", (1, 1))
+    check_tasks(d, {
+        "MT1": (0, "10", None, "9", False),
+        "MT2": (1, "10", None, "8", False),
+        "MT3": (2, "10", None, "8", False),
+        "MT4": (3, "10", None, "9", False),
+    })
+    assert d["invariants"]["count"] == 8
+
+
+def test_fig4_synchronized():
+    d = report_dict("fig4_pipeline_synchronized.yaml")
+    assert d["live"] is True and d["consistent"] is True
+    assert d["unbounded_places"] == []
+    assert len(d["groups"]) == 1
+    check_group(d["groups"][0], ["MT1", "MT2", "MT3", "MT4"], ["rtc"], "10", (1, 1))
+    check_tasks(d, {
+        "MT1": (0, "10", None, "9", False),
+        "MT2": (0, "10", None, "8", False),
+        "MT3": (0, "10", None, "8", False),
+        "MT4": (0, "10", None, "9", False),
+    })
+    assert d["invariants"]["count"] == 5
+    r = _report("fig4_pipeline_synchronized.yaml")
+    assert r.groups[0].period == 10 and r.groups[0].transient == (1, 1)
+    assert [r.tasks[t].slack for t in ("MT1", "MT2", "MT3", "MT4")] == [9, 8, 8, 9]
+
+
+def test_fig4_synchronized_daters():
+    x = daters("fig4_pipeline_synchronized.yaml", 3)
+    hand = {  # k = 1, 2 from the comment; k = 3 = k = 2 + 10
+        "rtc.tick": [0, 10, 20],
+        "MT1.activate": [0, 10, 20], "MT1.read:q": [0, 10, 20], "MT1.compute": [0, 10, 20],
+        "MT1.write:x1": [1, 11, 21],
+        "MT2.read:x1": [1, 11, 21], "MT2.compute": [1, 11, 21], "MT2.write:x2": [3, 13, 23],
+        "MT3.read:x2": [3, 13, 23], "MT3.write:x3": [5, 15, 25],
+        "MT4.read:x3": [5, 15, 25], "MT4.compute": [5, 15, 25], "MT4.write:u": [6, 16, 26],
+    }
+    for event, times in hand.items():
+        assert x[event] == [F(t) for t in times], event
+
+
+# ------------------------------------------------------ Figure 7a, 7b, 11
+
+def test_fig7a_circular_wait():
+    d = report_dict("fig7a_circular_wait.yaml")
+    assert d["live"] is False and d["consistent"] is False
+    assert len(d["deadlocks"]) == 1
+    dl = d["deadlocks"][0]
+    hand = ["MT1.read:b", "MT1.compute", "MT1.write:a", "MT3.read:a", "MT3.compute",
+            "MT3.write:c", "MT2.read:c", "MT2.compute", "MT2.write:b"]
+    assert is_rotation(dl["events"], hand), dl["events"]
+    assert sorted(dl["tasks"]) == ["MT1", "MT2", "MT3"]
+    assert d["reorder"]["possible"] is False
+    assert d["reorder"]["orders"] == {}
+    assert len(d["groups"]) == 1
+    check_group(d["groups"][0], ["MT1", "MT2", "MT3"], [], None, None)
+    check_tasks(d, {t: (0, None, None, None, None) for t in ("MT1", "MT2", "MT3")})
+    assert d["unbounded_places"] == []
+    assert d["invariants"]["count"] == 4
+    with pytest.raises(NotLiveError):
+        build_teg(_load("fig7a_circular_wait.yaml")).simulate(2)
+
+
+def test_fig7a_reorder_names_the_three_links():
+    r = _report("fig7a_circular_wait.yaml")
+    assert sorted(r.reorder["links"]) == sorted([
+        "MT2:b -> MT1:b (ASYN/SYN)", "MT3:c -> MT2:c (ASYN/SYN)", "MT1:a -> MT3:a (ASYN/SYN)"])
+
+
+# The three live port orders of Figure 7b, derived by hand in its comment.
+FIG7B_FIXES = [
+    {"MT2": {"inputs": ["a", "c"], "outputs": ["tau"]}},                     # (b)
+    {"MT1": {"inputs": ["q"], "outputs": ["d", "a"]}},                       # (c)
+    {"MT1": {"inputs": ["q"], "outputs": ["d", "a"]},
+     "MT2": {"inputs": ["a", "c"], "outputs": ["tau"]}},                     # (d)
+]
+
+
+def _apply_orders(sk: Skeleton, orders: dict) -> Skeleton:
+    data = sk.to_dict()
+    for task, o in orders.items():
+        data["tasks"][task]["inputs"] = list(o["inputs"])
+        data["tasks"][task]["outputs"] = list(o["outputs"])
+    return Skeleton.from_dict(data)
+
+
+def test_fig7b_wrong_order():
+    d = report_dict("fig7b_wrong_order.yaml")
+    assert d["live"] is False and d["consistent"] is False
+    assert len(d["deadlocks"]) == 1
+    dl = d["deadlocks"][0]
+    hand = ["MT2.read:c", "MT1.write:a", "MT1.write:d", "MT3.read:d", "MT3.compute",
+            "MT3.write:c"]
+    assert is_rotation(dl["events"], hand), dl["events"]
+    assert sorted(dl["tasks"]) == ["MT1", "MT2", "MT3"]
+    assert d["reorder"]["possible"] is True
+    check_group(d["groups"][0], ["MT1", "MT2", "MT3"], ["rtc"], None, None)
+    check_tasks(d, {t: (0, None, None, None, None) for t in ("MT1", "MT2", "MT3")})
+    assert d["invariants"]["count"] == 5
+
+
+def test_fig7b_reorder_is_one_of_the_hand_derived_fixes():
+    sk = _load("fig7b_wrong_order.yaml")
+    orders = _report("fig7b_wrong_order.yaml").reorder["orders"]
+    full = {}
+    for task, o in orders.items():
+        # a task listed with an unchanged side keeps its declared order there
+        full[task] = {"inputs": list(o["inputs"]), "outputs": list(o["outputs"])}
+    assert full in FIG7B_FIXES, orders
+    fixed = analyze(_apply_orders(sk, orders))
+    assert fixed.live is True
+    # and every hand-derived fix is live, the declared order is not
+    for fix in FIG7B_FIXES:
+        assert analyze(_apply_orders(sk, fix)).live is True
+    assert reorder_ports(sk).possible is True
+
+
+def test_fig11_fixed_order():
+    d = report_dict("fig11_fixed_order.yaml")
+    assert d["live"] is True and d["consistent"] is True
+    assert d["deadlocks"] == [] and d["reorder"] is None and d["unbounded_places"] == []
+    check_group(d["groups"][0], ["MT1", "MT2", "MT3"], ["rtc"], "10", (1, 1))
+    check_tasks(d, {
+        "MT1": (0, "10", None, "8", False),
+        "MT2": (0, "10", None, "6", False),
+        "MT3": (0, "10", None, "6", False),
+    })
+    assert d["invariants"]["count"] == 5
+
+
+def test_fig11_daters():
+    x = daters("fig11_fixed_order.yaml", 3)
+    hand = {  # k = 1 and k = 2 from the comment, k = 3 = k = 2 + 10
+        "rtc.tick": [0, 10, 20],
+        "MT1.activate": [0, 10, 20], "MT1.read:q": [0, 10, 20], "MT1.compute": [0, 10, 20],
+        "MT1.write:a": [2, 12, 22], "MT1.write:d": [2, 12, 22],
+        "MT3.read:d": [2, 12, 22], "MT3.compute": [2, 12, 22], "MT3.write:c": [5, 15, 25],
+        "MT2.read:c": [5, 15, 25], "MT2.compute": [5, 15, 25], "MT2.write:tau": [6, 16, 26],
+    }
+    assert set(x) == set(hand)  # the rendezvous is one event, named by the writer
+    for event, times in hand.items():
+        assert x[event] == [F(t) for t in times], event
+
+
+# ------------------------------------------------------------- Figure 12
+
+def test_fig12_double_sync():
+    d = report_dict("fig12_double_sync.yaml")
+    assert d["live"] is True and d["consistent"] is False
+    assert d["deadlocks"] == [] and d["reorder"] is None
+    assert len(d["groups"]) == 1
+    check_group(d["groups"][0], ["MT1", "MT2"], ["rtc", "MT2.clock"], None, None)
+    check_tasks(d, {
+        "MT1": (0, "10", None, None, None),
+        "MT2": (0, "10", 3, None, None),
+    })
+    assert [(u["from"], u["to"], u["kind"]) for u in d["unbounded_places"]] == [
+        ("MT2.clock.tick", "MT2.activate", "clock-overrun")]
+    assert d["invariants"]["count"] == 4
+    r = _report("fig12_double_sync.yaml")
+    assert r.tasks["MT2"].overrun_at == 3 and r.tasks["MT1"].overrun_at is None
+    assert r.groups[0].period is None and r.groups[0].transient is None
+
+
+def test_fig12_daters():
+    x = daters("fig12_double_sync.yaml", 4)
+    hand = {
+        "rtc.tick": [0, 10, 20, 30],
+        "MT1.activate": [0, 10, 20, 30],
+        "MT1.write:y": [1, 11, 21, 31],
+        "MT2.clock.tick": [0, 4, 8, 12],
+        "MT2.activate": [0, 4, 13, 23],
+        "MT2.read:y": [1, 11, 21, 31],
+        "MT2.compute": [1, 11, 21, 31],
+        "MT2.write:u": [3, 13, 23, 33],
+    }
+    for event, times in hand.items():
+        assert x[event] == [F(t) for t in times], event
+    # the overrun condition of spec §4 on these daters: first at k = 3
+    last, tick = x["MT2.write:u"], x["MT2.clock.tick"]
+    assert [k for k in range(2, 5) if last[k - 2] > tick[k - 1]] == [3, 4]
+
+
+# ------------------------------------------------------ computed torque
+
+def test_computed_torque():
+    d = report_dict("computed_torque.yaml")
+    assert d["live"] is True and d["consistent"] is True
+    assert d["unbounded_places"] == [] and d["deadlocks"] == []
+    assert len(d["groups"]) == 3
+    check_group(d["groups"][0], ["OBS.JL"], ["obs"], "1", (1, 1))
+    check_group(d["groups"][1], ["TG.JS", "TF.TT.JS", "CO.JS"], ["ctl"], "2", (1, 1))
+    check_group(d["groups"][2], ["MOD.DYN"], ["dyn"], "6", (1, 1))
+    check_tasks(d, {
+        "OBS.JL": (0, "1", None, "9/10", False),
+        "TG.JS": (1, "2", None, "19/10", False),
+        "TF.TT.JS": (1, "2", None, "9/5", False),
+        "CO.JS": (1, "2", None, "17/10", False),
+        "MOD.DYN": (2, "6", None, "24/5", False),
+    })
+    assert d["invariants"]["count"] == 8
+
+
+def test_computed_torque_daters():
+    x = daters("computed_torque.yaml", 2)
+    hand = {
+        "ctl.tick": ["0", "2"], "TG.JS.compute": ["0", "2"],
+        "TG.JS.write:qd": ["1/10", "21/10"],
+        "TF.TT.JS.read:qd": ["1/10", "21/10"], "TF.TT.JS.write:e": ["3/10", "23/10"],
+        "CO.JS.read:e": ["3/10", "23/10"], "CO.JS.compute": ["3/10", "23/10"],
+        "CO.JS.write:tau": ["3/5", "13/5"],
+    }
+    for event, times in hand.items():
+        assert x[event] == [F(t) for t in times], event
+
+
+# --------------------------------------------------------------- extras
+
+def test_rendezvous_two_clocks():
+    d = report_dict("rendezvous_two_clocks.yaml")
+    assert d["live"] is True and d["consistent"] is True
+    assert d["unbounded_places"] == []
+    check_group(d["groups"][0], ["P", "Q"], ["cp", "cq"], "5", (1, 1))
+    check_tasks(d, {
+        "P": (0, "5", None, "4", False),
+        "Q": (0, "5", None, "3", False),
+    })
+    assert d["invariants"]["count"] == 4
+    x = daters("rendezvous_two_clocks.yaml", 2)
+    hand = {
+        "cp.tick": ["0", "5"], "cq.tick": ["5/2", "15/2"],
+        "P.activate": ["0", "5"], "P.compute": ["0", "5"],
+        "Q.activate": ["5/2", "15/2"], "P.write:x": ["5/2", "15/2"],
+        "Q.compute": ["5/2", "15/2"], "Q.write:y": ["9/2", "19/2"],
+    }
+    assert set(x) == set(hand)  # no event "Q.read:x": merged into the rendezvous
+    for event, times in hand.items():
+        assert x[event] == [F(t) for t in times], event
+
+
+def test_rendezvous_slack_is_exact():
+    """Growing P by its slack (4 -> duration 5) keeps the period 5 and no overrun."""
+    data = _load("rendezvous_two_clocks.yaml").to_dict()
+    data["tasks"]["P"]["duration"] = "5"
+    r = analyze(Skeleton.from_dict(data))
+    assert r.consistent and r.groups[0].period == 5 and r.tasks["P"].critical is True
+
+
+def test_overrun_in_step():
+    d = report_dict("overrun_in_step.yaml")
+    assert d["live"] is True and d["consistent"] is False
+    assert d["unbounded_places"] == []
+    check_group(d["groups"][0], ["MT1", "MT2"], ["MT1.clock", "MT2.clock"], "10", (2, 1))
+    check_tasks(d, {
+        "MT1": (0, "10", None, "4", False),
+        "MT2": (0, "10", 2, "4", False),
+    })
+    assert d["invariants"]["count"] == 4
+    x = daters("overrun_in_step.yaml", 3)
+    assert x["MT2.activate"] == [0, 12, 22]
+    assert x["MT2.read:y"] == [6, 16, 26]
+    assert x["MT2.write:u"] == [12, 22, 32]
+    assert x["MT1.write:y"] == [6, 16, 26]
+
+
+def test_threads_clocked_pipeline():
+    d = report_dict("threads.yaml")
+    assert d["live"] is True
+    check_group(d["groups"][0], ["TG.JS", "TF.TT.JS", "CO.JS"], ["ctl"], "2", (1, 1))
+    for t in ("TG.JS", "TF.TT.JS", "CO.JS"):
+        got = d["tasks"][t]
+        assert (got["group"], got["period"], got["overrun_at"], got["slack"], got["critical"]) \
+            == (0, "2", None, "4/5", False), t
+    x = daters("threads.yaml", 2)
+    hand = {
+        "TG.JS.activate": ["0", "2"], "TG.JS.write:qd": ["3/10", "23/10"],
+        "TF.TT.JS.read:qd": ["3/10", "23/10"], "TF.TT.JS.write:e": ["7/10", "27/10"],
+        "CO.JS.read:e": ["7/10", "27/10"], "CO.JS.write:tau": ["6/5", "16/5"],
+    }
+    for event, times in hand.items():
+        assert x[event] == [F(t) for t in times], event
+
+
+def test_threads_free_running_period_is_the_sum():
+    """A thread of tasks without outputs: the thread place leaves T.compute,
+    so it holds duration(T) (spec §2), and the period is 1/3 + 1/2 = 5/6."""
+    d = report_dict("threads.yaml")
+    check_group(d["groups"][1], ["LOG", "DIAG"], [], "5/6", (1, 1))
+    for t in ("LOG", "DIAG"):
+        got = d["tasks"][t]
+        assert (got["group"], got["period"], got["overrun_at"], got["slack"], got["critical"]) \
+            == (1, "5/6", None, "0", True), t
+    x = daters("threads.yaml", 3)
+    assert x["LOG.compute"] == [F(0), F(5, 6), F(5, 3)]
+    assert x["DIAG.compute"] == [F(1, 3), F(7, 6), F(2)]
+    assert d["consistent"] is True
+    assert d["invariants"]["count"] == 11
+
+
+def test_ring_two_tokens():
+    d = report_dict("ring_two_tokens.yaml")
+    assert d["live"] is True and d["consistent"] is True
+    assert d["unbounded_places"] == []
+    check_group(d["groups"][0], ["A", "B", "C", "D"], [], "7/3", (3, 2))
+    check_tasks(d, {
+        "A": (0, "7/3", None, "0", True),
+        "B": (0, "7/3", None, "0", True),
+        "C": (0, "7/3", None, "0", True),
+        "D": (0, "7/3", None, "4/3", False),
+    })
+    assert d["invariants"]["count"] == 5
+    r = _report("ring_two_tokens.yaml")
+    assert r.groups[0].period == F(7, 3) and r.groups[0].transient == (3, 2)
+
+
+def test_ring_two_tokens_daters():
+    x = daters("ring_two_tokens.yaml", 6)
+    third = {  # the table of the comment, in units of 1/3 ms
+        "B.read:z": [0, 14, 20, 28, 34, 42], "C.compute": [0, 5, 14, 20, 28, 34],
+        "C.write:y": [5, 10, 19, 25, 33, 39], "C.write:z": [5, 14, 20, 28, 34, 42],
+        "A.read:y": [5, 10, 19, 25, 33, 39], "A.compute": [5, 10, 19, 25, 33, 39],
+        "A.write:x": [8, 13, 22, 28, 36, 42], "B.read:x": [8, 14, 22, 28, 36, 42],
+        "B.compute": [8, 14, 22, 28, 36, 42], "D.read:x": [8, 13, 22, 28, 36, 42],
+        "D.compute": [8, 13, 22, 28, 36, 42],
+    }
+    assert set(x) == set(third)
+    for event, times in third.items():
+        assert x[event] == [F(t, 3) for t in times], event
+
+
+def test_overrun_daters_match_report_for_every_clocked_example():
+    """Spec §4 overrun_at recomputed from the daters, on every live example."""
+    for name in ALL_EXAMPLES:
+        r = _report(name)
+        if not r.live:
+            continue
+        sk = _load(name)
+        teg = build_teg(sk)
+        n = 40
+        x = teg.simulate(n)
+        for t, task in sk.tasks.items():
+            if task.clock is None:
+                assert r.tasks[t].overrun_at is None
+                continue
+            last = x[last_event(teg, t)]
+            tick = x[f"{task.clock}.tick"]
+            hits = [k for k in range(2, n + 1) if last[k - 2] > tick[k - 1]]
+            assert r.tasks[t].overrun_at == (hits[0] if hits else None), (name, t)
