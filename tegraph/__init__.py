@@ -23,3 +23,8 @@ from .teg import TimedEventGraph  # noqa: E402
 from .build import build_teg  # noqa: E402
 
 __all__ += ["TimedEventGraph", "build_teg"]
+
+from .analysis import analyze  # noqa: E402
+from .report import Report  # noqa: E402
+
+__all__ += ["analyze", "Report"]

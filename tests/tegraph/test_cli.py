@@ -112,3 +112,32 @@ def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
     assert again.returncode == 2 and "exists" in again.stderr
     assert (out_dir / "tasks.csv").read_text() == "mine"
     assert run("analyze", str(live_file), "--csv", str(out_dir), "--force").returncode == 0
+
+
+def _refusal_cases():
+    # The loader's own table of every refusal of spec §1 (with the key path
+    # and wording each must produce), replayed through the command line.
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from test_skeleton_file import JSON_REFUSALS, REFUSALS
+
+    return [pytest.param(case.values[0], case.values[1], suffix, id=case.id)
+            for cases, suffix in ((REFUSALS, ".yaml"), (JSON_REFUSALS, ".json"))
+            for case in cases]
+
+
+@pytest.mark.parametrize("text, key_path, suffix", _refusal_cases())
+def test_every_spec_refusal_exits_2_through_the_cli(tmp_path, text, key_path, suffix):
+    from typer.testing import CliRunner
+
+    from tegraph.cli import app
+
+    path = tmp_path / f"plant{suffix}"
+    path.write_text(text, encoding="utf-8")
+    result = CliRunner().invoke(app, ["analyze", str(path)])
+    assert result.exit_code == 2
+    assert isinstance(result.exception, SystemExit)  # not an escaped error
+    message = result.output.strip()
+    assert message.startswith("tegraph: error: ") and str(path) in message
+    assert "Traceback" not in message
+    if key_path:
+        assert f"{key_path}: " in message
