@@ -76,7 +76,7 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     ([4, 4], [1, 0])
     """
     order = np.argsort(dst, kind="stable")
-    s_src, s_w, s_t = src[order], w[order], t[order]
+    s_src, s_dst, s_w, s_t = src[order], dst[order], w[order], t[order]
     counts = np.bincount(dst, minlength=n)
     starts = np.r_[0, np.cumsum(counts)[:-1]]
     seg = np.repeat(np.arange(n), counts)
@@ -86,26 +86,56 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     T = np.zeros(n, dtype=w.dtype)
     X = np.zeros(n, dtype=w.dtype)
     first = True
+    check_all = True
     while True:
-        W, T, X, rank = _value_determination(pol, s_src, s_w, s_t, n, W, T, X, first)
-        first = False
-        rank_src = rank[s_src]
-        rank_dst = np.repeat(rank, counts)
+        W_new, T_new, X_new, rank = _value_determination(pol, s_src, s_w, s_t, n, W, T, X, first)
+        if check_all:
+            cand = np.arange(len(s_src))
+        else:
+            # An arc between two nodes whose ratio and potential did not change
+            # was not improving at the last full check and still is not.
+            changed = (W_new != W) | (T_new != T) | (X_new != X)
+            cand = np.flatnonzero(changed[s_src] | changed[s_dst])
+        W, T, X, first = W_new, T_new, X_new, False
+        cs, cd = s_src[cand], s_dst[cand]
+        rank_src, rank_dst = rank[cs], rank[cd]
         # 1. Ratio improvement: a predecessor whose ratio is strictly larger.
         better = rank_src > rank_dst
         if better.any():
-            cand = starts + _segment_argmax(np.where(better, rank_src, -1), starts, seg)
-            pol = np.where(better[cand], cand, pol)
+            chosen, nodes = _best_per_node(cand[better], rank_src[better], s_dst)
+            pol[nodes] = chosen
+            # Gains were not examined this round: the next round looks at all arcs.
+            check_all = True
             continue
         # 2. Bias improvement among predecessors of the same ratio (then the
         #    potentials share the denominator T, so integers compare directly).
-        value = X[s_src] + s_w * np.repeat(T, counts) - np.repeat(W, counts) * s_t
-        gain = (rank_src == rank_dst) & (value > np.repeat(X, counts))
+        value = X[cs] + s_w[cand] * T[cd] - W[cd] * s_t[cand]
+        gain = (rank_src == rank_dst) & (value > X[cd])
         if not gain.any():
             return W, T, X, order[pol]
-        masked = np.where(gain, value, _lowest(value))
-        cand = starts + _segment_argmax(masked, starts, seg)
-        pol = np.where(gain[cand], cand, pol)
+        chosen, nodes = _best_per_node(cand[gain], value[gain], s_dst)
+        pol[nodes] = chosen
+        check_all = False
+
+
+def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """For each destination among ``arcs`` (sorted by destination), its arc of largest key."""
+    d = s_dst[arcs]
+    if key.dtype == object:
+        best: dict[int, tuple] = {}
+        for a, node, k in zip(arcs.tolist(), d.tolist(), key.tolist()):
+            if node not in best or k > best[node][1]:
+                best[node] = (a, k)
+        nodes = np.array(sorted(best), dtype=np.int64)
+        return np.array([best[v][0] for v in nodes.tolist()], dtype=np.int64), nodes
+    new_node = np.r_[True, d[1:] != d[:-1]]
+    starts = np.flatnonzero(new_node)
+    segment = np.cumsum(new_node) - 1
+    top = np.maximum.reduceat(key, starts)
+    hit = np.flatnonzero(key == top[segment])
+    first = np.r_[True, segment[hit[1:]] != segment[hit[:-1]]]
+    return arcs[hit[first]], d[starts]
 
 
 def _lowest(values: np.ndarray) -> Any:

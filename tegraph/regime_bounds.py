@@ -60,14 +60,23 @@ def autonomous_from(upstream: np.ndarray, cycle_time: list, period: Fraction, sr
         From firing ``K*`` on, the events ``S`` depend only on each other;
         None when the budget ran out before ``y`` became periodic.
     """
-    up = np.zeros(n_events, dtype=bool)
-    up[upstream] = True
-    slow_mask = up & np.array([cycle_time[e] == period if up[e] else False for e in range(n_events)])
-    fast_mask = up & ~slow_mask
+    # Everything below works on the closure alone, renumbered 0..len(upstream)-1.
+    upstream = np.asarray(upstream)
+    local = np.full(n_events, -1, dtype=np.int64)
+    local[upstream] = np.arange(len(upstream))
+    inside = np.flatnonzero((local[src] >= 0) & (local[dst] >= 0))
+    src, dst = local[src[inside]], local[dst[inside]]
+    tokens, holding, initial = tokens[inside], holding[inside], initial[inside]
+    global_of = upstream
+    cycle_time = [cycle_time[e] for e in upstream.tolist()]
+    n_events = len(upstream)
+    up = np.ones(n_events, dtype=bool)
+    slow_mask = np.array([c == period for c in cycle_time], dtype=bool)
+    fast_mask = ~slow_mask
     slow = np.flatnonzero(slow_mask)
     crossing = np.flatnonzero(fast_mask[src] & slow_mask[dst])
     if len(crossing) == 0:
-        return slow, 1
+        return global_of[slow], 1
     mu = max(cycle_time[e] for e in np.flatnonzero(fast_mask).tolist())
     potential = _potentials(np.flatnonzero(fast_mask), fast_mask, mu, src, dst, tokens, holding, scale)
     depth = max(int(tokens[up[src] & up[dst]].max(initial=0)), 1)
@@ -84,7 +93,7 @@ def autonomous_from(upstream: np.ndarray, cycle_time: list, period: Fraction, sr
         m, h = int(tokens[p]), Fraction(int(holding[p]), scale)
         need = (potential[f] - m * mu + beta + h - bounds[s]) / gap
         k_star = max(k_star, math.ceil(need))
-    return slow, max(k_star, 1)
+    return global_of[slow], max(k_star, 1)
 
 
 def _potentials(fast: np.ndarray, fast_mask: np.ndarray, mu: Fraction, src, dst, tokens, holding,
