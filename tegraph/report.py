@@ -240,7 +240,10 @@ def render_text(report: Report) -> str:
     lines.append(tabulate(rows, headers=["group", "tasks", "clocks", "state", "period", "transient"]))
     rows = []
     for t in report.tasks.values():
-        overrun = "-" if t.overrun_at is None else f"at activation {t.overrun_at}"
+        if t.clock is None or t.period is None:
+            overrun = "-"
+        else:
+            overrun = "never" if t.overrun_at is None else f"at activation {t.overrun_at}"
         if not t.overrun_decided:
             overrun = "undecided (budget)"
         rows.append([t.name, t.group, _human(t.period, u), overrun, _human(t.slack, u),
