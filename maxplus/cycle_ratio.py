@@ -134,6 +134,19 @@ class CycleRatioResult:
             for p, d in zip(c.potential.tolist(), c.ratio_den.tolist())
         ]
 
+    def policy_circuit(self, node: int) -> np.ndarray:
+        """Arcs of the circuit that ``node``'s policy leads back to, in forward order.
+
+        Its ratio is the cycle time of ``node`` (a critical circuit for it).
+
+        Examples
+        --------
+        >>> r = max_cycle_ratio([0, 1, 1, 1], [1, 0, 1, 2], [5, 3, 3, 0])
+        >>> r.policy_circuit(2).tolist(), r.cycle_times[2]
+        ([1, 0], Fraction(4, 1))
+        """
+        return _policy_circuit(node, self.certificate.policy, self.src)
+
     def circuit_nodes(self) -> list[int]:
         """Nodes of the critical circuit: the source of each of its arcs, in order."""
         return self.src[self.circuit].tolist()

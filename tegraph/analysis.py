@@ -246,7 +246,6 @@ class Analysis:
 
     def _group_reports(self, unbounded: list[UnboundedPlace]) -> list[GroupReport]:
         bad = {u.group for u in unbounded}
-        src_policy = self.mcr.policy
         out = []
         for g, tasks in enumerate(self.group_tasks):
             clocks: list[str] = []
@@ -263,7 +262,7 @@ class Analysis:
                 events = self.events_of_group[g]
                 cycle_times = {t: self.ct[self._compute(t)] for t in tasks}
                 slowest = max(events.tolist(), key=lambda e: self.ct[e])
-                arcs = _policy_circuit(slowest, src_policy, self.mcr.src)
+                arcs = self.mcr.policy_circuit(slowest).tolist()
                 circuit = [self.names[int(self.mcr.src[a])] for a in arcs]
                 if consistent:
                     period = self.ct[slowest]
@@ -431,19 +430,6 @@ class Analysis:
             "slack": "longest circuits through each compute event (Dijkstra after Johnson "
                      "reweighting with the Howard potentials), exact",
         }
-
-
-def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> list[int]:
-    """Arcs of the policy circuit reached backwards from ``start``, in forward order."""
-    seen: dict[int, int] = {}
-    arcs: list[int] = []
-    node = start
-    while node not in seen:
-        seen[node] = len(arcs)
-        a = int(policy[node])
-        arcs.append(a)
-        node = int(src[a])
-    return arcs[seen[node]:][::-1]
 
 
 def _all_distances(events: np.ndarray, s: np.ndarray, d: np.ndarray, weights: list[int],
