@@ -179,7 +179,7 @@ class Analysis:
 
     def _reorder(self) -> dict:
         result = reorder_ports(self.sk)
-        if result.possible:
+        if result.possible and result.skeleton is not None:
             # The argument of reorder.py is re-checked on the rebuilt graph.
             rebuilt = build_teg(result.skeleton).arrays()
             left = token_free_circuits(rebuilt.src, rebuilt.dst, rebuilt.tokens,
@@ -214,9 +214,9 @@ class Analysis:
     def _unbounded_places(self) -> list[UnboundedPlace]:
         lp = self.live_places
         num, den = self.mcr.cycle_time_num, self.mcr.cycle_time_den
-        a, b = self.src[lp], self.dst[lp]
-        # chi_b > chi_a, compared exactly by cross-multiplication.
-        slower = num[b] * den[a] > num[a] * den[b]
+        ins, outs = self.src[lp], self.dst[lp]
+        # chi_out > chi_in, compared exactly by cross-multiplication.
+        slower = num[outs] * den[ins] > num[ins] * den[outs]
         out = []
         for k in lp[slower].tolist():
             a, b = int(self.src[k]), int(self.dst[k])
@@ -352,9 +352,10 @@ class Analysis:
         sim = DaterSimulation(self.src, self.dst, self.tokens, self.holding, self.initial, self.n,
                               self.live_event)
         self.steps = explore(sim, self.scale, regimes, watches, self.max_steps)
-        for g, r in group_regime.items():
-            if regimes[r].transient is not None:
-                groups[g].transient = (regimes[r].transient, regimes[r].cyclicity)  # type: ignore[assignment]
+        for index, r in group_regime.items():
+            found = regimes[r]
+            if found.transient is not None and found.cyclicity is not None:
+                groups[index].transient = (found.transient, found.cyclicity)
         for name, watch in zip(watched, watches):
             tasks[name].overrun_at = watch.overrun_at
             tasks[name].overrun_decided = watch.decided

@@ -98,14 +98,15 @@ class DaterSimulation:
         """Compute and return ``x(k)`` for the next ``k`` (inactive events: a huge negative)."""
         self.k += 1
         k = self.k
-        x = np.full(self.n_events, self.none, dtype=self.dtype)
+        x: np.ndarray = np.full(self.n_events, self.none, dtype=self.dtype)
         x[self._sourceless] = 0
         if len(self._m_src):
             late = k > self._m_tok
             value = self._m_a.copy()
             if late.any():
+                # k > m >= 1 for these places, so x(k - m) is in the history.
                 idx = np.flatnonzero(late)
-                rows = np.stack(self.history[-self.depth:]) if self.history else None
+                rows = np.stack(self.history[-self.depth:])
                 back = self._m_tok[idx]
                 # history[-m] is x(k - m); only rows that exist are read.
                 value[idx] = rows[len(rows) - back, self._m_src[idx]] + self._m_h[idx]
@@ -281,6 +282,7 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
             watch = watches[w]
             if watch.regime is not None and watch.regime not in pending_regimes:
                 regime = regimes[watch.regime]
+                assert regime.transient is not None and regime.cyclicity is not None
                 # Every residue of k modulo the cyclicity has been checked from
                 # the transient on: the difference is periodic from there.
                 if k >= regime.transient + regime.cyclicity:

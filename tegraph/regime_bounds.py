@@ -145,7 +145,7 @@ def _lower_bounds(slow, slow_mask, period, src, dst, tokens, holding, initial, s
 
     sim.step = step  # type: ignore[method-assign]
     explore(sim, scale, [regime], [], max_steps)
-    if regime.transient is None:
+    if regime.transient is None or regime.cyclicity is None:
         return None
     start, cycle = regime.transient, regime.cyclicity
     bounds = {}

@@ -47,7 +47,7 @@ def _human(value: Fraction | None, unit: str) -> str:
     """``7/3 ms (2.333)``: exact, with a decimal beside it when not an integer."""
     if value is None:
         return "-"
-    text = exact_text(value)
+    text = str(exact_text(value))
     if value.denominator != 1:
         text += f" {unit} ({float(value):.4g})"
     else:
