@@ -28,3 +28,7 @@ from .analysis import analyze  # noqa: E402
 from .report import Report  # noqa: E402
 
 __all__ += ["analyze", "Report"]
+
+from .io.formats import read, write  # noqa: E402
+
+__all__ += ["read", "write"]
