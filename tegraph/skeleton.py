@@ -46,13 +46,20 @@ class Clock:
 
 @dataclass(frozen=True)
 class Task:
-    """A module task: read inputs in order, compute, write outputs in order."""
+    """A module task: read inputs in order, compute, write outputs in order.
+
+    ``priority`` and ``processor`` are the optional scheduling attributes of
+    spec §6 (a larger priority is more urgent; ``None``: not declared, all
+    such tasks share one default processor). The timed event graph ignores them.
+    """
 
     name: str
     duration: Fraction
     clock: str | None = None
     inputs: tuple[str, ...] = ()
     outputs: tuple[str, ...] = ()
+    priority: int | None = None
+    processor: str | None = None
 
 
 @dataclass(frozen=True)
@@ -92,6 +99,8 @@ class Skeleton:
     threads : list of tuple of str
     source : str or None
         The file it was read from.
+    chains : list of tuple of str
+        Sensor-to-actuator chains of tasks for the latency report (spec §6).
     """
 
     name: str
@@ -104,7 +113,10 @@ class Skeleton:
     """Where it was read from: not part of the skeleton, so a copy read from
     another file (``load_skeleton(dump_skeleton(sk, path))``) compares equal."""
     extra: dict[str, Any] = field(default_factory=dict)
-    """Optional keys of format extensions (priority, processor, chains...)."""
+    """Keys of future format extensions; the writer refuses them (spec §6 keys
+    have their own fields: ``Task.priority``, ``Task.processor``, ``chains``)."""
+    chains: list[tuple[str, ...]] = field(default_factory=list)
+    """Chains of tasks, sensor first, whose latency is reported (spec §6)."""
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], name: str = "skeleton",

@@ -20,7 +20,8 @@ from typing import Any
 from ..errors import SkeletonError
 from ..skeleton import Clock, Link, Protocol, Skeleton, Task
 
-__all__ = ["KeyPath", "Locator", "check_skeleton", "format_path", "validate_skeleton"]
+__all__ = ["KeyPath", "Locator", "check_chain", "check_skeleton", "format_path",
+           "validate_skeleton"]
 
 KeyPath = tuple[str | int, ...]
 """A place in the document: mapping keys (str) and list indices (int)."""
@@ -141,7 +142,7 @@ def check_skeleton(sk: Skeleton, loc: Locator) -> None:
         raise loc.error("expected a mapping from task names to at least one task", ("tasks",))
     if not isinstance(sk.clocks, Mapping):
         raise loc.error(f"expected a mapping of clocks, got {type(sk.clocks).__name__}", ("clocks",))
-    for part in ("links", "threads"):
+    for part in ("links", "threads", "chains"):
         if not isinstance(getattr(sk, part), Sequence):
             raise loc.error(f"expected a list, got {type(getattr(sk, part)).__name__}", (part,))
     for key, clock in sk.clocks.items():
@@ -151,6 +152,8 @@ def check_skeleton(sk: Skeleton, loc: Locator) -> None:
         ports[key] = _check_task(key, task, sk, loc)
     _check_links(sk, ports, loc)
     _check_threads(sk, loc)
+    for i, chain in enumerate(sk.chains):
+        check_chain(sk, chain, ("chains", i), loc)
 
 
 def _check_clock(key: Any, clock: Clock, sk: Skeleton, loc: Locator) -> None:
@@ -214,6 +217,13 @@ def _check_task(key: Any, task: Task, sk: Skeleton, loc: Locator) -> tuple[set[s
                 )
             seen[port] = where
         sides.append(set(names))
+    # Spec §6: optional scheduling attributes.
+    if task.priority is not None and (isinstance(task.priority, bool)
+                                      or not isinstance(task.priority, Integral)):
+        raise loc.error(f"expected a priority (an integer; larger is more urgent), got "
+                        f"{type(task.priority).__name__} {task.priority!r}", (*path, "priority"))
+    if task.processor is not None:
+        check_name(task.processor, (*path, "processor"), "processor name", loc)
     return sides[0], sides[1]
 
 
@@ -298,6 +308,61 @@ def _check_threads(sk: Skeleton, loc: Locator) -> None:
                     where,
                 )
             placed[task] = where
+
+
+def check_chain(sk: Skeleton, chain: Any, path: KeyPath, loc: Locator) -> tuple[str, ...]:
+    """Refuse a latency chain (spec §6) that does not follow the skeleton's links.
+
+    A chain names at least one task, each at most once, and every task after
+    the first reads (through some link) an output of the task before it.
+
+    Parameters
+    ----------
+    sk : Skeleton
+    chain : sequence of str
+    path : KeyPath
+        Where the chain is (``("chains", 0)``, or ``("--chain",)`` for the CLI).
+    loc : Locator
+
+    Returns
+    -------
+    tuple of str
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "outputs": ["x"]},
+    ...                                    "B": {"duration": 1, "inputs": ["x"]}},
+    ...                          "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]})
+    >>> check_chain(sk, ["A", "B"], ("chains", 0), Locator())
+    ('A', 'B')
+    >>> check_chain(sk, ["B", "A"], ("chains", 0), Locator())
+    Traceback (most recent call last):
+    ...
+    tegraph.errors.SkeletonError: chains[0][1]: no link from B to A; expected each task of a chain to read an output of the task before it (a link "B:PORT" -> "A:PORT")
+    """
+    if isinstance(chain, str) or not isinstance(chain, Sequence):
+        raise loc.error(f"expected a sequence of task names, got {chain!r}", path)
+    if not chain:
+        raise loc.error("an empty chain; expected a list of at least one task, sensor first",
+                        path)
+    placed: dict[str, int] = {}
+    for j, task in enumerate(chain):
+        where: KeyPath = (*path, j)
+        if not isinstance(task, str) or task not in sk.tasks:
+            raise loc.error(
+                f"no task {task!r}; expected one of the tasks ({_names(list(sk.tasks))})", where)
+        if task in placed:
+            raise loc.error(
+                f"the task {task!r} is already at {format_path((*path, placed[task]))}; "
+                "expected each task once in a chain", where)
+        placed[task] = j
+        if j and not any(link.writer[0] == chain[j - 1] and link.reader[0] == task
+                         for link in sk.links):
+            raise loc.error(
+                f"no link from {chain[j - 1]} to {task}; expected each task of a chain to read "
+                f'an output of the task before it (a link "{chain[j - 1]}:PORT" -> '
+                f'"{task}:PORT")', where)
+    return tuple(chain)
 
 
 def validate_skeleton(sk: Skeleton) -> None:

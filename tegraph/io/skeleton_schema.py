@@ -24,14 +24,18 @@ from .skeleton_checks import KeyPath, Locator, check_name, check_skeleton
 
 __all__ = ["skeleton_from_data", "skeleton_to_data"]
 
-TOP_KEYS = ("name", "unit", "clocks", "tasks", "links", "threads")
+# The spec §6 extensions (chains; priority, processor) come last, so that the
+# messages that list the v1 keys keep their wording.
+TOP_KEYS = ("name", "unit", "clocks", "tasks", "links", "threads", "chains")
 CLOCK_KEYS = ("period", "phase")
-TASK_KEYS = ("duration", "clock", "period", "phase", "inputs", "outputs")
+TASK_KEYS = ("duration", "clock", "period", "phase", "inputs", "outputs", "priority",
+             "processor")
 LINK_KEYS = ("from", "to", "protocol")
 _PROTOCOLS = ", ".join(p.value for p in Protocol)
 _NUMBER = 'a finite number such as 2, 0.5 or "7/3"'
 # Fraction("1e999999999") would build a billion-digit integer: refuse such exponents.
 _EXPONENT = re.compile(r"[eE]\s*[+-]?(\d+)")
+_DECIMAL_INT = re.compile(r"[+-]?[0-9][0-9_]*")
 _MAX_EXPONENT = 1000
 
 
@@ -130,6 +134,17 @@ def _time_text(t: Fraction) -> int | str:
     return t.numerator if t.denominator == 1 else f"{t.numerator}/{t.denominator}"
 
 
+def _priority(value: Any, path: KeyPath, loc: Locator) -> int:
+    """An integer priority (spec §6), read as written: ``010`` is ten, not eight."""
+    raw = loc.raw.get(path)
+    if isinstance(value, int) and not isinstance(value, bool):
+        if raw is not None and _DECIMAL_INT.fullmatch(raw):
+            return int(raw.replace("_", ""))
+        return value
+    raise loc.error(f"expected a priority (an integer such as 3; larger is more urgent), "
+                    f"got {_kind(value)}", path)
+
+
 def _names(value: Any, path: KeyPath, what: str, loc: Locator) -> tuple[str, ...]:
     items = _sequence(value, path, f"a list of {what}s such as [a, b]", loc)
     return tuple(
@@ -190,7 +205,14 @@ def _task(key: str, body: Any, declared: Mapping[str, Clock], loc: Locator
         )
     inputs = _names(body.get("inputs"), (*path, "inputs"), "port name", loc)
     outputs = _names(body.get("outputs"), (*path, "outputs"), "port name", loc)
-    return Task(key, duration, clock, inputs, outputs), private
+    priority = processor = None
+    if "priority" in body:
+        priority = _priority(body["priority"], (*path, "priority"), loc)
+    if "processor" in body:
+        processor = check_name(_text(body["processor"], (*path, "processor"),
+                                     "a processor name", loc),
+                               (*path, "processor"), "processor name", loc)
+    return Task(key, duration, clock, inputs, outputs, priority, processor), private
 
 
 def _endpoint(value: Any, path: KeyPath, loc: Locator) -> tuple[str, str]:
@@ -237,7 +259,8 @@ def skeleton_from_data(data: Any, default_name: str = "skeleton", source: str | 
     ----------
     data : mapping
         As in spec §1: ``tasks`` (required), ``name``, ``unit``, ``clocks``,
-        ``links``, ``threads``. Times may be ints, Fractions, decimals,
+        ``links``, ``threads``; and the §6 extensions ``chains`` and the task
+        keys ``priority`` and ``processor``. Times may be ints, Fractions, decimals,
         ``"7/3"`` strings or floats (read by their shortest decimal text).
     default_name : str
         The name when ``data`` has none (a file's stem).
@@ -295,8 +318,16 @@ def skeleton_from_data(data: Any, default_name: str = "skeleton", source: str | 
                             loc)
         threads.append(tuple(_text(t, ("threads", i, j), "a task name", loc)
                              for j, t in enumerate(members)))
+    chains = []
+    for i, chain in enumerate(_sequence(top.get("chains"), ("chains",),
+                                        "a list of chains such as [[MT1, MT2, MT3]]", loc)):
+        members = _sequence(chain, ("chains", i),
+                            "a list of task names, sensor first, such as [MT1, MT2, MT3]", loc)
+        chains.append(tuple(_text(t, ("chains", i, j), "a task name", loc)
+                            for j, t in enumerate(members)))
     sk = Skeleton(name=name, tasks=tasks, clocks={**declared, **private}, links=links,
-                  threads=threads, unit=unit, source=source if source is not None else loc.file)
+                  threads=threads, unit=unit, source=source if source is not None else loc.file,
+                  chains=chains)
     check_skeleton(sk, loc)
     return sk
 
@@ -311,8 +342,8 @@ def skeleton_to_data(sk: Skeleton) -> dict[str, Any]:
     Raises
     ------
     SkeletonError
-        When ``sk`` breaks a rule of spec §1, or holds ``extra`` keys, which the
-        v1 format has no place for (writing them would make an unreadable file).
+        When ``sk`` breaks a rule of spec §1 or §6, or holds ``extra`` keys, which
+        the format has no place for (writing them would make an unreadable file).
 
     Examples
     --------
@@ -340,6 +371,10 @@ def skeleton_to_data(sk: Skeleton) -> dict[str, Any]:
         for side in ("inputs", "outputs"):
             if getattr(task, side):
                 body[side] = list(getattr(task, side))
+        if task.priority is not None:
+            body["priority"] = int(task.priority)
+        if task.processor is not None:
+            body["processor"] = task.processor
         tasks[key] = body
     data["tasks"] = tasks
     if sk.links:
@@ -347,6 +382,8 @@ def skeleton_to_data(sk: Skeleton) -> dict[str, Any]:
                           "protocol": link.protocol.value} for link in sk.links]
     if sk.threads:
         data["threads"] = [list(thread) for thread in sk.threads]
+    if sk.chains:
+        data["chains"] = [list(chain) for chain in sk.chains]
     return data
 
 

@@ -44,8 +44,8 @@ REFUSALS = [
                    "  A: {duration: 1, clock: rtc}"), "clocks.rtc.offset",
                  "unknown key 'offset'; expected one of: period, phase", 2,
                  id="unknown-clock-key"),
-    pytest.param(y("tasks:", "  A:", "    duration: 1", "    priority: 3"), "tasks.A.priority",
-                 "unknown key 'priority'; expected one of: duration, clock, period, phase, "
+    pytest.param(y("tasks:", "  A:", "    duration: 1", "    wcet: 3"), "tasks.A.wcet",
+                 "unknown key 'wcet'; expected one of: duration, clock, period, phase, "
                  "inputs, outputs", 4, id="unknown-task-key"),
     pytest.param(y(*TWO, *link("A:x", "B:x"), "    delay: 1"), "links[0].delay",
                  "unknown key 'delay'; expected one of: from, to, protocol", 8,
@@ -178,10 +178,10 @@ REFUSALS = [
                  None, id="document-is-a-list"),
     pytest.param(y("tasks:", "  A: [1, 2]"), "tasks.A",
                  "expected a mapping of task fields (duration, clock, period, phase, inputs, "
-                 "outputs), got a list", 2, id="task-is-a-list"),
+                 "outputs, priority, processor), got a list", 2, id="task-is-a-list"),
     pytest.param(y("tasks:", "  A:"), "tasks.A",
                  "expected a mapping of task fields (duration, clock, period, phase, inputs, "
-                 "outputs), got nothing (null)", 2, id="task-is-null"),
+                 "outputs, priority, processor), got nothing (null)", 2, id="task-is-null"),
     pytest.param(y("clocks: [rtc]", "tasks:", "  A: {duration: 1}"), "clocks",
                  "expected a mapping from clock names to clocks, got a list", 1,
                  id="clocks-is-a-list"),
