@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import heapq
 from fractions import Fraction
+from typing import Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -30,9 +31,12 @@ from maxplus.cycle_ratio import max_cycle_ratio
 from .build import build_teg, last_event
 from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import minimal_semiflows
+from .latency import chain_latency
 from .liveness import token_free_circuits
 from .regime_bounds import autonomous_from
 from .reorder import reorder_ports
+from .rules import check_rules
+from .schedulability import schedulability
 from .report import (
     Deadlock,
     GroupReport,
@@ -57,7 +61,8 @@ _KIND_REPORTED = {
 
 
 def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
-            semiflow_max_places: int = 200_000) -> Report:
+            semiflow_max_places: int = 200_000, chains: Sequence[Sequence[str]] = (),
+            design: bool = True) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack.
 
     Parameters
@@ -72,6 +77,12 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
     semiflow_max_places : int
         Above this many places in all, the semiflow cross-check is skipped
         (the report says so).
+    chains : sequence of task-name sequences
+        Sensor-to-actuator chains whose latency to report, besides the
+        skeleton's own ``chains``.
+    design : bool
+        Add the design section (rules 1-4, schedulability, latencies); it
+        never changes the exit status of spec §5.
 
     Returns
     -------
@@ -87,7 +98,17 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
     >>> r.live, r.consistent, r.tasks["A"].period, r.tasks["A"].slack
     (True, True, Fraction(10, 1), Fraction(8, 1))
     """
-    return Analysis(skeleton, max_steps, semiflow_budget, semiflow_max_places).report()
+    report = Analysis(skeleton, max_steps, semiflow_budget, semiflow_max_places).report()
+    if design:
+        sched = schedulability(skeleton, report)
+        named = [(tuple(c), ("chains", i)) for i, c in enumerate(skeleton.chains)]
+        named += [(tuple(c), ("--chain",)) for c in chains]
+        report.design = {
+            "rules": check_rules(skeleton),
+            "schedulability": sched,
+            "latency": [chain_latency(skeleton, c, report, sched, path) for c, path in named],
+        }
+    return report
 
 
 class Analysis:

@@ -137,6 +137,8 @@ class Report:
     """How each verdict was obtained (theorem or algorithm, cross-check)."""
     notes: list[str] = field(default_factory=list)
     source: str | None = None
+    design: dict[str, Any] | None = None
+    """Rules 1-4, schedulability and chain latencies (docs/skeleton.md §6)."""
 
     @property
     def exit_status(self) -> int:
@@ -193,6 +195,11 @@ class Report:
             },
             "methods": self.methods,
             "notes": self.notes,
+            "design": None if self.design is None else {
+                "rules": [f.to_dict() for f in self.design["rules"]],
+                "schedulability": self.design["schedulability"].to_dict(),
+                "latency": [c.to_dict() for c in self.design["latency"]],
+            },
         }
 
     def to_json(self, indent: int | None = 2) -> str:
@@ -267,6 +274,15 @@ def render_text(report: Report) -> str:
                      f"the semiflow verdict {agree} with the circuit verdict")
     else:
         lines.append(f"invariants: not computed ({inv.reason})")
+    if report.design is not None:
+        # Imported here: these modules import this one.
+        from .latency import render_latency
+        from .rules import render_rules
+        from .schedulability import render_schedulability
+
+        lines += ["", render_rules(report.design["rules"]).rstrip("\n"),
+                  render_schedulability(report.design["schedulability"], u).rstrip("\n")]
+        lines += [render_latency(c, u).rstrip("\n") for c in report.design["latency"]]
     for note in report.notes:
         lines.append(f"note: {note}")
     return "\n".join(lines) + "\n"
