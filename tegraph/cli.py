@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Optional
+from typing import List, Optional
 
 import typer
 
@@ -43,6 +43,10 @@ def analyze(
     force: bool = typer.Option(False, "--force", help="Overwrite existing CSV files."),
     max_steps: int = typer.Option(100_000, "--max-steps", min=1,
                                   help="Budget on the firing index of the dater simulation."),
+    chain: Optional[List[str]] = typer.Option(
+        None, "--chain", help="A,B,C: report the latency of this chain (repeatable)."),
+    design: bool = typer.Option(True, "--design/--no-design",
+                                help="Include design rules, schedulability and latencies."),
 ) -> None:
     """Analyze a synchronization skeleton: liveness, periods, overruns, slack."""
     from .analysis import analyze as run_analysis
@@ -51,7 +55,10 @@ def analyze(
 
     try:
         skeleton = load_skeleton(file)
-        report = run_analysis(skeleton, max_steps=max_steps)
+        from .latency import parse_chain
+
+        chains = [parse_chain(c) for c in chain or []]
+        report = run_analysis(skeleton, max_steps=max_steps, chains=chains, design=design)
     except InputError as exc:
         _fail(str(exc))
     except TegraphError as exc:
@@ -69,6 +76,210 @@ def analyze(
 
 # Further commands (reach, cycle-time, convert, fix, rules, timeline) are added
 # below this line, one function each, in the same shape as `analyze`.
+
+
+@app.command()
+def fix(
+    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
+    output: Optional[Path] = typer.Option(
+        None, "-o", "--output",
+        help="Write the live skeleton here (.yaml/.yml or .json); the input file is "
+             "replaced only when -o names it. Without -o nothing is written."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing output file."),
+) -> None:
+    """Reorder ports so that the skeleton is live, keeping every declared order that is
+    fine; exit 0 live (or already live), 1 no port order helps, 2 bad input."""
+    from .fix import fix_ports, render_fix
+    from .io.skeleton_file import dump_skeleton, load_skeleton
+
+    try:
+        skeleton = load_skeleton(file)
+        result = fix_ports(skeleton)
+    except InputError as exc:
+        _fail(str(exc))
+    except TegraphError as exc:
+        _fail(f"{file}: {exc}")
+    if not result.live:
+        typer.echo(render_fix(result, skeleton.name) + "nothing written", nl=True)
+        raise typer.Exit(1)
+    if output is not None:
+        # -o naming the input itself is the user's explicit request to replace it.
+        same = output.exists() and output.resolve() == file.resolve()
+        try:
+            dump_skeleton(result.skeleton, output, overwrite=force or same)  # type: ignore[arg-type]
+        except FileExistsError:
+            _fail(f"{output}: the file exists already; pass --force to replace it")
+        except InputError as exc:
+            _fail(str(exc))
+        except OSError as exc:
+            _fail(f"cannot write {output}: {exc.strerror}")
+    typer.echo(render_fix(result, skeleton.name), nl=False)
+    if output is not None:
+        typer.echo(f"wrote {output} (live; comments of {file.name} are not copied)")
+    raise typer.Exit(0)
+
+
+@app.command()
+def rules(
+    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
+    chain: Optional[List[str]] = typer.Option(
+        None, "--chain", help="A chain of tasks, sensor first, e.g. TG.JS,TF.TT.JS,CO.JS: "
+                              "report its latency (repeatable; adds to the file's chains)."),
+    json_out: bool = typer.Option(False, "--json", help="Print JSON."),
+) -> None:
+    """Design rules of ORCCAD section 6, threads, schedulability and chain latencies;
+    exit 0 rules followed and schedulable, 1 otherwise, 2 bad input."""
+    import json
+
+    from .analysis import analyze as run_analysis
+    from .io.skeleton_file import load_skeleton
+    from .latency import chain_latency, parse_chain, render_latency
+    from .rules import check_rules, render_rules
+    from .schedulability import render_schedulability, schedulability
+
+    try:
+        skeleton = load_skeleton(file)
+        findings = check_rules(skeleton)
+        report = run_analysis(skeleton)
+        sched = schedulability(skeleton, report)
+        chains = [(c, ("chains", i)) for i, c in enumerate(skeleton.chains)]
+        chains += [(parse_chain(c), ("--chain",)) for c in chain or []]
+        latencies = [chain_latency(skeleton, c, report, sched, path) for c, path in chains]
+    except InputError as exc:
+        _fail(str(exc))
+    except TegraphError as exc:
+        _fail(f"{file}: {exc}")
+    violated = any(f.severity != "info" for f in findings) or sched.schedulable is False
+    if json_out:
+        typer.echo(json.dumps({"name": skeleton.name, "unit": skeleton.unit,
+                               "rules": [f.to_dict() for f in findings],
+                               "schedulability": sched.to_dict(),
+                               "latency": [r.to_dict() for r in latencies]},
+                              indent=2, ensure_ascii=False))
+    else:
+        text = render_rules(findings) + "\n" + render_schedulability(sched, skeleton.unit)
+        for r in latencies:
+            text += "\n" + render_latency(r, skeleton.unit)
+        typer.echo(text, nl=False)
+    raise typer.Exit(1 if violated else 0)
+
+
+@app.command()
+def timeline(
+    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
+    output: Optional[Path] = typer.Option(
+        None, "-o", "--output", help="Also draw the diagram into this .svg or .png file "
+                                     "(needs matplotlib: pip install 'tegraph[plot]')."),
+    horizon: Optional[str] = typer.Option(
+        None, "--horizon", help="End of the simulation, e.g. 12 or 7/3 (default: the "
+                                "largest clock phase plus the hyperperiod of the clocks)."),
+    width: int = typer.Option(96, "--width", min=10, help="Columns of the text diagram."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
+) -> None:
+    """Preemptive fixed-priority timing diagram (ORCCAD Figure 17), exact; exit 0 every
+    job ends by the next tick of its clock, 1 a job is late, 2 bad input or no matplotlib."""
+    from maxplus.scalar import exact_time
+
+    from .io.skeleton_file import load_skeleton
+    from .plot import PlotUnavailableError, draw_timeline
+    from .timeline import render_timeline, simulate_timeline
+
+    end = None
+    if horizon is not None:
+        try:
+            end = exact_time(horizon)
+        except (ValueError, ArithmeticError):
+            end = None
+        if end is None or end <= 0:
+            _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, got {horizon!r}")
+    try:
+        skeleton = load_skeleton(file)
+        result = simulate_timeline(skeleton, end)
+    except InputError as exc:
+        _fail(str(exc))
+    except TegraphError as exc:
+        _fail(f"{file}: {exc}")
+    if output is not None:
+        try:
+            draw_timeline(result, output, overwrite=force)
+        except PlotUnavailableError as exc:
+            _fail(str(exc))
+        except FileExistsError:
+            _fail(f"{output}: the file exists already; pass --force to replace it")
+        except InputError as exc:
+            _fail(f"{output}: {exc.reason}")
+        except OSError as exc:
+            _fail(f"cannot write {output}: {exc.strerror}")
+    typer.echo(render_timeline(result, width), nl=False)
+    if output is not None:
+        typer.echo(f"wrote {output}")
+    raise typer.Exit(1 if result.late_jobs else 0)
+
+
+@app.command("cycle-time")
+def cycle_time_command(
+    file: Path = typer.Argument(..., help="Any timed event graph tegraph reads: .pnml, SDF3 "
+                                "XML, .edges, TimedPetriNetEditor .json/.teg, a skeleton."),
+    json_out: bool = typer.Option(False, "--json", help="Print the JSON report "
+                                  "(docs/report.schema.json)."),
+    fmt: Optional[str] = typer.Option(None, "--format", help="Force the input format "
+                                      "(pnml, sdf3, edges, tpne-json, tpne-teg, skeleton)."),
+    max_size: str = typer.Option("256M", "--max-size", help="Refuse larger files (e.g. 1G)."),
+    default_holding: Optional[str] = typer.Option(
+        None, "--default-holding", help="Holding time of every place of a net that carries "
+        "no timing (default 0)."),
+) -> None:
+    """Exact period, throughput and critical circuit of a timed event graph.
+
+    Exit status: 0 figures computed; 1 a deadlock (circuit without token) or a
+    P/T net that is not a marked graph (the reason is printed); 2 input refused.
+    """
+    from .cycle_time import cycle_time
+    from .io.formats import parse_size
+
+    try:
+        result = cycle_time(file, format=fmt, max_bytes=parse_size(max_size),
+                            default_holding=default_holding)
+    except InputError as exc:
+        _fail(str(exc))
+    except (TegraphError, ValueError) as exc:
+        _fail(f"{file}: {exc}")
+    typer.echo(result.to_json() if json_out else result.to_text(), nl=not json_out)
+    raise typer.Exit(result.exit_status)
+
+
+@app.command()
+def convert(
+    source: Path = typer.Argument(..., help="Input file (format detected from it)."),
+    target: Path = typer.Argument(..., help="Output file (format from its extension: .pnml, "
+                                  ".xml/.sdf3, .edges, .json, .teg, .dot, .yaml)."),
+    from_fmt: Optional[str] = typer.Option(None, "--from", help="Force the input format."),
+    to_fmt: Optional[str] = typer.Option(None, "--to", help="Force the output format (pnml, "
+                                         "sdf3, edges, tpne-json, tpne-teg, dot, teg-dot, "
+                                         "skeleton)."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing output file."),
+    max_size: str = typer.Option("256M", "--max-size", help="Refuse larger input files."),
+) -> None:
+    """Convert between formats where the target can hold the content.
+
+    A skeleton becomes a timed event graph, never the other way round; a P/T
+    net that is not a marked graph goes only to net formats (PNML,
+    TimedPetriNetEditor JSON, DOT).
+    """
+    from .io.formats import parse_size, read, write
+
+    try:
+        model = read(source, from_fmt, max_bytes=parse_size(max_size))
+        written = write(model, target, to_fmt, overwrite=force)
+    except InputError as exc:
+        _fail(str(exc))
+    except FileExistsError:
+        _fail(f"{target} exists; not overwriting it (use --force)")
+    except OSError as exc:
+        _fail(f"cannot write {target}: {exc.strerror}")
+    except (TegraphError, ValueError) as exc:
+        _fail(f"{source}: {exc}")
+    typer.echo(f"wrote {written}")
 
 
 def main() -> None:
