@@ -103,6 +103,10 @@ def response_time(cost: Fraction, interferers: Iterable[tuple[Fraction, Fraction
     """
     pairs = [(Fraction(c), Fraction(t)) for c, t in interferers if c]
     cost = Fraction(cost)
+    if cost == 0:
+        # No work: the release completes at once, whatever the interference
+        # (the recurrence below could otherwise wander under a full load).
+        return Fraction(0)
     if pairs and sum(c / t for c, t in pairs) >= 1 and cost > 0:
         return None
     r = cost + sum(c for c, _ in pairs)
