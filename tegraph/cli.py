@@ -79,6 +79,84 @@ def analyze(
 
 
 @app.command()
+def reach(
+    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml, .json) or a P/T net "
+                                          "(.pnml and the other formats `convert` reads)."),
+    timed: bool = typer.Option(False, "--timed",
+                               help="Timed exploration (ORCCAD §5): periods, transients and "
+                                    "overruns from the first repeated state (skeletons only)."),
+    max_states: int = typer.Option(1_000_000, "--max-states", min=0,
+                                   help="State budget; beyond it the answer is inconclusive."),
+    max_seconds: Optional[float] = typer.Option(None, "--max-seconds", min=0,
+                                                help="Time budget in seconds."),
+    json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
+) -> None:
+    """State-space baseline: the reachability graph (deadlocks) or, with --timed, the timed
+    exploration; exit 0 nothing found, 1 a deadlock or an overrun, 2 bad input, 130 Ctrl-C."""
+    import json
+    import signal
+    import time
+
+    from .build import build_teg
+    from .io.formats import as_petri_net, read
+    from .io.skeleton_file import load_skeleton
+    from .reachability import reachability_graph, skeleton_reachability
+    from .skeleton import Skeleton
+    from .timed_reachability import timed_reachability
+
+    try:
+        model = (load_skeleton(file) if file.suffix.lower() in (".yaml", ".yml")
+                 else read(file))
+        if timed and not isinstance(model, Skeleton):
+            raise InputError("--timed needs a skeleton file (tasks, clocks, durations); "
+                             f"this file holds a {type(model).__name__}", file=str(file))
+        net = None if isinstance(model, Skeleton) else as_petri_net(model)
+    except InputError as exc:
+        _fail(str(exc))
+    except TegraphError as exc:
+        _fail(f"{file}: {exc}")
+
+    # Ctrl-C asks the search to stop at its next batch; the partial counts are printed.
+    interrupted: list[int] = []
+    shown = [0.0]
+    draw = sys.stderr.isatty()
+
+    def progress(states: int, _other: int, seconds: float) -> None:
+        if not draw or seconds < 1 or time.monotonic() - shown[0] < 0.1:
+            return
+        shown[0] = time.monotonic()
+        done = min(1.0, states / max(max_states, 1))
+        bar = "#" * int(30 * done) + "-" * (30 - int(30 * done))
+        typer.echo(f"\r[{bar}] {states:,} states, {states / seconds:,.0f}/s ", err=True, nl=False)
+
+    try:
+        previous = signal.signal(signal.SIGINT, lambda *_: interrupted.append(1))
+    except ValueError:  # not the main thread: Ctrl-C stays a KeyboardInterrupt
+        previous = None
+    budgets = dict(max_states=max_states, max_seconds=max_seconds, progress=progress,
+                   stop=lambda: bool(interrupted))
+    try:
+        if timed:
+            result = timed_reachability(model, **budgets)
+        elif net is None:
+            result = skeleton_reachability(build_teg(model), **budgets)
+        else:
+            result = reachability_graph(net, **budgets)
+    except TegraphError as exc:
+        _fail(f"{file}: {exc}")
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+        if shown[0]:
+            typer.echo("\r" + " " * 72 + "\r", err=True, nl=False)
+    typer.echo(json.dumps(result.to_dict(), indent=2) if json_out else result.render_text())
+    if result.stopped_by == "interrupted":
+        typer.echo("tegraph: interrupted; the counts above are partial", err=True)
+        raise typer.Exit(130)
+    raise typer.Exit(result.exit_status)
+
+
+@app.command()
 def fix(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
     output: Optional[Path] = typer.Option(
