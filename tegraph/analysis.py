@@ -421,12 +421,12 @@ class Analysis:
         for g in range(len(self.group_tasks)):
             places = self.places_of_group[g]
             events = self.events_of_group[g]
-            sub = incidence[places][:, events].toarray()
+            sub = incidence[places][:, events]
             result = minimal_semiflows(sub, self.semiflow_budget)
             if not result.computed:
                 return InvariantCheck(False, None, None, reason=(
                     f"more than {self.semiflow_budget} candidate semiflows in group {g}"))
-            count += len(result.semiflows)
+            count += result.count
             unmarked += len(result.unmarked(self.tokens[places]))
         return InvariantCheck(True, count, (unmarked == 0) == live, unmarked)
 

@@ -30,28 +30,41 @@ class SemiflowResult:
     ----------
     computed : bool
         False when the number of candidate rows exceeded ``budget``.
-    semiflows : list of numpy.ndarray
-        Each a vector of non-negative integers over the places (when computed).
+    matrix : scipy.sparse.csr_matrix
+        One minimal semiflow a row (non-negative integers over the places);
+        no rows when not computed.
     budget : int
     """
 
     computed: bool
-    semiflows: list[np.ndarray]
+    matrix: sp.csr_matrix
     budget: int
 
-    def unmarked(self, marking: np.ndarray) -> list[np.ndarray]:
-        """The semiflows that carry no token under ``marking``."""
-        return [y for y in self.semiflows if int(np.dot(y, marking)) == 0]
+    @property
+    def count(self) -> int:
+        """Number of minimal semiflows found."""
+        return int(self.matrix.shape[0])
+
+    @property
+    def semiflows(self) -> list[np.ndarray]:
+        """The semiflows as dense vectors, those with the earliest places first."""
+        rows = self.matrix.toarray()
+        order = sorted(range(len(rows)), key=lambda k: [-v for v in (rows[k] > 0).tolist()])
+        return [rows[k] for k in order]
+
+    def unmarked(self, marking: np.ndarray) -> np.ndarray:
+        """Indices (rows of ``matrix``) of the semiflows without token under ``marking``."""
+        return np.flatnonzero(self.matrix @ np.asarray(marking, dtype=np.int64) == 0)
 
 
-def minimal_semiflows(incidence: np.ndarray, budget: int = 5000) -> SemiflowResult:
+def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000) -> SemiflowResult:
     """All minimal p-semiflows of an incidence matrix, within a row budget.
 
     Parameters
     ----------
-    incidence : numpy.ndarray
-        Dense ``places × transitions`` matrix of integers (``+1`` when the
-        place is an output of the transition, ``-1`` when an input).
+    incidence : numpy.ndarray or scipy.sparse matrix
+        ``places × transitions`` matrix of integers (``+w`` when the place is
+        an output of the transition with weight ``w``, ``-w`` when an input).
     budget : int
         Largest number of candidate rows kept at any step.
 
@@ -67,7 +80,9 @@ def minimal_semiflows(incidence: np.ndarray, budget: int = 5000) -> SemiflowResu
     order of elimination does not change the result, so transitions with a
     single input and a single output place (most events of a skeleton) are
     eliminated first, all at once: in a marked graph they join places into
-    paths and circuits, found as connected components.
+    paths and circuits, found as connected components. The table is kept
+    sparse (a semiflow of a skeleton is a short circuit), so a step costs in
+    proportion to the entries it touches, not to rows × places.
 
     Examples
     --------
@@ -77,90 +92,113 @@ def minimal_semiflows(incidence: np.ndarray, budget: int = 5000) -> SemiflowResu
     >>> [y.tolist() for y in minimal_semiflows(C).semiflows]
     [[1, 1, 0], [0, 0, 1]]
     """
-    C = np.asarray(incidence, dtype=np.int64)
+    C = sp.csr_matrix(incidence, dtype=np.int64)
+    C.eliminate_zeros()
     n_places, n_trans = C.shape
-    Y, R, done = _contract_series_transitions(C)
-    for _ in range(int((~done).sum())):
+    Y, R = _contract_series_transitions(C)
+    # A row whose transition part is 0 is a semiflow already: no later step
+    # combines it, though new rows are still checked against its support.
+    closed = R.getnnz(axis=1) == 0
+    finished = Y[np.flatnonzero(closed)]
+    Y, R = Y[np.flatnonzero(~closed)], R[np.flatnonzero(~closed)]
+    while R.shape[0]:
+        rows = R.shape[0]
+        positive = R.data > 0
+        n_pos = np.bincount(R.indices[positive], minlength=n_trans)
+        n_neg = np.bincount(R.indices[~positive], minlength=n_trans)
         # Eliminating the column with the fewest new combinations first keeps
-        # the intermediate tables small.
-        cost = (R > 0).sum(axis=0) * (R < 0).sum(axis=0)
-        cost[done] = np.iinfo(np.int64).max
+        # the table small; a column no row touches needs no step.
+        cost = np.where(n_pos + n_neg > 0, n_pos * n_neg, np.iinfo(np.int64).max)
         j = int(np.argmin(cost))
-        done[j] = True
-        col = R[:, j]
+        at_j = R.indices == j
+        row_of_entry = np.repeat(np.arange(rows), np.diff(R.indptr))
+        col = np.zeros(rows, dtype=np.int64)
+        col[row_of_entry[at_j]] = R.data[at_j]
         pos, neg, zero = np.flatnonzero(col > 0), np.flatnonzero(col < 0), np.flatnonzero(col == 0)
         if len(zero) + len(pos) * len(neg) > budget:
-            return SemiflowResult(False, [], budget)
-        if len(pos) == 0 or len(neg) == 0:
-            Y, R = Y[zero], R[zero]
-            continue
+            return SemiflowResult(False, sp.csr_matrix((0, n_places), dtype=np.int64), budget)
         a = np.repeat(pos, len(neg))
         b = np.tile(neg, len(pos))
-        fa, fb = -col[b][:, None], col[a][:, None]
-        new_Y = fa * Y[a] + fb * Y[b]
-        new_R = fa * R[a] + fb * R[b]
-        g = np.gcd.reduce(new_Y, axis=1)
-        g = np.where(g == 0, 1, g)[:, None]
-        new_Y, new_R = new_Y // g, new_R // g
+        fa, fb = sp.diags(-col[b], dtype=np.int64), sp.diags(col[a], dtype=np.int64)
+        new_Y = (fa @ Y[a] + fb @ Y[b]).tocsr()
+        new_R = (fa @ R[a] + fb @ R[b]).tocsr()
+        new_R.eliminate_zeros()  # column j cancels
+        if new_Y.shape[0]:
+            g = np.gcd.reduceat(new_Y.data, new_Y.indptr[:-1])
+            new_Y.data //= np.repeat(g, np.diff(new_Y.indptr))
+            new_R.data //= np.repeat(g, np.diff(new_R.indptr))  # R = Y·C: divisible too
         # Rows kept from before stay minimal (their supports were minimal and
         # no new support is a proper subset of a removed row's); only the new
         # rows can contain another support.
-        keep = _minimal_new_rows(Y[zero], new_Y)
-        Y = np.vstack([Y[zero], new_Y[keep]])
-        R = np.vstack([R[zero], new_R[keep]])
-    order = sorted(range(len(Y)), key=lambda k: [-v for v in (Y[k] > 0).tolist()])
-    return SemiflowResult(True, [Y[k] for k in order], budget)
+        keep = _minimal_new_rows(sp.vstack([Y[zero], finished], format="csr"), new_Y)
+        new_Y, new_R = new_Y[keep], new_R[keep]
+        done = new_R.getnnz(axis=1) == 0
+        if done.any():
+            finished = sp.vstack([finished, new_Y[np.flatnonzero(done)]], format="csr")
+        Y = sp.vstack([Y[zero], new_Y[np.flatnonzero(~done)]], format="csr")
+        R = sp.vstack([R[zero], new_R[np.flatnonzero(~done)]], format="csr")
+    return SemiflowResult(True, finished, budget)
 
 
-def _contract_series_transitions(C: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _contract_series_transitions(C: sp.csr_matrix) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """Eliminate every transition with one input and one output place at once.
 
     Only for marked-graph rows (each row one +1 and one -1, or all zero);
-    otherwise nothing is contracted. Returns the rows (Y over places, R over
-    transitions) and the mask of eliminated transitions.
+    otherwise nothing is contracted. Returns the rows: Y over places, R over
+    transitions (the eliminated columns are 0 in R).
     """
     n_places, n_trans = C.shape
-    nonzero = (C != 0).sum(axis=1)
-    marked_graph = (np.abs(C).max(initial=0) <= 1
-                    and (np.isin(nonzero, (0, 2)) & ((C > 0).sum(axis=1) * 2 == nonzero)).all())
+    per_row = C.getnnz(axis=1)
+    positive_per_row = np.bincount(np.repeat(np.arange(n_places), per_row)[C.data > 0],
+                                   minlength=n_places)
+    marked_graph = (np.abs(C.data).max(initial=0) <= 1
+                    and (np.isin(per_row, (0, 2)) & (positive_per_row * 2 == per_row)).all())
+    identity = sp.identity(n_places, dtype=np.int64, format="csr")
     if not marked_graph or n_places == 0:
-        return np.eye(n_places, dtype=np.int64), C.copy(), np.zeros(n_trans, dtype=bool)
-    ins, outs = (C < 0).sum(axis=0), (C > 0).sum(axis=0)
-    series = np.flatnonzero((ins == 1) & (outs == 1))
-    into = np.argmax(C[:, series] < 0, axis=0)   # the input place of each series transition
-    out_of = np.argmax(C[:, series] > 0, axis=0)  # its output place
-    keep = into != out_of
-    join = sp.csr_matrix((np.ones(int(keep.sum())), (into[keep], out_of[keep])),
+        return identity, C.copy()
+    coo = C.tocoo()
+    ins = np.bincount(coo.col[coo.data < 0], minlength=n_trans)
+    outs = np.bincount(coo.col[coo.data > 0], minlength=n_trans)
+    series = (ins == 1) & (outs == 1)
+    into = np.full(n_trans, -1)
+    out_of = np.full(n_trans, -1)
+    into[coo.col[coo.data < 0]] = coo.row[coo.data < 0]
+    out_of[coo.col[coo.data > 0]] = coo.row[coo.data > 0]
+    # A series transition on a self-loop place is a circuit of its own: left alone.
+    joined = np.flatnonzero(series & (into != out_of))
+    join = sp.csr_matrix((np.ones(len(joined)), (into[joined], out_of[joined])),
                          shape=(n_places, n_places))
     n_comp, label = connected_components(join, directed=False)
     # Each component of places joined through series transitions is a path
     # (its row: the sum of its places) or a circuit (a semiflow already).
     member = sp.csr_matrix((np.ones(n_places, dtype=np.int64), (label, np.arange(n_places))),
                            shape=(n_comp, n_places))
-    Y = member.toarray()
-    R = np.asarray(member @ C, dtype=np.int64)
-    done = np.zeros(n_trans, dtype=bool)
-    done[series[keep]] = True
-    return Y, R, done
+    R = (member @ C).tocsr()
+    R.eliminate_zeros()
+    return member, R
 
 
-def _minimal_new_rows(old: np.ndarray, new: np.ndarray) -> np.ndarray:
+def _minimal_new_rows(old: sp.csr_matrix, new: sp.csr_matrix) -> np.ndarray:
     """Indices of new rows whose support contains no other row's support (first of equals)."""
-    if len(new) == 0:
+    if new.shape[0] == 0:
         return np.zeros(0, dtype=np.int64)
-    S_new = (new > 0).astype(np.int32)
-    size_new = S_new.sum(axis=1)
-    bad = np.zeros(len(new), dtype=bool)
-    if len(old):
-        S_old = (old > 0).astype(np.int32)
-        size_old = S_old.sum(axis=1)
-        bad |= ((S_new @ S_old.T) == size_old[None, :]).any(axis=1)
-    inter = S_new @ S_new.T
-    contains = inter == size_new[None, :]  # contains[i, j]: support j within support i
-    np.fill_diagonal(contains, False)
-    strict = contains & (size_new[None, :] < size_new[:, None])
-    equal = contains & (size_new[None, :] == size_new[:, None])
-    earlier_equal = np.triu(equal.T, k=1).any(axis=0)
-    return np.flatnonzero(~bad & ~strict.any(axis=1) & ~earlier_equal)
+    S_new = _pattern(new)
+    size_new = S_new.getnnz(axis=1)
+    bad = np.zeros(new.shape[0], dtype=bool)
+    if old.shape[0]:
+        S_old = _pattern(old)
+        inter = (S_new @ S_old.T).tocoo()
+        hit = inter.data == S_old.getnnz(axis=1)[inter.col]
+        bad[inter.row[hit]] = True
+    inter = (S_new @ S_new.T).tocoo()
+    i, k = inter.row, inter.col
+    contains = (inter.data == size_new[k]) & (i != k)  # support k within support i
+    strict = contains & (size_new[k] < size_new[i])
+    earlier_equal = contains & (size_new[k] == size_new[i]) & (k < i)
+    bad[i[strict | earlier_equal]] = True
+    return np.flatnonzero(~bad)
 
 
+def _pattern(m: sp.csr_matrix) -> sp.csr_matrix:
+    return sp.csr_matrix((np.ones(len(m.data), dtype=np.int32), m.indices, m.indptr),
+                         shape=m.shape)

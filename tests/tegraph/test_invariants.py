@@ -56,3 +56,46 @@ def test_budget_is_reported():
     C = np.array([[1, -1]] * 6 + [[-1, 1]] * 6)
     assert len(minimal_semiflows(C).semiflows) == 36
     assert minimal_semiflows(C, budget=10).computed is False
+
+
+def _minimal_semiflows_by_kernels(C: np.ndarray) -> set[tuple[int, ...]]:
+    """Minimal supports by brute force over place subsets, smallest first.
+
+    A support S is that of a minimal p-semiflow exactly when no smaller one
+    lies inside it and the kernel of C[S]ᵀ is one-dimensional, spanned by a
+    vector with every entry non-zero and of one sign (if the kernel were
+    larger, a combination of two semiflows on S would zero an entry while
+    staying >= 0, giving a smaller support).
+    """
+    import sympy
+
+    found: list[frozenset[int]] = []
+    result = set()
+    for size in range(1, C.shape[0] + 1):
+        for S in itertools.combinations(range(C.shape[0]), size):
+            if any(f <= set(S) for f in found):
+                continue
+            kernel = sympy.Matrix(C[list(S)].tolist()).T.nullspace()
+            if len(kernel) != 1:
+                continue
+            v = list(kernel[0])
+            if all(x > 0 for x in v) or all(x < 0 for x in v):
+                found.append(frozenset(S))
+                result.add(S)
+    return result
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 6).flatmap(lambda p: st.integers(1, 4).flatmap(
+    lambda t: st.lists(st.lists(st.integers(-2, 2), min_size=t, max_size=t),
+                       min_size=p, max_size=p))))
+def test_weighted_net_semiflows_equal_brute_force(rows):
+    # Any P/T net (weights up to 2, places both input and output of a
+    # transition folded into one entry): Farkas against the kernel test.
+    C = np.array(rows, dtype=np.int64)
+    result = minimal_semiflows(C)
+    assert result.computed
+    got = {tuple(np.flatnonzero(y).tolist()) for y in result.semiflows}
+    assert got == _minimal_semiflows_by_kernels(C)
+    for y in result.semiflows:
+        assert not (y @ C).any() and (y >= 0).all() and np.gcd.reduce(y) == 1
