@@ -101,6 +101,7 @@ def reach(
     from .io.formats import as_petri_net, read
     from .io.skeleton_file import load_skeleton
     from .reachability import reachability_graph, skeleton_reachability
+    from .report import json_report
     from .skeleton import Skeleton
     from .timed_reachability import timed_reachability
 
@@ -149,7 +150,8 @@ def reach(
             signal.signal(signal.SIGINT, previous)
         if shown[0]:
             typer.echo("\r" + " " * 72 + "\r", err=True, nl=False)
-    typer.echo(json.dumps(result.to_dict(), indent=2) if json_out else result.render_text())
+    typer.echo(json.dumps(json_report("reach", result.to_dict()), indent=2) if json_out
+               else result.render_text())
     if result.stopped_by == "interrupted":
         typer.echo("tegraph: interrupted; the counts above are partial", err=True)
         raise typer.Exit(130)
@@ -212,6 +214,7 @@ def rules(
     from .analysis import analyze as run_analysis
     from .io.skeleton_file import load_skeleton
     from .latency import chain_latency, parse_chain, render_latency
+    from .report import json_report
     from .rules import check_rules, render_rules
     from .schedulability import render_schedulability, schedulability
 
@@ -229,11 +232,10 @@ def rules(
         _fail(f"{file}: {exc}")
     violated = any(f.severity != "info" for f in findings) or sched.schedulable is False
     if json_out:
-        typer.echo(json.dumps({"name": skeleton.name, "unit": skeleton.unit,
-                               "rules": [f.to_dict() for f in findings],
-                               "schedulability": sched.to_dict(),
-                               "latency": [r.to_dict() for r in latencies]},
-                              indent=2, ensure_ascii=False))
+        typer.echo(json.dumps(json_report("rules", {
+            "name": skeleton.name, "unit": skeleton.unit,
+            "rules": [f.to_dict() for f in findings], "schedulability": sched.to_dict(),
+            "latency": [r.to_dict() for r in latencies]}), indent=2, ensure_ascii=False))
     else:
         text = render_rules(findings) + "\n" + render_schedulability(sched, skeleton.unit)
         for r in latencies:
@@ -306,18 +308,26 @@ def cycle_time_command(
     default_holding: Optional[str] = typer.Option(
         None, "--default-holding", help="Holding time of every place of a net that carries "
         "no timing (default 0)."),
+    max_states: int = typer.Option(1_000_000, "--max-states", min=0,
+                                   help="State budget of the reachability search run on a "
+                                        "P/T net that is not a marked graph."),
+    max_seconds: Optional[float] = typer.Option(None, "--max-seconds", min=0,
+                                                help="Time budget of that search, in seconds."),
 ) -> None:
     """Exact period, throughput and critical circuit of a timed event graph.
 
-    Exit status: 0 figures computed; 1 a deadlock (circuit without token) or a
-    P/T net that is not a marked graph (the reason is printed); 2 input refused.
+    A P/T net that is not a marked graph has no (max,+) figures: the report says
+    why and gives the deadlock verdict of its untimed reachability graph instead.
+    Exit status: 0 no deadlock found; 1 a deadlock (a circuit without token, or
+    a reachable dead marking); 2 input refused.
     """
     from .cycle_time import cycle_time
     from .io.formats import parse_size
 
     try:
         result = cycle_time(file, format=fmt, max_bytes=parse_size(max_size),
-                            default_holding=default_holding)
+                            default_holding=default_holding, max_states=max_states,
+                            max_seconds=max_seconds)
     except InputError as exc:
         _fail(str(exc))
     except (TegraphError, ValueError) as exc:

@@ -16,8 +16,11 @@ exact maximum cycle ratio of :func:`maxplus.cycle_ratio.max_cycle_ratio`.
 * A circuit without token never fires (Commoner et al. 1971): the graph
   deadlocks, no period exists, and that circuit is reported instead.
 * A P/T net that is not a marked graph has no (max,+) figures: the result
-  says why (the place or arc at fault); only its reachable markings can
-  tell whether it deadlocks (``tegraph reach``).
+  says why (the place or arc at fault), and what still applies is run
+  instead: the untimed reachability baseline
+  (:func:`tegraph.reachability.reachability_graph`, under a state and a time
+  budget) decides whether a dead marking is reachable, with a shortest
+  firing sequence to each.
 
 The result is data (:class:`CycleTimeResult`, :meth:`~CycleTimeResult.to_dict`
 for the JSON report of ``docs/report.schema.json``); nothing is printed.
@@ -40,6 +43,7 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time
 
 from .errors import InputError
+from .reachability import Reachability, reachability_graph
 from .report import SCHEMA_VERSION, exact_text
 
 __all__ = ["CycleTimeResult", "cycle_time"]
@@ -56,6 +60,9 @@ class CycleTimeResult:
         ``"P/T net"``, ``"SDF graph"``, ``"skeleton"``, ``"arc list"``).
     applicable : bool
         False for a P/T net that is not a marked graph (see ``reason``).
+    reachability : Reachability or None
+        For such a net, its explored reachable markings (the deadlock
+        verdict); None otherwise.
     period, throughput : Fraction or None
         ``throughput = 1/period``; None without circuit, on a deadlock, and
         (throughput) for period 0.
@@ -92,11 +99,13 @@ class CycleTimeResult:
     seconds: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     source: str | None = None
+    reachability: Reachability | None = None
 
     @property
     def exit_status(self) -> int:
-        """0 figures computed; 1 a deadlock, or a net the figures do not apply to."""
-        return 0 if self.applicable and self.token_free_circuit is None else 1
+        """1 when a deadlock was found (a circuit without token, a dead marking), else 0."""
+        dead = self.reachability is not None and bool(self.reachability.dead)
+        return 1 if dead or self.token_free_circuit is not None else 0
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON report (``docs/report.schema.json``, ``"report": "cycle-time"``)."""
@@ -119,6 +128,7 @@ class CycleTimeResult:
             "deadlock": None if self.token_free_circuit is None
             else {"token_free_circuit": self.token_free_circuit},
             "certificate_verified": self.certificate_verified,
+            "reachability": None if self.reachability is None else self.reachability.to_dict(),
             "seconds": {k: round(v, 6) for k, v in self.seconds.items()},
             "notes": self.notes,
         }
@@ -132,7 +142,14 @@ class CycleTimeResult:
         head = f"{self.model} {self.name}" + (f" ({self.source})" if self.source else "")
         lines = [head, f"size:        {self.n_transitions} transitions, {self.n_places} places"]
         if not self.applicable:
-            lines.append(f"not analyzed: {self.reason}")
+            lines.append(f"no period:   {self.reason}")
+            if self.reachability is not None:
+                found = self.reachability.render_text(limit=3).splitlines()
+                lines.append("instead:     " + found[0].split(": ", 1)[1])
+                lines.append("verdict:     " + found[1])
+                lines.extend("  " + line for line in found[2:])
+                if self.reachability.deadlock is None:
+                    lines.append("to decide:   raise the budget (--max-states, --max-seconds)")
         elif self.token_free_circuit is not None:
             lines.append("DEADLOCK: circuit without token "
                          + " -> ".join([*self.token_free_circuit, self.token_free_circuit[0]])
@@ -173,7 +190,8 @@ def _circuit_text(events: list[str], places: list[str]) -> str:
 
 
 def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
-               default_holding: Any = None, max_bytes: int | None = None) -> CycleTimeResult:
+               default_holding: Any = None, max_bytes: int | None = None,
+               max_states: int = 1_000_000, max_seconds: float | None = None) -> CycleTimeResult:
     """Period, throughput, critical circuit and cycle times of a timed event graph.
 
     Parameters
@@ -190,6 +208,9 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
         Force the format of a file (see :data:`tegraph.io.formats.FORMATS`).
     max_bytes : int, optional
         Size limit when ``source`` is a path.
+    max_states, max_seconds : int, float, optional
+        Budgets of the reachability exploration run on a P/T net that is not
+        a marked graph (beyond them its deadlock verdict is inconclusive).
 
     Returns
     -------
@@ -226,6 +247,10 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
     result.seconds = seconds
     if graph is None:
         seconds["analysis"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        result.reachability = reachability_graph(source, max_states=max_states,
+                                                 max_seconds=max_seconds)
+        seconds["reachability"] = time.perf_counter() - t0
         return result
     _solve(graph, result, verify)
     seconds["analysis"] = time.perf_counter() - t0 - seconds.get("certificate", 0.0)
@@ -254,8 +279,9 @@ def _as_graph(obj: Any, default_holding: Any) -> tuple[Any, CycleTimeResult]:
                                   reason=f"not a marked graph: {why}; the (max,+) figures "
                                          "(period, throughput, critical circuit) hold for "
                                          "marked graphs only")
-            res.notes.append("what still applies is the untimed reachability baseline: "
-                             "explore its reachable markings for deadlocks (tegraph reach)")
+            res.notes.append("the deadlock verdict comes from the untimed reachability "
+                             "baseline (breadth-first over the reachable markings, as "
+                             "`tegraph reach`); no structural cross-check applies")
             return None, res
         if not obj.holding:
             h = _holding(default_holding)

@@ -24,11 +24,23 @@ __all__ = [
     "InvariantCheck",
     "Report",
     "exact_text",
+    "json_report",
     "render_text",
     "write_csv",
 ]
 
 SCHEMA_VERSION = 1
+
+
+def json_report(command: str, body: dict[str, Any]) -> dict[str, Any]:
+    """A command's JSON document: ``schema_version`` and ``report`` first, then ``body``.
+
+    ``docs/report.schema.json`` describes each command's document.
+
+    >>> json_report("reach", {"states": 3})
+    {'schema_version': 1, 'report': 'reach', 'states': 3}
+    """
+    return {"schema_version": SCHEMA_VERSION, "report": command, **body}
 
 
 def exact_text(value: Fraction | int | None) -> str | None:

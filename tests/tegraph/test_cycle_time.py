@@ -190,12 +190,55 @@ def test_larger_circular_trains_are_live(anchors, size):
 
 def test_house_construction_is_not_a_marked_graph(anchors):
     out = spawn("cycle-time", str(anchors / "pnml" / "HouseConstruction-PT-00002.pnml"))
+    # MCC verdict file: "place p1 is not of a marked graph"; ReachabilityDeadlock TRUE
     assert out.returncode == 1, out.stderr
-    # MCC verdict file: "place p1 is not of a marked graph"
     assert "not a marked graph" in out.stdout and "'p1'" in out.stdout
+    assert "deadlock: 1 dead marking reached" in out.stdout
     doc = json.loads(run("cycle-time", str(anchors / "pnml" / "HouseConstruction-PT-00002.pnml"),
                          "--json").stdout)
     assert doc["applicable"] is False and doc["period"] is None and "p1" in doc["reason"]
+    reach = doc["reachability"]
+    # cases.json state_space: 1,501 states, 4,780 edges
+    assert (reach["states"], reach["edges"], reach["complete"]) == (1501, 4780, True)
+    assert reach["deadlock"] is True
+
+
+def test_house_construction_dead_marking_replays(anchors):
+    net = tegraph.read(anchors / "pnml" / "HouseConstruction-PT-00002.pnml")
+    r = cycle_time(net)
+    (dead,) = r.reachability.dead
+    marking = net.marking.copy()
+    for t in dead.firing_sequence:  # fire by hand: every step enabled, the end enables nothing
+        assert (marking >= net.pre[:, t]).all()
+        marking += net.post[:, t] - net.pre[:, t]
+    assert (marking == dead.marking).all()
+    assert not any((marking >= net.pre[:, t]).all() for t in range(len(net.transitions)))
+
+
+def test_choice_net_without_deadlock_exits_0(tmp_path):
+    # p0 (1 token) -> t1 or t2 -> p1 -> t3 -> p0: p0 has two output transitions,
+    # so no (max,+) figures; by hand the reachable markings are (1,0) and
+    # (0,1), each enabling a transition: 2 states, 3 edges, no deadlock.
+    from tegraph.petri import PetriNet
+
+    pre = np.array([[1, 1, 0], [0, 0, 1]])
+    post = np.array([[0, 0, 1], [1, 1, 0]])
+    net = PetriNet("choice", ["p0", "p1"], ["t1", "t2", "t3"], pre, post, np.array([1, 0]))
+    path = tmp_path / "choice.pnml"
+    tegraph.write(net, path)
+    out = run("cycle-time", str(path))
+    assert out.returncode == 0, out.stderr
+    assert "no period:" in out.stdout and "no deadlock (2 states, complete)" in out.stdout
+    r = cycle_time(path)
+    assert (r.reachability.states, r.reachability.edges) == (2, 3) and r.period is None
+
+
+def test_reachability_budget_is_inconclusive_not_a_guess(anchors):
+    out = run("cycle-time", str(anchors / "pnml" / "HouseConstruction-PT-00002.pnml"),
+              "--max-states", "100", "--json")
+    reach = json.loads(out.stdout)["reachability"]
+    assert out.returncode == 0 and reach["complete"] is False and reach["deadlock"] is None
+    assert reach["stopped_by"] == "states" and reach["states"] == 100
 
 
 def test_derived_deadlock_names_the_token_free_circuit(anchors, tmp_path):

@@ -240,6 +240,44 @@ def test_deadlock_report_matches_the_schema(tmp_path):
                                                                              ["1", "0"])
 
 
+@pytest.mark.parametrize("example", sorted((REPO / "examples").glob("*.yaml")),
+                         ids=lambda p: p.stem)
+@pytest.mark.parametrize("timed", [False, True], ids=["untimed", "timed"])
+def test_every_reach_report_matches_the_schema(example, timed):
+    out = run("reach", str(example), "--json", "--max-states", "20000",
+              *(["--timed"] if timed else []))
+    assert out.returncode in (0, 1), out.stderr
+    doc = json.loads(out.stdout)
+    validate(doc)
+    assert doc["report"] == "reach" and doc["mode"] == ("timed" if timed else "untimed")
+
+
+def test_reach_report_on_a_pnml_net_matches_the_schema(anchors):
+    out = run("reach", str(anchors / "pnml" / "HouseConstruction-PT-00002.pnml"), "--json")
+    doc = json.loads(out.stdout)
+    validate(doc)
+    assert out.returncode == 1 and doc["deadlock"] is True
+
+
+@pytest.mark.parametrize("example", sorted((REPO / "examples").glob("*.yaml")),
+                         ids=lambda p: p.stem)
+def test_every_rules_report_matches_the_schema(example):
+    links = tegraph.read(example).links
+    chain = ["--chain", f"{links[0].writer[0]},{links[0].reader[0]}"] if links else []
+    out = run("rules", str(example), "--json", *chain)
+    assert out.returncode in (0, 1), out.stderr
+    doc = json.loads(out.stdout)
+    validate(doc)
+    assert doc["report"] == "rules" and len(doc["latency"]) >= bool(links)
+
+
 def test_schema_rejects_a_report_that_breaks_it():
     with pytest.raises(jsonschema.ValidationError):
         validate({"schema_version": 1, "report": "cycle-time", "period": 2.5})
+    good = json.loads(run("reach", str(REPO / "examples" / "fig4_pipeline_synchronized.yaml"),
+                          "--json").stdout)
+    validate(good)
+    with pytest.raises(jsonschema.ValidationError):  # an unknown key
+        validate({**good, "extra": 1})
+    with pytest.raises(jsonschema.ValidationError):  # a float where the count is an integer
+        validate({**good, "states": 2.5})
