@@ -9,7 +9,10 @@ ratio ``W/T`` of the circuit it reaches (reduced fraction) and a potential
 ``X`` (the bias multiplied by ``T``) that is tight along policy arcs.
 *Policy improvement* switches a node to an in-arc from a node of strictly
 larger ratio, or, failing that, to an in-arc of the same ratio with a strictly
-larger potential. When nothing improves, the potentials satisfy the
+larger potential. A larger ratio is passed on at once to every node
+downstream (each switch a strict gain over the node's current ratio, so no new
+policy circuit can form and the step is a valid improvement): without that,
+a long chain below a slow circuit would take one iteration per node. When nothing improves, the potentials satisfy the
 optimality inequalities everywhere: that is the certificate.
 
 Reference: J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
@@ -80,6 +83,9 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     counts = np.bincount(dst, minlength=n)
     starts = np.r_[0, np.cumsum(counts)[:-1]]
     seg = np.repeat(np.arange(n), counts)
+    out_order = np.argsort(s_src, kind="stable")  # arcs by tail, for downstream sweeps
+    out_counts = np.bincount(s_src, minlength=n)
+    out_starts = np.r_[0, np.cumsum(out_counts)[:-1]]
     # Initial policy: the heaviest in-arc of each node, a good first guess.
     pol = starts + _segment_argmax(s_w, starts, seg)
     W = np.zeros(n, dtype=w.dtype)
@@ -104,6 +110,8 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
         if better.any():
             chosen, nodes = _best_per_node(cand[better], rank_src[better], s_dst)
             pol[nodes] = chosen
+            rank[nodes] = rank[s_src[chosen]]
+            _sweep_downstream(pol, rank, nodes, s_src, s_dst, out_order, out_starts, out_counts)
             # Gains were not examined this round: the next round looks at all arcs.
             check_all = True
             continue
@@ -118,6 +126,33 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
         check_all = False
 
 
+def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
+                      s_src: np.ndarray, s_dst: np.ndarray, out_order: np.ndarray,
+                      out_starts: np.ndarray, out_counts: np.ndarray) -> None:
+    """Pass larger ratio ranks downstream from ``frontier``, switching policies (in place).
+
+    ``rank`` becomes a lower bound of each node's ratio rank under the new
+    policy: a node switches only to an in-arc whose tail ranks strictly
+    higher, and takes that rank. Each round looks at the out-arcs of the nodes
+    switched in the round before, so the whole sweep touches every arc about
+    as often as its tail switches.
+    """
+    while len(frontier):
+        lengths = out_counts[frontier]
+        total = int(lengths.sum())
+        if total == 0:
+            return
+        offsets = np.repeat(out_starts[frontier] - (np.cumsum(lengths) - lengths), lengths)
+        arcs = np.sort(out_order[offsets + np.arange(total)])
+        better = rank[s_src[arcs]] > rank[s_dst[arcs]]
+        if not better.any():
+            return
+        arcs = arcs[better]
+        chosen, frontier = _best_per_node(arcs, rank[s_src[arcs]], s_dst)
+        pol[frontier] = chosen
+        rank[frontier] = rank[s_src[chosen]]
+
+
 def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray
                    ) -> tuple[np.ndarray, np.ndarray]:
     """For each destination among ``arcs`` (sorted by destination), its arc of largest key."""
@@ -129,12 +164,12 @@ def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray
                 best[node] = (a, k)
         nodes = np.array(sorted(best), dtype=np.int64)
         return np.array([best[v][0] for v in nodes.tolist()], dtype=np.int64), nodes
-    new_node = np.r_[True, d[1:] != d[:-1]]
+    new_node = np.concatenate(([True], d[1:] != d[:-1]))
     starts = np.flatnonzero(new_node)
     segment = np.cumsum(new_node) - 1
     top = np.maximum.reduceat(key, starts)
     hit = np.flatnonzero(key == top[segment])
-    first = np.r_[True, segment[hit[1:]] != segment[hit[:-1]]]
+    first = np.concatenate(([True], segment[hit[1:]] != segment[hit[:-1]]))
     return arcs[hit[first]], d[starts]
 
 
@@ -153,7 +188,7 @@ def _segment_argmax(values: np.ndarray, starts: np.ndarray, seg: np.ndarray) -> 
     else:
         seg_max = np.maximum.reduceat(values, starts)
     hit = np.flatnonzero(values == seg_max[seg])
-    first = np.r_[True, seg[hit[1:]] != seg[hit[:-1]]]
+    first = np.concatenate(([True], seg[hit[1:]] != seg[hit[:-1]]))
     return hit[first] - starts[seg[hit[first]]]
 
 

@@ -137,7 +137,7 @@ class DaterSimulation:
 def _segments(sorted_keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if len(sorted_keys) == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    starts = np.flatnonzero(np.r_[True, sorted_keys[1:] != sorted_keys[:-1]])
+    starts = np.flatnonzero(np.concatenate(([True], sorted_keys[1:] != sorted_keys[:-1])))
     return starts, sorted_keys[starts]
 
 
@@ -167,11 +167,13 @@ def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.nd
         raise ValueError("the 0-token places of the simulated events contain a circuit")
     out = []
     place_level = level[dst]
-    for lev in range(1, depth + 1):
-        sel = np.flatnonzero(place_level == lev)
-        if len(sel) == 0:
+    # One sort splits the places by level (a scan per level would cost depth × places).
+    by_level = np.lexsort((dst, place_level))
+    bounds = np.searchsorted(place_level[by_level], np.arange(1, depth + 2))
+    for lev in range(depth):
+        by_dst = by_level[bounds[lev]:bounds[lev + 1]]
+        if len(by_dst) == 0:
             continue
-        by_dst = sel[np.argsort(dst[sel], kind="stable")]
         starts, events = _segments(dst[by_dst])
         out.append((events, starts, src[by_dst], holding[by_dst]))
     return out
