@@ -29,12 +29,12 @@ import networkx as nx
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
+from skeleton_corpus import add_follower, link_inputs, ring_links
 
 from tegraph import NotLiveError, build_teg
 from tegraph.analysis import analyze
 from tegraph.skeleton import Protocol, Skeleton
 
-PROTOCOLS = ["ASYN/ASYN", "ASYN/SYN", "SYN/ASYN", "SYN/SYN"]
 DURATIONS = [0, 1, 2, 3, 5, 0.5, 0.1, "1/3", "7/3", "5/2", "3/4"]
 PERIODS = [1, 2, 3, 4, 5, 10, 0.5, "7/3", "5/2", "10/3"]
 PHASES = [0, 1, "1/2", "7/3", 2.5]
@@ -72,24 +72,11 @@ def skeleton_data(draw, min_tasks: int = 2, max_tasks: int = 6, max_ports: int =
         spec["inputs"] = [f"i{j}" for j in range(draw(st.integers(0, max_ports)))]
         spec["outputs"] = [f"o{j}" for j in range(draw(st.integers(0, max_ports)))]
         tasks[t] = spec
-    outputs = [(t, p) for t in names for p in tasks[t]["outputs"]]
-    links = []
-    for t in names:
-        rendezvous_with: set[tuple[str, str]] = set()
-        for q in tasks[t]["inputs"]:
-            writers = [(w, p) for (w, p) in outputs if w != t]
-            if not writers or draw(st.integers(0, 4)) == 0:
-                continue  # unlinked: a device
-            w, p = draw(st.sampled_from(writers))
-            proto = draw(st.sampled_from(PROTOCOLS))
-            if proto == "SYN/SYN":
-                if (w, p) in rendezvous_with:
-                    # Two rendezvous of one reader with one write event: see
-                    # test_double_rendezvous_with_one_write (a known library bug);
-                    # kept out of the random sweep so it does not mask the rest.
-                    proto = "ASYN/SYN"
-                rendezvous_with.add((w, p))
-            links.append({"from": f"{w}:{p}", "to": f"{t}:{q}", "protocol": proto})
+    # Two rendezvous of one reader with one write event: see
+    # test_double_rendezvous_with_one_write (a known library bug); link_inputs
+    # keeps them out of the random sweep so they do not mask the rest.
+    links = link_inputs(names, tasks, pick=lambda xs: draw(st.sampled_from(xs)),
+                        skip=lambda: draw(st.integers(0, 4)) == 0, guard_all_links=False)
     data = {"clocks": clocks, "tasks": tasks, "links": links}
     if threads and draw(st.integers(0, 3)) == 0:
         members = draw(st.permutations(names))[:draw(st.integers(1, n))]
@@ -116,17 +103,7 @@ def ring_data(draw) -> dict:
     d0 = draw(st.sampled_from(DURATIONS[1:]))
     tasks = {f"R{i}": {"duration": d0 if same else draw(st.sampled_from(DURATIONS)),
                        "inputs": [], "outputs": []} for i in range(n)}
-    links = []
-    for i, kind in enumerate(kinds):
-        a, b = f"R{i}", f"R{(i + 1) % n}"
-        if kind == "AS":
-            tasks[a]["outputs"].append(f"x{i}")
-            tasks[b]["inputs"].append(f"x{i}")
-            links.append({"from": f"{a}:x{i}", "to": f"{b}:x{i}", "protocol": "ASYN/SYN"})
-        else:
-            tasks[b]["outputs"].append(f"z{i}")
-            tasks[a]["inputs"].append(f"z{i}")
-            links.append({"from": f"{b}:z{i}", "to": f"{a}:z{i}", "protocol": "SYN/ASYN"})
+    links = ring_links(tasks, [kind == "AS" for kind in kinds])
     for spec in tasks.values():
         for side in ("inputs", "outputs"):
             if len(spec[side]) == 2 and draw(st.booleans()):
@@ -136,9 +113,7 @@ def ring_data(draw) -> dict:
         clocks["rtc"] = {"period": draw(st.sampled_from(PERIODS))}
         tasks["R0"]["clock"] = "rtc"
     if draw(st.booleans()):  # a follower that reads the ring without feeding it
-        tasks["F"] = {"duration": draw(st.sampled_from(DURATIONS[:8])), "inputs": ["f"]}
-        tasks["R0"]["outputs"].append("f")
-        links.append({"from": "R0:f", "to": "F:f", "protocol": "ASYN/SYN"})
+        add_follower(tasks, links, draw(st.sampled_from(DURATIONS[:8])))
     return {"clocks": clocks, "tasks": tasks, "links": links}
 
 
