@@ -8,8 +8,10 @@ found a deadlock, an unbounded place or an overrun, 2 the input was refused
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
-from typing import List, Optional
+from typing import List, NoReturn, Optional
 
 import typer
 
@@ -30,9 +32,24 @@ def _commands() -> None:
     """Deadlocks, periods and overruns of synchronized real-time task sets."""
 
 
-def _fail(message: str) -> None:
+def _fail(message: str) -> NoReturn:
     typer.echo(f"tegraph: error: {message}", err=True)
     raise typer.Exit(2)
+
+
+@contextmanager
+def _refusals(file: Path, also: tuple[type[Exception], ...] = ()) -> Iterator[None]:
+    """The library's refusals as one line on stderr and exit status 2, never a traceback.
+
+    An :class:`InputError` names its file and key path itself; any other
+    :class:`TegraphError` (and the exceptions in ``also``) is prefixed with ``file``.
+    """
+    try:
+        yield
+    except InputError as exc:
+        _fail(str(exc))
+    except (TegraphError, *also) as exc:
+        _fail(f"{file}: {exc}")
 
 
 @app.command()
@@ -51,18 +68,13 @@ def analyze(
     """Analyze a synchronization skeleton: liveness, periods, overruns, slack."""
     from .analysis import analyze as run_analysis
     from .io.skeleton_file import load_skeleton
+    from .latency import parse_chain
     from .report import render_text, write_csv
 
-    try:
+    with _refusals(file):
         skeleton = load_skeleton(file)
-        from .latency import parse_chain
-
         chains = [parse_chain(c) for c in chain or []]
         report = run_analysis(skeleton, max_steps=max_steps, chains=chains, design=design)
-    except InputError as exc:
-        _fail(str(exc))
-    except TegraphError as exc:
-        _fail(f"{file}: {exc}")
     if csv_dir is not None:
         try:
             write_csv(report, csv_dir, overwrite=force)
@@ -105,17 +117,13 @@ def reach(
     from .skeleton import Skeleton
     from .timed_reachability import timed_reachability
 
-    try:
+    with _refusals(file):
         model = (load_skeleton(file) if file.suffix.lower() in (".yaml", ".yml")
                  else read(file))
         if timed and not isinstance(model, Skeleton):
             raise InputError("--timed needs a skeleton file (tasks, clocks, durations); "
                              f"this file holds a {type(model).__name__}", file=str(file))
         net = None if isinstance(model, Skeleton) else as_petri_net(model)
-    except InputError as exc:
-        _fail(str(exc))
-    except TegraphError as exc:
-        _fail(f"{file}: {exc}")
 
     # Ctrl-C asks the search to stop at its next batch; the partial counts are printed.
     interrupted: list[int] = []
@@ -172,13 +180,9 @@ def fix(
     from .fix import fix_ports, render_fix
     from .io.skeleton_file import dump_skeleton, load_skeleton
 
-    try:
+    with _refusals(file):
         skeleton = load_skeleton(file)
         result = fix_ports(skeleton)
-    except InputError as exc:
-        _fail(str(exc))
-    except TegraphError as exc:
-        _fail(f"{file}: {exc}")
     if not result.live:
         typer.echo(render_fix(result, skeleton.name) + "nothing written", nl=True)
         raise typer.Exit(1)
@@ -218,7 +222,7 @@ def rules(
     from .rules import check_rules, render_rules
     from .schedulability import render_schedulability, schedulability
 
-    try:
+    with _refusals(file):
         skeleton = load_skeleton(file)
         findings = check_rules(skeleton)
         report = run_analysis(skeleton)
@@ -226,10 +230,6 @@ def rules(
         chains = [(c, ("chains", i)) for i, c in enumerate(skeleton.chains)]
         chains += [(parse_chain(c), ("--chain",)) for c in chain or []]
         latencies = [chain_latency(skeleton, c, report, sched, path) for c, path in chains]
-    except InputError as exc:
-        _fail(str(exc))
-    except TegraphError as exc:
-        _fail(f"{file}: {exc}")
     violated = any(f.severity != "info" for f in findings) or sched.schedulable is False
     if json_out:
         typer.echo(json.dumps(json_report("rules", {
@@ -272,13 +272,9 @@ def timeline(
             end = None
         if end is None or end <= 0:
             _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, got {horizon!r}")
-    try:
+    with _refusals(file):
         skeleton = load_skeleton(file)
         result = simulate_timeline(skeleton, end)
-    except InputError as exc:
-        _fail(str(exc))
-    except TegraphError as exc:
-        _fail(f"{file}: {exc}")
     if output is not None:
         try:
             draw_timeline(result, output, overwrite=force)
@@ -324,14 +320,10 @@ def cycle_time_command(
     from .cycle_time import cycle_time
     from .io.formats import parse_size
 
-    try:
+    with _refusals(file, also=(ValueError,)):
         result = cycle_time(file, format=fmt, max_bytes=parse_size(max_size),
                             default_holding=default_holding, max_states=max_states,
                             max_seconds=max_seconds)
-    except InputError as exc:
-        _fail(str(exc))
-    except (TegraphError, ValueError) as exc:
-        _fail(f"{file}: {exc}")
     typer.echo(result.to_json() if json_out else result.to_text(), nl=not json_out)
     raise typer.Exit(result.exit_status)
 
