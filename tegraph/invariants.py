@@ -57,7 +57,12 @@ class SemiflowResult:
         return np.flatnonzero(self.matrix @ np.asarray(marking, dtype=np.int64) == 0)
 
 
-def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000) -> SemiflowResult:
+DENSE_LIMIT = 1 << 18
+"""Above this many places × transitions the sparse table is used."""
+
+
+def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000,
+                      method: str = "auto") -> SemiflowResult:
     """All minimal p-semiflows of an incidence matrix, within a row budget.
 
     Parameters
@@ -66,7 +71,11 @@ def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000) -
         ``places × transitions`` matrix of integers (``+w`` when the place is
         an output of the transition with weight ``w``, ``-w`` when an input).
     budget : int
-        Largest number of candidate rows kept at any step.
+        Largest number of candidate rows (rows not yet semiflows) at any step.
+    method : {"auto", "dense", "sparse"}
+        Table kept as a dense array (fast on small nets) or as sparse rows
+        (a step then costs what it touches); ``"auto"`` picks dense up to
+        :data:`DENSE_LIMIT` entries. Both give the same semiflows.
 
     Returns
     -------
@@ -80,9 +89,9 @@ def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000) -
     order of elimination does not change the result, so transitions with a
     single input and a single output place (most events of a skeleton) are
     eliminated first, all at once: in a marked graph they join places into
-    paths and circuits, found as connected components. The table is kept
-    sparse (a semiflow of a skeleton is a short circuit), so a step costs in
-    proportion to the entries it touches, not to rows × places.
+    paths and circuits, found as connected components. On a large net the
+    table is kept sparse (a semiflow of a skeleton is a short circuit), so a
+    step costs in proportion to the entries it touches, not to rows × places.
 
     Examples
     --------
@@ -96,6 +105,13 @@ def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000) -
     C.eliminate_zeros()
     n_places, n_trans = C.shape
     Y, R = _contract_series_transitions(C)
+    if method == "dense" or (method == "auto" and n_places * n_trans <= DENSE_LIMIT):
+        return _farkas_dense(Y.toarray(), R.toarray(), budget)
+    return _farkas_sparse(Y, R, budget)
+
+
+def _farkas_sparse(Y: sp.csr_matrix, R: sp.csr_matrix, budget: int) -> SemiflowResult:
+    n_places, n_trans = Y.shape[1], R.shape[1]
     # A row whose transition part is 0 is a semiflow already: no later step
     # combines it, though new rows are still checked against its support.
     closed = R.getnnz(axis=1) == 0
@@ -138,6 +154,55 @@ def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000) -
         Y = sp.vstack([Y[zero], new_Y[np.flatnonzero(~done)]], format="csr")
         R = sp.vstack([R[zero], new_R[np.flatnonzero(~done)]], format="csr")
     return SemiflowResult(True, finished, budget)
+
+
+def _farkas_dense(Y: np.ndarray, R: np.ndarray, budget: int) -> SemiflowResult:
+    n_places = Y.shape[1]
+    done = ~R.any(axis=0)
+    for _ in range(int((~done).sum())):
+        cost = (R > 0).sum(axis=0) * (R < 0).sum(axis=0)
+        cost[done] = np.iinfo(np.int64).max
+        j = int(np.argmin(cost))
+        done[j] = True
+        col = R[:, j]
+        pos, neg, zero = np.flatnonzero(col > 0), np.flatnonzero(col < 0), np.flatnonzero(col == 0)
+        # Rows already closed (R = 0) are semiflows, not candidates: as in the sparse table.
+        open_rows = len(zero) - int((~R[zero].any(axis=1)).sum())
+        if open_rows + len(pos) * len(neg) > budget:
+            return SemiflowResult(False, sp.csr_matrix((0, n_places), dtype=np.int64), budget)
+        if len(pos) == 0 or len(neg) == 0:
+            Y, R = Y[zero], R[zero]
+            continue
+        a = np.repeat(pos, len(neg))
+        b = np.tile(neg, len(pos))
+        fa, fb = -col[b][:, None], col[a][:, None]
+        new_Y = fa * Y[a] + fb * Y[b]
+        new_R = fa * R[a] + fb * R[b]
+        g = np.gcd.reduce(new_Y, axis=1)
+        g = np.where(g == 0, 1, g)[:, None]
+        new_Y, new_R = new_Y // g, new_R // g
+        keep = _minimal_new_rows_dense(Y[zero], new_Y)
+        Y = np.vstack([Y[zero], new_Y[keep]])
+        R = np.vstack([R[zero], new_R[keep]])
+    return SemiflowResult(True, sp.csr_matrix(Y), budget)
+
+
+def _minimal_new_rows_dense(old: np.ndarray, new: np.ndarray) -> np.ndarray:
+    """:func:`_minimal_new_rows` on dense rows."""
+    if len(new) == 0:
+        return np.zeros(0, dtype=np.int64)
+    S_new = (new > 0).astype(np.int32)
+    size_new = S_new.sum(axis=1)
+    bad = np.zeros(len(new), dtype=bool)
+    if len(old):
+        S_old = (old > 0).astype(np.int32)
+        bad |= ((S_new @ S_old.T) == S_old.sum(axis=1)[None, :]).any(axis=1)
+    contains = (S_new @ S_new.T) == size_new[None, :]  # [i, k]: support k within support i
+    np.fill_diagonal(contains, False)
+    strict = contains & (size_new[None, :] < size_new[:, None])
+    equal = contains & (size_new[None, :] == size_new[:, None])
+    earlier_equal = np.triu(equal.T, k=1).any(axis=0)
+    return np.flatnonzero(~bad & ~strict.any(axis=1) & ~earlier_equal)
 
 
 def _contract_series_transitions(C: sp.csr_matrix) -> tuple[sp.csr_matrix, sp.csr_matrix]:

@@ -35,10 +35,12 @@ def test_marked_graph_semiflows_are_its_elementary_circuits(graph):
         pairs = list(zip(cycle, cycle[1:] + cycle[:1]))
         choices = [[p for p, arc in enumerate(arcs) if arc == pair] for pair in pairs]
         expected.update(tuple(sorted(c)) for c in itertools.product(*choices))
-    result = minimal_semiflows(C)
-    assert result.computed
-    assert sorted(tuple(np.flatnonzero(y).tolist()) for y in result.semiflows) == sorted(expected)
-    assert all(set(y.tolist()) <= {0, 1} for y in result.semiflows)
+    for method in ("dense", "sparse"):
+        result = minimal_semiflows(C, method=method)
+        assert result.computed
+        got = sorted(tuple(np.flatnonzero(y).tolist()) for y in result.semiflows)
+        assert got == sorted(expected), method
+        assert all(set(y.tolist()) <= {0, 1} for y in result.semiflows)
 
 
 def test_weighted_net_semiflow_by_hand():
@@ -54,8 +56,9 @@ def test_budget_is_reported():
     # Two transitions joined by 6 parallel places each way: 36 circuits of 2
     # places; a budget of 10 rows cannot hold them.
     C = np.array([[1, -1]] * 6 + [[-1, 1]] * 6)
-    assert len(minimal_semiflows(C).semiflows) == 36
-    assert minimal_semiflows(C, budget=10).computed is False
+    for method in ("dense", "sparse"):
+        assert len(minimal_semiflows(C, method=method).semiflows) == 36
+        assert minimal_semiflows(C, budget=10, method=method).computed is False
 
 
 def _minimal_semiflows_by_kernels(C: np.ndarray) -> set[tuple[int, ...]]:
@@ -93,9 +96,24 @@ def test_weighted_net_semiflows_equal_brute_force(rows):
     # Any P/T net (weights up to 2, places both input and output of a
     # transition folded into one entry): Farkas against the kernel test.
     C = np.array(rows, dtype=np.int64)
-    result = minimal_semiflows(C)
-    assert result.computed
-    got = {tuple(np.flatnonzero(y).tolist()) for y in result.semiflows}
-    assert got == _minimal_semiflows_by_kernels(C)
-    for y in result.semiflows:
-        assert not (y @ C).any() and (y >= 0).all() and np.gcd.reduce(y) == 1
+    expected = _minimal_semiflows_by_kernels(C)
+    for method in ("dense", "sparse"):
+        result = minimal_semiflows(C, method=method)
+        assert result.computed
+        assert {tuple(np.flatnonzero(y).tolist()) for y in result.semiflows} == expected, method
+        for y in result.semiflows:
+            assert not (y @ C).any() and (y >= 0).all() and np.gcd.reduce(y) == 1
+
+
+@settings(max_examples=60, deadline=None)
+@given(marked_graphs(), st.integers(1, 12))
+def test_both_tables_run_out_of_budget_alike(graph, budget):
+    n, arcs = graph
+    C = np.zeros((len(arcs), n), dtype=int)
+    for p, (a, b) in enumerate(arcs):
+        C[p, a] += 1
+        C[p, b] -= 1
+    dense = minimal_semiflows(C, budget, method="dense")
+    sparse = minimal_semiflows(C, budget, method="sparse")
+    assert dense.computed == sparse.computed
+    assert dense.count == sparse.count
