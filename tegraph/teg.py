@@ -30,9 +30,8 @@ import math
 from dataclasses import dataclass, field
 from fractions import Fraction
 from numbers import Integral, Rational
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import networkx as nx
 import numpy as np
 import scipy.sparse as sp
 
@@ -40,6 +39,9 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import EPS, exact_time
 
 from .errors import ModelError, NotLiveError
+
+if TYPE_CHECKING:  # networkx costs 0.1 s to import; only the conversions need it
+    import networkx as nx
 
 __all__ = ["Daters", "Place", "TEGArrays", "TimedEventGraph"]
 
@@ -387,6 +389,8 @@ class TimedEventGraph:
         >>> dict(G.nodes["a"]), G.edges["a", "a", 0]["holding"]
         ({'role': 'x'}, Fraction(2, 1))
         """
+        import networkx as nx
+
         G = nx.MultiDiGraph()
         G.graph.update(copy.deepcopy(self.attrs))
         G.graph["name"] = self.name
@@ -495,6 +499,8 @@ class TimedEventGraph:
 
     def _raise_circuit(self, zero: np.ndarray, stuck: list[int]) -> None:
         # Every stuck event has a stuck 0-token predecessor, so a circuit exists among them.
+        import networkx as nx
+
         a, keep = self.arrays(), set(stuck)
         H = nx.DiGraph()
         H.add_edges_from((int(a.src[p]), int(a.dst[p])) for p in zero.tolist()
