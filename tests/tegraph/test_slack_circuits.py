@@ -7,7 +7,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tegraph.analysis import _shortest_circuits_through
+from tegraph.slack import shortest_circuits_through
 
 
 @st.composite
@@ -45,11 +45,11 @@ def test_both_kernels_equal_circuit_enumeration(graph):
     weights = [w for _, _, w in arcs]
     expected = [brute_force(n, arcs, c) for c in sources]
     heads = [int(events[c]) for c in sources]
-    assert _shortest_circuits_through(events, s, d, weights, heads) == expected
+    assert shortest_circuits_through(events, s, d, weights, heads) == expected
     # A bound at least the answer (here: the answer plus up to 3) changes nothing.
     upper = [None if e is None or k % 3 == 0 else e + k % 4 for k, e in enumerate(expected)]
-    assert _shortest_circuits_through(events, s, d, weights, heads, upper) == expected
+    assert shortest_circuits_through(events, s, d, weights, heads, upper) == expected
     # Weights beyond 2**53 take the exact Python path: the same circuits, scaled.
     big = 2**60
-    scaled = _shortest_circuits_through(events, s, d, [w * big for w in weights], heads)
+    scaled = shortest_circuits_through(events, s, d, [w * big for w in weights], heads)
     assert scaled == [None if e is None else e * big for e in expected]
