@@ -69,7 +69,10 @@ def verify_cycle_ratio(result: "CycleRatioResult") -> None:
     big_ratio = int(np.abs(W).max(initial=0)) * int(np.abs(T).max(initial=0))
     big_value = (int(np.abs(X).max(initial=0)) + int(np.abs(w).max(initial=0)) * int(np.abs(T).max(initial=0))
                  + int(np.abs(W).max(initial=0)) * int(t.max(initial=0)))
-    dtype = np.int64 if 2 * max(big_ratio, big_value) < _INT64_SAFE else object
+    # The arrays themselves must fit too: a graph without circuit has T = 0,
+    # which would hide a weight beyond int64 from the products above.
+    big_entry = max(int(np.abs(np.asarray(a)).max(initial=0)) for a in (W, T, X, w, t))
+    dtype = np.int64 if 2 * max(big_ratio, big_value, big_entry) < _INT64_SAFE else object
     W, T, X, w, t = (np.asarray(a).astype(dtype) for a in (W, T, X, w, t))
     both = live[src] & live[dst]
     leak = np.flatnonzero(live[src] & ~live[dst])

@@ -131,26 +131,36 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
                       out_starts: np.ndarray, out_counts: np.ndarray) -> None:
     """Pass larger ratio ranks downstream from ``frontier``, switching policies (in place).
 
-    ``rank`` becomes a lower bound of each node's ratio rank under the new
-    policy: a node switches only to an in-arc whose tail ranks strictly
-    higher, and takes that rank. Each round looks at the out-arcs of the nodes
-    switched in the round before, so the whole sweep touches every arc about
-    as often as its tail switches.
+    A node switches only to an in-arc whose tail ranks strictly higher, and
+    takes that rank, which is then the ratio of the circuit it reaches under
+    the new policy. The largest rank goes first, breadth first: a node raised
+    once already holds the largest rank that can reach it from the frontier,
+    so no node switches twice and the sweep touches each arc about once.
     """
-    while len(frontier):
-        lengths = out_counts[frontier]
-        total = int(lengths.sum())
-        if total == 0:
-            return
-        offsets = np.repeat(out_starts[frontier] - (np.cumsum(lengths) - lengths), lengths)
-        arcs = np.sort(out_order[offsets + np.arange(total)])
-        better = rank[s_src[arcs]] > rank[s_dst[arcs]]
-        if not better.any():
-            return
-        arcs = arcs[better]
-        chosen, frontier = _best_per_node(arcs, rank[s_src[arcs]], s_dst)
-        pol[frontier] = chosen
-        rank[frontier] = rank[s_src[chosen]]
+    done = np.zeros(len(rank), dtype=bool)
+    pending = np.unique(frontier)
+    pending = pending[np.argsort(-rank[pending], kind="stable")]
+    cuts = np.flatnonzero(np.diff(rank[pending])) + 1
+    for level in np.split(pending, cuts):
+        level = level[~done[level]]
+        if len(level) == 0:
+            continue
+        top = rank[level[0]]
+        done[level] = True
+        while len(level):
+            lengths = out_counts[level]
+            total = int(lengths.sum())
+            if total == 0:
+                break
+            offsets = np.repeat(out_starts[level] - (np.cumsum(lengths) - lengths), lengths)
+            arcs = np.sort(out_order[offsets + np.arange(total)])
+            arcs = arcs[rank[s_dst[arcs]] < top]  # every tail here holds rank `top`
+            if len(arcs) == 0:
+                break
+            chosen, level = _best_per_node(arcs, rank[s_src[arcs]], s_dst)
+            pol[level] = chosen
+            rank[level] = top
+            done[level] = True
 
 
 def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray

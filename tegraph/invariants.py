@@ -229,8 +229,9 @@ def _contract_series_transitions(C: sp.csr_matrix) -> tuple[sp.csr_matrix, sp.cs
     out_of = np.full(n_trans, -1)
     into[coo.col[coo.data < 0]] = coo.row[coo.data < 0]
     out_of[coo.col[coo.data > 0]] = coo.row[coo.data > 0]
-    # A series transition on a self-loop place is a circuit of its own: left alone.
-    joined = np.flatnonzero(series & (into != out_of))
+    # A self-loop place (input and output of one transition) is a zero row of C,
+    # never an input or output here; its row stays a semiflow on its own.
+    joined = np.flatnonzero(series)
     join = sp.csr_matrix((np.ones(len(joined)), (into[joined], out_of[joined])),
                          shape=(n_places, n_places))
     n_comp, label = connected_components(join, directed=False)

@@ -6,6 +6,8 @@ import itertools
 
 import networkx as nx
 import numpy as np
+import pytest
+import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -117,3 +119,58 @@ def test_both_tables_run_out_of_budget_alike(graph, budget):
     sparse = minimal_semiflows(C, budget, method="sparse")
     assert dense.computed == sparse.computed
     assert dense.count == sparse.count
+
+
+# Dense and sparse tables: same rows and budget verdict on any net, and edge cases.
+
+nets = st.integers(1, 8).flatmap(lambda p: st.integers(0, 5).flatmap(
+    lambda t: st.lists(st.lists(st.integers(-2, 2), min_size=t, max_size=t), min_size=p, max_size=p)))
+
+
+def rows_of(res):
+    return sorted(tuple(y.tolist()) for y in res.semiflows)
+
+
+@settings(deadline=None)
+@given(nets, st.integers(0, 15))
+def test_dense_sparse_same_rows_and_budget_on_weighted_nets(rows, budget):
+    C = np.array(rows, dtype=np.int64).reshape(len(rows), -1)
+    d = minimal_semiflows(C, budget, method="dense")
+    s = minimal_semiflows(C, budget, method="sparse")
+    assert d.computed == s.computed
+    assert rows_of(d) == rows_of(s)
+    full = minimal_semiflows(C, 10**6, method="dense")
+    for y in full.semiflows:
+        assert not (y @ C).any() and (y >= 0).all() and y.any() and np.gcd.reduce(y) == 1
+    if d.computed:
+        assert rows_of(d) == rows_of(full)
+
+
+@pytest.mark.parametrize("method", ["dense", "sparse", "auto"])
+@pytest.mark.parametrize("shape", [(0, 0), (0, 3), (3, 0), (1, 1), (4, 2)])
+def test_all_zero_and_empty(method, shape):
+    C = np.zeros(shape, dtype=int)
+    r = minimal_semiflows(C, method=method)
+    assert r.computed
+    assert r.matrix.shape == (shape[0], shape[0])
+    assert sorted(map(tuple, (y.tolist() for y in r.semiflows))) == sorted(
+        tuple(int(i == k) for i in range(shape[0])) for k in range(shape[0]))
+
+
+@pytest.mark.parametrize("method", ["dense", "sparse"])
+def test_explicit_zeros_and_self_loops_in_sparse_input(method):
+    # places 0, 1: circuit t0 <-> t1; place 2: self-loop of t0 (a zero row), stored explicitly
+    C = sp.csr_matrix((np.array([-1, 1, 1, -1, 0]), (np.array([0, 0, 1, 1, 2]), np.array([0, 1, 0, 1, 0]))),
+                      shape=(3, 2))
+    r = minimal_semiflows(C, method=method)
+    assert [y.tolist() for y in r.semiflows] == [[1, 1, 0], [0, 0, 1]]
+
+
+@pytest.mark.parametrize("method", ["dense", "sparse"])
+def test_transition_without_places_and_source_sink(method):
+    # t0 -> p0 -> t1 (t0 source, t1 sink): no semiflow; t2 touches nothing
+    C = np.array([[1, -1, 0]])
+    assert minimal_semiflows(C, method=method).count == 0
+    # weighted: 2 p0 = p1 around t0/t1
+    C = np.array([[2, -2], [-1, 1]])
+    assert [y.tolist() for y in minimal_semiflows(C, method=method).semiflows] == [[1, 2]]
