@@ -148,6 +148,12 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
         top = rank[level[0]]
         done[level] = True
         while len(level):
+            if len(level) <= 16:
+                # A deep chain advances a node or two per round: numpy's
+                # per-call overhead would dominate, so walk it in Python.
+                level = _sweep_few(level, top, pol, rank, done, s_dst, out_order, out_starts,
+                                   out_counts)
+                continue
             lengths = out_counts[level]
             total = int(lengths.sum())
             if total == 0:
@@ -161,6 +167,25 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
             pol[level] = chosen
             rank[level] = top
             done[level] = True
+
+
+def _sweep_few(level: np.ndarray, top: Any, pol: np.ndarray, rank: np.ndarray,
+               done: np.ndarray, s_dst: np.ndarray, out_order: np.ndarray,
+               out_starts: np.ndarray, out_counts: np.ndarray) -> np.ndarray:
+    """One round of :func:`_sweep_downstream` from a few nodes (same choices: lowest arc)."""
+    best: dict[int, int] = {}
+    for u in level.tolist():
+        start = int(out_starts[u])
+        for k in out_order[start:start + int(out_counts[u])].tolist():
+            v = int(s_dst[k])
+            if rank[v] < top and (v not in best or k < best[v]):
+                best[v] = k
+    nodes = np.array(sorted(best), dtype=np.int64)
+    if len(nodes):
+        pol[nodes] = [best[v] for v in nodes.tolist()]
+        rank[nodes] = top
+        done[nodes] = True
+    return nodes
 
 
 def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray
