@@ -588,6 +588,12 @@ def _check_tokens(value: Any, where: str) -> int:
 
 
 def _check_time(value: Any, what: str, where: str) -> Fraction:
+    kind = type(value)
+    if kind is Fraction or kind is int:  # the builder's own values: no parsing needed
+        t = Fraction(value) if kind is int else value
+        if t < 0:
+            raise ModelError(f"{what} must be >= 0, got {t}", where)
+        return t
     try:
         t = exact_time(value, what)
     except MaxPlusValueError as exc:
