@@ -13,7 +13,8 @@ For every size, ``tegraph.analyze``, the untimed baseline
 (:func:`tegraph.reachability.skeleton_reachability`) and the timed one
 (:func:`tegraph.timed_reachability.timed_reachability`) each run in a fresh
 process: the time is that of the library call alone (building the timed event
-graph included, interpreter start-up and skeleton generation excluded), the
+graph included, interpreter start-up and skeleton generation excluded; for
+``analyze`` the median of up to 5 calls while they take under 2 s in all), the
 memory the process's peak resident set. A baseline stops at the time budget
 (``--budget``, 60 s; :data:`MAX_STATES` is a memory guard set high enough
 that the time budget is what binds) and then says so (``>``); in families 1 and 3 it is not
@@ -104,7 +105,13 @@ family, n, which, budget = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3], floa
 sk = Skeleton.from_dict(skeleton(family, n))
 start = time.perf_counter()
 if which == "analyze":
-    r = analyze(sk)
+    # Milliseconds are at the mercy of the other core: the median of up to 5 calls.
+    times = []
+    while len(times) < 5 and sum(times) < 2:
+        t0 = time.perf_counter()
+        r = analyze(sk)
+        times.append(time.perf_counter() - t0)
+    seconds = sorted(times)[len(times) // 2]
     out = {{"live": r.live, "dead": [g.index for g in r.groups if not g.live],
            "groups": [[str(g.period) if g.rate_consistent else None, g.transient]
                       for g in r.groups],
@@ -112,15 +119,17 @@ if which == "analyze":
                         if r.groups[x.group].live}}}}
 elif which == "untimed":
     r = skeleton_reachability(build_teg(sk), max_states=MAX_STATES, max_seconds=budget)
+    seconds = time.perf_counter() - start
     out = {{"states": r.states, "complete": r.complete, "deadlock": r.deadlock,
            "dead": sorted({{d.group for d in r.dead}})}}
 else:
     r = timed_reachability(sk, max_states=MAX_STATES, max_seconds=budget)
+    seconds = time.perf_counter() - start
     out = {{"states": r.states, "complete": r.complete,
            "groups": [[None if g.period is None else str(g.period), g.transient]
                       for g in r.groups],
            "overruns": {{t: [x.overrun_at, x.decided] for t, x in r.tasks.items()}}}}
-out["seconds"] = time.perf_counter() - start
+out["seconds"] = seconds
 out["mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 out["tasks"] = len(sk.tasks)
 print(json.dumps(out))
