@@ -73,7 +73,8 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
         Budget on the firing index of the dater simulation; only reached for
         overruns that cannot be decided otherwise (the report says so).
     semiflow_budget : int
-        Largest number of candidate rows of the p-semiflow enumeration per group.
+        Largest number of candidate rows of one p-semiflow enumeration (a batch
+        of strongly connected components of a few hundred places).
     semiflow_max_places : int
         Above this many places in all, the semiflow cross-check is skipped
         (the report says so).
