@@ -61,7 +61,7 @@ _KIND_REPORTED = {
 
 
 def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
-            semiflow_max_places: int = 200_000, chains: Sequence[Sequence[str]] = (),
+            semiflow_max_places: int = 2_000_000, chains: Sequence[Sequence[str]] = (),
             design: bool = True) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack.
 
@@ -116,7 +116,7 @@ class Analysis:
     """The steps of :func:`analyze`, kept apart so that each can be read alone."""
 
     def __init__(self, skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
-                 semiflow_max_places: int = 200_000) -> None:
+                 semiflow_max_places: int = 2_000_000) -> None:
         self.sk = skeleton
         self.max_steps = max_steps
         self.semiflow_budget = semiflow_budget
