@@ -13,7 +13,6 @@ from __future__ import annotations
 import json
 import re
 from fractions import Fraction
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -34,7 +33,7 @@ from maxplus.spectral import (
 )
 from maxplus.transient import trajectory_transient, transient
 
-ANCHORS = Path(__file__).resolve().parents[2].parent / "shared" / "anchors"
+from conftest import ANCHORS  # noqa: E402
 CASES = json.loads((ANCHORS / "maxplus" / "cases.json").read_text())
 MATRIX_CASES = [case for case in CASES if case["kind"] == "matrix"]
 BY_ID = {case["id"]: case for case in CASES}

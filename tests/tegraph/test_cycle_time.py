@@ -12,7 +12,6 @@ import json
 import subprocess
 import sys
 from fractions import Fraction as F
-from pathlib import Path
 
 import networkx as nx
 import numpy as np
@@ -125,9 +124,10 @@ def test_event_graph_with_an_input_transition_explains_its_missing_cycle_time(an
 
 
 def _sdf_case_list():
-    # parametrization happens before fixtures exist: the same place as conftest's ANCHORS
-    root = Path(__file__).resolve().parents[2].parent / "shared" / "anchors"
-    return json.loads((root / "sdf" / "cases.json").read_text())["cases"]
+    # parametrization happens before fixtures exist
+    from conftest import ANCHORS
+
+    return json.loads((ANCHORS / "sdf" / "cases.json").read_text())["cases"]
 
 
 @pytest.mark.parametrize("case", _sdf_case_list(), ids=lambda c: c["name"])

@@ -70,9 +70,8 @@ def test_skeleton_can_also_be_drawn_as_its_teg(tmp_path):
     assert len(re.findall(r'^\s*"[^"]*" -> "[^"]*" \[', text, re.MULTILINE)) == built.n_places
 
 
-def test_net_view_draws_places_and_transitions():
-    net = tegraph.read(Path(__file__).resolve().parents[2].parent / "shared" / "anchors" / "pnml"
-                       / "HouseConstruction-PT-00002.pnml")
+def test_net_view_draws_places_and_transitions(anchors):
+    net = tegraph.read(anchors / "pnml" / "HouseConstruction-PT-00002.pnml")
     dot = to_dot(net)
     assert dot.count("shape=circle") == 26 and dot.count("shape=box") == 18  # cases.json sizes
     assert "not a marked graph" in dot
