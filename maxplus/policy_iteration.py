@@ -12,8 +12,9 @@ larger ratio, or, failing that, to an in-arc of the same ratio with a strictly
 larger potential. A larger ratio is passed on at once to every node
 downstream (each switch a strict gain over the node's current ratio, so no new
 policy circuit can form and the step is a valid improvement): without that,
-a long chain below a slow circuit would take one iteration per node. When nothing improves, the potentials satisfy the
-optimality inequalities everywhere: that is the certificate.
+a long chain below a slow circuit would take one iteration per node. When
+nothing improves, the potentials satisfy the optimality inequalities
+everywhere: that is the certificate.
 
 Reference: J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
 J.-P. Quadrat, "Numerical computation of spectral elements in max-plus

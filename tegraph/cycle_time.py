@@ -44,7 +44,7 @@ from maxplus.scalar import exact_time
 
 from .errors import InputError
 from .reachability import Reachability, reachability_graph
-from .report import SCHEMA_VERSION, exact_text
+from .report import exact_text, json_report
 
 __all__ = ["CycleTimeResult", "cycle_time"]
 
@@ -109,9 +109,7 @@ class CycleTimeResult:
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON report (``docs/report.schema.json``, ``"report": "cycle-time"``)."""
-        return {
-            "schema_version": SCHEMA_VERSION,
-            "report": "cycle-time",
+        return json_report("cycle-time", {
             "name": self.name,
             "source": self.source,
             "model": self.model,
@@ -131,7 +129,7 @@ class CycleTimeResult:
             "reachability": None if self.reachability is None else self.reachability.to_dict(),
             "seconds": {k: round(v, 6) for k, v in self.seconds.items()},
             "notes": self.notes,
-        }
+        })
 
     def to_json(self, indent: int | None = 2) -> str:
         """:meth:`to_dict` as JSON text."""
@@ -144,10 +142,9 @@ class CycleTimeResult:
         if not self.applicable:
             lines.append(f"no period:   {self.reason}")
             if self.reachability is not None:
-                found = self.reachability.render_text(limit=3).splitlines()
-                lines.append("instead:     " + found[0].split(": ", 1)[1])
-                lines.append("verdict:     " + found[1])
-                lines.extend("  " + line for line in found[2:])
+                lines.append("instead, the deadlock verdict of its reachable markings:")
+                lines.extend("  " + line
+                             for line in self.reachability.render_text(limit=3).splitlines())
                 if self.reachability.deadlock is None:
                     lines.append("to decide:   raise the budget (--max-states, --max-seconds)")
         elif self.token_free_circuit is not None:
