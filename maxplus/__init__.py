@@ -5,34 +5,14 @@ Convention (used everywhere in this package): ``x(k+1) = A ⊗ x(k)``, that is
 ``x_i(k+1) = max_j (A[i][j] + x_j(k))``, so ``A[i][j]`` is the weight of the arc
 ``j -> i`` (node i waits for node j). ε = -inf. Right eigenvectors:
 ``A ⊗ v = λ ⊗ v``.
+
+The package knows nothing of tasks or files: arrays and matrices in, exact
+results out.
 """
 
-from .errors import (
-    CertificateError,
-    MaxPlusError,
-    MaxPlusValueError,
-    PositiveCircuitError,
-    ReducibleMatrixError,
-    ZeroTokenCircuitError,
-)
-from .scalar import EPS, TOP, exact, exact_matrix, exact_vector
+from importlib.metadata import PackageNotFoundError, version
 
-__all__ = [
-    "EPS",
-    "TOP",
-    "exact",
-    "exact_matrix",
-    "exact_vector",
-    "MaxPlusError",
-    "MaxPlusValueError",
-    "PositiveCircuitError",
-    "ZeroTokenCircuitError",
-    "ReducibleMatrixError",
-    "CertificateError",
-]
-
-# Dense algebra, spectral theory and implicit systems (maxplus.dense,
-# maxplus.spectral, maxplus.implicit).
+from .cycle_ratio import CycleRatioCertificate, CycleRatioResult, max_cycle_ratio
 from .dense import (
     identity,
     left_residual,
@@ -44,7 +24,16 @@ from .dense import (
     solve,
     star,
 )
+from .errors import (
+    CertificateError,
+    MaxPlusError,
+    MaxPlusValueError,
+    PositiveCircuitError,
+    ReducibleMatrixError,
+    ZeroTokenCircuitError,
+)
 from .implicit import ExplicitSystem, simulate, to_explicit
+from .scalar import EPS, TOP, exact, exact_matrix, exact_text, exact_vector
 from .spectral import (
     CriticalGraph,
     HowardResult,
@@ -60,31 +49,57 @@ from .spectral import (
 )
 from .transient import TrajectoryPeriodicity, trajectory_transient, transient
 
-__all__ += [
+try:
+    __version__ = version("tegraph")
+except PackageNotFoundError:  # a checkout used without installing it
+    __version__ = "0+unknown"
+
+__all__ = [
+    # scalars
+    "EPS",
+    "TOP",
+    "exact",
+    "exact_matrix",
+    "exact_text",
+    "exact_vector",
+    # dense algebra
     "identity",
+    "left_residual",
     "oplus",
     "otimes",
-    "power",
-    "star",
     "plus",
-    "solve",
-    "left_residual",
+    "power",
     "right_residual",
+    "solve",
+    "star",
+    # spectral theory and transients
     "CriticalGraph",
     "HowardResult",
     "TrajectoryPeriodicity",
-    "eigenvalue",
-    "cycle_time_vector",
-    "eigenvector",
-    "eigenspace",
     "critical_graph",
+    "cycle_time_vector",
     "cyclicity",
-    "transient",
-    "trajectory_transient",
-    "karp",
+    "eigenspace",
+    "eigenvalue",
+    "eigenvector",
     "howard",
     "is_irreducible",
+    "karp",
+    "trajectory_transient",
+    "transient",
+    # sparse cycle ratios
+    "CycleRatioCertificate",
+    "CycleRatioResult",
+    "max_cycle_ratio",
+    # implicit state equations
     "ExplicitSystem",
-    "to_explicit",
     "simulate",
+    "to_explicit",
+    # errors
+    "CertificateError",
+    "MaxPlusError",
+    "MaxPlusValueError",
+    "PositiveCircuitError",
+    "ReducibleMatrixError",
+    "ZeroTokenCircuitError",
 ]

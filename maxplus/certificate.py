@@ -23,15 +23,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._arrays import INT64_SAFE, argmax_ratio, find_circuit, gcd_arrays
 from .errors import CertificateError
-from .policy_iteration import gcd_arrays
 
 if TYPE_CHECKING:
     from .cycle_ratio import CycleRatioResult
 
 __all__ = ["verify_cycle_ratio"]
-
-_INT64_SAFE = 2**62
 
 
 def verify_cycle_ratio(result: "CycleRatioResult") -> None:
@@ -72,7 +70,7 @@ def verify_cycle_ratio(result: "CycleRatioResult") -> None:
     # The arrays themselves must fit too: a graph without circuit has T = 0,
     # which would hide a weight beyond int64 from the products above.
     big_entry = max(int(np.abs(np.asarray(a)).max(initial=0)) for a in (W, T, X, w, t))
-    dtype = np.int64 if 2 * max(big_ratio, big_value, big_entry) < _INT64_SAFE else object
+    dtype = np.int64 if 2 * max(big_ratio, big_value, big_entry) < INT64_SAFE else object
     W, T, X, w, t = (np.asarray(a).astype(dtype) for a in (W, T, X, w, t))
     both = live[src] & live[dst]
     leak = np.flatnonzero(live[src] & ~live[dst])
@@ -82,8 +80,6 @@ def verify_cycle_ratio(result: "CycleRatioResult") -> None:
             f"arc {a} ({src[a]} -> {dst[a]}) leaves a node with a cycle time for one without"
         )
     dead = np.flatnonzero(~live[src] & ~live[dst])
-    from .cycle_ratio import find_circuit
-
     loop = find_circuit(src, dst, n, dead)
     if loop:
         raise CertificateError(f"circuit of arcs {loop} has no cycle time in the certificate")
@@ -143,9 +139,7 @@ def _verify_circuit(result: "CycleRatioResult") -> None:
             f"{Fraction(total_w, c.scale * max(total_t, 1))}, not {result.ratio}"
         )
     nodes = np.flatnonzero(live)
-    from .cycle_ratio import _argmax_ratio
-
-    best = _argmax_ratio(c.ratio_num[nodes], c.ratio_den[nodes])
+    best = argmax_ratio(c.ratio_num[nodes], c.ratio_den[nodes])
     top = Fraction(int(c.ratio_num[nodes[best]]), c.scale * int(c.ratio_den[nodes[best]]))
     if top != result.ratio:
         raise CertificateError(f"the largest cycle time is {top}, not the claimed {result.ratio}")

@@ -36,13 +36,12 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components
 
+from ._arrays import INT64_SAFE, argmax_ratio, find_circuit, gcd_arrays
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
-from .policy_iteration import gcd_arrays, howard_arrays
+from .policy_iteration import howard_arrays
 from .scalar import exact
 
 __all__ = ["max_cycle_ratio", "CycleRatioResult", "CycleRatioCertificate", "find_circuit"]
-
-_INT64_SAFE = 2**62
 
 
 @dataclass(frozen=True)
@@ -224,62 +223,6 @@ def max_cycle_ratio(
     return _solve(src_a, dst_a, w_int, t_int, scale, n)
 
 
-def find_circuit(src: np.ndarray, dst: np.ndarray, n: int, arcs: np.ndarray | None = None) -> list[int]:
-    """One circuit (list of arc indices in order) among ``arcs``, or [] if acyclic.
-
-    Parameters
-    ----------
-    src, dst : numpy.ndarray
-        Arc endpoints.
-    n : int
-        Number of nodes.
-    arcs : numpy.ndarray, optional
-        Indices of the arcs to consider (default: all).
-
-    Returns
-    -------
-    list of int
-
-    Examples
-    --------
-    >>> find_circuit(np.array([0, 1, 2]), np.array([1, 2, 1]), 3)
-    [1, 2]
-    """
-    if arcs is None:
-        arcs = np.arange(len(src))
-    arcs = np.asarray(arcs, dtype=np.int64)
-    if len(arcs) == 0:
-        return []
-    s, d = src[arcs], dst[arcs]
-    self_loops = np.flatnonzero(s == d)
-    if len(self_loops):
-        return [int(arcs[self_loops[0]])]
-    graph = sp.csr_matrix((np.ones(len(arcs)), (s, d)), shape=(n, n))
-    n_comp, labels = connected_components(graph, directed=True, connection="strong")
-    sizes = np.bincount(labels, minlength=n_comp)
-    big = np.flatnonzero(sizes > 1)
-    if len(big) == 0:
-        return []
-    comp = big[0]
-    inside = (labels[s] == comp) & (labels[d] == comp)
-    sub = arcs[inside]
-    # Walk forward inside one strongly connected class until a node repeats:
-    # every node of the class has an out-arc inside it, so the walk never stops.
-    out_arc: dict[int, int] = {}
-    for a in sub.tolist():
-        out_arc.setdefault(int(src[a]), a)
-    start = int(src[sub[0]])
-    seen: dict[int, int] = {}
-    walk: list[int] = []
-    node = start
-    while node not in seen:
-        seen[node] = len(walk)
-        a = out_arc[node]
-        walk.append(a)
-        node = int(dst[a])
-    return walk[seen[node]:]
-
-
 # --------------------------------------------------------------------------- validation
 
 
@@ -348,7 +291,7 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
     for v in values:
         scale = math.lcm(scale, v.denominator)  # type: ignore[union-attr]
     ints = [int(v * scale) for v in values]
-    if m and max(abs(v) for v in ints) >= _INT64_SAFE:
+    if m and max(abs(v) for v in ints) >= INT64_SAFE:
         out = np.empty(m, dtype=object)
         out[:] = ints
         return out, scale
@@ -409,7 +352,7 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         # |potential| <= 2 * sum|w| * sum(t) (a path sum of w*T - W*t), and the
         # improvement step adds one more such term: int64 is exact below 2**62.
         bound = 4 * (int(np.abs(w[keep]).sum()) + 1) * (int(t[keep].sum()) + 1)
-        exact_dtype = np.int64 if bound < _INT64_SAFE and w.dtype != object else object
+        exact_dtype = np.int64 if bound < INT64_SAFE and w.dtype != object else object
         sub = howard_arrays(relabel[src[keep]], relabel[dst[keep]], w[keep].astype(exact_dtype),
                       t[keep].astype(exact_dtype), len(nodes))
         s_num, s_den, s_pot, s_pol = sub
@@ -419,7 +362,7 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         den[nodes] = s_den
         potential[nodes] = s_pot
         policy[nodes] = keep[s_pol]
-        best = _argmax_ratio(num[nodes], den[nodes])
+        best = argmax_ratio(num[nodes], den[nodes])
         circuit = _policy_circuit(int(nodes[best]), policy, src)
         ratio = Fraction(int(num[nodes[best]]), scale * int(den[nodes[best]]))
     # Cycle times in lowest terms, with the weight scale folded in.
@@ -458,17 +401,6 @@ def _reduce(num: np.ndarray, den: np.ndarray, mask: np.ndarray) -> tuple[np.ndar
     out_num = np.where(mask, num // g, 0)
     out_den = np.where(mask, den // g, 0)
     return out_num, out_den
-
-
-def _argmax_ratio(num: np.ndarray, den: np.ndarray) -> int:
-    """Index of the largest num/den (den > 0), compared exactly."""
-    approx = num.astype(float) / den.astype(float)
-    best = int(np.argmax(approx))
-    # Floats only shortlist; the winner is settled by exact cross-multiplication.
-    for k in np.flatnonzero(approx >= approx[best] - abs(approx[best]) * 1e-9 - 1e-300).tolist():
-        if int(num[k]) * int(den[best]) > int(num[best]) * int(den[k]):
-            best = k
-    return best
 
 
 def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarray:

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .cycle_ratio import find_circuit
+from ._arrays import find_circuit
 from .dense import _product_scaled, _rank, _scale_together, otimes, star
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
 from .scalar import EPS, exact_matrix, exact_vector, from_scaled

@@ -30,24 +30,14 @@ distinct ratios of the current policy, computed once per iteration.
 
 from __future__ import annotations
 
-import math
 from fractions import Fraction
 from typing import Any
 
 import numpy as np
 
-__all__ = ["howard_arrays", "gcd_arrays"]
+from ._arrays import gcd_arrays
 
-
-def gcd_arrays(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Elementwise gcd of two integer arrays (int64 or object).
-
-    >>> gcd_arrays(np.array([4, 9]), np.array([6, 3])).tolist()
-    [2, 3]
-    """
-    if a.dtype == object or b.dtype == object:
-        return np.frompyfunc(math.gcd, 2, 1)(a, b)
-    return np.gcd(a, b)
+__all__ = ["howard_arrays"]
 
 
 def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray,

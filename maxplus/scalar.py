@@ -27,6 +27,7 @@ from typing import Any, Iterable, Union
 
 import numpy as np
 
+from ._arrays import INT64_SAFE, int_array
 from .errors import MaxPlusValueError
 
 __all__ = [
@@ -34,6 +35,7 @@ __all__ = [
     "TOP",
     "Scalar",
     "exact",
+    "exact_text",
     "exact_time",
     "exact_matrix",
     "exact_vector",
@@ -42,6 +44,8 @@ __all__ = [
     "to_scaled",
     "from_scaled",
     "FLOAT_EXACT_BOUND",
+    "INT64_SAFE",
+    "int_array",
 ]
 
 EPS: float = float("-inf")
@@ -158,6 +162,31 @@ def exact_time(value: Any, where: str = "value") -> Fraction:
     """
     return exact(value, where, allow_eps=False)  # type: ignore[return-value]
 
+
+def exact_text(value: Fraction | int | None) -> str | None:
+    """An exact number as reports write it: ``"7/3"``, ``"2"``; None stays None.
+
+    Parameters
+    ----------
+    value : Fraction, int or None
+
+    Returns
+    -------
+    str or None
+
+    See Also
+    --------
+    exact_time : reads such a text back.
+
+    Examples
+    --------
+    >>> exact_text(Fraction(7, 3)), exact_text(Fraction(4, 2)), exact_text(None)
+    ('7/3', '2', None)
+    """
+    if value is None:
+        return None
+    value = Fraction(value)
+    return str(value.numerator) if value.denominator == 1 else f"{value.numerator}/{value.denominator}"
 
 def exact_vector(values: Any, name: str = "x", allow_eps: bool = True) -> list[Scalar]:
     """Validate a vector of (max,+) scalars.

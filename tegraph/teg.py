@@ -36,7 +36,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from maxplus.errors import MaxPlusValueError
-from maxplus.scalar import EPS, exact_time
+from maxplus.scalar import EPS, INT64_SAFE, exact_time, int_array
 
 from .errors import ModelError, NotLiveError
 
@@ -44,9 +44,6 @@ if TYPE_CHECKING:  # networkx costs 0.1 s to import; only the conversions need i
     import networkx as nx
 
 __all__ = ["Daters", "Place", "TEGArrays", "TimedEventGraph"]
-
-# Scaled values stay in int64 below this bound: the sum of two of them cannot overflow.
-_INT64_SAFE = 2**62
 
 
 @dataclass(frozen=True)
@@ -309,8 +306,8 @@ class TimedEventGraph:
                 src=np.array([p.src for p in ps], dtype=np.int64),
                 dst=np.array([p.dst for p in ps], dtype=np.int64),
                 tokens=np.array([p.tokens for p in ps], dtype=np.int64),
-                holding=_int_array([int(p.holding * scale) for p in ps]),
-                initial=_int_array([int(p.initial * scale) for p in ps]),
+                holding=int_array([int(p.holding * scale) for p in ps]),
+                initial=int_array([int(p.initial * scale) for p in ps]),
                 scale=scale, n_transitions=self.n_transitions)
         return self._cache["arrays"]
 
@@ -542,7 +539,7 @@ class TimedEventGraph:
         # Any x_e(k) is at most max a_p + k * sum h_p (each index level crosses each place once).
         bound = max((abs(int(v)) for v in init.tolist()), default=0) \
             + n_firings * sum(int(v) for v in hold.tolist())
-        if bound < _INT64_SAFE and hold.dtype != object and init.dtype != object:
+        if bound < INT64_SAFE and hold.dtype != object and init.dtype != object:
             dtype, low = np.int64, np.iinfo(np.int64).min
         else:
             dtype, low = object, EPS
@@ -566,15 +563,6 @@ class TimedEventGraph:
                 np.maximum.at(row, g_dst, row[g_src] + g_hold)
             times[k - 1] = row
         return Daters(times, a.scale, self.transition_names)
-
-
-def _int_array(values: list[int]) -> np.ndarray:
-    """int64 when every value stays below 2**62 in magnitude, else object (Python ints)."""
-    if all(abs(v) < _INT64_SAFE for v in values):
-        return np.array(values, dtype=np.int64)
-    out = np.empty(len(values), dtype=object)
-    out[:] = values
-    return out
 
 
 def _check_tokens(value: Any, where: str) -> int:
