@@ -7,6 +7,7 @@ found a deadlock, an unbounded place or an overrun, 2 the input was refused
 
 from __future__ import annotations
 
+import re
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -66,10 +67,10 @@ def analyze(
                                 help="Include design rules, schedulability and latencies."),
 ) -> None:
     """Analyze a synchronization skeleton: liveness, periods, overruns, slack."""
-    from .analysis import analyze as run_analysis
-    from .io.skeleton_file import load_skeleton
-    from .latency import parse_chain
-    from .report import render_text, write_csv
+    from .api import analyze as run_analysis
+    from .design.latency import parse_chain
+    from .io import load_skeleton
+    from .report import render_text, to_json, write_csv
 
     with _refusals(file):
         skeleton = load_skeleton(file)
@@ -82,7 +83,7 @@ def analyze(
             _fail(str(exc))
         except OSError as exc:
             _fail(f"cannot write CSV files to {csv_dir}: {exc.strerror}")
-    typer.echo(report.to_json() if json_out else render_text(report), nl=not json_out)
+    typer.echo(to_json(report) if json_out else render_text(report), nl=not json_out)
     raise typer.Exit(report.exit_status)
 
 
@@ -105,17 +106,16 @@ def reach(
 ) -> None:
     """State-space baseline: the reachability graph (deadlocks) or, with --timed, the timed
     exploration; exit 0 nothing found, 1 a deadlock or an overrun, 2 bad input, 130 Ctrl-C."""
-    import json
     import signal
     import time
 
-    from .build import build_teg
-    from .io.formats import as_petri_net, read
-    from .io.skeleton_file import load_skeleton
-    from .reachability import reachability_graph, skeleton_reachability
-    from .report import json_report
-    from .skeleton import Skeleton
-    from .timed_reachability import timed_reachability
+    from .analysis.reachability import reachability_graph, skeleton_reachability
+    from .analysis.timed_reachability import timed_reachability
+    from .io import load_skeleton, read
+    from .model.build import build_teg
+    from .model.convert import as_petri_net
+    from .model.skeleton import Skeleton
+    from .report import render_text, to_json
 
     with _refusals(file):
         model = (load_skeleton(file) if file.suffix.lower() in (".yaml", ".yml")
@@ -158,8 +158,7 @@ def reach(
             signal.signal(signal.SIGINT, previous)
         if shown[0]:
             typer.echo("\r" + " " * 72 + "\r", err=True, nl=False)
-    typer.echo(json.dumps(json_report("reach", result.to_dict()), indent=2) if json_out
-               else result.render_text())
+    typer.echo(to_json(result) if json_out else render_text(result))
     if result.stopped_by == "interrupted":
         typer.echo("tegraph: interrupted; the counts above are partial", err=True)
         raise typer.Exit(130)
@@ -177,8 +176,9 @@ def fix(
 ) -> None:
     """Reorder ports so that the skeleton is live, keeping every declared order that is
     fine; exit 0 live (or already live), 1 no port order helps, 2 bad input."""
-    from .fix import fix_ports, render_fix
-    from .io.skeleton_file import dump_skeleton, load_skeleton
+    from .design.fix import fix_ports
+    from .io import dump_skeleton, load_skeleton
+    from .report.design_text import render_fix
 
     with _refusals(file):
         skeleton = load_skeleton(file)
@@ -215,17 +215,18 @@ def rules(
     exit 0 rules followed and schedulable, 1 otherwise, 2 bad input."""
     import json
 
-    from .analysis import analyze as run_analysis
-    from .io.skeleton_file import load_skeleton
-    from .latency import chain_latency, parse_chain, render_latency
+    from .analysis.analyze import analyze_skeleton
+    from .design.latency import chain_latency, parse_chain
+    from .design.rules import check_rules
+    from .design.schedulability import schedulability
+    from .io import load_skeleton
     from .report import json_report
-    from .rules import check_rules, render_rules
-    from .schedulability import render_schedulability, schedulability
+    from .report.design_text import render_latency, render_rules, render_schedulability
 
     with _refusals(file):
         skeleton = load_skeleton(file)
         findings = check_rules(skeleton)
-        report = run_analysis(skeleton)
+        report = analyze_skeleton(skeleton)
         sched = schedulability(skeleton, report)
         chains = [(c, ("chains", i)) for i, c in enumerate(skeleton.chains)]
         chains += [(parse_chain(c), ("--chain",)) for c in chain or []]
@@ -260,9 +261,10 @@ def timeline(
     job ends by the next tick of its clock, 1 a job is late, 2 bad input or no matplotlib."""
     from maxplus.scalar import exact_time
 
-    from .io.skeleton_file import load_skeleton
-    from .plot import PlotUnavailableError, draw_timeline
-    from .timeline import render_timeline, simulate_timeline
+    from .design.timeline import simulate_timeline
+    from .io import load_skeleton
+    from .report.plot import PlotUnavailableError, draw_timeline
+    from .report.timeline_text import render_timeline
 
     end = None
     if horizon is not None:
@@ -317,14 +319,14 @@ def cycle_time_command(
     Exit status: 0 no deadlock found; 1 a deadlock (a circuit without token, or
     a reachable dead marking); 2 input refused.
     """
-    from .cycle_time import cycle_time
-    from .io.formats import parse_size
+    from .api import cycle_time
+    from .report import render_text, to_json
 
     with _refusals(file, also=(ValueError,)):
-        result = cycle_time(file, format=fmt, max_bytes=parse_size(max_size),
+        result = cycle_time(file, format=fmt, max_bytes=_parse_size(max_size),
                             default_holding=default_holding, max_states=max_states,
                             max_seconds=max_seconds)
-    typer.echo(result.to_json() if json_out else result.to_text(), nl=not json_out)
+    typer.echo(to_json(result) if json_out else render_text(result), nl=not json_out)
     raise typer.Exit(result.exit_status)
 
 
@@ -346,10 +348,11 @@ def convert(
     net that is not a marked graph goes only to net formats (PNML,
     TimedPetriNetEditor JSON, DOT).
     """
-    from .io.formats import parse_size, read, write
+    from .api import write
+    from .io import read
 
     try:
-        model = read(source, from_fmt, max_bytes=parse_size(max_size))
+        model = read(source, from_fmt, max_bytes=_parse_size(max_size))
         written = write(model, target, to_fmt, overwrite=force)
     except InputError as exc:
         _fail(str(exc))
@@ -360,6 +363,20 @@ def convert(
     except (TegraphError, ValueError) as exc:
         _fail(f"{source}: {exc}")
     typer.echo(f"wrote {written}")
+
+
+def _parse_size(text: str | int) -> int:
+    """A byte count from ``"300M"``, ``"2G"``, ``"512k"`` or a plain integer.
+
+    >>> _parse_size("300M"), _parse_size("2G"), _parse_size(1000)
+    (314572800, 2147483648, 1000)
+    """
+    if isinstance(text, int):
+        return text
+    m = re.fullmatch(r"\s*(\d+)\s*([kKmMgG]?)[iI]?[bB]?\s*", str(text))
+    if not m:
+        raise InputError(f"expected a size such as 300M or 2G, got {text!r}", "--max-size")
+    return int(m.group(1)) * {"": 1, "k": 2**10, "m": 2**20, "g": 2**30}[m.group(2).lower()]
 
 
 def main() -> None:

@@ -6,14 +6,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
-SHARED_ANCHORS = REPO.parent / "shared" / "anchors"
-"""The team's reference data, beside a checkout (read-only, the contract)."""
-VENDORED_ANCHORS = REPO / "tests" / "data" / "anchors"
-"""A verbatim copy kept in the repository, so that a clone alone can run the
-suite; test_anchor_copy checks it is byte-identical to ``SHARED_ANCHORS``
-wherever both exist."""
-ANCHORS = SHARED_ANCHORS if SHARED_ANCHORS.is_dir() else VENDORED_ANCHORS
+from tests.paths import ANCHORS
 
 
 @pytest.fixture(scope="session")

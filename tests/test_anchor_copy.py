@@ -5,7 +5,8 @@ from __future__ import annotations
 import hashlib
 
 import pytest
-from conftest import SHARED_ANCHORS, VENDORED_ANCHORS
+
+from tests.paths import SHARED_ANCHORS, VENDORED_ANCHORS
 
 
 def _digests(root):

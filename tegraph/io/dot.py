@@ -1,38 +1,35 @@
-"""Graph views: Graphviz DOT text, and networkx graphs both ways.
+"""Graphviz DOT drawings of a skeleton, a timed event graph or a P/T net (write only).
 
 DOT shows a skeleton (tasks, clocks, links, threads), its timed event graph
-(events and places), or a P/T net (places and transitions). The critical
-circuit (the one that sets the period) is drawn red and bold; a circuit
-without token (a deadlock) orange and dashed — both found by
-:func:`tegraph.cycle_time.cycle_time` on the graph's timed event graph.
-
-:func:`to_networkx` gives a :class:`networkx.MultiDiGraph` of a timed event
-graph (as :meth:`TimedEventGraph.to_networkx`) or a bipartite
-:class:`networkx.DiGraph` of a P/T net (node attribute ``kind``);
-:func:`from_networkx` reads either back.
+(events and places), or a P/T net (places and transitions). Circuits given
+as :class:`Highlights` are coloured: the critical circuit (the one that sets
+the period) red and bold, a circuit without token (a deadlock) orange and
+dashed. This module draws what it is given; finding those circuits is the
+analysis's job (:func:`tegraph.write` and :func:`tegraph.report.dot.highlights`
+do both).
 """
 
 from __future__ import annotations
 
 import os
 from fractions import Fraction
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import networkx as nx
 import numpy as np
 
-from maxplus.errors import MaxPlusError
-from maxplus.scalar import exact_time
+from maxplus.scalar import exact_text
 
-from ..errors import ModelError, TegraphError
-from ..petri import PetriNet
-from ..report import exact_text
-from ..skeleton import Protocol, Skeleton
-from ..teg import TimedEventGraph
-from .formats import as_teg_like, write_bytes
+from ..errors import InputError, ModelError
+from ..model.build import build_teg
+from ..model.convert import as_teg, as_teg_like
+from ..model.petri import PetriNet
+from ..model.skeleton import Protocol, Skeleton
+from ..model.teg import TimedEventGraph
+from ._files import write_bytes
 
-__all__ = ["from_networkx", "to_dot", "to_networkx", "write_dot", "write_teg_dot"]
+__all__ = ["Highlights", "dot_text", "write_dot", "write_teg_dot"]
 
 _CRITICAL = 'color="red", fontcolor="red", penwidth=2.5'
 _DEAD = 'color="darkorange", fontcolor="darkorange", penwidth=2.5, style="dashed"'
@@ -44,37 +41,62 @@ def _q(text: Any) -> str:
     return f'"{s}"'
 
 
-def _highlights(obj: Any) -> tuple[set[int], set[int], str]:
-    """Place indices on the critical circuit, on a token-free circuit, and a caption."""
-    from ..cycle_time import cycle_time
+@dataclass(frozen=True)
+class Highlights:
+    """What a drawing colours, by place index of the timed event graph (or of the net).
 
-    try:
-        r = cycle_time(obj, verify=False)
-    except (TegraphError, MaxPlusError):  # a drawing never fails for want of figures
-        return set(), set(), ""
-    if not r.applicable:
-        return set(), set(), r.reason or ""
-    if r.token_free_circuit is not None:
-        return set(), set(r.token_free_places), "deadlock: circuit without token (dashed)"
-    if r.period is None:
-        return set(), set(), "no circuit"
-    return set(r.critical_places), set(), f"period {exact_text(r.period)} (critical circuit in red)"
+    Attributes
+    ----------
+    critical : frozenset of int
+        Places of the critical circuit (drawn red and bold).
+    token_free : frozenset of int
+        Places of a circuit without token (drawn orange and dashed).
+    caption : str
+        Appended to the graph's name in its label (``period 5 (critical circuit in red)``).
+    """
+
+    critical: frozenset[int] = frozenset()
+    token_free: frozenset[int] = frozenset()
+    caption: str = ""
 
 
-def to_dot(obj: Any, view: str | None = None) -> str:
+_NONE = Highlights()
+
+
+def dot_text(obj: Any, view: str | None = None, highlights: Highlights | None = None) -> str:
     """DOT text of a skeleton, a timed event graph (or anything that becomes one), or a net.
 
     Parameters
     ----------
+    obj : Skeleton, TimedEventGraph, PetriNet, SDFGraph or ArcList
     view : {"skeleton", "teg", "net"}, optional
         Default: ``skeleton`` for a Skeleton, ``net`` for a P/T net,
         ``teg`` otherwise. A skeleton may be drawn as its ``teg``.
+    highlights : Highlights, optional
+        Circuits to colour, by place index of the timed event graph of
+        ``obj`` (of the net itself for a P/T net).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    InputError
+        An unknown ``view``.
+    ModelError
+        A skeleton view of something that is not a skeleton.
+
+    See Also
+    --------
+    tegraph.report.dot.highlights : the circuits a cycle-time result names.
 
     Examples
     --------
     >>> g = TimedEventGraph("ring"); _ = g.add_transition("a"); _ = g.add_transition("b")
     >>> _ = g.add_place("a", "b", 0, 2); _ = g.add_place("b", "a", 1, 3)
-    >>> print(to_dot(g))  # doctest: +NORMALIZE_WHITESPACE
+    >>> marks = Highlights(frozenset({0, 1}), caption="period 5 (critical circuit in red)")
+    >>> print(dot_text(g, highlights=marks))  # doctest: +NORMALIZE_WHITESPACE
     digraph "ring" {
       label="ring: period 5 (critical circuit in red)"; rankdir=LR;
       node [shape=box, style=rounded];
@@ -84,31 +106,28 @@ def to_dot(obj: Any, view: str | None = None) -> str:
       "b" -> "a" [label="b -> a\\nh=3 m=1", color="red", fontcolor="red", penwidth=2.5];
     }
     """
+    marks = highlights or _NONE
     if view is None:
         view = "skeleton" if isinstance(obj, Skeleton) else "net" if isinstance(obj, PetriNet) \
             else "teg"
     if view == "skeleton":
         if not isinstance(obj, Skeleton):
             raise ModelError("only a skeleton has a skeleton view", type(obj).__name__)
-        return _skeleton_dot(obj)
+        return _skeleton_dot(obj, marks)
     if view == "net":
-        return _net_dot(obj if isinstance(obj, PetriNet) else PetriNet.from_teg(_teg(obj)))
+        return _net_dot(obj if isinstance(obj, PetriNet) else PetriNet.from_teg(as_teg(obj)),
+                        marks)
     if view == "teg":
-        return _teg_dot(as_teg_like(obj))
-    raise ValueError(f"view is 'skeleton', 'teg' or 'net', got {view!r}")
-
-
-def _teg(obj: Any) -> TimedEventGraph:
-    g = as_teg_like(obj)
-    return g if isinstance(g, TimedEventGraph) else g.to_teg()
+        return _teg_dot(as_teg_like(obj), marks)
+    raise InputError(f"expected 'skeleton', 'teg' or 'net', got {view!r}", "view")
 
 
 def _place_text(holding: Fraction, tokens: int) -> str:
     return f"h={exact_text(holding)}" + (f" m={tokens}" if tokens else "")
 
 
-def _teg_dot(g: Any) -> str:
-    crit, dead, caption = _highlights(g)
+def _teg_dot(g: Any, marks: Highlights) -> str:
+    crit, dead, caption = marks.critical, marks.token_free, marks.caption
     a = g.arrays()
     names = list(g.transition_names)
     label = g.name + (f": {caption}" if caption else "")
@@ -125,8 +144,8 @@ def _teg_dot(g: Any) -> str:
     return "\n".join(out + ["}"]) + "\n"
 
 
-def _net_dot(net: PetriNet) -> str:
-    crit, dead, caption = _highlights(net)
+def _net_dot(net: PetriNet, marks: Highlights) -> str:
+    crit, dead, caption = marks.critical, marks.token_free, marks.caption
     label = net.name + (f": {caption}" if caption else "")
     out = [f"digraph {_q(net.name)} {{", f"  label={_q(label)}; rankdir=LR;"]
     for k, p in enumerate(net.places):
@@ -146,11 +165,9 @@ def _net_dot(net: PetriNet) -> str:
     return "\n".join(out + ["}"]) + "\n"
 
 
-def _skeleton_dot(sk: Skeleton) -> str:
-    from ..build import build_teg
-
+def _skeleton_dot(sk: Skeleton, marks: Highlights) -> str:
     g = build_teg(sk)
-    crit, dead, caption = _highlights(g)
+    crit, dead, caption = marks.critical, marks.token_free, marks.caption
     on = {"crit": crit, "dead": dead}
     tasks_on: dict[str, set[str]] = {"crit": set(), "dead": set()}
     links_on: dict[str, set[int]] = {"crit": set(), "dead": set()}
@@ -201,75 +218,13 @@ def _skeleton_dot(sk: Skeleton) -> str:
     return "\n".join(out + ["}"]) + "\n"
 
 
-def write_dot(obj: Any, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
-    """Write the default DOT view of ``obj`` (see :func:`to_dot`)."""
-    return write_bytes(path, to_dot(obj), overwrite)
+def write_dot(obj: Any, path: str | os.PathLike[str], overwrite: bool = False,
+              highlights: Highlights | None = None) -> Path:
+    """Write the default DOT view of ``obj`` (see :func:`dot_text`)."""
+    return write_bytes(path, dot_text(obj, highlights=highlights), overwrite)
 
 
-def write_teg_dot(obj: Any, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
+def write_teg_dot(obj: Any, path: str | os.PathLike[str], overwrite: bool = False,
+                  highlights: Highlights | None = None) -> Path:
     """Write the DOT view of the timed event graph of ``obj`` (a skeleton's, say)."""
-    return write_bytes(path, to_dot(obj, "teg"), overwrite)
-
-
-# --------------------------------------------------------------------------- networkx
-
-
-def to_networkx(obj: Any) -> nx.DiGraph:
-    """A networkx graph: the bipartite graph of a P/T net, else the TEG's MultiDiGraph.
-
-    Examples
-    --------
-    >>> net = PetriNet("n", ["p"], ["t"], np.array([[1]]), np.array([[2]]), np.array([3]))
-    >>> G = to_networkx(net)
-    >>> dict(G.nodes["p"]), G.edges["t", "p"]["weight"]
-    ({'kind': 'place', 'tokens': 3}, 2)
-    >>> back = from_networkx(G)
-    >>> back.pre.tolist(), back.post.tolist(), back.marking.tolist()
-    ([[1]], [[2]], [3])
-    """
-    if not isinstance(obj, PetriNet):
-        return _teg(obj).to_networkx()
-    if set(obj.places) & set(obj.transitions):
-        raise ModelError("a place and a transition share a name; networkx nodes must be "
-                         "distinct", f"net {obj.name}")
-    G = nx.DiGraph(name=obj.name)
-    for k, p in enumerate(obj.places):
-        attrs: dict[str, Any] = {"kind": "place", "tokens": int(obj.marking[k])}
-        if obj.holding:
-            attrs["holding"] = obj.holding[k]
-        if obj.initial:
-            attrs["initial"] = obj.initial[k]
-        G.add_node(p, **attrs)
-    for t in obj.transitions:
-        G.add_node(t, kind="transition")
-    for i, j in np.argwhere(obj.pre > 0).tolist():
-        G.add_edge(obj.places[i], obj.transitions[j], weight=int(obj.pre[i, j]))
-    for i, j in np.argwhere(obj.post > 0).tolist():
-        G.add_edge(obj.transitions[j], obj.places[i], weight=int(obj.post[i, j]))
-    return G
-
-
-def from_networkx(G: nx.DiGraph) -> PetriNet | TimedEventGraph:
-    """A P/T net when every node has ``kind`` place or transition, else a timed event graph."""
-    kinds = nx.get_node_attributes(G, "kind")
-    if not G or len(kinds) != len(G) or not set(kinds.values()) <= {"place", "transition"}:
-        return TimedEventGraph.from_networkx(G)
-    places = [n for n in G if kinds[n] == "place"]
-    transitions = [n for n in G if kinds[n] == "transition"]
-    pi = {n: k for k, n in enumerate(places)}
-    ti = {n: k for k, n in enumerate(transitions)}
-    pre = np.zeros((len(places), len(transitions)), dtype=np.int64)
-    post = np.zeros_like(pre)
-    for u, v, w in G.edges(data="weight", default=1):
-        if kinds[u] == kinds[v]:
-            raise ModelError("an arc joins two nodes of one kind", f"edge {u} -> {v}")
-        if kinds[u] == "place":
-            pre[pi[u], ti[v]] += int(w)
-        else:
-            post[pi[v], ti[u]] += int(w)
-    timed = any("holding" in G.nodes[p] for p in places)
-    hold = [exact_time(G.nodes[p].get("holding", 0), f"place {p}") for p in places] if timed else []
-    init = [exact_time(G.nodes[p].get("initial", 0), f"place {p}") for p in places] if timed else []
-    marking = np.array([int(G.nodes[p].get("tokens", 0)) for p in places], dtype=np.int64)
-    return PetriNet(str(G.graph.get("name", "net")), [str(p) for p in places],
-                    [str(t) for t in transitions], pre, post, marking, hold, init)
+    return write_bytes(path, dot_text(obj, "teg", highlights), overwrite)

@@ -43,12 +43,13 @@ from xml.sax.saxutils import escape, quoteattr
 import numpy as np
 
 from maxplus.errors import MaxPlusValueError
-from maxplus.scalar import exact_time
+from maxplus.scalar import exact_text, exact_time
 
 from ..errors import InputError
-from ..petri import PetriNet
-from ..report import exact_text
-from .formats import DEFAULT_MAX_BYTES, XmlNode, as_petri_net, parse_xml, read_limited, write_bytes
+from ..model.petri import PetriNet
+from ..model.convert import as_petri_net
+from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
+from ._xml import XmlNode, parse_xml
 
 __all__ = ["PNML_NAMESPACE", "PTNET_TYPE", "TOOL", "TOOL_VERSION", "dumps_pnml", "parse_pnml",
            "read_pnml", "write_pnml"]
@@ -67,7 +68,7 @@ def read_pnml(path: str | os.PathLike[str], *, max_bytes: int = DEFAULT_MAX_BYTE
 
 
 def parse_pnml(data: bytes | str, file: str | None = None) -> PetriNet:
-    """Parse PNML text into a :class:`~tegraph.petri.PetriNet`.
+    """Parse PNML text into a :class:`~tegraph.model.petri.PetriNet`.
 
     Places and transitions are named by their ``<name>`` when it is given and
     unique, else by their id; ``net.attrs["pnml_ids"]`` keeps the ids so that
@@ -265,7 +266,7 @@ def dumps_pnml(obj: Any) -> str:
 
     Examples
     --------
-    >>> from tegraph.teg import TimedEventGraph
+    >>> from tegraph.model.teg import TimedEventGraph
     >>> g = TimedEventGraph("ring"); _ = g.add_transition("a"); _ = g.add_transition("b")
     >>> _ = g.add_place("a", "b", 0, "7/3"); _ = g.add_place("b", "a", 1, 1)
     >>> net = parse_pnml(dumps_pnml(g))

@@ -5,8 +5,8 @@ PyYAML's constructor, for three reasons: duplicate keys are refused (YAML
 would silently keep the last one), every key and list item gets its 1-based
 line for the messages, and names and numbers are taken from the text the
 user wrote (YAML 1.1 reads the port ``on`` as true and ``010`` as eight).
-The checks themselves live in :mod:`tegraph.io.skeleton_schema` and
-:mod:`tegraph.io.skeleton_checks`, shared with skeletons built in code.
+The checks themselves live in the model (:mod:`tegraph.model.skeleton_schema`
+and :mod:`tegraph.model.skeleton_checks`), shared with skeletons built in code.
 """
 
 from __future__ import annotations
@@ -21,17 +21,10 @@ import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from ..errors import SkeletonError
-from ..skeleton import Skeleton
-from .skeleton_checks import KeyPath, Locator, validate_skeleton
-from .skeleton_schema import skeleton_from_data, skeleton_to_data
+from ..model.skeleton import Skeleton
+from ..model.skeleton_checks import KeyPath, Locator
 
-__all__ = [
-    "dump_skeleton",
-    "load_skeleton",
-    "skeleton_from_data",
-    "skeleton_to_data",
-    "validate_skeleton",
-]
+__all__ = ["dump_skeleton", "load_skeleton"]
 
 _MAP_TAG = "tag:yaml.org,2002:map"
 _SEQ_TAG = "tag:yaml.org,2002:seq"
@@ -252,13 +245,13 @@ def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
         raise SkeletonError("the file is empty; expected a skeleton with at least 'tasks'",
                             file=file)
     if where.suffix.lower() != ".json":
-        return skeleton_from_data(data, default_name=where.stem, source=file, locator=loc)
+        return Skeleton.from_dict(data, where.stem, file, locator=loc)
     try:
-        return skeleton_from_data(data, default_name=where.stem, source=file, locator=loc)
+        return Skeleton.from_dict(data, where.stem, file, locator=loc)
     except SkeletonError:
         # Lines of a JSON file are looked up only when there is an error to place.
         _json_lines(text, loc)
-        return skeleton_from_data(data, default_name=where.stem, source=file, locator=loc)
+        return Skeleton.from_dict(data, where.stem, file, locator=loc)
 
 
 class _Dumper(yaml.SafeDumper):
@@ -301,7 +294,7 @@ def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = 
     Examples
     --------
     >>> import pathlib, tempfile
-    >>> sk = skeleton_from_data({"tasks": {"A": {"duration": "7/3", "period": 4}}}, "s")
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": "7/3", "period": 4}}}, "s")
     >>> f = dump_skeleton(sk, pathlib.Path(tempfile.mkdtemp()) / "s.yaml")
     >>> print(f.read_text(), end="")
     name: s
@@ -313,7 +306,7 @@ def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = 
     >>> load_skeleton(f) == sk
     True
     """
-    data = skeleton_to_data(sk)
+    data = sk.to_dict()
     target = Path(os.fspath(path))
     if target.suffix.lower() == ".json":
         text = json.dumps(data, indent=2, ensure_ascii=False) + "\n"

@@ -43,9 +43,10 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time
 
 from ..errors import InputError, ModelError
-from ..petri import PetriNet
-from ..teg import TimedEventGraph
-from .formats import DEFAULT_MAX_BYTES, as_petri_net, as_teg, read_limited, write_bytes
+from ..model.petri import PetriNet
+from ..model.teg import TimedEventGraph
+from ..model.convert import as_petri_net, as_teg
+from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 
 __all__ = ["dumps_tpne_json", "dumps_tpne_teg", "parse_tpne_json", "parse_tpne_teg",
            "read_tpne_json", "read_tpne_teg", "write_tpne_json", "write_tpne_teg"]
@@ -64,7 +65,7 @@ def read_tpne_json(path: str | os.PathLike[str], *, max_bytes: int = DEFAULT_MAX
 
 
 def parse_tpne_json(data: bytes | str, file: str | None = None) -> PetriNet:
-    """Parse TimedPetriNetEditor JSON into a :class:`~tegraph.petri.PetriNet`.
+    """Parse TimedPetriNetEditor JSON into a :class:`~tegraph.model.petri.PetriNet`.
 
     Raises
     ------
@@ -268,7 +269,7 @@ def read_tpne_teg(path: str | os.PathLike[str], *, max_bytes: int = DEFAULT_MAX_
 
 def parse_tpne_teg(data: bytes | str, file: str | None = None, orientation: str = "matrix",
                    name: str = "teg") -> TimedEventGraph:
-    """Parse ``.teg`` text into a :class:`~tegraph.teg.TimedEventGraph`.
+    """Parse ``.teg`` text into a :class:`~tegraph.model.teg.TimedEventGraph`.
 
     Parameters
     ----------

@@ -32,8 +32,8 @@ from maxplus.spectral import (
     karp,
 )
 from maxplus.transient import trajectory_transient, transient
+from tests.paths import ANCHORS  # noqa: E402
 
-from conftest import ANCHORS  # noqa: E402
 CASES = json.loads((ANCHORS / "maxplus" / "cases.json").read_text())
 MATRIX_CASES = [case for case in CASES if case["kind"] == "matrix"]
 BY_ID = {case["id"]: case for case in CASES}

@@ -117,8 +117,7 @@ def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
 def _refusal_cases():
     # The loader's own table of every refusal of spec §1 (with the key path
     # and wording each must produce), replayed through the command line.
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from test_skeleton_file import JSON_REFUSALS, REFUSALS
+    from tests.tegraph.io.test_skeleton_file import JSON_REFUSALS, REFUSALS
 
     return [pytest.param(case.values[0], case.values[1], suffix, id=case.id)
             for cases, suffix in ((REFUSALS, ".yaml"), (JSON_REFUSALS, ".json"))

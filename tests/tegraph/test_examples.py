@@ -12,17 +12,17 @@ from __future__ import annotations
 import json
 from fractions import Fraction as F
 from functools import cache
-from pathlib import Path
 
 import pytest
 
-from tegraph import NotLiveError, build_teg, load_skeleton
-from tegraph.analysis import analyze
-from tegraph.build import last_event
-from tegraph.reorder import reorder_ports
-from tegraph.skeleton import Skeleton
+import tegraph
+from tegraph import NotLiveError, analyze, build_teg, load_skeleton
+from tegraph.analysis.reorder import reorder_ports
+from tegraph.model.build import last_event
+from tegraph.model.skeleton import Skeleton
+from tests.paths import REPO
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EXAMPLES = REPO / "examples"
 
 ALL_EXAMPLES = [
     "fig4_pipeline_unsynchronized.yaml",
@@ -51,7 +51,7 @@ def _report(name: str):
 
 def report_dict(name: str) -> dict:
     """The §5 JSON document, through a real JSON round trip."""
-    return json.loads(_report(name).to_json())
+    return json.loads(tegraph.to_json(_report(name)))
 
 
 def is_rotation(got: list[str], expected: list[str]) -> bool:

@@ -1,0 +1,467 @@
+"""The untimed reachability graph: the state-space baseline for deadlocks.
+
+The ORCCAD paper (§4-5) checks its nets by walking their reachability graph;
+:mod:`tegraph.analysis.liveness` answers the same question structurally (token-free
+circuits). This module is the walk, so that the two can be compared and the
+difference in cost measured (``benchmarks/bench_baseline.py``).
+
+:func:`reachability_graph` explores any :class:`~tegraph.model.petri.PetriNet`
+breadth first, a whole level of markings at a time in numpy: enabledness is one
+comparison against the input arcs, successors one addition of incidence
+columns, and markings are stored as the bytes of a small unsigned-integer
+array (widened when a place outgrows it) in one dictionary. Parent pointers
+give every dead marking a shortest firing sequence from the initial one.
+A *deadlock* is a reachable marking that enables no transition (the Model
+Checking Contest's ``ReachabilityDeadlock``).
+
+A skeleton's timed event graph is never bounded without time (a clock fires
+at will and piles up activations), and a clock is always enabled, so no
+marking of the whole net is ever dead. :func:`skeleton_reachability`
+therefore explores each group (weakly connected part) on its own, with every
+place ``p`` bounded to ``m_p + 1`` tokens by a complementary place. Every
+circuit through a complementary place holds a token, so the bounded group is
+live exactly when the group is (Commoner's theorem on both marked graphs);
+bounded and strongly connected, a group that is not live reaches a marking
+where none of its events can fire. Its firing sequence is also a firing
+sequence of the unbounded net.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import connected_components
+
+from ..model.petri import PetriNet
+from ..model.teg import TimedEventGraph
+
+__all__ = ["DeadMarking", "Reachability", "bounded_net", "reachability_graph",
+           "skeleton_groups", "skeleton_reachability"]
+
+Progress = Callable[[int, int, float], None]
+"""``progress(states, edges, seconds)``, called between batches of markings."""
+
+# Work arrays of a batch stay near this many elements (a few MiB).
+_BATCH_ELEMENTS = 1 << 20
+_DTYPES = (np.uint8, np.uint16, np.uint32, np.int64)
+
+
+@dataclass
+class DeadMarking:
+    """A reachable marking that enables no transition (of its group).
+
+    Attributes
+    ----------
+    marking : numpy.ndarray of int64
+        Tokens of every place of the explored net.
+    firing_sequence : list of int
+        Transition indices, a shortest sequence from the initial marking.
+    group : int or None
+        For :func:`skeleton_reachability`, the group that is stuck.
+    """
+
+    marking: np.ndarray
+    firing_sequence: list[int]
+    group: int | None = None
+
+
+@dataclass
+class Reachability:
+    """What a reachability exploration found.
+
+    Attributes
+    ----------
+    net : PetriNet
+        The net explored (for a skeleton, the unbounded net of its TEG).
+    states, edges : int
+        Markings reached and firings examined.
+    complete : bool
+        False when a budget or the ``stop`` flag ended the search first.
+    stopped_by : str or None
+        ``"states"``, ``"time"`` or ``"interrupted"``.
+    dead : list of DeadMarking
+        Every dead marking reached, in breadth-first order.
+    max_states : int
+        The state budget.
+    seconds : float
+        Wall-clock time of the exploration.
+    groups : list of list of str, optional
+        For a skeleton, the tasks of every group, as numbered by ``analyze``.
+    bounded : bool
+        Whether places were bounded to ``m_p + 1`` (skeletons).
+    """
+
+    net: PetriNet
+    states: int
+    edges: int
+    complete: bool
+    stopped_by: str | None
+    dead: list[DeadMarking]
+    max_states: int
+    seconds: float
+    groups: list[list[str]] | None = None
+    bounded: bool = False
+
+    @property
+    def deadlock(self) -> bool | None:
+        """True when a dead marking was reached, False when none exists, None if unknown."""
+        if self.dead:
+            return True
+        return False if self.complete else None
+
+    def verdict(self) -> str:
+        """One line: the deadlock verdict, or why there is none.
+
+        >>> net = PetriNet("n", ["p"], ["t"], np.array([[1]]), np.array([[1]]), np.array([1]))
+        >>> reachability_graph(net).verdict()
+        'no deadlock (1 state, complete)'
+        >>> reachability_graph(net, max_states=0).verdict()
+        'inconclusive (budget 0 states reached)'
+        """
+        if self.dead:
+            n = len(self.dead)
+            return f"deadlock: {n} dead marking{'s' * (n != 1)} reached"
+        if self.complete:
+            return f"no deadlock ({_count(self.states, 'state')}, complete)"
+        if self.stopped_by == "states":
+            return f"inconclusive (budget {self.max_states:,} states reached)"
+        if self.stopped_by == "time":
+            return f"inconclusive (time budget reached after {self.states:,} states)"
+        return f"inconclusive (interrupted after {self.states:,} states)"
+
+    @property
+    def exit_status(self) -> int:
+        """1 when a dead marking was reached, else 0 (as ``tegraph analyze``)."""
+        return int(bool(self.dead))
+
+    def place_names(self) -> list[str]:
+        """Place names, made unique with ``#index`` where two places share one."""
+        names = self.net.places
+        seen: dict[str, int] = {}
+        for n in names:
+            seen[n] = seen.get(n, 0) + 1
+        return [n if seen[n] == 1 else f"{n}#{i}" for i, n in enumerate(names)]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: ``states``, ``edges``, ``complete``, ``deadlock``, ``deadlocks``...
+
+        Each deadlock has its ``marking`` (marked places only) and its
+        ``firing_sequence`` (transition names); for a skeleton also its ``group``
+        and that group's ``tasks``.
+        """
+        names = self.place_names()
+        deadlocks = []
+        for d in self.dead:
+            entry: dict[str, Any] = {
+                "marking": {names[p]: int(d.marking[p]) for p in np.flatnonzero(d.marking)},
+                "firing_sequence": [self.net.transitions[t] for t in d.firing_sequence],
+            }
+            if d.group is not None and self.groups is not None:
+                entry["group"] = d.group
+                entry["tasks"] = list(self.groups[d.group])
+            deadlocks.append(entry)
+        return {
+            "net": self.net.name, "mode": "untimed", "states": self.states, "edges": self.edges,
+            "complete": self.complete, "stopped_by": self.stopped_by,
+            "deadlock": self.deadlock, "deadlocks": deadlocks,
+            "bounded": "m + 1 tokens per place, each group alone" if self.bounded else None,
+            "max_states": self.max_states, "seconds": round(self.seconds, 6),
+        }
+
+
+def reachability_graph(net: PetriNet, *, max_states: int = 1_000_000,
+                       max_seconds: float | None = None, progress: Progress | None = None,
+                       stop: Callable[[], bool] | None = None) -> Reachability:
+    """Breadth-first reachability graph of a P/T net, under a state and a time budget.
+
+    Parameters
+    ----------
+    net : PetriNet
+    max_states : int
+        Stop (incomplete) rather than store more markings than this.
+    max_seconds : float, optional
+        Stop (incomplete) after about this long.
+    progress : callable, optional
+        ``progress(states, edges, seconds)``, called between batches.
+    stop : callable, optional
+        Polled between batches; when it returns True the search ends with
+        ``stopped_by="interrupted"`` (a command line sets it on Ctrl-C).
+
+    Returns
+    -------
+    Reachability
+
+    Examples
+    --------
+    Two tokens travel a ring of two places: 3 markings, 4 firings, no deadlock.
+    Taking one transition away leaves the tokens stuck after two firings:
+
+    >>> pre = np.array([[1, 0], [0, 1]]); post = np.array([[0, 1], [1, 0]])
+    >>> r = reachability_graph(PetriNet("ring", ["a", "b"], ["ab", "ba"], pre, post,
+    ...                                 np.array([2, 0])))
+    >>> r.states, r.edges, r.deadlock
+    (3, 4, False)
+    >>> r = reachability_graph(PetriNet("line", ["a", "b"], ["ab"], pre[:, :1], post[:, :1],
+    ...                                 np.array([2, 0])))
+    >>> r.states, r.deadlock, r.dead[0].marking.tolist(), r.dead[0].firing_sequence
+    (3, True, [0, 2], [0, 0])
+    """
+    start = time.perf_counter()
+    deadline = None if max_seconds is None else start + max_seconds
+    run = _bfs(net.pre, net.post, net.marking, max_states, deadline, progress, stop, start)
+    dead = [DeadMarking(m, seq) for m, seq in run.dead]
+    return Reachability(net, run.states, run.edges, run.stopped_by is None, run.stopped_by,
+                        dead, max_states, time.perf_counter() - start)
+
+
+def bounded_net(net: PetriNet, extra: int = 1) -> PetriNet:
+    """The net with a complementary place for every place: ``p`` holds at most ``m_p + extra``.
+
+    The complementary place of ``p`` (named ``p~``) starts with ``extra``
+    tokens, loses one when a token enters ``p`` and gains one when a token
+    leaves it, so ``M(p) + M(p~) = m_p + extra`` in every reachable marking.
+
+    Examples
+    --------
+    >>> net = PetriNet("n", ["p"], ["t"], np.array([[0]]), np.array([[1]]), np.array([0]))
+    >>> b = bounded_net(net)
+    >>> b.places, b.pre.tolist(), b.post.tolist(), b.marking.tolist()
+    (['p', 'p~'], [[0], [1]], [[1], [0]], [0, 1])
+    >>> reachability_graph(b).states
+    2
+    """
+    if extra < 1:
+        raise ValueError(f"extra must be >= 1, got {extra}")
+    return PetriNet(net.name, list(net.places) + [f"{p}~" for p in net.places],
+                    list(net.transitions), np.vstack([net.pre, net.post]),
+                    np.vstack([net.post, net.pre]),
+                    np.concatenate([net.marking, np.full(len(net.places), extra, np.int64)]),
+                    attrs=dict(net.attrs))
+
+
+def skeleton_reachability(teg: TimedEventGraph, *, max_states: int = 1_000_000,
+                          max_seconds: float | None = None, progress: Progress | None = None,
+                          stop: Callable[[], bool] | None = None) -> Reachability:
+    """Deadlocks of a skeleton's TEG by exploring each group, places bounded to ``m + 1``.
+
+    Groups are the weakly connected parts that hold a task, numbered as
+    :func:`tegraph.analyze` numbers them (by their first task in the file);
+    a clock that activates no task is no group and is not explored. The
+    budgets are shared: groups after the one that exhausts them stay
+    unexplored. ``states`` and ``edges`` add up the groups' graphs.
+
+    Parameters
+    ----------
+    teg : TimedEventGraph
+        Built by :func:`tegraph.model.build.build_teg` (any TEG works; without task
+        chains every weakly connected part is a group).
+    max_states, max_seconds, progress, stop
+        As for :func:`reachability_graph`.
+
+    Returns
+    -------
+    Reachability
+        ``dead[i].marking`` covers every place of the (unbounded) net: the
+        group's places as reached, the others as initially marked.
+
+    Examples
+    --------
+    Two tasks that each wait for the other's message before computing:
+
+    >>> from tegraph import Skeleton, build_teg
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "A": {"duration": 1, "inputs": ["x"], "outputs": ["y"]},
+    ...     "B": {"duration": 1, "inputs": ["y"], "outputs": ["x"]}},
+    ...     "links": [{"from": "A:y", "to": "B:y", "protocol": "ASYN/SYN"},
+    ...               {"from": "B:x", "to": "A:x", "protocol": "ASYN/SYN"}]})
+    >>> r = skeleton_reachability(build_teg(sk))
+    >>> r.deadlock, r.states, r.dead[0].firing_sequence, r.groups
+    (True, 1, [], [['A', 'B']])
+    """
+    start = time.perf_counter()
+    deadline = None if max_seconds is None else start + max_seconds
+    net = PetriNet.from_teg(teg)
+    a = teg.arrays()
+    groups, members = skeleton_groups(teg)
+    states = edges = 0
+    stopped: str | None = None
+    dead: list[DeadMarking] = []
+    for g, events in enumerate(members):
+        places = np.flatnonzero(np.isin(a.src, events))
+        sub = bounded_net(PetriNet(net.name, [net.places[p] for p in places],
+                                   [net.transitions[e] for e in events],
+                                   net.pre[np.ix_(places, events)],
+                                   net.post[np.ix_(places, events)], net.marking[places]))
+
+        def relay(s: int, e: int, sec: float, s0: int = states, e0: int = edges) -> None:
+            if progress is not None:
+                progress(s0 + s, e0 + e, time.perf_counter() - start)
+
+        run = _bfs(sub.pre, sub.post, sub.marking, max_states - states, deadline, relay, stop,
+                   start)
+        states, edges = states + run.states, edges + run.edges
+        for marking, seq in run.dead:
+            full = net.marking.copy()
+            full[places] = marking[:len(places)]
+            dead.append(DeadMarking(full, [int(events[t]) for t in seq], g))
+        if run.stopped_by is not None:
+            stopped = run.stopped_by
+            break
+    return Reachability(net, states, edges, stopped is None, stopped, dead, max_states,
+                        time.perf_counter() - start, groups, bounded=True)
+
+
+def skeleton_groups(teg: TimedEventGraph) -> tuple[list[list[str]], list[np.ndarray]]:
+    """Tasks and event indices of every group (weakly connected part), in ``analyze``'s order.
+
+    Groups are numbered by their first task in the file, tasks within a group
+    in file order; a part without a task (a clock that activates nothing) is
+    left out. A TEG without task chains has one group per part, without tasks.
+
+    Examples
+    --------
+    >>> from tegraph import Skeleton, build_teg
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
+    ...                                    "B": {"duration": 1}}})
+    >>> tasks, events = skeleton_groups(build_teg(sk))
+    >>> tasks, [e.tolist() for e in events]
+    ([['A'], ['B']], [[0, 1, 2], [3]])
+    """
+    n = teg.n_transitions
+    a = teg.arrays()
+    graph = csr_matrix((np.ones(len(a.src), dtype=np.int8), (a.src, a.dst)), shape=(n, n))
+    _, label = connected_components(graph, directed=True, connection="weak")
+    chains = teg.attrs.get("chains")
+    if not chains:
+        labels = list(dict.fromkeys(label.tolist()))
+        return ([[] for _ in labels],
+                [np.flatnonzero(label == lab) for lab in labels])
+    order: dict[int, list[str]] = {}
+    for task, chain in chains.items():
+        order.setdefault(int(label[chain[0]]), []).append(task)
+    return list(order.values()), [np.flatnonzero(label == lab) for lab in order]
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n:,} {noun}{'s' * (n != 1)}"
+
+
+# --------------------------------------------------------------------- the search
+
+@dataclass
+class _Run:
+    states: int
+    edges: int
+    stopped_by: str | None
+    dead: list[tuple[np.ndarray, list[int]]] = field(default_factory=list)
+
+
+class _Codec:
+    """Markings as bytes of the narrowest unsigned dtype that holds them."""
+
+    def __init__(self, n_places: int, top: int) -> None:
+        self.n_places = n_places
+        self.level = 0
+        self.dtype: type[np.integer] = _DTYPES[0]
+        self.fit(top, {})
+
+    def fit(self, top: int, visited: dict[bytes, int]) -> dict[bytes, int]:
+        """Widen (re-keying ``visited``) until ``top`` tokens fit in a place."""
+        old = self.dtype
+        while top > np.iinfo(self.dtype).max:
+            self.level += 1
+            self.dtype = _DTYPES[self.level]
+        if self.dtype is old:
+            return visited
+        return {np.frombuffer(k, dtype=old).astype(self.dtype).tobytes(): v
+                for k, v in visited.items()}
+
+    def keys(self, rows: np.ndarray) -> list[bytes]:
+        if self.n_places == 0:
+            return [b""] * len(rows)
+        packed = np.ascontiguousarray(rows.astype(self.dtype, copy=False))
+        rows_as_bytes = packed.view(np.dtype((np.void, packed.itemsize * self.n_places)))
+        return rows_as_bytes.ravel().tolist()  # type: ignore[return-value]
+
+
+def _bfs(pre: np.ndarray, post: np.ndarray, m0: np.ndarray, max_states: int,
+         deadline: float | None, progress: Progress | None, stop: Callable[[], bool] | None,
+         start: float) -> _Run:
+    """Level-by-level breadth-first search; states are numbered in discovery order."""
+    pre = np.asarray(pre, dtype=np.int64)
+    inc = np.ascontiguousarray((np.asarray(post, dtype=np.int64) - pre).T)  # (T, P)
+    n_p, n_t = pre.shape
+    # Input arcs sorted by transition: enabledness is an AND over each run of arcs.
+    arc_t, arc_p = np.nonzero(pre.T)
+    arc_w = pre.T[arc_t, arc_p]
+    fed, starts = np.unique(arc_t, return_index=True)
+    m0 = np.asarray(m0, dtype=np.int64)
+    if max_states < 1:
+        return _Run(0, 0, "states")
+    codec = _Codec(n_p, int(m0.max(initial=0)))
+    visited: dict[bytes, int] = {codec.keys(m0[None, :])[0]: 0}
+    parent, via = [-1], [-1]
+    run = _Run(1, 0, None)
+    dead_index: list[int] = []
+    level, level_lo = m0[None, :], 0
+    rows_per_batch = max(1, _BATCH_ELEMENTS // max(1, len(arc_t), n_t))
+    while len(level) and run.stopped_by is None:
+        grown: list[np.ndarray] = []
+        for b0 in range(0, len(level), rows_per_batch):
+            marks = level[b0:b0 + rows_per_batch]
+            enabled = np.ones((len(marks), n_t), dtype=bool)
+            if len(arc_t):
+                ok = marks[:, arc_p] >= arc_w
+                enabled[:, fed] = np.logical_and.reduceat(ok, starts, axis=1)
+            for r in np.flatnonzero(~enabled.any(axis=1)).tolist():
+                dead_index.append(level_lo + b0 + r)
+                run.dead.append((marks[r].copy(), []))
+            rows, trans = np.nonzero(enabled)  # row-major: state by state, then transition
+            pairs = max(1, _BATCH_ELEMENTS // max(1, n_p))
+            for p0 in range(0, len(rows), pairs):
+                r_s, t_s = rows[p0:p0 + pairs], trans[p0:p0 + pairs]
+                succ = marks[r_s] + inc[t_s]
+                visited = codec.fit(int(succ.max(initial=0)), visited)
+                new: list[int] = []
+                origin = level_lo + b0
+                for j, key in enumerate(codec.keys(succ)):
+                    n = run.states
+                    if visited.setdefault(key, n) == n:
+                        if n >= max_states:
+                            del visited[key]
+                            run.stopped_by = "states"
+                            run.edges += j
+                            break
+                        run.states = n + 1
+                        parent.append(origin + int(r_s[j]))
+                        via.append(int(t_s[j]))
+                        new.append(j)
+                else:
+                    run.edges += len(r_s)
+                if new:
+                    grown.append(succ[new])
+                if run.stopped_by is not None:
+                    break
+            if run.stopped_by is None:
+                if stop is not None and stop():
+                    run.stopped_by = "interrupted"
+                elif deadline is not None and time.perf_counter() > deadline:
+                    run.stopped_by = "time"
+            if progress is not None:
+                progress(run.states, run.edges, time.perf_counter() - start)
+            if run.stopped_by is not None:
+                break
+        level_lo += len(level)
+        level = np.concatenate(grown) if grown else level[:0]
+    for k, index in enumerate(dead_index):
+        seq = []
+        while index > 0:
+            seq.append(via[index])
+            index = parent[index]
+        run.dead[k] = (run.dead[k][0], seq[::-1])
+    return run

@@ -1,0 +1,167 @@
+"""What :func:`~tegraph.analysis.analyze.analyze_skeleton` finds: the report data of spec §4.
+
+Plain dataclasses with exact :class:`fractions.Fraction` times and ``None``
+where ``docs/skeleton.md`` §5 says a figure is undefined; ``to_dict`` gives
+the JSON document's data (exact numbers as strings). Rendering them as text,
+JSON or tables is :mod:`tegraph.report`'s job.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from maxplus.scalar import exact_text
+
+__all__ = ["Deadlock", "GroupReport", "InvariantCheck", "Report", "TaskReport", "UnboundedPlace"]
+
+
+@dataclass
+class Deadlock:
+    """A token-free circuit: its events never fire."""
+
+    events: list[str]
+    tasks: list[str]
+    links: list[str]
+    advice: str
+
+
+@dataclass
+class UnboundedPlace:
+    """A place where tokens pile up: its output event is slower than its input event."""
+
+    src: str
+    dst: str
+    kind: str
+    src_cycle_time: Fraction
+    dst_cycle_time: Fraction
+    group: int
+    advice: str
+
+
+@dataclass
+class TaskReport:
+    """Figures of one task (null where spec §5 says they are undefined)."""
+
+    name: str
+    group: int
+    period: Fraction | None
+    overrun_at: int | None
+    slack: Fraction | None
+    critical: bool | None
+    clock: str | None = None
+    overrun_decided: bool = True
+
+
+@dataclass
+class GroupReport:
+    """One weakly connected part of the timed event graph."""
+
+    index: int
+    tasks: list[str]
+    clocks: list[str]
+    live: bool
+    rate_consistent: bool
+    period: Fraction | None
+    transient: tuple[int, int] | None
+    critical_circuit: list[str] = field(default_factory=list)
+    cycle_times: dict[str, Fraction] = field(default_factory=dict)
+    """Per task cycle time when the group is live (differs from period when not rate-consistent)."""
+
+
+@dataclass
+class InvariantCheck:
+    """The p-semiflow cross-check of the liveness verdict."""
+
+    computed: bool
+    count: int | None
+    liveness_agrees: bool | None
+    unmarked: int | None = None
+    reason: str = ""
+
+
+@dataclass
+class Report:
+    """Everything ``tegraph analyze`` reports about one skeleton."""
+
+    name: str
+    unit: str
+    live: bool
+    consistent: bool
+    deadlocks: list[Deadlock]
+    reorder: dict[str, Any] | None
+    groups: list[GroupReport]
+    tasks: dict[str, TaskReport]
+    unbounded_places: list[UnboundedPlace]
+    invariants: InvariantCheck
+    methods: dict[str, str] = field(default_factory=dict)
+    """How each verdict was obtained (theorem or algorithm, cross-check)."""
+    notes: list[str] = field(default_factory=list)
+    source: str | None = None
+    design: dict[str, Any] | None = None
+    """Rules 1-4, schedulability and chain latencies (docs/skeleton.md §6)."""
+
+    @property
+    def exit_status(self) -> int:
+        """0 live and consistent; 1 a deadlock, an unbounded place or an overrun."""
+        return 0 if self.live and self.consistent else 1
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON document of ``docs/skeleton.md`` §5 as Python data.
+
+        :func:`tegraph.report.to_json` writes it, with its ``schema_version``.
+        """
+        return {
+            "name": self.name,
+            "unit": self.unit,
+            "live": self.live,
+            "consistent": self.consistent,
+            "deadlocks": [
+                {"events": d.events, "tasks": d.tasks, "links": d.links, "advice": d.advice}
+                for d in self.deadlocks
+            ],
+            "reorder": self.reorder,
+            "groups": [
+                {
+                    "tasks": g.tasks,
+                    "clocks": g.clocks,
+                    "live": g.live,
+                    "rate_consistent": g.rate_consistent,
+                    "period": exact_text(g.period),
+                    "transient": None if g.transient is None
+                    else {"k": g.transient[0], "cyclicity": g.transient[1]},
+                    "critical_circuit": g.critical_circuit,
+                }
+                for g in self.groups
+            ],
+            "tasks": {
+                t.name: {
+                    "group": t.group,
+                    "period": exact_text(t.period),
+                    "overrun_at": t.overrun_at,
+                    "slack": exact_text(t.slack),
+                    "critical": t.critical,
+                    "overrun_decided": t.overrun_decided,
+                }
+                for t in self.tasks.values()
+            },
+            "unbounded_places": [
+                {"from": u.src, "to": u.dst, "kind": u.kind,
+                 "from_cycle_time": exact_text(u.src_cycle_time),
+                 "to_cycle_time": exact_text(u.dst_cycle_time), "advice": u.advice}
+                for u in self.unbounded_places
+            ],
+            "invariants": {
+                "computed": self.invariants.computed,
+                "count": self.invariants.count,
+                "liveness_agrees": self.invariants.liveness_agrees,
+            },
+            "methods": self.methods,
+            "notes": self.notes,
+            "design": None if self.design is None else {
+                "rules": [f.to_dict() for f in self.design["rules"]],
+                "schedulability": self.design["schedulability"].to_dict(),
+                "latency": [c.to_dict() for c in self.design["latency"]],
+            },
+        }

@@ -1,0 +1,215 @@
+"""The few calls that cross floors: analyze with its design section, cycle time of a file,
+and writing a drawing coloured by the analysis.
+
+Everything below this module keeps to its floor (``docs/architecture.md``):
+the analysis does not read files, the readers do not analyze, the report
+renders what it is given. These functions put them together for a user of
+the library, as the command line does.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from maxplus.errors import MaxPlusError
+
+from . import io
+from .analysis.analyze import analyze_skeleton
+from .analysis.cycle_time import CycleTimeResult
+from .analysis.cycle_time import cycle_time as cycle_time_of
+from .analysis.results import Report
+from .design.section import design_section
+from .errors import TegraphError
+from .io._files import DEFAULT_MAX_BYTES
+from .io.dot import dot_text
+from .model.skeleton import Skeleton
+from .report.dot import highlights
+
+__all__ = ["analyze", "cycle_time", "to_dot", "write"]
+
+
+def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
+            semiflow_max_places: int = 2_000_000, chains: Sequence[Sequence[str]] = (),
+            design: bool = True) -> Report:
+    """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack, design.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+        From :func:`tegraph.load_skeleton` or built in code.
+    max_steps : int
+        Budget on the firing index of the dater simulation; only reached for
+        overruns that cannot be decided otherwise (the report says so).
+    semiflow_budget : int
+        Largest number of candidate rows of one p-semiflow enumeration (a batch
+        of strongly connected components of a few hundred places).
+    semiflow_max_places : int
+        Above this many places in all, the semiflow cross-check is skipped
+        (the report says so).
+    chains : sequence of task-name sequences
+        Sensor-to-actuator chains whose latency to report, besides the
+        skeleton's own ``chains``.
+    design : bool
+        Add the design section (rules 1-4, schedulability, latencies); it
+        never changes the exit status of spec §5.
+
+    Returns
+    -------
+    Report
+        :func:`tegraph.report.to_json` gives the JSON of ``docs/skeleton.md`` §5,
+        :func:`tegraph.report.render_text` the human report.
+
+    See Also
+    --------
+    tegraph.analysis.analyze.analyze_skeleton : the figures of spec §4 alone.
+
+    Examples
+    --------
+    A task of duration 2 on a clock of period 10:
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}})
+    >>> r = analyze(sk)
+    >>> r.live, r.consistent, r.tasks["A"].period, r.tasks["A"].slack
+    (True, True, Fraction(10, 1), Fraction(8, 1))
+    """
+    report = analyze_skeleton(skeleton, max_steps, semiflow_budget, semiflow_max_places)
+    if design:
+        report.design = design_section(skeleton, report, chains)
+    return report
+
+
+def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
+               default_holding: Any = None, max_bytes: int | None = None,
+               max_states: int = 1_000_000, max_seconds: float | None = None) -> CycleTimeResult:
+    """Period, throughput, critical circuit and cycle times of a timed event graph or its file.
+
+    Parameters
+    ----------
+    source : path or model
+        A file (read by :func:`tegraph.io.read`), or a Skeleton, TimedEventGraph,
+        PetriNet, SDFGraph or ArcList.
+    format : str, optional
+        Force the format of a file (see :data:`tegraph.io.FORMATS`).
+    verify : bool
+        Check the exact certificate of the result (default True).
+    default_holding : int, Fraction or str, optional
+        Holding time of every place of a net that carries no timing at all
+        (a plain PNML P/T net); default 0.
+    max_bytes : int, optional
+        Size limit when ``source`` is a path.
+    max_states, max_seconds : int, float, optional
+        Budgets of the reachability exploration run on a P/T net that is not
+        a marked graph (beyond them its deadlock verdict is inconclusive).
+
+    Returns
+    -------
+    CycleTimeResult
+
+    Raises
+    ------
+    InputError
+        The file or model is refused.
+
+    See Also
+    --------
+    tegraph.analysis.cycle_time.cycle_time : the same on a model.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "ring.edges"
+    >>> _ = f.write_text("0 1 2 0\\n1 0 3 1\\n")
+    >>> r = cycle_time(f)
+    >>> str(r.period), r.critical_circuit, r.source == str(f)
+    ('5', ['0', '1'], True)
+    """
+    read_seconds = None
+    path = None
+    if isinstance(source, (str, os.PathLike)):
+        path = os.fspath(source)
+        t0 = time.perf_counter()
+        source = io.read(path, format, max_bytes=max_bytes or DEFAULT_MAX_BYTES)
+        read_seconds = time.perf_counter() - t0
+    result = cycle_time_of(source, verify=verify, default_holding=default_holding,
+                           max_states=max_states, max_seconds=max_seconds)
+    result.source = path
+    if read_seconds is not None:
+        result.seconds = {"read": read_seconds, **result.seconds}
+    return result
+
+
+def write(obj: Any, path: str | os.PathLike[str], format: str | None = None,
+          overwrite: bool = False) -> Path:
+    """Write a model to a file; a DOT drawing colours the critical or token-free circuit.
+
+    Parameters
+    ----------
+    obj : Skeleton, TimedEventGraph, PetriNet, SDFGraph or ArcList
+    path : str or path-like
+    format : str, optional
+        A name of :data:`tegraph.io.FORMATS`; default from the extension.
+    overwrite : bool
+        Replace an existing file; without it an existing file is never touched.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InputError
+        The target cannot hold the content.
+    FileExistsError
+        ``path`` exists and ``overwrite`` is False.
+
+    See Also
+    --------
+    tegraph.io.write : the same without the analysis (a DOT drawing is then plain).
+    """
+    fmt = format or io.format_for_writing(obj, os.fspath(path))
+    marks = None
+    if fmt in ("dot", "teg-dot"):
+        marks = highlights(_figures_for_drawing(obj))
+    return io.write(obj, path, fmt, overwrite, highlights=marks)
+
+
+def to_dot(obj: Any, view: str | None = None) -> str:
+    """DOT text of a model, its critical circuit red and bold, a token-free circuit dashed.
+
+    Parameters
+    ----------
+    obj : Skeleton, TimedEventGraph, PetriNet, SDFGraph or ArcList
+    view : {"skeleton", "teg", "net"}, optional
+        Default: ``skeleton`` for a Skeleton, ``net`` for a P/T net, ``teg`` otherwise.
+
+    Returns
+    -------
+    str
+
+    See Also
+    --------
+    tegraph.io.dot.dot_text : the drawing alone, coloured as told.
+
+    Examples
+    --------
+    >>> from tegraph.model.teg import TimedEventGraph
+    >>> g = TimedEventGraph("ring"); _ = g.add_transition("a"); _ = g.add_transition("b")
+    >>> _ = g.add_place("a", "b", 0, 2); _ = g.add_place("b", "a", 1, 3)
+    >>> to_dot(g).splitlines()[1]
+    '  label="ring: period 5 (critical circuit in red)"; rankdir=LR;'
+    """
+    return dot_text(obj, view, highlights(_figures_for_drawing(obj)))
+
+
+def _figures_for_drawing(obj: Any) -> CycleTimeResult | None:
+    """The cycle time of what a drawing shows; None when it cannot be had (never a failure)."""
+    try:
+        # No reachability search for a drawing: a net that is not a marked
+        # graph gets its reason as a caption, nothing more.
+        return cycle_time_of(obj, verify=False, max_states=0)
+    except (TegraphError, MaxPlusError):
+        return None

@@ -1,0 +1,278 @@
+"""Repair a dead skeleton by reordering ports, keeping what is already fine.
+
+:func:`tegraph.analysis.reorder.reorder_ports` decides in polynomial time whether some
+port order makes a skeleton live: the *precedence graph* (each task's
+``activate -> reads -> compute -> writes``, the 0-token link, clock and thread
+places) must be acyclic, and then any topological order of it gives live port
+orders. :func:`fix_ports` builds on it and chooses *which* order:
+
+1. **Keep every declared order that is fine.** A side of a task (its inputs
+   or its outputs) whose declared order puts no edge on a circuit of the
+   precedence graph plus all declared orders — that is, on no token-free
+   circuit of the timed event graph — keeps its order. Those sides together
+   never close a circuit (a circuit among them would lie in one strongly
+   connected part, whose declared edges all belong to the other sides), so
+   they are added to the graph as hard edges. The other sides are then tried
+   again one by one, in file order, and kept when they close no circuit.
+2. **Prefer short latency on the sides that must change** (footnote 6 of the
+   paper: "the synchronizing port will be either the first reading or the
+   last posting one so that the MT computes with the last available data").
+   On a side that must change, the synchronizing inputs (read ASYN/SYN or
+   SYN/SYN) are placed before the other inputs, and the blocking outputs
+   (posted SYN/ASYN or SYN/SYN) after the others, as far as these preference
+   edges close no circuit.
+3. One topological order of the result (Kahn, declared positions as
+   priorities) gives every port order; the reordered skeleton is rebuilt and
+   checked for token-free circuits before it is returned.
+
+Nothing here prints or writes files: the command line does.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from ..model.build import build_teg
+from ..analysis.liveness import token_free_circuits
+
+# The precedence graph is reorder.py's; fix.py only adds edges to it.
+from ..analysis.reorder import PrecedenceGraph, reorder_ports
+from ..model.skeleton import Protocol, Skeleton
+
+__all__ = ["FixResult", "PortChange", "fix_ports"]
+
+_READER_BLOCKS = (Protocol.ASYN_SYN, Protocol.SYN_SYN)
+_WRITER_BLOCKS = (Protocol.SYN_ASYN, Protocol.SYN_SYN)
+
+
+@dataclass(frozen=True)
+class PortChange:
+    """A side of a task whose port order changed."""
+
+    task: str
+    side: str
+    """``"inputs"`` or ``"outputs"``."""
+    before: tuple[str, ...]
+    after: tuple[str, ...]
+    reason: str
+
+
+@dataclass
+class FixResult:
+    """What :func:`fix_ports` found and did.
+
+    Attributes
+    ----------
+    status : str
+        ``"already live"`` (nothing to change), ``"fixed"`` (``skeleton`` is
+        live), or ``"impossible"`` (no port order helps).
+    skeleton : Skeleton or None
+        The live skeleton (the input itself when already live).
+    changes : list of PortChange
+    deadlocks : list of list of str
+        Token-free circuits of the input, as event names.
+    circuit : list of str
+        When impossible: a circuit of the precedence graph, a deadlock for
+        every port order.
+    links : list of str
+        When impossible: the synchronizing links on that circuit; turning one
+        of them asynchronous (ASYN/ASYN), or adding a clock, breaks it.
+    """
+
+    status: str
+    skeleton: Skeleton | None
+    changes: list[PortChange] = field(default_factory=list)
+    deadlocks: list[list[str]] = field(default_factory=list)
+    circuit: list[str] = field(default_factory=list)
+    links: list[str] = field(default_factory=list)
+
+    @property
+    def live(self) -> bool:
+        """True when a live skeleton is available (already, or after the fix)."""
+        return self.status != "impossible"
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for JSON."""
+        return {"status": self.status, "deadlocks": self.deadlocks,
+                "changes": [{"task": c.task, "side": c.side, "before": list(c.before),
+                             "after": list(c.after), "reason": c.reason} for c in self.changes],
+                "circuit": self.circuit, "links": self.links}
+
+
+@dataclass
+class _Side:
+    task: str
+    side: str
+    ports: tuple[str, ...]
+    nodes: list[int]
+    blocking: list[bool]
+
+
+def fix_ports(skeleton: Skeleton) -> FixResult:
+    """Port orders that make ``skeleton`` live, changing only what must change.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+
+    Returns
+    -------
+    FixResult
+
+    Raises
+    ------
+    AssertionError
+        Internal error: the chosen orders do not give a live timed event graph.
+
+    Examples
+    --------
+    Figure 7b: MT2 reads ``c`` (from MT3) before meeting MT1 on ``a``; MT1's
+    outputs and MT3's ports are fine and stay; MT2 reads ``a`` first.
+
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "MT1": {"duration": 2, "period": 10, "inputs": ["q"], "outputs": ["a", "d"]},
+    ...     "MT2": {"duration": 1, "inputs": ["c", "a"], "outputs": ["tau"]},
+    ...     "MT3": {"duration": 3, "inputs": ["d"], "outputs": ["c"]}},
+    ...   "links": [{"from": "MT1:a", "to": "MT2:a", "protocol": "SYN/SYN"},
+    ...             {"from": "MT1:d", "to": "MT3:d", "protocol": "ASYN/SYN"},
+    ...             {"from": "MT3:c", "to": "MT2:c", "protocol": "ASYN/SYN"}]})
+    >>> r = fix_ports(sk)
+    >>> r.status, [(c.task, c.side, c.before, c.after) for c in r.changes]
+    ('fixed', [('MT2', 'inputs', ('c', 'a'), ('a', 'c'))])
+    """
+    deadlocks = _deadlocks(skeleton)
+    if not deadlocks:
+        return FixResult("already live", skeleton)
+    base = reorder_ports(skeleton)
+    if not base.possible:
+        return FixResult("impossible", None, deadlocks=deadlocks, circuit=base.circuit,
+                         links=base.links)
+    graph = PrecedenceGraph(skeleton)
+    sides = _sides(skeleton, graph)
+    component = _strong_components(graph, sides)
+    on_circuit = [any(component[u] == component[v] for u, v in itertools.pairwise(s.nodes))
+                  for s in sides]
+    for side, dead in zip(sides, on_circuit):
+        if not dead:
+            _add(graph, list(itertools.pairwise(side.nodes)))
+    freed: list[_Side] = []
+    for side, dead in zip(sides, on_circuit):
+        if dead and not _try_add(graph, list(itertools.pairwise(side.nodes)), component):
+            freed.append(side)
+    reasons = {(s.task, s.side): _prefer_latency(graph, s) for s in freed}
+    order = graph.topological_order()
+    if order is None:  # pragma: no cover - every added edge was checked
+        raise AssertionError("internal error: the kept port orders close a circuit")
+    position = {v: i for i, v in enumerate(order)}
+    tasks = dict(skeleton.tasks)
+    changes = []
+    for side in freed:
+        after = tuple(p for _, p in sorted(zip((position[v] for v in side.nodes), side.ports)))
+        if after != side.ports:
+            changes.append(PortChange(side.task, side.side, side.ports, after,
+                                      reasons[side.task, side.side]))
+            tasks[side.task] = replace(tasks[side.task], **{side.side: after})
+    fixed = replace(skeleton, tasks=tasks)
+    if _deadlocks(fixed):
+        raise AssertionError("internal error: the reordered skeleton is not live")
+    return FixResult("fixed", fixed, changes, deadlocks)
+
+
+def _deadlocks(sk: Skeleton) -> list[list[str]]:
+    teg = build_teg(sk)
+    a = teg.arrays()
+    names = teg.transition_names
+    return [[names[int(a.src[p])] for p in c]
+            for c in token_free_circuits(a.src, a.dst, a.tokens, teg.n_transitions)]
+
+
+def _sides(sk: Skeleton, g: PrecedenceGraph) -> list[_Side]:
+    """Every side with at least two ports, in file order."""
+    out = []
+    for name, task in sk.tasks.items():
+        if len(task.inputs) > 1:
+            blocking = [any(link.reader == (name, p) and link.protocol in _READER_BLOCKS
+                            for link in sk.links) for p in task.inputs]
+            out.append(_Side(name, "inputs", task.inputs,
+                             [g.read[name, p] for p in task.inputs], blocking))
+        if len(task.outputs) > 1:
+            blocking = [any(link.writer == (name, p) and link.protocol in _WRITER_BLOCKS
+                            for link in sk.links) for p in task.outputs]
+            out.append(_Side(name, "outputs", task.outputs,
+                             [g.write[name, p] for p in task.outputs], blocking))
+    return out
+
+
+def _strong_components(g: PrecedenceGraph, sides: list[_Side]) -> np.ndarray:
+    """Strong components of the precedence graph plus every declared order."""
+    n = len(g.names)
+    edges = [(u, v) for u, outs in enumerate(g.succ) for v in outs]
+    edges += [e for s in sides for e in itertools.pairwise(s.nodes)]
+    rows, cols = (np.array(x, dtype=np.int64) for x in zip(*edges)) if edges else ([], [])
+    matrix = sp.csr_matrix((np.ones(len(edges), dtype=np.int8), (rows, cols)), shape=(n, n))
+    return connected_components(matrix, directed=True, connection="strong")[1]
+
+
+def _add(g: PrecedenceGraph, edges: list[tuple[int, int]]) -> None:
+    for u, v in edges:
+        g.succ[u].append(v)
+
+
+def _try_add(g: PrecedenceGraph, edges: list[tuple[int, int]],
+             component: np.ndarray | None = None) -> bool:
+    """Add ``edges`` unless one of them closes a circuit; report which happened.
+
+    With ``component`` (strong components of a graph that contains every
+    edge tried), a circuit through ``u -> v`` can only lie in the component
+    of ``u``: the search stays there, and is skipped when ``v`` is elsewhere.
+    """
+    _add(g, edges)
+    for u, v in edges:
+        if component is not None and component[u] != component[v]:
+            continue
+        if _reaches(g, v, u, None if component is None else component[u], component):
+            for a, _ in reversed(edges):
+                g.succ[a].pop()  # the edges were appended last: undo in reverse
+            return False
+    return True
+
+
+def _reaches(g: PrecedenceGraph, source: int, target: int, label: int | None,
+             component: np.ndarray | None) -> bool:
+    seen = {source}
+    stack = [source]
+    while stack:
+        v = stack.pop()
+        if v == target:
+            return True
+        for w in g.succ[v]:
+            if w not in seen and (label is None or component[w] == label):  # type: ignore[index]
+                seen.add(w)
+                stack.append(w)
+    return False
+
+
+def _prefer_latency(g: PrecedenceGraph, side: _Side) -> str:
+    """Footnote 6 on a side that must change: synchronizing reads first, blocking writes last."""
+    first = [v for v, b in zip(side.nodes, side.blocking) if b == (side.side == "inputs")]
+    last = [v for v, b in zip(side.nodes, side.blocking) if b != (side.side == "inputs")]
+    why = "its declared order closes a token-free circuit"
+    if not first or not last:
+        return why
+    what = ("synchronizing inputs read first" if side.side == "inputs"
+            else "blocking outputs posted last")
+    # The whole preferred order if it fits; else each preference edge that fits.
+    if _try_add(g, list(itertools.pairwise(first + last))):
+        return f"{why}; {what} (footnote 6)"
+    kept = sum(_try_add(g, [(a, b)]) for a in first for b in last)
+    if kept == len(first) * len(last):
+        return f"{why}; {what} (footnote 6)"
+    return f"{why}; {what} where the circuit allows it (footnote 6)" if kept else why
+
+

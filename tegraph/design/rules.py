@@ -1,0 +1,482 @@
+"""The design rules of section 6 of the ORCCAD paper, checked on a skeleton.
+
+Simon, Espiau, Kapellos, Pissard-Gibollet give four *sufficient* (not
+necessary) conditions for a deadlock-free, temporally consistent, low-latency
+set of module tasks:
+
+1. one and only one synchronization per task: a clock, or one synchronizing
+   port (an input read ASYN/SYN or SYN/SYN, an output posted SYN/ASYN or
+   SYN/SYN);
+2. cooperating tasks are synchronized with ASYN/SYN and SYN/ASYN links (a
+   SYN/SYN rendezvous blocks both sides; tasks of one rate left ASYN/ASYN run
+   in whatever order the scheduler picks, Figure 4);
+3. one and only one clock per synchronized group;
+4. one priority per group, different priorities for different groups on one
+   processor, rate-monotonic order, the Robot-task automaton highest.
+
+A synchronized group is a weakly connected part of the timed event graph
+(spec §4 ``groups``): tasks joined by a synchronizing link, a thread or a
+shared clock. Each finding names the tasks, ports and links concerned and
+what to change. The automaton is recognized by its name (spec §6): ``RTA``,
+``automaton``, or a name ending in ``.RTA`` / ``.automaton``, any case.
+"""
+
+from __future__ import annotations
+
+import itertools
+import re
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+from maxplus.scalar import exact_text
+from ..model.skeleton import Link, Protocol, Skeleton
+
+__all__ = [
+    "RuleFinding",
+    "Synchronization",
+    "check_rules",
+    "group_period",
+    "is_automaton",
+    "proposed_priorities",
+    "synchronizations",
+    "synchronized_groups",
+]
+
+_AUTOMATON = re.compile(r"(?:^|\.)(?:rta|automaton)$", re.IGNORECASE)
+# Which side of a link blocks (spec §1): the reader of ASYN/SYN, the writer of SYN/ASYN.
+_READER_BLOCKS = (Protocol.ASYN_SYN, Protocol.SYN_SYN)
+_WRITER_BLOCKS = (Protocol.SYN_ASYN, Protocol.SYN_SYN)
+_ORDER = {"error": 0, "warning": 1, "info": 2}
+
+
+@dataclass(frozen=True)
+class RuleFinding:
+    """One departure from a rule of section 6 (or, as ``info``, a proposal).
+
+    Attributes
+    ----------
+    rule : int
+        1 to 4.
+    severity : str
+        ``"error"`` (deadlock, overrun or priority inversion risk),
+        ``"warning"`` (a rule is not followed) or ``"info"`` (a proposal).
+    tasks, ports, links : tuple of str
+        The tasks, ``TASK:PORT`` ports and link labels concerned.
+    message : str
+        What is wrong.
+    advice : str
+        What to change.
+    """
+
+    rule: int
+    severity: str
+    tasks: tuple[str, ...]
+    ports: tuple[str, ...]
+    links: tuple[str, ...]
+    message: str
+    advice: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for the JSON report."""
+        return {"rule": self.rule, "severity": self.severity, "tasks": list(self.tasks),
+                "ports": list(self.ports), "links": list(self.links),
+                "message": self.message, "advice": self.advice}
+
+
+@dataclass(frozen=True)
+class Synchronization:
+    """One thing a task waits for: its clock, or a blocking side of a link."""
+
+    kind: str
+    """``"clock"``, ``"input"`` or ``"output"``."""
+    clock: str | None = None
+    port: str | None = None
+    """``TASK:PORT``."""
+    link: Link | None = None
+
+    @property
+    def label(self) -> str:
+        if self.kind == "clock":
+            return f"clock {self.clock}"
+        return f"{self.kind} {self.port} ({self.link.label})"  # type: ignore[union-attr]
+
+
+def is_automaton(name: str) -> bool:
+    """Whether ``name`` names the Robot-task automaton (spec §6).
+
+    >>> is_automaton("RTA"), is_automaton("arm.rta"), is_automaton("PARTA")
+    (True, True, False)
+    """
+    return bool(_AUTOMATON.search(name))
+
+
+def _link_index(sk: Skeleton) -> tuple[dict, dict]:
+    """Links by reader port and by writer port (one pass, so checks stay linear)."""
+    by_reader: dict[tuple[str, str], list[Link]] = {}
+    by_writer: dict[tuple[str, str], list[Link]] = {}
+    for link in sk.links:
+        by_reader.setdefault(link.reader, []).append(link)
+        by_writer.setdefault(link.writer, []).append(link)
+    return by_reader, by_writer
+
+
+def synchronizations(sk: Skeleton, task: str,
+                     index: tuple[dict, dict] | None = None) -> list[Synchronization]:
+    """What ``task`` waits for at each activation, in chain order (Rule 1).
+
+    Examples
+    --------
+    Figure 12: MT2 has a clock and also waits for MT1's message.
+
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "MT1": {"duration": 1, "period": 10, "outputs": ["y"]},
+    ...     "MT2": {"duration": 2, "period": 4, "inputs": ["y"]}},
+    ...   "links": [{"from": "MT1:y", "to": "MT2:y", "protocol": "ASYN/SYN"}]})
+    >>> [s.label for s in synchronizations(sk, "MT2")]
+    ['clock MT2.clock', 'input MT2:y (MT1:y -> MT2:y (ASYN/SYN))']
+    """
+    by_reader, by_writer = index if index is not None else _link_index(sk)
+    t = sk.tasks[task]
+    out = [Synchronization("clock", clock=t.clock)] if t.clock else []
+    for port in t.inputs:
+        for link in by_reader.get((task, port), ()):
+            if link.protocol in _READER_BLOCKS:
+                out.append(Synchronization("input", port=f"{task}:{port}", link=link))
+    for port in t.outputs:
+        for link in by_writer.get((task, port), ()):
+            if link.protocol in _WRITER_BLOCKS:
+                out.append(Synchronization("output", port=f"{task}:{port}", link=link))
+    return out
+
+
+def synchronized_groups(sk: Skeleton) -> list[tuple[str, ...]]:
+    """The synchronized groups: tasks joined by synchronizing links, threads, clocks.
+
+    These are the weakly connected parts of the timed event graph (spec §4),
+    found here by union-find on the skeleton; listed in the order of their
+    first task in the file, tasks in file order.
+
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "A": {"duration": 1, "period": 2, "outputs": ["x"]},
+    ...     "B": {"duration": 1, "inputs": ["x"]}, "C": {"duration": 1, "period": 2}},
+    ...   "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]})
+    >>> synchronized_groups(sk)
+    [('A', 'B'), ('C',)]
+    """
+    parent = {t: t for t in sk.tasks}
+
+    def find(t: str) -> str:
+        while parent[t] != t:
+            parent[t] = parent[parent[t]]
+            t = parent[t]
+        return t
+
+    def union(a: str, b: str) -> None:
+        parent[find(a)] = find(b)
+
+    for link in sk.links:
+        if link.protocol.synchronizing:
+            union(link.writer[0], link.reader[0])
+    for thread in sk.threads:
+        for a, b in itertools.pairwise(thread):
+            union(a, b)
+    first_of_clock: dict[str, str] = {}
+    for name, task in sk.tasks.items():
+        if task.clock:
+            union(name, first_of_clock.setdefault(task.clock, name))
+    groups: dict[str, list[str]] = {}
+    for name in sk.tasks:
+        groups.setdefault(find(name), []).append(name)
+    return [tuple(g) for g in groups.values()]
+
+
+def group_period(sk: Skeleton, tasks: tuple[str, ...] | list[str]) -> Fraction | None:
+    """The design period of a group: its fastest clock's period (None without a clock).
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": "5/2"}}})
+    >>> group_period(sk, ["A"])
+    Fraction(5, 2)
+    """
+    periods = [sk.clocks[sk.tasks[t].clock].period for t in tasks if sk.tasks[t].clock]
+    return min(periods) if periods else None
+
+
+def proposed_priorities(sk: Skeleton) -> dict[str, int]:
+    """Rate-monotonic priorities (Rule 4): larger is more urgent.
+
+    On each processor, the automaton first, then the groups by increasing
+    design period (:func:`group_period`; groups without a clock last, as
+    background work), ties in file order; every task of a group gets its
+    group's priority, distinct groups distinct priorities, numbered from 1
+    (lowest) up.
+
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "SLOW": {"duration": 1, "period": 6}, "FAST": {"duration": 1, "period": 1},
+    ...     "RTA": {"duration": 0}}})
+    >>> proposed_priorities(sk)
+    {'SLOW': 1, 'FAST': 2, 'RTA': 3}
+    """
+    index = {t: i for i, t in enumerate(sk.tasks)}
+    units: dict[str | None, list[tuple[tuple, list[str]]]] = {}
+    for group in synchronized_groups(sk):
+        period = group_period(sk, group)
+        parts: dict[tuple[str | None, bool], list[str]] = {}
+        for t in group:
+            parts.setdefault((sk.tasks[t].processor, is_automaton(t)), []).append(t)
+        for (processor, auto), tasks in parts.items():
+            key = (0 if auto else 1, 0 if period is not None else 1, period or 0,
+                   index[tasks[0]])
+            units.setdefault(processor, []).append((key, tasks))
+    out: dict[str, int] = {}
+    for parts_on in units.values():
+        parts_on.sort(key=lambda u: u[0])
+        for rank, (_, tasks) in enumerate(parts_on):
+            for t in tasks:
+                out[t] = len(parts_on) - rank
+    return {t: out[t] for t in sk.tasks}
+
+
+def check_rules(skeleton: Skeleton) -> list[RuleFinding]:
+    """Check Rules 1-4 of section 6 of the ORCCAD paper.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+
+    Returns
+    -------
+    list of RuleFinding
+        By rule, then errors before warnings before proposals, then file order.
+        No ``error`` or ``warning``: the design follows the rules (which
+        suffice for a live, consistent skeleton, spec §4).
+
+    Examples
+    --------
+    Figure 7a: three tasks wait for each other, no clock anywhere (Rule 3).
+
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "MT1": {"duration": 1, "inputs": ["b"], "outputs": ["a"]},
+    ...     "MT2": {"duration": 1, "inputs": ["c"], "outputs": ["b"]},
+    ...     "MT3": {"duration": 1, "inputs": ["a"], "outputs": ["c"]}},
+    ...   "links": [{"from": "MT2:b", "to": "MT1:b", "protocol": "ASYN/SYN"},
+    ...             {"from": "MT3:c", "to": "MT2:c", "protocol": "ASYN/SYN"},
+    ...             {"from": "MT1:a", "to": "MT3:a", "protocol": "ASYN/SYN"}]})
+    >>> [(f.rule, f.severity, f.tasks) for f in check_rules(sk) if f.severity != "info"]
+    [(3, 'error', ('MT1', 'MT2', 'MT3'))]
+    """
+    groups = synchronized_groups(skeleton)
+    group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
+    index = _link_index(skeleton)
+    findings = (_rule1(skeleton, index) + _rule2(skeleton, groups, group_of)
+                + _rule3(skeleton, groups, index) + _rule4(skeleton, groups))
+    index = {t: i for i, t in enumerate(skeleton.tasks)}
+    findings.sort(key=lambda f: (f.rule, _ORDER[f.severity],
+                                 min((index[t] for t in f.tasks), default=0)))
+    return findings
+
+
+# ----------------------------------------------------------------------- Rule 1
+
+def _rule1(sk: Skeleton, index: tuple[dict, dict]) -> list[RuleFinding]:
+    threaded = {t for thread in sk.threads for t in thread}
+    out = []
+    for name in sk.tasks:
+        syncs = synchronizations(sk, name, index)
+        ports = tuple(s.port for s in syncs if s.port)
+        links = tuple(s.link.label for s in syncs if s.link)
+        if len(syncs) > 1:
+            # Footnote 6: the synchronizing port is best the first one read
+            # (else the last one posted), so the task computes on fresh data.
+            inputs = [s for s in syncs if s.kind == "input"]
+            outputs = [s for s in syncs if s.kind == "output"]
+            keep = inputs[0] if inputs else (syncs[0] if syncs[0].kind == "clock" else outputs[-1])
+            changes = []
+            for s in syncs:
+                if s is keep:
+                    continue
+                if s.kind == "clock":
+                    changes.append(f"remove the clock {s.clock} (the task then runs at the "
+                                   "rate of what it waits for)")
+                else:
+                    changes.append(f"make {s.link.label} ASYN/ASYN")  # type: ignore[union-attr]
+            out.append(RuleFinding(
+                1, "error", (name,), ports, links,
+                f"{name} has {len(syncs)} synchronizations ({'; '.join(s.label for s in syncs)}): "
+                "its activations are bound to two rates, which can overrun or deadlock "
+                "(Figures 7b, 12)",
+                f"keep only the {keep.label}"
+                + ("" if keep.kind == "clock" else " (footnote 6: the synchronizing port is "
+                   "best the first input read, or the last output posted)")
+                + f" and {', and '.join(changes)}"))
+        elif not syncs and name not in threaded:
+            out.append(RuleFinding(
+                1, "warning", (name,), (), (),
+                f"{name} has no synchronization (no clock, no input read ASYN/SYN or SYN/SYN, "
+                "no output posted SYN/ASYN or SYN/SYN): it runs freely, as often as the "
+                "processor lets it",
+                f"give {name} a clock, or read its first input ASYN/SYN from the task it "
+                "cooperates with"))
+    return out
+
+
+# ----------------------------------------------------------------------- Rule 2
+
+def _rule2(sk: Skeleton, groups: list[tuple[str, ...]], group_of: dict[str, int]
+           ) -> list[RuleFinding]:
+    periods = [group_period(sk, g) for g in groups]
+    out = []
+    for link in sk.links:
+        (w, p), (r, q) = link.writer, link.reader
+        if link.protocol is Protocol.SYN_SYN:
+            out.append(RuleFinding(
+                2, "warning", (w, r), (f"{w}:{p}", f"{r}:{q}"), (link.label,),
+                f"{link.label} is a rendezvous: {w} and {r} both block on it, which the paper "
+                "advises to avoid (it adds circuits to the skeleton)",
+                f"make it ASYN/SYN ({r} waits for {w}'s message) or SYN/ASYN ({w} waits for "
+                f"{r}'s request)"))
+        elif link.protocol is Protocol.ASYN_ASYN and group_of[w] != group_of[r]:
+            pw, pr = periods[group_of[w]], periods[group_of[r]]
+            if pw is not None and pw == pr:
+                clock = sk.tasks[r].clock
+                drop = f" and remove {r}'s clock {clock}" if clock else ""
+                out.append(RuleFinding(
+                    2, "warning", (w, r), (f"{w}:{p}", f"{r}:{q}"), (link.label,),
+                    f"{w} and {r} cooperate at one rate (period {exact_text(pw)} {sk.unit}) but "
+                    f"{link.label} does not synchronize them: the scheduler may run {r} before "
+                    f"{w}, and the data then waits a period at each hop (Figure 4)",
+                    f"make {link.label.rsplit(' (', 1)[0]} ASYN/SYN{drop}, so that {r} runs "
+                    f"after {w} in one synchronized group"))
+    return out
+
+
+# ----------------------------------------------------------------------- Rule 3
+
+def _rule3(sk: Skeleton, groups: list[tuple[str, ...]], index: tuple[dict, dict]
+           ) -> list[RuleFinding]:
+    out = []
+    for tasks in groups:
+        clocks: dict[str, list[str]] = {}
+        for t in tasks:
+            if sk.tasks[t].clock:
+                clocks.setdefault(sk.tasks[t].clock, []).append(t)  # type: ignore[arg-type]
+        if len(clocks) == 1:
+            continue
+        if not clocks:
+            sources = [t for t in tasks if not any(s.kind == "input"
+                                                   for s in synchronizations(sk, t, index))]
+            where = (f"give a clock to {sources[0]}, which waits for no input" if sources else
+                     f"give a clock to {tasks[0]} and make its synchronizing input ASYN/ASYN "
+                     "(Rule 1): that also breaks the circular wait")
+            out.append(RuleFinding(
+                3, "error", tasks, (), (),
+                f"the group {{{', '.join(tasks)}}} has no clock: nothing sets its rate (it "
+                "runs as fast as its tasks allow), and nothing breaks a circular wait such as "
+                "Figure 7a",
+                where + " (one clock for the whole group)"))
+        else:
+            names = list(clocks)
+            keep = names[0]
+            drop = "; ".join(f"remove {c} from {', '.join(clocks[c])}" for c in names[1:])
+            out.append(RuleFinding(
+                3, "error", tasks, (), (),
+                f"the group {{{', '.join(tasks)}}} has {len(clocks)} clocks ("
+                + ", ".join(f"{c} on {', '.join(ts)}" for c, ts in clocks.items())
+                + "): its tasks are bound to several rates, which can overrun (Figure 12)",
+                f"keep one clock ({keep}) and {drop}; those tasks then run at the pace of "
+                "their synchronizing input"))
+    return out
+
+
+# ----------------------------------------------------------------------- Rule 4
+
+def _rule4(sk: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
+    proposal = proposed_priorities(sk)
+    declared = {t: task.priority for t, task in sk.tasks.items() if task.priority is not None}
+
+    def propose(tasks: list[str] | tuple[str, ...]) -> str:
+        return ", ".join(f"{t}: {proposal[t]}" for t in tasks)
+
+    if not declared:
+        return [RuleFinding(
+            4, "info", tuple(sk.tasks), (), (),
+            "no priority is declared",
+            "rate-monotonic priorities (larger is more urgent; add `priority:` to each task): "
+            + propose(list(sk.tasks)))]
+    out = []
+    missing = [t for t in sk.tasks if t not in declared]
+    if missing:
+        out.append(RuleFinding(
+            4, "warning", tuple(missing), (), (),
+            f"no priority for {', '.join(missing)} while other tasks have one",
+            "declare a priority for every task; rate-monotonic proposal: " + propose(missing)))
+    by_processor: dict[str | None, list[tuple[tuple[str, ...], int]]] = {}
+    for tasks in groups:
+        parts: dict[str | None, list[str]] = {}
+        for t in tasks:
+            if t in declared and not is_automaton(t):
+                parts.setdefault(sk.tasks[t].processor, []).append(t)
+        for processor, members in parts.items():
+            values = sorted({declared[t] for t in members})
+            if len(values) > 1:
+                out.append(RuleFinding(
+                    4, "error", tuple(members), (), (),
+                    "the tasks of one synchronized group have different priorities ("
+                    + ", ".join(f"{t}: {declared[t]}" for t in members)
+                    + "): a higher-priority task of another group can run in the middle of it",
+                    f"give them all one priority (e.g. {values[-1]})"))
+            else:
+                by_processor.setdefault(processor, []).append((tuple(members), values[0]))
+    for processor, units in by_processor.items():
+        on = "" if processor is None else f" on processor {processor}"
+        first_at: dict[int, tuple[str, ...]] = {}
+        for a, pa in units:  # each group sharing a priority with an earlier one
+            if pa in first_at:
+                b = first_at[pa]
+                out.append(RuleFinding(
+                    4, "error", b + a, (), (),
+                    f"two synchronized groups share priority {pa}{on}: {{{', '.join(b)}}} "
+                    f"and {{{', '.join(a)}}}; the scheduler may interleave them",
+                    "give different groups different priorities, the shorter period the "
+                    "higher (rate-monotonic): " + propose(b + a)))
+            else:
+                first_at[pa] = a
+        # Rate-monotonic order, swept by increasing period (n log n, not all pairs):
+        # each slower group above the least urgent of the strictly faster ones is reported.
+        timed = sorted(((group_period(sk, a), pa, a) for a, pa in units
+                        if group_period(sk, a) is not None), key=lambda x: x[0])
+        lowest: tuple | None = None  # (priority, period, tasks) of the faster groups
+        i = 0
+        while i < len(timed):
+            j = i
+            while j < len(timed) and timed[j][0] == timed[i][0]:
+                j += 1
+            for per_b, pb, b in timed[i:j]:
+                if lowest is not None and lowest[0] < pb:
+                    _, per_a, a = lowest
+                    out.append(RuleFinding(
+                        4, "warning", a + b, (), (),
+                        f"not rate-monotonic{on}: {{{', '.join(a)}}} (period "
+                        f"{exact_text(per_a)} {sk.unit}) has a lower priority than "
+                        f"{{{', '.join(b)}}} (period {exact_text(per_b)} {sk.unit})",
+                        "give the group with the shorter period the higher priority: "
+                        + propose(a + b)))
+            for per_b, pb, b in timed[i:j]:
+                if lowest is None or pb < lowest[0]:
+                    lowest = (pb, per_b, b)
+            i = j
+    for t, mine in declared.items():
+        if not is_automaton(t):
+            continue
+        rivals = [u for u, theirs in declared.items() if not is_automaton(u)
+                  and sk.tasks[u].processor == sk.tasks[t].processor and theirs >= mine]
+        if rivals:
+            out.append(RuleFinding(
+                4, "error", (t, *rivals), (), (),
+                f"the automaton {t} (priority {mine}) is not above "
+                + ", ".join(f"{u} ({declared[u]})" for u in rivals)
+                + ": the reactive behavior would wait for the control tasks",
+                f"give {t} a priority above {max(declared[u] for u in rivals)}"))
+    return out
+
+

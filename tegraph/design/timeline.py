@@ -1,0 +1,393 @@
+"""Timing diagram: exact preemptive fixed-priority simulation of a skeleton.
+
+Figure 17 of the ORCCAD paper shows the computed-torque law on one processor
+under rate-monotonic priorities. :func:`simulate_timeline` produces that
+diagram as data, exactly (Fractions), over the hyperperiod of the clocks:
+
+- each processor runs, at every instant, its most urgent *ready* task
+  (larger priority first; equal priorities first come, first served; then
+  file order), preempting less urgent ones;
+- a task executes its chain (spec §2) when it holds the processor: it waits
+  for its clock (a tick releases it; ticks are queued, as in the timed event
+  graph), reads its inputs and writes its outputs in order — instantaneous,
+  but blocking as the protocols say (ASYN/SYN: the reader waits for a message
+  newer than its last read; SYN/ASYN: the writer waits for a request newer
+  than its last write; SYN/SYN: the first to arrive waits for the other) —
+  and computes for its duration, which takes processor time;
+- a thread runs its tasks one after the other;
+- at an instant where a computation ends and a clock ticks, the ending job
+  posts its outputs before the newly released jobs are dispatched;
+- a job is *late* (drawn red) when it ends after the next tick of its pacing
+  clock (its own clock, else the single clock of its group): for a task with
+  a clock this is the overrun of spec §4.
+
+The text rendering (:func:`render_timeline`) draws one row per task and the
+exact order of execution; :mod:`tegraph.report.plot` draws the picture.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from ..errors import ModelError
+from maxplus.scalar import exact_text
+from .rules import synchronized_groups
+from .schedulability import effective_priorities, hyperperiod
+from ..model.skeleton import Protocol, Skeleton
+
+__all__ = ["Job", "Timeline", "simulate_timeline"]
+
+_STEPS_PER_INSTANT = 1000
+"""Budget, per chain step of the skeleton, of steps taken at one instant."""
+
+
+@dataclass
+class Job:
+    """One run of a task's chain."""
+
+    task: str
+    index: int
+    """1-based activation number."""
+    release: Fraction
+    """When its first step became possible (a tick, or the data it waits for)."""
+    finish: Fraction | None = None
+    """When its last step fired; None if it runs past the horizon."""
+    segments: list[tuple[Fraction, Fraction]] = field(default_factory=list)
+    """Processor time, as [start, end) intervals."""
+    deadline: Fraction | None = None
+    """The next tick of its pacing clock (None without one)."""
+    late: bool = False
+    """It ends after its deadline, or is still running at a deadline within the horizon."""
+
+    @property
+    def preemptions(self) -> int:
+        """How many times it lost the processor before finishing its computation."""
+        return max(len(self.segments) - 1, 0)
+
+
+@dataclass
+class Timeline:
+    """The result of :func:`simulate_timeline`."""
+
+    name: str
+    unit: str
+    horizon: Fraction
+    tasks: list[str]
+    """Rows: by processor, most urgent first, then file order."""
+    priorities: dict[str, int]
+    priority_source: dict[str | None, str]
+    processors: dict[str, str | None]
+    ticks: dict[str, list[Fraction]]
+    """Tick times of each clock before the horizon."""
+    clocks: dict[str, str | None]
+    """The clock that activates each task (ticks are drawn on its row)."""
+    jobs: list[Job]
+
+    def order_of_execution(self, processor: str | None = None
+                           ) -> list[tuple[str, Fraction, Fraction]]:
+        """``(task, start, end)`` of every processor interval on ``processor``, by start."""
+        out = [(j.task, a, b) for j in self.jobs for a, b in j.segments
+               if self.processors[j.task] == processor]
+        return sorted(out, key=lambda x: (x[1], x[2]))
+
+    @property
+    def late_jobs(self) -> list[Job]:
+        return [j for j in self.jobs if j.late]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (exact times as strings)."""
+        return {"name": self.name, "unit": self.unit, "horizon": exact_text(self.horizon),
+                "priorities": self.priorities,
+                "ticks": {c: [exact_text(x) for x in ts] for c, ts in self.ticks.items()},
+                "jobs": [{"task": j.task, "index": j.index, "release": exact_text(j.release),
+                          "finish": exact_text(j.finish), "deadline": exact_text(j.deadline),
+                          "late": j.late,
+                          "segments": [[exact_text(a), exact_text(b)] for a, b in j.segments]}
+                         for j in self.jobs]}
+
+
+class _Sim:
+    """State of the simulation; the rules are in the module docstring."""
+
+    def __init__(self, sk: Skeleton, priorities: dict[str, int]) -> None:
+        self.sk = sk
+        self.prio = priorities
+        self.index = {t: i for i, t in enumerate(sk.tasks)}
+        self.steps: dict[str, list[tuple[str, str]]] = {}
+        for name, task in sk.tasks.items():
+            chain = [("activate", "")] if task.clock else []
+            chain += [("read", p) for p in task.inputs]
+            chain.append(("compute", ""))
+            chain += [("write", p) for p in task.outputs]
+            self.steps[name] = chain
+        self.pos = {t: 0 for t in sk.tasks}
+        # Processor time still owed to the current computation; -1: not started.
+        self.remaining: dict[str, Fraction] = {t: Fraction(-1) for t in sk.tasks}
+        self.pending = {t: 0 for t in sk.tasks}
+        self.fresh = [False] * len(sk.links)      # ASYN/SYN: a message not yet read
+        self.requested = [False] * len(sk.links)  # SYN/ASYN: a request not yet answered
+        self.into = {link.reader: i for i, link in enumerate(sk.links)}
+        self.out_of: dict[tuple[str, str], list[int]] = {}
+        for i, link in enumerate(sk.links):
+            self.out_of.setdefault(link.writer, []).append(i)
+        self.thread_of = {t: (k, j) for k, th in enumerate(sk.threads) for j, t in enumerate(th)}
+        self.turn = [0] * len(sk.threads)
+        self.ready_since: dict[str, Fraction | None] = {t: None for t in sk.tasks}
+        self.job: dict[str, Job | None] = {t: None for t in sk.tasks}
+        self.count = {t: 0 for t in sk.tasks}
+
+    def step(self, t: str) -> tuple[str, str]:
+        return self.steps[t][self.pos[t]]
+
+    def ready(self, t: str) -> bool:
+        """The current step of ``t`` can be taken as soon as ``t`` has the processor."""
+        kind, port = self.step(t)
+        if self.pos[t] == 0 and t in self.thread_of:
+            k, j = self.thread_of[t]
+            if self.turn[k] != j:
+                return False
+        if kind == "activate":
+            return self.pending[t] > 0
+        if kind == "compute":
+            return True
+        if kind == "read":
+            i = self.into.get((t, port))
+            if i is None:
+                return True
+            proto = self.sk.links[i].protocol
+            if proto is Protocol.ASYN_SYN:
+                return self.fresh[i]
+            if proto is Protocol.SYN_SYN:
+                return self._event_ready(self.sk.links[i].writer)
+            return True
+        return self._event_ready((t, port))
+
+    def _parties(self, writer: tuple[str, str]) -> list[tuple[str, str, str]]:
+        """(task, kind, port) of everyone who takes part in the write event of ``writer``."""
+        return [(writer[0], "write", writer[1])] + [
+            (self.sk.links[i].reader[0], "read", self.sk.links[i].reader[1])
+            for i in self.out_of.get(writer, [])
+            if self.sk.links[i].protocol is Protocol.SYN_SYN]
+
+    def _event_ready(self, writer: tuple[str, str]) -> bool:
+        """All parties of a (rendezvous) write are at their step, all requests are in."""
+        if any(self.step(task) != (kind, port) for task, kind, port in self._parties(writer)):
+            return False
+        return all(self.requested[i] for i in self.out_of.get(writer, [])
+                   if self.sk.links[i].protocol is Protocol.SYN_ASYN)
+
+    def fire(self, t: str, now: Fraction, jobs: list[Job]) -> None:
+        """Take the current step of ``t``, which is ready and holds its processor."""
+        kind, port = self.step(t)
+        if kind == "compute":
+            self._start(t, now, jobs)
+            if self.remaining[t] < 0:
+                self.remaining[t] = Fraction(self.sk.tasks[t].duration)
+            if self.remaining[t] > 0:
+                return  # the main loop gives it processor time
+            self.remaining[t] = Fraction(-1)
+        elif kind == "read" and (i := self.into.get((t, port))) is not None:
+            proto = self.sk.links[i].protocol
+            if proto is Protocol.SYN_SYN:
+                self._write(self.sk.links[i].writer, now, jobs)
+                return
+            self._start(t, now, jobs)
+            if proto is Protocol.ASYN_SYN:
+                self.fresh[i] = False
+            elif proto is Protocol.SYN_ASYN:
+                self.requested[i] = True
+        elif kind == "write":
+            self._write((t, port), now, jobs)
+            return
+        else:  # activate, or a read of an unlinked port
+            self._start(t, now, jobs)
+            if kind == "activate":
+                self.pending[t] -= 1
+        self._advance(t, now)
+
+    def _write(self, writer: tuple[str, str], now: Fraction, jobs: list[Job]) -> None:
+        for i in self.out_of.get(writer, []):
+            proto = self.sk.links[i].protocol
+            if proto is Protocol.ASYN_SYN:
+                self.fresh[i] = True
+            elif proto is Protocol.SYN_ASYN:
+                self.requested[i] = False
+        for task, _, _ in self._parties(writer):
+            self._start(task, now, jobs)
+            self._advance(task, now)
+
+    def _start(self, t: str, now: Fraction, jobs: list[Job]) -> None:
+        if self.pos[t] == 0 and (self.job[t] is None or self.job[t].finish is not None):
+            self.count[t] += 1
+            since = self.ready_since[t]
+            self.job[t] = Job(t, self.count[t], since if since is not None else now)
+            jobs.append(self.job[t])  # type: ignore[arg-type]
+
+    def _advance(self, t: str, now: Fraction) -> None:
+        self.pos[t] += 1
+        if self.pos[t] == len(self.steps[t]):
+            self.pos[t] = 0
+            self.job[t].finish = now  # type: ignore[union-attr]
+            if t in self.thread_of:
+                k, j = self.thread_of[t]
+                self.turn[k] = (j + 1) % len(self.sk.threads[k])
+
+
+def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None = None
+                      ) -> Timeline:
+    """Simulate ``skeleton`` under preemptive fixed priorities, exactly.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+        Priorities as declared on each processor whose tasks all declare one,
+        rate-monotonic otherwise (:func:`tegraph.design.schedulability.effective_priorities`).
+    horizon : Fraction, optional
+        End of the simulation. Default: the largest clock phase plus the
+        hyperperiod of the clock periods; without a clock, twice the sum of
+        the durations (at least 1).
+
+    Returns
+    -------
+    Timeline
+
+    Raises
+    ------
+    ModelError
+        The horizon is not positive, or a task of duration 0 with nothing to
+        wait for loops without time passing.
+
+    Examples
+    --------
+    B (period 4) is preempted at 2 by the more urgent A (period 2):
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
+    ...                                    "B": {"duration": 2, "period": 4}}})
+    >>> tl = simulate_timeline(sk)
+    >>> [(t, str(a), str(b)) for t, a, b in tl.order_of_execution()]
+    [('A', '0', '1'), ('B', '1', '2'), ('A', '2', '3'), ('B', '3', '4')]
+    """
+    priorities, source = effective_priorities(skeleton)
+    clocks = skeleton.clocks
+    if horizon is None:
+        if clocks:
+            horizon = max(c.phase for c in clocks.values()) + hyperperiod(
+                c.period for c in clocks.values())
+        else:
+            horizon = max(2 * sum((t.duration for t in skeleton.tasks.values()), Fraction(0)),
+                          Fraction(1))
+    horizon = Fraction(horizon)
+    if horizon <= 0:
+        raise ModelError(f"the horizon must be > 0, got {horizon}", "timeline")
+    ticks = {c: [k.phase + n * k.period for n in range(_count(k.phase, k.period, horizon))]
+             for c, k in clocks.items()}
+    activated: dict[Fraction, list[str]] = {}
+    for name, task in skeleton.tasks.items():
+        if task.clock:
+            for x in ticks[task.clock]:
+                activated.setdefault(x, []).append(name)
+    tick_times = sorted(activated)
+    by_processor: dict[str | None, list[str]] = {}
+    for name, task in skeleton.tasks.items():
+        by_processor.setdefault(task.processor, []).append(name)
+    sim = _Sim(skeleton, priorities)
+    jobs: list[Job] = []
+    running: dict[str | None, str | None] = {p: None for p in by_processor}
+    now, next_tick = Fraction(0), 0
+    while True:
+        # Completion before release: a job whose computation ends now posts its
+        # outputs before the tasks released by the ticks of this instant run.
+        _dispatch(sim, by_processor, running, now, jobs)
+        while next_tick < len(tick_times) and tick_times[next_tick] <= now:
+            for name in activated[tick_times[next_tick]]:
+                sim.pending[name] += 1  # queued, as tokens in the clock -> activate place
+            next_tick += 1
+        _dispatch(sim, by_processor, running, now, jobs)
+        if now >= horizon:
+            break
+        step = min([horizon - now]
+                   + ([tick_times[next_tick] - now] if next_tick < len(tick_times) else [])
+                   + [sim.remaining[t] for t in running.values() if t is not None])
+        for t in running.values():
+            if t is None:
+                continue
+            segments = sim.job[t].segments  # type: ignore[union-attr]
+            if segments and segments[-1][1] == now:
+                segments[-1] = (segments[-1][0], now + step)
+            else:
+                segments.append((now, now + step))
+            sim.remaining[t] -= step
+        now += step
+    pacing = _pacing_clocks(skeleton)
+    for job in jobs:
+        clock = pacing[job.task]
+        if clock is not None:
+            k = clocks[clock]
+            job.deadline = k.phase + job.index * k.period
+            if job.finish is not None:
+                job.late = job.finish > job.deadline
+            else:  # unfinished: late if its deadline passed, or is now and it still computes
+                job.late = job.deadline < horizon or (
+                    job.deadline == horizon and sim.job[job.task] is job
+                    and sim.remaining[job.task] > 0)
+    order = list(by_processor)
+    rows = sorted(skeleton.tasks, key=lambda t: (
+        order.index(skeleton.tasks[t].processor), -priorities[t], sim.index[t]))
+    return Timeline(skeleton.name, skeleton.unit, horizon, rows, priorities, source,
+                    {t: skeleton.tasks[t].processor for t in skeleton.tasks}, ticks,
+                    {t: skeleton.tasks[t].clock for t in skeleton.tasks}, jobs)
+
+
+def _count(phase: Fraction, period: Fraction, horizon: Fraction) -> int:
+    """How many ticks ``phase + n*period`` fall before the horizon."""
+    return 0 if phase >= horizon else math.ceil((horizon - phase) / period)
+
+
+def _pacing_clocks(sk: Skeleton) -> dict[str, str | None]:
+    """Each task's own clock, else the single clock of its group, else None."""
+    out: dict[str, str | None] = {}
+    for group in synchronized_groups(sk):
+        clocks = {sk.tasks[t].clock for t in group if sk.tasks[t].clock}
+        for t in group:
+            own = sk.tasks[t].clock
+            out[t] = own if own else (next(iter(clocks)) if len(clocks) == 1 else None)
+    return out
+
+
+def _dispatch(sim: _Sim, by_processor: dict[str | None, list[str]],
+              running: dict[str | None, str | None], now: Fraction, jobs: list[Job]) -> None:
+    """Let each processor's most urgent ready task take its instantaneous steps at ``now``."""
+    fired, budget = 0, _STEPS_PER_INSTANT * (1 + sum(len(c) for c in sim.steps.values()))
+    while True:
+        for tasks in by_processor.values():
+            for t in tasks:
+                if not sim.ready(t):
+                    sim.ready_since[t] = None
+                elif sim.ready_since[t] is None:
+                    sim.ready_since[t] = now
+        progress = False
+        for p, tasks in by_processor.items():
+            ready = [t for t in tasks if sim.ready_since[t] is not None]
+            if not ready:
+                running[p] = None
+                continue
+            # Larger priority first; equal priorities first come, first served.
+            top = min(ready, key=lambda t: (-sim.prio[t], sim.ready_since[t], sim.index[t]))
+            running[p] = top
+            if sim.step(top)[0] == "compute" and sim.remaining[top] > 0:
+                continue
+            sim.fire(top, now, jobs)
+            progress = True
+            fired += 1
+            if fired > budget:
+                raise ModelError(
+                    f"{top} runs its chain again and again at {now} without time passing "
+                    "(a task of duration 0 with nothing to wait for)", "timeline")
+            break
+        if not progress:
+            return
+
+

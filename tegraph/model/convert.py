@@ -1,0 +1,131 @@
+"""Conversions between the models: what becomes a timed event graph, and how.
+
+A skeleton is built into its timed event graph (spec §2), an SDF graph is
+expanded through its repetition vector, a P/T net that is a marked graph is
+converted; a net that is not one is refused, naming the place or arc at
+fault. networkx graphs go both ways.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from maxplus.scalar import exact_time
+
+from ..errors import InputError, ModelError
+from .arcs import ArcList
+from .build import build_teg
+from .petri import PetriNet
+from .sdf import SDFGraph
+from .skeleton import Skeleton
+from .teg import TimedEventGraph
+
+if TYPE_CHECKING:  # networkx costs 0.1 s to import; only these conversions need it
+    import networkx as nx
+
+__all__ = ["as_petri_net", "as_teg", "as_teg_like", "from_networkx", "to_networkx"]
+
+
+def as_teg_like(obj: Any) -> TimedEventGraph | ArcList:
+    """A timed event graph, or an arc list for array-sized graphs, from any model.
+
+    Skeletons are built (spec §2), SDF graphs expanded through their
+    repetition vector, marked graphs converted.
+
+    Raises
+    ------
+    InputError
+        A P/T net that is not a marked graph (the reason names the place or arc),
+        or an object of no known model.
+    """
+    if isinstance(obj, (TimedEventGraph, ArcList)):
+        return obj
+    if isinstance(obj, Skeleton):
+        return build_teg(obj)
+    if isinstance(obj, SDFGraph):
+        return obj.to_arcs()
+    if isinstance(obj, PetriNet):
+        why = obj.marked_graph_violation()
+        if why is not None:
+            raise InputError(f"not a marked graph: {why}", f"net {obj.name}")
+        return obj.to_teg()
+    raise InputError(f"expected a skeleton, timed event graph, P/T net, SDF graph or arc list, "
+                     f"got {type(obj).__name__}")
+
+
+def as_teg(obj: Any) -> TimedEventGraph:
+    """Like :func:`as_teg_like`, always a :class:`~tegraph.model.teg.TimedEventGraph`."""
+    g = as_teg_like(obj)
+    return g if isinstance(g, TimedEventGraph) else g.to_teg()
+
+
+def as_petri_net(obj: Any) -> PetriNet:
+    """A P/T net: itself, or the net of the timed event graph of ``obj``."""
+    return obj if isinstance(obj, PetriNet) else PetriNet.from_teg(as_teg(obj))
+
+
+def to_networkx(obj: Any) -> nx.DiGraph:
+    """A networkx graph: the bipartite graph of a P/T net, else the TEG's MultiDiGraph.
+
+    Examples
+    --------
+    >>> net = PetriNet("n", ["p"], ["t"], np.array([[1]]), np.array([[2]]), np.array([3]))
+    >>> G = to_networkx(net)
+    >>> dict(G.nodes["p"]), G.edges["t", "p"]["weight"]
+    ({'kind': 'place', 'tokens': 3}, 2)
+    >>> back = from_networkx(G)
+    >>> back.pre.tolist(), back.post.tolist(), back.marking.tolist()
+    ([[1]], [[2]], [3])
+    """
+    import networkx as nx
+
+    if not isinstance(obj, PetriNet):
+        return as_teg(obj).to_networkx()
+    if set(obj.places) & set(obj.transitions):
+        raise ModelError("a place and a transition share a name; networkx nodes must be "
+                         "distinct", f"net {obj.name}")
+    G = nx.DiGraph(name=obj.name)
+    for k, p in enumerate(obj.places):
+        attrs: dict[str, Any] = {"kind": "place", "tokens": int(obj.marking[k])}
+        if obj.holding:
+            attrs["holding"] = obj.holding[k]
+        if obj.initial:
+            attrs["initial"] = obj.initial[k]
+        G.add_node(p, **attrs)
+    for t in obj.transitions:
+        G.add_node(t, kind="transition")
+    for i, j in np.argwhere(obj.pre > 0).tolist():
+        G.add_edge(obj.places[i], obj.transitions[j], weight=int(obj.pre[i, j]))
+    for i, j in np.argwhere(obj.post > 0).tolist():
+        G.add_edge(obj.transitions[j], obj.places[i], weight=int(obj.post[i, j]))
+    return G
+
+
+def from_networkx(G: nx.DiGraph) -> PetriNet | TimedEventGraph:
+    """A P/T net when every node has ``kind`` place or transition, else a timed event graph."""
+    import networkx as nx
+
+    kinds = nx.get_node_attributes(G, "kind")
+    if not G or len(kinds) != len(G) or not set(kinds.values()) <= {"place", "transition"}:
+        return TimedEventGraph.from_networkx(G)
+    places = [n for n in G if kinds[n] == "place"]
+    transitions = [n for n in G if kinds[n] == "transition"]
+    pi = {n: k for k, n in enumerate(places)}
+    ti = {n: k for k, n in enumerate(transitions)}
+    pre = np.zeros((len(places), len(transitions)), dtype=np.int64)
+    post = np.zeros_like(pre)
+    for u, v, w in G.edges(data="weight", default=1):
+        if kinds[u] == kinds[v]:
+            raise ModelError("an arc joins two nodes of one kind", f"edge {u} -> {v}")
+        if kinds[u] == "place":
+            pre[pi[u], ti[v]] += int(w)
+        else:
+            post[pi[v], ti[u]] += int(w)
+    timed = any("holding" in G.nodes[p] for p in places)
+    hold = [exact_time(G.nodes[p].get("holding", 0), f"place {p}") for p in places] if timed else []
+    init = [exact_time(G.nodes[p].get("initial", 0), f"place {p}") for p in places] if timed else []
+    marking = np.array([int(G.nodes[p].get("tokens", 0)) for p in places], dtype=np.int64)
+    return PetriNet(str(G.graph.get("name", "net")), [str(p) for p in places],
+                    [str(t) for t in transitions], pre, post, marking, hold, init)

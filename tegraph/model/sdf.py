@@ -1,0 +1,204 @@
+"""Synchronous dataflow (SDF) graphs and their homogeneous expansion.
+
+An SDF graph has actors with an execution time and channels that carry
+tokens at fixed rates: each firing of the source actor produces ``prod``
+tokens, each firing of the destination consumes ``cons``; ``tokens`` are
+there initially. What is read, as SDF3 itself reads it:
+
+* the execution time of an actor is that of the **last** ``<processor>`` of
+  its ``actorProperties`` carrying a ``default`` attribute (any value), 0 if none;
+* rates come from the ``rate`` of the ports named by the channel;
+  ``initialTokens`` defaults to 0;
+* an actor without a self-loop channel may fire concurrently with itself
+  (unbounded auto-concurrency): no self-loop is added.
+
+The repetition vector ``q`` (the smallest positive integers with
+``q[src] * prod == q[dst] * cons`` on every channel) expands the graph into
+its homogeneous graph: one transition ``actor_i`` per firing
+``i < q[actor]`` of an iteration, one place per dependency, holding the
+execution time of the source firing (:meth:`SDFGraph.to_arcs`). Its maximum
+cycle ratio is the period of the graph: the time per iteration, whose
+inverse is SDF3's throughput (Sriram & Bhattacharyya, *Embedded
+Multiprocessors*, 2009, ch. 3; Ghamarian et al., ACSD 2006).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import numpy as np
+
+from ..errors import ModelError
+from .arcs import ArcList
+from .teg import TimedEventGraph
+
+__all__ = ["SDFChannel", "SDFGraph"]
+
+
+@dataclass(frozen=True)
+class SDFChannel:
+    """A channel ``src -> dst``: ``prod`` tokens per source firing, ``cons`` per destination firing."""
+
+    name: str
+    src: str
+    dst: str
+    prod: int = 1
+    cons: int = 1
+    tokens: int = 0
+
+
+@dataclass
+class SDFGraph:
+    """A timed SDF graph: actors with integer execution times, channels with rates.
+
+    Attributes
+    ----------
+    name : str
+    actors : dict of str to int
+        Execution time of each actor, in file order.
+    channels : list of SDFChannel
+
+    Examples
+    --------
+    ``a`` fires twice per firing of ``b`` (rates 1 and 2); the two tokens on
+    the way back let both firings of ``a`` start at once (no self-loop, so
+    they run concurrently): the period is 2 + 3 = 5.
+
+    >>> g = SDFGraph("g", {"a": 2, "b": 3}, [SDFChannel("ab", "a", "b", 1, 2, 0),
+    ...                                     SDFChannel("ba", "b", "a", 2, 1, 2)])
+    >>> g.repetition_vector()
+    {'a': 2, 'b': 1}
+    >>> from tegraph.analysis.cycle_time import cycle_time
+    >>> str(cycle_time(g).period)
+    '5'
+    """
+
+    name: str
+    actors: dict[str, int]
+    channels: list[SDFChannel] = field(default_factory=list)
+
+    def repetition_vector(self) -> dict[str, int]:
+        """Smallest positive firings per iteration, per actor (connected parts separately).
+
+        Raises
+        ------
+        ModelError
+            Inconsistent rates: the message names a channel closing an
+            inconsistent cycle (such a graph needs unbounded memory or deadlocks).
+        """
+        adj: dict[str, list[tuple[str, Fraction, SDFChannel]]] = {a: [] for a in self.actors}
+        for c in self.channels:
+            adj[c.src].append((c.dst, Fraction(c.prod, c.cons), c))
+            adj[c.dst].append((c.src, Fraction(c.cons, c.prod), c))
+        q: dict[str, Fraction] = {}
+        for start in self.actors:
+            if start in q:
+                continue
+            part, stack = [start], [start]
+            q[start] = Fraction(1)
+            while stack:  # q[b] = q[a] * prod / cons along every channel a -> b
+                a = stack.pop()
+                for b, factor, c in adj[a]:
+                    want = q[a] * factor
+                    if b not in q:
+                        q[b] = want
+                        part.append(b)
+                        stack.append(b)
+                    elif q[b] != want:
+                        raise ModelError(f"inconsistent rates: {c.src} x{c.prod} -> {c.dst} "
+                                         f"x{c.cons} contradicts the other channels between "
+                                         "these actors (no repetition vector exists)",
+                                         f"channel {c.name}")
+            lcm = math.lcm(*(q[a].denominator for a in part))
+            ints = [int(q[a] * lcm) for a in part]
+            g = math.gcd(*ints)
+            for a, v in zip(part, ints):
+                q[a] = Fraction(v // g)
+        return {a: int(q[a]) for a in self.actors}
+
+    def to_arcs(self) -> ArcList:
+        """The homogeneous (HSDF) expansion as an arc list (transitions ``actor_i``).
+
+        Firing ``j`` of ``dst`` in iteration ``k`` takes the tokens of absolute
+        index ``N = (k q_dst + j) cons + i``, ``i < cons``; token ``N`` was made
+        by firing ``f = floor((N - tokens) / prod)`` of ``src`` (initial tokens
+        count as firings of earlier iterations), i.e. by ``src_(f mod q_src)``
+        ``-floor(f / q_src)`` iterations before. Of the places between two
+        firings only the one with fewest tokens constrains, and is kept.
+        """
+        q = self.repetition_vector()
+        offset: dict[str, int] = {}
+        names: list[str] = []
+        for a in self.actors:
+            offset[a] = len(names)
+            names.extend(f"{a}_{i}" for i in range(q[a]))
+        if len(set(names)) != len(names):
+            raise ModelError("two firings get the same name actor_i; rename the actors",
+                             f"graph {self.name}")
+        src, dst, tok = [], [], []
+        for c in self.channels:
+            j = np.repeat(np.arange(q[c.dst], dtype=np.int64), c.cons)
+            i = np.tile(np.arange(c.cons, dtype=np.int64), q[c.dst])
+            f = (j * c.cons + i - c.tokens) // c.prod
+            src.append(offset[c.src] + f % q[c.src])
+            dst.append(offset[c.dst] + j)
+            tok.append(-(f // q[c.src]))
+        s = np.concatenate(src) if src else np.zeros(0, np.int64)
+        d = np.concatenate(dst) if dst else np.zeros(0, np.int64)
+        t = np.concatenate(tok) if tok else np.zeros(0, np.int64)
+        order = np.lexsort((t, d, s))  # by (src, dst), fewest tokens first
+        s, d, t = s[order], d[order], t[order]
+        first = np.ones(len(s), dtype=bool)
+        first[1:] = (s[1:] != s[:-1]) | (d[1:] != d[:-1])
+        s, d, t = s[first], d[first], t[first]
+        exec_time = np.array([self.actors[a] for a in self.actors for _ in range(q[a])],
+                             dtype=np.int64)
+        return ArcList(s, d, exec_time[s], t, 1, names, len(names), self.name)
+
+    def to_teg(self) -> TimedEventGraph:
+        """The homogeneous expansion as a :class:`~tegraph.model.teg.TimedEventGraph`."""
+        return self.to_arcs().to_teg()
+
+    @classmethod
+    def from_teg(cls, teg: TimedEventGraph) -> SDFGraph:
+        """The homogeneous SDF graph of a timed event graph (all rates 1).
+
+        A transition whose places all hold one time becomes an actor of that
+        execution time. When its places hold different times, the actor takes
+        0 and each place becomes an actor of its own, holding its time (no
+        self-loop: it serves any number of tokens at once, as a place does).
+        Every circuit keeps its times and tokens, so its cycle ratio.
+
+        Raises
+        ------
+        ModelError
+            A time is not an integer, or initial tokens are available after 0:
+            SDF3 has neither.
+        """
+        g = teg
+        names = g.transition_names
+        times: dict[int, set[Fraction]] = {}
+        for p in g.places:
+            where = f"place {p.name}"
+            if p.initial != 0:
+                raise ModelError("initial tokens available after 0 cannot be written to "
+                                 "SDF3", where)
+            if p.holding.denominator != 1:
+                raise ModelError(f"SDF3 execution times are integers, got {p.holding}", where)
+            times.setdefault(p.src, set()).add(p.holding)
+        actors = {n: int(next(iter(times[k]))) if len(times.get(k, ())) == 1 else 0
+                  for k, n in enumerate(names)}
+        channels = []
+        for k, p in enumerate(g.places):
+            src, dst = names[p.src], names[p.dst]
+            if len(times[p.src]) > 1 and p.holding:
+                mid = f"place{k}"
+                while mid in actors:
+                    mid += "_"
+                actors[mid] = int(p.holding)
+                channels.append(SDFChannel(f"ch{k}a", src, mid, 1, 1, 0))
+                src = mid
+            channels.append(SDFChannel(f"ch{k}", src, dst, 1, 1, p.tokens))
+        return cls(g.name, actors, channels)

@@ -1,0 +1,132 @@
+"""The synchronization skeleton: module tasks, clocks, links and threads.
+
+This is the in-memory form of a skeleton file (``docs/skeleton.md`` §1). A
+design tool builds one in code with :meth:`Skeleton.from_dict` (the same
+dictionary a YAML file holds) or from the dataclasses directly followed by
+:meth:`Skeleton.validate`; both refuse what the file format refuses, with the
+key path of the offending element.
+
+Times are exact :class:`fractions.Fraction` values.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from .elements import Clock, Link, Protocol, Task
+from .skeleton_checks import Locator, check_skeleton
+from .skeleton_schema import skeleton_fields, skeleton_to_data
+
+__all__ = ["Clock", "Link", "Protocol", "Skeleton", "Task"]
+
+
+@dataclass
+class Skeleton:
+    """A synchronization skeleton (spec §1).
+
+    Attributes
+    ----------
+    name : str
+    unit : str
+        Label of every time value (default ``"ms"``).
+    clocks : dict of str to Clock
+        All clocks, the private ``T.clock`` ones included, in file order.
+    tasks : dict of str to Task
+        In file order (groups and reports follow this order).
+    links : list of Link
+    threads : list of tuple of str
+    source : str or None
+        The file it was read from.
+    chains : list of tuple of str
+        Sensor-to-actuator chains of tasks for the latency report (spec §6).
+    """
+
+    name: str
+    tasks: dict[str, Task]
+    clocks: dict[str, Clock] = field(default_factory=dict)
+    links: list[Link] = field(default_factory=list)
+    threads: list[tuple[str, ...]] = field(default_factory=list)
+    unit: str = "ms"
+    source: str | None = field(default=None, compare=False)
+    """Where it was read from: not part of the skeleton, so a copy read from
+    another file (``load_skeleton(dump_skeleton(sk, path))``) compares equal."""
+    extra: dict[str, Any] = field(default_factory=dict)
+    """Keys of future format extensions; the writer refuses them (spec §6 keys
+    have their own fields: ``Task.priority``, ``Task.processor``, ``chains``)."""
+    chains: list[tuple[str, ...]] = field(default_factory=list)
+    """Chains of tasks, sensor first, whose latency is reported (spec §6)."""
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], name: str = "skeleton",
+                  source: str | None = None, *, locator: Locator | None = None) -> Skeleton:
+        """Build and validate a skeleton from the dictionary a skeleton file holds.
+
+        Parameters
+        ----------
+        data : mapping
+            As in ``docs/skeleton.md`` §1.
+        name : str
+            Default name when ``data`` has no ``name`` key.
+        source : str, optional
+            File name to put in error messages.
+        locator : Locator, optional
+            Lines and source texts of a parsed file (:mod:`tegraph.io.skeleton_file`
+            passes one), so that refusals name their line.
+
+        Returns
+        -------
+        Skeleton
+
+        Raises
+        ------
+        SkeletonError
+            With the key path of the first refused element.
+
+        Examples
+        --------
+        >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 4}}})
+        >>> sk.tasks["A"].clock, sk.clocks["A.clock"].period
+        ('A.clock', Fraction(4, 1))
+        """
+        loc = locator if locator is not None else Locator(file=source)
+        sk = cls(**skeleton_fields(data, default_name=name, source=source, locator=loc))
+        check_skeleton(sk, loc)
+        return sk
+
+    def validate(self) -> Skeleton:
+        """Check the cross references of a skeleton built in code (spec §1).
+
+        Returns
+        -------
+        Skeleton
+            The skeleton itself.
+
+        Raises
+        ------
+        SkeletonError
+            At the first broken rule, with the key path of the dictionary form
+            (``tasks.X.clock``, ``links[2].to``...) and ``source`` as file.
+
+        Examples
+        --------
+        >>> from fractions import Fraction
+        >>> Skeleton("s", {"A": Task("A", Fraction(1), clock="rtc")}).validate()
+        Traceback (most recent call last):
+        ...
+        tegraph.errors.SkeletonError: tasks.A.clock: no clock 'rtc'; expected a clock declared under clocks (none)
+        """
+        check_skeleton(self, Locator(file=self.source))
+        return self
+
+    def to_dict(self) -> dict[str, Any]:
+        """The dictionary form (as written to a skeleton file), times as exact strings."""
+        return skeleton_to_data(self)
+
+    def link_of_port(self, task: str, port: str) -> Link | None:
+        """The link that ends or starts at ``task:port``, if any."""
+        for link in self.links:
+            if link.writer == (task, port) or link.reader == (task, port):
+                return link
+        return None

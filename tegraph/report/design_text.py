@@ -1,0 +1,138 @@
+"""Text of the design results of ORCCAD §6: rules, schedulability, latency, port repair."""
+
+from __future__ import annotations
+
+from tabulate import tabulate
+
+from maxplus.scalar import exact_text
+
+from ..design.fix import FixResult
+from ..design.latency import ChainLatency
+from ..design.rules import RuleFinding
+from ..design.schedulability import PAPER_TEST, RTA_TEST, Schedulability
+
+__all__ = ["render_fix", "render_latency", "render_rules", "render_schedulability"]
+
+
+def render_rules(findings: list[RuleFinding]) -> str:
+    """The findings as text, one paragraph each (empty findings: one line).
+
+    >>> print(render_rules([]), end="")
+    design rules (ORCCAD section 6): all followed
+    """
+    if not any(f.severity != "info" for f in findings):
+        head = "design rules (ORCCAD section 6): all followed"
+    else:
+        n = sum(f.severity != "info" for f in findings)
+        head = f"design rules (ORCCAD section 6): {n} finding(s)"
+    lines = [head]
+    for f in findings:
+        lines.append(f"  Rule {f.rule} [{f.severity}] {f.message}")
+        lines.append(f"    what to change: {f.advice}")
+    return "\n".join(lines) + "\n"
+
+
+def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
+    """Threads and the per-processor verdicts as text.
+
+    Returns
+    -------
+    str
+    """
+    lines = []
+    if result.threads:
+        lines.append("threads (a thread's period is at least the sum of its durations):")
+        for t in result.threads:
+            if t.fits is None:
+                verdict = "not live"
+            else:
+                pace = "free-running" if t.pace is None else f"paced at {exact_text(t.pace)} {unit}"
+                verdict = (f"{'fits' if t.fits else 'DOES NOT FIT'} ({pace}, margin "
+                           f"{exact_text(t.margin)} {unit})")
+            lines.append(f"  thread {t.index} [{', '.join(t.tasks)}]: load {exact_text(t.load)} "
+                         f"{unit}, period {exact_text(t.period) or '-'} {unit}: {verdict}")
+    for p in result.processors:
+        name = "default processor" if p.processor is None else f"processor {p.processor}"
+        lines.append(f"schedulability on the {name} (preemptive fixed priorities, "
+                     f"{p.priority_source} priorities; larger is more urgent):")
+        if p.hyperperiod is not None:
+            holds = "holds" if p.condition_holds else "FAILS"
+            lines.append(f"  {PAPER_TEST}: T = {exact_text(p.hyperperiod)} {unit}, "
+                         f"sum = {exact_text(p.demand)} {unit}: {holds} (margin "
+                         f"{exact_text(p.condition_margin)} {unit})")
+        rows = []
+        for u in p.units:
+            verdict = "-" if u.schedulable is None else ("yes" if u.schedulable else "NO")
+            rows.append([u.group, ", ".join(u.tasks), u.priority, exact_text(u.period) or "-",
+                         exact_text(u.cost), exact_text(u.response_time) or "-",
+                         exact_text(u.margin) or "-", verdict, u.note])
+        table = tabulate(rows, headers=["group", "tasks", "priority", "period", "work",
+                                        "response", "margin", "meets period", "note"])
+        lines.extend("  " + row for row in table.splitlines())
+        lines.append(f"  test: {RTA_TEST}")
+    lines.extend(f"note: {n}" for n in result.notes)
+    return "\n".join(lines) + "\n"
+
+
+def render_latency(result: ChainLatency, unit: str = "ms") -> str:
+    """One chain's latency as text.
+
+    Returns
+    -------
+    str
+    """
+    lines = [f"latency of the chain {' -> '.join(result.chain)}:"]
+    for i, s in enumerate(result.segments):
+        if i:
+            h = result.hops[i - 1]
+            lines.append(f"  asynchronous hop {h.writer} -> {h.reader} ({'; '.join(h.links)})")
+        value = (f"{exact_text(s.latency)} {unit}, exact (steady-state daters)"
+                 if s.latency is not None else f"unknown ({s.note})")
+        period = f"period {exact_text(s.period)} {unit}" if s.period is not None else "no period"
+        lines.append(f"  segment [{', '.join(s.tasks)}] (group {s.group}, {period}): "
+                     f"{s.start} -> {s.end}: {value}")
+    for b in result.bounds:
+        value = f"{exact_text(b.value)} {unit}" if b.value is not None else "not applicable"
+        lines.append(f"  bound ({b.name}): {value} [{b.formula}; {b.note}]")
+    if result.value is None:
+        lines.append("  latency: unknown")
+    else:
+        periods = result.in_periods
+        extra = "" if periods is None else \
+            f" = {exact_text(periods)} sampling period(s) of {exact_text(result.segments[0].period)} {unit}"
+        what = "exactly" if result.kind == "exact" else "at most"
+        lines.append(f"  latency: {what} {exact_text(result.value)} {unit}{extra}")
+    return "\n".join(lines) + "\n"
+
+
+def render_fix(result: FixResult, name: str = "skeleton") -> str:
+    """What :func:`fix_ports` found, as text for the terminal.
+
+    >>> from tegraph import Skeleton, fix_ports
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}})
+    >>> print(render_fix(fix_ports(sk), "demo"), end="")
+    demo: already live; no port order changed
+    """
+    if result.status == "already live":
+        return f"{name}: already live; no port order changed\n"
+    lines = []
+    for c in result.deadlocks:
+        lines.append(f"{name}: deadlock: token-free circuit " + " -> ".join([*c, c[0]]))
+    if result.status == "impossible":
+        circuit = " -> ".join([*result.circuit, result.circuit[0]]) if result.circuit else ""
+        lines.append(f"{name}: no port order makes it live: the circular wait {circuit} "
+                     "holds whatever the order of reads and writes")
+        if result.links:
+            lines.append("turn one of these links asynchronous (ASYN/ASYN), and give its "
+                         "reader a clock in place of the wait (Rules 1 and 3): "
+                         + "; ".join(result.links))
+        else:
+            lines.append("the circuit passes only through threads and task chains: split "
+                         "the thread, or reorder the tasks in it")
+        return "\n".join(lines) + "\n"
+    lines.append(f"{name}: a port order makes it live; changed:")
+    for c in result.changes:
+        lines.append(f"  {c.task} {c.side} [{', '.join(c.before)}] -> [{', '.join(c.after)}]: "
+                     f"{c.reason}")
+    lines.append("every other declared port order is kept")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,81 @@
+"""JSON documents of every command (``docs/report.schema.json``).
+
+Each result's ``to_dict()`` gives its data (exact numbers as strings); a
+document adds ``schema_version`` and, for every command but ``analyze``
+(whose document is the one of ``docs/skeleton.md`` §5), the ``report`` name.
+"""
+
+from __future__ import annotations
+
+import json
+from functools import singledispatch
+from typing import Any
+
+from ..analysis.cycle_time import CycleTimeResult
+from ..analysis.reachability import Reachability
+from ..analysis.results import Report
+from ..analysis.timed_reachability import TimedExploration
+
+__all__ = ["SCHEMA_VERSION", "json_report", "to_document", "to_json"]
+
+SCHEMA_VERSION = 1
+
+
+def json_report(command: str, body: dict[str, Any]) -> dict[str, Any]:
+    """A command's JSON document: ``schema_version`` and ``report`` first, then ``body``.
+
+    ``docs/report.schema.json`` describes each command's document.
+
+    >>> json_report("reach", {"states": 3})
+    {'schema_version': 1, 'report': 'reach', 'states': 3}
+    """
+    return {"schema_version": SCHEMA_VERSION, "report": command, **body}
+
+
+@singledispatch
+def to_document(result: Any) -> dict[str, Any]:
+    """The JSON document of a result, as Python data.
+
+    Parameters
+    ----------
+    result : Report, CycleTimeResult, Reachability or TimedExploration
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    TypeError
+        For an object that is no result of this project.
+    """
+    raise TypeError(f"no JSON document for a {type(result).__name__}")
+
+
+@to_document.register
+def _(result: Report) -> dict[str, Any]:
+    return {"schema_version": SCHEMA_VERSION, **result.to_dict()}
+
+
+@to_document.register
+def _(result: CycleTimeResult) -> dict[str, Any]:
+    return json_report("cycle-time", result.to_dict())
+
+
+@to_document.register(Reachability)
+@to_document.register(TimedExploration)
+def _(result: Reachability | TimedExploration) -> dict[str, Any]:
+    return json_report("reach", result.to_dict())
+
+
+def to_json(result: Any, indent: int | None = 2) -> str:
+    """:func:`to_document` as JSON text (UTF-8 characters kept as they are).
+
+    Examples
+    --------
+    >>> from tegraph import Skeleton, analyze
+    >>> r = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 3}}}))
+    >>> to_json(r, indent=None)[:61]
+    '{"schema_version": 1, "name": "skeleton", "unit": "ms", "live'
+    """
+    return json.dumps(to_document(result), indent=indent, ensure_ascii=False)

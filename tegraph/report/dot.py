@@ -1,0 +1,51 @@
+"""DOT drawings coloured by the analysis: the critical circuit, or a circuit without token."""
+
+from __future__ import annotations
+
+from maxplus.scalar import exact_text
+
+from ..analysis.cycle_time import CycleTimeResult
+from ..io.dot import Highlights
+
+__all__ = ["highlights"]
+
+
+def highlights(result: CycleTimeResult | None) -> Highlights:
+    """What a drawing colours, from the cycle time of the drawn graph.
+
+    Parameters
+    ----------
+    result : CycleTimeResult or None
+        From :func:`tegraph.analysis.cycle_time.cycle_time` on the graph that
+        is drawn (None: the figures could not be computed; nothing is coloured).
+
+    Returns
+    -------
+    Highlights
+        The critical circuit's places when a period exists, a token-free
+        circuit's places on a deadlock, and a caption saying which.
+
+    See Also
+    --------
+    tegraph.io.dot.dot_text : draws with these highlights.
+
+    Examples
+    --------
+    >>> from tegraph.model.teg import TimedEventGraph
+    >>> from tegraph.analysis.cycle_time import cycle_time
+    >>> g = TimedEventGraph("ring"); _ = g.add_transition("a"); _ = g.add_transition("b")
+    >>> _ = g.add_place("a", "b", 0, 2); _ = g.add_place("b", "a", 1, 3)
+    >>> highlights(cycle_time(g))
+    Highlights(critical=frozenset({0, 1}), token_free=frozenset(), caption='period 5 (critical circuit in red)')
+    """
+    if result is None:
+        return Highlights()
+    if not result.applicable:
+        return Highlights(caption=result.reason or "")
+    if result.token_free_circuit is not None:
+        return Highlights(token_free=frozenset(result.token_free_places),
+                          caption="deadlock: circuit without token (dashed)")
+    if result.period is None:
+        return Highlights(caption="no circuit")
+    return Highlights(critical=frozenset(result.critical_places),
+                      caption=f"period {exact_text(result.period)} (critical circuit in red)")

@@ -1,0 +1,149 @@
+"""Text reports: :func:`render_text` renders any result of the project.
+
+Everything here returns strings; nothing prints. The command line decides
+where the strings go. One function renders each kind of result
+(``render_report``, ``render_cycle_time``, ``render_rules``...);
+:func:`render_text` picks it from the result's type.
+"""
+
+from __future__ import annotations
+
+from functools import singledispatch
+from typing import Any
+
+from tabulate import tabulate
+
+from ..analysis.cycle_time import CycleTimeResult
+from ..analysis.reachability import Reachability
+from ..analysis.results import Report
+from ..analysis.timed_reachability import TimedExploration
+from ..design.fix import FixResult
+from ..design.latency import ChainLatency
+from ..design.schedulability import Schedulability
+from ..design.timeline import Timeline
+from ._format import human
+from .design_text import render_fix, render_latency, render_rules, render_schedulability
+from .graph_text import render_cycle_time, render_reachability, render_timed_exploration
+from .timeline_text import render_timeline
+
+__all__ = ["render_report", "render_text"]
+
+
+def render_report(report: Report) -> str:
+    """The human report: verdicts with how they were obtained, then tables.
+
+    Returns
+    -------
+    str
+    """
+    u = report.unit
+    lines = [f"skeleton {report.name}" + (f" ({report.source})" if report.source else "")]
+    verdict = "live" if report.live else "NOT LIVE (deadlock)"
+    lines.append(f"liveness:    {verdict} — {report.methods.get('liveness', '')}")
+    consistent = "consistent" if report.consistent else "NOT CONSISTENT"
+    lines.append(f"timing:      {consistent} — {report.methods.get('timing', '')}")
+    lines.append(f"periods:     {report.methods.get('periods', '')}")
+    for d in report.deadlocks:
+        lines.append("")
+        lines.append("deadlock: token-free circuit " + " -> ".join([*d.events, d.events[0]]))
+        lines.append(f"  tasks on it: {', '.join(d.tasks)}")
+        if d.links:
+            lines.append(f"  links on it: {'; '.join(d.links)}")
+        lines.append(f"  what to change: {d.advice}")
+    if report.reorder is not None:
+        lines.append("")
+        if report.reorder["possible"]:
+            lines.append("reorder: a port order makes the skeleton live:")
+            for task, order in report.reorder["orders"].items():
+                lines.append(f"  {task}: inputs {order['inputs']}, outputs {order['outputs']}")
+        else:
+            lines.append("reorder: no port order makes the skeleton live "
+                         "(the precedence graph of reads, computes and writes has a circuit)")
+    rows = []
+    for g in report.groups:
+        transient = "-" if g.transient is None else f"k={g.transient[0]}, cyclicity {g.transient[1]}"
+        state = "dead" if not g.live else ("rate-consistent" if g.rate_consistent else "unbounded")
+        rows.append([g.index, ", ".join(g.tasks), ", ".join(g.clocks) or "-", state,
+                     human(g.period, u), transient])
+    lines.append("")
+    lines.append(tabulate(rows, headers=["group", "tasks", "clocks", "state", "period", "transient"]))
+    rows = []
+    for t in report.tasks.values():
+        if t.clock is None or t.period is None:
+            overrun = "-"
+        else:
+            overrun = "never" if t.overrun_at is None else f"at activation {t.overrun_at}"
+        if not t.overrun_decided:
+            overrun = "undecided (budget)"
+        rows.append([t.name, t.group, human(t.period, u), overrun, human(t.slack, u),
+                     "-" if t.critical is None else ("yes" if t.critical else "no")])
+    lines.append("")
+    lines.append(tabulate(rows, headers=["task", "group", "period", "overrun", "slack", "critical"]))
+    for g in report.groups:
+        if g.critical_circuit:
+            lines.append(f"critical circuit of group {g.index}: "
+                         + " -> ".join([*g.critical_circuit, g.critical_circuit[0]]))
+    if report.unbounded_places:
+        lines.append("")
+        lines.append("unbounded places (tokens pile up):")
+        for p in report.unbounded_places:
+            lines.append(f"  {p.src} -> {p.dst} [{p.kind}]: {p.advice}")
+    inv = report.invariants
+    lines.append("")
+    if inv.computed:
+        agree = "agrees" if inv.liveness_agrees else "DISAGREES"
+        lines.append(f"invariants: {inv.count} minimal p-semiflows, {inv.unmarked} without token; "
+                     f"the semiflow verdict {agree} with the circuit verdict")
+    else:
+        lines.append(f"invariants: not computed ({inv.reason})")
+    if report.design is not None:
+        lines += ["", render_rules(report.design["rules"]).rstrip("\n"),
+                  render_schedulability(report.design["schedulability"], u).rstrip("\n")]
+        lines += [render_latency(c, u).rstrip("\n") for c in report.design["latency"]]
+    for note in report.notes:
+        lines.append(f"note: {note}")
+    return "\n".join(lines) + "\n"
+
+
+@singledispatch
+def render_text(result: Any, **options: Any) -> str:
+    """The human report of any result: an analysis, a cycle time, a baseline, a design result.
+
+    Parameters
+    ----------
+    result : Report, CycleTimeResult, Reachability, TimedExploration, Schedulability,
+        ChainLatency, FixResult, Timeline, or a list of RuleFinding
+    **options
+        Passed to the renderer of that result (``unit`` for schedulability and
+        latency, ``limit`` for reachability, ``width`` for a timeline, ``name``
+        for a port repair).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    TypeError
+        For an object that is no result of this project.
+
+    Examples
+    --------
+    >>> from tegraph import Skeleton, analyze
+    >>> r = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 3}}}))
+    >>> render_text(r).splitlines()[0]
+    'skeleton skeleton'
+    """
+    raise TypeError(f"no text rendering for a {type(result).__name__}")
+
+
+render_text.register(Report, lambda result, **_: render_report(result))
+render_text.register(CycleTimeResult, lambda result, **_: render_cycle_time(result))
+render_text.register(Reachability, lambda result, limit=10, **_: render_reachability(result, limit))
+render_text.register(TimedExploration, lambda result, **_: render_timed_exploration(result))
+render_text.register(Schedulability,
+                     lambda result, unit="ms", **_: render_schedulability(result, unit))
+render_text.register(ChainLatency, lambda result, unit="ms", **_: render_latency(result, unit))
+render_text.register(FixResult, lambda result, name="skeleton", **_: render_fix(result, name))
+render_text.register(Timeline, lambda result, width=96, **_: render_timeline(result, width))
+render_text.register(list, lambda result, **_: render_rules(result))

@@ -1,0 +1,106 @@
+"""Text timing diagram of a fixed-priority simulation (ORCCAD Figure 17)."""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+from maxplus.scalar import exact_text
+
+from ..design.timeline import Timeline
+
+__all__ = ["render_timeline"]
+
+
+def render_timeline(timeline: Timeline, width: int = 96) -> str:
+    """The timing diagram as text: one row per task, then the exact order of execution.
+
+    ``#`` the task computes, ``X`` a late job computes, ``-`` released and
+    waiting (for the processor or for data); one row per clock marks its
+    ticks with ``^``.
+    Columns are exact when every time is a multiple of a step that fits
+    ``width`` columns; otherwise each column stands for an interval.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from tegraph import Skeleton, simulate_timeline
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
+    ...                                    "B": {"duration": 2, "period": 4}}})
+    >>> print("\\n".join(render_timeline(simulate_timeline(sk)).splitlines()[1:5]))
+    A       |# # | prio 2
+    B       |-#-#| prio 1
+    A.clock |^ ^ |
+    B.clock |^   |
+    """
+    u = timeline.unit
+    H = timeline.horizon
+    times = {Fraction(0), H}
+    for j in timeline.jobs:
+        times.add(j.release)
+        times.update(x for seg in j.segments for x in seg)
+        if j.finish is not None:
+            times.add(j.finish)
+    for ts in timeline.ticks.values():
+        times.update(ts)
+    step = _gcd_all(times)
+    exact = H / step <= width
+    columns = int(H / step) if exact else width
+    col = H / columns
+    shown = [c for c in timeline.ticks if any(timeline.clocks[t] == c for t in timeline.tasks)]
+    label = max(len(t) for t in [*timeline.tasks, *shown])
+    lines = [f"timeline {timeline.name}: 0 to {exact_text(H)} {u}, one column = "
+             f"{exact_text(col)} {u}" + ("" if exact else " (approximate drawing)")]
+    for t in timeline.tasks:
+        row = [" "] * columns
+        for j in (j for j in timeline.jobs if j.task == t):
+            _paint(row, j.release, j.finish if j.finish is not None else H, col, "-", keep="#X^")
+            for a, b in j.segments:
+                _paint(row, a, b, col, "X" if j.late else "#")
+        lines.append(f"{t:<{label}} |{''.join(row)}| prio {timeline.priorities[t]}")
+    for c in shown:
+        row = [" "] * columns
+        for x in timeline.ticks[c]:
+            row[min(int(x / col), columns - 1)] = "^"
+        lines.append(f"{c:<{label}} |{''.join(row)}|")
+    lines.append("")
+    lines.append("order of execution (exact):")
+    processors = list(dict.fromkeys(timeline.processors[t] for t in timeline.tasks))
+    for p in processors:
+        if len(processors) > 1:
+            lines.append(f"  processor {p or '(default)'}:")
+        for task, a, b in timeline.order_of_execution(p):
+            lines.append(f"  {exact_text(a):>8} - {exact_text(b):<8} {task}")
+    late = timeline.late_jobs
+    lines.append("")
+    for j in late:
+        end = ("is still running at the horizon" if j.finish is None
+               else f"ends at {exact_text(j.finish)} {u}")
+        lines.append(f"LATE: {j.task} activation {j.index} {end}, after the next tick at "
+                     f"{exact_text(j.deadline)} {u}")
+    if not late:
+        lines.append("every job ends by the next tick of its clock")
+    return "\n".join(lines) + "\n"
+
+
+def _paint(row: list[str], a: Fraction, b: Fraction, col: Fraction, ch: str,
+           keep: str = "") -> None:
+    """Fill the columns that meet [a, b) (at least the one holding a)."""
+    start = int(a / col)
+    stop = max(math.ceil(b / col), start + 1)
+    for k in range(start, min(stop, len(row))):
+        if row[k] not in keep:
+            row[k] = ch
+
+
+def _gcd_all(values: set[Fraction]) -> Fraction:
+    """The largest step of which every value is a multiple (exact)."""
+    num, den = 0, 1
+    for v in values:
+        num, den = math.gcd(num * v.denominator, v.numerator * den), den * v.denominator
+        g = math.gcd(num, den)
+        num, den = num // g, den // g
+    return Fraction(num, den) if num else Fraction(1)

@@ -1,0 +1,98 @@
+"""analyze(): figures checked against hand derivations and a long exact simulation."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from tegraph import analyze
+from tegraph.model.build import build_teg, last_event
+from tegraph.model.skeleton import Skeleton
+
+
+def _overruns_by_definition(sk: Skeleton, task: str, n: int) -> int | None:
+    """Spec §4 literally: smallest k >= 2 with x_last(k-1) > x_tick(k), over n firings."""
+    teg = build_teg(sk)
+    daters = teg.simulate(n)
+    last = daters[last_event(teg, task)]
+    tick = daters[teg.attrs["clocks"][sk.tasks[task].clock]]
+    for k in range(2, n + 1):
+        if last[k - 2] > tick[k - 1]:
+            return k
+    return None
+
+
+FAST_WRITER = {
+    "tasks": {
+        "W": {"duration": 1, "period": 2, "outputs": ["o"]},
+        "T": {"duration": 4, "period": 5, "inputs": ["i"]},
+    },
+    "links": [{"from": "W:o", "to": "T:i", "protocol": "ASYN/SYN"}],
+}
+
+
+def test_faster_writer_upstream_never_overrun_is_proven():
+    # W posts its k-th message at 2(k-1) + 1; T's clock ticks at 5(k-1).
+    # T.read(k) = max(T.activate(k), 2k - 1), T.activate(k) = max(5(k-1),
+    # T.compute(k-1) + 4): T.compute(1) = 1, then 5(k-1) for k >= 2 (W's
+    # message is always there in time). x_last(k-1) = T.compute(k-1) <= 5(k-2)
+    # < 5(k-1): never an overrun. W's place into T.read is unbounded (W is
+    # faster), so the group is not rate-consistent and no full state repeats:
+    # the proof needs the bounds of regime_bounds.
+    sk = Skeleton.from_dict(FAST_WRITER)
+    report = analyze(sk)
+    t = report.tasks["T"]
+    assert t.period == 5 and t.overrun_at is None and t.overrun_decided
+    assert report.groups[0].rate_consistent is False
+    assert [u.kind for u in report.unbounded_places] == ["messages-overwritten"]
+    assert _overruns_by_definition(sk, "T", 300) is None
+
+
+def test_late_fast_writer_overruns_at_2():
+    # W starts at 13: its k-th message comes at 13 + 2(k-1) + 1 = 2k + 12, so
+    # T.read(1) = 14 = T.compute(1) > T's second tick at 5: overrun at k = 2.
+    data = {**FAST_WRITER, "tasks": {**FAST_WRITER["tasks"],
+                                     "W": {"duration": 1, "period": 2, "phase": 13,
+                                           "outputs": ["o"]}}}
+    sk = Skeleton.from_dict(data)
+    assert analyze(sk).tasks["T"].overrun_at == 2
+    assert _overruns_by_definition(sk, "T", 50) == 2
+
+
+def test_fractional_period_and_slack_are_exact():
+    # One task of duration 1/3 on a clock of period 7/3: period 7/3, slack 2.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": "1/3", "period": "7/3"}}})
+    report = analyze(sk)
+    assert report.tasks["A"].period == Fraction(7, 3)
+    assert report.tasks["A"].slack == 2
+    assert report.to_dict()["groups"][0]["period"] == "7/3"
+
+
+def test_thread_period_is_the_sum_of_its_tasks():
+    # Thread [A, B], no clocks, no outputs: the thread circuit is A.compute ->
+    # B.compute -> A.compute holding 3 + 4 with 1 token (the thread-return
+    # place): both tasks run every 7. Each chain alone (3 or 4 per token)
+    # is faster, so the thread circuit is critical: slack 0 for both.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 3}, "B": {"duration": 4}},
+                             "threads": [["A", "B"]]})
+    report = analyze(sk)
+    assert report.groups[0].period == 7
+    assert report.tasks["A"].slack == 0 and report.tasks["B"].critical is True
+
+
+def test_transient_and_cyclicity_of_a_two_token_circuit():
+    # SYN/SYN rendezvous between A (clock 4, duration 1) and B (no clock,
+    # duration 6): B's chain (read/rendezvous -> compute -> return, holding 6,
+    # 1 token) is slower than the clock, so A waits: the group runs at 6, the
+    # clock place is unbounded, not rate-consistent.
+    sk = Skeleton.from_dict({
+        "tasks": {"A": {"duration": 1, "period": 4, "outputs": ["x"]},
+                  "B": {"duration": 6, "inputs": ["x"]}},
+        "links": [{"from": "A:x", "to": "B:x", "protocol": "SYN/SYN"}]})
+    report = analyze(sk)
+    assert report.tasks["A"].period == 6 and report.tasks["B"].period == 6
+    assert [u.kind for u in report.unbounded_places] == ["clock-overrun"]
+    # A's last event is the rendezvous A.write:x: x(1) = 1, x(2) = 7 (B's
+    # compute ends at 1 + 6), ticks at 0, 4, 8: x_last(2) = 7 <= 8, x_last(3)
+    # = 13 > 12: overrun at k = 4.
+    assert report.tasks["A"].overrun_at == 4
+    assert _overruns_by_definition(sk, "A", 20) == 4

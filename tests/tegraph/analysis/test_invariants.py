@@ -1,0 +1,176 @@
+"""Minimal p-semiflows: against circuit enumeration and hand-computed nets."""
+
+from __future__ import annotations
+
+import itertools
+
+import networkx as nx
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from tegraph.analysis.invariants import minimal_semiflows
+
+
+@st.composite
+def marked_graphs(draw):
+    n = draw(st.integers(1, 6))
+    m = draw(st.integers(1, 10))
+    node = st.integers(0, n - 1)
+    return n, draw(st.lists(st.tuples(node, node), min_size=m, max_size=m))
+
+
+@settings(max_examples=200, deadline=None)
+@given(marked_graphs())
+def test_marked_graph_semiflows_are_its_elementary_circuits(graph):
+    # In a marked graph the supports of the minimal p-semiflows are exactly
+    # the elementary circuits (as sets of places), each with coefficients 1.
+    n, arcs = graph
+    C = np.zeros((len(arcs), n), dtype=int)
+    for p, (a, b) in enumerate(arcs):
+        C[p, a] += 1
+        C[p, b] -= 1
+    expected = set()
+    for cycle in nx.simple_cycles(nx.DiGraph(arcs)):
+        pairs = list(zip(cycle, cycle[1:] + cycle[:1]))
+        choices = [[p for p, arc in enumerate(arcs) if arc == pair] for pair in pairs]
+        expected.update(tuple(sorted(c)) for c in itertools.product(*choices))
+    for method in ("dense", "sparse"):
+        result = minimal_semiflows(C, method=method)
+        assert result.computed
+        got = sorted(tuple(np.flatnonzero(y).tolist()) for y in result.semiflows)
+        assert got == sorted(expected), method
+        assert all(set(y.tolist()) <= {0, 1} for y in result.semiflows)
+
+
+def test_weighted_net_semiflow_by_hand():
+    # t0 takes 2 tokens from p0 and puts 1 in p1; t1 takes 1 from p1 and puts
+    # 2 in p0. y = (1, 2): y.C = (−2 + 2, 2 − 2) = 0, and it is the only
+    # minimal one (the kernel of C^T is one-dimensional).
+    C = np.array([[-2, 2], [1, -1]])
+    result = minimal_semiflows(C)
+    assert [y.tolist() for y in result.semiflows] == [[1, 2]]
+
+
+def test_budget_is_reported():
+    # Two transitions joined by 6 parallel places each way: 36 circuits of 2
+    # places; a budget of 10 rows cannot hold them.
+    C = np.array([[1, -1]] * 6 + [[-1, 1]] * 6)
+    for method in ("dense", "sparse"):
+        assert len(minimal_semiflows(C, method=method).semiflows) == 36
+        assert minimal_semiflows(C, budget=10, method=method).computed is False
+
+
+def _minimal_semiflows_by_kernels(C: np.ndarray) -> set[tuple[int, ...]]:
+    """Minimal supports by brute force over place subsets, smallest first.
+
+    A support S is that of a minimal p-semiflow exactly when no smaller one
+    lies inside it and the kernel of C[S]ᵀ is one-dimensional, spanned by a
+    vector with every entry non-zero and of one sign (if the kernel were
+    larger, a combination of two semiflows on S would zero an entry while
+    staying >= 0, giving a smaller support).
+    """
+    import sympy
+
+    found: list[frozenset[int]] = []
+    result = set()
+    for size in range(1, C.shape[0] + 1):
+        for S in itertools.combinations(range(C.shape[0]), size):
+            if any(f <= set(S) for f in found):
+                continue
+            kernel = sympy.Matrix(C[list(S)].tolist()).T.nullspace()
+            if len(kernel) != 1:
+                continue
+            v = list(kernel[0])
+            if all(x > 0 for x in v) or all(x < 0 for x in v):
+                found.append(frozenset(S))
+                result.add(S)
+    return result
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 6).flatmap(lambda p: st.integers(1, 4).flatmap(
+    lambda t: st.lists(st.lists(st.integers(-2, 2), min_size=t, max_size=t),
+                       min_size=p, max_size=p))))
+def test_weighted_net_semiflows_equal_brute_force(rows):
+    # Any P/T net (weights up to 2, places both input and output of a
+    # transition folded into one entry): Farkas against the kernel test.
+    C = np.array(rows, dtype=np.int64)
+    expected = _minimal_semiflows_by_kernels(C)
+    for method in ("dense", "sparse"):
+        result = minimal_semiflows(C, method=method)
+        assert result.computed
+        assert {tuple(np.flatnonzero(y).tolist()) for y in result.semiflows} == expected, method
+        for y in result.semiflows:
+            assert not (y @ C).any() and (y >= 0).all() and np.gcd.reduce(y) == 1
+
+
+@settings(max_examples=60, deadline=None)
+@given(marked_graphs(), st.integers(1, 12))
+def test_both_tables_run_out_of_budget_alike(graph, budget):
+    n, arcs = graph
+    C = np.zeros((len(arcs), n), dtype=int)
+    for p, (a, b) in enumerate(arcs):
+        C[p, a] += 1
+        C[p, b] -= 1
+    dense = minimal_semiflows(C, budget, method="dense")
+    sparse = minimal_semiflows(C, budget, method="sparse")
+    assert dense.computed == sparse.computed
+    assert dense.count == sparse.count
+
+
+# Dense and sparse tables: same rows and budget verdict on any net, and edge cases.
+
+nets = st.integers(1, 8).flatmap(lambda p: st.integers(0, 5).flatmap(
+    lambda t: st.lists(st.lists(st.integers(-2, 2), min_size=t, max_size=t), min_size=p, max_size=p)))
+
+
+def rows_of(res):
+    return sorted(tuple(y.tolist()) for y in res.semiflows)
+
+
+@settings(deadline=None)
+@given(nets, st.integers(0, 15))
+def test_dense_sparse_same_rows_and_budget_on_weighted_nets(rows, budget):
+    C = np.array(rows, dtype=np.int64).reshape(len(rows), -1)
+    d = minimal_semiflows(C, budget, method="dense")
+    s = minimal_semiflows(C, budget, method="sparse")
+    assert d.computed == s.computed
+    assert rows_of(d) == rows_of(s)
+    full = minimal_semiflows(C, 10**6, method="dense")
+    for y in full.semiflows:
+        assert not (y @ C).any() and (y >= 0).all() and y.any() and np.gcd.reduce(y) == 1
+    if d.computed:
+        assert rows_of(d) == rows_of(full)
+
+
+@pytest.mark.parametrize("method", ["dense", "sparse", "auto"])
+@pytest.mark.parametrize("shape", [(0, 0), (0, 3), (3, 0), (1, 1), (4, 2)])
+def test_all_zero_and_empty(method, shape):
+    C = np.zeros(shape, dtype=int)
+    r = minimal_semiflows(C, method=method)
+    assert r.computed
+    assert r.matrix.shape == (shape[0], shape[0])
+    assert sorted(map(tuple, (y.tolist() for y in r.semiflows))) == sorted(
+        tuple(int(i == k) for i in range(shape[0])) for k in range(shape[0]))
+
+
+@pytest.mark.parametrize("method", ["dense", "sparse"])
+def test_explicit_zeros_and_self_loops_in_sparse_input(method):
+    # places 0, 1: circuit t0 <-> t1; place 2: self-loop of t0 (a zero row), stored explicitly
+    C = sp.csr_matrix((np.array([-1, 1, 1, -1, 0]), (np.array([0, 0, 1, 1, 2]), np.array([0, 1, 0, 1, 0]))),
+                      shape=(3, 2))
+    r = minimal_semiflows(C, method=method)
+    assert [y.tolist() for y in r.semiflows] == [[1, 1, 0], [0, 0, 1]]
+
+
+@pytest.mark.parametrize("method", ["dense", "sparse"])
+def test_transition_without_places_and_source_sink(method):
+    # t0 -> p0 -> t1 (t0 source, t1 sink): no semiflow; t2 touches nothing
+    C = np.array([[1, -1, 0]])
+    assert minimal_semiflows(C, method=method).count == 0
+    # weighted: 2 p0 = p1 around t0/t1
+    C = np.array([[2, -2], [-1, 1]])
+    assert [y.tolist() for y in minimal_semiflows(C, method=method).semiflows] == [[1, 2]]

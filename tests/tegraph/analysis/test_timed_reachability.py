@@ -1,0 +1,202 @@
+"""The timed baseline (:mod:`tegraph.timed_reachability`) against hand derivations and
+against the (max,+) figures of :func:`tegraph.analyze`, the other algorithm.
+
+The agreement contract: wherever the baseline concludes, its period,
+transient (K, c) and first overrun equal the (max,+) ones; and it concludes on
+every rate-consistent group (a bounded timed state space must repeat).
+``analyze(..., design=False)``: the design section compares with nothing here.
+"""
+
+from __future__ import annotations
+
+import json
+import random
+from fractions import Fraction as F
+from functools import cache
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+from tegraph import Skeleton, analyze, load_skeleton, render_text
+from tegraph.analysis.timed_reachability import timed_reachability
+from tegraph.cli import app
+from tests.paths import REPO
+from tests.tegraph.skeleton_corpus import random_skeleton, write_corpus
+
+SETTINGS = settings(max_examples=60, deadline=None,
+                    suppress_health_check=[HealthCheck.too_slow])
+CORPUS_SIZE = 300
+BUDGET = 3000
+EXAMPLES = REPO / "examples"
+
+# The ORCCAD double synchronization: A and B share a clock (period 4, phase 1)
+# and B also waits for A's message. By hand: A computes at 4k-3 and writes at
+# 4k; B activates at 1, then at max(4k-3, 4(k-1)+3) = 4k-1, reads and computes
+# at 4k, writes at 4k+3 > 4k+1 = the next tick: period 4, transient K=2 (B's
+# activation daters 1, 7, 11, 15... are periodic from k=2), c=1, overrun at 2.
+DOUBLE_SYNC = {"clocks": {"c": {"period": 4, "phase": 1}}, "tasks": {
+    "A": {"duration": 3, "clock": "c", "outputs": ["x"]},
+    "B": {"duration": 3, "clock": "c", "inputs": ["x"], "outputs": ["y"]}},
+    "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]}
+
+
+# ------------------------------------------------------------------ hand derivations
+
+def test_one_clocked_task() -> None:
+    # compute fires at 1, 5, 9...: periodic from k=1, and done at 4k-3+3 < 4k+1.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 3, "period": 4, "phase": 1}}})
+    r = timed_reachability(sk)
+    assert (r.complete, r.ended_by) == (True, "repeat")
+    assert (r.groups[0].period, r.groups[0].transient) == (F(4), (1, 1))
+    assert (r.tasks["A"].period, r.tasks["A"].overrun_at, r.tasks["A"].decided) == (F(4), None, True)
+    assert r.exit_status == 0
+
+
+def test_double_synchronization_overruns_in_step() -> None:
+    r = timed_reachability(Skeleton.from_dict(DOUBLE_SYNC))
+    g = r.groups[0]
+    assert (g.period, g.transient, r.tasks["B"].overrun_at, r.tasks["A"].overrun_at) == (
+        F(4), (2, 1), 2, None)
+    assert r.exit_status == 1
+
+
+@pytest.mark.parametrize("periods, lcm", [([2, 3], 6), ([2, 3, 5], 30)])
+def test_the_whole_state_repeats_at_the_lcm_of_independent_periods(periods, lcm) -> None:
+    """Tasks of duration 1, phase 0: every token is back in place exactly at the lcm."""
+    sk = Skeleton.from_dict({"tasks": {f"T{p}": {"duration": 1, "period": p} for p in periods}})
+    r = timed_reachability(sk)
+    assert r.ended_by == "repeat" and r.time_reached == lcm
+    assert [(g.period, g.transient) for g in r.groups] == [(F(p), (1, 1)) for p in periods]
+
+
+def test_zero_duration_circuits() -> None:
+    # An unclocked task of duration 0 fires at 0 forever: period 0 from k=1.
+    r = timed_reachability(Skeleton.from_dict({"tasks": {"Z": {"duration": 0}}}))
+    assert (r.complete, r.groups[0].period, r.groups[0].transient) == (True, F(0), (1, 1))
+    # One that floods a reader of duration 1 never lets time move: that group is
+    # set aside as stalled at 0, and the independent clocked task is still found.
+    sk = Skeleton.from_dict({
+        "tasks": {"W": {"duration": 0, "outputs": ["x"]}, "R": {"duration": 1, "inputs": ["x"]},
+                  "C": {"duration": 1, "period": 2}},
+        "links": [{"from": "W:x", "to": "R:x", "protocol": "ASYN/SYN"}]})
+    r = timed_reachability(sk)
+    assert (r.groups[0].stalled_at, r.groups[0].period) == (F(0), None)
+    assert (r.groups[1].period, r.groups[1].transient, r.tasks["C"].decided) == (F(2), (1, 1), True)
+
+
+def test_a_deadlocked_group_stops_firing() -> None:
+    sk = load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml")  # every task waits to read
+    r = timed_reachability(sk)
+    assert (r.complete, r.ended_by, r.firings, r.groups[0].stuck_after) == (
+        True, "quiescence", 0, F(0))
+    assert r.exit_status == 1 and "deadlock" in render_text(r)
+
+
+def test_budget_stop_and_progress() -> None:
+    sk = load_skeleton(EXAMPLES / "fig12_double_sync.yaml")  # not rate-consistent: no repeat
+    report = analyze(sk, design=False)
+    r = timed_reachability(sk, max_states=500)
+    assert (r.states, r.complete, r.stopped_by) == (500, False, "states")
+    assert r.groups[0].period is None
+    # The overrun is seen on the way; the task that never overruns stays undecided.
+    for name, task in report.tasks.items():
+        if task.overrun_at is not None:
+            assert (r.tasks[name].overrun_at, r.tasks[name].decided) == (task.overrun_at, True)
+        elif sk.tasks[name].clock is not None:
+            assert (r.tasks[name].overrun_at, r.tasks[name].decided) == (None, False)
+    calls: list[int] = []
+    r = timed_reachability(sk, progress=lambda s, f, sec: calls.append(f),
+                           stop=lambda: len(calls) >= 2)
+    assert r.stopped_by == "interrupted" and calls == sorted(calls) and calls[-1] == r.firings
+    r = timed_reachability(sk, max_seconds=0)
+    assert r.stopped_by == "time"
+
+
+# ------------------------------------------------------------------ agreement
+
+def check_agreement(sk: Skeleton) -> None:
+    report = analyze(sk, design=False)
+    r = timed_reachability(sk, max_states=BUDGET)
+    assert [g.tasks for g in r.groups] == [g.tasks for g in report.groups]
+    for g, b in zip(report.groups, r.groups):
+        if g.rate_consistent:
+            assert b.period is not None, f"group {g.index} did not repeat"
+        if b.period is not None:
+            assert (b.period, b.transient) == (g.period, g.transient)
+    for name, t in report.tasks.items():
+        b = r.tasks[name]
+        group = report.groups[t.group]
+        if not group.live:
+            continue  # analyze reports the deadlock there, not overruns
+        if group.rate_consistent:
+            assert b.decided and b.period == t.period
+        if b.decided and t.overrun_decided:
+            assert b.overrun_at == t.overrun_at
+        if b.overrun_at is not None:  # the first overrun seen is the first there is
+            assert b.overrun_at == t.overrun_at
+
+
+@SETTINGS
+@given(st.randoms(use_true_random=False))
+def test_figures_equal_the_maxplus_ones(rng: random.Random) -> None:
+    check_agreement(Skeleton.from_dict(random_skeleton(rng)))
+
+
+@pytest.fixture(scope="session")
+def corpus(tmp_path_factory: pytest.TempPathFactory) -> list[Path]:
+    return write_corpus(tmp_path_factory.mktemp("timed-corpus"), CORPUS_SIZE)
+
+
+@cache
+def _load(path: Path) -> Skeleton:
+    return load_skeleton(path)
+
+
+@pytest.mark.parametrize("seed", range(CORPUS_SIZE))
+def test_corpus_figures(corpus: list[Path], seed: int) -> None:
+    check_agreement(_load(corpus[seed]))
+
+
+def test_corpus_exercises_every_figure(corpus: list[Path]) -> None:
+    """Not vacuous: repeats with K > 1 and c > 1, and overruns, are all compared."""
+    transients, overruns = set(), 0
+    for path in corpus:
+        report = analyze(_load(path), design=False)
+        transients |= {g.transient for g in report.groups if g.transient}
+        overruns += sum(t.overrun_at is not None for t in report.tasks.values())
+    assert any(k > 1 for k, _ in transients) and any(c > 1 for _, c in transients)
+    assert overruns >= 50
+
+
+@pytest.mark.parametrize("example", sorted(p.name for p in EXAMPLES.glob("*.yaml")))
+def test_examples(example: str) -> None:
+    check_agreement(load_skeleton(EXAMPLES / example))
+
+
+# ------------------------------------------------------------------ command line
+
+def test_cli_timed_json(tmp_path: Path) -> None:
+    f = tmp_path / "double.json"
+    f.write_text(json.dumps(DOUBLE_SYNC))
+    out = CliRunner().invoke(app, ["reach", str(f), "--timed", "--json"])
+    assert out.exit_code == 1, out.output
+    d = json.loads(out.stdout)
+    assert d["complete"] is True and d["states"] > 0
+    assert d["tasks"]["B"]["period"] == "4" and d["tasks"]["B"]["overrun_at"] == 2
+    assert d["tasks"]["A"]["overrun_at"] is None
+    assert [(g["tasks"], g["period"], g["transient"]) for g in d["groups"]] == [
+        (["A", "B"], "4", {"k": 2, "cyclicity": 1})]
+
+
+def test_cli_timed_agrees_with_analyze_json() -> None:
+    f = str(EXAMPLES / "ring_two_tokens.yaml")
+    runner = CliRunner()
+    timed = json.loads(runner.invoke(app, ["reach", f, "--timed", "--json"]).stdout)
+    maxplus = json.loads(runner.invoke(app, ["analyze", f, "--json"]).stdout)
+    assert [(g["period"], g["transient"]) for g in timed["groups"]] == [
+        (g["period"], g["transient"]) for g in maxplus["groups"]]
+    out = runner.invoke(app, ["reach", f, "--timed", "--max-states", "3"])
+    assert out.exit_code == 0 and "inconclusive (budget 3 states reached)" in out.stdout

@@ -1,0 +1,212 @@
+"""Port-order repair: the fixed skeleton is live (re-analyzed), only what must
+change changes, and the synchronizing ports move as footnote 6 advises.
+
+"Must change" is checked independently of :mod:`tegraph.fix`: on the timed
+event graph of the *input* (built by :mod:`tegraph.build`), a side of a task
+(its inputs or its outputs) may change only if one of its chain places
+between two reads (or two writes) lies in a strongly connected part of the
+0-token places, i.e. on a token-free circuit (networkx, not the precedence
+graph that fix.py uses).
+"""
+
+from __future__ import annotations
+
+import random
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import networkx as nx
+import pytest
+
+from tegraph import analyze, build_teg, load_skeleton
+from tegraph.analysis.reorder import reorder_ports
+from tegraph.design.fix import fix_ports
+from tegraph.model.skeleton import Skeleton
+from tegraph.report.design_text import render_fix
+from tests.paths import REPO
+
+EXAMPLES = REPO / "examples"
+FIG7B = {"tasks": {
+    "MT1": {"duration": 2, "period": 10, "inputs": ["q"], "outputs": ["a", "d"]},
+    "MT2": {"duration": 1, "inputs": ["c", "a"], "outputs": ["tau"]},
+    "MT3": {"duration": 3, "inputs": ["d"], "outputs": ["c"]}},
+    "links": [{"from": "MT1:a", "to": "MT2:a", "protocol": "SYN/SYN"},
+              {"from": "MT1:d", "to": "MT3:d", "protocol": "ASYN/SYN"},
+              {"from": "MT3:c", "to": "MT2:c", "protocol": "ASYN/SYN"}]}
+
+
+def sides_on_token_free_circuits(sk: Skeleton) -> set[tuple[str, str]]:
+    """Sides whose declared order has a place inside a 0-token strong component."""
+    teg = build_teg(sk)
+    names = teg.transition_names
+    zero = nx.DiGraph()
+    zero.add_nodes_from(range(teg.n_transitions))
+    zero.add_edges_from((p.src, p.dst) for p in teg.places if p.tokens == 0)
+    comp = {v: i for i, c in enumerate(nx.strongly_connected_components(zero)) for v in c}
+    out = set()
+    for p in teg.places:
+        if p.kind != "chain" or comp[p.src] != comp[p.dst] or p.tokens:
+            continue
+        a, b = names[p.src], names[p.dst]
+        task = p.origin["task"]
+        # Between two reads (a SYN/SYN read is named by its writer's event) or two writes.
+        reads = [e for e in (a, b) if ".read:" in e or (".write:" in e and not e.startswith(task + "."))]
+        writes = [e for e in (a, b) if e.startswith(task + ".write:")]
+        if len(reads) == 2:
+            out.add((task, "inputs"))
+        elif len(writes) == 2:
+            out.add((task, "outputs"))
+    return out
+
+
+def test_figure_7b_reads_mt1_first():
+    sk = Skeleton.from_dict(FIG7B)
+    r = fix_ports(sk)
+    # Spec example fig7b: (b) MT2 inputs [a, c] is one of the live orders; MT1's
+    # outputs [a, d] also lie on the circuit but are tried first (file order) and
+    # can stay once MT2 reads a first.
+    assert r.status == "fixed"
+    assert [(c.task, c.side, c.before, c.after) for c in r.changes] == [
+        ("MT2", "inputs", ("c", "a"), ("a", "c"))]
+    assert r.skeleton.tasks["MT1"].outputs == ("a", "d")
+    assert analyze(r.skeleton).live
+    assert "MT2 inputs [c, a] -> [a, c]" in render_fix(r, "fig7b")
+
+
+def test_synchronizing_input_read_first():
+    # Figure 7b with an unlinked sensor input u declared between c and a. a must come
+    # before c (MT1.write:a -> MT1.write:d -> MT3 -> MT2.read:c is forced); u is not
+    # synchronizing, so footnote 6 reads it last: [a, c, u].
+    data = {**FIG7B, "tasks": {**FIG7B["tasks"],
+                               "MT2": {"duration": 1, "inputs": ["c", "u", "a"],
+                                       "outputs": ["tau"]}}}
+    r = fix_ports(Skeleton.from_dict(data))
+    assert r.skeleton.tasks["MT2"].inputs == ("a", "c", "u")
+    assert "synchronizing inputs read first (footnote 6)" in r.changes[0].reason
+    assert analyze(r.skeleton).live
+
+
+def test_blocking_output_posted_last():
+    # R reads x (ASYN/SYN: waits for W) then s (SYN/ASYN: posts a request); W posts s
+    # (waits for R's request) then x then y (unlinked): W.write:s -> W.write:x ->
+    # R.read:x -> R.read:s -> W.write:s is a token-free circuit. R comes first in the
+    # file, so its inputs [x, s] are kept and W's outputs change: x must precede s,
+    # and y, which never blocks, is posted before the blocking s: [x, y, s].
+    sk = Skeleton.from_dict({"tasks": {
+        "R": {"duration": 1, "inputs": ["x", "s"]},
+        "W": {"duration": 1, "period": 10, "outputs": ["s", "x", "y"]}},
+        "links": [{"from": "W:s", "to": "R:s", "protocol": "SYN/ASYN"},
+                  {"from": "W:x", "to": "R:x", "protocol": "ASYN/SYN"}]})
+    assert not analyze(sk).live
+    r = fix_ports(sk)
+    assert [(c.task, c.side, c.after) for c in r.changes] == [("W", "outputs", ("x", "y", "s"))]
+    assert "blocking outputs posted last" in r.changes[0].reason
+    assert analyze(r.skeleton).live
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.yaml")))
+def test_every_example(name):
+    sk = load_skeleton(EXAMPLES / name)
+    r = fix_ports(sk)
+    report = analyze(sk)
+    if report.live:
+        assert (r.status, r.skeleton, r.changes) == ("already live", sk, [])
+    elif name == "fig7a_circular_wait.yaml":
+        # Every task has one input and one output: no order to change; the circuit
+        # passes through the three ASYN/SYN links.
+        assert r.status == "impossible" and r.skeleton is None
+        assert sorted(r.links) == ["MT1:a -> MT3:a (ASYN/SYN)", "MT2:b -> MT1:b (ASYN/SYN)",
+                                   "MT3:c -> MT2:c (ASYN/SYN)"]
+        assert "turn one of these links asynchronous" in render_fix(r)
+    else:
+        assert r.status == "fixed" and analyze(r.skeleton).live
+
+
+def random_skeleton(rng: random.Random) -> Skeleton:
+    n = rng.randint(2, 5)
+    names = [f"T{i}" for i in range(n)]
+    tasks, clocks = {}, {}
+    for i, name in enumerate(names):
+        body = {"duration": rng.randint(0, 3), "inputs": [f"i{j}" for j in range(rng.randint(0, 3))],
+                "outputs": [f"o{i}_{j}" for j in range(rng.randint(1, 3))]}
+        if rng.random() < 0.4:
+            body["period"] = rng.randint(1, 10)
+        tasks[name] = body
+    links = []
+    for name in names:
+        for port in tasks[name]["inputs"]:
+            if rng.random() < 0.85:
+                w = rng.choice([x for x in names if x != name])
+                links.append({"from": f"{w}:{rng.choice(tasks[w]['outputs'])}", "to": f"{name}:{port}",
+                              "protocol": rng.choice(["ASYN/SYN", "SYN/ASYN", "SYN/SYN", "ASYN/SYN"])})
+    threads = []
+    if rng.random() < 0.2:
+        threads = [rng.sample(names, 2)]
+    return Skeleton.from_dict({"tasks": tasks, "links": links, "threads": threads, "clocks": clocks})
+
+
+def test_random_dead_but_reorderable_skeletons():
+    rng = random.Random(20240611)
+    tried = 0
+    while tried < 60:
+        sk = random_skeleton(rng)
+        if analyze(sk, semiflow_max_places=0).live or not reorder_ports(sk).possible:
+            continue
+        tried += 1
+        must = sides_on_token_free_circuits(sk)
+        r = fix_ports(sk)
+        assert r.status == "fixed"
+        assert analyze(r.skeleton, semiflow_max_places=0).live
+        for c in r.changes:
+            assert (c.task, c.side) in must, (c, must)
+            assert sorted(c.after) == sorted(c.before)
+        # Everything but the port orders is untouched.
+        for name, task in sk.tasks.items():
+            fixed = r.skeleton.tasks[name]
+            assert (fixed.duration, fixed.clock) == (task.duration, task.clock)
+        assert (r.skeleton.links, r.skeleton.threads, r.skeleton.clocks) == \
+            (sk.links, sk.threads, sk.clocks)
+
+
+# ------------------------------------------------------------------ command line
+
+def run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False, capture_output=True,
+                          text=True, timeout=120, cwd=cwd)
+
+
+def test_cli_fix_writes_a_live_skeleton(tmp_path):
+    out = tmp_path / "fixed.yaml"
+    done = run("fix", str(EXAMPLES / "fig7b_wrong_order.yaml"), "-o", str(out))
+    assert done.returncode == 0, done.stderr
+    assert "MT2 inputs [c, a] -> [a, c]" in done.stdout
+    fixed = load_skeleton(out)
+    assert fixed.tasks["MT2"].inputs == ("a", "c") and analyze(fixed).live
+    # The output exists now: refused without --force, replaced with it.
+    again = run("fix", str(EXAMPLES / "fig7b_wrong_order.yaml"), "-o", str(out))
+    assert again.returncode == 2 and "pass --force" in again.stderr
+    assert run("fix", str(EXAMPLES / "fig7b_wrong_order.yaml"), "-o", str(out),
+               "--force").returncode == 0
+
+
+def test_cli_fix_replaces_the_input_only_when_named(tmp_path):
+    src = tmp_path / "fig7b.yaml"
+    shutil.copy(EXAMPLES / "fig7b_wrong_order.yaml", src)
+    before = src.read_text()
+    dry = run("fix", str(src))
+    assert dry.returncode == 0 and src.read_text() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fig7b.yaml"]
+    done = run("fix", str(src), "-o", str(src))
+    assert done.returncode == 0 and load_skeleton(src).tasks["MT2"].inputs == ("a", "c")
+
+
+def test_cli_fix_refuses_when_no_order_helps(tmp_path):
+    out = tmp_path / "x.yaml"
+    done = run("fix", str(EXAMPLES / "fig7a_circular_wait.yaml"), "-o", str(out))
+    assert done.returncode == 1 and not out.exists()
+    assert "no port order makes it live" in done.stdout
+    assert "MT2:b -> MT1:b (ASYN/SYN)" in done.stdout and "nothing written" in done.stdout
+    bad = run("fix", str(tmp_path / "missing.yaml"))
+    assert bad.returncode == 2 and "no such file" in bad.stderr

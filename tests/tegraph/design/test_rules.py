@@ -1,0 +1,316 @@
+"""Design rules 1-4 of ORCCAD section 6, and the spec §6 keys they read.
+
+Every expected finding is derived by hand from the skeleton in the test (the
+synchronizations of each task are listed in a comment); the groups are
+cross-checked against the weakly connected parts that ``analyze`` computes
+on the timed event graph (a different algorithm).
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from fractions import Fraction as F
+
+import pytest
+
+from tegraph import SkeletonError, analyze, load_skeleton
+from tegraph.design.rules import (
+    check_rules,
+    is_automaton,
+    proposed_priorities,
+    synchronizations,
+    synchronized_groups,
+)
+from tegraph.io import dump_skeleton
+from tegraph.model.skeleton import Skeleton
+from tegraph.report.design_text import render_rules
+from tests.paths import REPO
+
+EXAMPLES = REPO / "examples"
+
+
+def sk(data: dict) -> Skeleton:
+    return Skeleton.from_dict(data)
+
+
+def of_rule(findings, rule: int, severity: str | None = None):
+    return [f for f in findings if f.rule == rule and (severity is None or f.severity == severity)]
+
+
+# Computed torque (Figure 15): OBS.JL {clock obs}, TG.JS {clock ctl}, TF.TT.JS {input qd},
+# CO.JS {input e; M, N are ASYN/ASYN}, MOD.DYN {clock dyn}: one synchronization each;
+# groups {OBS.JL} (1 ms), {TG.JS, TF.TT.JS, CO.JS} (2 ms), {MOD.DYN} (6 ms), one clock each.
+def computed_torque(**priorities: int) -> Skeleton:
+    data = load_skeleton(EXAMPLES / "computed_torque.yaml").to_dict()
+    for task, p in priorities.items():
+        data["tasks"][task.replace("_", ".")]["priority"] = p
+    return Skeleton.from_dict(data)
+
+
+# ------------------------------------------------------------------ Rule 1
+
+def test_rule1_passes_when_each_task_has_one_synchronization():
+    findings = check_rules(load_skeleton(EXAMPLES / "fig4_pipeline_synchronized.yaml"))
+    # MT1 {clock rtc}, MT2..MT4 {their ASYN/SYN input}: exactly one each.
+    assert of_rule(findings, 1) == []
+
+
+def test_rule1_double_synchronization_of_figure_12():
+    s = load_skeleton(EXAMPLES / "fig12_double_sync.yaml")
+    # MT2 has its private clock MT2.clock AND reads y ASYN/SYN from MT1: two.
+    assert [x.label for x in synchronizations(s, "MT2")] == [
+        "clock MT2.clock", "input MT2:y (MT1:y -> MT2:y (ASYN/SYN))"]
+    (f,) = of_rule(check_rules(s), 1)
+    assert (f.severity, f.tasks, f.ports, f.links) == (
+        "error", ("MT2",), ("MT2:y",), ("MT1:y -> MT2:y (ASYN/SYN)",))
+    assert "2 synchronizations" in f.message
+    # Footnote 6: keep the input read first, drop the clock.
+    assert "keep only the input MT2:y" in f.advice
+    assert "remove the clock MT2.clock" in f.advice
+
+
+def test_rule1_counts_blocking_outputs_and_rendezvous():
+    # W: clock c + output a posted SYN/ASYN (W blocks) = 2; R reads a SYN/ASYN (never
+    # blocks) = 0 and is in no thread -> warning.
+    s = sk({"clocks": {"c": {"period": 5}},
+            "tasks": {"W": {"duration": 1, "clock": "c", "outputs": ["a"]},
+                      "R": {"duration": 1, "inputs": ["a"]}},
+            "links": [{"from": "W:a", "to": "R:a", "protocol": "SYN/ASYN"}]})
+    errors = of_rule(check_rules(s), 1, "error")
+    assert [(f.tasks, f.ports) for f in errors] == [(("W",), ("W:a",))]
+    assert "make W:a -> R:a (SYN/ASYN) ASYN/ASYN" in errors[0].advice
+    warnings = of_rule(check_rules(s), 1, "warning")
+    assert [f.tasks for f in warnings] == [("R",)]
+    assert "no synchronization" in warnings[0].message
+
+
+def test_rule1_task_in_a_thread_needs_no_synchronization_of_its_own():
+    # DIAG has no clock and no port, but its thread runs it after LOG.
+    s = sk({"clocks": {"c": {"period": 5}},
+            "tasks": {"LOG": {"duration": 1, "clock": "c"}, "DIAG": {"duration": 1}},
+            "threads": [["LOG", "DIAG"]]})
+    assert of_rule(check_rules(s), 1) == []
+
+
+# ------------------------------------------------------------------ Rule 2
+
+def test_rule2_passes_for_the_computed_torque_law():
+    # The only ASYN/ASYN links join MOD.DYN (6 ms) and CO.JS (2 ms): different rates.
+    assert of_rule(check_rules(computed_torque()), 2) == []
+
+
+def test_rule2_rendezvous_is_flagged():
+    (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "fig11_fixed_order.yaml")), 2)
+    assert (f.severity, f.tasks, f.ports, f.links) == (
+        "warning", ("MT1", "MT2"), ("MT1:a", "MT2:a"), ("MT1:a -> MT2:a (SYN/SYN)",))
+    assert "ASYN/SYN" in f.advice
+
+
+def test_rule2_unsynchronized_pipeline_of_figure_4():
+    # Four groups, each one private 10 ms clock; the three ASYN/ASYN links join
+    # groups of the same period: three findings, one per link.
+    findings = of_rule(check_rules(load_skeleton(EXAMPLES / "fig4_pipeline_unsynchronized.yaml")), 2)
+    assert [f.links for f in findings] == [("MT1:x1 -> MT2:x1 (ASYN/ASYN)",),
+                                           ("MT2:x2 -> MT3:x2 (ASYN/ASYN)",),
+                                           ("MT3:x3 -> MT4:x3 (ASYN/ASYN)",)]
+    assert "make MT1:x1 -> MT2:x1 ASYN/SYN and remove MT2's clock MT2.clock" in findings[0].advice
+    assert all("Figure 4" in f.message for f in findings)
+
+
+# ------------------------------------------------------------------ Rule 3
+
+def test_rule3_passes_with_one_clock_per_group():
+    assert of_rule(check_rules(computed_torque()), 3) == []
+
+
+def test_rule3_group_without_clock_figure_7a():
+    (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml")), 3)
+    assert (f.severity, f.tasks) == ("error", ("MT1", "MT2", "MT3"))
+    # Every task waits for an input: the advice also breaks the wait.
+    assert "give a clock to MT1 and make its synchronizing input ASYN/ASYN" in f.advice
+
+
+def test_rule3_group_without_clock_names_its_source():
+    # C reads nothing: the clock goes there.
+    (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "ring_two_tokens.yaml")), 3)
+    assert "give a clock to C" in f.advice
+
+
+def test_rule3_two_clocks_in_one_group():
+    (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "overrun_in_step.yaml")), 3)
+    assert (f.severity, f.tasks) == ("error", ("MT1", "MT2"))
+    assert "2 clocks (MT1.clock on MT1, MT2.clock on MT2)" in f.message
+    assert "keep one clock (MT1.clock) and remove MT2.clock from MT2" in f.advice
+
+
+# ------------------------------------------------------------------ Rule 4
+
+def test_rule4_proposal_when_nothing_is_declared():
+    (f,) = of_rule(check_rules(computed_torque()), 4)
+    # Rate-monotonic by hand: 1 ms group first, then 2 ms, then 6 ms: 3, 2, 1.
+    assert f.severity == "info"
+    assert "OBS.JL: 3, TG.JS: 2, TF.TT.JS: 2, CO.JS: 2, MOD.DYN: 1" in f.advice
+    assert proposed_priorities(computed_torque()) == {
+        "OBS.JL": 3, "TG.JS": 2, "TF.TT.JS": 2, "CO.JS": 2, "MOD.DYN": 1}
+
+
+def test_rule4_passes_with_rate_monotonic_priorities():
+    s = computed_torque(OBS_JL=30, TG_JS=20, TF_TT_JS=20, CO_JS=20, MOD_DYN=10)
+    findings = check_rules(s)
+    assert findings == []
+    assert render_rules(findings).startswith("design rules (ORCCAD section 6): all followed")
+
+
+def test_rule4_one_group_two_priorities():
+    s = computed_torque(OBS_JL=30, TG_JS=20, TF_TT_JS=21, CO_JS=20, MOD_DYN=10)
+    (f,) = of_rule(check_rules(s), 4)
+    assert (f.severity, f.tasks) == ("error", ("TG.JS", "TF.TT.JS", "CO.JS"))
+    assert "TF.TT.JS: 21" in f.message and "e.g. 21" in f.advice
+
+
+def test_rule4_two_groups_one_priority():
+    s = computed_torque(OBS_JL=20, TG_JS=20, TF_TT_JS=20, CO_JS=20, MOD_DYN=10)
+    (f,) = of_rule(check_rules(s), 4)
+    assert (f.severity, f.tasks) == ("error", ("OBS.JL", "TG.JS", "TF.TT.JS", "CO.JS"))
+    assert "share priority 20" in f.message
+
+
+def test_rule4_groups_on_different_processors_may_share_a_priority():
+    data = computed_torque(OBS_JL=20, TG_JS=20, TF_TT_JS=20, CO_JS=20, MOD_DYN=10).to_dict()
+    data["tasks"]["OBS.JL"]["processor"] = "cpu1"
+    assert of_rule(check_rules(Skeleton.from_dict(data)), 4) == []
+
+
+def test_rule4_not_rate_monotonic():
+    # MOD.DYN (6 ms) above the 2 ms group.
+    s = computed_torque(OBS_JL=30, TG_JS=10, TF_TT_JS=10, CO_JS=10, MOD_DYN=20)
+    (f,) = of_rule(check_rules(s), 4)
+    assert f.severity == "warning" and "not rate-monotonic" in f.message
+    assert f.tasks == ("TG.JS", "TF.TT.JS", "CO.JS", "MOD.DYN")
+
+
+def test_rule4_every_inverted_slower_group_is_reported():
+    # Periods 1 (prio 10), 2 (prio 30), 6 (prio 20). Pairs (faster, slower): (1, 2) and
+    # (1, 6) are inverted (10 < 30, 10 < 20); (2, 6) is not (30 > 20). Two warnings, each
+    # naming OBS.JL as the faster group left below.
+    s = computed_torque(OBS_JL=10, TG_JS=30, TF_TT_JS=30, CO_JS=30, MOD_DYN=20)
+    findings = of_rule(check_rules(s), 4)
+    assert [(f.severity, f.tasks) for f in findings] == [
+        ("warning", ("OBS.JL", "TG.JS", "TF.TT.JS", "CO.JS")),
+        ("warning", ("OBS.JL", "MOD.DYN"))]
+
+
+def test_rule4_some_priorities_missing():
+    s = computed_torque(OBS_JL=30, TG_JS=20, TF_TT_JS=20, CO_JS=20)
+    (f,) = of_rule(check_rules(s), 4)
+    assert (f.severity, f.tasks) == ("warning", ("MOD.DYN",))
+    assert "MOD.DYN: 1" in f.advice
+
+
+def test_rule4_automaton_highest():
+    assert is_automaton("RTA") and is_automaton("arm.Automaton") and not is_automaton("PARTA")
+    base = {"tasks": {"OBS": {"duration": 1, "period": 1, "priority": 5, "outputs": ["ev"]},
+                      "RTA": {"duration": 0, "inputs": ["ev"], "priority": 4}},
+            "links": [{"from": "OBS:ev", "to": "RTA:ev", "protocol": "ASYN/SYN"}]}
+    (f,) = of_rule(check_rules(sk(base)), 4)
+    assert (f.severity, f.tasks) == ("error", ("RTA", "OBS"))
+    assert "give RTA a priority above 5" in f.advice
+    base["tasks"]["RTA"]["priority"] = 6
+    assert of_rule(check_rules(sk(base)), 4) == []
+    # The proposal puts the automaton on top though it shares OBS's group.
+    del base["tasks"]["RTA"]["priority"], base["tasks"]["OBS"]["priority"]
+    assert proposed_priorities(sk(base)) == {"OBS": 1, "RTA": 2}
+
+
+# ------------------------------------------------------------------ groups
+
+@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.yaml")))
+def test_groups_agree_with_the_timed_event_graph(name):
+    s = load_skeleton(EXAMPLES / name)
+    assert synchronized_groups(s) == [tuple(g.tasks) for g in analyze(s).groups]
+
+
+# ------------------------------------------------------------------ spec §6 keys
+
+def test_priority_processor_chains_round_trip(tmp_path):
+    text = ("tasks:\n"
+            "  A: {duration: 1, period: 2, priority: 010, processor: 1, outputs: [x]}\n"
+            "  B: {duration: 1, inputs: [x], priority: -3, processor: cpu.b}\n"
+            "links:\n  - {from: 'A:x', to: 'B:x', protocol: ASYN/SYN}\n"
+            "chains:\n  - [A, B]\n")
+    f = tmp_path / "s.yaml"
+    f.write_text(text)
+    s = load_skeleton(f)
+    # 010 is ten as written (not YAML 1.1's octal eight); the processor 1 is a name.
+    assert (s.tasks["A"].priority, s.tasks["A"].processor) == (10, "1")
+    assert (s.tasks["B"].priority, s.tasks["B"].processor) == (-3, "cpu.b")
+    assert s.chains == [("A", "B")]
+    for suffix in (".yaml", ".json"):
+        assert load_skeleton(dump_skeleton(s, tmp_path / f"copy{suffix}")) == s
+
+
+@pytest.mark.parametrize("task_line, key_path, wording", [
+    ("priority: high", "tasks.A.priority", "expected a priority (an integer"),
+    ("priority: 1.5", "tasks.A.priority", "got float 1.5"),
+    ("priority: true", "tasks.A.priority", "got the boolean true"),
+    ("priority: null", "tasks.A.priority", "got nothing (null)"),
+    ("processor: ''", "tasks.A.processor", "expected a non-empty processor name"),
+    ("processor: [a]", "tasks.A.processor", "expected a processor name (a text), got a list"),
+    ("processor: 'a:b'", "tasks.A.processor", "contains ':'"),
+])
+def test_task_key_refusals(tmp_path, task_line, key_path, wording):
+    f = tmp_path / "s.yaml"
+    f.write_text(f"tasks:\n  A:\n    duration: 1\n    {task_line}\n")
+    with pytest.raises(SkeletonError) as info:
+        load_skeleton(f)
+    assert info.value.where == key_path and info.value.line == 4
+    assert wording in info.value.reason and "expected" in info.value.reason
+
+
+@pytest.mark.parametrize("chains, key_path, wording", [
+    ("[[A, C]]", "chains[0][1]", "no task 'C'"),
+    ("[[A, B, A]]", "chains[0][2]", "the task 'A' is already at chains[0][0]"),
+    ("[[B, A]]", "chains[0][1]", "no link from B to A"),
+    ("[[]]", "chains[0]", "an empty chain"),
+    ("[A, B]", "chains[0]", "expected a list of task names, sensor first"),
+    ("5", "chains", "expected a list of chains"),
+])
+def test_chain_refusals(tmp_path, chains, key_path, wording):
+    f = tmp_path / "s.yaml"
+    f.write_text("tasks:\n  A: {duration: 1, outputs: [x]}\n  B: {duration: 1, inputs: [x]}\n"
+                 "links:\n  - {from: 'A:x', to: 'B:x', protocol: ASYN/ASYN}\n"
+                 f"chains: {chains}\n")
+    with pytest.raises(SkeletonError) as info:
+        load_skeleton(f)
+    assert info.value.where == key_path and wording in info.value.reason
+
+
+def test_priority_built_in_code_is_checked():
+    from dataclasses import replace
+    s = sk({"tasks": {"A": {"duration": 1}}})
+    s.tasks["A"] = replace(s.tasks["A"], priority=F(3, 2))
+    with pytest.raises(SkeletonError, match=r"tasks\.A\.priority: expected a priority"):
+        s.validate()
+
+
+# ------------------------------------------------------------------ command line
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False,
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_cli_rules_exit_statuses(tmp_path):
+    ok = run("rules", str(EXAMPLES / "computed_torque.yaml"))
+    assert ok.returncode == 0, ok.stderr
+    assert "all followed" in ok.stdout and "Joseph and Pandya" in ok.stdout
+    bad = run("rules", str(EXAMPLES / "fig4_pipeline_unsynchronized.yaml"), "--json")
+    assert bad.returncode == 1
+    data = json.loads(bad.stdout)
+    assert [f["rule"] for f in data["rules"]] == [2, 2, 2, 4]
+    refused = run("rules", str(EXAMPLES / "computed_torque.yaml"), "--chain", "TG.JS,CO.JS")
+    assert refused.returncode == 2 and refused.stdout == ""
+    assert "--chain[1]: no link from TG.JS to CO.JS" in refused.stderr
+    assert refused.stderr.count("\n") == 1

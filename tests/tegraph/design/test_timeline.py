@@ -1,0 +1,229 @@
+"""The exact preemptive fixed-priority timeline, its text rendering and its drawing.
+
+The computed-torque timeline is compared with the order of execution that
+section 6 of the ORCCAD paper describes for Figure 17 (times from the
+durations in examples/computed_torque.yaml); other expectations are the
+daters derived by hand in the examples' comments, or hand schedules.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from fractions import Fraction as F
+
+import pytest
+from typer.testing import CliRunner
+
+from tegraph import analyze, load_skeleton
+from tegraph.cli import app
+from tegraph.design.timeline import simulate_timeline
+from tegraph.errors import InputError, ModelError
+from tegraph.model.skeleton import Skeleton
+from tegraph.report.plot import (
+    INSTALL_HINT,
+    PlotUnavailableError,
+    draw_timeline,
+    matplotlib_available,
+)
+from tegraph.report.timeline_text import render_timeline
+from tests.paths import REPO
+
+EXAMPLES = REPO / "examples"
+
+
+def order(timeline, processor=None) -> list[tuple[str, F, F]]:
+    return timeline.order_of_execution(processor)
+
+
+def test_computed_torque_follows_figure_17():
+    # Section 6: OBS.JL (high) runs at the first tick, then TG.JS, TF.TT.JS, CO.JS
+    # (medium) in sequence, then MOD.DYN (low), "temporarily suspended by the next
+    # execution of the higher priority OBS.JL" at 1, finishing in the second basic cycle.
+    # Durations 0.1, 0.1, 0.2, 0.3, 1.2; clocks 1, 2, 6 ms.
+    tl = simulate_timeline(load_skeleton(EXAMPLES / "computed_torque.yaml"))
+    d = F(1, 10)
+    chain = lambda t0: [("TG.JS", t0 + d, t0 + 2 * d), ("TF.TT.JS", t0 + 2 * d, t0 + 4 * d),
+                        ("CO.JS", t0 + 4 * d, t0 + 7 * d)]
+    assert order(tl) == [
+        ("OBS.JL", 0, d), *chain(0), ("MOD.DYN", 7 * d, 1), ("OBS.JL", 1, 1 + d),
+        ("MOD.DYN", 1 + d, 2), ("OBS.JL", 2, 2 + d), *chain(2), ("OBS.JL", 3, 3 + d),
+        ("OBS.JL", 4, 4 + d), *chain(4), ("OBS.JL", 5, 5 + d)]
+    assert tl.horizon == 6 and tl.late_jobs == []
+    (mod,) = [j for j in tl.jobs if j.task == "MOD.DYN"]
+    assert (mod.release, mod.finish, mod.preemptions, mod.deadline) == (0, 2, 1, 6)
+    assert tl.ticks["obs"] == [0, 1, 2, 3, 4, 5] and tl.ticks["dyn"] == [0]
+    assert tl.tasks == ["OBS.JL", "TG.JS", "TF.TT.JS", "CO.JS", "MOD.DYN"]
+
+
+def test_reversed_pipeline_of_figure_4():
+    # Figure 4 (bottom): the same four 10 ms tasks with the last stage most urgent run
+    # in reverse: MT4 0-1, MT3 1-3, MT2 3-5, MT1 5-6.
+    data = load_skeleton(EXAMPLES / "fig4_pipeline_unsynchronized.yaml").to_dict()
+    for i, name in enumerate(["MT1", "MT2", "MT3", "MT4"]):
+        data["tasks"][name]["priority"] = i + 1
+    tl = simulate_timeline(Skeleton.from_dict(data))
+    assert order(tl) == [("MT4", 0, 1), ("MT3", 1, 3), ("MT2", 3, 5), ("MT1", 5, 6)]
+    # Synchronized (examples/fig4_pipeline_synchronized.yaml): the data order.
+    tl = simulate_timeline(load_skeleton(EXAMPLES / "fig4_pipeline_synchronized.yaml"))
+    assert order(tl) == [("MT1", 0, 1), ("MT2", 1, 3), ("MT3", 3, 5), ("MT4", 5, 6)]
+
+
+def test_overrun_of_figure_12_matches_the_analysis():
+    # MT2 (clock 4) waits for MT1's message (every 10): activation 2, released at 4,
+    # reads y at 11 and ends at 13 > the tick at 8. The analysis: overrun_at = 3, i.e.
+    # activation 2 still runs at tick 3.
+    sk = load_skeleton(EXAMPLES / "fig12_double_sync.yaml")
+    tl = simulate_timeline(sk)
+    late = [(j.task, j.index, j.finish, j.deadline) for j in tl.late_jobs]
+    assert late[0] == ("MT2", 2, 13, 8)
+    assert analyze(sk).tasks["MT2"].overrun_at == late[0][1] + 1
+    assert "LATE: MT2 activation 2 ends at 13 ms, after the next tick at 8 ms" in render_timeline(tl)
+
+
+def test_overrun_in_step_on_one_processor():
+    # MT1 0-6 posts y; MT2 (same priority, later in the file) reads it at 6, runs 6-12,
+    # past its next tick at 10 (spec example: overrun_at(MT2) = 2).
+    tl = simulate_timeline(load_skeleton(EXAMPLES / "overrun_in_step.yaml"), horizon=10)
+    assert order(tl) == [("MT1", 0, 6), ("MT2", 6, 10)]
+    (late,) = tl.late_jobs
+    assert (late.task, late.index, late.finish, late.deadline) == ("MT2", 1, None, 10)
+
+
+def test_rendezvous_waits_for_the_partner():
+    # Example daters: P computes 0-1 then waits at the rendezvous until Q's tick at 5/2;
+    # Q computes 5/2-9/2; P's second activation at 5 computes 5-6.
+    tl = simulate_timeline(load_skeleton(EXAMPLES / "rendezvous_two_clocks.yaml"))
+    assert order(tl) == [("P", 0, 1), ("Q", F(5, 2), F(9, 2)), ("P", 5, 6)]
+    p1 = next(j for j in tl.jobs if j.task == "P")
+    assert (p1.release, p1.finish) == (0, F(5, 2))
+
+
+def test_thread_runs_its_tasks_in_turn():
+    # threads.yaml group 0 (clock 2): TG.JS 0-3/10, TF.TT.JS 3/10-7/10, CO.JS 7/10-6/5
+    # (the example's daters); [LOG, DIAG] free-running below them: LOG 6/5-23/15,
+    # DIAG from 23/15 (still running at the horizon 2).
+    tl = simulate_timeline(load_skeleton(EXAMPLES / "threads.yaml"))
+    assert order(tl) == [("TG.JS", 0, F(3, 10)), ("TF.TT.JS", F(3, 10), F(7, 10)),
+                         ("CO.JS", F(7, 10), F(6, 5)), ("LOG", F(6, 5), F(23, 15)),
+                         ("DIAG", F(23, 15), 2)]
+
+
+def test_syn_asyn_writer_waits_for_the_request():
+    # W (priority 2, clock 10) computes 0-1 then must post x SYN/ASYN: it waits for R's
+    # request; R (priority 1, clock 10, phase 3) reads at 3 (request), so W posts at 3
+    # and ends; R computes 3-5. Horizon: largest phase 3 + hyperperiod 10 = 13, so W's
+    # second activation (10-11) is in it, waiting at the end for R's request at 13.
+    sk = Skeleton.from_dict({
+        "clocks": {"cw": {"period": 10}, "cr": {"period": 10, "phase": 3}},
+        "tasks": {"W": {"duration": 1, "clock": "cw", "outputs": ["x"], "priority": 2},
+                  "R": {"duration": 2, "clock": "cr", "inputs": ["x"], "priority": 1}},
+        "links": [{"from": "W:x", "to": "R:x", "protocol": "SYN/ASYN"}]})
+    tl = simulate_timeline(sk)
+    assert tl.horizon == 13
+    assert order(tl) == [("W", 0, 1), ("R", 3, 5), ("W", 10, 11)]
+    assert [(j.task, j.index, j.finish) for j in tl.jobs] == [
+        ("W", 1, 3), ("R", 1, 5), ("W", 2, None)]
+
+
+def test_processors_run_in_parallel():
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 3, "period": 4, "processor": "p0"},
+                                       "B": {"duration": 3, "period": 4, "processor": "p1"}}})
+    tl = simulate_timeline(sk)
+    assert order(tl, "p0") == [("A", 0, 3)] and order(tl, "p1") == [("B", 0, 3)]
+    assert "processor p1:" in render_timeline(tl)
+
+
+def test_text_rendering_is_exact():
+    tl = simulate_timeline(load_skeleton(EXAMPLES / "computed_torque.yaml"))
+    text = render_timeline(tl)
+    lines = text.splitlines()
+    # 60 columns of 1/10 ms: OBS.JL computes in columns 0, 10, 20, 30, 40, 50.
+    assert lines[0] == "timeline computed-torque: 0 to 6 ms, one column = 1/10 ms"
+    obs = lines[1].split("|")[1]
+    assert len(obs) == 60 and [i for i, c in enumerate(obs) if c == "#"] == [0, 10, 20, 30, 40, 50]
+    mod = lines[5].split("|")[1]
+    assert mod[:20] == "-------###-#########"
+    assert lines[6].split("|")[1].count("^") == 6  # clock obs
+    assert "     11/10 - 2        MOD.DYN" in text
+    assert text.endswith("every job ends by the next tick of its clock\n")
+
+
+def test_long_horizons_are_drawn_approximately():
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": "1/7", "period": 1}}})
+    text = render_timeline(simulate_timeline(sk, horizon=50), width=40)
+    assert "(approximate drawing)" in text.splitlines()[0]
+
+
+def test_refusals():
+    sk = Skeleton.from_dict({"tasks": {"Z": {"duration": 0}}})
+    with pytest.raises(ModelError, match="without time passing"):
+        simulate_timeline(sk)
+    with pytest.raises(ModelError, match="horizon must be > 0"):
+        simulate_timeline(Skeleton.from_dict({"tasks": {"A": {"duration": 1}}}), horizon=0)
+
+
+# ------------------------------------------------------------------ drawing
+
+def test_drawing_or_how_to_install(tmp_path):
+    tl = simulate_timeline(load_skeleton(EXAMPLES / "computed_torque.yaml"))
+    out = tmp_path / "fig17.svg"
+    if matplotlib_available():
+        assert draw_timeline(tl, out) == out
+        svg = out.read_text()
+        assert svg.startswith("<?xml") and "<svg" in svg
+        for task in tl.tasks:
+            assert task in svg
+        # Same timeline, same bytes; an existing file is never replaced silently.
+        again = tmp_path / "again.svg"
+        draw_timeline(tl, again)
+        assert again.read_bytes() == out.read_bytes()
+        with pytest.raises(FileExistsError):
+            draw_timeline(tl, out)
+        png = draw_timeline(tl, tmp_path / "fig17.png")
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    else:
+        with pytest.raises(PlotUnavailableError, match=INSTALL_HINT.replace("[", r"\[")):
+            draw_timeline(tl, out)
+        assert not out.exists()
+    with pytest.raises(InputError, match="expected a file name ending in .svg or .png"):
+        draw_timeline(tl, tmp_path / "fig17.pdf")
+
+
+def test_without_matplotlib_the_message_says_how_to_install(tmp_path, monkeypatch):
+    # Whatever is installed here: a None entry makes `import matplotlib` fail.
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    assert matplotlib_available() is False
+    tl = simulate_timeline(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}}))
+    with pytest.raises(PlotUnavailableError) as info:
+        draw_timeline(tl, tmp_path / "a.svg")
+    assert "pip install 'tegraph[plot]'" in str(info.value)
+    src = tmp_path / "a.yaml"
+    src.write_text("tasks:\n  A: {duration: 1, period: 2}\n")
+    result = CliRunner().invoke(app, ["timeline", str(src), "-o", str(tmp_path / "a.svg")])
+    assert result.exit_code == 2
+    assert "pip install 'tegraph[plot]'" in result.output
+    assert not (tmp_path / "a.svg").exists()
+
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False, capture_output=True,
+                          text=True, timeout=120)
+
+
+def test_cli_timeline(tmp_path):
+    ok = run("timeline", str(EXAMPLES / "computed_torque.yaml"))
+    assert ok.returncode == 0, ok.stderr
+    assert "order of execution (exact):" in ok.stdout
+    late = run("timeline", str(EXAMPLES / "fig12_double_sync.yaml"), "--horizon", "14")
+    assert late.returncode == 1 and "LATE: MT2 activation 2" in late.stdout
+    bad = run("timeline", str(EXAMPLES / "fig12_double_sync.yaml"), "--horizon", "-1")
+    assert bad.returncode == 2 and "--horizon: expected a time > 0" in bad.stderr
+    out = tmp_path / "d.svg"
+    drawn = run("timeline", str(EXAMPLES / "computed_torque.yaml"), "-o", str(out))
+    if matplotlib_available():
+        assert drawn.returncode == 0 and out.exists() and f"wrote {out}" in drawn.stdout
+        exists = run("timeline", str(EXAMPLES / "computed_torque.yaml"), "-o", str(out))
+        assert exists.returncode == 2 and "--force" in exists.stderr
+    else:
+        assert drawn.returncode == 2 and INSTALL_HINT in drawn.stderr and not out.exists()
