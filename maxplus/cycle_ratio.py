@@ -36,12 +36,20 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components
 
-from ._arrays import INT64_SAFE, argmax_ratio, find_circuit, gcd_arrays
+from ._arrays import (
+    INT64_SAFE,
+    abs_max,
+    argmax_ratio,
+    exact_ints,
+    find_circuit,
+    gcd_arrays,
+    int_array,
+)
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
 from .policy_iteration import howard_arrays
 from .scalar import exact
 
-__all__ = ["max_cycle_ratio", "CycleRatioResult", "CycleRatioCertificate", "find_circuit"]
+__all__ = ["CycleRatioCertificate", "CycleRatioResult", "find_circuit", "max_cycle_ratio"]
 
 
 @dataclass(frozen=True)
@@ -276,7 +284,7 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
             f"expected {m} weights (one per arc), got shape {np.shape(arr)}", "weight"
         )
     if arr.dtype.kind in "iu":
-        return arr.astype(np.int64, copy=False), 1
+        return exact_ints(arr), 1
     if arr.dtype.kind == "f":
         bad = ~np.isfinite(arr)
         if bad.any():
@@ -290,12 +298,7 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
     scale = 1
     for v in values:
         scale = math.lcm(scale, v.denominator)  # type: ignore[union-attr]
-    ints = [int(v * scale) for v in values]
-    if m and max(abs(v) for v in ints) >= INT64_SAFE:
-        out = np.empty(m, dtype=object)
-        out[:] = ints
-        return out, scale
-    return np.array(ints, dtype=np.int64), scale
+    return int_array([int(v * scale) for v in values]), scale
 
 
 def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
@@ -306,8 +309,10 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
         raise MaxPlusValueError(
             f"expected {m} token counts (one per arc), got shape {np.shape(arr)}", "tokens"
         )
-    if arr.dtype.kind not in "iu":
-        out = np.empty(m, dtype=np.int64)
+    if arr.dtype.kind in "iu":
+        arr = exact_ints(arr)
+    else:
+        counts = []
         for k, v in enumerate(arr.tolist()):
             try:
                 f = Fraction(v) if not isinstance(v, float) else Fraction(repr(v))
@@ -315,9 +320,8 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
                 raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}", f"tokens[{k}]") from None
             if isinstance(v, bool) or f.denominator != 1:
                 raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}", f"tokens[{k}]")
-            out[k] = int(f)
-        arr = out
-    arr = arr.astype(np.int64, copy=False)
+            counts.append(int(f))
+        arr = int_array(counts)  # Python ints past int64: token counts of any size
     if m and arr.min() < 0:
         k = int(np.flatnonzero(arr < 0)[0])
         raise MaxPlusValueError(f"expected a token count >= 0, got {arr[k]}", f"tokens[{k}]")
@@ -349,14 +353,9 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         nodes = np.flatnonzero(live)
         relabel = np.full(n, -1, dtype=np.int64)
         relabel[nodes] = np.arange(len(nodes))
-        # |potential| <= 2 * sum|w| * sum(t) (a path sum of w*T - W*t), and the
-        # improvement step adds one more such term: int64 is exact below 2**62.
-        bound = 4 * (int(np.abs(w[keep]).sum()) + 1) * (int(t[keep].sum()) + 1)
-        exact_dtype = np.int64 if bound < INT64_SAFE and w.dtype != object else object
-        sub = howard_arrays(relabel[src[keep]], relabel[dst[keep]], w[keep].astype(exact_dtype),
-                      t[keep].astype(exact_dtype), len(nodes))
-        s_num, s_den, s_pot, s_pol = sub
-        if exact_dtype is object:
+        s_num, s_den, s_pot, s_pol = howard_arrays(relabel[src[keep]], relabel[dst[keep]],
+                                                   w[keep], t[keep], len(nodes))
+        if s_num.dtype == object:
             num, den, potential = (np.zeros(n, dtype=object) for _ in range(3))
         num[nodes] = s_num
         den[nodes] = s_den
@@ -365,8 +364,10 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         best = argmax_ratio(num[nodes], den[nodes])
         circuit = _policy_circuit(int(nodes[best]), policy, src)
         ratio = Fraction(int(num[nodes[best]]), scale * int(den[nodes[best]]))
-    # Cycle times in lowest terms, with the weight scale folded in.
-    ct_num, ct_den = _reduce(num, den * scale, den != 0)
+    # Cycle times in lowest terms, with the weight scale folded in (in Python
+    # ints when den * scale could leave int64).
+    scaled_den = den * scale if abs_max(den) * scale < INT64_SAFE else den.astype(object) * scale
+    ct_num, ct_den = _reduce(num, scaled_den, den != 0)
     cert = CycleRatioCertificate(scale, num, den, potential, policy, circuit)
     return CycleRatioResult(ratio, circuit, ct_num, ct_den, cert, src, dst, w, t)
 

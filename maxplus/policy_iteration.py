@@ -30,12 +30,12 @@ distinct ratios of the current policy, computed once per iteration.
 
 from __future__ import annotations
 
-from fractions import Fraction
+from functools import cmp_to_key
 from typing import Any
 
 import numpy as np
 
-from ._arrays import gcd_arrays
+from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
 
 __all__ = ["howard_arrays"]
 
@@ -49,8 +49,8 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     src, dst : numpy.ndarray of int64
         Arcs; every node in ``range(n)`` must be the ``dst`` of some arc.
     w, t : numpy.ndarray
-        Integer weights and token counts (same dtype: int64 or object), with
-        no circuit of zero tokens.
+        Integer weights and token counts (int64, or object for Python ints of
+        any size), with no circuit of zero tokens.
     n : int
         Number of nodes.
 
@@ -69,6 +69,51 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     >>> (num // den).tolist(), pol.tolist()
     ([4, 4], [1, 0])
     """
+    limits = _int64_limits(w, t, n)
+    if limits is not None:
+        try:
+            return _howard(src, dst, w.astype(np.int64), t.astype(np.int64), n, limits)
+        except _LeavesInt64:
+            pass
+    return _howard(src, dst, _objects(w), _objects(t), n, None)
+
+
+class _LeavesInt64(Exception):
+    """A potential grew past what int64 arithmetic can carry exactly."""
+
+
+def _objects(a: np.ndarray) -> np.ndarray:
+    out = np.empty(len(a), dtype=object)
+    out[:] = a.tolist()
+    return out
+
+
+def _int64_limits(w: np.ndarray, t: np.ndarray, n: int) -> int | None:
+    """Slack that int64 arithmetic leaves for potentials, or None when int64 cannot be used.
+
+    A policy path or circuit has at most ``n`` distinct arcs, so its weight
+    sum is at most ``S_w = min(Σ|w|, n·max|w|)`` in absolute value and its token
+    sum at most ``S_t``; ratios ``W/T`` and path sums then stay within those,
+    products ``W·t``, ``w·T`` and a fresh potential ``w_path·T - W·t_path``
+    within ``2·S_w·S_t``. The potential a circuit keeps from earlier iterations
+    is checked at run time against the returned slack.
+    """
+    if w.dtype == object or t.dtype == object:
+        return None
+    w_max, t_max = abs_max(w), abs_max(t)
+    if w_max * len(w) < INT64_SAFE:
+        w_sum = int(np.abs(w).sum())
+    else:
+        w_sum = w_max * len(w)  # an upper bound is enough here
+    t_sum = int(t.sum()) if t_max * len(t) < INT64_SAFE else t_max * len(t)
+    s_w, s_t = min(w_sum, n * w_max), min(t_sum, n * t_max)
+    fixed = 2 * s_w * s_t + w_max * s_t + s_w * t_max
+    slack = INT64_SAFE - 2 * fixed
+    return slack if slack > 0 else None
+
+
+def _howard(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, n: int,
+            limits: int | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     order = np.argsort(dst, kind="stable")
     s_src, s_dst, s_w, s_t = src[order], dst[order], w[order], t[order]
     counts = np.bincount(dst, minlength=n)
@@ -86,6 +131,8 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     check_all = True
     while True:
         W_new, T_new, X_new, rank = _value_determination(pol, s_src, s_w, s_t, n, W, T, X, first)
+        if limits is not None and abs_max(X_new) >= limits:
+            raise _LeavesInt64
         if check_all:
             cand = np.arange(len(s_src))
         else:
@@ -183,13 +230,6 @@ def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray
                    ) -> tuple[np.ndarray, np.ndarray]:
     """For each destination among ``arcs`` (sorted by destination), its arc of largest key."""
     d = s_dst[arcs]
-    if key.dtype == object:
-        best: dict[int, tuple] = {}
-        for a, node, k in zip(arcs.tolist(), d.tolist(), key.tolist()):
-            if node not in best or k > best[node][1]:
-                best[node] = (a, k)
-        nodes = np.array(sorted(best), dtype=np.int64)
-        return np.array([best[v][0] for v in nodes.tolist()], dtype=np.int64), nodes
     new_node = np.concatenate(([True], d[1:] != d[:-1]))
     starts = np.flatnonzero(new_node)
     segment = np.cumsum(new_node) - 1
@@ -207,12 +247,7 @@ def _lowest(values: np.ndarray) -> Any:
 
 def _segment_argmax(values: np.ndarray, starts: np.ndarray, seg: np.ndarray) -> np.ndarray:
     """Offset, within its segment, of the first maximum of each (non-empty) segment."""
-    if values.dtype == object:
-        ends = np.r_[starts[1:], len(values)]
-        seg_max = np.empty(len(starts), dtype=object)
-        seg_max[:] = [max(values[a:b].tolist()) for a, b in zip(starts, ends)]
-    else:
-        seg_max = np.maximum.reduceat(values, starts)
+    seg_max = np.maximum.reduceat(values, starts)  # object arrays too (Python ints)
     hit = np.flatnonzero(values == seg_max[seg])
     first = np.concatenate(([True], seg[hit[1:]] != seg[hit[:-1]]))
     return hit[first] - starts[seg[hit[first]]]
@@ -288,9 +323,10 @@ def _value_determination(pol: np.ndarray, s_src: np.ndarray, s_w: np.ndarray, s_
 def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     """Dense rank of each fraction num/den (den > 0 for used entries; 0 = unused).
 
-    Floats sort the fractions; exact cross-multiplication then checks every
-    adjacent pair, and decides equality. If floats misordered a pair (ratios
-    closer than float precision), the order is redone with exact Fractions.
+    Floats sort the fractions (an accelerator only); exact cross-multiplication
+    then checks every adjacent pair, and decides equality. If floats misordered
+    a pair (ratios closer than float precision, or beyond float range), the
+    order is redone by exact comparisons.
     """
     k = len(num)
     used = den != 0
@@ -298,16 +334,16 @@ def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     idx = np.flatnonzero(used)
     if len(idx) == 0:
         return rank
-    approx = num[idx].astype(float) / den[idx].astype(float)
-    order = idx[np.argsort(approx, kind="stable")]
-    a_num, a_den = num[order[:-1]], den[order[:-1]]
-    b_num, b_den = num[order[1:]], den[order[1:]]
-    left, right = a_num * b_den, b_num * a_den
-    if (left > right).any():
-        order = np.array(sorted(idx.tolist(), key=lambda i: Fraction(int(num[i]), int(den[i]))),
-                         dtype=np.int64)
-        a_num, a_den = num[order[:-1]], den[order[:-1]]
-        b_num, b_den = num[order[1:]], den[order[1:]]
-        left, right = a_num * b_den, b_num * a_den
-    rank[order] = np.r_[0, np.cumsum(left != right)]
+    order = idx[np.argsort(float_ratios(num[idx], den[idx]), kind="stable")]
+    step = compare_ratios(num[order[1:]], den[order[1:]], num[order[:-1]], den[order[:-1]])
+    if (step < 0).any():
+        def cmp(i: int, j: int) -> int:
+            return (int(num[i]) * int(den[j]) > int(num[j]) * int(den[i])) - (
+                int(num[i]) * int(den[j]) < int(num[j]) * int(den[i]))
+
+        # A loop over the distinct policy circuits, not over nodes; reached only
+        # when floats cannot order the ratios.
+        order = np.array(sorted(idx.tolist(), key=cmp_to_key(cmp)), dtype=np.int64)
+        step = compare_ratios(num[order[1:]], den[order[1:]], num[order[:-1]], den[order[:-1]])
+    rank[order] = np.r_[0, np.cumsum(step != 0)]
     return rank
