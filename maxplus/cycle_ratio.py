@@ -95,6 +95,10 @@ class CycleRatioResult:
         Per node, ``χ_i = num/den`` in lowest terms; ``den == 0`` for a node that
         no circuit reaches (its cycle time is None).
     certificate : CycleRatioCertificate
+    iterations : int
+        Howard iterations (value determinations) run; 0 without circuit.
+    engine : str
+        Kernel that ran: ``"numpy"``, ``"numba"`` or ``""`` (no circuit).
     """
 
     ratio: Fraction | None
@@ -106,6 +110,8 @@ class CycleRatioResult:
     dst: np.ndarray = field(repr=False)
     weight: np.ndarray = field(repr=False)
     tokens: np.ndarray = field(repr=False)
+    iterations: int = 0
+    engine: str = ""
     _cycle_times: list | None = field(default=None, repr=False)
 
     @property
@@ -178,6 +184,8 @@ def max_cycle_ratio(
     weight: Any,
     tokens: Any = None,
     n_nodes: int | None = None,
+    *,
+    engine: str | None = None,
 ) -> CycleRatioResult:
     """Maximum cycle ratio, critical circuit and cycle-time vector, certified.
 
@@ -192,6 +200,12 @@ def max_cycle_ratio(
         Non-negative token counts (default 1 on every arc: the maximum cycle mean).
     n_nodes : int, optional
         Number of nodes (default ``max(src, dst) + 1``).
+    engine : {"auto", "numpy", "numba"}, optional
+        Kernel of the policy iteration: the numpy kernel (always there) or the
+        numba-compiled one (the optional extra; int64 arithmetic under the same
+        proven bound, else the numpy kernel runs). Default: the environment
+        variable ``MAXPLUS_ENGINE``, else ``"auto"`` (numba on large graphs
+        when installed). Results are exact and certified either way.
 
     Returns
     -------
@@ -228,7 +242,7 @@ def max_cycle_ratio(
     w_int, scale = _validate_weights(weight, len(src_a))
     t_int = _validate_tokens(tokens, len(src_a))
     _refuse_zero_token_circuits(src_a, dst_a, t_int, n)
-    return _solve(src_a, dst_a, w_int, t_int, scale, n)
+    return _solve(src_a, dst_a, w_int, t_int, scale, n, engine)
 
 
 # --------------------------------------------------------------------------- validation
@@ -339,7 +353,7 @@ def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.nda
 
 
 def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale: int,
-           n: int) -> CycleRatioResult:
+           n: int, engine: str | None = None) -> CycleRatioResult:
 
     live = _nodes_reached_by_circuits(src, dst, n)
     num = np.zeros(n, dtype=np.int64)
@@ -348,13 +362,16 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
     policy = np.full(n, -1, dtype=np.int64)
     circuit = np.zeros(0, dtype=np.int64)
     ratio: Fraction | None = None
+    iterations, used = 0, ""
     if live.any():
         keep = np.flatnonzero(live[src] & live[dst])
         nodes = np.flatnonzero(live)
         relabel = np.full(n, -1, dtype=np.int64)
         relabel[nodes] = np.arange(len(nodes))
-        s_num, s_den, s_pot, s_pol = howard_arrays(relabel[src[keep]], relabel[dst[keep]],
-                                                   w[keep], t[keep], len(nodes))
+        solution = howard_arrays(relabel[src[keep]], relabel[dst[keep]], w[keep], t[keep],
+                                 len(nodes), engine)
+        s_num, s_den, s_pot, s_pol = solution[:4]
+        iterations, used = solution.iterations, solution.engine
         if s_num.dtype == object:
             num, den, potential = (np.zeros(n, dtype=object) for _ in range(3))
         num[nodes] = s_num
@@ -369,7 +386,8 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
     scaled_den = den * scale if abs_max(den) * scale < INT64_SAFE else den.astype(object) * scale
     ct_num, ct_den = _reduce(num, scaled_den, den != 0)
     cert = CycleRatioCertificate(scale, num, den, potential, policy, circuit)
-    return CycleRatioResult(ratio, circuit, ct_num, ct_den, cert, src, dst, w, t)
+    return CycleRatioResult(ratio, circuit, ct_num, ct_den, cert, src, dst, w, t, iterations,
+                            used)
 
 
 def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.ndarray:

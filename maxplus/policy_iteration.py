@@ -30,18 +30,42 @@ distinct ratios of the current policy, computed once per iteration.
 
 from __future__ import annotations
 
+import importlib.util
+import os
+from dataclasses import dataclass, replace
 from functools import cmp_to_key
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
+from .errors import MaxPlusValueError
 
 __all__ = ["howard_arrays"]
 
 
+class HowardSolution(NamedTuple):
+    """Optimal policy found by :func:`howard_arrays`."""
+
+    ratio_num: np.ndarray
+    ratio_den: np.ndarray
+    potential: np.ndarray
+    policy: np.ndarray
+    iterations: int
+    engine: str
+
+
+ENGINE_VARIABLE = "MAXPLUS_ENGINE"
+"""Environment variable that picks the kernel: ``auto`` (default), ``numpy`` or ``numba``."""
+
+JIT_MIN_ARCS = 1_000_000
+"""``auto`` uses numba from this many arcs on: below, its import and the
+loading of its cached machine code (0.6 - 0.9 s per process) cost more than it
+saves (``benchmarks/results/peers.md``)."""
+
+
 def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray,
-                  n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                  n: int, engine: str | None = None) -> HowardSolution:
     """Optimal policy of a graph in which every node has at least one in-arc.
 
     Parameters
@@ -53,29 +77,54 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
         any size), with no circuit of zero tokens.
     n : int
         Number of nodes.
+    engine : {"auto", "numpy", "numba"}, optional
+        Kernel: numba's compiled loops when installed (int64 arithmetic only),
+        else numpy; default from the environment variable ``MAXPLUS_ENGINE``,
+        else ``"auto"`` (numba for large graphs when it can be imported).
 
     Returns
     -------
-    ratio_num, ratio_den, potential, policy : numpy.ndarray
+    HowardSolution
         Per node: the cycle time ``ratio_num/ratio_den`` (lowest terms), the
-        potential (bias times ``ratio_den``) and the index of its policy arc.
+        potential (bias times ``ratio_den``) and the index of its policy arc;
+        the number of value determinations and the kernel used.
 
     Examples
     --------
     Circuit 0 -> 1 -> 0 of ratio (5+3)/2 and a self-loop of ratio 3 on node 1:
 
-    >>> num, den, pot, pol = howard_arrays(np.array([0, 1, 1]), np.array([1, 0, 1]),
-    ...     np.array([5, 3, 3]), np.array([1, 1, 1]), 2)
-    >>> (num // den).tolist(), pol.tolist()
+    >>> sol = howard_arrays(np.array([0, 1, 1]), np.array([1, 0, 1]),
+    ...     np.array([5, 3, 3]), np.array([1, 1, 1]), 2, engine="numpy")
+    >>> (sol.ratio_num // sol.ratio_den).tolist(), sol.policy.tolist()
     ([4, 4], [1, 0])
     """
+    engine = engine or os.environ.get(ENGINE_VARIABLE, "auto")
+    if engine not in ("auto", "numpy", "numba"):
+        raise MaxPlusValueError(f"expected 'auto', 'numpy' or 'numba', got {engine!r}", "engine")
+    if engine == "numba" and not _jit_available():
+        raise MaxPlusValueError("the numba kernel needs the optional package numba", "engine")
+    arcs = _InArcs.build(src, dst, w, t, n)
     limits = _int64_limits(w, t, n)
     if limits is not None:
-        try:
-            return _howard(src, dst, w.astype(np.int64), t.astype(np.int64), n, limits)
-        except _LeavesInt64:
-            pass
-    return _howard(src, dst, _objects(w), _objects(t), n, None)
+        if engine == "numba" or (engine == "auto" and len(src) >= JIT_MIN_ARCS and _jit_available()):
+            from .policy_iteration_jit import howard_jit
+
+            pol = arcs.initial_policy()
+            s64 = arcs.as_int64()
+            W, T, X, iterations, ok = howard_jit(s64.s_src, s64.s_dst, s64.s_w, s64.s_t,
+                                                 s64.starts, s64.out_order, pol, n, limits)
+            if ok:
+                return HowardSolution(W, T, X, arcs.order[pol], iterations, "numba")
+        else:
+            try:
+                return _howard(arcs.as_int64(), limits)
+            except _LeavesInt64:
+                pass
+    return _howard(arcs.as_object(), None)
+
+
+def _jit_available() -> bool:
+    return importlib.util.find_spec("numba") is not None
 
 
 class _LeavesInt64(Exception):
@@ -112,25 +161,63 @@ def _int64_limits(w: np.ndarray, t: np.ndarray, n: int) -> int | None:
     return slack if slack > 0 else None
 
 
-def _howard(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, n: int,
-            limits: int | None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    order = np.argsort(dst, kind="stable")
-    s_src, s_dst, s_w, s_t = src[order], dst[order], w[order], t[order]
-    counts = np.bincount(dst, minlength=n)
-    starts = np.r_[0, np.cumsum(counts)[:-1]]
-    seg = np.repeat(np.arange(n), counts)
-    out_order = np.argsort(s_src, kind="stable")  # arcs by tail, for downstream sweeps
-    out_counts = np.bincount(s_src, minlength=n)
-    out_starts = np.r_[0, np.cumsum(out_counts)[:-1]]
-    # Initial policy: the heaviest in-arc of each node, a good first guess.
-    pol = starts + _segment_argmax(s_w, starts, seg)
-    W = np.zeros(n, dtype=w.dtype)
-    T = np.zeros(n, dtype=w.dtype)
-    X = np.zeros(n, dtype=w.dtype)
+@dataclass(frozen=True)
+class _InArcs:
+    """Arcs sorted by head (CSR of in-arcs) and the order by tail, built once."""
+
+    order: np.ndarray  # sorted position -> caller's arc index
+    s_src: np.ndarray
+    s_dst: np.ndarray
+    s_w: np.ndarray
+    s_t: np.ndarray
+    starts: np.ndarray  # n + 1 offsets
+    seg: np.ndarray  # head of each sorted arc (== s_dst)
+    out_order: np.ndarray  # sorted arcs by tail, for downstream sweeps
+    out_starts: np.ndarray
+    out_counts: np.ndarray
+    n: int
+
+    @classmethod
+    def build(cls, src, dst, w, t, n) -> _InArcs:
+        order = np.argsort(dst, kind="stable")
+        s_src, s_dst = src[order], dst[order]
+        counts = np.bincount(dst, minlength=n)
+        starts = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(counts, out=starts[1:])
+        out_order = np.argsort(s_src, kind="stable")
+        out_counts = np.bincount(s_src, minlength=n)
+        out_starts = np.r_[0, np.cumsum(out_counts)[:-1]]
+        return cls(order, s_src, s_dst, w[order], t[order], starts, s_dst, out_order, out_starts,
+                   out_counts, n)
+
+    def as_int64(self) -> _InArcs:
+        return replace(self, s_w=self.s_w.astype(np.int64), s_t=self.s_t.astype(np.int64))
+
+    def as_object(self) -> _InArcs:
+        return replace(self, s_w=_objects(self.s_w), s_t=_objects(self.s_t))
+
+    def initial_policy(self) -> np.ndarray:
+        """The heaviest in-arc of each node, a good first guess.
+
+        (The in-arc of largest ``w/t`` was measured too and took more
+        iterations: 40 against 32 on SPRAND 10^5, 49 against 33 on the torus.)
+        """
+        return self.starts[:-1] + _segment_argmax(self.s_w, self.starts[:-1], self.seg)
+
+
+def _howard(arcs: _InArcs, limits: int | None) -> HowardSolution:
+    s_src, s_dst, s_w, s_t, n = arcs.s_src, arcs.s_dst, arcs.s_w, arcs.s_t, arcs.n
+    out_order, out_starts, out_counts = arcs.out_order, arcs.out_starts, arcs.out_counts
+    pol = arcs.initial_policy()
+    iterations = 0
+    W = np.zeros(n, dtype=s_w.dtype)
+    T = np.zeros(n, dtype=s_w.dtype)
+    X = np.zeros(n, dtype=s_w.dtype)
     first = True
     check_all = True
     while True:
         W_new, T_new, X_new, rank = _value_determination(pol, s_src, s_w, s_t, n, W, T, X, first)
+        iterations += 1
         if limits is not None and abs_max(X_new) >= limits:
             raise _LeavesInt64
         if check_all:
@@ -158,7 +245,7 @@ def _howard(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, n: i
         value = X[cs] + s_w[cand] * T[cd] - W[cd] * s_t[cand]
         gain = (rank_src == rank_dst) & (value > X[cd])
         if not gain.any():
-            return W, T, X, order[pol]
+            return HowardSolution(W, T, X, arcs.order[pol], iterations, "numpy")
         chosen, nodes = _best_per_node(cand[gain], value[gain], s_dst)
         pol[nodes] = chosen
         check_all = False
