@@ -31,6 +31,7 @@ HERE = Path(__file__).resolve().parent
 
 def run_one(n: int, runs: int, seed: int) -> dict:
     sys.path.insert(0, str(HERE))
+    sys.path.insert(0, str(HERE.parent))  # the checkout, not an installed copy
     from sprand import sprand
 
     from maxplus.cycle_ratio import max_cycle_ratio
