@@ -423,15 +423,19 @@ def _reduce(num: np.ndarray, den: np.ndarray, mask: np.ndarray) -> tuple[np.ndar
 
 
 def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarray:
-    """Arcs of the policy circuit reached backwards from ``start``, in forward order."""
-    seen: dict[int, int] = {}
-    arcs: list[int] = []
-    node = start
-    while node not in seen:
-        seen[node] = len(arcs)
-        a = int(policy[node])
-        arcs.append(a)
-        node = int(src[a])
-    cycle = arcs[seen[node]:]
-    return np.array(cycle[::-1], dtype=np.int64)
+    """Arcs of the policy circuit reached backwards from ``start``, in forward order.
 
+    Each node has one policy predecessor, so a breadth-first search on the
+    predecessor graph (in C) visits the walk ``start, pred(start), ...`` in
+    order; the walk closes on the predecessor of its last node.
+    """
+    n = len(policy)
+    has = policy >= 0
+    pred = src[policy[has]]
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(has, out=indptr[1:])
+    graph = sp.csr_matrix((np.ones(len(pred), dtype=np.int8), pred, indptr), shape=(n, n))
+    walk = breadth_first_order(graph, start, directed=True, return_predecessors=False)
+    entry = int(src[policy[walk[-1]]])
+    cycle_nodes = walk[int(np.flatnonzero(walk == entry)[0]):]
+    return policy[cycle_nodes][::-1].copy()
