@@ -204,8 +204,8 @@ def max_cycle_ratio(
         Kernel of the policy iteration: the numpy kernel (always there) or the
         numba-compiled one (the optional extra; int64 arithmetic under the same
         proven bound, else the numpy kernel runs). Default: the environment
-        variable ``MAXPLUS_ENGINE``, else ``"auto"`` (numba on large graphs
-        when installed). Results are exact and certified either way.
+        variable ``MAXPLUS_ENGINE``, else ``"auto"`` (the numpy kernel: numba
+        has not yet been measured faster, see ``benchmarks/results/peers.md``). Results are exact and certified either way.
 
     Returns
     -------

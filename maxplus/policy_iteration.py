@@ -58,10 +58,12 @@ class HowardSolution(NamedTuple):
 ENGINE_VARIABLE = "MAXPLUS_ENGINE"
 """Environment variable that picks the kernel: ``auto`` (default), ``numpy`` or ``numba``."""
 
-JIT_MIN_ARCS = 1_000_000
-"""``auto`` uses numba from this many arcs on: below, its import and the
-loading of its cached machine code (0.6 - 0.9 s per process) cost more than it
-saves (``benchmarks/results/peers.md``)."""
+JIT_MIN_ARCS: int | None = None
+"""``auto`` uses numba from this many arcs on (None: never). Measured
+(``benchmarks/results/peers.md``): its import and the loading of its cached
+machine code cost 0.6 - 0.9 s per process, and on SPRAND 10^6 it was no faster
+than the numpy kernel (17.9 s against 16.7 s, memory latency bounds both), so
+it has not earned a place in ``auto``; ``engine="numba"`` still selects it."""
 
 
 def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray,
@@ -80,7 +82,7 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     engine : {"auto", "numpy", "numba"}, optional
         Kernel: numba's compiled loops when installed (int64 arithmetic only),
         else numpy; default from the environment variable ``MAXPLUS_ENGINE``,
-        else ``"auto"`` (numba for large graphs when it can be imported).
+        else ``"auto"`` (numba from ``JIT_MIN_ARCS`` arcs on when it can be imported).
 
     Returns
     -------
@@ -106,7 +108,8 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     arcs = _InArcs.build(src, dst, w, t, n)
     limits = _int64_limits(w, t, n)
     if limits is not None:
-        if engine == "numba" or (engine == "auto" and len(src) >= JIT_MIN_ARCS and _jit_available()):
+        if engine == "numba" or (engine == "auto" and JIT_MIN_ARCS is not None
+                                 and len(src) >= JIT_MIN_ARCS and _jit_available()):
             from .policy_iteration_jit import howard_jit
 
             pol = arcs.initial_policy()
