@@ -8,13 +8,23 @@ solver (:mod:`maxplus.cycle_ratio`, :mod:`maxplus.policy_iteration`).
 from __future__ import annotations
 
 import math
-from fractions import Fraction
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-__all__ = ["INT64_SAFE", "gcd_arrays", "int_array", "find_circuit", "argmax_ratio"]
+__all__ = [
+    "INT64_SAFE",
+    "abs_max",
+    "argmax_ratio",
+    "compare_ratios",
+    "exact_ints",
+    "find_circuit",
+    "float_ratios",
+    "gcd_arrays",
+    "int_array",
+    "products_fit",
+]
 
 INT64_SAFE = 2**62
 """Integers of absolute value below this may be added in pairs in int64 without overflow."""
@@ -100,19 +110,112 @@ def find_circuit(src: np.ndarray, dst: np.ndarray, n: int, arcs: np.ndarray | No
     return walk[seen[node]:]
 
 
+def abs_max(a: np.ndarray) -> int:
+    """Largest absolute value of an integer array, as a Python int (0 when empty).
+
+    Never overflows: ``np.abs`` of int64's smallest value would stay negative.
+
+    >>> abs_max(np.array([-2**63, 5])) == 2**63
+    True
+    """
+    if len(a) == 0:
+        return 0
+    return max(int(a.max()), -int(a.min()))
+
+
+def exact_ints(a: np.ndarray) -> np.ndarray:
+    """An integer array as int64, or as object (Python ints) when int64 cannot hold it.
+
+    uint64 values from 2**63 would wrap to negative numbers in int64.
+
+    >>> exact_ints(np.array([2**64 - 1], dtype=np.uint64)).tolist() == [2**64 - 1]
+    True
+    """
+    if a.dtype == object:
+        return a
+    if a.dtype.kind == "u" and len(a) and int(a.max()) > np.iinfo(np.int64).max:
+        out = np.empty(len(a), dtype=object)
+        out[:] = a.tolist()
+        return out
+    return a.astype(np.int64, copy=False)
+
+
+def products_fit(*pairs: tuple[np.ndarray, np.ndarray]) -> bool:
+    """True when, for each pair ``(a, b)``, every ``a[i] * b[j]`` and any sum of two stays in int64."""
+    for a, b in pairs:
+        if a.dtype == object or b.dtype == object or abs_max(a) * abs_max(b) >= INT64_SAFE:
+            return False
+    return True
+
+
+def _as_object(a: np.ndarray) -> np.ndarray:
+    if a.dtype == object:
+        return a
+    out = np.empty(len(a), dtype=object)
+    out[:] = a.tolist()
+    return out
+
+
+def compare_ratios(a_num: np.ndarray, a_den: np.ndarray, b_num: np.ndarray,
+                   b_den: np.ndarray) -> np.ndarray:
+    """Elementwise sign of ``a_num/a_den - b_num/b_den`` (denominators > 0), exact.
+
+    int64 cross-multiplication when the products cannot overflow, Python ints otherwise.
+
+    >>> compare_ratios(np.array([1, 2**70]), np.array([3, 1]), np.array([1, 2**70]),
+    ...                np.array([2, 1])).tolist()
+    [-1, 0]
+    """
+    if not products_fit((a_num, b_den), (b_num, a_den)):
+        a_num, a_den, b_num, b_den = (_as_object(x) for x in (a_num, a_den, b_num, b_den))
+    left, right = a_num * b_den, b_num * a_den
+    return (left > right).astype(np.int8) - (left < right).astype(np.int8)
+
+
+def float_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
+    """Nearest floats of ``num/den`` (den > 0), ``±inf`` beyond float range.
+
+    Only an accelerator: callers settle every decision exactly.
+
+    >>> float_ratios(np.array([10**400, 1], dtype=object), np.array([1, 3], dtype=object)).tolist()
+    [inf, 0.3333333333333333]
+    """
+    if num.dtype != object and den.dtype != object:
+        return num.astype(float) / den.astype(float)
+    return np.frompyfunc(_float_ratio, 2, 1)(num, den).astype(float)
+
+
+def _float_ratio(a: int, b: int) -> float:
+    try:
+        return int(a) / int(b)  # correctly rounded for Python ints of any size
+    except OverflowError:
+        return math.inf if (a > 0) == (b > 0) else -math.inf
+
+
 def argmax_ratio(num: np.ndarray, den: np.ndarray) -> int:
-    """Index of the largest ``num/den`` (all ``den > 0``), compared exactly.
+    """Index of the (first) largest ``num/den`` (all ``den > 0``), compared exactly.
+
+    Floats shortlist the candidates (every ratio within float error of the
+    float maximum); an exact knockout tournament among them, vectorized,
+    settles the winner. Infinite floats (huge ratios) shortlist everything
+    that could be the maximum.
 
     >>> argmax_ratio(np.array([7, 5, 9]), np.array([3, 2, 4]))  # 7/3, 5/2, 9/4
     1
+    >>> argmax_ratio(np.array([10**400, 10**400 + 1], dtype=object), np.array([3, 3]))
+    1
     """
-    if num.dtype == object or den.dtype == object:
-        values = [Fraction(int(a), int(b)) for a, b in zip(num.tolist(), den.tolist())]
-        return max(range(len(values)), key=values.__getitem__)
-    approx = num.astype(float) / den.astype(float)
-    best = int(np.argmax(approx))
-    # Floats only shortlist; the winner is settled by exact cross-multiplication.
-    for k in np.flatnonzero(approx >= approx[best] - abs(approx[best]) * 1e-9 - 1e-300).tolist():
-        if int(num[k]) * int(den[best]) > int(num[best]) * int(den[k]):
-            best = k
-    return best
+    approx = float_ratios(num, den)
+    top = approx.max()
+    if math.isinf(top) and top > 0:
+        cand = np.flatnonzero(approx == top)
+    else:
+        # Float division of exact ints errs by a few ulps; 1e-9 relative is ample.
+        cand = np.flatnonzero(approx >= top - abs(top) * 1e-9 - 1e-300)
+    while len(cand) > 1:
+        # Pair neighbours; the left one (lower index) wins ties, an odd one out passes.
+        left, right = cand[0:len(cand) - 1:2], cand[1::2]
+        sign = compare_ratios(num[right], den[right], num[left], den[left])
+        winners = np.where(sign > 0, right, left)
+        cand = np.concatenate([winners, cand[len(cand) - 1:]]) if len(cand) % 2 else winners
+    return int(cand[0])

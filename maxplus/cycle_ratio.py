@@ -36,12 +36,20 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components
 
-from ._arrays import INT64_SAFE, argmax_ratio, find_circuit, gcd_arrays
+from ._arrays import (
+    INT64_SAFE,
+    abs_max,
+    argmax_ratio,
+    exact_ints,
+    find_circuit,
+    gcd_arrays,
+    int_array,
+)
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
 from .policy_iteration import howard_arrays
 from .scalar import exact
 
-__all__ = ["max_cycle_ratio", "CycleRatioResult", "CycleRatioCertificate", "find_circuit"]
+__all__ = ["CycleRatioCertificate", "CycleRatioResult", "find_circuit", "max_cycle_ratio"]
 
 
 @dataclass(frozen=True)
@@ -87,6 +95,10 @@ class CycleRatioResult:
         Per node, ``χ_i = num/den`` in lowest terms; ``den == 0`` for a node that
         no circuit reaches (its cycle time is None).
     certificate : CycleRatioCertificate
+    iterations : int
+        Howard iterations (value determinations) run; 0 without circuit.
+    engine : str
+        Kernel that ran: ``"numpy"``, ``"numba"`` or ``""`` (no circuit).
     """
 
     ratio: Fraction | None
@@ -98,6 +110,8 @@ class CycleRatioResult:
     dst: np.ndarray = field(repr=False)
     weight: np.ndarray = field(repr=False)
     tokens: np.ndarray = field(repr=False)
+    iterations: int = 0
+    engine: str = ""
     _cycle_times: list | None = field(default=None, repr=False)
 
     @property
@@ -170,6 +184,8 @@ def max_cycle_ratio(
     weight: Any,
     tokens: Any = None,
     n_nodes: int | None = None,
+    *,
+    engine: str | None = None,
 ) -> CycleRatioResult:
     """Maximum cycle ratio, critical circuit and cycle-time vector, certified.
 
@@ -184,6 +200,12 @@ def max_cycle_ratio(
         Non-negative token counts (default 1 on every arc: the maximum cycle mean).
     n_nodes : int, optional
         Number of nodes (default ``max(src, dst) + 1``).
+    engine : {"auto", "numpy", "numba"}, optional
+        Kernel of the policy iteration: the numpy kernel (always there) or the
+        numba-compiled one (the optional extra; int64 arithmetic under the same
+        proven bound, else the numpy kernel runs). Default: the environment
+        variable ``MAXPLUS_ENGINE``, else ``"auto"`` (the numpy kernel: numba
+        has not yet been measured faster, see ``benchmarks/results/peers.md``). Results are exact and certified either way.
 
     Returns
     -------
@@ -220,7 +242,7 @@ def max_cycle_ratio(
     w_int, scale = _validate_weights(weight, len(src_a))
     t_int = _validate_tokens(tokens, len(src_a))
     _refuse_zero_token_circuits(src_a, dst_a, t_int, n)
-    return _solve(src_a, dst_a, w_int, t_int, scale, n)
+    return _solve(src_a, dst_a, w_int, t_int, scale, n, engine)
 
 
 # --------------------------------------------------------------------------- validation
@@ -276,7 +298,7 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
             f"expected {m} weights (one per arc), got shape {np.shape(arr)}", "weight"
         )
     if arr.dtype.kind in "iu":
-        return arr.astype(np.int64, copy=False), 1
+        return exact_ints(arr), 1
     if arr.dtype.kind == "f":
         bad = ~np.isfinite(arr)
         if bad.any():
@@ -290,12 +312,7 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
     scale = 1
     for v in values:
         scale = math.lcm(scale, v.denominator)  # type: ignore[union-attr]
-    ints = [int(v * scale) for v in values]
-    if m and max(abs(v) for v in ints) >= INT64_SAFE:
-        out = np.empty(m, dtype=object)
-        out[:] = ints
-        return out, scale
-    return np.array(ints, dtype=np.int64), scale
+    return int_array([int(v * scale) for v in values]), scale
 
 
 def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
@@ -306,8 +323,10 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
         raise MaxPlusValueError(
             f"expected {m} token counts (one per arc), got shape {np.shape(arr)}", "tokens"
         )
-    if arr.dtype.kind not in "iu":
-        out = np.empty(m, dtype=np.int64)
+    if arr.dtype.kind in "iu":
+        arr = exact_ints(arr)
+    else:
+        counts = []
         for k, v in enumerate(arr.tolist()):
             try:
                 f = Fraction(v) if not isinstance(v, float) else Fraction(repr(v))
@@ -315,9 +334,8 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
                 raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}", f"tokens[{k}]") from None
             if isinstance(v, bool) or f.denominator != 1:
                 raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}", f"tokens[{k}]")
-            out[k] = int(f)
-        arr = out
-    arr = arr.astype(np.int64, copy=False)
+            counts.append(int(f))
+        arr = int_array(counts)  # Python ints past int64: token counts of any size
     if m and arr.min() < 0:
         k = int(np.flatnonzero(arr < 0)[0])
         raise MaxPlusValueError(f"expected a token count >= 0, got {arr[k]}", f"tokens[{k}]")
@@ -335,7 +353,7 @@ def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.nda
 
 
 def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale: int,
-           n: int) -> CycleRatioResult:
+           n: int, engine: str | None = None) -> CycleRatioResult:
 
     live = _nodes_reached_by_circuits(src, dst, n)
     num = np.zeros(n, dtype=np.int64)
@@ -344,19 +362,17 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
     policy = np.full(n, -1, dtype=np.int64)
     circuit = np.zeros(0, dtype=np.int64)
     ratio: Fraction | None = None
+    iterations, used = 0, ""
     if live.any():
         keep = np.flatnonzero(live[src] & live[dst])
         nodes = np.flatnonzero(live)
         relabel = np.full(n, -1, dtype=np.int64)
         relabel[nodes] = np.arange(len(nodes))
-        # |potential| <= 2 * sum|w| * sum(t) (a path sum of w*T - W*t), and the
-        # improvement step adds one more such term: int64 is exact below 2**62.
-        bound = 4 * (int(np.abs(w[keep]).sum()) + 1) * (int(t[keep].sum()) + 1)
-        exact_dtype = np.int64 if bound < INT64_SAFE and w.dtype != object else object
-        sub = howard_arrays(relabel[src[keep]], relabel[dst[keep]], w[keep].astype(exact_dtype),
-                      t[keep].astype(exact_dtype), len(nodes))
-        s_num, s_den, s_pot, s_pol = sub
-        if exact_dtype is object:
+        solution = howard_arrays(relabel[src[keep]], relabel[dst[keep]], w[keep], t[keep],
+                                 len(nodes), engine)
+        s_num, s_den, s_pot, s_pol = solution[:4]
+        iterations, used = solution.iterations, solution.engine
+        if s_num.dtype == object:
             num, den, potential = (np.zeros(n, dtype=object) for _ in range(3))
         num[nodes] = s_num
         den[nodes] = s_den
@@ -365,10 +381,13 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         best = argmax_ratio(num[nodes], den[nodes])
         circuit = _policy_circuit(int(nodes[best]), policy, src)
         ratio = Fraction(int(num[nodes[best]]), scale * int(den[nodes[best]]))
-    # Cycle times in lowest terms, with the weight scale folded in.
-    ct_num, ct_den = _reduce(num, den * scale, den != 0)
+    # Cycle times in lowest terms, with the weight scale folded in (in Python
+    # ints when den * scale could leave int64).
+    scaled_den = den * scale if abs_max(den) * scale < INT64_SAFE else den.astype(object) * scale
+    ct_num, ct_den = _reduce(num, scaled_den, den != 0)
     cert = CycleRatioCertificate(scale, num, den, potential, policy, circuit)
-    return CycleRatioResult(ratio, circuit, ct_num, ct_den, cert, src, dst, w, t)
+    return CycleRatioResult(ratio, circuit, ct_num, ct_den, cert, src, dst, w, t, iterations,
+                            used)
 
 
 def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.ndarray:
@@ -404,15 +423,19 @@ def _reduce(num: np.ndarray, den: np.ndarray, mask: np.ndarray) -> tuple[np.ndar
 
 
 def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarray:
-    """Arcs of the policy circuit reached backwards from ``start``, in forward order."""
-    seen: dict[int, int] = {}
-    arcs: list[int] = []
-    node = start
-    while node not in seen:
-        seen[node] = len(arcs)
-        a = int(policy[node])
-        arcs.append(a)
-        node = int(src[a])
-    cycle = arcs[seen[node]:]
-    return np.array(cycle[::-1], dtype=np.int64)
+    """Arcs of the policy circuit reached backwards from ``start``, in forward order.
 
+    Each node has one policy predecessor, so a breadth-first search on the
+    predecessor graph (in C) visits the walk ``start, pred(start), ...`` in
+    order; the walk closes on the predecessor of its last node.
+    """
+    n = len(policy)
+    has = policy >= 0
+    pred = src[policy[has]]
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(has, out=indptr[1:])
+    graph = sp.csr_matrix((np.ones(len(pred), dtype=np.int8), pred, indptr), shape=(n, n))
+    walk = breadth_first_order(graph, start, directed=True, return_predecessors=False)
+    entry = int(src[policy[walk[-1]]])
+    cycle_nodes = walk[int(np.flatnonzero(walk == entry)[0]):]
+    return policy[cycle_nodes][::-1].copy()

@@ -30,18 +30,44 @@ distinct ratios of the current policy, computed once per iteration.
 
 from __future__ import annotations
 
-from fractions import Fraction
-from typing import Any
+import importlib.util
+import os
+from dataclasses import dataclass, replace
+from functools import cmp_to_key
+from typing import Any, NamedTuple
 
 import numpy as np
 
-from ._arrays import gcd_arrays
+from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
+from .errors import MaxPlusValueError
 
 __all__ = ["howard_arrays"]
 
 
+class HowardSolution(NamedTuple):
+    """Optimal policy found by :func:`howard_arrays`."""
+
+    ratio_num: np.ndarray
+    ratio_den: np.ndarray
+    potential: np.ndarray
+    policy: np.ndarray
+    iterations: int
+    engine: str
+
+
+ENGINE_VARIABLE = "MAXPLUS_ENGINE"
+"""Environment variable that picks the kernel: ``auto`` (default), ``numpy`` or ``numba``."""
+
+JIT_MIN_ARCS: int | None = None
+"""``auto`` uses numba from this many arcs on (None: never). Measured
+(``benchmarks/results/peers.md``): its import and the loading of its cached
+machine code cost 0.6 - 0.9 s per process, and on SPRAND 10^6 it was no faster
+than the numpy kernel (17.9 s against 16.7 s, memory latency bounds both), so
+it has not earned a place in ``auto``; ``engine="numba"`` still selects it."""
+
+
 def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray,
-                  n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                  n: int, engine: str | None = None) -> HowardSolution:
     """Optimal policy of a graph in which every node has at least one in-arc.
 
     Parameters
@@ -49,43 +75,154 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     src, dst : numpy.ndarray of int64
         Arcs; every node in ``range(n)`` must be the ``dst`` of some arc.
     w, t : numpy.ndarray
-        Integer weights and token counts (same dtype: int64 or object), with
-        no circuit of zero tokens.
+        Integer weights and token counts (int64, or object for Python ints of
+        any size), with no circuit of zero tokens.
     n : int
         Number of nodes.
+    engine : {"auto", "numpy", "numba"}, optional
+        Kernel: numba's compiled loops when installed (int64 arithmetic only),
+        else numpy; default from the environment variable ``MAXPLUS_ENGINE``,
+        else ``"auto"`` (numba from ``JIT_MIN_ARCS`` arcs on when it can be imported).
 
     Returns
     -------
-    ratio_num, ratio_den, potential, policy : numpy.ndarray
+    HowardSolution
         Per node: the cycle time ``ratio_num/ratio_den`` (lowest terms), the
-        potential (bias times ``ratio_den``) and the index of its policy arc.
+        potential (bias times ``ratio_den``) and the index of its policy arc;
+        the number of value determinations and the kernel used.
 
     Examples
     --------
     Circuit 0 -> 1 -> 0 of ratio (5+3)/2 and a self-loop of ratio 3 on node 1:
 
-    >>> num, den, pot, pol = howard_arrays(np.array([0, 1, 1]), np.array([1, 0, 1]),
-    ...     np.array([5, 3, 3]), np.array([1, 1, 1]), 2)
-    >>> (num // den).tolist(), pol.tolist()
+    >>> sol = howard_arrays(np.array([0, 1, 1]), np.array([1, 0, 1]),
+    ...     np.array([5, 3, 3]), np.array([1, 1, 1]), 2, engine="numpy")
+    >>> (sol.ratio_num // sol.ratio_den).tolist(), sol.policy.tolist()
     ([4, 4], [1, 0])
     """
-    order = np.argsort(dst, kind="stable")
-    s_src, s_dst, s_w, s_t = src[order], dst[order], w[order], t[order]
-    counts = np.bincount(dst, minlength=n)
-    starts = np.r_[0, np.cumsum(counts)[:-1]]
-    seg = np.repeat(np.arange(n), counts)
-    out_order = np.argsort(s_src, kind="stable")  # arcs by tail, for downstream sweeps
-    out_counts = np.bincount(s_src, minlength=n)
-    out_starts = np.r_[0, np.cumsum(out_counts)[:-1]]
-    # Initial policy: the heaviest in-arc of each node, a good first guess.
-    pol = starts + _segment_argmax(s_w, starts, seg)
-    W = np.zeros(n, dtype=w.dtype)
-    T = np.zeros(n, dtype=w.dtype)
-    X = np.zeros(n, dtype=w.dtype)
+    engine = engine or os.environ.get(ENGINE_VARIABLE, "auto")
+    if engine not in ("auto", "numpy", "numba"):
+        raise MaxPlusValueError(f"expected 'auto', 'numpy' or 'numba', got {engine!r}", "engine")
+    if engine == "numba" and not _jit_available():
+        raise MaxPlusValueError("the numba kernel needs the optional package numba", "engine")
+    arcs = _InArcs.build(src, dst, w, t, n)
+    limits = _int64_limits(w, t, n)
+    if limits is not None:
+        if engine == "numba" or (engine == "auto" and JIT_MIN_ARCS is not None
+                                 and len(src) >= JIT_MIN_ARCS and _jit_available()):
+            from .policy_iteration_jit import howard_jit
+
+            pol = arcs.initial_policy()
+            s64 = arcs.as_int64()
+            W, T, X, iterations, ok = howard_jit(s64.s_src, s64.s_dst, s64.s_w, s64.s_t,
+                                                 s64.starts, s64.out_order, pol, n, limits)
+            if ok:
+                return HowardSolution(W, T, X, arcs.order[pol], iterations, "numba")
+        else:
+            try:
+                return _howard(arcs.as_int64(), limits)
+            except _LeavesInt64:
+                pass
+    return _howard(arcs.as_object(), None)
+
+
+def _jit_available() -> bool:
+    return importlib.util.find_spec("numba") is not None
+
+
+class _LeavesInt64(Exception):
+    """A potential grew past what int64 arithmetic can carry exactly."""
+
+
+def _objects(a: np.ndarray) -> np.ndarray:
+    out = np.empty(len(a), dtype=object)
+    out[:] = a.tolist()
+    return out
+
+
+def _int64_limits(w: np.ndarray, t: np.ndarray, n: int) -> int | None:
+    """Slack that int64 arithmetic leaves for potentials, or None when int64 cannot be used.
+
+    A policy path or circuit has at most ``n`` distinct arcs, so its weight
+    sum is at most ``S_w = min(Σ|w|, n·max|w|)`` in absolute value and its token
+    sum at most ``S_t``; ratios ``W/T`` and path sums then stay within those,
+    products ``W·t``, ``w·T`` and a fresh potential ``w_path·T - W·t_path``
+    within ``2·S_w·S_t``. The potential a circuit keeps from earlier iterations
+    is checked at run time against the returned slack.
+    """
+    if w.dtype == object or t.dtype == object:
+        return None
+    w_max, t_max = abs_max(w), abs_max(t)
+    if w_max * len(w) < INT64_SAFE:
+        w_sum = int(np.abs(w).sum())
+    else:
+        w_sum = w_max * len(w)  # an upper bound is enough here
+    t_sum = int(t.sum()) if t_max * len(t) < INT64_SAFE else t_max * len(t)
+    s_w, s_t = min(w_sum, n * w_max), min(t_sum, n * t_max)
+    fixed = 2 * s_w * s_t + w_max * s_t + s_w * t_max
+    slack = INT64_SAFE - 2 * fixed
+    return slack if slack > 0 else None
+
+
+@dataclass(frozen=True)
+class _InArcs:
+    """Arcs sorted by head (CSR of in-arcs) and the order by tail, built once."""
+
+    order: np.ndarray  # sorted position -> caller's arc index
+    s_src: np.ndarray
+    s_dst: np.ndarray
+    s_w: np.ndarray
+    s_t: np.ndarray
+    starts: np.ndarray  # n + 1 offsets
+    seg: np.ndarray  # head of each sorted arc (== s_dst)
+    out_order: np.ndarray  # sorted arcs by tail, for downstream sweeps
+    out_starts: np.ndarray
+    out_counts: np.ndarray
+    n: int
+
+    @classmethod
+    def build(cls, src, dst, w, t, n) -> _InArcs:
+        order = np.argsort(dst, kind="stable")
+        s_src, s_dst = src[order], dst[order]
+        counts = np.bincount(dst, minlength=n)
+        starts = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(counts, out=starts[1:])
+        out_order = np.argsort(s_src, kind="stable")
+        out_counts = np.bincount(s_src, minlength=n)
+        out_starts = np.r_[0, np.cumsum(out_counts)[:-1]]
+        return cls(order, s_src, s_dst, w[order], t[order], starts, s_dst, out_order, out_starts,
+                   out_counts, n)
+
+    def as_int64(self) -> _InArcs:
+        return replace(self, s_w=self.s_w.astype(np.int64), s_t=self.s_t.astype(np.int64))
+
+    def as_object(self) -> _InArcs:
+        return replace(self, s_w=_objects(self.s_w), s_t=_objects(self.s_t))
+
+    def initial_policy(self) -> np.ndarray:
+        """The heaviest in-arc of each node, a good first guess.
+
+        (The in-arc of largest ``w/t`` was measured too and took more
+        iterations: 40 against 32 on SPRAND 10^5, 49 against 33 on the torus.)
+        """
+        return self.starts[:-1] + _segment_argmax(self.s_w, self.starts[:-1], self.seg)
+
+
+def _howard(arcs: _InArcs, limits: int | None) -> HowardSolution:
+    s_src, s_dst, s_w, s_t, n = arcs.s_src, arcs.s_dst, arcs.s_w, arcs.s_t, arcs.n
+    out_order, out_starts, out_counts = arcs.out_order, arcs.out_starts, arcs.out_counts
+    pol = arcs.initial_policy()
+    iterations = 0
+    W = np.zeros(n, dtype=s_w.dtype)
+    T = np.zeros(n, dtype=s_w.dtype)
+    X = np.zeros(n, dtype=s_w.dtype)
     first = True
     check_all = True
     while True:
         W_new, T_new, X_new, rank = _value_determination(pol, s_src, s_w, s_t, n, W, T, X, first)
+        iterations += 1
+        if limits is not None and abs_max(X_new) >= limits:
+            raise _LeavesInt64
         if check_all:
             cand = np.arange(len(s_src))
         else:
@@ -111,7 +248,7 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
         value = X[cs] + s_w[cand] * T[cd] - W[cd] * s_t[cand]
         gain = (rank_src == rank_dst) & (value > X[cd])
         if not gain.any():
-            return W, T, X, order[pol]
+            return HowardSolution(W, T, X, arcs.order[pol], iterations, "numpy")
         chosen, nodes = _best_per_node(cand[gain], value[gain], s_dst)
         pol[nodes] = chosen
         check_all = False
@@ -183,13 +320,6 @@ def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray
                    ) -> tuple[np.ndarray, np.ndarray]:
     """For each destination among ``arcs`` (sorted by destination), its arc of largest key."""
     d = s_dst[arcs]
-    if key.dtype == object:
-        best: dict[int, tuple] = {}
-        for a, node, k in zip(arcs.tolist(), d.tolist(), key.tolist()):
-            if node not in best or k > best[node][1]:
-                best[node] = (a, k)
-        nodes = np.array(sorted(best), dtype=np.int64)
-        return np.array([best[v][0] for v in nodes.tolist()], dtype=np.int64), nodes
     new_node = np.concatenate(([True], d[1:] != d[:-1]))
     starts = np.flatnonzero(new_node)
     segment = np.cumsum(new_node) - 1
@@ -207,12 +337,7 @@ def _lowest(values: np.ndarray) -> Any:
 
 def _segment_argmax(values: np.ndarray, starts: np.ndarray, seg: np.ndarray) -> np.ndarray:
     """Offset, within its segment, of the first maximum of each (non-empty) segment."""
-    if values.dtype == object:
-        ends = np.r_[starts[1:], len(values)]
-        seg_max = np.empty(len(starts), dtype=object)
-        seg_max[:] = [max(values[a:b].tolist()) for a, b in zip(starts, ends)]
-    else:
-        seg_max = np.maximum.reduceat(values, starts)
+    seg_max = np.maximum.reduceat(values, starts)  # object arrays too (Python ints)
     hit = np.flatnonzero(values == seg_max[seg])
     first = np.concatenate(([True], seg[hit[1:]] != seg[hit[:-1]]))
     return hit[first] - starts[seg[hit[first]]]
@@ -288,9 +413,10 @@ def _value_determination(pol: np.ndarray, s_src: np.ndarray, s_w: np.ndarray, s_
 def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     """Dense rank of each fraction num/den (den > 0 for used entries; 0 = unused).
 
-    Floats sort the fractions; exact cross-multiplication then checks every
-    adjacent pair, and decides equality. If floats misordered a pair (ratios
-    closer than float precision), the order is redone with exact Fractions.
+    Floats sort the fractions (an accelerator only); exact cross-multiplication
+    then checks every adjacent pair, and decides equality. If floats misordered
+    a pair (ratios closer than float precision, or beyond float range), the
+    order is redone by exact comparisons.
     """
     k = len(num)
     used = den != 0
@@ -298,16 +424,16 @@ def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     idx = np.flatnonzero(used)
     if len(idx) == 0:
         return rank
-    approx = num[idx].astype(float) / den[idx].astype(float)
-    order = idx[np.argsort(approx, kind="stable")]
-    a_num, a_den = num[order[:-1]], den[order[:-1]]
-    b_num, b_den = num[order[1:]], den[order[1:]]
-    left, right = a_num * b_den, b_num * a_den
-    if (left > right).any():
-        order = np.array(sorted(idx.tolist(), key=lambda i: Fraction(int(num[i]), int(den[i]))),
-                         dtype=np.int64)
-        a_num, a_den = num[order[:-1]], den[order[:-1]]
-        b_num, b_den = num[order[1:]], den[order[1:]]
-        left, right = a_num * b_den, b_num * a_den
-    rank[order] = np.r_[0, np.cumsum(left != right)]
+    order = idx[np.argsort(float_ratios(num[idx], den[idx]), kind="stable")]
+    step = compare_ratios(num[order[1:]], den[order[1:]], num[order[:-1]], den[order[:-1]])
+    if (step < 0).any():
+        def cmp(i: int, j: int) -> int:
+            return (int(num[i]) * int(den[j]) > int(num[j]) * int(den[i])) - (
+                int(num[i]) * int(den[j]) < int(num[j]) * int(den[i]))
+
+        # A loop over the distinct policy circuits, not over nodes; reached only
+        # when floats cannot order the ratios.
+        order = np.array(sorted(idx.tolist(), key=cmp_to_key(cmp)), dtype=np.int64)
+        step = compare_ratios(num[order[1:]], den[order[1:]], num[order[:-1]], den[order[:-1]])
+    rank[order] = np.r_[0, np.cumsum(step != 0)]
     return rank

@@ -8,6 +8,7 @@ reach the sweep: random small multigraphs almost never do.
 """
 from __future__ import annotations
 
+import importlib.util
 import itertools
 from fractions import Fraction
 
@@ -19,6 +20,8 @@ from hypothesis import strategies as st
 import maxplus.policy_iteration as pi
 from maxplus.cycle_ratio import max_cycle_ratio
 from maxplus.errors import ZeroTokenCircuitError
+
+HAS_NUMBA = importlib.util.find_spec("numba") is not None
 
 
 def brute_force(n, arcs):
@@ -68,7 +71,7 @@ def check(n, arcs):
         with pytest.raises(ZeroTokenCircuitError):
             max_cycle_ratio(src, dst, w, t, n)
         return
-    r = max_cycle_ratio(src, dst, w, t, n)
+    r = max_cycle_ratio(src, dst, w, t, n, engine="numpy")
     assert r.ratio == top
     assert r.cycle_times == ct
     assert r.verify()
@@ -80,6 +83,12 @@ def check(n, arcs):
         if ct[v] is not None:
             c = r.policy_circuit(v).tolist()
             assert Fraction(sum(w[k] for k in c), sum(t[k] for k in c)) == ct[v]
+    # the compiled kernel (optional extra) against the numpy kernel
+    if HAS_NUMBA:
+        rj = max_cycle_ratio(src, dst, w, t, n, engine="numba")
+        assert rj.engine == ("numba" if top is not None else "")
+        assert rj.ratio == r.ratio and rj.cycle_times == r.cycle_times
+        assert rj.verify()
     # same answer on the object (Python int) path: huge offset on nothing -> scale weights
     big = 2**70
     r2 = max_cycle_ratio(src, dst, [x * big for x in w], t, n)
@@ -157,7 +166,7 @@ def count_iterations(src, dst, w, t, n):
 
     pi._value_determination = counted
     try:
-        r = max_cycle_ratio(src, dst, w, t, n)
+        r = max_cycle_ratio(src, dst, w, t, n, engine="numpy")
     finally:
         pi._value_determination = orig
     return r, calls[0]
@@ -174,9 +183,13 @@ def test_iterations_long_chain_below_fast_circuit(L):
     for k in range(2, L + 1):
         src.append(k); dst.append(k + 1); w.append(0); t.append(0)
     r, it = count_iterations(src, dst, w, t, L + 2)
+    assert r.iterations == it
     assert r.verify()
     assert set(r.cycle_times[2:]) == {100}
     assert it <= 6  # one hop per iteration would take L
+    if HAS_NUMBA:  # the compiled kernel's work queue passes the ratio down the chain too
+        rj = max_cycle_ratio(src, dst, w, t, L + 2, engine="numba")
+        assert rj.iterations <= 6 and rj.cycle_times == r.cycle_times
 
 
 @pytest.mark.parametrize("L", [10, 100, 1000])
@@ -191,7 +204,7 @@ def test_iterations_ladder(L):
         src.append(c); dst.append(v); w.append(0); t.append(0)
         if k:
             src.append(2 * k - 1); dst.append(v); w.append(10**6); t.append(0)  # heavy chain arc
-    r, it = count_iterations(src, dst, w, t, n)
+    r, _ = count_iterations(src, dst, w, t, n)
     assert r.verify()
     exp = []
     for k in range(L):

@@ -1,0 +1,307 @@
+"""maxplus.max_cycle_ratio against the C++ Howard codes, side by side (issue 13).
+
+Peers: Boost Graph's ``maximum_cycle_ratio`` (Howard's policy iteration, in
+``boost/graph/howard_cycle_ratio.hpp``) and LEMON's ``HowardMmc``. Both are
+built from ``benchmarks/peers/*.cpp`` with g++ when a compiler and the headers
+are there (``apt-get install libboost-graph-dev liblemon-dev``); otherwise they
+are skipped with a message. LEMON computes minimum cycle *means* only, so it
+runs only on the families whose arcs all carry the same token count.
+
+Every solver reads the same ``.edges`` file in a fresh process; each reports
+its solve time (file reading excluded), its Howard iterations, its peak
+resident memory and its ratio. The runs are interleaved (A B C A B C ...), so
+that a busy machine slows every solver alike; the table gives medians, the
+spread (min-max), and maxplus's median time over Boost's ("ratio").
+
+Exactness: maxplus's ratio is exact and certified (``verify()`` is run and
+timed in every run). The peers use doubles; Boost's critical cycle and LEMON's
+cycle are summed exactly in integers, and the "agrees" column says whether
+that exact value equals maxplus's. Their float ratio is compared within
+float precision for the column only; no float enters a maxplus verdict.
+
+Usage::
+
+    python benchmarks/bench_peers.py                 # all families, 5 runs each
+    python benchmarks/bench_peers.py --quick         # small smoke run
+    python benchmarks/bench_peers.py --families sprand-1e5-s1 ring --runs 3
+
+Writes ``benchmarks/results/peers.md`` and ``benchmarks/results/peers.json``
+(``--out`` to change; ``--no-write`` to only print).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parent
+PEERS = HERE / "peers"
+sys.path.insert(0, str(HERE))
+
+from sprand import equal_weights, ring_with_chords, sprand, torus_grid
+
+FAMILIES = {
+    "sprand-1e4-s1": (lambda: sprand(10**4, seed=1), "SPRAND n=10^4, seed 1"),
+    "sprand-1e4-s2": (lambda: sprand(10**4, seed=2), "SPRAND n=10^4, seed 2"),
+    "sprand-1e5-s1": (lambda: sprand(10**5, seed=1), "SPRAND n=10^5, seed 1"),
+    "sprand-1e5-s2": (lambda: sprand(10**5, seed=2), "SPRAND n=10^5, seed 2"),
+    "sprand-1e6-s1": (lambda: sprand(10**6, seed=1), "SPRAND n=10^6, seed 1"),
+    "sprand-1e6-s2": (lambda: sprand(10**6, seed=2), "SPRAND n=10^6, seed 2"),
+    "ring": (lambda: ring_with_chords(10**5), "ring 10^5 + chords i->i+5"),
+    "torus": (lambda: torus_grid(316), "torus grid 316x316"),
+    "equal": (lambda: equal_weights(10**5), "SPRAND 10^5, all w=7, t=3"),
+    "sprand-1e5-t1": (lambda: sprand(10**5, max_tokens=1, seed=1), "SPRAND n=10^5, tokens 1"),
+}
+QUICK = ["sprand-1e4-s1", "equal-small", "ring-small"]
+SMALL = {
+    "equal-small": (lambda: equal_weights(2000), "SPRAND 2000, all w=7, t=3"),
+    "ring-small": (lambda: ring_with_chords(5000), "ring 5000 + chords"),
+}
+
+
+# --------------------------------------------------------------------------- files
+
+
+def write_edges(path: Path, graph) -> None:
+    """The project's ``.edges`` text: ``# nodes N`` then ``src dst holding tokens`` lines."""
+    src, dst, w, t = graph
+    n = int(max(src.max(), dst.max())) + 1
+    table = np.column_stack([src, dst, w, t]).astype(np.int64)
+    with open(path, "w") as f:
+        f.write(f"# nodes {n}\n")
+        np.savetxt(f, table, fmt="%d")
+
+
+def read_edges(path: Path):
+    """Integer ``.edges`` file -> (src, dst, weight, tokens, n)."""
+    text = Path(path).read_bytes()
+    n = None
+    body = []
+    for line in text.split(b"\n", 64)[:64]:  # "# nodes N" sits in the header
+        if line.startswith(b"# nodes"):
+            n = int(line.split()[2])
+    lines = text.split(b"\n")
+    body = b"\n".join(x for x in lines if x and not x.startswith(b"#"))
+    data = np.array(body.split(), dtype=np.int64).reshape(-1, 4)
+    return data[:, 0], data[:, 1], data[:, 2], data[:, 3], n
+
+
+def family_file(cache: Path, name: str) -> Path:
+    path = cache / f"{name}.edges"
+    if not path.exists():
+        make = {**FAMILIES, **SMALL}[name][0]
+        tmp = path.with_suffix(".tmp")
+        write_edges(tmp, make())
+        tmp.rename(path)
+    return path
+
+
+# --------------------------------------------------------------------------- solvers
+
+
+def build_peers(build: Path) -> dict[str, Path]:
+    """Compile the C++ peers; returns the programs that could be built."""
+    programs = {}
+    compiler = shutil.which("g++")
+    if compiler is None:
+        print("g++ not found: the C++ peers are skipped", file=sys.stderr)
+        return programs
+    for name, header in [("boost", "/usr/include/boost/graph/howard_cycle_ratio.hpp"),
+                         ("lemon", "/usr/include/lemon/howard_mmc.h")]:
+        if not Path(header).exists():
+            print(f"{header} not found: {name} is skipped (apt-get install "
+                  f"{'libboost-graph-dev' if name == 'boost' else 'liblemon-dev'})", file=sys.stderr)
+            continue
+        exe = build / f"{name}_howard"
+        src = PEERS / f"{name}_howard.cpp"
+        out = subprocess.run([compiler, "-O2", "-std=c++17", "-o", str(exe), str(src)],
+                             capture_output=True, text=True, check=False)
+        if out.returncode != 0:
+            print(f"{name}: build failed, skipped:\n{out.stderr[-2000:]}", file=sys.stderr)
+            continue
+        programs[name] = exe
+    return programs
+
+
+def child_maxplus(path: str) -> None:
+    """One fresh-process run of maxplus: read, solve, verify; print JSON."""
+    start = time.perf_counter()
+    sys.path.insert(0, str(REPO))
+    from maxplus.cycle_ratio import max_cycle_ratio
+
+    imported = time.perf_counter()
+    src, dst, w, t, n = read_edges(Path(path))
+    t0 = time.perf_counter()
+    result = max_cycle_ratio(src, dst, w, t, n_nodes=n)
+    t1 = time.perf_counter()
+    result.verify()
+    t2 = time.perf_counter()
+    import resource
+
+    print(json.dumps({
+        "solver": "maxplus", "engine": result.engine, "seconds": t1 - t0, "verify_seconds": t2 - t1,
+        "import_seconds": imported - start, "iterations": result.iterations,
+        "ratio": str(result.ratio), "cycle_arcs": len(result.circuit),
+        "peak_kib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
+    }))
+
+
+def run_solver(kind: str, path: Path, programs: dict, engine: str) -> dict:
+    env = dict(os.environ)
+    if kind == "maxplus":
+        env["MAXPLUS_ENGINE"] = engine
+        cmd = [sys.executable, __file__, "--child", str(path)]
+    else:
+        cmd = [str(programs[kind]), str(path)]
+    start = time.perf_counter()
+    out = subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
+    wall = time.perf_counter() - start
+    if out.returncode != 0:
+        return {"solver": kind, "error": out.stderr.strip()[-300:] or f"exit {out.returncode}"}
+    row = json.loads(out.stdout.strip().splitlines()[-1])
+    row["process_seconds"] = wall
+    return row
+
+
+# --------------------------------------------------------------------------- report
+
+
+def summarize(name: str, runs: list[dict]) -> dict:
+    by: dict[str, list[dict]] = {}
+    for r in runs:
+        by.setdefault(r["label"], []).append(r)
+    out = {"family": name}
+    for label, rows in by.items():
+        good = [r for r in rows if "error" not in r]
+        if not good:
+            out[label] = {"error": rows[0]["error"]}
+            continue
+        secs = [r["seconds"] for r in good]
+        entry = {
+            "median_s": statistics.median(secs), "min_s": min(secs), "max_s": max(secs),
+            "process_median_s": statistics.median(r["process_seconds"] for r in good),
+            "iterations": good[-1].get("iterations"), "peak_mib": max(r["peak_kib"] for r in good) / 1024,
+            "ratio": good[-1]["ratio"], "runs": len(good),
+        }
+        if "verify_seconds" in good[0]:
+            entry["verify_median_s"] = statistics.median(r["verify_seconds"] for r in good)
+            entry["import_median_s"] = statistics.median(r["import_seconds"] for r in good)
+            entry["engine"] = good[-1]["engine"]
+        if "float_ratio" in good[-1]:
+            entry["float_ratio"] = good[-1]["float_ratio"]
+        if "capped" in good[-1]:
+            entry["capped"] = good[-1]["capped"]
+        out[label] = entry
+    return out
+
+
+def agrees(exact: str, peer: dict) -> str:
+    if "error" in peer:
+        return "n/a"
+    mine = Fraction(exact)
+    theirs = Fraction(peer["ratio"]) if peer["ratio"].split("/")[1] != "0" else None
+    exact_ok = theirs == mine
+    close = abs(peer["float_ratio"] - float(mine)) <= 1e-12 * max(1.0, abs(float(mine)))
+    return ("exact" if exact_ok else "NO (exact cycle differs)") + ("" if close else ", float off")
+
+
+def table(summary: list[dict], labels: list[str]) -> str:
+    lines = [
+        ("| family | solver | median solve (s) | spread (s) | process (s) | iterations | "
+         "peak (MiB) | verify (% of solve) | time / Boost | agrees |"),
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
+    ]
+    for s in summary:
+        exact = next((s[x]["ratio"] for x in labels if x.startswith("maxplus") and x in s
+                      and "ratio" in s[x]), None)
+        boost = s.get("boost", {})
+        for label in labels:
+            e = s.get(label)
+            if e is None:
+                continue
+            if "error" in e:
+                lines.append(f"| {s['family']} | {label} | - | - | - | - | - | - | - | "
+                             f"skipped: {e['error'][:60]} |")
+                continue
+            rel = (f"{e['median_s'] / boost['median_s']:.2f}"
+                   if "median_s" in boost and label != "boost" else "")
+            verify = (f"{100 * e['verify_median_s'] / e['median_s']:.0f} %"
+                      if "verify_median_s" in e else "")
+            its = "" if e["iterations"] is None else str(e["iterations"])
+            if e.get("capped"):
+                its += " (cap)"
+            agree = agrees(exact, e) if "float_ratio" in e and exact else (
+                f"exact {e['ratio']}" if label.startswith("maxplus") else "")
+            lines.append(
+                f"| {s['family']} | {label} | {e['median_s']:.3f} | {e['min_s']:.3f}-{e['max_s']:.3f} "
+                f"| {e['process_median_s']:.2f} | {its} | {e['peak_mib']:.0f} | {verify} | {rel} "
+                f"| {agree} |")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--families", nargs="+", default=None)
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--quick", action="store_true", help="three small graphs, 2 runs")
+    parser.add_argument("--engines", nargs="+", default=["numpy", "numba"],
+                        help="maxplus kernels to run (numba only if installed)")
+    parser.add_argument("--cache", type=Path, default=None,
+                        help="directory for the generated .edges files (default: a temporary one)")
+    parser.add_argument("--out", type=Path, default=HERE / "results" / "peers")
+    parser.add_argument("--no-write", action="store_true")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        child_maxplus(args.child)
+        return
+    names = args.families or (QUICK if args.quick else list(FAMILIES))
+    runs = 2 if args.quick else args.runs
+    engines = [e for e in args.engines if e != "numba" or _has_numba()]
+    with tempfile.TemporaryDirectory() as tmp:
+        cache = args.cache or Path(tmp)
+        cache.mkdir(parents=True, exist_ok=True)
+        programs = build_peers(Path(tmp))
+        labels = [f"maxplus-{e}" for e in engines] + list(programs)
+        summary = []
+        for name in names:
+            path = family_file(cache, name)
+            rows = []
+            for _ in range(runs):  # interleaved: A B C, A B C, ...
+                for label in labels:
+                    if label.startswith("maxplus"):
+                        row = run_solver("maxplus", path, programs, label.split("-", 1)[1])
+                    else:
+                        row = run_solver(label, path, programs, "")
+                    row["label"] = label
+                    rows.append(row)
+            summary.append(summarize(name, rows))
+            print(table(summary[-1:], labels).splitlines()[-len(labels):], file=sys.stderr)
+    text = table(summary, labels)
+    print(text)
+    if not args.no_write:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.with_suffix(".json").write_text(json.dumps(summary, indent=1) + "\n")
+        args.out.with_suffix(".table.md").write_text(text + "\n")
+
+
+def _has_numba() -> bool:
+    import importlib.util
+
+    return importlib.util.find_spec("numba") is not None
+
+
+if __name__ == "__main__":
+    main()
