@@ -12,7 +12,7 @@ import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import List, NoReturn, Optional
+from typing import NoReturn
 
 import typer
 
@@ -33,23 +33,44 @@ def _commands() -> None:
     """Deadlocks, periods and overruns of synchronized real-time task sets."""
 
 
+# The library names its parameters (in messages as `max_steps`, in key paths
+# as chain[1]); the command line shows the options that set them.
+_FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "--max-states",
+          "max_seconds": "--max-seconds", "default_holding": "--default-holding",
+          "chain": "--chain"}
+_PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
+
+
+def _cli_words(text: str) -> str:
+    """Library text with each `parameter` named by its command-line option."""
+    return _PARAMETER.sub(lambda m: _FLAGS[m.group(1)], text)
+
+
 def _fail(message: str) -> NoReturn:
-    typer.echo(f"tegraph: error: {message}", err=True)
+    typer.echo(f"tegraph: error: {_cli_words(message)}", err=True)
     raise typer.Exit(2)
 
 
+def _located(exc: InputError) -> str:
+    """An input error whose key path names a parameter, with the option instead."""
+    head, bracket, rest = exc.where.partition("[")
+    if head in _FLAGS:
+        exc.with_where(_FLAGS[head] + bracket + rest)
+    return str(exc)
+
+
 @contextmanager
-def _refusals(file: Path, also: tuple[type[Exception], ...] = ()) -> Iterator[None]:
+def _refusals(file: Path) -> Iterator[None]:
     """The library's refusals as one line on stderr and exit status 2, never a traceback.
 
     An :class:`InputError` names its file and key path itself; any other
-    :class:`TegraphError` (and the exceptions in ``also``) is prefixed with ``file``.
+    :class:`TegraphError` is prefixed with ``file``.
     """
     try:
         yield
     except InputError as exc:
-        _fail(str(exc))
-    except (TegraphError, *also) as exc:
+        _fail(_located(exc))
+    except TegraphError as exc:
         _fail(f"{file}: {exc}")
 
 
@@ -57,11 +78,11 @@ def _refusals(file: Path, also: tuple[type[Exception], ...] = ()) -> Iterator[No
 def analyze(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report (docs/skeleton.md §5)."),
-    csv_dir: Optional[Path] = typer.Option(None, "--csv", help="Write tasks.csv and groups.csv here."),
+    csv_dir: Path | None = typer.Option(None, "--csv", help="Write tasks.csv and groups.csv here."),
     force: bool = typer.Option(False, "--force", help="Overwrite existing CSV files."),
     max_steps: int = typer.Option(100_000, "--max-steps", min=1,
                                   help="Budget on the firing index of the dater simulation."),
-    chain: Optional[List[str]] = typer.Option(
+    chain: list[str] | None = typer.Option(
         None, "--chain", help="A,B,C: report the latency of this chain (repeatable)."),
     design: bool = typer.Option(True, "--design/--no-design",
                                 help="Include design rules, schedulability and latencies."),
@@ -80,10 +101,10 @@ def analyze(
         try:
             write_csv(report, csv_dir, overwrite=force)
         except FileExistsError as exc:
-            _fail(str(exc))
+            _fail(f"{exc.filename}: the file exists already; pass --force to replace it")
         except OSError as exc:
             _fail(f"cannot write CSV files to {csv_dir}: {exc.strerror}")
-    typer.echo(to_json(report) if json_out else render_text(report), nl=not json_out)
+    typer.echo(to_json(report) if json_out else _cli_words(render_text(report)), nl=not json_out)
     raise typer.Exit(report.exit_status)
 
 
@@ -100,7 +121,7 @@ def reach(
                                     "overruns from the first repeated state (skeletons only)."),
     max_states: int = typer.Option(1_000_000, "--max-states", min=0,
                                    help="State budget; beyond it the answer is inconclusive."),
-    max_seconds: Optional[float] = typer.Option(None, "--max-seconds", min=0,
+    max_seconds: float | None = typer.Option(None, "--max-seconds", min=0,
                                                 help="Time budget in seconds."),
     json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
@@ -168,7 +189,7 @@ def reach(
 @app.command()
 def fix(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    output: Optional[Path] = typer.Option(
+    output: Path | None = typer.Option(
         None, "-o", "--output",
         help="Write the live skeleton here (.yaml/.yml or .json); the input file is "
              "replaced only when -o names it. Without -o nothing is written."),
@@ -206,7 +227,7 @@ def fix(
 @app.command()
 def rules(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    chain: Optional[List[str]] = typer.Option(
+    chain: list[str] | None = typer.Option(
         None, "--chain", help="A chain of tasks, sensor first, e.g. TG.JS,TF.TT.JS,CO.JS: "
                               "report its latency (repeatable; adds to the file's chains)."),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
@@ -229,7 +250,7 @@ def rules(
         report = analyze_skeleton(skeleton)
         sched = schedulability(skeleton, report)
         chains = [(c, ("chains", i)) for i, c in enumerate(skeleton.chains)]
-        chains += [(parse_chain(c), ("--chain",)) for c in chain or []]
+        chains += [(parse_chain(c), ("chain",)) for c in chain or []]
         latencies = [chain_latency(skeleton, c, report, sched, path) for c, path in chains]
     violated = any(f.severity != "info" for f in findings) or sched.schedulable is False
     if json_out:
@@ -241,17 +262,17 @@ def rules(
         text = render_rules(findings) + "\n" + render_schedulability(sched, skeleton.unit)
         for r in latencies:
             text += "\n" + render_latency(r, skeleton.unit)
-        typer.echo(text, nl=False)
+        typer.echo(_cli_words(text), nl=False)
     raise typer.Exit(1 if violated else 0)
 
 
 @app.command()
 def timeline(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    output: Optional[Path] = typer.Option(
+    output: Path | None = typer.Option(
         None, "-o", "--output", help="Also draw the diagram into this .svg or .png file "
                                      "(needs matplotlib: pip install 'tegraph[plot]')."),
-    horizon: Optional[str] = typer.Option(
+    horizon: str | None = typer.Option(
         None, "--horizon", help="End of the simulation, e.g. 12 or 7/3 (default: the "
                                 "largest clock phase plus the hyperperiod of the clocks)."),
     width: int = typer.Option(96, "--width", min=10, help="Columns of the text diagram."),
@@ -300,16 +321,16 @@ def cycle_time_command(
                                 "XML, .edges, TimedPetriNetEditor .json/.teg, a skeleton."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report "
                                   "(docs/report.schema.json)."),
-    fmt: Optional[str] = typer.Option(None, "--format", help="Force the input format "
+    fmt: str | None = typer.Option(None, "--format", help="Force the input format "
                                       "(pnml, sdf3, edges, tpne-json, tpne-teg, skeleton)."),
     max_size: str = typer.Option("256M", "--max-size", help="Refuse larger files (e.g. 1G)."),
-    default_holding: Optional[str] = typer.Option(
+    default_holding: str | None = typer.Option(
         None, "--default-holding", help="Holding time of every place of a net that carries "
         "no timing (default 0)."),
     max_states: int = typer.Option(1_000_000, "--max-states", min=0,
                                    help="State budget of the reachability search run on a "
                                         "P/T net that is not a marked graph."),
-    max_seconds: Optional[float] = typer.Option(None, "--max-seconds", min=0,
+    max_seconds: float | None = typer.Option(None, "--max-seconds", min=0,
                                                 help="Time budget of that search, in seconds."),
 ) -> None:
     """Exact period, throughput and critical circuit of a timed event graph.
@@ -322,11 +343,11 @@ def cycle_time_command(
     from .api import cycle_time
     from .report import render_text, to_json
 
-    with _refusals(file, also=(ValueError,)):
+    with _refusals(file):
         result = cycle_time(file, format=fmt, max_bytes=_parse_size(max_size),
                             default_holding=default_holding, max_states=max_states,
                             max_seconds=max_seconds)
-    typer.echo(to_json(result) if json_out else render_text(result), nl=not json_out)
+    typer.echo(to_json(result) if json_out else _cli_words(render_text(result)), nl=not json_out)
     raise typer.Exit(result.exit_status)
 
 
@@ -335,8 +356,8 @@ def convert(
     source: Path = typer.Argument(..., help="Input file (format detected from it)."),
     target: Path = typer.Argument(..., help="Output file (format from its extension: .pnml, "
                                   ".xml/.sdf3, .edges, .json, .teg, .dot, .yaml)."),
-    from_fmt: Optional[str] = typer.Option(None, "--from", help="Force the input format."),
-    to_fmt: Optional[str] = typer.Option(None, "--to", help="Force the output format (pnml, "
+    from_fmt: str | None = typer.Option(None, "--from", help="Force the input format."),
+    to_fmt: str | None = typer.Option(None, "--to", help="Force the output format (pnml, "
                                          "sdf3, edges, tpne-json, tpne-teg, dot, teg-dot, "
                                          "skeleton)."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing output file."),
@@ -357,10 +378,10 @@ def convert(
     except InputError as exc:
         _fail(str(exc))
     except FileExistsError:
-        _fail(f"{target} exists; not overwriting it (use --force)")
+        _fail(f"{target}: the file exists already; pass --force to replace it")
     except OSError as exc:
         _fail(f"cannot write {target}: {exc.strerror}")
-    except (TegraphError, ValueError) as exc:
+    except TegraphError as exc:
         _fail(f"{source}: {exc}")
     typer.echo(f"wrote {written}")
 

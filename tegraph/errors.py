@@ -76,6 +76,12 @@ class InputError(TegraphError, ValueError):
         self.args = (self._compose(),)
         return self
 
+    def with_where(self, where: str) -> InputError:
+        """Return the same error, located at ``where`` (a caller's name for the place)."""
+        self.where = where
+        self.args = (self._compose(),)
+        return self
+
 
 class SkeletonError(InputError):
     """A synchronization skeleton breaks a rule of the file format (spec §1)."""

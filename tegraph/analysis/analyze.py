@@ -407,7 +407,7 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         if not watch.decided:
             notes.append(
                 f"overrun of {name} undecided after {steps} activations: tasks upstream "
-                "of it run faster than its clock, so no state repeats; raise --max-steps")
+                "of it run faster than its clock, so no state repeats; raise `max_steps`")
     return steps, notes
 
 

@@ -235,9 +235,9 @@ def _holding(value: Any) -> Fraction:
         h = exact_time(value, "default holding")
     except MaxPlusValueError:
         raise InputError(f"expected an exact time such as 1, 0.5 or 7/3, got {value!r}",
-                         "--default-holding") from None
+                         "default_holding") from None
     if h < 0:
-        raise InputError(f"a holding time must be >= 0, got {h}", "--default-holding")
+        raise InputError(f"a holding time must be >= 0, got {h}", "default_holding")
     return h
 
 

@@ -30,6 +30,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import ModelError
+
 __all__ = ["DaterSimulation", "Regime", "OverrunWatch", "explore"]
 
 _NONE = np.iinfo(np.int64).min // 4
@@ -164,7 +166,8 @@ def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.nd
         frontier = np.unique(succ[remaining[succ] == 0])
         depth += 1
     if (active & (level < 0)).any():
-        raise ValueError("the 0-token places of the simulated events contain a circuit")
+        raise ModelError("the 0-token places of the simulated events contain a circuit; "
+                         "simulate live events only", "active")
     out = []
     place_level = level[dst]
     # One sort splits the places by level (a scan per level would cost depth × places).

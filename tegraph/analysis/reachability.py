@@ -37,6 +37,7 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import connected_components
 
+from ..errors import InputError
 from ..model.petri import PetriNet
 from ..model.teg import TimedEventGraph
 
@@ -236,7 +237,7 @@ def bounded_net(net: PetriNet, extra: int = 1) -> PetriNet:
     2
     """
     if extra < 1:
-        raise ValueError(f"extra must be >= 1, got {extra}")
+        raise InputError(f"expected an integer >= 1, got {extra}", "extra")
     return PetriNet(net.name, list(net.places) + [f"{p}~" for p in net.places],
                     list(net.transitions), np.vstack([net.pre, net.post]),
                     np.vstack([net.post, net.pre]),

@@ -46,11 +46,12 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-from ..model.build import build_teg
-from .reachability import skeleton_groups
 from maxplus.scalar import exact_text
+
+from ..model.build import build_teg
 from ..model.skeleton import Skeleton
 from ..model.teg import TimedEventGraph
+from .reachability import skeleton_groups
 
 __all__ = ["TimedExploration", "TimedGroup", "TimedTask", "timed_reachability"]
 

@@ -38,11 +38,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from ..model.build import build_teg
 from ..analysis.liveness import token_free_circuits
 
 # The precedence graph is reorder.py's; fix.py only adds edges to it.
 from ..analysis.reorder import PrecedenceGraph, reorder_ports
+from ..model.build import build_teg
 from ..model.skeleton import Protocol, Skeleton
 
 __all__ = ["FixResult", "PortChange", "fix_ports"]

@@ -1,6 +1,6 @@
 """Sensor-to-actuator latency of a chain of tasks.
 
-A chain ``[T1, ..., Tn]`` (spec §6 ``chains:``, or ``--chain T1,T2,...``)
+A chain ``[T1, ..., Tn]`` (spec §6 ``chains:``, or the ``chains`` argument of :func:`tegraph.analyze`)
 follows the data: each task reads an output of the one before. The latency
 of the data sampled by T1 is measured from T1's reading of its sensor (its
 first unlinked input; the start of its computation if it has none) to Tn's
@@ -47,14 +47,14 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from ..model.build import build_teg
-from ..model.skeleton_checks import KeyPath, Locator, check_chain
 from maxplus.scalar import exact_text
 
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.results import Report
-from .schedulability import Schedulability, schedulability
+from ..model.build import build_teg
 from ..model.skeleton import Protocol, Skeleton
+from ..model.skeleton_checks import KeyPath, Locator, check_chain
+from .schedulability import Schedulability, schedulability
 
 __all__ = ["Bound", "ChainLatency", "Hop", "Segment", "chain_latency", "parse_chain"]
 
@@ -249,7 +249,7 @@ def _segment(sk: Skeleton, report: Report, tasks: list[str], start: tuple[str, s
         seg.note = ("the group is not live" if not g.live else
                     "the group is not rate-consistent: no steady state to measure"
                     if not g.rate_consistent else
-                    "the analysis did not reach the periodic regime (raise --max-steps)")
+                    "the analysis did not reach the periodic regime (raise `max_steps`)")
         return seg
     seg.latency = _steady_latency(sk, g.tasks, tasks, start, end, g.transient, g.period)
     if seg.latency is None:  # pragma: no cover - the firing budget is far above any example

@@ -30,6 +30,7 @@ from fractions import Fraction
 from typing import Any
 
 from maxplus.scalar import exact_text
+
 from ..model.skeleton import Link, Protocol, Skeleton
 
 __all__ = [

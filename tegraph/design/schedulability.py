@@ -35,13 +35,12 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-
 from maxplus.scalar import exact_text
 
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.results import Report
-from .rules import is_automaton, proposed_priorities
 from ..model.skeleton import Skeleton
+from .rules import is_automaton, proposed_priorities
 
 __all__ = [
     "PAPER_TEST",

@@ -32,11 +32,12 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from ..errors import ModelError
 from maxplus.scalar import exact_text
+
+from ..errors import ModelError
+from ..model.skeleton import Protocol, Skeleton
 from .rules import synchronized_groups
 from .schedulability import effective_priorities, hyperperiod
-from ..model.skeleton import Protocol, Skeleton
 
 __all__ = ["Job", "Timeline", "simulate_timeline"]
 

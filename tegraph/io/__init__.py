@@ -38,8 +38,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, ModelError
-from ..model.skeleton import Skeleton
 from ..model.sdf import SDFGraph
+from ..model.skeleton import Skeleton
 from . import dot, edges, pnml, sdf3, tpne
 from ._files import DEFAULT_MAX_BYTES, check_size
 from .skeleton_file import dump_skeleton, load_skeleton

@@ -23,8 +23,7 @@ def check_size(path: str | os.PathLike[str], max_bytes: int = DEFAULT_MAX_BYTES)
         raise InputError(f"cannot read the file: {exc.strerror}", file=file) from None
     if size > max_bytes:
         raise InputError(f"the file has {size} bytes, above the limit of {max_bytes}; raise "
-                         "the limit to read it (--max-size on the command line, max_bytes= "
-                         "in the library)", file=file)
+                         "`max_bytes` to read it", file=file)
 
 
 def read_limited(path: str | os.PathLike[str], max_bytes: int = DEFAULT_MAX_BYTES) -> bytes:

@@ -12,8 +12,8 @@ do both).
 from __future__ import annotations
 
 import os
-from fractions import Fraction
 from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 

@@ -351,7 +351,7 @@ def _sep(char: bytes, m: int) -> np.ndarray:
 
 def _text_table(holding: np.ndarray, scale: int) -> tuple[np.ndarray, np.ndarray]:
     """Fixed-width text of each distinct exact holding time, and each place's row in it."""
-    
+
     uniq, inverse = np.unique(holding, return_inverse=True)
     texts = [str(exact_text(Fraction(int(u), scale))) for u in uniq.tolist()]
     table = np.array([t.encode("ascii") for t in texts], dtype="S")

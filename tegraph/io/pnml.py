@@ -46,8 +46,8 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_text, exact_time
 
 from ..errors import InputError
-from ..model.petri import PetriNet
 from ..model.convert import as_petri_net
+from ..model.petri import PetriNet
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 from ._xml import XmlNode, parse_xml
 

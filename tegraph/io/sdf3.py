@@ -29,10 +29,9 @@ from pathlib import Path
 from typing import Any
 from xml.sax.saxutils import quoteattr
 
-
 from ..errors import InputError, ModelError
-from ..model.sdf import SDFChannel, SDFGraph
 from ..model.convert import as_teg
+from ..model.sdf import SDFChannel, SDFGraph
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 from ._xml import XmlNode, parse_xml
 

@@ -43,9 +43,9 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time
 
 from ..errors import InputError, ModelError
+from ..model.convert import as_petri_net, as_teg
 from ..model.petri import PetriNet
 from ..model.teg import TimedEventGraph
-from ..model.convert import as_petri_net, as_teg
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 
 __all__ = ["dumps_tpne_json", "dumps_tpne_teg", "parse_tpne_json", "parse_tpne_teg",
@@ -285,7 +285,7 @@ def parse_tpne_teg(data: bytes | str, file: str | None = None, orientation: str 
     [('T1', 'T0', '3', 1), ('T0', 'T1', '1/2', 0)]
     """
     if orientation not in ("matrix", "from-to"):
-        raise ValueError(f"orientation is 'matrix' or 'from-to', got {orientation!r}")
+        raise InputError(f"expected 'matrix' or 'from-to', got {orientation!r}", "orientation")
     text = data.decode("utf-8", "replace") if isinstance(data, bytes) else data
     lines = text.splitlines()
     header = lines[0].split() if lines else []

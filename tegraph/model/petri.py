@@ -102,7 +102,7 @@ class PetriNet:
         return teg
 
     @classmethod
-    def from_teg(cls, teg: TimedEventGraph) -> "PetriNet":
+    def from_teg(cls, teg: TimedEventGraph) -> PetriNet:
         """The P/T net of a timed event graph (one place per TEG place).
 
         A self-loop place is both an input and an output of its event

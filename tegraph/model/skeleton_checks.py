@@ -323,7 +323,7 @@ def check_chain(sk: Skeleton, chain: Any, path: KeyPath, loc: Locator) -> tuple[
     sk : Skeleton
     chain : sequence of str
     path : KeyPath
-        Where the chain is (``("chains", 0)``, or ``("--chain",)`` for the CLI).
+        Where the chain is (``("chains", 0)``, or ``("chain",)`` for a chain given as a parameter).
     loc : Locator
 
     Returns

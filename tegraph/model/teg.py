@@ -38,7 +38,7 @@ import scipy.sparse as sp
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import EPS, INT64_SAFE, exact_time, int_array
 
-from ..errors import ModelError, NotLiveError
+from ..errors import InputError, ModelError, NotLiveError
 
 if TYPE_CHECKING:  # networkx costs 0.1 s to import; only the conversions need it
     import networkx as nx
@@ -530,7 +530,7 @@ class TimedEventGraph:
         (['0', '3/2', '3'], ['1/2', '2', '7/2'])
         """
         if isinstance(n_firings, bool) or not isinstance(n_firings, Integral) or n_firings < 0:
-            raise ValueError(f"n_firings must be an int >= 0, got {n_firings!r}")
+            raise InputError(f"expected an int >= 0, got {n_firings!r}", "n_firings")
         n_firings = int(n_firings)
         order = self.zero_token_order()
         a = self.arrays()

@@ -25,7 +25,7 @@ def render_cycle_time(result: CycleTimeResult) -> str:
             lines.extend("  " + line
                          for line in render_reachability(result.reachability, limit=3).splitlines())
             if result.reachability.deadlock is None:
-                lines.append("to decide:   raise the budget (--max-states, --max-seconds)")
+                lines.append("to decide:   raise the budget (`max_states`, `max_seconds`)")
     elif result.token_free_circuit is not None:
         lines.append("DEADLOCK: circuit without token "
                      + " -> ".join([*result.token_free_circuit, result.token_free_circuit[0]])
@@ -77,7 +77,7 @@ def render_reachability(result: Reachability, limit: int = 10) -> str:
         marked = [f"{names[p]}: {int(d.marking[p])}" for p in np.flatnonzero(d.marking)]
         lines.append("    marked places: " + (", ".join(marked) or "none"))
     if len(result.dead) > limit:
-        lines.append(f"  ... and {len(result.dead) - limit} more (--json lists them all)")
+        lines.append(f"  ... and {len(result.dead) - limit} more (the JSON report lists them all)")
     return "\n".join(lines)
 
 

@@ -18,8 +18,8 @@ import os
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, TegraphError
 from ..design.timeline import Timeline
+from ..errors import InputError, TegraphError
 
 __all__ = ["INSTALL_HINT", "PlotUnavailableError", "draw_timeline", "matplotlib_available"]
 
@@ -147,5 +147,5 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
             fig.savefig(out, format=suffix[1:], metadata=metadata)
     except FileExistsError:
         raise FileExistsError(f"{target}: the file exists already; pass overwrite=True "
-                              "(--force) to replace it") from None
+                              "to replace it") from None
     return target

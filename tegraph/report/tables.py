@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import errno
 from pathlib import Path
 
 from ..analysis.results import Report
@@ -23,7 +24,8 @@ def write_csv(report: Report, directory: str | Path, overwrite: bool = False) ->
     if not overwrite:
         for path in targets:
             if path.exists():
-                raise FileExistsError(f"{path} exists; not overwriting it (use --force)")
+                raise FileExistsError(errno.EEXIST, "the file exists already; pass "
+                                      "overwrite=True to replace it", str(path))
     out.mkdir(parents=True, exist_ok=True)
     data = report.to_dict()
     with open(targets[0], "w", newline="") as fh:

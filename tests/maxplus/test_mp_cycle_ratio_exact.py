@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_mp_cycle_ratio import brute_force, graphs
+from tests.maxplus.test_mp_cycle_ratio import brute_force, graphs
 
 from maxplus import CertificateError
 from maxplus._arrays import argmax_ratio, compare_ratios, float_ratios

@@ -25,8 +25,9 @@ from __future__ import annotations
 
 import json
 import random
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 PROTOCOLS = ["ASYN/ASYN", "ASYN/SYN", "SYN/ASYN", "SYN/SYN"]
 DURATIONS = [0, 1, 1, 2, 3, "1/2", "1/3", "3/2", "5/2", "7/3"]
