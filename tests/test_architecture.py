@@ -1,0 +1,44 @@
+"""The project's own rules, run by the test command: floors, dependencies, lint.
+
+Each tool reads its configuration from ``pyproject.toml``; a failure prints
+the tool's own report (the broken import, the undeclared dependency, the
+lint finding).
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from tests.paths import REPO
+
+
+def _run(*command: str) -> subprocess.CompletedProcess:
+    return subprocess.run(command, cwd=REPO, capture_output=True, text=True, timeout=300)
+
+
+def test_floors_and_independence_hold():
+    """import-linter: no import upwards, io and analysis independent, maxplus apart."""
+    tool = shutil.which("lint-imports")
+    assert tool, "lint-imports is part of the test extra: pip install '.[test]'"
+    # The checkout, not an installed copy, is what the contracts must hold for.
+    done = _run(sys.executable, "-c",
+                "import sys; sys.path.insert(0, '.'); "
+                "from importlinter.cli import lint_imports_command; lint_imports_command()")
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_every_dependency_declared_and_used():
+    """deptry: every import is declared in pyproject.toml, every declared package imported."""
+    done = _run(sys.executable, "-m", "deptry", ".")
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+@pytest.mark.parametrize("tree", ["maxplus", "tegraph", "tests", "benchmarks"])
+def test_ruff_clean(tree):
+    """ruff, with the rule set chosen in pyproject.toml."""
+    done = _run(sys.executable, "-m", "ruff", "check", "--no-cache", tree)
+    assert done.returncode == 0, done.stdout + done.stderr
