@@ -49,7 +49,13 @@ from .errors import MaxPlusValueError, ZeroTokenCircuitError
 from .policy_iteration import howard_arrays
 from .scalar import exact
 
-__all__ = ["CycleRatioCertificate", "CycleRatioResult", "find_circuit", "max_cycle_ratio"]
+__all__ = [
+    "CycleRatioCertificate",
+    "CycleRatioResult",
+    "argmax_ratio",
+    "find_circuit",
+    "max_cycle_ratio",
+]
 
 
 @dataclass(frozen=True)

@@ -3,6 +3,8 @@
 No analysis happens here. Exit status: 0 live and consistent, 1 the analysis
 found a deadlock, an unbounded place or an overrun, 2 the input was refused
 (one line on stderr naming the file, the key path and what is expected).
+Output files are checked before any work: a missing directory is never
+created, an existing file is never replaced without ``--force``.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ import typer
 from .errors import InputError, TegraphError
 
 app = typer.Typer(
-    add_completion=False,
+    add_completion=True,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
     no_args_is_help=True,
@@ -27,10 +29,27 @@ app = typer.Typer(
          "by (max,+) algebra on timed event graphs.",
 )
 
+_EXIT = "Exit status: 0 {ok}; 1 {found}; 2 the input was refused (one line on stderr)."
+
+
+def _version(value: bool) -> None:
+    if value:
+        from importlib.metadata import version
+
+        typer.echo(f"tegraph {version('tegraph')}")
+        raise typer.Exit()
+
 
 @app.callback()
-def _commands() -> None:
-    """Deadlocks, periods and overruns of synchronized real-time task sets."""
+def _commands(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                 help="Print the version and exit."),
+) -> None:
+    """Deadlocks, periods and overruns of synchronized real-time task sets.
+
+    Every command prints a report whose last line is its verdict; --json gives
+    the same as a document (docs/report.schema.json).
+    """
 
 
 # The library names its parameters (in messages as `max_steps`, in key paths
@@ -49,6 +68,29 @@ def _cli_words(text: str) -> str:
 def _fail(message: str) -> NoReturn:
     typer.echo(f"tegraph: error: {_cli_words(message)}", err=True)
     raise typer.Exit(2)
+
+
+def _output_file(path: Path, force: bool, *, source: Path | None = None) -> None:
+    """Refuse, before any work, an output file that cannot or must not be written."""
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        _fail(f"{path}: the directory {parent} does not exist; create it first "
+              "(tegraph creates no directory)")
+    if path.is_dir():
+        _fail(f"{path}: is a directory; expected a file name")
+    if source is not None and path.exists() and path.resolve() == source.resolve() and not force:
+        _fail(f"{path}: this is the input file; pass --force to replace it (its comments "
+              "are not copied)")
+    if path.exists() and not force:
+        _fail(f"{path}: the file exists already; pass --force to replace it")
+
+
+def _output_directory(path: Path) -> None:
+    """Refuse, before any work, a directory for output files that is not one."""
+    if path.is_file():
+        _fail(f"{path}: is a file; expected a directory for tasks.csv and groups.csv")
+    if not path.is_dir():
+        _fail(f"{path}: no such directory; create it first (tegraph creates no directory)")
 
 
 def _located(exc: InputError) -> str:
@@ -78,21 +120,30 @@ def _refusals(file: Path) -> Iterator[None]:
 def analyze(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report (docs/skeleton.md §5)."),
-    csv_dir: Path | None = typer.Option(None, "--csv", help="Write tasks.csv and groups.csv here."),
+    csv_dir: Path | None = typer.Option(None, "--csv", metavar="DIR",
+                                        help="Write tasks.csv and groups.csv into this "
+                                             "existing directory."),
     force: bool = typer.Option(False, "--force", help="Overwrite existing CSV files."),
     max_steps: int = typer.Option(100_000, "--max-steps", min=1,
                                   help="Budget on the firing index of the dater simulation."),
     chain: list[str] | None = typer.Option(
-        None, "--chain", help="A,B,C: report the latency of this chain (repeatable)."),
+        None, "--chain", metavar="A,B,C",
+        help="Report the latency of this chain of tasks, sensor first (repeatable)."),
     design: bool = typer.Option(True, "--design/--no-design",
                                 help="Include design rules, schedulability and latencies."),
 ) -> None:
-    """Analyze a synchronization skeleton: liveness, periods, overruns, slack."""
+    """Analyze a synchronization skeleton: liveness, periods, overruns, slack.
+
+    Exit status: 0 live and consistent; 1 a deadlock, an unbounded place or an
+    overrun; 2 the input was refused (one line on stderr).
+    """
     from .api import analyze as run_analysis
     from .design.latency import parse_chain
     from .io import load_skeleton
     from .report import render_text, to_json, write_csv
 
+    if csv_dir is not None:
+        _output_directory(csv_dir)
     with _refusals(file):
         skeleton = load_skeleton(file)
         chains = [parse_chain(c) for c in chain or []]
@@ -104,7 +155,7 @@ def analyze(
             _fail(f"{exc.filename}: the file exists already; pass --force to replace it")
         except OSError as exc:
             _fail(f"cannot write CSV files to {csv_dir}: {exc.strerror}")
-    typer.echo(to_json(report) if json_out else _cli_words(render_text(report)), nl=not json_out)
+    typer.echo(to_json(report) if json_out else _cli_words(render_text(report)), nl=json_out)
     raise typer.Exit(report.exit_status)
 
 
@@ -126,7 +177,11 @@ def reach(
     json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """State-space baseline: the reachability graph (deadlocks) or, with --timed, the timed
-    exploration; exit 0 nothing found, 1 a deadlock or an overrun, 2 bad input, 130 Ctrl-C."""
+    exploration (ORCCAD §5), which the (max,+) analysis is compared with.
+
+    Exit status: 0 nothing found (or inconclusive within the budgets); 1 a
+    deadlock or an overrun; 2 the input was refused; 130 interrupted (Ctrl-C).
+    """
     import signal
     import time
 
@@ -191,27 +246,31 @@ def fix(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
     output: Path | None = typer.Option(
         None, "-o", "--output",
-        help="Write the live skeleton here (.yaml/.yml or .json); the input file is "
-             "replaced only when -o names it. Without -o nothing is written."),
-    force: bool = typer.Option(False, "--force", help="Overwrite an existing output file."),
+        help="Write the live skeleton here (.yaml/.yml or .json), in an existing directory. "
+             "Without -o nothing is written."),
+    force: bool = typer.Option(False, "--force", help="Replace an existing output file (the "
+                               "input file too, when -o names it; its comments are lost)."),
 ) -> None:
-    """Reorder ports so that the skeleton is live, keeping every declared order that is
-    fine; exit 0 live (or already live), 1 no port order helps, 2 bad input."""
+    """Reorder ports so that the skeleton is live, keeping every declared order that is fine.
+
+    Exit status: 0 live (or already live); 1 no port order helps (nothing is
+    written); 2 the input or the output file was refused.
+    """
     from .design.fix import fix_ports
     from .io import dump_skeleton, load_skeleton
-    from .report.design_text import render_fix
+    from .report.design_text import fix_verdict, render_fix
 
+    if output is not None:
+        _output_file(output, force, source=file)
     with _refusals(file):
         skeleton = load_skeleton(file)
         result = fix_ports(skeleton)
     if not result.live:
-        typer.echo(render_fix(result, skeleton.name) + "nothing written", nl=True)
+        typer.echo(render_fix(result, skeleton.name) + "nothing written\n" + fix_verdict(result))
         raise typer.Exit(1)
     if output is not None:
-        # -o naming the input itself is the user's explicit request to replace it.
-        same = output.exists() and output.resolve() == file.resolve()
         try:
-            dump_skeleton(result.skeleton, output, overwrite=force or same)  # type: ignore[arg-type]
+            dump_skeleton(result.skeleton, output, overwrite=force)  # type: ignore[arg-type]
         except FileExistsError:
             _fail(f"{output}: the file exists already; pass --force to replace it")
         except InputError as exc:
@@ -221,6 +280,7 @@ def fix(
     typer.echo(render_fix(result, skeleton.name), nl=False)
     if output is not None:
         typer.echo(f"wrote {output} (live; comments of {file.name} are not copied)")
+    typer.echo(fix_verdict(result))
     raise typer.Exit(0)
 
 
@@ -228,12 +288,16 @@ def fix(
 def rules(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
     chain: list[str] | None = typer.Option(
-        None, "--chain", help="A chain of tasks, sensor first, e.g. TG.JS,TF.TT.JS,CO.JS: "
-                              "report its latency (repeatable; adds to the file's chains)."),
+        None, "--chain", metavar="A,B,C",
+        help="A chain of tasks, sensor first, e.g. TG.JS,TF.TT.JS,CO.JS: report its latency "
+             "(repeatable; adds to the file's chains)."),
     json_out: bool = typer.Option(False, "--json", help="Print JSON."),
 ) -> None:
-    """Design rules of ORCCAD section 6, threads, schedulability and chain latencies;
-    exit 0 rules followed and schedulable, 1 otherwise, 2 bad input."""
+    """Design rules of ORCCAD section 6, threads, schedulability and chain latencies.
+
+    Exit status: 0 the rules are followed (info findings aside) and every
+    processor is schedulable; 1 otherwise; 2 the input was refused.
+    """
     import json
 
     from .analysis.analyze import analyze_skeleton
@@ -242,7 +306,7 @@ def rules(
     from .design.schedulability import schedulability
     from .io import load_skeleton
     from .report import json_report
-    from .report.design_text import render_latency, render_rules, render_schedulability
+    from .report.design_text import render_design
 
     with _refusals(file):
         skeleton = load_skeleton(file)
@@ -259,9 +323,7 @@ def rules(
             "rules": [f.to_dict() for f in findings], "schedulability": sched.to_dict(),
             "latency": [r.to_dict() for r in latencies]}), indent=2, ensure_ascii=False))
     else:
-        text = render_rules(findings) + "\n" + render_schedulability(sched, skeleton.unit)
-        for r in latencies:
-            text += "\n" + render_latency(r, skeleton.unit)
+        text = render_design(findings, sched, latencies, skeleton.unit)
         typer.echo(_cli_words(text), nl=False)
     raise typer.Exit(1 if violated else 0)
 
@@ -278,8 +340,12 @@ def timeline(
     width: int = typer.Option(96, "--width", min=10, help="Columns of the text diagram."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
 ) -> None:
-    """Preemptive fixed-priority timing diagram (ORCCAD Figure 17), exact; exit 0 every
-    job ends by the next tick of its clock, 1 a job is late, 2 bad input or no matplotlib."""
+    """Preemptive fixed-priority timing diagram (ORCCAD Figure 17), exact.
+
+    Exit status: 0 every job ends by the next tick of its clock; 1 a job is
+    late; 2 the input or the output file was refused, or matplotlib is missing
+    for -o.
+    """
     from maxplus.scalar import exact_time
 
     from .design.timeline import simulate_timeline
@@ -295,6 +361,8 @@ def timeline(
             end = None
         if end is None or end <= 0:
             _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, got {horizon!r}")
+    if output is not None:
+        _output_file(output, force)
     with _refusals(file):
         skeleton = load_skeleton(file)
         result = simulate_timeline(skeleton, end)
@@ -338,7 +406,7 @@ def cycle_time_command(
     A P/T net that is not a marked graph has no (max,+) figures: the report says
     why and gives the deadlock verdict of its untimed reachability graph instead.
     Exit status: 0 no deadlock found; 1 a deadlock (a circuit without token, or
-    a reachable dead marking); 2 input refused.
+    a reachable dead marking); 2 the input was refused.
     """
     from .api import cycle_time
     from .report import render_text, to_json
@@ -347,7 +415,7 @@ def cycle_time_command(
         result = cycle_time(file, format=fmt, max_bytes=_parse_size(max_size),
                             default_holding=default_holding, max_states=max_states,
                             max_seconds=max_seconds)
-    typer.echo(to_json(result) if json_out else _cli_words(render_text(result)), nl=not json_out)
+    typer.echo(to_json(result) if json_out else _cli_words(render_text(result)), nl=json_out)
     raise typer.Exit(result.exit_status)
 
 
@@ -368,10 +436,13 @@ def convert(
     A skeleton becomes a timed event graph, never the other way round; a P/T
     net that is not a marked graph goes only to net formats (PNML,
     TimedPetriNetEditor JSON, DOT).
+
+    Exit status: 0 written; 2 the input or the output file was refused.
     """
     from .api import write
     from .io import read
 
+    _output_file(target, force)
     try:
         model = read(source, from_fmt, max_bytes=_parse_size(max_size))
         written = write(model, target, to_fmt, overwrite=force)

@@ -291,16 +291,21 @@ def _group_reports(g: _EventGraph, periods: _Periods, dead_groups: set[int],
         period = None
         circuit: list[str] = []
         cycle_times = {}
+        holdings: list[Fraction] = []
+        tokens = None
         if live:
             events = g.events_of_group[index]
             cycle_times = {t: ct[g.compute(t)] for t in tasks}
             slowest = max(events.tolist(), key=lambda e: ct[e])
-            arcs = periods.mcr.policy_circuit(slowest).tolist()
-            circuit = [g.names[int(periods.mcr.src[a])] for a in arcs]
+            mcr = periods.mcr
+            arcs = mcr.policy_circuit(slowest)
+            circuit = [g.names[int(mcr.src[a])] for a in arcs.tolist()]
+            holdings = [Fraction(int(w), g.scale) for w in mcr.weight[arcs].tolist()]
+            tokens = int(sum(int(t) for t in mcr.tokens[arcs].tolist()))
             if consistent:
                 period = ct[slowest]
         out.append(GroupReport(index, list(tasks), clocks, live, consistent, period, None,
-                               circuit, cycle_times))  # type: ignore[arg-type]
+                               circuit, cycle_times, holdings, tokens))  # type: ignore[arg-type]
     return out
 
 

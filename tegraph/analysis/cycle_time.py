@@ -35,9 +35,11 @@ from fractions import Fraction
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from maxplus import max_cycle_ratio
-from maxplus.cycle_ratio import find_circuit
+from maxplus.cycle_ratio import argmax_ratio, find_circuit
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_text, exact_time
 
@@ -79,6 +81,15 @@ class CycleTimeResult:
     token_free_circuit : list of str or None
         Transitions of a circuit without token (a deadlock), else None.
     token_free_places : list of int
+    critical_holdings : list of Fraction
+        Holding time of each place of the critical circuit, in order.
+    critical_tokens : int or None
+        Tokens on the critical circuit: ``period = sum(critical_holdings) / critical_tokens``.
+    parts : list of CyclePart
+        Each weakly connected part that holds a circuit, with its own period,
+        when there are several (for a skeleton: its groups); empty otherwise.
+    unit : str
+        The time unit (a skeleton's ``unit``; other formats carry none).
     certificate_verified : bool or None
         The exact certificate of the period was checked (None when not run).
     seconds : dict of str to float
@@ -104,6 +115,15 @@ class CycleTimeResult:
     notes: list[str] = field(default_factory=list)
     source: str | None = None
     reachability: Reachability | None = None
+    critical_holdings: list[Fraction] = field(default_factory=list)
+    critical_tokens: int | None = None
+    parts: list[CyclePart] = field(default_factory=list)
+    unit: str = "time units"
+
+    @property
+    def critical_holding(self) -> Fraction | None:
+        """Total holding time of the critical circuit (None without one)."""
+        return sum(self.critical_holdings, Fraction(0)) if self.critical_tokens else None
 
     @property
     def exit_status(self) -> int:
@@ -125,6 +145,10 @@ class CycleTimeResult:
             "throughput": exact_text(self.throughput),
             "critical_circuit": self.critical_circuit,
             "critical_places": self.place_labels,
+            "critical_holding": exact_text(self.critical_holding),
+            "critical_tokens": self.critical_tokens,
+            "unit": self.unit,
+            "parts": [p.to_dict() for p in self.parts],
             "cycle_times": None if self.cycle_times is None
             else {k: exact_text(v) for k, v in self.cycle_times.items()},
             "deadlock": None if self.token_free_circuit is None
@@ -134,6 +158,39 @@ class CycleTimeResult:
             "seconds": {k: round(v, 6) for k, v in self.seconds.items()},
             "notes": self.notes,
         }
+
+
+@dataclass
+class CyclePart:
+    """A weakly connected part of a timed event graph that holds a circuit.
+
+    Attributes
+    ----------
+    label : str
+        Its tasks for a skeleton (a group of spec §4), else its first transitions.
+    n_transitions : int
+    period : Fraction
+        The largest cycle time in the part: its period when the part is
+        strongly connected, else that of its slowest transitions.
+    critical_circuit : list of str
+        Transitions of a circuit attaining it.
+    critical_holdings : list of Fraction
+    critical_tokens : int
+    """
+
+    label: str
+    n_transitions: int
+    period: Fraction
+    critical_circuit: list[str]
+    critical_holdings: list[Fraction]
+    critical_tokens: int
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready data (exact strings)."""
+        return {"label": self.label, "transitions": self.n_transitions,
+                "period": exact_text(self.period), "critical_circuit": self.critical_circuit,
+                "critical_holding": exact_text(sum(self.critical_holdings, Fraction(0))),
+                "critical_tokens": self.critical_tokens}
 
 
 def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
@@ -224,7 +281,7 @@ def _as_graph(obj: Any, default_holding: Any) -> tuple[Any, CycleTimeResult]:
         notes.append("transitions are the firings actor_i of one iteration (the homogeneous "
                      "expansion); the period is the time per iteration")
     res = CycleTimeResult(graph.name, model, graph.n_transitions, len(graph.arrays().src),
-                          notes=notes)
+                          notes=notes, unit=obj.unit if isinstance(obj, Skeleton) else "time units")
     return graph, res
 
 
@@ -268,6 +325,9 @@ def _solve(graph: Any, res: CycleTimeResult, verify: bool) -> None:
     res.critical_places = [int(p) for p in r.circuit]
     res.critical_circuit = [names(int(a.src[p])) for p in r.circuit]
     res.place_labels = [_place_label(graph, p) for p in r.circuit]
+    res.critical_holdings = [Fraction(int(h), a.scale) for h in a.holding[r.circuit].tolist()]
+    res.critical_tokens = int(sum(int(t) for t in a.tokens[r.circuit].tolist()))
+    res.parts = _parts(graph, a, r, names)
     num, den = r.cycle_time_num, r.cycle_time_den
     top = (r.ratio.numerator, r.ratio.denominator)
     uniform = bool((den > 0).all() and (num * top[1] == den * top[0]).all())
@@ -279,6 +339,42 @@ def _solve(graph: Any, res: CycleTimeResult, verify: bool) -> None:
             shown = ", ".join(inputs[:10]) + (" ..." if len(inputs) > 10 else "")
             res.notes.append(f"{len(inputs)} transition(s) have no circuit upstream (inputs "
                              f"fired from outside), so no cycle time: {shown}")
+
+
+def _parts(graph: Any, a: Any, r: Any, names: Callable[[int], str]) -> list[CyclePart]:
+    """Each weakly connected part with a circuit and its period, when there are several."""
+    n = a.n_transitions
+    adjacency = sp.csr_matrix((np.ones(len(a.src), dtype=np.int8), (a.src, a.dst)), shape=(n, n))
+    _, label = connected_components(adjacency, directed=True, connection="weak")
+    num, den = r.cycle_time_num, r.cycle_time_den
+    with_cycle = np.flatnonzero(den > 0)
+    order = with_cycle[np.argsort(label[with_cycle], kind="stable")]
+    bounds = np.flatnonzero(np.diff(label[order])) + 1
+    groups = np.split(order, bounds) if len(order) else []
+    if len(groups) < 2:
+        return []
+    sizes = np.bincount(label, minlength=int(label.max()) + 1)
+    tasks_of = getattr(graph, "transition_attrs", None)
+    parts = []
+    for nodes in groups:
+        best = int(nodes[argmax_ratio(num[nodes], den[nodes])])
+        arcs = r.policy_circuit(best)
+        if tasks_of is not None and any("tasks" in tasks_of[int(e)] for e in nodes[:1]):
+            members: list[str] = []
+            for e in np.flatnonzero(label == label[best]).tolist():
+                for t in tasks_of[e].get("tasks", ()):
+                    if t not in members:
+                        members.append(t)
+            text = ", ".join(members)
+        else:
+            first = [names(int(e)) for e in np.flatnonzero(label == label[best])[:3].tolist()]
+            text = ", ".join(first) + (" ..." if sizes[label[best]] > 3 else "")
+        parts.append(CyclePart(
+            text, int(sizes[label[best]]), Fraction(int(num[best]), int(den[best]) * a.scale),
+            [names(int(a.src[p])) for p in arcs.tolist()],
+            [Fraction(int(h), a.scale) for h in a.holding[arcs].tolist()],
+            int(sum(int(t) for t in a.tokens[arcs].tolist()))))
+    return parts
 
 
 def _namer(graph: Any) -> Callable[[int], str]:

@@ -68,6 +68,15 @@ class GroupReport:
     critical_circuit: list[str] = field(default_factory=list)
     cycle_times: dict[str, Fraction] = field(default_factory=dict)
     """Per task cycle time when the group is live (differs from period when not rate-consistent)."""
+    critical_holdings: list[Fraction] = field(default_factory=list)
+    """Holding time of each place of the critical circuit, in circuit order."""
+    critical_tokens: int | None = None
+    """Initial tokens on the critical circuit: its ratio is ``sum(critical_holdings) / critical_tokens``."""
+
+    @property
+    def critical_holding(self) -> Fraction | None:
+        """Total holding time of the critical circuit (None when there is none)."""
+        return sum(self.critical_holdings, Fraction(0)) if self.critical_tokens else None
 
 
 @dataclass
@@ -132,6 +141,8 @@ class Report:
                     "transient": None if g.transient is None
                     else {"k": g.transient[0], "cyclicity": g.transient[1]},
                     "critical_circuit": g.critical_circuit,
+                    "critical_holding": exact_text(g.critical_holding),
+                    "critical_tokens": g.critical_tokens,
                 }
                 for g in self.groups
             ],

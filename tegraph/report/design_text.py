@@ -10,8 +10,16 @@ from ..design.fix import FixResult
 from ..design.latency import ChainLatency
 from ..design.rules import RuleFinding
 from ..design.schedulability import PAPER_TEST, RTA_TEST, Schedulability
+from ._format import count, number
 
-__all__ = ["render_fix", "render_latency", "render_rules", "render_schedulability"]
+__all__ = [
+    "fix_verdict",
+    "render_design",
+    "render_fix",
+    "render_latency",
+    "render_rules",
+    "render_schedulability",
+]
 
 
 def render_rules(findings: list[RuleFinding]) -> str:
@@ -20,16 +28,41 @@ def render_rules(findings: list[RuleFinding]) -> str:
     >>> print(render_rules([]), end="")
     design rules (ORCCAD section 6): all followed
     """
+    by_severity = [(s, sum(f.severity == s for f in findings)) for s in ("error", "warning", "info")]
+    listed = ", ".join(count(n, s) for s, n in by_severity if n)
     if not any(f.severity != "info" for f in findings):
-        head = "design rules (ORCCAD section 6): all followed"
+        head = "design rules (ORCCAD section 6): all followed" + (f" ({listed})" if listed else "")
     else:
-        n = sum(f.severity != "info" for f in findings)
-        head = f"design rules (ORCCAD section 6): {n} finding(s)"
+        head = f"design rules (ORCCAD section 6): {listed}"
     lines = [head]
     for f in findings:
         lines.append(f"  Rule {f.rule} [{f.severity}] {f.message}")
         lines.append(f"    what to change: {f.advice}")
     return "\n".join(lines) + "\n"
+
+
+def render_design(findings: list[RuleFinding], sched: Schedulability,
+                  latencies: list[ChainLatency], unit: str = "ms") -> str:
+    """What ``tegraph rules`` prints: rules, schedulability, latencies, and the verdict last.
+
+    The exit status it names is the command's: 1 when a rule is not followed
+    (an error or a warning) or a processor fails its schedulability test.
+    """
+    text = render_rules(findings) + "\n" + render_schedulability(sched, unit)
+    for r in latencies:
+        text += "\n" + render_latency(r, unit)
+    counts = [(s, sum(f.severity == s for f in findings)) for s in ("error", "warning")]
+    broken = ", ".join(count(n, f"design-rule {s}") for s, n in counts if n)
+    fails = [("default processor" if p.processor is None else f"processor {p.processor}")
+             for p in sched.processors if p.schedulable is False]
+    problems = ([broken] if broken else []) + [f"{name} not schedulable" for name in fails]
+    if problems:
+        verdict = "; ".join(problems) + " (exit status 1)"
+    else:
+        sched_text = ("schedulable" if sched.schedulable
+                      else "schedulability not decided (a group is not live)")
+        verdict = f"design rules followed, {sched_text} (exit status 0)"
+    return text + f"\nverdict: {verdict}\n"
 
 
 def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
@@ -63,11 +96,13 @@ def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
         rows = []
         for u in p.units:
             verdict = "-" if u.schedulable is None else ("yes" if u.schedulable else "NO")
-            rows.append([u.group, ", ".join(u.tasks), u.priority, exact_text(u.period) or "-",
-                         exact_text(u.cost), exact_text(u.response_time) or "-",
-                         exact_text(u.margin) or "-", verdict, u.note])
-        table = tabulate(rows, headers=["group", "tasks", "priority", "period", "work",
-                                        "response", "margin", "meets period", "note"])
+            rows.append([u.group, ", ".join(u.tasks), u.priority, number(u.period),
+                         number(u.cost), number(u.response_time), number(u.margin), verdict,
+                         u.note])
+        table = tabulate(rows, headers=["group", "tasks", "priority", f"period ({unit})",
+                                        f"work ({unit})", f"response ({unit})",
+                                        f"margin ({unit})", "meets period", "note"],
+                         disable_numparse=True)
         lines.extend("  " + row for row in table.splitlines())
         lines.append(f"  test: {RTA_TEST}")
     lines.extend(f"note: {n}" for n in result.notes)
@@ -136,3 +171,13 @@ def render_fix(result: FixResult, name: str = "skeleton") -> str:
                      f"{c.reason}")
     lines.append("every other declared port order is kept")
     return "\n".join(lines) + "\n"
+
+
+def fix_verdict(result: FixResult) -> str:
+    """The last line of ``tegraph fix``: live or not, and the exit status."""
+    if result.status == "already live":
+        return "verdict: already live, nothing to change (exit status 0)"
+    if result.live:
+        return (f"verdict: live after reordering {count(len(result.changes), 'port list')} "
+                "(exit status 0)")
+    return "verdict: no port order makes it live (exit status 1)"

@@ -47,5 +47,9 @@ def highlights(result: CycleTimeResult | None) -> Highlights:
                           caption="deadlock: circuit without token (dashed)")
     if result.period is None:
         return Highlights(caption="no circuit")
-    return Highlights(critical=frozenset(result.critical_places),
-                      caption=f"period {exact_text(result.period)} (critical circuit in red)")
+    if result.parts:
+        caption = (f"largest period {exact_text(result.period)} of {len(result.parts)} parts "
+                   "(its critical circuit in red; each part runs at its own period)")
+    else:
+        caption = f"period {exact_text(result.period)} (critical circuit in red)"
+    return Highlights(critical=frozenset(result.critical_places), caption=caption)

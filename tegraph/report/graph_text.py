@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 
 from maxplus.scalar import exact_text
@@ -9,21 +11,22 @@ from maxplus.scalar import exact_text
 from ..analysis.cycle_time import CycleTimeResult
 from ..analysis.reachability import Reachability
 from ..analysis.timed_reachability import TimedExploration
-from ._format import count, human_plain
+from ._format import count, human, number
 
 __all__ = ["render_cycle_time", "render_reachability", "render_timed_exploration"]
 
 
 def render_cycle_time(result: CycleTimeResult) -> str:
     """The human report of ``tegraph cycle-time``."""
+    u = result.unit
     head = f"{result.model} {result.name}" + (f" ({result.source})" if result.source else "")
     lines = [head, f"size:        {result.n_transitions} transitions, {result.n_places} places"]
     if not result.applicable:
         lines.append(f"no period:   {result.reason}")
         if result.reachability is not None:
             lines.append("instead, the deadlock verdict of its reachable markings:")
-            lines.extend("  " + line
-                         for line in render_reachability(result.reachability, limit=3).splitlines())
+            lines.extend("  " + line for line in render_reachability(
+                result.reachability, limit=3, closing=False).splitlines())
             if result.reachability.deadlock is None:
                 lines.append("to decide:   raise the budget (`max_states`, `max_seconds`)")
     elif result.token_free_circuit is not None:
@@ -33,22 +36,65 @@ def render_cycle_time(result: CycleTimeResult) -> str:
     elif result.period is None:
         lines.append("period:      none (no circuit: nothing bounds the firing rate)")
     else:
-        lines.append(f"period:      {human_plain(result.period)}")
+        what = "group" if result.model == "skeleton" else "part"
+        several = (f" (the slowest of {len(result.parts)} {what}s, which run at their own "
+                   f"periods below)" if result.parts else "")
+        lines.append(f"period:      {human(result.period, u)}{several}")
         what = "iterations" if result.model == "SDF graph" else "firings"
+        per = "time unit" if u == "time units" else u
         lines.append("throughput:  " + ("unbounded (period 0)" if result.throughput is None
-                                        else f"{human_plain(result.throughput)} {what} per time unit"))
+                                        else f"{number(result.throughput)} {what} per {per}"))
         lines.append("critical:    " + _circuit_text(result.critical_circuit, result.place_labels))
+        lines.append("why:         " + ratio_text(result.critical_holdings,
+                                                  result.critical_tokens, u))
+        for k, part in enumerate(result.parts):
+            name = "group" if result.model == "skeleton" else "part"
+            lines.append(f"  {name} {k} [{part.label}]: period {human(part.period, u)}: "
+                         + " -> ".join([*part.critical_circuit, part.critical_circuit[0]])
+                         + ": " + ratio_text(part.critical_holdings, part.critical_tokens, u))
         if result.cycle_times is not None:
             lines.append("cycle times differ (the graph is not strongly connected):")
             width = max(len(k) for k in result.cycle_times)
             for k, v in result.cycle_times.items():
-                shown = "none (no circuit upstream: an input)" if v is None else human_plain(v)
+                shown = "none (no circuit upstream: an input)" if v is None else human(v, u)
                 lines.append(f"  {k:<{width}}  {shown}")
         check = {True: "verified exactly", False: "FAILED", None: "not run"}
         lines.append(f"certificate: {check[result.certificate_verified]}")
     lines.append("time:        " + ", ".join(f"{k} {v:.3f} s" for k, v in result.seconds.items()))
     lines.extend(f"note: {n}" for n in result.notes)
+    lines.append(_cycle_time_verdict(result))
     return "\n".join(lines) + "\n"
+
+
+def _cycle_time_verdict(result: CycleTimeResult) -> str:
+    status = f"(exit status {result.exit_status})"
+    if not result.applicable:
+        found = ("not searched" if result.reachability is None
+                 else result.reachability.verdict())
+        return f"verdict: no period (not a marked graph); reachable markings: {found} {status}"
+    if result.token_free_circuit is not None:
+        return f"verdict: DEADLOCK: a circuit without token never fires {status}"
+    if result.period is None:
+        return f"verdict: no period: the graph has no circuit {status}"
+    check = {True: "certificate verified", False: "certificate FAILED",
+             None: "certificate not checked"}[result.certificate_verified]
+    return f"verdict: period {human(result.period, result.unit)}, {check} {status}"
+
+
+def ratio_text(holdings: list[Fraction], tokens: int | None, unit: str) -> str:
+    """``(2 + 5/3 + 3) ms over 2 tokens = 10/3 ms``: a circuit's ratio, term by term.
+
+    Places holding 0 are left out of the sum.
+
+    >>> ratio_text([Fraction(2), Fraction(0), Fraction(5, 3), Fraction(3)], 2, "ms")
+    '(2 + 5/3 + 3) ms over 2 tokens = 10/3 ms (≈3.33333)'
+    """
+    if not tokens:
+        return "-"
+    terms = [h for h in holdings if h] or [Fraction(0)]
+    held = (str(exact_text(terms[0])) if len(terms) == 1
+            else "(" + " + ".join(str(exact_text(h)) for h in terms) + ")")
+    return f"{held} {unit} over {count(tokens, 'token')} = {human(sum(terms) / tokens, unit)}"
 
 
 def _circuit_text(events: list[str], places: list[str]) -> str:
@@ -60,8 +106,12 @@ def _circuit_text(events: list[str], places: list[str]) -> str:
     return " ".join(parts) + f" {events[0]}"
 
 
-def render_reachability(result: Reachability, limit: int = 10) -> str:
-    """The untimed reachability baseline: counts, verdict, the first ``limit`` dead markings."""
+def render_reachability(result: Reachability, limit: int = 10, closing: bool = True) -> str:
+    """The untimed reachability baseline: counts, verdict, the first ``limit`` dead markings.
+
+    ``closing`` ends the text with the verdict again (a long list of dead
+    markings pushes the first one out of sight).
+    """
     how = " (each group alone, places bounded to m + 1 tokens)" if result.bounded else ""
     head = (f"{result.net.name}: untimed reachability, {count(result.states, 'state')}, "
             f"{count(result.edges, 'edge')}{how}")
@@ -78,6 +128,8 @@ def render_reachability(result: Reachability, limit: int = 10) -> str:
         lines.append("    marked places: " + (", ".join(marked) or "none"))
     if len(result.dead) > limit:
         lines.append(f"  ... and {len(result.dead) - limit} more (the JSON report lists them all)")
+    if closing:
+        lines.append(f"verdict: {result.verdict()} (exit status {result.exit_status})")
     return "\n".join(lines)
 
 
@@ -113,4 +165,13 @@ def render_timed_exploration(result: TimedExploration) -> str:
             lines.append(f"  {t.name} overruns at activation {t.overrun_at}")
         elif not t.decided:
             lines.append(f"  {t.name}: overrun undecided")
+    late = [t for t in result.tasks.values() if t.overrun_at is not None]
+    if late:
+        found = f"{late[0].name} overruns at activation {late[0].overrun_at}" + (
+            f" and {len(late) - 1} more" if len(late) > 1 else "")
+    elif result.complete:
+        found = "no overrun (every group reached a repeated state or stopped)"
+    else:
+        found = "inconclusive: no overrun found before the budget ran out"
+    lines.append(f"verdict: {found} (exit status {result.exit_status})")
     return "\n".join(lines)

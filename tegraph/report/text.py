@@ -13,17 +13,23 @@ from typing import Any
 
 from tabulate import tabulate
 
+
 from ..analysis.cycle_time import CycleTimeResult
 from ..analysis.reachability import Reachability
-from ..analysis.results import Report
+from ..analysis.results import GroupReport, Report
 from ..analysis.timed_reachability import TimedExploration
 from ..design.fix import FixResult
 from ..design.latency import ChainLatency
 from ..design.schedulability import Schedulability
 from ..design.timeline import Timeline
-from ._format import human
+from ._format import count, human
 from .design_text import render_fix, render_latency, render_rules, render_schedulability
-from .graph_text import render_cycle_time, render_reachability, render_timed_exploration
+from .graph_text import (
+    ratio_text,
+    render_cycle_time,
+    render_reachability,
+    render_timed_exploration,
+)
 from .timeline_text import render_timeline
 
 __all__ = ["render_report", "render_text"]
@@ -61,12 +67,17 @@ def render_report(report: Report) -> str:
                          "(the precedence graph of reads, computes and writes has a circuit)")
     rows = []
     for g in report.groups:
-        transient = "-" if g.transient is None else f"k={g.transient[0]}, cyclicity {g.transient[1]}"
+        transient = ("-" if g.transient is None
+                     else f"k={g.transient[0]}, cyclicity {g.transient[1]}")
         state = "dead" if not g.live else ("rate-consistent" if g.rate_consistent else "unbounded")
         rows.append([g.index, ", ".join(g.tasks), ", ".join(g.clocks) or "-", state,
                      human(g.period, u), transient])
     lines.append("")
-    lines.append(tabulate(rows, headers=["group", "tasks", "clocks", "state", "period", "transient"]))
+    lines.append(tabulate(rows, headers=["group", "tasks", "clocks", "state", "period",
+                                         "transient"]))
+    for g in report.groups:
+        if g.critical_circuit:
+            lines.append(critical_circuit_text(g, u))
     rows = []
     for t in report.tasks.values():
         if t.clock is None or t.period is None:
@@ -78,11 +89,12 @@ def render_report(report: Report) -> str:
         rows.append([t.name, t.group, human(t.period, u), overrun, human(t.slack, u),
                      "-" if t.critical is None else ("yes" if t.critical else "no")])
     lines.append("")
-    lines.append(tabulate(rows, headers=["task", "group", "period", "overrun", "slack", "critical"]))
-    for g in report.groups:
-        if g.critical_circuit:
-            lines.append(f"critical circuit of group {g.index}: "
-                         + " -> ".join([*g.critical_circuit, g.critical_circuit[0]]))
+    lines.append(tabulate(rows, headers=["task", "group", "period", "overrun",
+                                         "slack (period margin)", "critical"]))
+    if any(t.slack is not None for t in report.tasks.values()):
+        lines.append("slack: how much the task's duration may grow before its group's period "
+                     "(or its clock's) is exceeded, the other durations unchanged (spec §4); "
+                     "it is no overrun margin")
     if report.unbounded_places:
         lines.append("")
         lines.append("unbounded places (tokens pile up):")
@@ -102,7 +114,63 @@ def render_report(report: Report) -> str:
         lines += [render_latency(c, u).rstrip("\n") for c in report.design["latency"]]
     for note in report.notes:
         lines.append(f"note: {note}")
+    lines.append("")
+    lines.append(_verdict(report))
     return "\n".join(lines) + "\n"
+
+
+def critical_circuit_text(group: GroupReport, unit: str) -> str:
+    """Why a group's period is what it is: its critical circuit and the ratio it attains.
+
+    ``critical circuit of group 0: a -> b -> a: (2 + 5/3 + 3) ms over 2 tokens = 10/3 ms``;
+    places holding 0 are left out of the sum.
+    """
+    circuit = " -> ".join([*group.critical_circuit, group.critical_circuit[0]])
+    text = f"critical circuit of group {group.index}: {circuit}"
+    if group.critical_tokens:
+        what = ("the period" if group.rate_consistent
+                else "its slowest cycle time (the group is not rate-consistent)")
+        text += (": " + ratio_text(group.critical_holdings, group.critical_tokens, unit)
+                 + f", {what}")
+    return text
+
+
+def _verdict(report: Report) -> str:
+    """The last line: the spec §5 verdict in one line, and why the exit status is what it is."""
+    problems = []
+    if not report.live:
+        dead = sorted({report.tasks[t].group for d in report.deadlocks for t in d.tasks})
+        problems.append(f"NOT LIVE: {count(len(report.deadlocks), 'token-free circuit')} "
+                        f"(group{'s' * (len(dead) != 1)} {', '.join(map(str, dead))})")
+    inconsistent = []
+    if report.unbounded_places:
+        inconsistent.append(f"{count(len(report.unbounded_places), 'unbounded place')}")
+    overruns = [t for t in report.tasks.values() if t.overrun_at is not None]
+    if overruns:
+        first = overruns[0]
+        more = f" and {len(overruns) - 1} more" if len(overruns) > 1 else ""
+        inconsistent.append(f"{first.name} overruns at activation {first.overrun_at}{more}")
+    if inconsistent:
+        problems.append("NOT CONSISTENT: " + ", ".join(inconsistent))
+    undecided = [t.name for t in report.tasks.values() if not t.overrun_decided]
+    if not problems:
+        text = "verdict: live and consistent (exit status 0)"
+        if undecided:
+            text += (f"; {count(len(undecided), 'overrun')} undecided within the budget "
+                     f"({', '.join(undecided[:3])}{' ...' if len(undecided) > 3 else ''})")
+    else:
+        text = "verdict: " + "; ".join(problems) + " (exit status 1)"
+    design = report.design
+    if design is not None and report.exit_status == 0:
+        errors = sum(f.severity == "error" for f in design["rules"])
+        fails = design["schedulability"].schedulable is False
+        if errors or fails:
+            listed = [count(errors, "design-rule error")] if errors else []
+            if fails:
+                listed.append("a processor that fails its schedulability test")
+            text += (f"; the design section lists {' and '.join(listed)}: advice of ORCCAD "
+                     "§6, which does not change the verdict of spec §5")
+    return text
 
 
 @singledispatch

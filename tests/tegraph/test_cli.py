@@ -63,7 +63,9 @@ def test_human_report_names_verdicts_and_methods(live_file):
     out = run("analyze", str(live_file))
     assert out.returncode == 0
     assert "live" in out.stdout and "Commoner" in out.stdout
-    assert "23/3 ms (7.667)" in out.stdout
+    # 23/3 = 7.666...: a non-terminating decimal, rounded and marked.
+    assert "23/3 ms (≈7.66667)" in out.stdout
+    assert out.stdout.splitlines()[-1] == "verdict: live and consistent (exit status 0)"
 
 
 def test_deadlock_exits_1_and_names_the_circuit(tmp_path):
@@ -103,10 +105,21 @@ def test_missing_file_exits_2(tmp_path):
 
 def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
     out_dir = tmp_path / "tables"
+    # No directory is created silently: a missing one is refused, before any work.
+    missing = run("analyze", str(live_file), "--csv", str(out_dir))
+    assert missing.returncode == 2 and "no such directory" in missing.stderr
+    assert not out_dir.exists()
+    # A file where a directory is expected: one clear line, no errno text.
+    as_file = run("analyze", str(live_file), "--csv", str(live_file))
+    assert as_file.returncode == 2 and "is a file; expected a directory" in as_file.stderr
+    assert "Errno" not in as_file.stderr
+    out_dir.mkdir()
     assert run("analyze", str(live_file), "--csv", str(out_dir)).returncode == 0
     rows = (out_dir / "tasks.csv").read_text().splitlines()
-    assert rows[0] == "task,group,period,overrun_at,slack,critical"
-    assert rows[2] == "B,0,10,,23/3,False"
+    assert rows[0] == ('task,group,period (ms),"period (ms, decimal)",overrun_at (activation),'
+                       'slack (ms),"slack (ms, decimal)",critical')
+    # B: period 10, slack 23/3 (derivation in test_live_and_consistent_exits_0...).
+    assert rows[2] == "B,0,10,10,,23/3,7.66666666666667,False"
     (out_dir / "tasks.csv").write_text("mine")
     again = run("analyze", str(live_file), "--csv", str(out_dir))
     assert again.returncode == 2 and "exists" in again.stderr

@@ -198,8 +198,22 @@ def test_cli_fix_replaces_the_input_only_when_named(tmp_path):
     dry = run("fix", str(src))
     assert dry.returncode == 0 and src.read_text() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fig7b.yaml"]
-    done = run("fix", str(src), "-o", str(src))
+    # -o naming the input is refused without --force: the file (and its
+    # comments) is the user's, and a typo must not cost it.
+    kept = run("fix", str(src), "-o", str(src))
+    assert kept.returncode == 2 and "this is the input file; pass --force" in kept.stderr
+    assert src.read_text() == before
+    done = run("fix", str(src), "-o", str(src), "--force")
     assert done.returncode == 0 and load_skeleton(src).tasks["MT2"].inputs == ("a", "c")
+    assert done.stdout.splitlines()[-1] == "verdict: live after reordering 1 port list (exit status 0)"
+
+
+def test_cli_fix_refuses_a_missing_directory_before_any_work(tmp_path):
+    out = tmp_path / "no" / "such" / "dir" / "x.yaml"
+    done = run("fix", str(EXAMPLES / "fig7b_wrong_order.yaml"), "-o", str(out))
+    assert done.returncode == 2 and done.stdout == ""
+    assert "does not exist; create it first" in done.stderr
+    assert not (tmp_path / "no").exists()
 
 
 def test_cli_fix_refuses_when_no_order_helps(tmp_path):
