@@ -18,22 +18,22 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .dense import _downstream, _identity_scaled, _product_scaled, _scale_together, _square
-from .errors import MaxPlusError, MaxPlusValueError, ReducibleMatrixError
-from .scalar import EPS, exact_vector, to_scaled
-from .spectral import (
-    CriticalGraph,
-    _adjacency,
-    _bool_product,
-    _classes,
-    _critical,
-    _cyclic_nodes,
-    _cyclicity,
-    _irreducible,
-    _kernel,
-    _reach_closure,
-    karp,
+from ._critical import CriticalGraph, critical_closure, cyclicity_of
+from ._graphs import (
+    adjacency,
+    bool_product,
+    cyclic_nodes,
+    downstream,
+    is_strongly_connected,
+    reach_closure,
+    strong_classes,
 )
+from ._integer_matrix import from_exact
+from ._max_mean import cycle_times
+from ._scaled import identity_scaled, product_scaled, scale_together, scaled, square_matrix, times
+from .errors import MaxPlusError, MaxPlusValueError, ReducibleMatrixError
+from .scalar import EPS, exact_vector
+from .spectral import karp
 
 __all__ = ["TrajectoryPeriodicity", "transient", "trajectory_transient"]
 
@@ -68,8 +68,8 @@ def _lasting_violation(adj: np.ndarray, marked: np.ndarray, start: np.ndarray,
 
     def step(state: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
         before, after = state
-        moved_before = _bool_product(adj, before)
-        return moved_before & ~mark, _bool_product(adj, after) | (moved_before & mark)
+        moved_before = bool_product(adj, before)
+        return moved_before & ~mark, bool_product(adj, after) | (moved_before & mark)
 
     def key(state: tuple[np.ndarray, np.ndarray]) -> bytes:
         raw = np.packbits(state[0]).tobytes() + np.packbits(state[1]).tobytes()
@@ -115,20 +115,20 @@ def _check_matrix_periodicity(M: np.ndarray, graph: CriticalGraph) -> None:
     whose weights are eventually λ-periodic with period c (BCOQ Thm 3.109;
     De Schutter 2000).
     """
-    adj = _adjacency(M)
+    adj = adjacency(M)
     n = len(M)
-    cyclic = _cyclic_nodes(adj)
+    cyclic = cyclic_nodes(adj)
     critical = np.zeros(n, dtype=bool)
     critical[graph.nodes] = True
-    R = _reach_closure(adj)
-    through_any = _bool_product(R[:, cyclic], R[cyclic, :])
-    through_critical = _bool_product(R[:, critical], R[critical, :])
+    R = reach_closure(adj)
+    through_any = bool_product(R[:, cyclic], R[cyclic, :])
+    through_critical = bool_product(R[:, critical], R[critical, :])
     bad = through_any & ~through_critical
     if bad.any():
         # A^k[i][j] then grows like the largest mean of the classes on the walks
         # j -> i, which is < λ: the ratio A^(k+c)[i][j] − A^k[i][j] never reaches cλ.
         i, j = (int(v) for v in np.argwhere(bad)[0])
-        _, labels = _classes(adj)
+        _, labels = strong_classes(adj)
         culprit = next(int(c) for c in np.flatnonzero(cyclic) if R[i, c] and R[c, j])
         members = np.flatnonzero(labels == labels[culprit]).tolist()
         mean = karp(M[np.ix_(members, members)])
@@ -182,30 +182,30 @@ def transient(A: Any, max_power: int = 10_000) -> int:
     >>> transient([[3, 7], [2, 4]]), transient([[10, 0], [0, 9]])
     (2, 20)
     """
-    M = _square(A)
-    graph = _critical(M)[0]
+    M = square_matrix(A)
+    graph = critical_closure(M)[0]
     n = len(M)
-    c = _cyclicity(graph)
+    c = cyclicity_of(graph)
     lam = graph.eigenvalue
     if lam is None:
         # Nilpotent: A^(t+1) = ε ⊗ A^t = ε for t >= the longest path length.
-        S, _ = to_scaled(M, growth=n + 2)
+        S, _ = scaled(M, growth=n + 2)
         current = S  # A^(t+1)
         for t in range(n + 1):
             if np.all(current == -np.inf):
                 return t
-            current = _product_scaled(current, S)
+            current = product_scaled(current, S)
         raise AssertionError("an acyclic matrix is nilpotent of index <= n")
-    if not _irreducible(_adjacency(M)):
+    if not is_strongly_connected(adjacency(M)):
         _check_matrix_periodicity(M, graph)
     shifted = np.empty(M.shape, dtype=object)
-    shifted.reshape(-1)[:] = [v - lam for v in M.ravel().tolist()]
+    shifted.reshape(-1)[:] = [times(v, -lam) for v in M.ravel().tolist()]
     # With N = A − λ the identity reads N^(t+c) = N^t; entries of N^t are sums
     # of t entries, so growth max_power keeps float64 exact.
-    N, _ = to_scaled(shifted, growth=max_power + c + 2)
-    window = deque([_identity_scaled(n, N.dtype)])
+    N, _ = scaled(shifted, growth=max_power + c + 2)
+    window = deque([identity_scaled(n, N.dtype)])
     for _ in range(c):
-        window.append(_product_scaled(window[-1], N))
+        window.append(product_scaled(window[-1], N))
     t = 0
     while True:
         if np.all(np.asarray(window[0] == window[-1], dtype=bool)):
@@ -216,7 +216,7 @@ def transient(A: Any, max_power: int = 10_000) -> int:
                 f"for every t <= {t}; raise max_power"
             )
         window.popleft()
-        window.append(_product_scaled(window[-1], N))
+        window.append(product_scaled(window[-1], N))
         t += 1
 
 
@@ -263,7 +263,7 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
     >>> trajectory_transient([[3, 7], [2, 4]], [0, 0])
     TrajectoryPeriodicity(transient=1, period=2, rate=Fraction(9, 2))
     """
-    M = _square(A)
+    M = square_matrix(A)
     n = len(M)
     x = exact_vector(x0, "x0")
     if len(x) != n:
@@ -271,11 +271,10 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
     support = np.array([v != EPS for v in x], dtype=bool)
     if not support.any():
         raise MaxPlusValueError("x0 is ε everywhere: the trajectory is trivially ε", "x0")
-    adj = _adjacency(M)
-    nodes = np.flatnonzero(_downstream(adj, support))
+    adj = adjacency(M)
+    nodes = np.flatnonzero(downstream(adj, support))
     sub = M[np.ix_(nodes, nodes)]
-    result, _ = _kernel(sub)
-    rates = result.cycle_times
+    rates = cycle_times(from_exact(sub))
     distinct = sorted({r for r in rates if r is not None})
     if len(distinct) > 1:
         slow = int(nodes[rates.index(distinct[0])])
@@ -285,11 +284,11 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
             f"and node {fast} at rate {distinct[-1]}"
         )
     rate = distinct[0] if distinct else None
-    if rate is not None and not _irreducible(adj):
-        graph = _critical(sub)[0]
+    if rate is not None and not is_strongly_connected(adj):
+        graph = critical_closure(sub)[0]
         marked = np.zeros(len(nodes), dtype=bool)
         marked[graph.nodes] = True
-        found = _lasting_violation(_adjacency(sub), marked, support[nodes][:, None], max_steps)
+        found = _lasting_violation(adjacency(sub), marked, support[nodes][:, None], max_steps)
         if found is not None:
             i, _, t, p = found
             raise ReducibleMatrixError(
@@ -299,7 +298,7 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
             )
     vec = np.empty((n, 1), dtype=object)
     vec[:, 0] = x
-    (S, X), scale = _scale_together([M, vec], growth=max_steps + 2)
+    (S, X), scale = scale_together([M, vec], growth=max_steps + 2)
     num, den = (rate.numerator, rate.denominator) if rate is not None else (0, 1)
     state = X[:, 0]
     seen: dict[tuple, int] = {}
