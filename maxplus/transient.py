@@ -35,7 +35,7 @@ from .errors import MaxPlusError, MaxPlusValueError, ReducibleMatrixError
 from .scalar import EPS, exact_vector
 from .spectral import karp
 
-__all__ = ["TrajectoryPeriodicity", "transient", "trajectory_transient"]
+__all__ = ["TrajectoryPeriodicity", "trajectory_transient", "transient"]
 
 
 class TrajectoryPeriodicity(NamedTuple):
