@@ -1,320 +1,45 @@
-"""Maximum cycle mean of a dense integer matrix, by Howard's policy iteration, certified.
+"""Maximum cycle mean of a dense integer matrix, certified; cycle times by classes.
 
-The dense counterpart of :func:`maxplus.cycle_ratio.max_cycle_ratio` for
-matrices (every arc carries one token). A *policy* picks one in-arc per node
-(``policy[i] = j``: the arc ``j -> i``); following it backwards from any node
-ends on a policy circuit. *Value determination* gives every node the mean
-``W/T`` of the circuit it reaches (a reduced fraction of scaled integers) and
-a potential ``X`` (bias times T) that is tight along the policy; *policy
-improvement* switches a node to an in-arc from a node of larger mean, or,
-failing that, to one of the same mean and larger potential. A circuit that
-survives an iteration keeps its root's potential, which rules out cycling [1]_.
-
-Everything is an integer: Python ints in value determination (one pass over
-the nodes), int64 arrays (or object arrays beyond the int64-safe range) in the
-improvement step, a Python double loop below :data:`SMALL` nodes, where numpy's
-per-call cost would dominate. No float is used, so no tolerance either.
-
-When the optimal policy has one mean λ on every node (always for an
-irreducible matrix), its potentials prove λ (see
-:mod:`maxplus._mean_certificate`, checked before λ is returned). Otherwise
-the matrix is split into strongly connected classes and each class is solved
-on its own (its maximum cycle mean is the eigenvalue of the class [2]_).
+Howard's policy iteration (:mod:`maxplus._dense_howard`) runs on the whole
+matrix when every node has an in-arc. When its optimal policy has one mean λ
+on every node (always for an irreducible matrix), the final potentials prove
+λ (:mod:`maxplus._mean_certificate`, checked before λ is returned).
+Otherwise the matrix is split into strongly connected classes and each class
+is solved on its own: its maximum cycle mean is the eigenvalue of the class,
+and the cycle time of a node is the largest one among the classes upstream
+of it [1]_.
 
 References
 ----------
-.. [1] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
-   J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
-   algebra", IFAC Conference on System Structure and Control, 1998.
-.. [2] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
    and Linearity*, Wiley, 1992, Thm 3.23 and Thm 3.112.
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
 from fractions import Fraction
-from operator import add, itemgetter
 from typing import NamedTuple
 
 import numpy as np
 
 from ._arrays import INT64_SAFE
+from ._dense_howard import Ratio, optimal_policy, policy_walk
 from ._graphs import strong_classes
 from ._integer_matrix import IntegerMatrix, integer_matrix, rows_of
 from ._mean_certificate import check_mean_certificate, check_mean_certificate_lists
 from .errors import MaxPlusError
 
-__all__ = ["SMALL", "ClassMeans", "class_means", "cycle_times", "max_cycle_mean", "max_cycle_mean_rows"]
+__all__ = [
+    "SMALL",
+    "ClassMeans",
+    "class_means",
+    "cycle_times",
+    "max_cycle_mean",
+    "max_cycle_mean_rows",
+]
 
 SMALL = 16
-"""Up to this many nodes the improvement step is a Python loop (faster than numpy there)."""
-
-Ratio = tuple[int, int]
-
-
-class _Policy(NamedTuple):
-    ratio: list[Ratio]  # (W, T) per node, reduced, T > 0
-    potential: list[int]
-    policy: list[int]
-
-
-# --------------------------------------------------------------------------- Howard
-
-
-def _value_determination(pol: list[int], wpol: list[int], old: _Policy | None
-                         ) -> tuple[list[Ratio], list[int]]:
-    n = len(pol)
-    ratio: list[Ratio | None] = [None] * n
-    X = [0] * n
-    walked = [-1] * n  # the start of the walk that last visited a node
-    for s in range(n):
-        if ratio[s] is not None:
-            continue
-        path: list[int] = []
-        v = s
-        while ratio[v] is None and walked[v] != s:
-            walked[v] = s
-            path.append(v)
-            v = pol[v]
-        if ratio[v] is None:  # v closes a new policy circuit: path[k:]
-            k = path.index(v)
-            cycle = path[k:]
-            path = path[:k]
-            total = sum(wpol[u] for u in cycle)
-            g = math.gcd(total, len(cycle))
-            W, T = total // g, len(cycle) // g
-            root = min(cycle)
-            # A circuit that keeps its mean keeps its root's potential: then
-            # potentials never decrease between iterations of one mean [1].
-            X[root] = old.potential[root] if old is not None and old.ratio[root] == (W, T) else 0
-            ratio[root] = (W, T)
-            back = [root]
-            u = pol[root]
-            while u != root:
-                back.append(u)
-                u = pol[u]
-            for u in reversed(back[1:]):
-                X[u] = X[pol[u]] + wpol[u] * T - W
-                ratio[u] = (W, T)
-        for u in reversed(path):
-            W, T = ratio[pol[u]]  # type: ignore[misc]
-            ratio[u] = (W, T)
-            X[u] = X[pol[u]] + wpol[u] * T - W
-    return ratio, X  # type: ignore[return-value]
-
-
-class _Arcs(NamedTuple):
-    """A small matrix as flat in-arc lists, for the Python loops.
-
-    The in-arcs of node i are ``flat[bounds[i]:bounds[i + 1]]``; one
-    ``itemgetter`` gathers ``X[j]`` for every arc at once, in C.
-    """
-
-    sources: list[list[int]]  # predecessors j of each node i
-    weights: list[list[int]]  # A[i][j], in the same order
-    flat_weights: list[int]
-    bounds: list[tuple[int, int]]
-    gather: Callable[[list[int]], tuple[int, ...]]
-
-
-def _arcs(rows: list[list[int | None]]) -> _Arcs:
-    sources, weights, bounds, flat_sources = [], [], [], []
-    for row in rows:
-        js = [j for j, w in enumerate(row) if w is not None]
-        sources.append(js)
-        weights.append([row[j] for j in js])
-        bounds.append((len(flat_sources), len(flat_sources) + len(js)))
-        flat_sources += js
-    flat_weights = [w for ws in weights for w in ws]
-    gather = itemgetter(*flat_sources) if len(flat_sources) > 1 else \
-        (lambda X, j=flat_sources[0]: (X[j],))
-    return _Arcs(sources, weights, flat_weights, bounds, gather)
-
-
-def _successors(arcs: _Arcs) -> list[list[int]]:
-    out: list[list[int]] = [[] for _ in arcs.sources]
-    for i, js in enumerate(arcs.sources):
-        for j in js:
-            out[j].append(i)
-    return out
-
-
-def _improve_lists(arcs: _Arcs, state: _Policy, times_T: dict[int, list[list[int]]]
-                   ) -> list[int] | None:
-    """One policy improvement on in-arc lists; None when the policy is optimal.
-
-    ``times_T`` caches the weights multiplied by a mean's denominator T.
-    """
-    ratio, X, pol = state
-    new: list[int] | None = None
-    distinct = set(ratio)
-    if len(distinct) > 1:
-        new = _sweep_lists(_successors(arcs), ratio, pol, distinct)
-        if new is not None:
-            return new
-        for i, (js, ws) in enumerate(zip(arcs.sources, arcs.weights)):
-            r = ratio[i]
-            W, T = r
-            values = [X[j] + w * T if ratio[j] == r else X[i] + W for j, w in zip(js, ws)]
-            top = max(values)
-            if top - W > X[i]:
-                if new is None:
-                    new = list(pol)
-                new[i] = js[values.index(top)]
-        return new
-    # One mean everywhere (the usual case after the first iteration): every
-    # predecessor has the same mean, so only potentials compare.
-    W, T = ratio[0]
-    weights_T = times_T.get(T)
-    if weights_T is None:
-        weights_T = times_T[T] = [w * T for w in arcs.flat_weights]
-    values = list(map(add, arcs.gather(X), weights_T))
-    for i, (start, end) in enumerate(arcs.bounds):
-        row = values[start:end]
-        top = max(row)
-        if top - W > X[i]:
-            if new is None:
-                new = list(pol)
-            new[i] = arcs.sources[i][row.index(top)]
-    return new
-
-
-def _sweep_lists(succs: list[list[int]], ratio: list[Ratio], pol: list[int],
-                 distinct: set[Ratio]) -> list[int] | None:
-    """Ratio improvement, passed downstream at once (None when no ratio improves).
-
-    The largest mean goes first, breadth first: a node whose predecessor holds
-    a strictly larger mean switches to it and takes that mean, so one
-    iteration carries a mean as far as it reaches instead of one arc (each
-    switch is a strict gain, so no new policy circuit forms) [1]_.
-    """
-    order = sorted(distinct, key=lambda r: Fraction(*r), reverse=True)
-    level_of = {r: k for k, r in enumerate(order)}  # 0 = the largest mean
-    level = [level_of[r] for r in ratio]
-    new: list[int] | None = None
-    by_level: list[list[int]] = [[] for _ in order]
-    for v, k in enumerate(level):
-        by_level[k].append(v)
-    for top, members in enumerate(by_level):
-        frontier = [v for v in members if level[v] == top]
-        while frontier:
-            reached = []
-            for u in frontier:
-                for v in succs[u]:
-                    if level[v] > top:
-                        level[v] = top
-                        if new is None:
-                            new = list(pol)
-                        new[v] = u
-                        reached.append(v)
-            frontier = reached
-    return new
-
-
-def _improve_arrays(values: np.ndarray, finite: np.ndarray, state: _Policy) -> list[int] | None:
-    ratio, X, pol = state
-    n = len(pol)
-    distinct = sorted(set(ratio), key=lambda r: Fraction(*r))
-    pol_a = np.array(pol)
-    if len(distinct) > 1:
-        rank_of = {r: k for k, r in enumerate(distinct)}
-        rank = np.array([rank_of[r] for r in ratio])
-        ranks = np.where(finite, rank[None, :], -1)
-        up = ranks.max(axis=1) > rank
-        if up.any():
-            pol_a[up] = ranks.argmax(axis=1)[up]
-            return pol_a.tolist()
-        same = finite & (rank[None, :] == rank[:, None])
-    else:
-        same = finite
-    W = [r[0] for r in ratio]
-    T = [r[1] for r in ratio]
-    big = (max(map(abs, X)) + max(map(abs, W)) + max(T) * _abs_max(values))
-    if big < INT64_SAFE and values.dtype != object:
-        Xa, Wa, Ta = (np.array(a, dtype=np.int64) for a in (X, W, T))
-        low: object = np.iinfo(np.int64).min
-    else:
-        Xa, Wa, Ta = (_objects(a) for a in (X, W, T))
-        low = -math.inf  # only compared, never added
-    value = np.where(same, Xa[None, :] + values * Ta[:, None] - Wa[:, None], low)
-    best = value.argmax(axis=1)
-    gain = value[np.arange(n), best] > Xa
-    if not gain.any():
-        return None
-    pol_a[gain] = best[gain]
-    return pol_a.tolist()
-
-
-def _objects(values: list[int]) -> np.ndarray:
-    out = np.empty(len(values), dtype=object)
-    out[:] = values
-    return out
-
-
-def _abs_max(a: np.ndarray) -> int:
-    return max(abs(int(a.max())), abs(int(a.min()))) if a.size else 0
-
-
-def _howard(values: np.ndarray | None, finite: np.ndarray | None,
-            rows: list[list[int | None]] | None) -> _Policy:
-    """Optimal policy of a matrix whose every node has an in-arc (as lists or as arrays)."""
-    if rows is not None:
-        n = len(rows)
-        arcs = _arcs(rows)
-        times_T: dict[int, list[int]] = {}
-        # First policy: the best two-arc walk into each node, i.e. the best
-        # in-arc after one step of x(k+1) = A x(k) from x = 0 (saves about one
-        # iteration over the plain heaviest in-arc).
-        heaviest = [max(ws) for ws in arcs.weights]
-        values = list(map(add, arcs.gather(heaviest), arcs.flat_weights))
-        pol = []
-        for js, (start, end) in zip(arcs.sources, arcs.bounds):
-            row = values[start:end]
-            pol.append(js[row.index(max(row))])
-    else:
-        assert values is not None and finite is not None
-        n = len(finite)
-        low = -math.inf if values.dtype == object else np.iinfo(np.int64).min
-        pol = np.where(finite, values, low).argmax(axis=1).tolist()
-        nodes = np.arange(n)
-    state: _Policy | None = None
-    # Howard terminates (each iteration strictly improves); the bound only
-    # turns a defect into an error instead of a hang.
-    for _ in range(100 * (n + 1) ** 2):
-        if rows is not None:
-            wpol = [row[j] for row, j in zip(rows, pol)]
-        else:
-            wpol = values[nodes, pol].tolist()
-        ratio, X = _value_determination(pol, wpol, state)  # type: ignore[arg-type]
-        state = _Policy(ratio, X, pol)
-        if rows is not None:
-            new = _improve_lists(arcs, state, times_T)
-        else:
-            new = _improve_arrays(values, finite, state)
-        if new is None:
-            return state
-        pol = new
-    raise MaxPlusError("Howard's policy iteration did not converge (a defect: please report)")
-
-
-def _policy_walk(pol: list[int], start: int) -> list[int]:
-    """Nodes of the policy circuit reached backwards from ``start``, in forward order."""
-    seen: set[int] = set()
-    v = start
-    while v not in seen:
-        seen.add(v)
-        v = pol[v]
-    back = [v]
-    u = pol[v]
-    while u != v:
-        back.append(u)
-        u = pol[u]
-    return back[::-1]
-
-
-# --------------------------------------------------------------------------- means
+"""Up to this many nodes Howard runs on Python lists (faster than numpy there)."""
 
 
 def _single_mean(values: np.ndarray | None, finite: np.ndarray | None,
@@ -323,16 +48,17 @@ def _single_mean(values: np.ndarray | None, finite: np.ndarray | None,
 
     Give ``rows`` (lists) for a small matrix, ``values`` and ``finite`` otherwise.
     """
-    state = _howard(values, finite, rows)
+    state = optimal_policy(values, finite, rows)
     if len(set(state.ratio)) > 1:
         return None
     p, q = state.ratio[0]
-    walk = _policy_walk(state.policy, 0)
+    walk = policy_walk(state.policy, 0)
     if rows is not None:
         check_mean_certificate_lists(rows, p, q, state.potential, walk)
     else:
         assert values is not None and finite is not None
-        x = _objects(state.potential)
+        x = np.empty(len(state.potential), dtype=object)
+        x[:] = state.potential
         if values.dtype != object and max(map(abs, state.potential)) < INT64_SAFE:
             x = x.astype(np.int64)
         check_mean_certificate(values, finite, p, q, x, walk)
