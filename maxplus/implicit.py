@@ -6,19 +6,24 @@ and ε = -inf. An implicit system of order p is
     x(k) = A0 ⊗ x(k) ⊕ A1 ⊗ x(k−1) ⊕ ... ⊕ Ap ⊗ x(k−p) ⊕ B ⊗ u(k),
 
 the dater equation of a timed event graph in which ``Al[i][j]`` is the
-largest holding time of a place ``j -> i`` with l initial tokens (BCOQ 1992
-§2.5). ``A0`` (places without token) must have no circuit at all: a circuit
-in ``A0`` is a set of transitions each waiting for the previous one *in the
+largest holding time of a place ``j -> i`` with l initial tokens [1]_.
+``A0`` (places without token) must have no circuit at all: a circuit in
+``A0`` is a set of transitions each waiting for the previous one *in the
 same firing*, a deadlock. Then ``A0* = E ⊕ A0 ⊕ ... ⊕ A0^(n−1)`` and
 
     x(k) = A0*A1 ⊗ x(k−1) ⊕ ... ⊕ A0*Ap ⊗ x(k−p) ⊕ A0*B ⊗ u(k)
 
-(BCOQ 1992 Thm 3.17 and §2.5.4; De Schutter, *Max-Algebraic System Theory for
-Discrete Event Systems*, PhD thesis, 1996, and "On the ultimate behavior...",
-2000). For p > 1 the augmented state ``X(k) = [x(k); x(k−1); ...; x(k−p+1)]``
-obeys the first-order equation ``X(k) = Â ⊗ X(k−1) ⊕ B̂ ⊗ u(k)`` with the
-companion matrix ``Â`` (first block row ``A0*A1 ... A0*Ap``, identity blocks
-E below the diagonal).
+[1]_ [2]_. For p > 1 the augmented state ``X(k) = [x(k); x(k−1); ...;
+x(k−p+1)]`` obeys the first-order equation ``X(k) = Â ⊗ X(k−1) ⊕ B̂ ⊗ u(k)``
+with the companion matrix ``Â`` (first block row ``A0*A1 ... A0*Ap``,
+identity blocks E below the diagonal).
+
+References
+----------
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992, §2.5, §2.5.4 and Thm 3.17.
+.. [2] B. De Schutter, *Max-Algebraic System Theory for Discrete Event
+   Systems*, PhD thesis, K.U.Leuven, 1996.
 """
 
 from __future__ import annotations

@@ -1,12 +1,19 @@
 """Transients of (max,+) matrices and trajectories: when periodicity starts.
 
 For irreducible A, ``A^(t+c) = λ^c ⊗ A^t`` for all large t, with c the
-cyclicity of the critical graph (Baccelli, Cohen, Olsder, Quadrat,
-*Synchronization and Linearity*, 1992, Thm 3.109); :func:`transient` finds the
-smallest such t, and decides exactly, for reducible A, whether that identity
-ever holds. :func:`trajectory_transient` does the same for one trajectory
+cyclicity of the critical graph [1]_; :func:`transient` finds the smallest
+such t, and decides exactly, for reducible A, whether that identity ever
+holds [2]_. :func:`trajectory_transient` does the same for one trajectory
 ``x(k) = A^k ⊗ x0``. Convention as in the whole package: ``A[i][j]`` is the
 weight of the arc ``j -> i``.
+
+References
+----------
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992, Thm 3.109.
+.. [2] B. De Schutter, "On the ultimate behavior of the sequence of
+   consecutive powers of a matrix in the max-plus algebra", Linear Algebra
+   and its Applications 307, 103–117, 2000.
 """
 
 from __future__ import annotations
@@ -112,8 +119,8 @@ def _check_matrix_periodicity(M: np.ndarray, graph: CriticalGraph) -> None:
     (in a strongly connected class all long enough lengths of the right residue
     modulo its period are realized through any given node). So for large k the
     best walk of every length is dominated by walks through the critical graph,
-    whose weights are eventually λ-periodic with period c (BCOQ Thm 3.109;
-    De Schutter 2000).
+    whose weights are eventually λ-periodic with period c (cyclicity theorem,
+    Baccelli et al. 1992, Thm 3.109; De Schutter 2000).
     """
     adj = adjacency(M)
     n = len(M)
@@ -144,7 +151,7 @@ def transient(A: Any, max_power: int = 10_000) -> int:
     """Smallest t >= 0 with ``A^(t+c) = λ^c ⊗ A^t``, c = :func:`cyclicity`.
 
     The identity then holds for every larger t (multiply by A). For
-    irreducible A it holds eventually (BCOQ Thm 3.109). For reducible A this
+    irreducible A it holds eventually [1]_. For reducible A this
     is first decided exactly: it holds iff every pair (j, i) joined by a walk
     through some circuit is also joined by a walk through a circuit of mean λ
     (in particular every class with a circuit must contain a critical one).
@@ -171,11 +178,24 @@ def transient(A: Any, max_power: int = 10_000) -> int:
     MaxPlusError
         The budget ``max_power`` is exceeded.
 
+    See Also
+    --------
+    trajectory_transient : the same question for one trajectory.
+    maxplus.spectral.cyclicity : the period c.
+    maxplus.dense.power : the powers compared here.
+
     Notes
     -----
-    BCOQ 1992, Thm 3.109 (cyclicity theorem); for reducible matrices,
-    B. De Schutter, "On the ultimate behavior of the sequence of consecutive
-    powers of a matrix in the max-plus algebra", Linear Algebra Appl. 307, 2000.
+    Cyclicity theorem [1]_; for reducible matrices, the condition decided
+    first is that of [2]_.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, Thm 3.109.
+    .. [2] B. De Schutter, "On the ultimate behavior of the sequence of
+       consecutive powers of a matrix in the max-plus algebra", Linear Algebra
+       and its Applications 307, 103–117, 2000.
 
     Examples
     --------
@@ -254,9 +274,19 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
     MaxPlusError
         The budget is exceeded.
 
-    Notes
-    -----
-    BCOQ 1992, Thm 3.109 and §3.7 (periodic regime of trajectories).
+    See Also
+    --------
+    transient : when the powers of A themselves turn periodic.
+    maxplus.spectral.cycle_time_vector : the growth rate of every node.
+    maxplus.implicit.simulate : trajectories of implicit systems.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, Thm 3.109 and §3.7 (periodic regime).
+    .. [2] B. De Schutter, "On the ultimate behavior of the sequence of
+       consecutive powers of a matrix in the max-plus algebra", Linear Algebra
+       and its Applications 307, 103–117, 2000.
 
     Examples
     --------
