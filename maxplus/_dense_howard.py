@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from fractions import Fraction
+from itertools import pairwise
 from operator import add, itemgetter
 from typing import NamedTuple
 
@@ -91,40 +92,51 @@ def _value_determination(pol: list[int], wpol: list[int], old: Policy | None
     return ratio, X  # type: ignore[return-value]
 
 
-class _Arcs(NamedTuple):
+class _Arcs:
     """A small matrix as flat in-arc lists, for the Python loops.
 
-    The in-arcs of node i are ``flat[bounds[i]:bounds[i + 1]]``; one
-    ``itemgetter`` gathers ``X[j]`` for every arc at once, in C.
+    The in-arcs of node i are ``flat_weights[rows[i]]`` (``rows[i]`` a slice);
+    one ``itemgetter`` gathers ``X[j]`` for every arc at once, and
+    ``map(max, map(values.__getitem__, rows))`` takes every row's maximum, both
+    in C: per arc, no Python bytecode runs.
     """
 
-    sources: list[list[int]]  # predecessors j of each node i
-    weights: list[list[int]]  # A[i][j], in the same order
-    flat_weights: list[int]
-    bounds: list[tuple[int, int]]
-    gather: Callable[[list[int]], tuple[int, ...]]
+    __slots__ = ("_successors", "flat_weights", "gather", "rows", "sources", "weights")
+
+    def __init__(self, sources: list[list[int]], weights: list[list[int]],
+                 flat_weights: list[int], rows: list[slice],
+                 gather: Callable[[list[int]], tuple[int, ...]]) -> None:
+        self.sources = sources  # predecessors j of each node i
+        self.weights = weights  # A[i][j], in the same order
+        self.flat_weights = flat_weights
+        self.rows = rows
+        self.gather = gather
+        self._successors: list[list[int]] | None = None
+
+    def successors(self) -> list[list[int]]:
+        """Successors of every node (built on first use: only ratio sweeps need them)."""
+        if self._successors is None:
+            out: list[list[int]] = [[] for _ in self.sources]
+            for i, js in enumerate(self.sources):
+                for j in js:
+                    out[j].append(i)
+            self._successors = out
+        return self._successors
 
 
 def _arcs(rows: list[list[int | None]]) -> _Arcs:
     sources, weights, bounds, flat_sources = [], [], [], []
+    columns = range(len(rows))
     for row in rows:
-        js = [j for j, w in enumerate(row) if w is not None]
+        js = [j for j, w in zip(columns, row) if w is not None]
         sources.append(js)
-        weights.append([row[j] for j in js])
-        bounds.append((len(flat_sources), len(flat_sources) + len(js)))
+        weights.append([w for w in row if w is not None])
+        bounds.append(slice(len(flat_sources), len(flat_sources) + len(js)))
         flat_sources += js
     flat_weights = [w for ws in weights for w in ws]
     gather = itemgetter(*flat_sources) if len(flat_sources) > 1 else \
         (lambda X, j=flat_sources[0]: (X[j],))
     return _Arcs(sources, weights, flat_weights, bounds, gather)
-
-
-def _successors(arcs: _Arcs) -> list[list[int]]:
-    out: list[list[int]] = [[] for _ in arcs.sources]
-    for i, js in enumerate(arcs.sources):
-        for j in js:
-            out[j].append(i)
-    return out
 
 
 def _improve_lists(arcs: _Arcs, state: Policy, times_T: dict[int, list[list[int]]]
@@ -137,7 +149,7 @@ def _improve_lists(arcs: _Arcs, state: Policy, times_T: dict[int, list[list[int]
     new: list[int] | None = None
     distinct = set(ratio)
     if len(distinct) > 1:
-        new = _sweep_lists(_successors(arcs), ratio, pol, distinct)
+        new = _sweep_lists(arcs.successors(), ratio, pol, distinct)
         if new is not None:
             return new
         for i, (js, ws) in enumerate(zip(arcs.sources, arcs.weights)):
@@ -157,14 +169,30 @@ def _improve_lists(arcs: _Arcs, state: Policy, times_T: dict[int, list[list[int]
     if weights_T is None:
         weights_T = times_T[T] = [w * T for w in arcs.flat_weights]
     values = list(map(add, arcs.gather(X), weights_T))
-    for i, (start, end) in enumerate(arcs.bounds):
-        row = values[start:end]
-        top = max(row)
-        if top - W > X[i]:
-            if new is None:
-                new = list(pol)
-            new[i] = arcs.sources[i][row.index(top)]
+    tops = list(map(max, map(values.__getitem__, arcs.rows)))
+    for i in [i for i, (top, x) in enumerate(zip(tops, X)) if top - W > x]:
+        if new is None:
+            new = list(pol)
+        new[i] = arcs.sources[i][values[arcs.rows[i]].index(tops[i])]
     return new
+
+
+def sorted_ratios(ratios: set[Ratio]) -> list[Ratio]:
+    """Distinct reduced fractions (W, T), T > 0, in increasing order, exactly.
+
+    Floats sort; cross-multiplication then checks every adjacent pair (and
+    Fractions redo the order if floats could not separate two of them).
+
+    >>> sorted_ratios({(7, 2), (10**400, 1), (-1, 3)})[:2]
+    [(-1, 3), (7, 2)]
+    """
+    try:
+        order = sorted(ratios, key=lambda r: r[0] / r[1])
+    except OverflowError:  # a ratio beyond float range
+        return sorted(ratios, key=lambda r: Fraction(*r))
+    if all(a[0] * b[1] < b[0] * a[1] for a, b in pairwise(order)):
+        return order
+    return sorted(ratios, key=lambda r: Fraction(*r))
 
 
 def _sweep_lists(succs: list[list[int]], ratio: list[Ratio], pol: list[int],
@@ -176,7 +204,7 @@ def _sweep_lists(succs: list[list[int]], ratio: list[Ratio], pol: list[int],
     iteration carries a mean as far as it reaches instead of one arc (each
     switch is a strict gain, so no new policy circuit forms) [1]_.
     """
-    order = sorted(distinct, key=lambda r: Fraction(*r), reverse=True)
+    order = sorted_ratios(distinct)[::-1]
     level_of = {r: k for k, r in enumerate(order)}  # 0 = the largest mean
     level = [level_of[r] for r in ratio]
     new: list[int] | None = None
@@ -202,7 +230,7 @@ def _sweep_lists(succs: list[list[int]], ratio: list[Ratio], pol: list[int],
 def _improve_arrays(values: np.ndarray, finite: np.ndarray, state: Policy) -> list[int] | None:
     ratio, X, pol = state
     n = len(pol)
-    distinct = sorted(set(ratio), key=lambda r: Fraction(*r))
+    distinct = sorted_ratios(set(ratio))
     pol_a = np.array(pol)
     if len(distinct) > 1:
         rank_of = {r: k for k, r in enumerate(distinct)}
@@ -255,10 +283,8 @@ def optimal_policy(values: np.ndarray | None, finite: np.ndarray | None,
         # iteration over the plain heaviest in-arc).
         heaviest = [max(ws) for ws in arcs.weights]
         values = list(map(add, arcs.gather(heaviest), arcs.flat_weights))
-        pol = []
-        for js, (start, end) in zip(arcs.sources, arcs.bounds):
-            row = values[start:end]
-            pol.append(js[row.index(max(row))])
+        pol = [js[row.index(max(row))] for js, row in
+               zip(arcs.sources, map(values.__getitem__, arcs.rows))]
     else:
         assert values is not None and finite is not None
         n = len(finite)

@@ -131,11 +131,9 @@ def check_mean_certificate_lists(rows: Sequence[Sequence[int | None]], p: int, q
         raise CertificateError(f"expected {n} potentials, got {len(potential)}")
     for i, (row, x_i) in enumerate(zip(rows, potential)):
         bound = x_i + p
-        for w, x_j in zip(row, potential):
+        for j, (w, x_j) in enumerate(zip(row, potential)):
             if w is not None and q * w + x_j > bound:
-                j = next(j for j, (v, x) in enumerate(zip(row, potential))
-                         if v is not None and q * v + x > bound)
                 raise CertificateError(
-                    f"arc {j} -> {i} violates the potential inequality: some circuit through "
-                    f"it may have a mean above {p}/{q}"
+                    f"arc {j} -> {i} violates the potential inequality: some circuit "
+                    f"through it may have a mean above {p}/{q}"
                 )
