@@ -74,7 +74,7 @@ def _value_determination(pol: list[int], wpol: list[int], old: Policy | None
             W, T = total // g, len(cycle) // g
             root = min(cycle)
             # A circuit that keeps its mean keeps its root's potential: then
-            # potentials never decrease between iterations of one mean [1].
+            # potentials never decrease between iterations of one mean [1]_.
             X[root] = old.potential[root] if old is not None and old.ratio[root] == (W, T) else 0
             ratio[root] = (W, T)
             back = [root]
@@ -272,7 +272,7 @@ def _abs_max(a: np.ndarray) -> int:
 
 
 def optimal_policy(values: np.ndarray | None, finite: np.ndarray | None,
-            rows: list[list[int | None]] | None) -> Policy:
+                   rows: list[list[int | None]] | None) -> Policy:
     """Optimal policy of a matrix whose every node has an in-arc (as lists or as arrays)."""
     if rows is not None:
         n = len(rows)
