@@ -16,6 +16,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from conftest import ANCHORS
 
 from maxplus import ReducibleMatrixError
 from maxplus.dense import oplus, otimes, solve, star
@@ -33,7 +34,6 @@ from maxplus.spectral import (
 )
 from maxplus.transient import trajectory_transient, transient
 
-from conftest import ANCHORS  # noqa: E402
 CASES = json.loads((ANCHORS / "maxplus" / "cases.json").read_text())
 MATRIX_CASES = [case for case in CASES if case["kind"] == "matrix"]
 BY_ID = {case["id"]: case for case in CASES}
