@@ -6,19 +6,24 @@ and ε = -inf. An implicit system of order p is
     x(k) = A0 ⊗ x(k) ⊕ A1 ⊗ x(k−1) ⊕ ... ⊕ Ap ⊗ x(k−p) ⊕ B ⊗ u(k),
 
 the dater equation of a timed event graph in which ``Al[i][j]`` is the
-largest holding time of a place ``j -> i`` with l initial tokens (BCOQ 1992
-§2.5). ``A0`` (places without token) must have no circuit at all: a circuit
-in ``A0`` is a set of transitions each waiting for the previous one *in the
+largest holding time of a place ``j -> i`` with l initial tokens [1]_.
+``A0`` (places without token) must have no circuit at all: a circuit in
+``A0`` is a set of transitions each waiting for the previous one *in the
 same firing*, a deadlock. Then ``A0* = E ⊕ A0 ⊕ ... ⊕ A0^(n−1)`` and
 
     x(k) = A0*A1 ⊗ x(k−1) ⊕ ... ⊕ A0*Ap ⊗ x(k−p) ⊕ A0*B ⊗ u(k)
 
-(BCOQ 1992 Thm 3.17 and §2.5.4; De Schutter, *Max-Algebraic System Theory for
-Discrete Event Systems*, PhD thesis, 1996, and "On the ultimate behavior...",
-2000). For p > 1 the augmented state ``X(k) = [x(k); x(k−1); ...; x(k−p+1)]``
-obeys the first-order equation ``X(k) = Â ⊗ X(k−1) ⊕ B̂ ⊗ u(k)`` with the
-companion matrix ``Â`` (first block row ``A0*A1 ... A0*Ap``, identity blocks
-E below the diagonal).
+[1]_ [2]_. For p > 1 the augmented state ``X(k) = [x(k); x(k−1); ...;
+x(k−p+1)]`` obeys the first-order equation ``X(k) = Â ⊗ X(k−1) ⊕ B̂ ⊗ u(k)``
+with the companion matrix ``Â`` (first block row ``A0*A1 ... A0*Ap``,
+identity blocks E below the diagonal).
+
+References
+----------
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992, §2.5, §2.5.4 and Thm 3.17.
+.. [2] B. De Schutter, *Max-Algebraic System Theory for Discrete Event
+   Systems*, PhD thesis, K.U.Leuven, 1996.
 """
 
 from __future__ import annotations
@@ -31,9 +36,10 @@ from typing import Any
 import numpy as np
 
 from ._arrays import find_circuit
-from .dense import _product_scaled, _rank, _scale_together, otimes, star
+from ._scaled import as_exact, product_scaled, rank_of, scale_together
+from .dense import otimes, star
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
-from .scalar import EPS, exact_matrix, exact_vector, from_scaled
+from .scalar import EPS, exact_matrix, exact_vector
 
 __all__ = ["ExplicitSystem", "simulate", "to_explicit"]
 
@@ -115,9 +121,17 @@ def to_explicit(A0: Any, A1: Any, *higher: Any, B: Any = None) -> ExplicitSystem
     ZeroTokenCircuitError
         ``A0`` has a circuit; ``.nodes`` lists it and the message names its entries.
 
-    Notes
-    -----
-    BCOQ 1992, Thm 3.17 and §2.5.4; B. De Schutter, PhD thesis, K.U.Leuven, 1996.
+    See Also
+    --------
+    simulate : the dater trajectory of the same system.
+    maxplus.dense.star : ``A0*``.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, Thm 3.17 and §2.5.4.
+    .. [2] B. De Schutter, *Max-Algebraic System Theory for Discrete Event
+       Systems*, PhD thesis, K.U.Leuven, 1996.
 
     Examples
     --------
@@ -147,9 +161,9 @@ def _initial_states(initial: Any, n: int, p: int) -> list[list]:
     """``[x(0), x(−1), ..., x(1−p)]``, missing ones ε."""
     if initial is None:
         return [[EPS] * n for _ in range(p)]
-    if _rank(initial) == 1:
+    if rank_of(initial) == 1:
         given = [exact_vector(initial, "initial")]
-    elif _rank(initial) == 2:
+    elif rank_of(initial) == 2:
         given = [exact_vector(v, f"initial[{l}]") for l, v in enumerate(initial)]
     else:
         raise MaxPlusValueError("expected x(0) or a list [x(0), x(-1), ...]", "initial")
@@ -196,9 +210,17 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
     ZeroTokenCircuitError
         ``A0`` has a circuit.
 
-    Notes
-    -----
-    BCOQ 1992, §2.5; De Schutter 1996 (max-plus-linear systems with inputs).
+    See Also
+    --------
+    to_explicit : the explicit first-order form used here.
+    maxplus.transient.trajectory_transient : when such a trajectory turns periodic.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §2.5.
+    .. [2] B. De Schutter, *Max-Algebraic System Theory for Discrete Event
+       Systems*, PhD thesis, K.U.Leuven, 1996 (max-plus-linear systems with inputs).
 
     Examples
     --------
@@ -220,7 +242,7 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
         if system.B is None:
             raise MaxPlusValueError("inputs need an input matrix B", "B")
         m = system.B.shape[1]
-        if _rank(inputs) == 1:
+        if rank_of(inputs) == 1:
             row = exact_vector(inputs, "inputs")
             if len(row) != m:
                 raise MaxPlusValueError(f"expected {m} inputs like the columns of B, got {len(row)}",
@@ -250,14 +272,14 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
         operands += [system.B, u_rows[:steps].T.copy()]
     # Every value is a sum of at most steps+1 matrix entries and one initial or
     # input value: that growth keeps the float64 path exact.
-    scaled, scale = _scale_together(operands, growth=steps + 3)
+    scaled, scale = scale_together(operands, growth=steps + 3)
     big_a, current = scaled[0], scaled[1]
     out = np.empty((steps + 1, n), dtype=current.dtype)
     out[0] = current[:n, 0]
     for k in range(1, steps + 1):
-        current = _product_scaled(big_a, current)
+        current = product_scaled(big_a, current)
         if len(scaled) > 2:
-            drive = _product_scaled(scaled[2], scaled[3][:, k - 1:k])
+            drive = product_scaled(scaled[2], scaled[3][:, k - 1:k])
             current = np.maximum(current, drive)
         out[k] = current[:n, 0]
-    return from_scaled(out, scale)
+    return as_exact(out, scale)

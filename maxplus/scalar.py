@@ -20,10 +20,11 @@ above that bound the same code runs on object arrays of Python ints.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from decimal import Decimal
 from fractions import Fraction
 from numbers import Integral, Rational
-from typing import Any, Iterable, Union
+from typing import Any
 
 import numpy as np
 
@@ -32,20 +33,20 @@ from .errors import MaxPlusValueError
 
 __all__ = [
     "EPS",
-    "TOP",
-    "Scalar",
-    "exact",
-    "exact_text",
-    "exact_time",
-    "exact_matrix",
-    "exact_vector",
-    "is_eps",
-    "common_denominator",
-    "to_scaled",
-    "from_scaled",
     "FLOAT_EXACT_BOUND",
     "INT64_SAFE",
+    "TOP",
+    "Scalar",
+    "common_denominator",
+    "exact",
+    "exact_matrix",
+    "exact_text",
+    "exact_time",
+    "exact_vector",
+    "from_scaled",
     "int_array",
+    "is_eps",
+    "to_scaled",
 ]
 
 EPS: float = float("-inf")
@@ -54,7 +55,7 @@ EPS: float = float("-inf")
 TOP: float = float("inf")
 """The top element ⊤, only produced by residuation (``ε \\ ε``)."""
 
-Scalar = Union[Fraction, float]
+Scalar = Fraction | float
 """An exact (max,+) scalar: a Fraction, or ``EPS`` (``-inf``)."""
 
 FLOAT_EXACT_BOUND = 2**52
@@ -66,6 +67,25 @@ _EPS_WORDS = {"eps", "ε", "-inf", "-infinity", "epsilon", "e"}
 def is_eps(value: Any) -> bool:
     """Return True when ``value`` is ε (``-inf``).
 
+    Parameters
+    ----------
+    value : any
+
+    Returns
+    -------
+    bool
+
+    See Also
+    --------
+    exact : reads ``None``, ``"eps"`` and ``-inf`` as ε.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
+
+    Examples
+    --------
     >>> is_eps(EPS), is_eps(Fraction(0))
     (True, False)
     """
@@ -93,6 +113,16 @@ def exact(value: Any, where: str = "value", allow_eps: bool = True) -> Scalar:
     ------
     MaxPlusValueError
         NaN, +inf, booleans, text that is not a number, a zero denominator.
+
+    See Also
+    --------
+    exact_time : a finite value (no ε).
+    exact_vector, exact_matrix : whole vectors and matrices, entries named.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
 
     Examples
     --------
@@ -157,6 +187,34 @@ def _exact(value: Any, where: str) -> Scalar:
 def exact_time(value: Any, where: str = "value") -> Fraction:
     """Convert a finite time value (no ε) to a Fraction.
 
+    Parameters
+    ----------
+    value : int, Fraction, str, float, Decimal
+        As accepted by :func:`exact`.
+    where : str
+        Name of the entry, used in error messages.
+
+    Returns
+    -------
+    Fraction
+
+    Raises
+    ------
+    MaxPlusValueError
+        ε, NaN, ±inf, or anything :func:`exact` refuses.
+
+    See Also
+    --------
+    exact : the same, ε allowed.
+    exact_text : writes such a value back.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
+
+    Examples
+    --------
     >>> exact_time("0.25")
     Fraction(1, 4)
     """
@@ -178,6 +236,11 @@ def exact_text(value: Fraction | int | None) -> str | None:
     --------
     exact_time : reads such a text back.
 
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
+
     Examples
     --------
     >>> exact_text(Fraction(7, 3)), exact_text(Fraction(4, 2)), exact_text(None)
@@ -191,6 +254,36 @@ def exact_text(value: Fraction | int | None) -> str | None:
 def exact_vector(values: Any, name: str = "x", allow_eps: bool = True) -> list[Scalar]:
     """Validate a vector of (max,+) scalars.
 
+    Parameters
+    ----------
+    values : list or 1-D array
+        Entries as accepted by :func:`exact`.
+    name : str
+        Name used in error messages (an entry is named ``x[i]``).
+    allow_eps : bool
+        When False, ε is refused.
+
+    Returns
+    -------
+    list of Fraction or EPS
+
+    Raises
+    ------
+    MaxPlusValueError
+        Not a list, a nested list, or a bad entry (named).
+
+    See Also
+    --------
+    exact_matrix : the same for a matrix.
+    exact : one entry.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
+
+    Examples
+    --------
     >>> exact_vector([1, None, "1/2"])
     [Fraction(1, 1), -inf, Fraction(1, 2)]
     """
@@ -229,6 +322,16 @@ def exact_matrix(values: Any, name: str = "A", square: bool = True) -> np.ndarra
     ------
     MaxPlusValueError
         Ragged rows, wrong shape, or a bad entry (named as ``A[i][j]``).
+
+    See Also
+    --------
+    exact_vector : the same for a vector.
+    to_scaled : the matrix as scaled integers.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
 
     Examples
     --------
@@ -287,6 +390,25 @@ def _exact_entry(value: Any, where: str) -> Scalar:
 def common_denominator(values: Iterable[Scalar]) -> int:
     """Least common multiple of the denominators of the finite values.
 
+    Parameters
+    ----------
+    values : iterable of Fraction or EPS (TOP is skipped too)
+
+    Returns
+    -------
+    int
+
+    See Also
+    --------
+    to_scaled : scales a matrix by it.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
+
+    Examples
+    --------
     >>> common_denominator([Fraction(1, 2), Fraction(2, 3), EPS])
     6
     """
@@ -317,6 +439,16 @@ def to_scaled(matrix: np.ndarray, scale: int | None = None, growth: int = 1) -> 
         ``array`` holds ``entry * scale`` as integers (float64 with ``-inf``
         for ε, or object dtype holding Python ints and ``-inf``).
 
+    See Also
+    --------
+    from_scaled : the inverse.
+    common_denominator : the default scale.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
+
     Examples
     --------
     >>> a, s = to_scaled(exact_matrix([["1/2", None], [1, 0]]))
@@ -340,6 +472,28 @@ def to_scaled(matrix: np.ndarray, scale: int | None = None, growth: int = 1) -> 
 def from_scaled(array: np.ndarray, scale: int) -> np.ndarray:
     """Inverse of :func:`to_scaled`: an object array of Fraction / EPS / TOP.
 
+    Parameters
+    ----------
+    array : numpy.ndarray
+        Scaled integers (float64 or object), ``-inf`` for ε, ``+inf`` for ⊤.
+    scale : int
+        The common denominator the values were multiplied by.
+
+    Returns
+    -------
+    numpy.ndarray of dtype object
+
+    See Also
+    --------
+    to_scaled : the forward conversion.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
+
+    Examples
+    --------
     >>> from_scaled(np.array([[1.0, -np.inf]]), 2).tolist()
     [[Fraction(1, 2), -inf]]
     """

@@ -1,47 +1,50 @@
-"""Spectral theory of (max,+) matrices: eigenvalue, eigenvectors, critical
-graph, cyclicity, transients, cycle-time vector.
+"""Spectral theory of (max,+) matrices: eigenvalue, cycle-time vector, Howard,
+Karp; and the namespace of the critical-graph functions.
 
 Convention (the whole package): ``x(k+1) = A ⊗ x(k)``, ``A[i][j]`` is the
 weight of the arc ``j -> i``, ε = -inf, and eigenvectors are right
 eigenvectors, ``A ⊗ v = λ ⊗ v``.
 
-* The eigenvalue of an irreducible matrix is its maximum cycle mean
-  (Baccelli, Cohen, Olsder, Quadrat, *Synchronization and Linearity*, 1992 —
-  "BCOQ" — Thm 3.23); for any matrix with a circuit, the maximum cycle mean λ
-  is its largest eigenvalue, with eigenvectors the critical columns of
-  ``(A − λ)^+`` (BCOQ §3.7; P. Butkovič, *Max-linear Systems*, 2010, §4.3,
-  also for reducible matrices).
+* The eigenvalue of an irreducible matrix is its maximum cycle mean, and for
+  any matrix with a circuit the maximum cycle mean λ is its largest
+  eigenvalue [1]_.
 * ``χ_i = lim x_i(k)/k`` is the largest cycle mean over the strongly connected
-  classes upstream of ``i`` (BCOQ Thm 3.112); it needs no circuit *through* i.
-* Transients (when ``A^(t+c) = λ^c ⊗ A^t`` starts) are in :mod:`maxplus.transient`.
+  classes upstream of ``i`` [1]_; it needs no circuit *through* i.
+* The critical graph, eigenvectors, eigenspace and cyclicity
+  (:mod:`maxplus._critical`) are re-exported here; transients are in
+  :mod:`maxplus.transient`.
 
-:func:`eigenvalue`, :func:`cycle_time_vector` and :func:`howard` are thin
-wrappers over the sparse, certified kernel
-:func:`maxplus.cycle_ratio.max_cycle_ratio` (Howard's policy iteration,
-Cochet-Terrasson et al. 1998); :func:`karp` (Karp 1978) is an independent
-implementation kept as a cross-check. The arcs of a matrix are its finite
-entries: ``A[i][j] != ε`` is an arc ``j -> i`` of weight ``A[i][j]`` and 1 token.
+:func:`eigenvalue` and :func:`cycle_time_vector` run a dense Howard policy
+iteration [2]_ in exact integers (:mod:`maxplus._max_mean`) and check an
+integer potential certificate before answering; :func:`howard` returns the
+sparse kernel's policy and bias (:func:`maxplus.cycle_ratio.max_cycle_ratio`);
+:func:`karp` [3]_ is an independent implementation kept as a cross-check.
+
+References
+----------
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992, Thm 3.23 and Thm 3.112.
+.. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+   J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+   algebra", IFAC Conference on System Structure and Control, 1998.
+.. [3] R. M. Karp, "A characterization of the minimum cycle mean in a
+   digraph", Discrete Mathematics 23(3), 309–311, 1978.
 """
 
 from __future__ import annotations
 
-import math
-from collections import deque
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
-from .cycle_ratio import CycleRatioResult, max_cycle_ratio
-from .dense import (
-    _plus_scaled,
-    _square,
-)
-from .errors import ReducibleMatrixError
-from .scalar import EPS, from_scaled, to_scaled
+from ._critical import CriticalGraph, critical_graph, cyclicity, eigenspace, eigenvector
+from ._graphs import adjacency, is_strongly_connected, strong_classes
+from ._integer_matrix import integer_matrix, plain_int_rows
+from ._max_mean import SMALL, cycle_times, max_cycle_mean, max_cycle_mean_rows
+from ._scaled import bottom, scaled, square_matrix
+from .cycle_ratio import max_cycle_ratio
 
 __all__ = [
     "CriticalGraph",
@@ -56,29 +59,6 @@ __all__ = [
     "is_irreducible",
     "karp",
 ]
-
-
-@dataclass(frozen=True)
-class CriticalGraph:
-    """The critical graph: the union of the circuits of maximum mean.
-
-    Attributes
-    ----------
-    eigenvalue : Fraction or None
-        The maximum cycle mean λ (None without circuit: then the graph is empty).
-    nodes : list of int
-        Critical nodes, increasing.
-    arcs : list of (int, int)
-        Critical arcs ``(j, i)`` meaning ``j -> i`` (the entry ``A[i][j]``).
-    components : list of list of int
-        Strongly connected classes of the critical graph, each increasing,
-        ordered by their smallest node.
-    """
-
-    eigenvalue: Fraction | None
-    nodes: list[int]
-    arcs: list[tuple[int, int]]
-    components: list[list[int]]
 
 
 @dataclass(frozen=True)
@@ -108,45 +88,6 @@ class HowardResult:
     circuit: list[int]
 
 
-# --------------------------------------------------------------------------- graph helpers
-
-
-def _adjacency(M: np.ndarray) -> np.ndarray:
-    """Boolean ``adj[i, j]``: there is an arc j -> i."""
-    return np.asarray(M != EPS, dtype=bool)
-
-
-def _arcs(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rows, cols = np.nonzero(_adjacency(M))
-    weights = np.empty(len(rows), dtype=object)
-    weights[:] = [M[i, j] for i, j in zip(rows.tolist(), cols.tolist())]
-    return cols, rows, weights  # src = j, dst = i
-
-
-def _kernel(M: np.ndarray) -> tuple[CycleRatioResult, np.ndarray]:
-    src, dst, weights = _arcs(M)
-    result = max_cycle_ratio(src, dst, weights, None, n_nodes=len(M))
-    # Every eigenvalue and cycle time this module returns is proven exactly:
-    # the certificate is checked before anything is handed out.
-    result.verify()
-    return result, src
-
-
-def _classes(adj: np.ndarray) -> tuple[int, np.ndarray]:
-    """Strongly connected classes of the graph (labels per node)."""
-    rows, cols = np.nonzero(adj)
-    n = len(adj)
-    graph = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (cols, rows)), shape=(n, n))
-    return connected_components(graph, directed=True, connection="strong")
-
-
-def _cyclic_nodes(adj: np.ndarray) -> np.ndarray:
-    """Nodes lying on some circuit."""
-    n_comp, labels = _classes(adj)
-    sizes = np.bincount(labels, minlength=n_comp)
-    return (sizes[labels] > 1) | np.diag(adj)
-
-
 def is_irreducible(A: Any) -> bool:
     """True when the graph of A is strongly connected and has a circuit.
 
@@ -155,7 +96,7 @@ def is_irreducible(A: Any) -> bool:
 
     Parameters
     ----------
-    A : square matrix
+    A : square matrix (nested lists or 2-D array)
 
     Returns
     -------
@@ -164,74 +105,38 @@ def is_irreducible(A: Any) -> bool:
     Raises
     ------
     MaxPlusValueError
-        A bad entry or a non-square matrix.
+        A bad entry (named) or a non-square matrix.
 
-    Notes
-    -----
-    BCOQ 1992, §2.3 (a matrix is irreducible iff its graph is strongly connected).
+    See Also
+    --------
+    eigenvalue : the unique eigenvalue of an irreducible matrix.
+    maxplus.spectral.eigenspace : defined here for irreducible matrices only.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, §2.3 (a matrix is irreducible iff its
+       graph is strongly connected).
 
     Examples
     --------
     >>> is_irreducible([[1, 2], [3, 4]]), is_irreducible([[1, None], [None, 2]])
     (True, False)
     """
-    M = _square(A)
-    return _irreducible(_adjacency(M))
-
-
-def _irreducible(adj: np.ndarray) -> bool:
-    n_comp, _ = _classes(adj)
-    return n_comp == 1 and (len(adj) > 1 or bool(adj[0, 0]))
-
-
-def _period(nodes: list[int], arcs: list[tuple[int, int]]) -> int:
-    """gcd of the circuit lengths of a strongly connected graph (BFS levels).
-
-    Every circuit length is a sum of ``level[u] + 1 − level[v]`` over its arcs,
-    and conversely these differences generate the same group (Denardo 1977).
-    """
-    out: dict[int, list[int]] = {v: [] for v in nodes}
-    for u, v in arcs:
-        out[u].append(v)
-    level = {nodes[0]: 0}
-    queue = deque([nodes[0]])
-    while queue:
-        u = queue.popleft()
-        for v in out[u]:
-            if v not in level:
-                level[v] = level[u] + 1
-                queue.append(v)
-    g = 0
-    for u, v in arcs:
-        g = math.gcd(g, level[u] + 1 - level[v])
-    return abs(g)
-
-
-def _bool_product(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    # float32 counts are exact below 2**24 paths per entry (n < 2**24).
-    return (X.astype(np.float32) @ Y.astype(np.float32)) > 0
-
-
-def _reach_closure(adj: np.ndarray) -> np.ndarray:
-    """``R[i, j]``: a path (possibly empty) from j to i."""
-    R = adj | np.eye(len(adj), dtype=bool)
-    while True:
-        nxt = R | _bool_product(R, R)
-        if np.array_equal(nxt, R):
-            return R
-        R = nxt
+    return is_strongly_connected(integer_matrix(A).finite)
 
 
 # --------------------------------------------------------------------------- Karp
 
 
 def _karp_class(S: np.ndarray) -> Fraction:
-    """Max cycle mean (scaled) of a strongly connected scaled matrix, Karp 1978."""
+    """Max cycle mean (scaled) of a strongly connected scaled matrix [Karp 1978]."""
     s = len(S)
+    low = bottom(S.dtype)
     rows, cols = np.nonzero(np.asarray(S != -np.inf, dtype=bool))
     weights = S[rows, cols]
     # D[k, v]: best weight of a walk of exactly k arcs from node 0 to v.
-    D = np.full((s + 1, s), -np.inf, dtype=S.dtype)
+    D = np.full((s + 1, s), low, dtype=S.dtype)
     D[0, 0] = 0
     for k in range(1, s + 1):
         np.maximum.at(D[k], rows, D[k - 1][cols] + weights)
@@ -258,7 +163,7 @@ def karp(A: Any) -> Fraction | None:
 
     Parameters
     ----------
-    A : square matrix
+    A : square matrix (nested lists or 2-D array)
 
     Returns
     -------
@@ -268,12 +173,23 @@ def karp(A: Any) -> Fraction | None:
     Raises
     ------
     MaxPlusValueError
-        A bad entry or a non-square matrix.
+        A bad entry (named) or a non-square matrix.
+
+    See Also
+    --------
+    eigenvalue : the same number by Howard's policy iteration, certified.
+    howard : cycle times, bias and policy.
 
     Notes
     -----
-    R. M. Karp, "A characterization of the minimum cycle mean in a digraph",
-    Discrete Mathematics 23, 1978 (stated for the minimum; max is symmetric).
+    Karp states the theorem for the minimum cycle mean [1]_; the maximum is
+    symmetric. The maximum over k in place of the minimum is a known pitfall
+    (it gives 5 instead of 4 on ``[[1, 5], [3, 2]]``).
+
+    References
+    ----------
+    .. [1] R. M. Karp, "A characterization of the minimum cycle mean in a
+       digraph", Discrete Mathematics 23(3), 309–311, 1978.
 
     Examples
     --------
@@ -282,10 +198,10 @@ def karp(A: Any) -> Fraction | None:
     >>> karp([[None, 1], [None, None]]) is None
     True
     """
-    M = _square(A)
-    S, scale = to_scaled(M, growth=len(M) + 2)
-    adj = _adjacency(M)
-    n_comp, labels = _classes(adj)
+    M = square_matrix(A)
+    S, scale = scaled(M, growth=len(M) + 2)
+    adj = adjacency(M)
+    n_comp, labels = strong_classes(adj)
     best: Fraction | None = None
     for comp in range(n_comp):
         nodes = np.flatnonzero(labels == comp)
@@ -296,7 +212,7 @@ def karp(A: Any) -> Fraction | None:
     return None if best is None else best / scale
 
 
-# --------------------------------------------------------------------------- kernel wrappers
+# --------------------------------------------------------------------------- Howard
 
 
 def eigenvalue(A: Any) -> Fraction | None:
@@ -305,7 +221,7 @@ def eigenvalue(A: Any) -> Fraction | None:
 
     Parameters
     ----------
-    A : square matrix
+    A : square matrix (nested lists or 2-D array)
 
     Returns
     -------
@@ -315,20 +231,44 @@ def eigenvalue(A: Any) -> Fraction | None:
     Raises
     ------
     MaxPlusValueError
-        A bad entry or a non-square matrix.
+        A bad entry (named) or a non-square matrix.
+    CertificateError
+        The potentials found do not prove λ (a defect; never returned unproven).
+
+    See Also
+    --------
+    karp : the same number by Karp's theorem.
+    cycle_time_vector : the growth rate of every node.
+    maxplus.spectral.eigenvector : an eigenvector for λ.
 
     Notes
     -----
-    BCOQ 1992, Thm 3.23; computed by :func:`maxplus.cycle_ratio.max_cycle_ratio`
-    (Cochet-Terrasson et al. 1998), certified.
+    λ is the maximum cycle mean [1]_. Howard's policy iteration [2]_ runs on
+    the dense matrix in exact integers (Python loops below 17 nodes, numpy
+    above); its final potentials ``x`` prove λ = p/q: ``q·A[i][j] − p + x_j
+    <= x_i`` on every arc bounds every circuit mean by λ, and a policy circuit
+    attains it. That check is made before λ is returned. A reducible matrix
+    is solved class by class.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, Thm 3.23.
+    .. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+       J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+       algebra", IFAC Conference on System Structure and Control, 1998.
 
     Examples
     --------
     >>> eigenvalue([[3, 7], [2, 4]])
     Fraction(9, 2)
+    >>> eigenvalue([[1, 5], [3, 2]])  # circuit 0 -> 1 -> 0: (5 + 3)/2
+    Fraction(4, 1)
     """
-    result, _ = _kernel(_square(A))
-    return result.ratio
+    rows = plain_int_rows(A)
+    if rows is not None and len(rows) <= SMALL:
+        return max_cycle_mean_rows(rows)
+    return max_cycle_mean(integer_matrix(A))
 
 
 def cycle_time_vector(A: Any) -> list[Fraction | None]:
@@ -340,7 +280,7 @@ def cycle_time_vector(A: Any) -> list[Fraction | None]:
 
     Parameters
     ----------
-    A : square matrix
+    A : square matrix (nested lists or 2-D array)
 
     Returns
     -------
@@ -349,11 +289,25 @@ def cycle_time_vector(A: Any) -> list[Fraction | None]:
     Raises
     ------
     MaxPlusValueError
-        A bad entry or a non-square matrix.
+        A bad entry (named) or a non-square matrix.
+    CertificateError
+        A class mean is not proven (a defect).
+
+    See Also
+    --------
+    eigenvalue : the largest entry.
+    howard : the same vector with bias and policy.
 
     Notes
     -----
-    BCOQ 1992, Thm 3.112; Cochet-Terrasson et al. 1998 (multichain Howard).
+    Every strongly connected class gets its certified maximum cycle mean (as
+    in :func:`eigenvalue`); the vector is their maximum over the classes
+    upstream of each node [1]_, passed along the classes in topological order.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, Thm 3.112.
 
     Examples
     --------
@@ -362,8 +316,7 @@ def cycle_time_vector(A: Any) -> list[Fraction | None]:
     >>> cycle_time_vector([[None, None], [1, None]])
     [None, None]
     """
-    result, _ = _kernel(_square(A))
-    return list(result.cycle_times)
+    return cycle_times(integer_matrix(A))
 
 
 def howard(A: Any) -> HowardResult:
@@ -371,7 +324,7 @@ def howard(A: Any) -> HowardResult:
 
     Parameters
     ----------
-    A : square matrix
+    A : square matrix (nested lists or 2-D array)
 
     Returns
     -------
@@ -382,13 +335,25 @@ def howard(A: Any) -> HowardResult:
     Raises
     ------
     MaxPlusValueError
-        A bad entry or a non-square matrix.
+        A bad entry (named) or a non-square matrix.
+    CertificateError
+        The kernel's certificate fails (a defect; checked before returning).
+
+    See Also
+    --------
+    eigenvalue : λ alone, faster on dense matrices.
+    cycle_time_vector : χ alone.
+    maxplus.cycle_ratio.max_cycle_ratio : the sparse kernel behind this.
 
     Notes
     -----
-    J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick, J.-P. Quadrat,
-    "Numerical computation of spectral elements in max-plus algebra", IFAC
-    SSC 1998. The bias of a reducible matrix is generally *not* an eigenvector.
+    The bias of a reducible matrix is generally *not* an eigenvector.
+
+    References
+    ----------
+    .. [1] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+       J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+       algebra", IFAC Conference on System Structure and Control, 1998.
 
     Examples
     --------
@@ -396,213 +361,13 @@ def howard(A: Any) -> HowardResult:
     >>> h.eigenvalue, h.cycle_time_vector, h.policy, h.circuit
     (Fraction(9, 2), [Fraction(9, 2), Fraction(9, 2)], [1, 0], [0, 1])
     """
-    result, src = _kernel(_square(A))
-    policy = [None if a < 0 else int(src[a]) for a in result.policy.tolist()]
+    M = square_matrix(A)
+    rows, cols = np.nonzero(adjacency(M))
+    weights = np.empty(len(rows), dtype=object)
+    weights[:] = [M[i, j] for i, j in zip(rows.tolist(), cols.tolist())]
+    result = max_cycle_ratio(cols, rows, weights, None, n_nodes=len(M))
+    result.verify()  # nothing unproven is handed out
+    policy = [None if a < 0 else int(cols[a]) for a in result.policy.tolist()]
     return HowardResult(
         result.ratio, list(result.cycle_times), list(result.bias), policy, result.circuit_nodes()
     )
-
-
-# --------------------------------------------------------------------------- critical graph
-
-
-def _normalized_closure(M: np.ndarray, lam: Fraction) -> tuple[np.ndarray, int]:
-    """``(A − λ)^+`` on scaled integers (exists: no circuit of A − λ is positive)."""
-    shifted = np.empty(M.shape, dtype=object)
-    shifted.reshape(-1)[:] = [v - lam for v in M.ravel().tolist()]  # ε − λ = ε
-    S, scale = to_scaled(shifted, growth=len(M) + 2)
-    return _plus_scaled(S, shifted), scale
-
-
-def _critical(M: np.ndarray) -> tuple[CriticalGraph, np.ndarray | None, int]:
-    """Critical graph, plus ``(A − λ)^+`` scaled and its scale (None without circuit)."""
-    result, _ = _kernel(M)
-    lam = result.ratio
-    if lam is None:
-        return CriticalGraph(None, [], [], []), None, 1
-    P, scale = _normalized_closure(M, lam)
-    nodes = [i for i in range(len(M)) if P[i, i] == 0]
-    critical = set(nodes)
-    arcs = []
-    lam_scaled = lam * scale
-    for i, j in zip(*np.nonzero(_adjacency(M))):
-        i, j = int(i), int(j)
-        # Arc j -> i lies on a circuit of mean λ iff its weight in A − λ plus the
-        # best return path i -> j (P[j, i]) is 0, the largest possible value.
-        if (i in critical and j in critical and P[j, i] != -np.inf
-                and M[i, j] * scale - lam_scaled + int(P[j, i]) == 0):
-            arcs.append((j, i))
-    sub = np.zeros((len(M), len(M)), dtype=bool)
-    for j, i in arcs:
-        sub[i, j] = True
-    _, labels = _classes(sub)
-    groups: dict[int, list[int]] = {}
-    for v in nodes:
-        groups.setdefault(int(labels[v]), []).append(v)
-    components = sorted(groups.values(), key=lambda c: c[0])
-    return CriticalGraph(lam, nodes, sorted(arcs), components), P, scale
-
-
-def critical_graph(A: Any) -> CriticalGraph:
-    """Critical graph of A: nodes and arcs of the circuits of maximum mean.
-
-    Parameters
-    ----------
-    A : square matrix
-
-    Returns
-    -------
-    CriticalGraph
-        ``.eigenvalue``, ``.nodes``, ``.arcs`` (``(j, i)`` = arc ``j -> i``),
-        ``.components`` (its strongly connected classes).
-
-    Raises
-    ------
-    MaxPlusValueError
-        A bad entry or a non-square matrix.
-
-    Notes
-    -----
-    BCOQ 1992, §3.7 (critical graph); a node c is critical iff
-    ``(A − λ)^+[c][c] = 0``.
-
-    Examples
-    --------
-    >>> g = critical_graph([[1, 0], [0, 1]])
-    >>> g.eigenvalue, g.nodes, g.arcs, g.components
-    (Fraction(1, 1), [0, 1], [(0, 0), (1, 1)], [[0], [1]])
-    """
-    return _critical(_square(A))[0]
-
-
-def _require_circuit(graph: CriticalGraph) -> None:
-    if graph.eigenvalue is None:
-        raise ReducibleMatrixError(
-            "A has no circuit: its only eigenvalue is ε, with no finite eigenvector"
-        )
-
-
-def eigenvector(A: Any) -> np.ndarray:
-    """An eigenvector for the maximum cycle mean λ: ``A ⊗ v = λ ⊗ v``.
-
-    ``v`` is the column c of ``(A − λ)^+`` for the smallest critical node c
-    (``v_c = 0``). Works for reducible A too (entries of nodes not reachable
-    from c are ε).
-
-    Parameters
-    ----------
-    A : square matrix
-
-    Returns
-    -------
-    numpy.ndarray of dtype object
-
-    Raises
-    ------
-    MaxPlusValueError
-        A bad entry or a non-square matrix.
-    ReducibleMatrixError
-        A has no circuit (no finite eigenvalue).
-
-    Notes
-    -----
-    BCOQ 1992, §3.7; Butkovič 2010, §4.3 (critical columns of ``(A − λ)^+``
-    are eigenvectors, for any A with a circuit).
-
-    Examples
-    --------
-    >>> eigenvector([[3, 7], [2, 4]]).tolist()
-    [Fraction(0, 1), Fraction(-5, 2)]
-    """
-    graph, P, scale = _critical(_square(A))
-    _require_circuit(graph)
-    assert P is not None
-    return from_scaled(P[:, graph.nodes[0]], scale)
-
-
-def eigenspace(A: Any) -> np.ndarray:
-    """A basis of the eigenspace of an irreducible A: one column of
-    ``(A − λ)^+`` per strongly connected class of the critical graph.
-
-    Every eigenvector is ``V ⊗ α`` for the returned V and some vector α.
-
-    Parameters
-    ----------
-    A : square matrix, irreducible
-
-    Returns
-    -------
-    numpy.ndarray of dtype object
-        n × r, one basis vector per column (r = number of critical classes),
-        the column of ``(A − λ)^+`` of the smallest node of each class.
-
-    Raises
-    ------
-    MaxPlusValueError
-        A bad entry or a non-square matrix.
-    ReducibleMatrixError
-        A is reducible (its spectrum may hold other eigenvalues; use
-        :func:`eigenvector`).
-
-    Notes
-    -----
-    BCOQ 1992, §3.7 (critical columns from distinct classes are independent;
-    those of one class are proportional); Butkovič 2010, §4.3.
-
-    Examples
-    --------
-    >>> eigenspace([[1, 0], [0, 1]]).tolist()
-    [[Fraction(0, 1), Fraction(-1, 1)], [Fraction(-1, 1), Fraction(0, 1)]]
-    """
-    M = _square(A)
-    if not _irreducible(_adjacency(M)):
-        n_comp, _ = _classes(_adjacency(M))
-        raise ReducibleMatrixError(
-            f"A is reducible ({n_comp} strongly connected classes, or no circuit): "
-            "its eigenspace is not spanned by one eigenvalue's critical columns"
-        )
-    graph, P, scale = _critical(M)
-    assert P is not None
-    columns = [comp[0] for comp in graph.components]
-    return from_scaled(P[:, columns], scale)
-
-
-def cyclicity(A: Any) -> int:
-    """Cyclicity of the critical graph: lcm over its classes of the gcd of their
-    circuit lengths (1 when A has no circuit).
-
-    For irreducible A it is the period c of ``A^(k+c) = λ^c ⊗ A^k`` (large k).
-
-    Parameters
-    ----------
-    A : square matrix
-
-    Returns
-    -------
-    int
-
-    Raises
-    ------
-    MaxPlusValueError
-        A bad entry or a non-square matrix.
-
-    Notes
-    -----
-    BCOQ 1992, §3.7 and Thm 3.109; gcd by BFS levels (E. V. Denardo, "Periods of
-    connected networks...", Math. Oper. Res. 1977), O(n + m).
-
-    Examples
-    --------
-    >>> cyclicity([[3, 7], [2, 4]]), cyclicity([[None, None, 3], [1, None, None], [None, 2, None]])
-    (2, 3)
-    """
-    return _cyclicity(_critical(_square(A))[0])
-
-
-def _cyclicity(graph: CriticalGraph) -> int:
-    c = 1
-    for comp in graph.components:
-        members = set(comp)
-        arcs = [(j, i) for j, i in graph.arcs if j in members]
-        c = math.lcm(c, _period(comp, arcs))
-    return c

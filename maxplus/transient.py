@@ -1,12 +1,19 @@
 """Transients of (max,+) matrices and trajectories: when periodicity starts.
 
 For irreducible A, ``A^(t+c) = λ^c ⊗ A^t`` for all large t, with c the
-cyclicity of the critical graph (Baccelli, Cohen, Olsder, Quadrat,
-*Synchronization and Linearity*, 1992, Thm 3.109); :func:`transient` finds the
-smallest such t, and decides exactly, for reducible A, whether that identity
-ever holds. :func:`trajectory_transient` does the same for one trajectory
+cyclicity of the critical graph [1]_; :func:`transient` finds the smallest
+such t, and decides exactly, for reducible A, whether that identity ever
+holds [2]_. :func:`trajectory_transient` does the same for one trajectory
 ``x(k) = A^k ⊗ x0``. Convention as in the whole package: ``A[i][j]`` is the
 weight of the arc ``j -> i``.
+
+References
+----------
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992, Thm 3.109.
+.. [2] B. De Schutter, "On the ultimate behavior of the sequence of
+   consecutive powers of a matrix in the max-plus algebra", Linear Algebra
+   and its Applications 307, 103–117, 2000.
 """
 
 from __future__ import annotations
@@ -18,24 +25,24 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .dense import _downstream, _identity_scaled, _product_scaled, _scale_together, _square
-from .errors import MaxPlusError, MaxPlusValueError, ReducibleMatrixError
-from .scalar import EPS, exact_vector, to_scaled
-from .spectral import (
-    CriticalGraph,
-    _adjacency,
-    _bool_product,
-    _classes,
-    _critical,
-    _cyclic_nodes,
-    _cyclicity,
-    _irreducible,
-    _kernel,
-    _reach_closure,
-    karp,
+from ._critical import CriticalGraph, critical_closure, cyclicity_of
+from ._graphs import (
+    adjacency,
+    bool_product,
+    cyclic_nodes,
+    downstream,
+    is_strongly_connected,
+    reach_closure,
+    strong_classes,
 )
+from ._integer_matrix import from_exact
+from ._max_mean import cycle_times
+from ._scaled import identity_scaled, product_scaled, scale_together, scaled, square_matrix, times
+from .errors import MaxPlusError, MaxPlusValueError, ReducibleMatrixError
+from .scalar import EPS, exact_vector
+from .spectral import karp
 
-__all__ = ["TrajectoryPeriodicity", "transient", "trajectory_transient"]
+__all__ = ["TrajectoryPeriodicity", "trajectory_transient", "transient"]
 
 
 class TrajectoryPeriodicity(NamedTuple):
@@ -68,8 +75,8 @@ def _lasting_violation(adj: np.ndarray, marked: np.ndarray, start: np.ndarray,
 
     def step(state: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
         before, after = state
-        moved_before = _bool_product(adj, before)
-        return moved_before & ~mark, _bool_product(adj, after) | (moved_before & mark)
+        moved_before = bool_product(adj, before)
+        return moved_before & ~mark, bool_product(adj, after) | (moved_before & mark)
 
     def key(state: tuple[np.ndarray, np.ndarray]) -> bytes:
         raw = np.packbits(state[0]).tobytes() + np.packbits(state[1]).tobytes()
@@ -112,23 +119,23 @@ def _check_matrix_periodicity(M: np.ndarray, graph: CriticalGraph) -> None:
     (in a strongly connected class all long enough lengths of the right residue
     modulo its period are realized through any given node). So for large k the
     best walk of every length is dominated by walks through the critical graph,
-    whose weights are eventually λ-periodic with period c (BCOQ Thm 3.109;
-    De Schutter 2000).
+    whose weights are eventually λ-periodic with period c (cyclicity theorem,
+    Baccelli et al. 1992, Thm 3.109; De Schutter 2000).
     """
-    adj = _adjacency(M)
+    adj = adjacency(M)
     n = len(M)
-    cyclic = _cyclic_nodes(adj)
+    cyclic = cyclic_nodes(adj)
     critical = np.zeros(n, dtype=bool)
     critical[graph.nodes] = True
-    R = _reach_closure(adj)
-    through_any = _bool_product(R[:, cyclic], R[cyclic, :])
-    through_critical = _bool_product(R[:, critical], R[critical, :])
+    R = reach_closure(adj)
+    through_any = bool_product(R[:, cyclic], R[cyclic, :])
+    through_critical = bool_product(R[:, critical], R[critical, :])
     bad = through_any & ~through_critical
     if bad.any():
         # A^k[i][j] then grows like the largest mean of the classes on the walks
         # j -> i, which is < λ: the ratio A^(k+c)[i][j] − A^k[i][j] never reaches cλ.
         i, j = (int(v) for v in np.argwhere(bad)[0])
-        _, labels = _classes(adj)
+        _, labels = strong_classes(adj)
         culprit = next(int(c) for c in np.flatnonzero(cyclic) if R[i, c] and R[c, j])
         members = np.flatnonzero(labels == labels[culprit]).tolist()
         mean = karp(M[np.ix_(members, members)])
@@ -144,7 +151,7 @@ def transient(A: Any, max_power: int = 10_000) -> int:
     """Smallest t >= 0 with ``A^(t+c) = λ^c ⊗ A^t``, c = :func:`cyclicity`.
 
     The identity then holds for every larger t (multiply by A). For
-    irreducible A it holds eventually (BCOQ Thm 3.109). For reducible A this
+    irreducible A it holds eventually [1]_. For reducible A this
     is first decided exactly: it holds iff every pair (j, i) joined by a walk
     through some circuit is also joined by a walk through a circuit of mean λ
     (in particular every class with a circuit must contain a critical one).
@@ -171,41 +178,54 @@ def transient(A: Any, max_power: int = 10_000) -> int:
     MaxPlusError
         The budget ``max_power`` is exceeded.
 
+    See Also
+    --------
+    trajectory_transient : the same question for one trajectory.
+    maxplus.spectral.cyclicity : the period c.
+    maxplus.dense.power : the powers compared here.
+
     Notes
     -----
-    BCOQ 1992, Thm 3.109 (cyclicity theorem); for reducible matrices,
-    B. De Schutter, "On the ultimate behavior of the sequence of consecutive
-    powers of a matrix in the max-plus algebra", Linear Algebra Appl. 307, 2000.
+    Cyclicity theorem [1]_; for reducible matrices, the condition decided
+    first is that of [2]_.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, Thm 3.109.
+    .. [2] B. De Schutter, "On the ultimate behavior of the sequence of
+       consecutive powers of a matrix in the max-plus algebra", Linear Algebra
+       and its Applications 307, 103–117, 2000.
 
     Examples
     --------
     >>> transient([[3, 7], [2, 4]]), transient([[10, 0], [0, 9]])
     (2, 20)
     """
-    M = _square(A)
-    graph = _critical(M)[0]
+    M = square_matrix(A)
+    graph = critical_closure(M)[0]
     n = len(M)
-    c = _cyclicity(graph)
+    c = cyclicity_of(graph)
     lam = graph.eigenvalue
     if lam is None:
         # Nilpotent: A^(t+1) = ε ⊗ A^t = ε for t >= the longest path length.
-        S, _ = to_scaled(M, growth=n + 2)
+        S, _ = scaled(M, growth=n + 2)
         current = S  # A^(t+1)
         for t in range(n + 1):
             if np.all(current == -np.inf):
                 return t
-            current = _product_scaled(current, S)
+            current = product_scaled(current, S)
         raise AssertionError("an acyclic matrix is nilpotent of index <= n")
-    if not _irreducible(_adjacency(M)):
+    if not is_strongly_connected(adjacency(M)):
         _check_matrix_periodicity(M, graph)
     shifted = np.empty(M.shape, dtype=object)
-    shifted.reshape(-1)[:] = [v - lam for v in M.ravel().tolist()]
+    shifted.reshape(-1)[:] = [times(v, -lam) for v in M.ravel().tolist()]
     # With N = A − λ the identity reads N^(t+c) = N^t; entries of N^t are sums
     # of t entries, so growth max_power keeps float64 exact.
-    N, _ = to_scaled(shifted, growth=max_power + c + 2)
-    window = deque([_identity_scaled(n, N.dtype)])
+    N, _ = scaled(shifted, growth=max_power + c + 2)
+    window = deque([identity_scaled(n, N.dtype)])
     for _ in range(c):
-        window.append(_product_scaled(window[-1], N))
+        window.append(product_scaled(window[-1], N))
     t = 0
     while True:
         if np.all(np.asarray(window[0] == window[-1], dtype=bool)):
@@ -216,7 +236,7 @@ def transient(A: Any, max_power: int = 10_000) -> int:
                 f"for every t <= {t}; raise max_power"
             )
         window.popleft()
-        window.append(_product_scaled(window[-1], N))
+        window.append(product_scaled(window[-1], N))
         t += 1
 
 
@@ -254,16 +274,26 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
     MaxPlusError
         The budget is exceeded.
 
-    Notes
-    -----
-    BCOQ 1992, Thm 3.109 and §3.7 (periodic regime of trajectories).
+    See Also
+    --------
+    transient : when the powers of A themselves turn periodic.
+    maxplus.spectral.cycle_time_vector : the growth rate of every node.
+    maxplus.implicit.simulate : trajectories of implicit systems.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992, Thm 3.109 and §3.7 (periodic regime).
+    .. [2] B. De Schutter, "On the ultimate behavior of the sequence of
+       consecutive powers of a matrix in the max-plus algebra", Linear Algebra
+       and its Applications 307, 103–117, 2000.
 
     Examples
     --------
     >>> trajectory_transient([[3, 7], [2, 4]], [0, 0])
     TrajectoryPeriodicity(transient=1, period=2, rate=Fraction(9, 2))
     """
-    M = _square(A)
+    M = square_matrix(A)
     n = len(M)
     x = exact_vector(x0, "x0")
     if len(x) != n:
@@ -271,11 +301,10 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
     support = np.array([v != EPS for v in x], dtype=bool)
     if not support.any():
         raise MaxPlusValueError("x0 is ε everywhere: the trajectory is trivially ε", "x0")
-    adj = _adjacency(M)
-    nodes = np.flatnonzero(_downstream(adj, support))
+    adj = adjacency(M)
+    nodes = np.flatnonzero(downstream(adj, support))
     sub = M[np.ix_(nodes, nodes)]
-    result, _ = _kernel(sub)
-    rates = result.cycle_times
+    rates = cycle_times(from_exact(sub))
     distinct = sorted({r for r in rates if r is not None})
     if len(distinct) > 1:
         slow = int(nodes[rates.index(distinct[0])])
@@ -285,11 +314,11 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
             f"and node {fast} at rate {distinct[-1]}"
         )
     rate = distinct[0] if distinct else None
-    if rate is not None and not _irreducible(adj):
-        graph = _critical(sub)[0]
+    if rate is not None and not is_strongly_connected(adj):
+        graph = critical_closure(sub)[0]
         marked = np.zeros(len(nodes), dtype=bool)
         marked[graph.nodes] = True
-        found = _lasting_violation(_adjacency(sub), marked, support[nodes][:, None], max_steps)
+        found = _lasting_violation(adjacency(sub), marked, support[nodes][:, None], max_steps)
         if found is not None:
             i, _, t, p = found
             raise ReducibleMatrixError(
@@ -299,7 +328,7 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
             )
     vec = np.empty((n, 1), dtype=object)
     vec[:, 0] = x
-    (S, X), scale = _scale_together([M, vec], growth=max_steps + 2)
+    (S, X), scale = scale_together([M, vec], growth=max_steps + 2)
     num, den = (rate.numerator, rate.denominator) if rate is not None else (0, 1)
     state = X[:, 0]
     seen: dict[tuple, int] = {}

@@ -391,9 +391,9 @@ def test_positive_circuit_fallback_when_pointers_are_useless():
     # The predecessor walk is backed by an exact search: feed it meaningless
     # pointers (every node "comes from" node 0) and it must still name a real
     # positive circuit, here the only one: 0 -> 1 -> 0 of weight 2 + (-1) = 1.
-    from maxplus import dense
+    from maxplus._closure import raise_positive_circuit
 
     M = np.array([[EPS, F(-1)], [F(2), EPS]], dtype=object)
     with pytest.raises(PositiveCircuitError) as info:
-        dense._raise_positive_circuit(np.zeros((2, 2), dtype=int), 0, M, None)
+        raise_positive_circuit(np.zeros((2, 2), dtype=int), 0, M, None)
     assert info.value.circuit == [0, 1] and info.value.weight == 1
