@@ -111,7 +111,7 @@ def _positive_circuit_by_cycle_ratio(M: np.ndarray) -> tuple[list[int], Scalar]:
     weights = np.empty(len(rows), dtype=object)
     weights[:] = [M[i, j] for i, j in zip(rows.tolist(), cols.tolist())]
     result = max_cycle_ratio(cols, rows, weights, n_nodes=len(M))
-    circuit = result.circuit_nodes()
+    circuit = result.circuit_nodes
     return circuit, _circuit_weight(M, circuit)
 
 

@@ -166,6 +166,7 @@ class CycleRatioResult:
         """
         return _policy_circuit(node, self.certificate.policy, self.src)
 
+    @property
     def circuit_nodes(self) -> list[int]:
         """Nodes of the critical circuit: the source of each of its arcs, in order."""
         return self.src[self.circuit].tolist()
@@ -241,7 +242,7 @@ def max_cycle_ratio(
     node 1 with ratio 3/1:
 
     >>> r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3], [1, 1, 1])
-    >>> r.ratio, r.circuit_nodes(), r.cycle_times, r.verify()
+    >>> r.ratio, r.circuit_nodes, r.cycle_times, r.verify()
     (Fraction(4, 1), [0, 1], [Fraction(4, 1), Fraction(4, 1)], True)
     """
     src_a, dst_a, n = _validate_arcs(src, dst, n_nodes)

@@ -369,5 +369,5 @@ def howard(A: Any) -> HowardResult:
     result.verify()  # nothing unproven is handed out
     policy = [None if a < 0 else int(cols[a]) for a in result.policy.tolist()]
     return HowardResult(
-        result.ratio, list(result.cycle_times), list(result.bias), policy, result.circuit_nodes()
+        result.ratio, list(result.cycle_times), list(result.bias), policy, result.circuit_nodes
     )

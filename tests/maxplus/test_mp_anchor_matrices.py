@@ -16,7 +16,6 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from conftest import ANCHORS
 
 from maxplus import ReducibleMatrixError
 from maxplus.dense import oplus, otimes, solve, star

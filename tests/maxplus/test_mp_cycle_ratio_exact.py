@@ -14,11 +14,11 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from tests.maxplus.test_mp_cycle_ratio import brute_force, graphs
 
 from maxplus import CertificateError
 from maxplus._arrays import argmax_ratio, compare_ratios, float_ratios
 from maxplus.cycle_ratio import CycleRatioCertificate, max_cycle_ratio
+from tests.maxplus.test_mp_cycle_ratio import brute_force, graphs
 
 BIG = 2**70
 # Both kernels on the huge graphs (numba falls back to numpy past int64's bound).
