@@ -4,65 +4,88 @@ task sets, through timed event graphs and (max,+) algebra.
 The floors (``docs/architecture.md``), lowest first: :mod:`tegraph.errors`,
 :mod:`tegraph.model`, :mod:`tegraph.io` and :mod:`tegraph.analysis`,
 :mod:`tegraph.design`, :mod:`tegraph.report`, :mod:`tegraph.api` and the
-command line. The names below are the ones a design tool needs.
+command line. The names below are the ones a design tool needs; each is
+imported on first use, so that ``import tegraph`` (and every command of the
+command line) loads only what it uses.
 """
 
-from importlib.metadata import PackageNotFoundError, version
+from __future__ import annotations
 
-from .analysis.cycle_time import CycleTimeResult
-from .analysis.results import Report
-from .api import analyze, cycle_time, to_dot, write
-from .design.fix import FixResult, fix_ports
-from .design.rules import RuleFinding, check_rules
-from .design.timeline import Timeline, simulate_timeline
-from .errors import InputError, ModelError, NotLiveError, SkeletonError, TegraphError
-from .io import dump_skeleton, load_skeleton, read
-from .model.build import build_teg
-from .model.petri import PetriNet
-from .model.skeleton import Clock, Link, Protocol, Skeleton, Task
-from .model.teg import TimedEventGraph
-from .report import render_text, to_json
+import importlib
+from importlib.metadata import PackageNotFoundError, version
+from typing import TYPE_CHECKING, Any
 
 try:
     __version__ = version("tegraph")
 except PackageNotFoundError:  # a checkout used without installing it
     __version__ = "0+unknown"
 
-__all__ = [
+# name -> module that defines it
+_WHERE = {
     # the model
-    "Clock",
-    "Link",
-    "PetriNet",
-    "Protocol",
-    "Skeleton",
-    "Task",
-    "TimedEventGraph",
-    "build_teg",
+    "Clock": "tegraph.model.skeleton",
+    "Link": "tegraph.model.skeleton",
+    "PetriNet": "tegraph.model.petri",
+    "Protocol": "tegraph.model.skeleton",
+    "Skeleton": "tegraph.model.skeleton",
+    "Task": "tegraph.model.skeleton",
+    "TimedEventGraph": "tegraph.model.teg",
+    "build_teg": "tegraph.model.build",
     # files
-    "dump_skeleton",
-    "load_skeleton",
-    "read",
-    "write",
+    "dump_skeleton": "tegraph.io",
+    "load_skeleton": "tegraph.io",
+    "read": "tegraph.io",
+    "write": "tegraph.api",
     # analysis
-    "CycleTimeResult",
-    "Report",
-    "analyze",
-    "cycle_time",
+    "CycleTimeResult": "tegraph.analysis.cycle_time",
+    "Report": "tegraph.analysis.results",
+    "analyze": "tegraph.api",
+    "cycle_time": "tegraph.api",
     # design
-    "FixResult",
-    "RuleFinding",
-    "Timeline",
-    "check_rules",
-    "fix_ports",
-    "simulate_timeline",
+    "FixResult": "tegraph.design.fix",
+    "RuleFinding": "tegraph.design.rules",
+    "Timeline": "tegraph.design.timeline",
+    "check_rules": "tegraph.design.rules",
+    "fix_ports": "tegraph.design.fix",
+    "simulate_timeline": "tegraph.design.timeline",
     # output
-    "render_text",
-    "to_dot",
-    "to_json",
+    "render_text": "tegraph.report",
+    "to_dot": "tegraph.api",
+    "to_json": "tegraph.report",
     # errors
-    "InputError",
-    "ModelError",
-    "NotLiveError",
-    "SkeletonError",
-    "TegraphError",
-]
+    "InputError": "tegraph.errors",
+    "ModelError": "tegraph.errors",
+    "NotLiveError": "tegraph.errors",
+    "SkeletonError": "tegraph.errors",
+    "TegraphError": "tegraph.errors",
+}
+
+__all__ = list(_WHERE)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _WHERE:
+        value = getattr(importlib.import_module(_WHERE[name]), name)
+        globals()[name] = value  # later lookups skip this function
+        return value
+    raise AttributeError(f"module 'tegraph' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_WHERE])
+
+
+if TYPE_CHECKING:  # static tools see the names where they are defined
+    from .analysis.cycle_time import CycleTimeResult
+    from .analysis.results import Report
+    from .api import analyze, cycle_time, to_dot, write
+    from .design.fix import FixResult, fix_ports
+    from .design.rules import RuleFinding, check_rules
+    from .design.timeline import Timeline, simulate_timeline
+    from .errors import InputError, ModelError, NotLiveError, SkeletonError, TegraphError
+    from .io import dump_skeleton, load_skeleton, read
+    from .model.build import build_teg
+    from .model.petri import PetriNet
+    from .model.skeleton import Clock, Link, Protocol, Skeleton, Task
+    from .model.teg import TimedEventGraph
+    from .report import render_text, to_json
