@@ -50,7 +50,8 @@ def generate(n_tasks: int, seed: int = 0) -> dict:
             port = f"d{k}"
             tasks[parent]["outputs"].append(port)
             tasks[child]["inputs"].append(port)
-            links.append({"from": f"{parent}:{port}", "to": f"{child}:{port}", "protocol": protocol})
+            links.append({"from": f"{parent}:{port}", "to": f"{child}:{port}",
+                          "protocol": protocol})
             if (protocol == "ASYN/SYN" and rng.random() < 0.05
                     and parent not in in_thread and child not in in_thread):
                 threads.append([parent, child])

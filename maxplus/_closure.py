@@ -214,7 +214,7 @@ def star(A: Any) -> np.ndarray:
     Traceback (most recent call last):
     ...
     maxplus.errors.PositiveCircuitError: the star diverges: circuit 0 -> 1 -> 0 has positive weight 1
-    """
+    """  # noqa: E501
     M = square_matrix(A)
     S, scale = scaled(M, growth=len(M) + 1)
     P = plus_scaled(S, M)

@@ -6,7 +6,7 @@ or the circuit (as node or arc indices) that makes a quantity undefined.
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 __all__ = [
     "MaxPlusError",

@@ -82,11 +82,11 @@ def _refuse_circuit(A0: np.ndarray) -> None:
 
 
 def _validate(matrices: Sequence[Any], B: Any) -> tuple[list[np.ndarray], np.ndarray | None]:
-    mats = [exact_matrix(M, f"A{l}", square=True) for l, M in enumerate(matrices)]
+    mats = [exact_matrix(M, f"A{lag}", square=True) for lag, M in enumerate(matrices)]
     n = len(mats[0])
-    for l, M in enumerate(mats):
+    for lag, M in enumerate(mats):
         if len(M) != n:
-            raise MaxPlusValueError(f"expected {n}x{n} like A0, got {len(M)}x{len(M)}", f"A{l}")
+            raise MaxPlusValueError(f"expected {n}x{n} like A0, got {len(M)}x{len(M)}", f"A{lag}")
     inputs = None
     if B is not None:
         inputs = exact_matrix(B, "B", square=False)
@@ -138,18 +138,18 @@ def to_explicit(A0: Any, A1: Any, *higher: Any, B: Any = None) -> ExplicitSystem
     >>> s = to_explicit([[None, None], [1, None]], [[2, None], [None, 3]], B=[[0], [None]])
     >>> s.A.tolist(), s.B.tolist()
     ([[Fraction(2, 1), -inf], [Fraction(3, 1), Fraction(3, 1)]], [[Fraction(0, 1)], [Fraction(1, 1)]])
-    """
+    """  # noqa: E501
     mats, inputs = _validate([A0, A1, *higher], B)
     n, p = len(mats[0]), len(mats) - 1
     closure = star(mats[0])  # no circuit, so no PositiveCircuitError
     blocks = [otimes(closure, M) for M in mats[1:]]
     big = np.full((n * p, n * p), EPS, dtype=object)
-    for l, block in enumerate(blocks):
-        big[:n, l * n:(l + 1) * n] = block
-    for l in range(1, p):
-        # x(k−l) in X(k) is x(k−1−(l−1)) in X(k−1): an identity block.
+    for lag, block in enumerate(blocks):
+        big[:n, lag * n:(lag + 1) * n] = block
+    for lag in range(1, p):
+        # x(k−lag) in X(k) is x(k−1−(lag−1)) in X(k−1): an identity block.
         for i in range(n):
-            big[l * n + i, (l - 1) * n + i] = Fraction(0)
+            big[lag * n + i, (lag - 1) * n + i] = Fraction(0)
     big_b = None
     if inputs is not None:
         big_b = np.full((n * p, inputs.shape[1]), EPS, dtype=object)
@@ -164,15 +164,15 @@ def _initial_states(initial: Any, n: int, p: int) -> list[list]:
     if rank_of(initial) == 1:
         given = [exact_vector(initial, "initial")]
     elif rank_of(initial) == 2:
-        given = [exact_vector(v, f"initial[{l}]") for l, v in enumerate(initial)]
+        given = [exact_vector(v, f"initial[{k}]") for k, v in enumerate(initial)]
     else:
         raise MaxPlusValueError("expected x(0) or a list [x(0), x(-1), ...]", "initial")
     if len(given) > p:
-        raise MaxPlusValueError(f"expected at most {p} initial states (order p={p}), got {len(given)}",
-                                "initial")
-    for l, v in enumerate(given):
+        raise MaxPlusValueError(f"expected at most {p} initial states (order p={p}), "
+                                f"got {len(given)}", "initial")
+    for k, v in enumerate(given):
         if len(v) != n:
-            raise MaxPlusValueError(f"expected {n} entries, got {len(v)}", f"initial[{l}]")
+            raise MaxPlusValueError(f"expected {n} entries, got {len(v)}", f"initial[{k}]")
     return given + [[EPS] * n for _ in range(p - len(given))]
 
 
@@ -245,8 +245,8 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
         if rank_of(inputs) == 1:
             row = exact_vector(inputs, "inputs")
             if len(row) != m:
-                raise MaxPlusValueError(f"expected {m} inputs like the columns of B, got {len(row)}",
-                                        "inputs")
+                raise MaxPlusValueError(f"expected {m} inputs like the columns of B, "
+                                        f"got {len(row)}", "inputs")
             if steps is None:
                 raise MaxPlusValueError("a constant input needs the number of steps", "steps")
             u_rows = np.empty((steps, m), dtype=object)
@@ -259,8 +259,8 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
                                         "inputs")
             steps = len(u_rows) if steps is None else steps
             if len(u_rows) < steps:
-                raise MaxPlusValueError(f"expected {steps} rows (one u(k) per step), got {len(u_rows)}",
-                                        "inputs")
+                raise MaxPlusValueError(f"expected {steps} rows (one u(k) per step), "
+                                        f"got {len(u_rows)}", "inputs")
     if steps is None:
         raise MaxPlusValueError("the number of steps is missing", "steps")
     steps = int(steps)

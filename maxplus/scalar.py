@@ -249,7 +249,9 @@ def exact_text(value: Fraction | int | None) -> str | None:
     if value is None:
         return None
     value = Fraction(value)
-    return str(value.numerator) if value.denominator == 1 else f"{value.numerator}/{value.denominator}"
+    if value.denominator == 1:
+        return str(value.numerator)
+    return f"{value.numerator}/{value.denominator}"
 
 def exact_vector(values: Any, name: str = "x", allow_eps: bool = True) -> list[Scalar]:
     """Validate a vector of (max,+) scalars.
@@ -289,7 +291,8 @@ def exact_vector(values: Any, name: str = "x", allow_eps: bool = True) -> list[S
     """
     if isinstance(values, np.ndarray):
         if values.ndim != 1:
-            raise MaxPlusValueError(f"expected a vector, got an array of shape {values.shape}", name)
+            raise MaxPlusValueError(f"expected a vector, got an array of shape {values.shape}",
+                                    name)
         values = values.tolist()
     if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
         raise MaxPlusValueError(f"expected a list of numbers, got {type(values).__name__}", name)
@@ -359,7 +362,8 @@ def exact_matrix(values: Any, name: str = "A", square: bool = True) -> np.ndarra
     for i, row in enumerate(rows):
         if isinstance(row, (str, bytes)) or not isinstance(row, (Iterable, np.ndarray)):
             raise MaxPlusValueError(
-                f"expected a row (list of numbers), got {type(row).__name__} {row!r}", f"{name}[{i}]"
+                f"expected a row (list of numbers), got {type(row).__name__} {row!r}",
+                f"{name}[{i}]",
             )
         row = list(row)
         if width is None:
@@ -419,7 +423,8 @@ def common_denominator(values: Iterable[Scalar]) -> int:
     return scale
 
 
-def to_scaled(matrix: np.ndarray, scale: int | None = None, growth: int = 1) -> tuple[np.ndarray, int]:
+def to_scaled(matrix: np.ndarray, scale: int | None = None,
+              growth: int = 1) -> tuple[np.ndarray, int]:
     """Scale an exact object array to integers, in float64 when that stays exact.
 
     Parameters

@@ -190,7 +190,8 @@ def test_large_entries_fall_back_to_exact_python_ints():
 
 def test_star_anchor_like_example_by_hand():
     # Arcs: 1->0 (2), 2->0 (3), 0->1 (-2), 2->1 (-1), 0->2 (-5), 1->2 (-2), loops 1 (-10), 2 (0).
-    # Best paths: 2->0 directly 3; 0->1 -2; 0->2 -5 vs 0->1->2 = -4; 1->2 -2; 2->1 -1 vs 2->0->1 = 1.
+    # Best paths: 2->0 directly 3; 0->1 -2; 0->2 -5 vs 0->1->2 = -4; 1->2 -2;
+    # 2->1 -1 vs 2->0->1 = 1.
     S = star([[None, 2, 3], [-2, -10, -1], [-5, -2, 0]])
     assert S.tolist() == [[0, 2, 3], [-2, 0, 1], [-4, -2, 0]]
 

@@ -158,7 +158,8 @@ def test_explicit_matrix_of_order_one_is_A0_star_A1(system):
                 w = sum(g[a][b]["weight"] for a, b in itertools.pairwise(path))
                 star[i][j] = max(star[i][j], w)
     A1 = parse(mats[1])
-    expected = [[max(star[i][l] + A1[l][j] for l in range(n)) for j in range(n)] for i in range(n)]
+    expected = [[max(star[i][k] + A1[k][j] for k in range(n)) for j in range(n)]
+                for i in range(n)]
     assert s.A.tolist() == expected
 
 

@@ -128,7 +128,8 @@ def brute_force_cyclicity(A):
 
 
 entry = st.one_of(
-    st.none(), st.none(), st.integers(-5, 5), st.fractions(min_value=-3, max_value=3, max_denominator=2)
+    st.none(), st.none(), st.integers(-5, 5),
+    st.fractions(min_value=-3, max_value=3, max_denominator=2),
 )
 
 
@@ -225,7 +226,8 @@ def test_reducible_transient_names_the_slow_class():
     with pytest.raises(ReducibleMatrixError, match=r"class \[0\]"):
         transient([[1, None], [0, 2]])
     # Node 0 only feeds the critical loop (no circuit of its own): the identity holds.
-    # A = [[ε, ε], [0, 2]]: A^1 = [[ε, ε], [0, 2]], A^2 = [[ε, ε], [2, 4]] = 2 ⊗ A^1, A^1 != 2 ⊗ A^0.
+    # A = [[ε, ε], [0, 2]]: A^1 = [[ε, ε], [0, 2]], A^2 = [[ε, ε], [2, 4]] = 2 ⊗ A^1,
+    # A^1 != 2 ⊗ A^0.
     assert transient([[None, None], [0, 2]]) == 1
 
 
