@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.paths import REPO
+
 LIVE = """\
 name: pipeline
 tasks:
@@ -153,3 +155,43 @@ def test_every_spec_refusal_exits_2_through_the_cli(tmp_path, text, key_path, su
     assert "Traceback" not in message
     if key_path:
         assert f"{key_path}: " in message
+
+
+def test_version_is_the_package_metadata():
+    from importlib.metadata import version
+
+    import maxplus
+    import tegraph
+
+    out = run("--version")
+    assert out.returncode == 0 and out.stdout.strip() == f"tegraph {version('tegraph')}"
+    assert tegraph.__version__ == maxplus.__version__ == version("tegraph")
+
+
+@pytest.mark.parametrize("command", ["analyze", "reach", "fix", "rules", "timeline",
+                                     "cycle-time", "convert"])
+def test_every_command_lists_its_exit_statuses(command):
+    out = run(command, "--help")
+    assert out.returncode == 0
+    text = " ".join(out.stdout.split())
+    assert "Exit status: 0" in text and " 2 the input" in text
+
+
+def test_chain_option_shows_a_readable_metavar():
+    text = run("analyze", "--help").stdout
+    assert "--chain A,B,C" in text and "list[str]" not in text
+
+
+@pytest.mark.parametrize("args", [
+    ("timeline", "{example}", "-o", "{missing}/t.svg"),
+    ("convert", "{example}", "{missing}/x.dot"),
+    ("fix", "{example}", "-o", "{missing}/x.yaml"),
+])
+def test_no_output_directory_is_created_silently(tmp_path, args):
+    example = REPO / "examples" / "fig7b_wrong_order.yaml"
+    missing = tmp_path / "not" / "there"
+    argv = [a.format(example=example, missing=missing) for a in args]
+    out = run(*argv)
+    assert out.returncode == 2 and out.stdout == ""
+    assert f"the directory {missing} does not exist" in out.stderr
+    assert not (tmp_path / "not").exists()

@@ -1,0 +1,111 @@
+"""Text reports: units, decimals that cannot mislead, why a period is what it is, verdict last."""
+
+from __future__ import annotations
+
+import re
+from fractions import Fraction
+
+from hypothesis import given
+from hypothesis import strategies as st
+
+from tegraph import analyze, cycle_time, load_skeleton, render_text
+from tegraph.report._format import decimal_text, human
+from tests.paths import REPO
+
+EXAMPLES = REPO / "examples"
+
+fractions = st.fractions(min_value=-10**6, max_value=10**6, max_denominator=10**6)
+
+
+@given(fractions, fractions)
+def test_two_different_values_never_print_alike(a, b):
+    if a != b:
+        assert human(a, "ms") != human(b, "ms")
+
+
+@given(fractions)
+def test_a_fraction_never_looks_whole(value):
+    shown = decimal_text(value)
+    if value.denominator == 1:
+        assert shown is None or shown.startswith("≈")
+    else:
+        assert shown is not None
+        digits = shown.lstrip("≈")
+        # Whatever is shown is not an integer, and an exact decimal is exact.
+        assert Fraction(digits) != int(Fraction(digits)) or "e" in digits
+        if not shown.startswith("≈"):
+            assert Fraction(digits) == value
+
+
+def test_the_issue_example_slack_against_a_period():
+    # 2399/20 = 119.95 exactly: printed whole, never rounded to "120".
+    assert human(Fraction(2399, 20), "ms") == "2399/20 ms (119.95)"
+    assert human(Fraction(120), "ms") == "120 ms"
+    # 1/3 does not terminate: rounded and marked.
+    assert human(Fraction(1, 3), "ms") == "1/3 ms (≈0.333333)"
+
+
+def test_huge_values_get_a_decimal_without_float_overflow():
+    assert human(Fraction(10**400), "ms").endswith("(≈1.00000e+400)")
+
+
+def test_ring_period_is_explained_term_by_term():
+    # examples/ring_two_tokens.yaml derives the critical circuit by hand: the
+    # ring through A (1 ms), B (2 ms) and C (5/3 ms) holds 2 tokens: 14/3 / 2.
+    report = analyze(load_skeleton(EXAMPLES / "ring_two_tokens.yaml"))
+    group = report.groups[0]
+    assert group.critical_holding == Fraction(14, 3) and group.critical_tokens == 2
+    text = render_text(report)
+    assert "(1 + 2 + 5/3) ms over 2 tokens = 7/3 ms (≈2.33333), the period" in text
+
+
+def test_every_text_report_ends_with_its_verdict():
+    # Figure 7a deadlocks (circular wait of ASYN/SYN reads): exit status 1.
+    dead = render_text(analyze(load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml")))
+    assert dead.splitlines()[-1] == "verdict: NOT LIVE: 1 token-free circuit (group 0) (exit status 1)"
+    fine = render_text(analyze(load_skeleton(EXAMPLES / "computed_torque.yaml")))
+    assert fine.splitlines()[-1] == "verdict: live and consistent (exit status 0)"
+
+
+def test_design_errors_with_a_clean_verdict_say_why_the_status_is_0(tmp_path):
+    # Two clocks in one group that both keep pace (A every 10 ms, B every
+    # 5 ms but only waiting for A's 10 ms messages would overrun; here B's
+    # own clock is 10 ms too): consistent, yet rule 3 (one clock per group)
+    # and rule 1 (B: clock + synchronizing input) are errors.
+    path = tmp_path / "two_clocks.yaml"
+    path.write_text("tasks:\n"
+                    "  A: {duration: 1, period: 10, outputs: [x]}\n"
+                    "  B: {duration: 1, period: 10, inputs: [x]}\n"
+                    "links:\n  - {from: 'A:x', to: 'B:x', protocol: ASYN/SYN}\n")
+    report = analyze(load_skeleton(path))
+    assert report.exit_status == 0
+    last = render_text(report).splitlines()[-1]
+    assert last.startswith("verdict: live and consistent (exit status 0); the design section "
+                           "lists 2 design-rule errors")
+    assert "does not change the verdict of spec §5" in last
+
+
+def test_rules_header_counts_what_it_lists():
+    text = render_text(analyze(load_skeleton(EXAMPLES / "fig12_double_sync.yaml")))
+    head = next(line for line in text.splitlines() if line.startswith("design rules"))
+    listed = [line for line in text.splitlines() if re.match(r"  Rule \d \[", line)]
+    n_error = sum("[error]" in line for line in listed)
+    n_info = sum("[info]" in line for line in listed)
+    assert head == f"design rules (ORCCAD section 6): {n_error} errors, {n_info} info"
+
+
+def test_schedulability_columns_carry_their_unit():
+    text = render_text(analyze(load_skeleton(EXAMPLES / "computed_torque.yaml")))
+    assert re.search(r"period \(ms\)\s+work \(ms\)\s+response \(ms\)\s+margin \(ms\)", text)
+
+
+def test_cycle_time_of_several_groups_names_each_period():
+    # computed_torque: three groups on clocks of 1, 2 and 6 ms (no link
+    # between them synchronizes), so the single figure is the slowest group.
+    result = cycle_time(EXAMPLES / "computed_torque.yaml")
+    assert [p.period for p in result.parts] == [1, 2, 6]
+    assert result.unit == "ms"
+    text = render_text(result)
+    assert "period:      6 ms (the slowest of 3 groups, which run at their own periods below)" in text
+    assert "  group 0 [OBS.JL]: period 1 ms: obs.tick -> obs.tick: 1 ms over 1 token = 1 ms" in text
+    assert text.splitlines()[-1] == "verdict: period 6 ms, certificate verified (exit status 0)"
