@@ -62,7 +62,8 @@ def test_ring_period_is_explained_term_by_term():
 def test_every_text_report_ends_with_its_verdict():
     # Figure 7a deadlocks (circular wait of ASYN/SYN reads): exit status 1.
     dead = render_text(analyze(load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml")))
-    assert dead.splitlines()[-1] == "verdict: NOT LIVE: 1 token-free circuit (group 0) (exit status 1)"
+    assert dead.splitlines()[-1] == ("verdict: NOT LIVE: 1 token-free circuit (group 0) "
+                                     "(exit status 1)")
     fine = render_text(analyze(load_skeleton(EXAMPLES / "computed_torque.yaml")))
     assert fine.splitlines()[-1] == "verdict: live and consistent (exit status 0)"
 
@@ -106,6 +107,7 @@ def test_cycle_time_of_several_groups_names_each_period():
     assert [p.period for p in result.parts] == [1, 2, 6]
     assert result.unit == "ms"
     text = render_text(result)
-    assert "period:      6 ms (the slowest of 3 groups, which run at their own periods below)" in text
+    assert ("period:      6 ms (the slowest of 3 groups, which run at their own periods "
+            "below)") in text
     assert "  group 0 [OBS.JL]: period 1 ms: obs.tick -> obs.tick: 1 ms over 1 token = 1 ms" in text
     assert text.splitlines()[-1] == "verdict: period 6 ms, certificate verified (exit status 0)"
