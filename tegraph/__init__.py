@@ -11,7 +11,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .analysis.cycle_time import CycleTimeResult
 from .analysis.results import Report
-from .api import analyze, cycle_time, to_dot, write
+from .api import analyze, cycle_time, explore, to_dot, write
 from .design.fix import FixResult, fix_ports
 from .design.rules import RuleFinding, check_rules
 from .design.timeline import Timeline, simulate_timeline
@@ -53,6 +53,7 @@ __all__ = [
     "RuleFinding",
     "Timeline",
     "check_rules",
+    "explore",
     "fix_ports",
     "simulate_timeline",
     # output

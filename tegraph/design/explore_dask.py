@@ -92,7 +92,7 @@ class DaskEngine:
                              f"`dask worker {address}`", "scheduler") from None
         self.plugin = f"tegraph-explore-{space.fingerprint}"
         self.client.register_plugin(_SpacePlugin(space), name=self.plugin)
-        self._done = as_completed()
+        self._done = as_completed(loop=self.client.loop)
 
     @property
     def workers(self) -> int:
