@@ -49,8 +49,9 @@ _METHODS = {
                   "(proven); the front is the exact Pareto front of the space",
     "pareto-local-search": "Pareto local search (Paquete, Chiarandini and Stützle 2004), "
                            "a heuristic: from the input design, every neighbour (one choice "
-                           "changed) of the front judged in generations; the front is the "
-                           "best found, not proven optimal",
+                           "changed) of the front judged in generations, then, at a Pareto "
+                           "local optimum, widened from the other judged variants while the "
+                           "budget lasts; the front is the best found, not proven optimal",
 }
 
 
@@ -90,6 +91,8 @@ class Exploration:
     resumed: int = 0
     output: str | None = None
     notes: list[str] = field(default_factory=list)
+    local_optimum_at: int | None = None
+    """Local search: the analyses done when the front first was a Pareto local optimum."""
 
     def count(self, judged: str) -> int:
         return sum(1 for r in self.results.values() if r.judged == judged)
@@ -142,6 +145,7 @@ class Exploration:
             "exhaustive": self.exhaustive,
             "search": {"method": self.method, "description": _METHODS[self.method],
                        "max_variants": self.max_variants, "stopped": self.stopped,
+                       "local_optimum_at": self.local_optimum_at,
                        "pruning_rules": list(PRUNING_RULES)},
             "objectives": list(self.space.objectives),
             "choices": {
@@ -240,6 +244,7 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
     found = Exploration(space, search.method, results, front.sorted(), search.stopped,
                         max_variants, log, time.perf_counter() - start,
                         resumed=sum(1 for v in results if v in known))
+    found.local_optimum_at = getattr(search, "optimum_at", None)
     failed = found.count(FAILED)
     if failed:
         found.notes.append(f"{failed} variant(s) failed to be judged (see their rows)")

@@ -11,8 +11,10 @@ searches run in this process or on a Dask cluster (:mod:`.explore_run`).
 - :class:`ParetoLocalSearch` (Paquete, Chiarandini and Stützle [1]_) starts
   from the input design and a few rule-guided designs, and repeatedly judges
   every neighbour (one link's protocol or one clock's period changed) of the
-  front members not yet expanded, until no front member is left unexpanded (a
-  Pareto local optimum) or the budget of analyses is spent. It works in
+  front members not yet expanded; when none is left (a Pareto local optimum),
+  the budget left widens the search from the other kept variants, then the
+  consistent, the live and any judged one, until the budget of analyses is
+  spent or nothing is left to judge. It works in
   generations (every proposal of a generation is judged before the next is
   made), so its path, and its front, do not depend on the order in which
   workers answer. It is a heuristic: its front is the best found, never
@@ -166,6 +168,8 @@ class ParetoLocalSearch:
         self.seen: set[int] = set()
         self.analyzed = 0
         self.stopped = ""
+        self.optimum_at: int | None = None
+        """Analyses done when the front first became a Pareto local optimum."""
         self._dead: dict[int, bool] = {}
         self._generation: list[int] = []
         self._waiting: set[int] = set()
@@ -227,18 +231,28 @@ class ParetoLocalSearch:
         if self._waiting or self._generation or self.stopped:
             return
         members = sorted(v for v in self.front.members if v not in self.expanded)
-        if not members and not self.front.members:
-            # Nothing kept yet: widen from the live variants, then from any judged one.
-            members = sorted(v for v, r in self.judged.items()
-                             if r.live and v not in self.expanded)
-            if not members:
-                members = sorted(v for v in self.judged if v not in self.expanded)
+        if not members:
+            # A Pareto local optimum: every neighbour of the front is judged. The budget
+            # left widens the search, from the kept variants, then the consistent, the
+            # live, and any judged one.
+            if self.front.members and not self.optimum_at:
+                self.optimum_at = self.analyzed
+            for wanted in (lambda r: r.kept, lambda r: r.live and r.consistent,
+                           lambda r: r.live, lambda r: True):
+                members = sorted(v for v, r in self.judged.items()
+                                 if v not in self.expanded and wanted(r))
+                if members:
+                    break
         self.expanded.update(members)
-        neighbours = [n for v in members for n in self._neighbours(v)]
-        self._next(neighbours)
+        self._next([n for v in members for n in self._neighbours(v)])
+        while not self._generation and members:
+            # Every neighbour already judged: widen further before giving up.
+            members = sorted(v for v in self.judged if v not in self.expanded)
+            self.expanded.update(members)
+            self._next([n for v in members for n in self._neighbours(v)])
         if not self._generation:
             self.stopped = ("every variant judged" if len(self.seen) == self.space.size else
-                            "Pareto local optimum: every neighbour of the front judged")
+                            "every variant reachable from the starting designs judged")
 
     def _neighbours(self, variant: int) -> list[int]:
         space = self.space
