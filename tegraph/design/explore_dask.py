@@ -8,8 +8,8 @@ worker; one that has killed workers ``distributed.scheduler.allowed-failures``
 times comes back as :class:`distributed.KilledWorker` and is split into single
 variants, each tried once more before it is recorded as failed.
 
-Local clusters and the test clusters listen on 127.0.0.1 only and start no
-dashboard.
+Local clusters (and the tests' clusters) listen on 127.0.0.1 only, their HTTP
+endpoint on a free loopback port (never 8787, which a user's dashboard may hold).
 """
 
 from __future__ import annotations
@@ -43,9 +43,9 @@ def judge_on_worker(plugin: str, variants: Sequence[int]) -> list[VariantResult]
 
 def local_cluster(workers: int) -> LocalCluster:
     """A cluster of ``workers`` single-threaded worker processes on this machine
-    (loopback only, no dashboard, quiet)."""
+    (loopback only, quiet)."""
     return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                        host="127.0.0.1", dashboard_address=None,
+                        host="127.0.0.1", dashboard_address="127.0.0.1:0",
                         silence_logs=logging.ERROR)
 
 
