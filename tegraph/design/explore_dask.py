@@ -15,6 +15,7 @@ endpoint on a free loopback port (never 8787, which a user's dashboard may hold)
 from __future__ import annotations
 
 import logging
+import uuid
 from collections.abc import Sequence
 from typing import Any
 
@@ -90,7 +91,8 @@ class DaskEngine:
             raise InputError(f"the Dask scheduler at {address!r} has no worker after "
                              f"{timeout:g} s ({type(exc).__name__}); start some with "
                              f"`dask worker {address}`", "scheduler") from None
-        self.plugin = f"tegraph-explore-{space.fingerprint}"
+        # One name per run: two runs of one space on one cluster must not share it.
+        self.plugin = f"tegraph-explore-{space.fingerprint}-{uuid.uuid4().hex[:8]}"
         self.client.register_plugin(_SpacePlugin(space), name=self.plugin)
         self._done = as_completed(loop=self.client.loop)
 
@@ -130,6 +132,9 @@ class DaskEngine:
         except OSError as exc:
             raise TegraphError(f"lost the Dask scheduler ({exc}); the results so far are "
                                "kept: run again with `resume`") from None
+        except Exception as exc:  # the batch failed on its worker: say so in its rows
+            return [VariantResult(v, FAILED, reason=f"{type(exc).__name__}: {exc}")
+                    for v in variants]
 
     def close(self) -> None:
         try:
