@@ -499,6 +499,10 @@ def explore(
         _fail(f"cannot write {output}: {exc.strerror}")
     except TegraphError as exc:
         _fail(f"{file}: {exc}")
+    except KeyboardInterrupt:
+        kept = f"; the verdicts so far are in {output}: add --resume to go on" if output else ""
+        typer.echo(f"tegraph: interrupted{kept}", err=True)
+        raise typer.Exit(130) from None
     finally:
         if shown[0]:
             typer.echo("\r" + " " * 78 + "\r", err=True, nl=False)

@@ -15,6 +15,8 @@ endpoint on a free loopback port (never 8787, which a user's dashboard may hold)
 from __future__ import annotations
 
 import logging
+import signal
+import time
 import uuid
 from collections.abc import Sequence
 from typing import Any
@@ -44,10 +46,28 @@ def judge_on_worker(plugin: str, variants: Sequence[int]) -> list[VariantResult]
 
 def local_cluster(workers: int) -> LocalCluster:
     """A cluster of ``workers`` single-threaded worker processes on this machine
-    (loopback only, quiet)."""
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                        host="127.0.0.1", dashboard_address="127.0.0.1:0",
-                        silence_logs=logging.ERROR)
+    (loopback only, quiet).
+
+    A Ctrl-C while the workers start would leave a half-built cluster that
+    fails noisily at exit: it is held until the cluster is up, which is then
+    closed and the interrupt raised.
+    """
+    interrupted: list[int] = []
+    try:
+        previous = signal.signal(signal.SIGINT, lambda *_: interrupted.append(1))
+    except ValueError:  # not the main thread: Ctrl-C cannot reach here anyway
+        previous = None
+    try:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                               silence_logs=logging.CRITICAL)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+    if interrupted:
+        cluster.close()
+        raise KeyboardInterrupt
+    return cluster
 
 
 class DaskEngine:
@@ -69,6 +89,7 @@ class DaskEngine:
         self.cluster = None
         self._pending: dict[Any, list[int]] = {}
         self._retried: set[int] = set()
+        self._asked, self._workers = -1e9, 1
         self.kind = "scheduler" if address else "local-cluster"
         self.address = address
         try:
@@ -98,12 +119,21 @@ class DaskEngine:
 
     @property
     def workers(self) -> int:
-        """Workers connected now."""
-        return len(self.client.scheduler_info(n_workers=-1)["workers"]) or 1
+        """Workers connected (asked of the scheduler at most once a second)."""
+        now = time.monotonic()
+        if now - self._asked > 1.0:
+            self._asked = now
+            self._workers = len(self.client.scheduler_info(n_workers=-1)["workers"]) or 1
+        return self._workers
 
     @property
     def in_flight(self) -> int:
         return len(self._pending)
+
+    @property
+    def capacity(self) -> int:
+        """Batches to keep in flight: two per worker, so none waits for the next."""
+        return 2 * self.workers
 
     def submit(self, variants: list[int]) -> None:
         future = self.client.submit(judge_on_worker, self.plugin, variants, pure=False)

@@ -87,6 +87,11 @@ class InProcessEngine:
     def in_flight(self) -> int:
         return len(self._queue)
 
+    @property
+    def capacity(self) -> int:
+        """Batches to hold: one (it is judged when waited for)."""
+        return 1
+
     def submit(self, variants: list[int]) -> None:
         self._queue.append(variants)
 
@@ -162,7 +167,7 @@ def run_search(space: DesignSpace, search: ExhaustiveSearch | ParetoLocalSearch,
 
     try:
         while True:
-            while engine.in_flight < 2 * engine.workers:
+            while engine.in_flight < engine.capacity:
                 analyze, pruned = search.propose(size())
                 if not analyze and not pruned:
                     break
