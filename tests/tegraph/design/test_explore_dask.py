@@ -84,7 +84,8 @@ def test_a_worker_killed_mid_run_loses_nothing(cluster, tmp_path):
             killed.append(progress.judged)
 
     out = tmp_path / "runs.csv"
-    found = explore(sk, all_links=True, chains=[CONTROL], output=out, batch_size=3,
+    links = ["TG.JS:qd -> TF.TT.JS:qd", "TF.TT.JS:e -> CO.JS:e", "MOD.DYN:M -> CO.JS:M"]
+    found = explore(sk, links, chains=[CONTROL], output=out, batch_size=2,
                     scheduler=local_cluster.scheduler_address, progress=kill_one)
     size = found.space.size
     assert killed and killed[0] < size  # killed while variants were still out
