@@ -89,7 +89,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
     for k, (x_name, y_name) in enumerate(pairs):
         ax = fig.add_subplot(rows, columns, k + 1)
         for colour, chosen, label in (
-                (_OTHER, [r for r in measured if not r.kept], "live, consistent"),
+                (_OTHER, [r for r in measured if not r.kept], "live, consistent, not schedulable"),
                 (_KEPT, [r for r in measured if r.kept and r.variant not in front], "kept"),
                 (_FRONT, [r for r in measured if r.variant in front], "Pareto front")):
             points = [(r.objectives.get(x_name), r.objectives.get(y_name) if y_name else 0)
@@ -106,10 +106,13 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
         else:
             ax.set_yticks([])
         ax.grid(linestyle=":", linewidth=0.5)
-    handles, labels = fig.axes[0].get_legend_handles_labels()
-    if handles:
-        fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize="small",
-                   frameon=False)
+    legend: dict[str, object] = {}
+    for ax in fig.axes:  # a panel may lack a kind of point: gather them from all
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            legend.setdefault(label, handle)
+    if legend:
+        fig.legend(list(legend.values()), list(legend), loc="outside lower center", ncol=3,
+                   fontsize="small", frameon=False)
     how = "exhaustive" if result.exhaustive else f"{result.method}, not exhaustive"
     fig.suptitle(f"{result.space.skeleton.name}: {len(result.front)} design(s) on the front "
                  f"({how})", fontsize="medium")
