@@ -61,8 +61,11 @@ def render_exploration(result: Exploration) -> str:
     lines.append("objectives, all minimized: " + "; ".join(
         f"{n} ({_unit_of(n, sk.unit)})" for n in space.objectives))
     d = result.to_dict()
-    lines.append(f"search: {d['search']['description']}; stopped: {result.stopped}")
-    lines.append(f"judged {len(result.results):,}: {result.count(ANALYZED):,} analyzed "
+    optimum = ("" if result.local_optimum_at is None else
+               f"; first Pareto local optimum after {result.local_optimum_at:,} analyses")
+    lines.append(f"search: {d['search']['description']}; stopped: {result.stopped}{optimum}")
+    lines.append(f"judged {len(result.results):,} of {space.size:,}: "
+                 f"{result.count(ANALYZED):,} analyzed "
                  f"(analyze, port repair, response-time test), {result.count(PRUNED):,} pruned "
                  f"by rules A and B, {result.count(FAILED):,} failed; "
                  f"{result.consistent:,} live and consistent, {result.kept:,} also "
