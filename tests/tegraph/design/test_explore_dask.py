@@ -25,6 +25,7 @@ import pytest
 
 from tegraph import InputError, load_skeleton
 from tegraph.api import explore
+from tegraph.design.explore import explore_design
 from tests.paths import REPO
 from tests.tegraph.design.test_explore import (
     CONTROL,
@@ -57,6 +58,9 @@ def test_distributed_front_is_the_one_analyze_finds(cluster):
                                     scheduler=cluster[0].scheduler_address)
     assert found.log.engine == "scheduler" and found.log.workers == 2
     assert found.log.batches > 2  # the work was spread
+    local = explore_design(found.space, workers=0)
+    assert [(r.variant, r.objectives) for r in found.front] == \
+        [(r.variant, r.objectives) for r in local.front]
 
 
 def rows_of(path):
