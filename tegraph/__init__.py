@@ -41,6 +41,7 @@ _WHERE = {
     "Report": "tegraph.analysis.results",
     "analyze": "tegraph.api",
     "cycle_time": "tegraph.api",
+    "explore": "tegraph.api",
     # design
     "FixResult": "tegraph.design.fix",
     "RuleFinding": "tegraph.design.rules",
@@ -78,7 +79,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # static tools see the names where they are defined
     from .analysis.cycle_time import CycleTimeResult
     from .analysis.results import Report
-    from .api import analyze, cycle_time, to_dot, write
+    from .api import analyze, cycle_time, explore, to_dot, write
     from .design.fix import FixResult, fix_ports
     from .design.rules import RuleFinding, check_rules
     from .design.timeline import Timeline, simulate_timeline

@@ -1,5 +1,6 @@
 """The few calls that cross floors: analyze with its design section, cycle time of a file,
-and writing a drawing coloured by the analysis.
+writing a drawing coloured by the analysis, and the exploration of designs with its
+results file.
 
 Everything below this module keeps to its floor (``docs/architecture.md``):
 the analysis does not read files, the readers do not analyze, the report
@@ -22,14 +23,17 @@ from .analysis.analyze import analyze_skeleton
 from .analysis.cycle_time import CycleTimeResult
 from .analysis.cycle_time import cycle_time as cycle_time_of
 from .analysis.results import Report
+from .design.explore import Exploration, explore_design
+from .design.explore_space import design_space
 from .design.section import design_section
-from .errors import TegraphError
+from .errors import InputError, TegraphError
 from .io._files import DEFAULT_MAX_BYTES
 from .io.dot import dot_text
 from .model.skeleton import Skeleton
 from .report.dot import highlights
+from .report.explore_table import ResultsTable
 
-__all__ = ["analyze", "cycle_time", "to_dot", "write"]
+__all__ = ["analyze", "cycle_time", "explore", "to_dot", "write"]
 
 
 def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
@@ -213,3 +217,98 @@ def _figures_for_drawing(obj: Any) -> CycleTimeResult | None:
         return cycle_time_of(obj, verify=False, max_states=0)
     except (TegraphError, MaxPlusError):
         return None
+
+
+def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
+            clocks: dict[str, Sequence[Any]] | None = None,
+            chains: Sequence[Sequence[str]] = (), objectives: Sequence[str] | None = None,
+            scheduler: str | None = None, workers: int | None = None,
+            output: str | os.PathLike[str] | None = None, resume: bool = False,
+            overwrite: bool = False, max_variants: int = 10_000,
+            batch_size: int | None = None, progress: Any = None,
+            timeout: float = 10.0) -> Exploration:
+    """Search protocol and clock choices for the best live, consistent, schedulable designs.
+
+    Each variant (one protocol per chosen link, one period per chosen clock) is
+    analyzed exactly, repaired by reordering its ports when only the order
+    deadlocks, and kept when live, consistent and schedulable; the result is the
+    Pareto front of the objectives (chain latencies, period, processor load),
+    exhaustive up to ``max_variants`` variants, by Pareto local search beyond.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    links : mapping of str to protocols, or sequence of str
+        ``{"W:p -> R:q": ["ASYN/SYN", "SYN/SYN"]}``; None or a bare name: all four.
+    all_links : bool
+        Choose every link, with all four protocols.
+    clocks : mapping of str to sequence of times
+        ``{"rtc": [5, 10, 20]}``; a task's own clock is ``"TASK.clock"``.
+    chains : sequence of task-name sequences
+        Chains whose latency is an objective, besides the skeleton's ``chains``.
+    objectives : sequence of str, optional
+        Among ``latency``, ``period``, ``load`` (default: all that apply).
+    scheduler : str, optional
+        Address of a running Dask scheduler, ``tcp://HOST:8786``.
+    workers : int, optional
+        0: this process; N: a local Dask cluster of N processes; None: decided
+        from the measured cost.
+    output : path, optional
+        Results file (``.csv``, or ``.parquet`` with the ``[parquet]`` extra), one
+        row per judged variant, appended as verdicts arrive.
+    resume : bool
+        Continue ``output``: its variants are not judged again.
+    overwrite : bool
+        Start ``output`` anew when it exists.
+    max_variants : int
+        Threshold of the exhaustive search, and budget of the local search.
+    batch_size : int, optional
+        Variants per batch (default adaptive).
+    progress : callable, optional
+        Called with a :class:`tegraph.design.explore_run.Progress` after each batch.
+    timeout : float
+        Seconds to wait for the scheduler.
+
+    Returns
+    -------
+    Exploration
+        :func:`tegraph.report.explore_text.render_exploration` gives its text,
+        :func:`tegraph.report.explore_text.explore_document` its JSON document.
+
+    Raises
+    ------
+    InputError
+        An unknown link, task, clock or protocol, an empty choice, a results file
+        that exists (without ``resume`` or ``overwrite``) or in a directory that
+        does not exist, a scheduler that does not answer.
+
+    See Also
+    --------
+    tegraph.design.explore.explore_design : the search on a design space.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"clocks": {"rtc": {"period": 10}}, "tasks": {
+    ...     "A": {"duration": 1, "clock": "rtc", "inputs": ["s"], "outputs": ["x"]},
+    ...     "B": {"duration": 2, "inputs": ["x"], "outputs": ["u"]}},
+    ...     "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/ASYN"}]})
+    >>> found = explore(sk, ["A:x -> B:x"], chains=[["A", "B"]], workers=0)
+    >>> [(f["links"]["A:x -> B:x"], f["objectives"]["latency:A,B"]) for f in
+    ...  (found.entry(r) for r in found.front)]
+    [('ASYN/SYN', '3'), ('SYN/SYN', '3')]
+    """
+    space = design_space(skeleton, links, all_links, clocks, chains, objectives)
+    if output is None and resume:
+        raise InputError("nothing to resume without an `output` file", "resume")
+    table = None if output is None else ResultsTable(output, space, resume, overwrite)
+    try:
+        found = explore_design(space, scheduler=scheduler, workers=workers,
+                               max_variants=max_variants, batch_size=batch_size,
+                               known=None if table is None else table.known,
+                               record=None if table is None else table.append,
+                               progress=progress, timeout=timeout)
+    finally:
+        if table is not None:
+            table.close()
+    found.output = None if output is None else os.fspath(output)
+    return found

@@ -457,6 +457,141 @@ def convert(
     typer.echo(f"wrote {written}")
 
 
+@app.command()
+def explore(
+    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
+    chain: list[str] | None = typer.Option(
+        None, "--chain", help="A,B,C: minimize the latency of this chain (repeatable; adds "
+                              "to the file's chains)."),
+    link: list[str] | None = typer.Option(
+        None, "--link", help="'W:p -> R:q=ASYN/SYN,SYN/SYN': choose this link's protocol "
+                             "among these (all four without '='; repeatable)."),
+    all_links: bool = typer.Option(False, "--all-links",
+                                   help="Choose every link's protocol among all four."),
+    clock: list[str] | None = typer.Option(
+        None, "--clock", help="NAME=5,10,20: choose this clock's period among these "
+                              "(a task's own clock is TASK.clock; repeatable)."),
+    objective: list[str] | None = typer.Option(
+        None, "--objective", help="latency, period or load (repeatable or comma-separated; "
+                                  "default all that apply), all minimized."),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", help="Run on this Dask scheduler, e.g. tcp://HOST:8786."),
+    workers: int | None = typer.Option(
+        None, "--workers", min=0, help="Local Dask worker processes (0: this process; "
+                                       "default: decided from the measured cost)."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="Write every judged variant to this .csv or .parquet "
+                                     "file as results arrive."),
+    resume: bool = typer.Option(False, "--resume", help="Continue the -o file: skip the "
+                                                        "variants it holds."),
+    force: bool = typer.Option(False, "--force", help="Replace an existing -o or --plot file."),
+    plot: Path | None = typer.Option(
+        None, "--plot", help="Draw the front into this .svg or .png file (needs matplotlib: "
+                             "pip install 'tegraph[plot]')."),
+    max_variants: int = typer.Option(
+        10_000, "--max-variants", min=1, help="Search exhaustively up to this many variants; "
+                                             "beyond, Pareto local search analyzes at most "
+                                             "this many."),
+    batch_size: int | None = typer.Option(None, "--batch-size", min=1,
+                                          help="Variants per batch (default adaptive)."),
+    timeout: float = typer.Option(10.0, "--timeout", min=0.1,
+                                  help="Seconds to wait for the scheduler to answer."),
+    json_out: bool = typer.Option(False, "--json", help="Print the JSON report."),
+) -> None:
+    """Search link protocols and clock periods for the Pareto front of live, consistent,
+    schedulable designs; exit 0 some design kept, 1 none, 2 bad input."""
+    import json
+    import time
+
+    from .api import explore as run_exploration
+    from .design.explore_space import parse_clock_choice, parse_link_choice
+    from .design.latency import parse_chain
+    from .io import load_skeleton
+    from .report.explore_plot import draw_front
+    from .report.explore_text import explore_document, render_exploration
+    from .report.plot import PlotUnavailableError, matplotlib_available
+
+    options = {"links": "--link", "clocks": "--clock", "objectives": "--objective",
+               "scheduler": "--scheduler", "workers": "--workers", "output": "-o",
+               "resume": "--resume", "overwrite": "--force", "plot": "--plot",
+               "max_variants": "--max-variants", "batch_size": "--batch-size",
+               "chain": "--chain"}
+
+    def refuse(exc: InputError) -> NoReturn:
+        head = re.split(r"[.\[]", exc.where, maxsplit=1)[0]
+        if head in options:
+            exc.with_where(options[head] + (" " if exc.where[len(head):].startswith(".")
+                                            else "") + exc.where[len(head):].lstrip("."))
+        text = re.sub(r"`(\w+)`", lambda m: options.get(m.group(1), m.group(0)), str(exc))
+        _fail(text)
+
+    if plot is not None:
+        if plot.suffix.lower() not in (".svg", ".png"):
+            _fail(f"--plot: cannot draw to {plot.name!r}; expected a file name ending in "
+                  ".svg or .png")
+        if not plot.parent.is_dir():
+            _fail(f"--plot: the directory {str(plot.parent)!r} does not exist; expected an "
+                  "existing directory (none is created)")
+        if plot.exists() and not force:
+            _fail(f"{plot}: the file exists already; pass --force to replace it")
+        if not matplotlib_available():
+            _fail("--plot: drawing the front needs matplotlib, which is not installed; "
+                  "install it with: pip install 'tegraph[plot]'")
+    links = {}
+    for text in link or []:
+        label, protocols = parse_link_choice(text)
+        links[label] = protocols
+    clocks = dict(parse_clock_choice(text) for text in clock or [])
+    objectives = None if not objective else [
+        o for text in objective for o in text.split(",") if o.strip()]
+    shown = [0.0]
+
+    def progress(p) -> None:
+        if not sys.stderr.isatty() or time.monotonic() - shown[0] < 0.1:
+            return
+        shown[0] = time.monotonic()
+        done = min(1.0, p.judged / max(p.total, 1))
+        bar = "#" * int(30 * done) + "-" * (30 - int(30 * done))
+        typer.echo(f"\r[{bar}] {p.judged:,}/{p.total:,} variants, {p.rate:,.1f}/s, "
+                   f"front {p.front} ", err=True, nl=False)
+
+    try:
+        with _refusals(file):
+            skeleton = load_skeleton(file)
+        result = run_exploration(
+            skeleton, links, all_links=all_links, clocks=clocks,
+            chains=[parse_chain(c) for c in chain or []], objectives=objectives,
+            scheduler=scheduler, workers=workers, output=output, resume=resume,
+            overwrite=force, max_variants=max_variants, batch_size=batch_size,
+            progress=progress, timeout=timeout)
+    except InputError as exc:
+        refuse(exc)
+    except OSError as exc:
+        _fail(f"cannot write {output}: {exc.strerror}")
+    except TegraphError as exc:
+        _fail(f"{file}: {exc}")
+    except KeyboardInterrupt:
+        kept = f"; the verdicts so far are in {output}: add --resume to go on" if output else ""
+        typer.echo(f"tegraph: interrupted{kept}", err=True)
+        raise typer.Exit(130) from None
+    finally:
+        if shown[0]:
+            typer.echo("\r" + " " * 78 + "\r", err=True, nl=False)
+    text = (json.dumps(explore_document(result), indent=2, ensure_ascii=False) if json_out
+            else _cli_words(render_exploration(result)))
+    if plot is not None:
+        try:
+            draw_front(result, plot, overwrite=force)
+        except (PlotUnavailableError, InputError) as exc:
+            _fail(str(exc))
+        except OSError as exc:
+            _fail(f"cannot write {plot}: {exc.strerror}")
+        if not json_out:
+            text += f"wrote {plot}\n"
+    typer.echo(text, nl=json_out)
+    raise typer.Exit(0 if result.front else 1)
+
+
 def _parse_size(text: str | int) -> int:
     """A byte count from ``"300M"``, ``"2G"``, ``"512k"`` or a plain integer.
 

@@ -1,0 +1,206 @@
+"""Benchmark of ``tegraph explore``: variants per second, engines, batch size, model transfer.
+
+Skeletons come from ``generate_skeleton.py`` (20 and 1,000 tasks); the design
+space chooses the first links of the skeleton with all four protocols. Each
+table is measured in rounds, every configuration once per round (A B C A B C),
+and reports the median and the spread (min-max) over the rounds.
+
+1. **Engines, one shot**: the wall time of a whole exploration, start-up
+   included: in this process; a ``distributed.LocalCluster`` of 2 workers
+   started for it; Dask's local process scheduler (``scheduler="processes"``,
+   a process pool per call, the batches as delayed tasks).
+2. **Throughput, warm**: variants per second once the workers are up (a
+   LocalCluster started beforehand, ``scheduler=ADDRESS``), 1 and 2 workers.
+3. **Batch size**: 2 warm workers, fixed batch sizes and the adaptive one.
+4. **Model transfer**: the design space shipped once per worker (the worker
+   plugin ``explore`` uses) against the space sent with every batch.
+5. **Extrapolation**: the cost of one variant of a 10,000-task skeleton.
+
+Usage::
+
+    python benchmarks/bench_explore.py [--rounds 3] [--skip-10k]
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import pickle
+import statistics
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
+
+from generate_skeleton import generate  # noqa: E402
+
+from tegraph import Skeleton  # noqa: E402
+from tegraph.design.explore import explore_design  # noqa: E402
+from tegraph.design.explore_eval import evaluate_batch, evaluate_variant  # noqa: E402
+from tegraph.design.explore_space import design_space, link_text  # noqa: E402
+
+
+def space_of(n_tasks: int, n_links: int):
+    sk = Skeleton.from_dict(generate(n_tasks, seed=0))
+    links = [link_text(k.writer, k.reader) for k in sk.links[:n_links]]
+    return design_space(sk, links, objectives=["period", "load"])
+
+
+def cluster(workers: int):
+    from distributed import LocalCluster
+
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                        host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                        silence_logs=logging.ERROR)
+
+
+def spread(values: list[float], digits: int = 1) -> str:
+    m = statistics.median(values)
+    return f"{m:.{digits}f} ({min(values):.{digits}f}-{max(values):.{digits}f})"
+
+
+def one_shot(space, how: str) -> float:
+    start = time.perf_counter()
+    if how == "in-process":
+        explore_design(space, workers=0)
+    elif how == "LocalCluster(2)":
+        explore_design(space, workers=2)
+    else:  # Dask's local process scheduler: a pool per call, the space in every task
+        import dask
+
+        size = max(1, space.size // 8)
+        batches = [list(range(a, min(a + size, space.size))) for a in range(0, space.size, size)]
+        dask.compute(*[dask.delayed(evaluate_batch)(space, b) for b in batches],
+                     scheduler="processes", num_workers=2)
+    return time.perf_counter() - start
+
+
+def rate(space, address: str, batch_size: int | None = None) -> float:
+    start = time.perf_counter()
+    found = explore_design(space, scheduler=address, batch_size=batch_size)
+    return len(found.results) / (time.perf_counter() - start)
+
+
+def rate_space_per_batch(space, client, batch_size: int) -> float:
+    """The space as an argument of every batch (what the plugin avoids)."""
+    from distributed import wait
+
+    start = time.perf_counter()
+    batches = [list(range(a, min(a + batch_size, space.size)))
+               for a in range(0, space.size, batch_size)]
+    futures = [client.submit(evaluate_batch, space, b, pure=False) for b in batches]
+    wait(futures)
+    return space.size / (time.perf_counter() - start)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--skip-10k", action="store_true")
+    args = parser.parse_args()
+    from distributed import Client
+
+    spaces = {20: space_of(20, 3), 1000: space_of(1000, 2)}
+    for n, s in spaces.items():
+        print(f"# {n} tasks: {len(s.skeleton.links)} links, {s.size} variants; pickled space "
+              f"{len(pickle.dumps(s)) / 1024:.0f} KiB", flush=True)
+
+    print("\n## 1. One exploration, start-up included (s)\n")
+    ways = ["in-process", "LocalCluster(2)", "process scheduler(2)"]
+    times = {(n, w): [] for n in spaces for w in ways}
+    for _ in range(args.rounds):
+        for n, s in spaces.items():
+            for w in ways:
+                times[n, w].append(one_shot(s, w))
+    print("| tasks | variants | " + " | ".join(ways) + " |")
+    print("|---:|---:|" + "---:|" * len(ways))
+    for n, s in spaces.items():
+        print(f"| {n:,} | {s.size} | " + " | ".join(spread(times[n, w], 2) for w in ways)
+              + " |", flush=True)
+    start = time.perf_counter()
+    with cluster(2) as c, Client(c) as client:
+        client.wait_for_workers(2)
+        started = time.perf_counter() - start
+    print(f"\nLocalCluster(2) start and stop alone: {started:.2f} s")
+
+    print("\n## 2. Throughput with warm workers (variants/s)\n")
+    one, two = cluster(1), cluster(2)
+    try:
+        warm = {"1 worker": one.scheduler_address, "2 workers": two.scheduler_address}
+        for address in warm.values():
+            with Client(address) as client:
+                client.wait_for_workers(1)
+        rates = {(n, w): [] for n in spaces for w in [*warm, "in-process"]}
+        for _ in range(args.rounds):
+            for n, s in spaces.items():
+                for w, address in warm.items():
+                    rates[n, w].append(rate(s, address))
+                start = time.perf_counter()
+                explore_design(s, workers=0)
+                rates[n, "in-process"].append(s.size / (time.perf_counter() - start))
+        print("| tasks | in-process | LocalCluster 1 worker | LocalCluster 2 workers | "
+              "speed-up 2 vs 1 |")
+        print("|---:|---:|---:|---:|---:|")
+        for n in spaces:
+            r1, r2 = rates[n, "1 worker"], rates[n, "2 workers"]
+            print(f"| {n:,} | {spread(rates[n, 'in-process'], 2)} | {spread(r1, 2)} | "
+                  f"{spread(r2, 2)} | {statistics.median(r2) / statistics.median(r1):.2f} |",
+                  flush=True)
+
+        print("\n## 3. Batch size, 2 warm workers, 20 tasks (variants/s)\n")
+        sizes: list[int | None] = [1, 4, 16, 64, None]
+        by_size = {b: [] for b in sizes}
+        for _ in range(args.rounds):
+            for b in sizes:
+                by_size[b].append(rate(spaces[20], two.scheduler_address, b))
+        print("| batch | " + " | ".join("adaptive" if b is None else str(b) for b in sizes)
+              + " |")
+        print("|---|" + "---:|" * len(sizes))
+        print("| variants/s | " + " | ".join(spread(by_size[b]) for b in sizes) + " |",
+              flush=True)
+
+        print("\n## 4. Model transfer, 2 warm workers, 1,000 tasks (variants/s)\n")
+        s = spaces[1000]
+        blob = pickle.dumps(s)
+        t0 = time.perf_counter()
+        for _ in range(10):
+            pickle.loads(pickle.dumps(s))
+        codec = (time.perf_counter() - t0) / 10
+        ship = {("plugin", b): [] for b in (1, 8)} | {("per batch", b): [] for b in (1, 8)}
+        with Client(two.scheduler_address) as client:
+            for _ in range(args.rounds):
+                for b in (1, 8):
+                    ship["plugin", b].append(rate(s, two.scheduler_address, b))
+                    ship["per batch", b].append(rate_space_per_batch(s, client, b))
+        print(f"space: {len(blob) / 1024:.0f} KiB pickled, {codec * 1000:.1f} ms to pickle and "
+              "unpickle\n")
+        print("| batch | space once per worker (plugin) | space with every batch |")
+        print("|---:|---:|---:|")
+        for b in (1, 8):
+            print(f"| {b} | {spread(ship['plugin', b], 2)} | {spread(ship['per batch', b], 2)} |",
+                  flush=True)
+    finally:
+        one.close()
+        two.close()
+
+    if not args.skip_10k:
+        print("\n## 5. One variant of a 10,000-task skeleton\n")
+        s = space_of(10_000, 2)
+        costs = []
+        for v in range(3):
+            start = time.perf_counter()
+            evaluate_variant(s, v)
+            costs.append(time.perf_counter() - start)
+        per = statistics.median(costs)
+        total = 4 ** 10 * per
+        print(f"judging one variant: {spread(costs, 2)} s; pickled space "
+              f"{len(pickle.dumps(s)) / 2**20:.1f} MiB")
+        print(f"4^10 = {4 ** 10:,} variants: {total / 3600:,.0f} h on one worker, "
+              f"{total / 64 / 3600:,.1f} h on 64 workers (cost alone, no pruning)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,251 @@
+"""Synthesis of the synchronization: search protocol and clock choices for the best live,
+consistent, schedulable designs (ORCCAD §6, ``tegraph explore``).
+
+Section 6 of the ORCCAD paper gives rules for *adding* synchronization to a
+multi-rate controller; this module makes the tool choose, link by link,
+between ASYN/ASYN, ASYN/SYN, SYN/ASYN and SYN/SYN, and clock periods among
+candidates, by judging variants exactly (:mod:`.explore_eval`) and keeping the
+Pareto front of the objectives (chain latencies, period, processor load).
+
+- The space and its numbering: :mod:`.explore_space`.
+- Variants settled without analysis, with proofs: :mod:`.explore_prune`.
+- The searches (exhaustive up to ``max_variants``, Pareto local search
+  beyond) and the exact front: :mod:`.explore_search`.
+- The execution, in this process or on Dask ``distributed``: :mod:`.explore_run`,
+  :mod:`.explore_dask`.
+
+Writing the results file and rendering are done above this floor
+(:func:`tegraph.explore`, :mod:`tegraph.report.explore_text`).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from maxplus.scalar import exact_text
+
+from ..errors import InputError
+from .explore_eval import ANALYZED, FAILED, PRUNED, VariantResult
+from .explore_prune import DeadlockOracle
+from .explore_run import Progress, RunLog, run_search
+from .explore_search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
+from .explore_space import DesignSpace
+
+__all__ = ["PRUNING_RULES", "Exploration", "explore_design"]
+
+PRUNING_RULES = (
+    "A: liveness and the port repair depend on the protocols only, not on periods: a "
+    "protocol assignment dead for every port order settles all its clock variants at once",
+    "B: replacing a synchronizing protocol by ASYN/ASYN removes an obligation, never adds "
+    "one, so a prefix of links already dead for every port order (the rest ASYN/ASYN) "
+    "settles every completion",
+)
+
+_METHODS = {
+    "exhaustive": "exhaustive: every variant judged, analyzed or pruned by rule A or B "
+                  "(proven); the front is the exact Pareto front of the space",
+    "pareto-local-search": "Pareto local search (Paquete, Chiarandini and Stützle 2004), "
+                           "a heuristic: from the input design, every neighbour (one choice "
+                           "changed) of the front judged in generations, then, at a Pareto "
+                           "local optimum, widened from the other judged variants while the "
+                           "budget lasts; the front is the best found, not proven optimal",
+}
+
+
+@dataclass
+class Exploration:
+    """What :func:`explore_design` found.
+
+    Attributes
+    ----------
+    space : DesignSpace
+    method : str
+        ``"exhaustive"`` or ``"pareto-local-search"``.
+    results : dict of int to VariantResult
+        Every judged variant (those read back from a results file included).
+    front : list of VariantResult
+        The Pareto front of the kept variants, sorted by objective values.
+    stopped : str
+        Why the search ended.
+    max_variants : int
+        The threshold of the exhaustive search (and the budget of the local search).
+    log : RunLog
+    seconds : float
+    resumed : int
+        Verdicts read back from the results file.
+    output : str or None
+        The results file (set by :func:`tegraph.explore`).
+    """
+
+    space: DesignSpace
+    method: str
+    results: dict[int, VariantResult]
+    front: list[VariantResult]
+    stopped: str
+    max_variants: int
+    log: RunLog = field(default_factory=RunLog)
+    seconds: float = 0.0
+    resumed: int = 0
+    output: str | None = None
+    notes: list[str] = field(default_factory=list)
+    local_optimum_at: int | None = None
+    """Local search: the analyses done when the front first was a Pareto local optimum."""
+
+    def count(self, judged: str) -> int:
+        return sum(1 for r in self.results.values() if r.judged == judged)
+
+    @property
+    def exhaustive(self) -> bool:
+        """Every variant of the space judged (analyzed, or pruned by a proven rule)."""
+        return (len(self.results) == self.space.size
+                and all(r.judged in (ANALYZED, PRUNED) for r in self.results.values()))
+
+    @property
+    def consistent(self) -> int:
+        """Variants live (perhaps after the repair) and consistent."""
+        return sum(1 for r in self.results.values() if r.live and r.consistent)
+
+    @property
+    def kept(self) -> int:
+        """Variants live, consistent and schedulable."""
+        return sum(1 for r in self.results.values() if r.kept)
+
+    @property
+    def verdict(self) -> str:
+        """One sentence: the front found and how it was obtained."""
+        if not self.front:
+            what = "no variant is live, consistent and schedulable"
+        else:
+            what = f"{len(self.front)} design(s) on the Pareto front of {self.kept} kept"
+        how = ("exhaustive: the exact front of all variants" if self.exhaustive else
+               f"{self.method}, not exhaustive: the best front found")
+        return f"{what} ({how})"
+
+    def entry(self, r: VariantResult) -> dict[str, Any]:
+        """A variant as the report shows it: its choices, objectives and repair."""
+        links, clocks = self.space.describe(r.variant)
+        return {"variant": r.variant, "links": links, "clocks": clocks,
+                "objectives": {k: exact_text(v) for k, v in r.objectives.items()},
+                "kinds": dict(r.kinds), "repaired": r.repaired, "orders": r.orders}
+
+    def to_dict(self) -> dict[str, Any]:
+        """The body of the JSON report (``docs/explore.schema.json``)."""
+        sk = self.space.skeleton
+        return {
+            "name": sk.name, "unit": sk.unit,
+            "variants": self.space.size,
+            "evaluated": self.count(ANALYZED),
+            "pruned": self.count(PRUNED),
+            "failed": self.count(FAILED),
+            "consistent": self.consistent,
+            "kept": self.kept,
+            "exhaustive": self.exhaustive,
+            "search": {"method": self.method, "description": _METHODS[self.method],
+                       "max_variants": self.max_variants, "stopped": self.stopped,
+                       "local_optimum_at": self.local_optimum_at,
+                       "pruning_rules": list(PRUNING_RULES)},
+            "objectives": list(self.space.objectives),
+            "choices": {
+                "links": {c.label: [p.value for p in c.protocols] for c in self.space.links},
+                "clocks": {c.name: [exact_text(t) for t in c.periods]
+                           for c in self.space.clocks}},
+            "chains": [list(c) for c in self.space.chains],
+            "front": [self.entry(r) for r in self.front],
+            "engine": {"kind": self.log.engine, "workers": self.log.workers,
+                       "address": self.log.address, "batches": self.log.batches,
+                       "largest_batch": max(self.log.batch_sizes, default=0),
+                       "seconds_per_variant": self.log.seconds_per_variant},
+            "output": self.output,
+            "resumed": self.resumed,
+            "seconds": round(self.seconds, 3),
+            "notes": list(self.notes),
+            "verdict": self.verdict,
+        }
+
+
+def explore_design(space: DesignSpace, *, scheduler: str | None = None,
+                   workers: int | None = None, max_variants: int = 10_000,
+                   batch_size: int | None = None,
+                   known: dict[int, VariantResult] | None = None,
+                   record: Callable[[Sequence[VariantResult]], None] | None = None,
+                   progress: Callable[[Progress], None] | None = None,
+                   timeout: float = 10.0) -> Exploration:
+    """Search ``space`` for the Pareto front of live, consistent, schedulable designs.
+
+    Parameters
+    ----------
+    space : DesignSpace
+        From :func:`tegraph.design.explore_space.design_space`.
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://HOST:8786``).
+    workers : int, optional
+        0: judge in this process; N: a local Dask cluster of N processes; None
+        (default): this process, or a local cluster of one process per core when
+        the measured work is worth its start-up.
+    max_variants : int
+        Spaces of at most this many variants are searched exhaustively; beyond,
+        Pareto local search analyzes at most this many variants.
+    batch_size : int, optional
+        Variants per batch sent to a worker (default: adaptive).
+    known : dict, optional
+        Verdicts of an earlier run (``resume``): not judged again.
+    record : callable, optional
+        Receives each list of new verdicts as it arrives (to append to a file).
+    progress : callable, optional
+        Receives a :class:`~tegraph.design.explore_run.Progress` after each batch.
+    timeout : float
+        Seconds to wait for the scheduler to answer.
+
+    Returns
+    -------
+    Exploration
+
+    Raises
+    ------
+    InputError
+        A parameter is refused, or the scheduler does not answer.
+
+    Examples
+    --------
+    The synchronized pipeline of Figure 4 with its clock at 5, 10 or 20 ms: at 5
+    the four tasks (6 ms of work) do not fit; 10 and 20 trade period for load.
+
+    >>> from tegraph import load_skeleton
+    >>> from tegraph.design.explore_space import design_space
+    >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
+    ...                      clocks={"rtc": [5, 10, 20]}, objectives=["period", "load"])
+    >>> found = explore_design(space, workers=0)
+    >>> [found.entry(r)["clocks"]["rtc"] for r in found.front], found.exhaustive
+    (['10', '20'], True)
+    """
+    if scheduler is not None and workers is not None:
+        raise InputError("give either `scheduler` or `workers`, not both", "workers")
+    if workers is not None and workers < 0:
+        raise InputError(f"expected a number of workers >= 0, got {workers}", "workers")
+    if max_variants < 1:
+        raise InputError(f"expected max_variants >= 1, got {max_variants}", "max_variants")
+    if batch_size is not None and batch_size < 1:
+        raise InputError(f"expected batch_size >= 1, got {batch_size}", "batch_size")
+    start = time.perf_counter()
+    known = {v: r for v, r in (known or {}).items() if 0 <= v < space.size}
+    oracle = DeadlockOracle(space)
+    front = ParetoFront(space.objectives)
+    search: ExhaustiveSearch | ParetoLocalSearch
+    if space.size <= max_variants:
+        search = ExhaustiveSearch(space, oracle)
+    else:
+        search = ParetoLocalSearch(space, oracle, front, max_variants)
+    results, log = run_search(space, search, front, scheduler=scheduler, workers=workers,
+                              known=known, record=record, progress=progress,
+                              batch_size=batch_size, timeout=timeout)
+    found = Exploration(space, search.method, results, front.sorted(), search.stopped,
+                        max_variants, log, time.perf_counter() - start,
+                        resumed=sum(1 for v in results if v in known))
+    found.local_optimum_at = getattr(search, "optimum_at", None)
+    failed = found.count(FAILED)
+    if failed:
+        found.notes.append(f"{failed} variant(s) failed to be judged (see their rows)")
+    return found

@@ -1,0 +1,220 @@
+"""Judge variants of a design space: analyze, repair the port order, test, measure.
+
+One variant is judged as ``tegraph analyze`` would judge it:
+
+1. :func:`~tegraph.analysis.analyze.analyze_skeleton` on the variant's skeleton;
+2. when it is not live but some port order makes it live
+   (:func:`~tegraph.analysis.reorder.reorder_ports`), the reordered skeleton is
+   analyzed instead and the variant is marked ``repaired`` (the orders depend
+   only on the protocols, Rule A of :mod:`.explore_prune`, so they are found
+   once per protocol assignment in a batch);
+3. when live and consistent, the response-time test
+   (:func:`~tegraph.design.schedulability.schedulability`) and the objectives:
+
+   - ``latency:A,B,C``: :attr:`ChainLatency.value` of
+     :func:`~tegraph.design.latency.chain_latency`, exact inside one
+     synchronized group, the smallest published bound across asynchronous hops
+     (its kind, ``exact`` or ``bound``, is kept beside it);
+   - ``period``: the largest, over the tasks, of the task's period over its
+     designed period, the period in the *input* skeleton of the fastest clock of
+     its group there (:attr:`DesignSpace.reference_periods`): 1, every task runs
+     at its designed rate; 1/2, twice as fast (a faster clock); 3, some task runs
+     three times slower (it joined a slower group). Tasks whose input group has
+     no clock have no reference and are not counted;
+   - ``load``: the largest processor utilization ``Σ C/T`` of the
+     schedulability units (``demand / hyperperiod``).
+
+A variant is *kept* when it is live (perhaps after the repair), consistent
+(spec §4: no unbounded place, no overrun) and schedulable (every unit meets its
+period). Everything is exact: Fractions, no tolerance.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+from typing import Any
+
+from ..analysis.analyze import analyze_skeleton
+from ..analysis.reorder import reorder_ports
+from ..analysis.results import Report
+from ..model.skeleton import Skeleton
+from .explore_space import DesignSpace, latency_name
+from .latency import chain_latency
+from .schedulability import Schedulability, schedulability
+
+__all__ = ["VariantResult", "evaluate_batch", "evaluate_variant"]
+
+ANALYZED, PRUNED, FAILED = "analyzed", "pruned", "failed"
+
+
+@dataclass
+class VariantResult:
+    """The verdict and objectives of one variant.
+
+    Attributes
+    ----------
+    variant : int
+        Its number in the design space.
+    judged : str
+        ``"analyzed"``, ``"pruned"`` (settled by a proven rule, without
+        analysis) or ``"failed"`` (the evaluation raised; ``reason`` says what).
+    live : bool or None
+        Live, perhaps after the port repair.
+    repaired : bool
+        The port orders were changed to make it live (``orders`` says how).
+    consistent : bool or None
+    schedulable : bool or None
+    objectives : dict of str to Fraction or None
+        Every objective of the space (None where undefined).
+    kinds : dict of str to str
+        ``exact`` or ``bound`` for each latency objective.
+    reason : str
+        Why it is not kept (empty when kept).
+    seconds : float
+        Time spent judging it.
+    """
+
+    variant: int
+    judged: str
+    live: bool | None = None
+    repaired: bool = False
+    consistent: bool | None = None
+    schedulable: bool | None = None
+    objectives: dict[str, Fraction | None] = field(default_factory=dict)
+    kinds: dict[str, str] = field(default_factory=dict)
+    orders: dict[str, dict[str, list[str]]] = field(default_factory=dict)
+    reason: str = ""
+    seconds: float = 0.0
+
+    @property
+    def kept(self) -> bool:
+        """Live, consistent and schedulable."""
+        return bool(self.live and self.consistent and self.schedulable)
+
+
+def evaluate_batch(space: DesignSpace, variants: Sequence[int]) -> list[VariantResult]:
+    """Judge ``variants`` one after the other (what a worker runs).
+
+    Variants of one protocol assignment share the port repair. An exception
+    while judging one variant is recorded in its result (``judged="failed"``),
+    so a batch always returns one result per variant.
+
+    >>> from tegraph import load_skeleton
+    >>> from tegraph.design.explore_space import design_space
+    >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
+    ...                      clocks={"rtc": [5, 10]}, chains=[["MT1", "MT2", "MT3", "MT4"]])
+    >>> [(r.kept, r.objectives["load"]) for r in evaluate_batch(space, [0, 1])]
+    [(False, Fraction(6, 5)), (True, Fraction(3, 5))]
+    """
+    repairs: dict[int, dict[str, dict[str, list[str]]] | None] = {}
+    out = []
+    for variant in variants:
+        start = time.perf_counter()
+        try:
+            result = evaluate_variant(space, variant, repairs)
+        except Exception as exc:  # a failed variant is reported in its row, never lost
+            result = VariantResult(variant, FAILED, reason=f"{type(exc).__name__}: {exc}")
+        result.seconds = time.perf_counter() - start
+        out.append(result)
+    return out
+
+
+def evaluate_variant(space: DesignSpace, variant: int,
+                     repairs: dict[int, Any] | None = None) -> VariantResult:
+    """Judge one variant (see the module docstring).
+
+    Parameters
+    ----------
+    space : DesignSpace
+    variant : int
+    repairs : dict, optional
+        Port orders already found per protocol index (filled in).
+
+    Returns
+    -------
+    VariantResult
+    """
+    repairs = {} if repairs is None else repairs
+    skeleton = space.build(variant)
+    report = analyze_skeleton(skeleton)
+    result = VariantResult(variant, ANALYZED, live=report.live)
+    if not report.live:
+        protocol_index = space.split(variant)[0]
+        if protocol_index not in repairs:
+            found = reorder_ports(skeleton)
+            repairs[protocol_index] = found.orders if found.possible else None
+        orders = repairs[protocol_index]
+        if orders is None:
+            result.reason = "dead whatever the port order (reorder: the precedence graph " \
+                            "has a circuit)"
+            return result
+        skeleton = _reordered(skeleton, orders)
+        report = analyze_skeleton(skeleton)
+        if not report.live:  # pragma: no cover - reorder's theorem, re-checked by analyze
+            raise AssertionError("internal error: the reordered variant is not live")
+        result.live, result.repaired, result.orders = True, True, orders
+    result.consistent = report.consistent
+    if not report.consistent:
+        result.reason = _inconsistency(report)
+        return result
+    sched = schedulability(skeleton, report)
+    result.schedulable = sched.schedulable is True
+    if not result.schedulable:
+        result.reason = _unschedulable(sched, skeleton.unit)
+    _objectives(space, skeleton, report, sched, result)
+    return result
+
+
+def _reordered(skeleton: Skeleton, orders: dict[str, dict[str, list[str]]]) -> Skeleton:
+    tasks = dict(skeleton.tasks)
+    for name, order in orders.items():
+        tasks[name] = replace(tasks[name], inputs=tuple(order["inputs"]),
+                              outputs=tuple(order["outputs"]))
+    return replace(skeleton, tasks=tasks)
+
+
+def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: Schedulability,
+                result: VariantResult) -> None:
+    wanted = set(space.objectives)
+    for chain in space.chains:
+        name = latency_name(chain)
+        if name in wanted:
+            found = chain_latency(skeleton, chain, report, sched)
+            result.objectives[name] = found.value
+            result.kinds[name] = found.kind
+    if "period" in wanted:
+        reference = space.reference_periods
+        ratios = [t.period / reference[name] for name, t in report.tasks.items()
+                  if t.period is not None and reference.get(name)]
+        result.objectives["period"] = max(ratios, default=None)
+    if "load" in wanted:
+        loads = [p.demand / p.hyperperiod for p in sched.processors
+                 if p.demand is not None and p.hyperperiod]
+        result.objectives["load"] = max(loads, default=None)
+    result.objectives = {name: result.objectives.get(name) for name in space.objectives}
+
+
+def _inconsistency(report: Report) -> str:
+    if report.unbounded_places:
+        u = report.unbounded_places[0]
+        more = len(report.unbounded_places) - 1
+        return f"{u.kind} at {u.src} -> {u.dst}" + (f" (and {more} more)" if more else "")
+    late = [t for t in report.tasks.values() if t.overrun_at is not None]
+    if late:
+        return f"overrun: {late[0].name} at activation {late[0].overrun_at}"
+    return "not consistent"
+
+
+def _unschedulable(sched: Schedulability, unit: str) -> str:
+    for p in sched.processors:
+        for u in p.units:
+            if u.schedulable is False:
+                where = f" on {p.processor}" if p.processor else ""
+                if u.response_time is None:
+                    return f"not schedulable{where}: {', '.join(u.tasks)} is left no time"
+                return (f"not schedulable{where}: {', '.join(u.tasks)} responds in "
+                        f"{u.response_time} {unit} > period {u.period} {unit}")
+    return "no unit could be analyzed"

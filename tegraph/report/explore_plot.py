@@ -1,0 +1,134 @@
+"""Draw the Pareto front of an exploration, to SVG or PNG (matplotlib, the ``[plot]`` extra).
+
+One panel per pair of objectives (a strip for a single objective): every
+live and consistent variant in grey, the kept ones (also schedulable) in blue,
+the front in red. Values are exact in the result; only the drawing
+coordinates are floats. A missing matplotlib is reported by
+:class:`~tegraph.report.plot.PlotUnavailableError`, whose message says how to
+install it.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+from pathlib import Path
+
+from ..design.explore import Exploration
+from ..errors import InputError
+from .plot import INSTALL_HINT, PlotUnavailableError
+
+__all__ = ["draw_front"]
+
+_FORMATS = (".svg", ".png")
+_OTHER, _KEPT, _FRONT = "#bdbdbd", "#4878a8", "#d62728"
+
+
+def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: bool = False
+               ) -> Path:
+    """Draw the objectives of the judged variants and the Pareto front.
+
+    Parameters
+    ----------
+    result : Exploration
+    path : str or path-like
+        Ends in ``.svg`` or ``.png``.
+    overwrite : bool
+        Replace an existing file; without it an existing file is never touched.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InputError
+        The name does not end in ``.svg`` or ``.png`` (``where="plot"``).
+    FileExistsError
+        The file exists and ``overwrite`` is False.
+    PlotUnavailableError
+        matplotlib is not installed.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from tegraph import load_skeleton
+    >>> from tegraph.design.explore import explore_design
+    >>> from tegraph.design.explore_space import design_space
+    >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
+    ...                      clocks={"rtc": [5, 10, 20]}, objectives=["period", "load"])
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "front.svg"
+    >>> try:
+    ...     written = draw_front(explore_design(space, workers=0), out)
+    ... except PlotUnavailableError as err:
+    ...     written = INSTALL_HINT in str(err) and out
+    >>> written == out
+    True
+    """
+    target = Path(os.fspath(path))
+    suffix = target.suffix.lower()
+    if suffix not in _FORMATS:
+        raise InputError(f"cannot draw to {target.name!r}; expected a file name ending in "
+                         ".svg or .png", "plot")
+    try:
+        import matplotlib
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise PlotUnavailableError(
+            f"drawing the front needs matplotlib, which is not installed; install it with: "
+            f"{INSTALL_HINT}  (or: pip install matplotlib); the text and JSON reports need "
+            "nothing") from None
+    names = list(result.space.objectives)
+    measured = [r for r in result.results.values() if r.live and r.consistent]
+    front = {r.variant for r in result.front}
+    pairs = list(itertools.combinations(names, 2)) or [(names[0], None)]
+    columns = min(len(pairs), 3)
+    rows = -(-len(pairs) // columns)
+    fig = Figure(figsize=(4.2 * columns, 3.6 * rows + 0.6), layout="constrained")
+    unit = result.space.skeleton.unit
+    for k, (x_name, y_name) in enumerate(pairs):
+        ax = fig.add_subplot(rows, columns, k + 1)
+        for colour, chosen, label in (
+                (_OTHER, [r for r in measured if not r.kept], "live, consistent, not schedulable"),
+                (_KEPT, [r for r in measured if r.kept and r.variant not in front], "kept"),
+                (_FRONT, [r for r in measured if r.variant in front], "Pareto front")):
+            points = [(r.objectives.get(x_name), r.objectives.get(y_name) if y_name else 0)
+                      for r in chosen]
+            points = [(float(x), float(y)) for x, y in points if x is not None and y is not None]
+            if points:
+                xs, ys = zip(*points)
+                ax.scatter(xs, ys, s=18 if colour != _FRONT else 30, c=colour, label=label,
+                           edgecolors="black" if colour == _FRONT else "none", linewidths=0.5,
+                           zorder=3 if colour == _FRONT else 2)
+        ax.set_xlabel(_label(x_name, unit))
+        if y_name:
+            ax.set_ylabel(_label(y_name, unit))
+        else:
+            ax.set_yticks([])
+        ax.grid(linestyle=":", linewidth=0.5)
+    legend: dict[str, object] = {}
+    for ax in fig.axes:  # a panel may lack a kind of point: gather them from all
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            legend.setdefault(label, handle)
+    if legend:
+        fig.legend(list(legend.values()), list(legend), loc="outside lower center", ncol=3,
+                   fontsize="small", frameon=False)
+    how = "exhaustive" if result.exhaustive else f"{result.method}, not exhaustive"
+    fig.suptitle(f"{result.space.skeleton.name}: {len(result.front)} design(s) on the front "
+                 f"({how})", fontsize="medium")
+    metadata = {"Date": None} if suffix == ".svg" else {"Software": "tegraph"}
+    try:
+        with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "tegraph"}), \
+                open(target, "wb" if overwrite else "xb") as out:
+            fig.savefig(out, format=suffix[1:], metadata=metadata)
+    except FileExistsError:
+        raise FileExistsError(f"{target}: the file exists already; pass overwrite=True "
+                              "to replace it") from None
+    return target
+
+
+def _label(name: str, unit: str) -> str:
+    if name.startswith("latency:"):
+        return f"latency of {name[len('latency:'):]} ({unit})"
+    return {"period": "period / designed period", "load": "largest processor load"}.get(name,
+                                                                                        name)

@@ -1,0 +1,128 @@
+"""Text and JSON of an exploration (``tegraph explore``): the space, the search, the front.
+
+The text ends with the verdict; the JSON document is ``report: "explore"``
+(``docs/explore.schema.json``).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from tabulate import tabulate
+
+from maxplus.scalar import exact_text
+
+from ..design.explore import PRUNING_RULES, Exploration
+from ..design.explore_eval import ANALYZED, FAILED, PRUNED
+from .document import json_report
+
+__all__ = ["FRONT_ROWS_SHOWN", "explore_document", "render_exploration"]
+
+FRONT_ROWS_SHOWN = 40
+
+
+def explore_document(result: Exploration) -> dict[str, Any]:
+    """The JSON document: ``schema_version``, ``report: "explore"``, then the result.
+
+    >>> from tegraph import load_skeleton
+    >>> from tegraph.design.explore import explore_design
+    >>> from tegraph.design.explore_space import design_space
+    >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
+    ...                      clocks={"rtc": [10, 20]}, objectives=["load"])
+    >>> doc = explore_document(explore_design(space, workers=0))
+    >>> doc["report"], doc["exhaustive"], doc["front"][0]["clocks"], doc["front"][0]["objectives"]
+    ('explore', True, {'rtc': '20'}, {'load': '3/10'})
+    """
+    return json_report("explore", result.to_dict())
+
+
+def _unit_of(name: str, unit: str) -> str:
+    if name.startswith("latency:"):
+        return unit
+    return "ratio to the designed period" if name == "period" else "utilization"
+
+
+def render_exploration(result: Exploration) -> str:
+    """The exploration as text, ending with its verdict.
+
+    Returns
+    -------
+    str
+    """
+    space = result.space
+    sk = space.skeleton
+    lines = [f"explore {sk.name}: {result.space.size:,} variant(s) "
+             f"({len(space.links)} link(s), {len(space.clocks)} clock(s) chosen)"]
+    for c in space.links:
+        lines.append(f"  link {c.label}: {', '.join(p.value for p in c.protocols)}")
+    for c in space.clocks:
+        lines.append(f"  clock {c.name}: " + ", ".join(f"{exact_text(t)}" for t in c.periods)
+                     + f" {sk.unit}")
+    lines.append("objectives, all minimized: " + "; ".join(
+        f"{n} ({_unit_of(n, sk.unit)})" for n in space.objectives))
+    d = result.to_dict()
+    optimum = ("" if result.local_optimum_at is None else
+               f"; first Pareto local optimum after {result.local_optimum_at:,} analyses")
+    lines.append(f"search: {d['search']['description']}; stopped: {result.stopped}{optimum}")
+    lines.append(f"judged {len(result.results):,} of {space.size:,}: "
+                 f"{result.count(ANALYZED):,} analyzed "
+                 f"(analyze, port repair, response-time test), {result.count(PRUNED):,} pruned "
+                 f"by rules A and B, {result.count(FAILED):,} failed; "
+                 f"{result.consistent:,} live and consistent, {result.kept:,} also "
+                 "schedulable (kept)")
+    per = result.log.seconds_per_variant
+    lines.append(f"engine: {result.log.engine}"
+                 + (f" at {result.log.address}" if result.log.address else "")
+                 + f", {result.log.workers} worker(s), {result.log.batches} batch(es)"
+                 + (f", {per * 1000:.1f} ms per variant" if per else "")
+                 + f"; {result.seconds:.1f} s in all")
+    if result.output:
+        lines.append(f"results: {result.output}"
+                     + (f" ({result.resumed:,} verdict(s) resumed from it)" if result.resumed
+                        else ""))
+    lines.append("")
+    lines.extend(_front(result))
+    lines.append("")
+    lines.append("pruning rules (proofs in tegraph/design/explore_prune.py):")
+    lines.extend(f"  {rule}" for rule in PRUNING_RULES)
+    lines.extend(f"note: {n}" for n in result.notes)
+    lines.append(f"verdict: {result.verdict}")
+    return "\n".join(lines) + "\n"
+
+
+def _front(result: Exploration) -> list[str]:
+    space = result.space
+    if not result.front:
+        return ["Pareto front: empty (no variant is live, consistent and schedulable)"]
+    names = {c.label: f"L{i + 1}" for i, c in enumerate(space.links)}
+    lines = [f"Pareto front: {len(result.front)} design(s)"
+             + (" (equal objectives: ties are all listed)" if _ties(result) else "")]
+    lines.extend(f"  L{i + 1} = {c.label}" for i, c in enumerate(space.links))
+    rows = []
+    for r in result.front[:FRONT_ROWS_SHOWN]:
+        e = result.entry(r)
+        cells: list[Any] = [r.variant, *e["links"].values(), *e["clocks"].values()]
+        for n in space.objectives:
+            value = e["objectives"][n] or "-"
+            if n in e["kinds"]:
+                value += f" {e['kinds'][n]}"
+            cells.append(value)
+        cells.append("yes" if r.repaired else "")
+        rows.append(cells)
+    headers = ["variant", *names.values(), *(c.name for c in space.clocks),
+               *space.objectives, "repaired"]
+    lines.extend("  " + row for row in tabulate(rows, headers=headers).splitlines())
+    if len(result.front) > FRONT_ROWS_SHOWN:
+        lines.append(f"  ... and {len(result.front) - FRONT_ROWS_SHOWN} more (the JSON "
+                     "report and the results file hold them all)")
+    return lines
+
+
+def _ties(result: Exploration) -> bool:
+    seen = set()
+    for r in result.front:
+        key = tuple(r.objectives.get(n) for n in result.space.objectives)
+        if key in seen:
+            return True
+        seen.add(key)
+    return False
