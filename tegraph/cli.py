@@ -56,7 +56,10 @@ def _commands(
 # as chain[1]); the command line shows the options that set them.
 _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "--max-states",
           "max_seconds": "--max-seconds", "default_holding": "--default-holding",
-          "chain": "--chain"}
+          "chain": "--chain", "links": "--link", "clocks": "--clock",
+          "objectives": "--objective", "scheduler": "--scheduler", "workers": "--workers",
+          "output": "-o", "resume": "--resume", "overwrite": "--force", "plot": "--plot",
+          "max_variants": "--max-variants", "batch_size": "--batch-size"}
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -94,11 +97,16 @@ def _output_directory(path: Path) -> None:
 
 
 def _located(exc: InputError) -> str:
-    """An input error whose key path names a parameter, with the option instead."""
-    head, bracket, rest = exc.where.partition("[")
-    if head in _FLAGS:
-        exc.with_where(_FLAGS[head] + bracket + rest)
-    return str(exc)
+    """An input error whose key path names a parameter, with the option instead.
+
+    ``chain[1]`` becomes ``--chain[1]``, ``links.W:p -> R:q`` becomes
+    ``--link W:p -> R:q``; a key path inside a file is left as it is.
+    """
+    head = re.split(r"[.\[]", exc.where, maxsplit=1)[0]
+    if exc.file is None and head in _FLAGS:  # a key path in a file stays as written
+        rest = exc.where[len(head):]
+        exc.with_where(_FLAGS[head] + (" " + rest[1:] if rest.startswith(".") else rest))
+    return _cli_words(str(exc))
 
 
 @contextmanager
@@ -314,7 +322,7 @@ def rules(
         report = analyze_skeleton(skeleton)
         sched = schedulability(skeleton, report)
         chains = [(c, ("chains", i)) for i, c in enumerate(skeleton.chains)]
-        chains += [(parse_chain(c), ("chain",)) for c in chain or []]
+        chains += [(parse_chain(c), ("chain", i)) for i, c in enumerate(chain or [])]
         latencies = [chain_latency(skeleton, c, report, sched, path) for c, path in chains]
     violated = any(f.severity != "info" for f in findings) or sched.schedulable is False
     if json_out:
@@ -461,8 +469,8 @@ def convert(
 def explore(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
     chain: list[str] | None = typer.Option(
-        None, "--chain", help="A,B,C: minimize the latency of this chain (repeatable; adds "
-                              "to the file's chains)."),
+        None, "--chain", metavar="A,B,C",
+        help="Minimize the latency of this chain (repeatable; adds to the file's chains)."),
     link: list[str] | None = typer.Option(
         None, "--link", help="'W:p -> R:q=ASYN/SYN,SYN/SYN': choose this link's protocol "
                              "among these (all four without '='; repeatable)."),
@@ -499,41 +507,27 @@ def explore(
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report."),
 ) -> None:
     """Search link protocols and clock periods for the Pareto front of live, consistent,
-    schedulable designs; exit 0 some design kept, 1 none, 2 bad input."""
-    import json
+    schedulable designs, locally or on a Dask cluster.
+
+    Exit status: 0 some design kept; 1 none is live, consistent and
+    schedulable; 2 the input was refused; 130 interrupted (the -o file keeps
+    what was judged: --resume goes on).
+    """
     import time
 
     from .api import explore as run_exploration
     from .design.explore_space import parse_clock_choice, parse_link_choice
     from .design.latency import parse_chain
     from .io import load_skeleton
+    from .report import render_text, to_json
     from .report.explore_plot import draw_front
-    from .report.explore_text import explore_document, render_exploration
     from .report.plot import PlotUnavailableError, matplotlib_available
-
-    options = {"links": "--link", "clocks": "--clock", "objectives": "--objective",
-               "scheduler": "--scheduler", "workers": "--workers", "output": "-o",
-               "resume": "--resume", "overwrite": "--force", "plot": "--plot",
-               "max_variants": "--max-variants", "batch_size": "--batch-size",
-               "chain": "--chain"}
-
-    def refuse(exc: InputError) -> NoReturn:
-        head = re.split(r"[.\[]", exc.where, maxsplit=1)[0]
-        if head in options:
-            exc.with_where(options[head] + (" " if exc.where[len(head):].startswith(".")
-                                            else "") + exc.where[len(head):].lstrip("."))
-        text = re.sub(r"`(\w+)`", lambda m: options.get(m.group(1), m.group(0)), str(exc))
-        _fail(text)
 
     if plot is not None:
         if plot.suffix.lower() not in (".svg", ".png"):
             _fail(f"--plot: cannot draw to {plot.name!r}; expected a file name ending in "
                   ".svg or .png")
-        if not plot.parent.is_dir():
-            _fail(f"--plot: the directory {str(plot.parent)!r} does not exist; expected an "
-                  "existing directory (none is created)")
-        if plot.exists() and not force:
-            _fail(f"{plot}: the file exists already; pass --force to replace it")
+        _output_file(plot, force)
         if not matplotlib_available():
             _fail("--plot: drawing the front needs matplotlib, which is not installed; "
                   "install it with: pip install 'tegraph[plot]'")
@@ -565,7 +559,7 @@ def explore(
             overwrite=force, max_variants=max_variants, batch_size=batch_size,
             progress=progress, timeout=timeout)
     except InputError as exc:
-        refuse(exc)
+        _fail(_located(exc))
     except OSError as exc:
         _fail(f"cannot write {output}: {exc.strerror}")
     except TegraphError as exc:
@@ -577,8 +571,8 @@ def explore(
     finally:
         if shown[0]:
             typer.echo("\r" + " " * 78 + "\r", err=True, nl=False)
-    text = (json.dumps(explore_document(result), indent=2, ensure_ascii=False) if json_out
-            else _cli_words(render_exploration(result)))
+    text = to_json(result) + "\n" if json_out else _cli_words(render_text(result))
+    # (a JSON document ends with one newline, as a text report does)
     if plot is not None:
         try:
             draw_front(result, plot, overwrite=force)
@@ -588,7 +582,7 @@ def explore(
             _fail(f"cannot write {plot}: {exc.strerror}")
         if not json_out:
             text += f"wrote {plot}\n"
-    typer.echo(text, nl=json_out)
+    typer.echo(text, nl=False)
     raise typer.Exit(0 if result.front else 1)
 
 

@@ -191,7 +191,9 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     >>> r.kind, r.value, r.in_periods
     ('exact', Fraction(6, 1), Fraction(3, 5))
     """
-    chain = list(check_chain(skeleton, list(chain), path, Locator(file=skeleton.source)))
+    # A chain of the file is located in it; one given as a parameter is not.
+    in_file = skeleton.source if path[:1] == ("chains",) else None
+    chain = list(check_chain(skeleton, list(chain), path, Locator(file=in_file)))
     if report is None:
         report = analyze_skeleton(skeleton)
     pieces: list[list[str]] = []

@@ -26,7 +26,7 @@ def design_section(skeleton: Skeleton, report: Report,
         periods come from there.
     chains : sequence of task-name sequences
         Chains to report besides the skeleton's own ``chains`` (key path
-        ``chains[i][j]`` for those, ``chain[j]`` for these in error messages).
+        ``chains[i][j]`` for those, ``chain[i][j]`` for these in error messages).
 
     Returns
     -------
@@ -41,7 +41,7 @@ def design_section(skeleton: Skeleton, report: Report,
     """
     sched = schedulability(skeleton, report)
     named = [(tuple(c), ("chains", i)) for i, c in enumerate(skeleton.chains)]
-    named += [(tuple(c), ("chain",)) for c in chains]
+    named += [(tuple(c), ("chain", i)) for i, c in enumerate(chains)]
     return {
         "rules": check_rules(skeleton),
         "schedulability": sched,

@@ -15,6 +15,7 @@ from ..analysis.cycle_time import CycleTimeResult
 from ..analysis.reachability import Reachability
 from ..analysis.results import Report
 from ..analysis.timed_reachability import TimedExploration
+from ..design.explore import Exploration
 
 __all__ = ["SCHEMA_VERSION", "json_report", "to_document", "to_json"]
 
@@ -38,7 +39,7 @@ def to_document(result: Any) -> dict[str, Any]:
 
     Parameters
     ----------
-    result : Report, CycleTimeResult, Reachability or TimedExploration
+    result : Report, CycleTimeResult, Reachability, TimedExploration or Exploration
 
     Returns
     -------
@@ -60,6 +61,22 @@ def _(result: Report) -> dict[str, Any]:
 @to_document.register
 def _(result: CycleTimeResult) -> dict[str, Any]:
     return json_report("cycle-time", result.to_dict())
+
+
+@to_document.register
+def _(result: Exploration) -> dict[str, Any]:
+    """The exploration's document.
+
+    >>> from tegraph import load_skeleton
+    >>> from tegraph.design.explore import explore_design
+    >>> from tegraph.design.explore_space import design_space
+    >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
+    ...                      clocks={"rtc": [10, 20]}, objectives=["load"])
+    >>> doc = to_document(explore_design(space, workers=0))
+    >>> doc["report"], doc["exhaustive"], doc["front"][0]["clocks"], doc["front"][0]["objectives"]
+    ('explore', True, {'rtc': '20'}, {'load': '3/10'})
+    """
+    return json_report("explore", result.to_dict())
 
 
 @to_document.register(Reachability)

@@ -1,7 +1,7 @@
 """Text and JSON of an exploration (``tegraph explore``): the space, the search, the front.
 
 The text ends with the verdict; the JSON document is ``report: "explore"``
-(``docs/explore.schema.json``).
+(``docs/report.schema.json``, ``$defs/explore``).
 """
 
 from __future__ import annotations
@@ -14,26 +14,10 @@ from maxplus.scalar import exact_text
 
 from ..design.explore import PRUNING_RULES, Exploration
 from ..design.explore_eval import ANALYZED, FAILED, PRUNED
-from .document import json_report
 
-__all__ = ["FRONT_ROWS_SHOWN", "explore_document", "render_exploration"]
+__all__ = ["FRONT_ROWS_SHOWN", "render_exploration"]
 
 FRONT_ROWS_SHOWN = 40
-
-
-def explore_document(result: Exploration) -> dict[str, Any]:
-    """The JSON document: ``schema_version``, ``report: "explore"``, then the result.
-
-    >>> from tegraph import load_skeleton
-    >>> from tegraph.design.explore import explore_design
-    >>> from tegraph.design.explore_space import design_space
-    >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
-    ...                      clocks={"rtc": [10, 20]}, objectives=["load"])
-    >>> doc = explore_document(explore_design(space, workers=0))
-    >>> doc["report"], doc["exhaustive"], doc["front"][0]["clocks"], doc["front"][0]["objectives"]
-    ('explore', True, {'rtc': '20'}, {'load': '3/10'})
-    """
-    return json_report("explore", result.to_dict())
 
 
 def _unit_of(name: str, unit: str) -> str:

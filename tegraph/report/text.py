@@ -13,17 +13,18 @@ from typing import Any
 
 from tabulate import tabulate
 
-
 from ..analysis.cycle_time import CycleTimeResult
 from ..analysis.reachability import Reachability
 from ..analysis.results import GroupReport, Report
 from ..analysis.timed_reachability import TimedExploration
+from ..design.explore import Exploration
 from ..design.fix import FixResult
 from ..design.latency import ChainLatency
 from ..design.schedulability import Schedulability
 from ..design.timeline import Timeline
 from ._format import count, human
 from .design_text import render_fix, render_latency, render_rules, render_schedulability
+from .explore_text import render_exploration
 from .graph_text import (
     ratio_text,
     render_cycle_time,
@@ -180,7 +181,7 @@ def render_text(result: Any, **options: Any) -> str:
     Parameters
     ----------
     result : Report, CycleTimeResult, Reachability, TimedExploration, Schedulability,
-        ChainLatency, FixResult, Timeline, or a list of RuleFinding
+        ChainLatency, FixResult, Timeline, Exploration, or a list of RuleFinding
     **options
         Passed to the renderer of that result (``unit`` for schedulability and
         latency, ``limit`` for reachability, ``width`` for a timeline, ``name``
@@ -215,3 +216,4 @@ render_text.register(ChainLatency, lambda result, unit="ms", **_: render_latency
 render_text.register(FixResult, lambda result, name="skeleton", **_: render_fix(result, name))
 render_text.register(Timeline, lambda result, width=96, **_: render_timeline(result, width))
 render_text.register(list, lambda result, **_: render_rules(result))
+render_text.register(Exploration, lambda result, **_: render_exploration(result))

@@ -141,14 +141,24 @@ def test_chains_from_the_file_and_the_command_line(tmp_path):
 
 
 @pytest.mark.parametrize("chain, key_path, wording", [
-    (["TG.JS", "CO.JS"], "--chain[1]", "no link from TG.JS to CO.JS"),
-    (["TG.JS", "NOPE"], "--chain[1]", "no task 'NOPE'"),
-    (["TG.JS", "TF.TT.JS", "TG.JS"], "--chain[2]", "already at --chain[0]"),
-    ([], "--chain", "an empty chain"),
+    (["TG.JS", "CO.JS"], "chain[0][1]", "no link from TG.JS to CO.JS"),
+    (["TG.JS", "NOPE"], "chain[0][1]", "no task 'NOPE'"),
+    (["TG.JS", "TF.TT.JS", "TG.JS"], "chain[0][2]", "already at chain[0][0]"),
+    ([], "chain[0]", "an empty chain"),
 ])
 def test_refused_chains(chain, key_path, wording):
+    # A chain given as a parameter (the first of the `chains` argument) is
+    # located by the parameter, not in the skeleton's file.
     sk = load_skeleton(EXAMPLES / "computed_torque.yaml")
     with pytest.raises(SkeletonError) as info:
-        chain_latency(sk, chain, path=("--chain",))
+        chain_latency(sk, chain, path=("chain", 0))
     assert info.value.where == key_path and wording in info.value.reason
+    assert info.value.file is None
+
+
+def test_refused_chain_of_the_file_names_the_file():
+    sk = load_skeleton(EXAMPLES / "computed_torque.yaml")
+    with pytest.raises(SkeletonError) as info:
+        chain_latency(sk, ["TG.JS", "NOPE"], path=("chains", 0))
+    assert info.value.where == "chains[0][1]"
     assert info.value.file == str(EXAMPLES / "computed_torque.yaml")
