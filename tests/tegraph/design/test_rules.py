@@ -312,5 +312,5 @@ def test_cli_rules_exit_statuses(tmp_path):
     assert [f["rule"] for f in data["rules"]] == [2, 2, 2, 4]
     refused = run("rules", str(EXAMPLES / "computed_torque.yaml"), "--chain", "TG.JS,CO.JS")
     assert refused.returncode == 2 and refused.stdout == ""
-    assert "--chain[1]: no link from TG.JS to CO.JS" in refused.stderr
+    assert "--chain[0][1]: no link from TG.JS to CO.JS" in refused.stderr
     assert refused.stderr.count("\n") == 1
