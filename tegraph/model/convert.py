@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from maxplus.scalar import exact_time
 
@@ -62,8 +63,12 @@ def as_teg(obj: Any) -> TimedEventGraph:
 
 
 def as_petri_net(obj: Any) -> PetriNet:
-    """A P/T net: itself, or the net of the timed event graph of ``obj``."""
-    return obj if isinstance(obj, PetriNet) else PetriNet.from_teg(as_teg(obj))
+    """A P/T net: itself, or the net of the timed event graph of ``obj``.
+
+    An SDF graph or arc list goes to the net through its arrays, without a
+    Python object per place.
+    """
+    return obj if isinstance(obj, PetriNet) else PetriNet.from_teg(as_teg_like(obj))
 
 
 def to_networkx(obj: Any) -> nx.DiGraph:
@@ -96,10 +101,11 @@ def to_networkx(obj: Any) -> nx.DiGraph:
         G.add_node(p, **attrs)
     for t in obj.transitions:
         G.add_node(t, kind="transition")
-    for i, j in np.argwhere(obj.pre > 0).tolist():
-        G.add_edge(obj.places[i], obj.transitions[j], weight=int(obj.pre[i, j]))
-    for i, j in np.argwhere(obj.post > 0).tolist():
-        G.add_edge(obj.transitions[j], obj.places[i], weight=int(obj.post[i, j]))
+    pre, post = obj.pre.tocoo(), obj.post.tocoo()  # canonical: one entry per arc
+    for i, j, w in zip(pre.row.tolist(), pre.col.tolist(), pre.data.tolist()):
+        G.add_edge(obj.places[i], obj.transitions[j], weight=w)
+    for i, j, w in zip(post.row.tolist(), post.col.tolist(), post.data.tolist()):
+        G.add_edge(obj.transitions[j], obj.places[i], weight=w)
     return G
 
 
@@ -114,18 +120,26 @@ def from_networkx(G: nx.DiGraph) -> PetriNet | TimedEventGraph:
     transitions = [n for n in G if kinds[n] == "transition"]
     pi = {n: k for k, n in enumerate(places)}
     ti = {n: k for k, n in enumerate(transitions)}
-    pre = np.zeros((len(places), len(transitions)), dtype=np.int64)
-    post = np.zeros_like(pre)
+    arcs: dict[str, tuple[list[int], list[int], list[int]]] = {
+        "pre": ([], [], []), "post": ([], [], [])}
     for u, v, w in G.edges(data="weight", default=1):
         if kinds[u] == kinds[v]:
             raise ModelError("an arc joins two nodes of one kind", f"edge {u} -> {v}")
-        if kinds[u] == "place":
-            pre[pi[u], ti[v]] += int(w)
-        else:
-            post[pi[v], ti[u]] += int(w)
+        rows, cols, weights = arcs["pre" if kinds[u] == "place" else "post"]
+        p, t = (pi[u], ti[v]) if kinds[u] == "place" else (pi[v], ti[u])
+        rows.append(p)
+        cols.append(t)
+        weights.append(int(w))
+    shape = (len(places), len(transitions))
+    try:
+        pre, post = (sp.coo_array((np.array(w, dtype=np.int64), (np.array(r, dtype=np.int64),
+                                   np.array(c, dtype=np.int64))), shape=shape)
+                     for r, c, w in (arcs["pre"], arcs["post"]))
+    except OverflowError:
+        raise ModelError("an arc weight must be at most 2**63 - 1", "weight") from None
     timed = any("holding" in G.nodes[p] for p in places)
     hold = [exact_time(G.nodes[p].get("holding", 0), f"place {p}") for p in places] if timed else []
     init = [exact_time(G.nodes[p].get("initial", 0), f"place {p}") for p in places] if timed else []
-    marking = np.array([int(G.nodes[p].get("tokens", 0)) for p in places], dtype=np.int64)
+    marking = [int(G.nodes[p].get("tokens", 0)) for p in places]  # PetriNet bounds them
     return PetriNet(str(G.graph.get("name", "net")), [str(p) for p in places],
                     [str(t) for t in transitions], pre, post, marking, hold, init)
