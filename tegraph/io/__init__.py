@@ -83,7 +83,7 @@ def detect_format(path: str | os.PathLike[str], head: bytes | None = None) -> st
     ``sdf3``), ``.json`` files by their keys (TimedPetriNetEditor files have
     ``nets``; skeletons have ``tasks``).
 
-    >>> detect_format("a.pnml"), detect_format("b.edges"), detect_format("c.xml", b"<sdf3 type='sdf'>")
+    >>> detect_format("a.pnml"), detect_format("b.edges"), detect_format("c.xml", b"<sdf3>")
     ('pnml', 'edges', 'sdf3')
     """
     file = os.fspath(path)
