@@ -136,6 +136,10 @@ def parse_xml(data: bytes, file: str | None = None) -> XmlNode:
         raise InputError("XML document type declarations are refused (they can expand "
                          "entities or fetch external files); remove the DOCTYPE", "DOCTYPE",
                          file, parser.CurrentLineNumber) from None
+    except LookupError as exc:  # <?xml encoding="..."?> names no codec Python has
+        raise InputError(f"the XML declaration names an unknown encoding ({exc}); expected "
+                         "UTF-8 or another encoding Python knows", "encoding", file,
+                         1) from None
     except expat.ExpatError as exc:
         where = "/".join(_describe(n) for n in stack)
         raise InputError(f"malformed XML: {expat.ErrorString(exc.code)} (column {exc.offset + 1})"

@@ -381,14 +381,18 @@ def parse_tpne_teg(data: bytes | str, file: str | None = None, orientation: str 
             or not _DIGITS.fullmatch(header[2])):
         raise InputError("expected the header 'TimedEventGraph <transitions> <lines>'",
                          "header", file, 1)
-    n, m = int(header[1]), int(header[2])
+    # a count of more than 19 digits is above any limit: not converted (4300-digit texts
+    # are refused by int() itself)
+    too_long = len(header[1]) > 19
+    n = 2**64 if too_long else int(header[1])
     why = node_count_problem(n, size, "transitions")
     if why is not None:
-        raise InputError(why, "header", file, 1)
+        raise InputError(why.replace(str(2**64), shown(header[1], quote=False)) if too_long
+                         else why, "header", file, 1)
     body = [(k, line) for k, line in enumerate(lines[1:], start=2) if line.strip()]
-    if len(body) != m:
-        raise InputError(f"the header announces {m} lines, the file has {len(body)}", "header",
-                         file, 1)
+    if len(header[2]) > 19 or len(body) != int(header[2]):
+        raise InputError(f"the header announces {shown(header[2], quote=False)} lines, the file "
+                         f"has {len(body)}", "header", file, 1)
     teg = TimedEventGraph(name)
     for k in range(n):
         teg.add_transition(f"T{k}")
@@ -398,7 +402,7 @@ def parse_tpne_teg(data: bytes | str, file: str | None = None, orientation: str 
             raise InputError("expected '<i> <j>: <duration> <tokens>'", "", file, number)
         i, j, d, t = match.groups()
         for field, value in (("i", i), ("j", j)):
-            if not _DIGITS.fullmatch(value) or int(value) >= n:
+            if not _DIGITS.fullmatch(value) or len(value) > 19 or int(value) >= n:
                 raise InputError(f"expected a transition index 0..{n - 1}, got {shown(value)}",
                                  field, file, number)
         if not _DIGITS.fullmatch(t):

@@ -59,16 +59,17 @@ _EXPONENT = re.compile(r"[eE]\s*[+-]?\s*(\d+)")
 _SHOWN = 40
 
 
-def shown(text: Any) -> str:
-    """``repr`` of a value for a message, cut to 40 characters with its full length.
+def shown(text: Any, quote: bool = True) -> str:
+    """A value for a message: its ``repr`` (or its text), cut to 40 characters with its length.
 
-    >>> shown("7/3"), shown("1" * 50)
-    ("'7/3'", "'1111111111111111111111111111111111111111...' (50 characters)")
+    >>> shown("7/3"), shown(7, quote=False), shown("1" * 50)
+    ("'7/3'", '7', "'1111111111111111111111111111111111111111...' (50 characters)")
     """
     text = str(text)
     if len(text) <= _SHOWN:
-        return repr(text)
-    return f"{text[:_SHOWN]!r}"[:-1] + f"...' ({len(text)} characters)"
+        return repr(text) if quote else text
+    cut = f"{text[:_SHOWN]!r}"[:-1] + "...'" if quote else text[:_SHOWN] + "..."
+    return f"{cut} ({len(text)} characters)"
 
 
 def number_text_problem(text: Any) -> str | None:
@@ -95,8 +96,8 @@ def number_text_problem(text: Any) -> str | None:
         return f"{shown(text)} has {digits} digits, above the limit of {MAX_DIGITS}"
     for e in _EXPONENT.findall(text):
         if len(e) > 6 or int(e) > MAX_EXPONENT:
-            power = e if len(e) <= _SHOWN else shown(e)
-            return f"{shown(text)} has the exponent {power}, above the limit of {MAX_EXPONENT}"
+            return (f"{shown(text)} has the exponent {shown(e, quote=False)}, above the limit "
+                    f"of {MAX_EXPONENT}")
     return None
 
 
@@ -112,7 +113,7 @@ def count_problem(value: int, what: str = "a token count") -> str | None:
         return f"{what} must be >= 0, got {value}"
     if value > MAX_COUNT:
         return (f"{what} must be at most 2**63 - 1 = {MAX_COUNT} (64-bit), got "
-                f"{shown(value)[1:-1] if len(str(value)) > _SHOWN else value}")
+                f"{shown(value, quote=False)}")
     return None
 
 
@@ -132,8 +133,8 @@ def node_count_problem(count: int, file_bytes: int, what: str = "nodes") -> str 
     limit = file_bytes + FREE_NODES
     if count <= limit:
         return None
-    return (f"{shown(count)[1:-1] if len(str(count)) > _SHOWN else count} {what} for a file of "
-            f"{file_bytes} bytes; at most its size in bytes + 2**20 = {limit} are accepted")
+    return (f"{shown(count, quote=False)} {what} for a file of {file_bytes} bytes; at most "
+            f"its size in bytes + 2**20 = {limit} are accepted")
 
 
 def denominator_problem(denominators: Iterable[int]) -> str | None:

@@ -248,3 +248,21 @@ def test_the_reports_of_huge_values_are_written(tmp_path):
     g = read(write(tmp_path, "t.json", tpne_json(duration=str(HUGE_TIME))))
     out = tegraph.write(g, tmp_path / "back.json")
     assert json.loads(out.read_text())["nets"][0]["arcs"][0]["duration"] == HUGE_TIME
+
+
+# ------------------------------------------------------------------ found by the fuzz test
+
+def test_an_unknown_xml_encoding_is_refused(tmp_path):
+    # before: LookupError from expat (a traceback)
+    text = '<?xml version="1.0" encoding="aTF-8"?>' + pnml_file()
+    refused(write(tmp_path, "enc.pnml", text), "unknown encoding", "aTF-8")
+
+
+@pytest.mark.parametrize("text, where", [
+    ("TimedEventGraph " + "9" * 5000 + " 1\n0 0: 1 1\n", "header"),
+    ("TimedEventGraph 1 " + "9" * 5000 + "\n0 0: 1 1\n", "header"),
+    ("TimedEventGraph 1 1\n0 " + "9" * 5000 + ": 1 1\n", "j"),
+], ids=["transitions", "lines", "index"])
+def test_teg_numbers_of_thousands_of_digits_are_refused(tmp_path, text, where):
+    # before: ValueError "Exceeds the limit (4300 digits)" (a traceback)
+    assert refused(write(tmp_path, "d.teg", text), "(5000 characters)").where == where
