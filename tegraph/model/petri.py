@@ -58,7 +58,9 @@ def as_weights(values: Any, shape: tuple[int, int] | None = None) -> ArcWeights:
         A negative weight, or a weight above 2**63 - 1.
     """
     if sp.issparse(values):
-        m = values.tocsr(copy=True)
+        coo = values.tocoo()
+        m = sp.csr_array((_int64(coo.data, "an arc weight"), (coo.row, coo.col)),
+                         shape=coo.shape)
     else:
         dense = np.asarray(values)
         if dense.ndim != 2 and dense.size == 0 and shape is not None:
