@@ -68,8 +68,10 @@ def test_shapes_and_values_are_checked_once():
         PetriNet("n", ["p"], ["t"], [[-1]], [[1]], [0])
     with pytest.raises(ModelError, match="2\\*\\*63 - 1"):
         PetriNet("n", ["p"], ["t"], [[1]], [[1]], [2**63])
-    with pytest.raises(ModelError, match="2\\*\\*63 - 1"):
-        PetriNet("n", ["p"], ["t"], np.array([[2**64 - 1]], dtype=np.uint64), [[1]], [0])
+    for big in (np.array([[2**64 - 1]], dtype=np.uint64),
+                sp.csr_array(np.array([[2**64 - 1]], dtype=np.uint64))):  # before: -1, wrapped
+        with pytest.raises(ModelError, match="2\\*\\*63 - 1"):
+            PetriNet("n", ["p"], ["t"], big, [[1]], [0])
 
 
 def test_a_net_from_an_arc_list_equals_the_net_from_its_teg():
