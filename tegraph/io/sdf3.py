@@ -142,7 +142,7 @@ def parse_sdf3(data: bytes | str, file: str | None = None) -> SDFGraph:
                                  f"{where}/processor", file, proc.line)
             actors[a] = _integer(et.attrs["time"], "executionTime", f"{where}/processor", file,
                                  et.line)  # the last default processor wins, as in SDF3
-    graph = SDFGraph(name, actors, channels)
+    graph = SDFGraph(name, actors, channels, source=file)
     try:
         graph.repetition_vector()
     except ModelError as exc:

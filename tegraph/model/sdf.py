@@ -64,6 +64,8 @@ class SDFGraph:
     actors : dict of str to int
         Execution time of each actor, in file order.
     channels : list of SDFChannel
+    source : str or None
+        The file the graph was read from, named in refusals (not compared).
 
     Examples
     --------
@@ -83,6 +85,7 @@ class SDFGraph:
     name: str
     actors: dict[str, int]
     channels: list[SDFChannel] = field(default_factory=list)
+    source: str | None = field(default=None, compare=False)
 
     def repetition_vector(self) -> dict[str, int]:
         """Smallest positive firings per iteration, per actor (connected parts separately).
@@ -179,7 +182,7 @@ class SDFGraph:
                     f"the homogeneous expansion of SDF graph {self.name!r} has {count} {what} "
                     f"per iteration, above the limit of {max_firings}; raise `max_firings` to "
                     "expand it (tegraph has no method that avoids the expansion)",
-                    "max_firings")
+                    "max_firings", self.source)
         q = self.repetition_vector()
         offset: dict[str, int] = {}
         names: list[str] = []

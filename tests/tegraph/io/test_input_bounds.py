@@ -219,7 +219,7 @@ def test_an_sdf_expansion_above_max_firings_is_refused_from_the_repetition_vecto
     assert g.repetition_vector() == {"a": 1, "b": 10**8}
     with pytest.raises(InputError) as info:
         tegraph.cycle_time(path)
-    assert info.value.where == "max_firings"
+    assert info.value.where == "max_firings" and info.value.file == str(path)
     assert "100000001 firings" in str(info.value) and "10000000" in str(info.value)
 
 
