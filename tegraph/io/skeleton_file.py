@@ -166,7 +166,8 @@ def _read_yaml(text: str, loc: Locator) -> Any:
         node = loader.get_single_node()
         if node is None:
             return None
-        distinct, built = _expansion(node)
+        # An alias needs an anchor ('&'): without one no node is shared, nothing to measure.
+        distinct, built = _expansion(node) if "&" in text else (0, 0)
         if built - distinct > 2 * _MAX_ELEMENTS:  # surely above: refuse before building
             raise loc.error(
                 f"aliases add {built - distinct} elements to the document, more than "
