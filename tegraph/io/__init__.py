@@ -24,6 +24,11 @@ Safety: a file larger than ``max_bytes`` (default :data:`DEFAULT_MAX_BYTES`)
 is refused before it is read, and XML is parsed by expat with every document
 type declaration refused, so no entity is ever expanded and no external file
 is ever fetched (an entity-expansion bomb is refused at its first line).
+Every reader applies the stated limits of :mod:`tegraph.model.limits` (digits
+and exponent of a number, 64-bit token counts, node counts against the file's
+size, names that can be written): a value is read exactly or refused naming
+it and the limit, with one :class:`~tegraph.errors.InputError` (the fuzz test
+``tests/tegraph/io/test_fuzz_readers.py`` holds every reader to it).
 
 This package turns files into models and models into files, nothing more:
 what a model means is the job of :mod:`tegraph.analysis`.
