@@ -288,10 +288,18 @@ def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
                             f"{err.start}); expected a YAML or JSON text file", file=file,
                             line=raw[:err.start].count(b"\n") + 1) from None
     data = None
+    as_json = where.suffix.lower() == ".json"
     if text.strip():
         try:
-            data = (_read_json(text, loc) if where.suffix.lower() == ".json"
-                    else _read_yaml(text, loc))
+            if not as_json and text.lstrip().startswith("{"):
+                # JSON is YAML, and JSON's parser is some twenty times faster than YAML's
+                # on a large file (a generated skeleton of 100,000 tasks): try it first.
+                try:
+                    data, as_json = _read_json(text, loc), True
+                except SkeletonError:
+                    data = _read_yaml(text, loc)
+            else:
+                data = _read_json(text, loc) if as_json else _read_yaml(text, loc)
         except SkeletonError:
             _other_format(raw, file)  # an XML net read as YAML fails: say what it is
             raise
@@ -302,7 +310,7 @@ def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
                             file=file)
     if _SURROGATE_ESCAPE.search(text):
         _refuse_surrogates(data, loc)
-    if where.suffix.lower() != ".json":
+    if not as_json:
         return Skeleton.from_dict(data, where.stem, file, locator=loc)
     try:
         return Skeleton.from_dict(data, where.stem, file, locator=loc)

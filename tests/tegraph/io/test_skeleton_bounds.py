@@ -4,11 +4,13 @@ and only skeleton extensions are written."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 import time
 
 import pytest
+import yaml
 from typer.testing import CliRunner
 
 import tegraph.io.skeleton_file as skeleton_file
@@ -16,6 +18,7 @@ from tegraph import Skeleton
 from tegraph.cli import app
 from tegraph.errors import InputError, SkeletonError
 from tegraph.io import dump_skeleton, load_skeleton
+from tegraph.model.skeleton_checks import Locator
 from tests.paths import ANCHORS, REPO
 
 # ------------------------------------------------------------------ item 9: aliases
@@ -29,9 +32,11 @@ def test_an_ordinary_file_above_the_alias_budget_is_read(tmp_path, monkeypatch):
     before after 28 s ("expands to more than 1000000 elements through aliases"):
     composing a million YAML nodes alone takes PyYAML 5 to 10 s.
     """
-    path = tmp_path / "big.yaml"
+    generated = tmp_path / "generated.yaml"  # the generator writes JSON, which is YAML
     subprocess.run([sys.executable, str(REPO / "benchmarks" / "generate_skeleton.py"), "300",
-                    "-o", str(path)], check=True)
+                    "-o", str(generated)], check=True)
+    path = tmp_path / "big.yaml"  # the same skeleton in block YAML, for the YAML reader
+    path.write_text(yaml.safe_dump(json.loads(generated.read_text()), sort_keys=False))
     assert "&" not in path.read_text() and "*" not in path.read_text()
     expected = load_skeleton(path)
     monkeypatch.setattr(skeleton_file, "_MAX_ELEMENTS", 4_000)
@@ -40,6 +45,26 @@ def test_an_ordinary_file_above_the_alias_budget_is_read(tmp_path, monkeypatch):
     distinct, built = skeleton_file._expansion(loader.get_single_node())
     loader.dispose()
     assert distinct == built > 4_000  # every node once: nothing added by aliases
+    # JSON text in a .yaml file goes to the JSON parser: the same skeleton, faster
+    assert load_skeleton(generated) == expected
+
+
+def test_json_text_in_a_yaml_file_reads_as_yaml_would(tmp_path):
+    # exact numbers, names YAML 1.1 would read as booleans, and a refusal with its line
+    text = ('{"tasks": {"on": {"duration": 0.1, "period": "7/3", "outputs": ["yes"]},\n'
+            '  "B": {"duration": 1e-3, "inputs": ["yes"]}},\n'
+            ' "links": [{"from": "on:yes", "to": "B:yes", "protocol": "ASYN/SYN"}]}\n')
+    (tmp_path / "a.yaml").write_text(text)
+    (tmp_path / "a.json").write_text(text)
+    from_yaml = Skeleton.from_dict(skeleton_file._read_yaml(text, Locator()), "a")
+    assert load_skeleton(tmp_path / "a.yaml") == from_yaml == load_skeleton(tmp_path / "a.json")
+    (tmp_path / "b.yaml").write_text(text.replace('"ASYN/SYN"', '"ASYN"'))
+    with pytest.raises(SkeletonError) as info:
+        load_skeleton(tmp_path / "b.yaml")
+    assert info.value.line == 3 and info.value.where == "links[0].protocol"
+    (tmp_path / "c").mkdir()
+    (tmp_path / "c" / "a.yaml").write_text(text.replace("}}\n", "}}  # YAML, not JSON\n", 1))
+    assert load_skeleton(tmp_path / "c" / "a.yaml") == from_yaml  # not JSON: the YAML reader
 
 
 def billion_laughs(levels: int) -> str:
