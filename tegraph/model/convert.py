@@ -18,6 +18,7 @@ from maxplus.scalar import exact_time
 from ..errors import InputError, ModelError
 from .arcs import ArcList
 from .build import build_teg
+from .limits import DEFAULT_MAX_FIRINGS
 from .petri import PetriNet
 from .sdf import SDFGraph
 from .skeleton import Skeleton
@@ -29,24 +30,31 @@ if TYPE_CHECKING:  # networkx costs 0.1 s to import; only these conversions need
 __all__ = ["as_petri_net", "as_teg", "as_teg_like", "from_networkx", "to_networkx"]
 
 
-def as_teg_like(obj: Any) -> TimedEventGraph | ArcList:
+def as_teg_like(obj: Any, max_firings: int = DEFAULT_MAX_FIRINGS) -> TimedEventGraph | ArcList:
     """A timed event graph, or an arc list for array-sized graphs, from any model.
 
     Skeletons are built (spec §2), SDF graphs expanded through their
     repetition vector, marked graphs converted.
 
+    Parameters
+    ----------
+    obj : Skeleton, TimedEventGraph, ArcList, SDFGraph or PetriNet
+    max_firings : int
+        The bound on an SDF graph's expansion (:meth:`SDFGraph.to_arcs
+        <tegraph.model.sdf.SDFGraph.to_arcs>`), default 10**7 firings.
+
     Raises
     ------
     InputError
         A P/T net that is not a marked graph (the reason names the place or arc),
-        or an object of no known model.
+        an SDF expansion above ``max_firings``, or an object of no known model.
     """
     if isinstance(obj, (TimedEventGraph, ArcList)):
         return obj
     if isinstance(obj, Skeleton):
         return build_teg(obj)
     if isinstance(obj, SDFGraph):
-        return obj.to_arcs()
+        return obj.to_arcs(max_firings)
     if isinstance(obj, PetriNet):
         why = obj.marked_graph_violation()
         if why is not None:
@@ -56,19 +64,21 @@ def as_teg_like(obj: Any) -> TimedEventGraph | ArcList:
                      f"got {type(obj).__name__}")
 
 
-def as_teg(obj: Any) -> TimedEventGraph:
+def as_teg(obj: Any, max_firings: int = DEFAULT_MAX_FIRINGS) -> TimedEventGraph:
     """Like :func:`as_teg_like`, always a :class:`~tegraph.model.teg.TimedEventGraph`."""
-    g = as_teg_like(obj)
+    g = as_teg_like(obj, max_firings)
     return g if isinstance(g, TimedEventGraph) else g.to_teg()
 
 
-def as_petri_net(obj: Any) -> PetriNet:
+def as_petri_net(obj: Any, max_firings: int = DEFAULT_MAX_FIRINGS) -> PetriNet:
     """A P/T net: itself, or the net of the timed event graph of ``obj``.
 
     An SDF graph or arc list goes to the net through its arrays, without a
-    Python object per place.
+    Python object per place (``max_firings`` as for :func:`as_teg_like`).
     """
-    return obj if isinstance(obj, PetriNet) else PetriNet.from_teg(as_teg_like(obj))
+    if isinstance(obj, PetriNet):
+        return obj
+    return PetriNet.from_teg(as_teg_like(obj, max_firings))
 
 
 def to_networkx(obj: Any) -> nx.DiGraph:

@@ -15,6 +15,7 @@ import pytest
 import tegraph
 from tegraph.errors import InputError
 from tegraph.io import read
+from tegraph.model.convert import as_petri_net, as_teg_like
 from tegraph.model.sdf import SDFChannel, SDFGraph
 
 MAX_COUNT = 2**63 - 1  # the largest token count (tegraph.model.limits.MAX_COUNT)
@@ -241,6 +242,10 @@ def test_max_firings_is_a_parameter():
     assert g.to_arcs(max_firings=4).n_transitions == 3
     with pytest.raises(InputError, match="4 token transfers"):
         g.to_arcs(max_firings=3)
+    # the conversions pass it on
+    assert len(as_petri_net(g, max_firings=4).transitions) == 3
+    with pytest.raises(InputError, match="above the limit of 3"):
+        as_teg_like(g, max_firings=3)
 
 
 def test_the_reports_of_huge_values_are_written(tmp_path):
