@@ -48,7 +48,13 @@ from maxplus.scalar import exact_text, exact_time
 
 from ..errors import InputError
 from ..model.convert import as_petri_net
-from ..model.limits import MAX_COUNT, count_problem, number_text_problem, shown
+from ..model.limits import (
+    MAX_COUNT,
+    count_problem,
+    denominator_problem,
+    number_text_problem,
+    shown,
+)
 from ..model.petri import PetriNet
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 from ._xml import XmlNode, parse_xml
@@ -155,6 +161,9 @@ def parse_pnml(data: bytes | str, file: str | None = None) -> PetriNet:
                                f"place[{p}]", file, nodes[p][1].line, default=0)
                         for p in places], dtype=np.int64)
     holding, initial, timed = _timing(places, transitions, nodes, post, file)
+    why = denominator_problem(t.denominator for t in holding + initial)
+    if why is not None:  # 1/2, 1/3, 1/5...: every time scaled by one huge denominator
+        raise InputError(why, f"net[{net_id}]", file, net.line)
     result = PetriNet(net_name, _names(places, nodes), _names(transitions, nodes), pre, post,
                       marking, holding if timed else [], initial if timed else [])
     result.attrs["pnml_ids"] = {"places": places, "transitions": transitions}

@@ -208,6 +208,10 @@ def test_a_common_denominator_beyond_the_limit_is_refused(tmp_path):
         k += 1
     text = "".join(f"0 0 1/{p} 1\n" for p in primes)
     refused(write(tmp_path, "den.edges", text), "common denominator", "4300")
+    places = "".join(f'<place id="p{p}"><toolspecific tool="tegraph" version="1"><holding>1/{p}'
+                     "</holding></toolspecific></place>" for p in primes)
+    text = pnml_file().replace("</page>", places + "</page>")
+    refused(write(tmp_path, "den.pnml", text), "common denominator", "4300")
 
 
 # ------------------------------------------------------------------ item 5: SDF expansion
