@@ -30,26 +30,24 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.sparse import csr_matrix
+import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from ..errors import InputError
 from ..model.petri import PetriNet
 from ..model.teg import TimedEventGraph
+from ._marking_search import INT64_MAX, Progress, breadth_first
 
-__all__ = ["DeadMarking", "Reachability", "bounded_net", "reachability_graph",
-           "skeleton_groups", "skeleton_reachability"]
+__all__ = ["DEFAULT_MAX_MEMORY", "DeadMarking", "Reachability", "bounded_net",
+           "reachability_graph", "skeleton_groups", "skeleton_reachability"]
 
-Progress = Callable[[int, int, float], None]
-"""``progress(states, edges, seconds)``, called between batches of markings."""
-
-# Work arrays of a batch stay near this many elements (a few MiB).
-_BATCH_ELEMENTS = 1 << 20
-_DTYPES = (np.uint8, np.uint16, np.uint32, np.int64)
+DEFAULT_MAX_MEMORY = 2 * 2**30
+"""Default bound, in bytes, on the markings a search stores (2 GiB): a net of 26,000
+places stores about 50 kB a marking, so its budget of states is some 40,000."""
 
 
 @dataclass
@@ -84,7 +82,10 @@ class Reachability:
     complete : bool
         False when a budget or the ``stop`` flag ended the search first.
     stopped_by : str or None
-        ``"states"``, ``"time"`` or ``"interrupted"``.
+        ``"states"`` (the state budget), ``"memory"`` (the memory budget),
+        ``"time"``, ``"interrupted"``, ``"tokens"`` (a place would hold more
+        than 2**63 - 1 tokens) or ``"unbounded"`` (a transition has no input
+        place: see ``source_transition``).
     dead : list of DeadMarking
         Every dead marking reached, in breadth-first order.
     max_states : int
@@ -95,6 +96,13 @@ class Reachability:
         For a skeleton, the tasks of every group, as numbered by ``analyze``.
     bounded : bool
         Whether places were bounded to ``m_p + 1`` (skeletons).
+    source_transition : str or None
+        A transition without input place and with an output place, found
+        before any search: it is always enabled, so it fires forever, the net
+        is unbounded (its reachability graph infinite) and no reachable
+        marking is dead.
+    max_memory : int
+        The memory budget, in bytes, of the stored markings.
     """
 
     net: PetriNet
@@ -107,13 +115,15 @@ class Reachability:
     seconds: float
     groups: list[list[str]] | None = None
     bounded: bool = False
+    source_transition: str | None = None
+    max_memory: int = DEFAULT_MAX_MEMORY
 
     @property
     def deadlock(self) -> bool | None:
         """True when a dead marking was reached, False when none exists, None if unknown."""
         if self.dead:
             return True
-        return False if self.complete else None
+        return False if self.complete or self.source_transition is not None else None
 
     def verdict(self) -> str:
         """One line: the deadlock verdict, or why there is none.
@@ -127,12 +137,22 @@ class Reachability:
         if self.dead:
             n = len(self.dead)
             return f"deadlock: {n} dead marking{'s' * (n != 1)} reached"
+        if self.source_transition is not None:
+            return (f"unbounded: transition {self.source_transition!r} has no input place, it "
+                    "can fire forever; no deadlock: it is always enabled, so no reachable "
+                    "marking is dead (the state space is infinite and was not explored)")
         if self.complete:
             return f"no deadlock ({_count(self.states, 'state')}, complete)"
         if self.stopped_by == "states":
             return f"inconclusive (budget {self.max_states:,} states reached)"
         if self.stopped_by == "time":
             return f"inconclusive (time budget reached after {self.states:,} states)"
+        if self.stopped_by == "memory":
+            return (f"inconclusive (memory budget of {_size(self.max_memory)} for stored "
+                    f"markings reached after {self.states:,} states; raise `max_memory`)")
+        if self.stopped_by == "tokens":
+            return (f"inconclusive (after {self.states:,} states a place would hold more than "
+                    f"2**63 - 1 = {INT64_MAX} tokens, the limit of 64-bit markings)")
         return f"inconclusive (interrupted after {self.states:,} states)"
 
     @property
@@ -171,14 +191,22 @@ class Reachability:
             "complete": self.complete, "stopped_by": self.stopped_by,
             "deadlock": self.deadlock, "deadlocks": deadlocks,
             "bounded": "m + 1 tokens per place, each group alone" if self.bounded else None,
+            "unbounded": None if self.source_transition is None else
+            f"transition {self.source_transition} has no input place, it can fire forever",
             "max_states": self.max_states, "seconds": round(self.seconds, 6),
         }
 
 
 def reachability_graph(net: PetriNet, *, max_states: int = 1_000_000,
                        max_seconds: float | None = None, progress: Progress | None = None,
-                       stop: Callable[[], bool] | None = None) -> Reachability:
+                       stop: Callable[[], bool] | None = None,
+                       max_memory: int = DEFAULT_MAX_MEMORY) -> Reachability:
     """Breadth-first reachability graph of a P/T net, under a state and a time budget.
+
+    A transition without input place but with an output place is looked for
+    first: it is always enabled and each firing adds a token, so the net is
+    unbounded and no marking is dead; that verdict is given at once, without
+    a search (``stopped_by="unbounded"``).
 
     Parameters
     ----------
@@ -192,6 +220,11 @@ def reachability_graph(net: PetriNet, *, max_states: int = 1_000_000,
     stop : callable, optional
         Polled between batches; when it returns True the search ends with
         ``stopped_by="interrupted"`` (a command line sets it on Ctrl-C).
+    max_memory : int
+        Stop (incomplete, ``stopped_by="memory"``) rather than store markings
+        taking more bytes than this (default :data:`DEFAULT_MAX_MEMORY`): a
+        marking costs about twice its places in bytes, so a net of many places
+        reaches this budget long before ``max_states``.
 
     Returns
     -------
@@ -211,13 +244,30 @@ def reachability_graph(net: PetriNet, *, max_states: int = 1_000_000,
     ...                                 np.array([2, 0])))
     >>> r.states, r.deadlock, r.dead[0].marking.tolist(), r.dead[0].firing_sequence
     (3, True, [0, 2], [0, 0])
+
+    A transition that takes from no place fires forever:
+
+    >>> r = reachability_graph(PetriNet("src", ["a"], ["make"], [[0]], [[1]], [0]))
+    >>> r.deadlock, r.stopped_by, r.verdict()[:68]
+    (False, 'unbounded', "unbounded: transition 'make' has no input place, it can fire forever")
     """
     start = time.perf_counter()
+    if max_memory < 1:
+        raise InputError(f"expected a number of bytes >= 1, got {max_memory}", "max_memory")
+    # No input place: always enabled. With an output place too, each firing adds a token.
+    no_input = np.diff(net.pre.T.tocsr().indptr) == 0
+    sources = np.flatnonzero(no_input & (np.diff(net.post.T.tocsr().indptr) > 0))
+    if len(sources):
+        return Reachability(net, 1, 0, False, "unbounded", [], max_states,
+                            time.perf_counter() - start,
+                            source_transition=net.transitions[int(sources[0])],
+                            max_memory=max_memory)
     deadline = None if max_seconds is None else start + max_seconds
-    run = _bfs(net.pre, net.post, net.marking, max_states, deadline, progress, stop, start)
+    run = breadth_first(net.pre, net.post, net.marking, max_states, deadline, progress, stop,
+                        start, max_memory)
     dead = [DeadMarking(m, seq) for m, seq in run.dead]
     return Reachability(net, run.states, run.edges, run.stopped_by is None, run.stopped_by,
-                        dead, max_states, time.perf_counter() - start)
+                        dead, max_states, time.perf_counter() - start, max_memory=max_memory)
 
 
 def bounded_net(net: PetriNet, extra: int = 1) -> PetriNet:
@@ -239,15 +289,16 @@ def bounded_net(net: PetriNet, extra: int = 1) -> PetriNet:
     if extra < 1:
         raise InputError(f"expected an integer >= 1, got {extra}", "extra")
     return PetriNet(net.name, list(net.places) + [f"{p}~" for p in net.places],
-                    list(net.transitions), np.vstack([net.pre, net.post]),
-                    np.vstack([net.post, net.pre]),
+                    list(net.transitions), sp.vstack([net.pre, net.post], format="csr"),
+                    sp.vstack([net.post, net.pre], format="csr"),
                     np.concatenate([net.marking, np.full(len(net.places), extra, np.int64)]),
                     attrs=dict(net.attrs))
 
 
 def skeleton_reachability(teg: TimedEventGraph, *, max_states: int = 1_000_000,
                           max_seconds: float | None = None, progress: Progress | None = None,
-                          stop: Callable[[], bool] | None = None) -> Reachability:
+                          stop: Callable[[], bool] | None = None,
+                          max_memory: int = DEFAULT_MAX_MEMORY) -> Reachability:
     """Deadlocks of a skeleton's TEG by exploring each group, places bounded to ``m + 1``.
 
     Groups are the weakly connected parts that hold a task, numbered as
@@ -261,8 +312,8 @@ def skeleton_reachability(teg: TimedEventGraph, *, max_states: int = 1_000_000,
     teg : TimedEventGraph
         Built by :func:`tegraph.model.build.build_teg` (any TEG works; without task
         chains every weakly connected part is a group).
-    max_states, max_seconds, progress, stop
-        As for :func:`reachability_graph`.
+    max_states, max_seconds, progress, stop, max_memory
+        As for :func:`reachability_graph` (the memory budget applies to each group).
 
     Returns
     -------
@@ -296,15 +347,15 @@ def skeleton_reachability(teg: TimedEventGraph, *, max_states: int = 1_000_000,
         places = np.flatnonzero(np.isin(a.src, events))
         sub = bounded_net(PetriNet(net.name, [net.places[p] for p in places],
                                    [net.transitions[e] for e in events],
-                                   net.pre[np.ix_(places, events)],
-                                   net.post[np.ix_(places, events)], net.marking[places]))
+                                   net.pre[places][:, events], net.post[places][:, events],
+                                   net.marking[places]))
 
         def relay(s: int, e: int, sec: float, s0: int = states, e0: int = edges) -> None:
             if progress is not None:
                 progress(s0 + s, e0 + e, time.perf_counter() - start)
 
-        run = _bfs(sub.pre, sub.post, sub.marking, max_states - states, deadline, relay, stop,
-                   start)
+        run = breadth_first(sub.pre, sub.post, sub.marking, max_states - states, deadline,
+                            relay, stop, start, max_memory)
         states, edges = states + run.states, edges + run.edges
         for marking, seq in run.dead:
             full = net.marking.copy()
@@ -314,7 +365,8 @@ def skeleton_reachability(teg: TimedEventGraph, *, max_states: int = 1_000_000,
             stopped = run.stopped_by
             break
     return Reachability(net, states, edges, stopped is None, stopped, dead, max_states,
-                        time.perf_counter() - start, groups, bounded=True)
+                        time.perf_counter() - start, groups, bounded=True,
+                        max_memory=max_memory)
 
 
 def skeleton_groups(teg: TimedEventGraph) -> tuple[list[list[str]], list[np.ndarray]]:
@@ -335,7 +387,7 @@ def skeleton_groups(teg: TimedEventGraph) -> tuple[list[list[str]], list[np.ndar
     """
     n = teg.n_transitions
     a = teg.arrays()
-    graph = csr_matrix((np.ones(len(a.src), dtype=np.int8), (a.src, a.dst)), shape=(n, n))
+    graph = sp.csr_array((np.ones(len(a.src), dtype=np.int8), (a.src, a.dst)), shape=(n, n))
     _, label = connected_components(graph, directed=True, connection="weak")
     chains = teg.attrs.get("chains")
     if not chains:
@@ -352,117 +404,9 @@ def _count(n: int, noun: str) -> str:
     return f"{n:,} {noun}{'s' * (n != 1)}"
 
 
-# --------------------------------------------------------------------- the search
-
-@dataclass
-class _Run:
-    states: int
-    edges: int
-    stopped_by: str | None
-    dead: list[tuple[np.ndarray, list[int]]] = field(default_factory=list)
-
-
-class _Codec:
-    """Markings as bytes of the narrowest unsigned dtype that holds them."""
-
-    def __init__(self, n_places: int, top: int) -> None:
-        self.n_places = n_places
-        self.level = 0
-        self.dtype: type[np.integer] = _DTYPES[0]
-        self.fit(top, {})
-
-    def fit(self, top: int, visited: dict[bytes, int]) -> dict[bytes, int]:
-        """Widen (re-keying ``visited``) until ``top`` tokens fit in a place."""
-        old = self.dtype
-        while top > np.iinfo(self.dtype).max:
-            self.level += 1
-            self.dtype = _DTYPES[self.level]
-        if self.dtype is old:
-            return visited
-        return {np.frombuffer(k, dtype=old).astype(self.dtype).tobytes(): v
-                for k, v in visited.items()}
-
-    def keys(self, rows: np.ndarray) -> list[bytes]:
-        if self.n_places == 0:
-            return [b""] * len(rows)
-        packed = np.ascontiguousarray(rows.astype(self.dtype, copy=False))
-        rows_as_bytes = packed.view(np.dtype((np.void, packed.itemsize * self.n_places)))
-        return rows_as_bytes.ravel().tolist()  # type: ignore[return-value]
-
-
-def _bfs(pre: np.ndarray, post: np.ndarray, m0: np.ndarray, max_states: int,
-         deadline: float | None, progress: Progress | None, stop: Callable[[], bool] | None,
-         start: float) -> _Run:
-    """Level-by-level breadth-first search; states are numbered in discovery order."""
-    pre = np.asarray(pre, dtype=np.int64)
-    inc = np.ascontiguousarray((np.asarray(post, dtype=np.int64) - pre).T)  # (T, P)
-    n_p, n_t = pre.shape
-    # Input arcs sorted by transition: enabledness is an AND over each run of arcs.
-    arc_t, arc_p = np.nonzero(pre.T)
-    arc_w = pre.T[arc_t, arc_p]
-    fed, starts = np.unique(arc_t, return_index=True)
-    m0 = np.asarray(m0, dtype=np.int64)
-    if max_states < 1:
-        return _Run(0, 0, "states")
-    codec = _Codec(n_p, int(m0.max(initial=0)))
-    visited: dict[bytes, int] = {codec.keys(m0[None, :])[0]: 0}
-    parent, via = [-1], [-1]
-    run = _Run(1, 0, None)
-    dead_index: list[int] = []
-    level, level_lo = m0[None, :], 0
-    rows_per_batch = max(1, _BATCH_ELEMENTS // max(1, len(arc_t), n_t))
-    while len(level) and run.stopped_by is None:
-        grown: list[np.ndarray] = []
-        for b0 in range(0, len(level), rows_per_batch):
-            marks = level[b0:b0 + rows_per_batch]
-            enabled = np.ones((len(marks), n_t), dtype=bool)
-            if len(arc_t):
-                ok = marks[:, arc_p] >= arc_w
-                enabled[:, fed] = np.logical_and.reduceat(ok, starts, axis=1)
-            for r in np.flatnonzero(~enabled.any(axis=1)).tolist():
-                dead_index.append(level_lo + b0 + r)
-                run.dead.append((marks[r].copy(), []))
-            rows, trans = np.nonzero(enabled)  # row-major: state by state, then transition
-            pairs = max(1, _BATCH_ELEMENTS // max(1, n_p))
-            for p0 in range(0, len(rows), pairs):
-                r_s, t_s = rows[p0:p0 + pairs], trans[p0:p0 + pairs]
-                succ = marks[r_s] + inc[t_s]
-                visited = codec.fit(int(succ.max(initial=0)), visited)
-                new: list[int] = []
-                origin = level_lo + b0
-                for j, key in enumerate(codec.keys(succ)):
-                    n = run.states
-                    if visited.setdefault(key, n) == n:
-                        if n >= max_states:
-                            del visited[key]
-                            run.stopped_by = "states"
-                            run.edges += j
-                            break
-                        run.states = n + 1
-                        parent.append(origin + int(r_s[j]))
-                        via.append(int(t_s[j]))
-                        new.append(j)
-                else:
-                    run.edges += len(r_s)
-                if new:
-                    grown.append(succ[new])
-                if run.stopped_by is not None:
-                    break
-            if run.stopped_by is None:
-                if stop is not None and stop():
-                    run.stopped_by = "interrupted"
-                elif deadline is not None and time.perf_counter() > deadline:
-                    run.stopped_by = "time"
-            if progress is not None:
-                progress(run.states, run.edges, time.perf_counter() - start)
-            if run.stopped_by is not None:
-                break
-        level_lo += len(level)
-        level = np.concatenate(grown) if grown else level[:0]
-    for k, index in enumerate(dead_index):
-        seq = []
-        while index > 0:
-            seq.append(via[index])
-            index = parent[index]
-        run.dead[k] = (run.dead[k][0], seq[::-1])
-    return run
+def _size(n_bytes: int) -> str:
+    """``2 GiB``, ``512 MiB``, ``1,000 bytes``: a byte count as a person reads it."""
+    for unit, size in (("GiB", 2**30), ("MiB", 2**20), ("KiB", 2**10)):
+        if n_bytes >= size and n_bytes % size == 0:
+            return f"{n_bytes // size:,} {unit}"
+    return _count(n_bytes, "byte")

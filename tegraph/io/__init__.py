@@ -24,6 +24,11 @@ Safety: a file larger than ``max_bytes`` (default :data:`DEFAULT_MAX_BYTES`)
 is refused before it is read, and XML is parsed by expat with every document
 type declaration refused, so no entity is ever expanded and no external file
 is ever fetched (an entity-expansion bomb is refused at its first line).
+Every reader applies the stated limits of :mod:`tegraph.model.limits` (digits
+and exponent of a number, 64-bit token counts, node counts against the file's
+size, names that can be written): a value is read exactly or refused naming
+it and the limit, with one :class:`~tegraph.errors.InputError` (the fuzz test
+``tests/tegraph/io/test_fuzz_readers.py`` holds every reader to it).
 
 This package turns files into models and models into files, nothing more:
 what a model means is the job of :mod:`tegraph.analysis`.
@@ -32,7 +37,6 @@ what a model means is the job of :mod:`tegraph.analysis`.
 from __future__ import annotations
 
 import os
-import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -41,6 +45,7 @@ from ..errors import InputError, ModelError
 from ..model.sdf import SDFGraph
 from ..model.skeleton import Skeleton
 from . import dot, edges, pnml, sdf3, tpne
+from ._detect import FORMATS, detect_format, sniff_format
 from ._files import DEFAULT_MAX_BYTES, check_size
 from .skeleton_file import dump_skeleton, load_skeleton
 
@@ -49,70 +54,12 @@ __all__ = [
     "FORMATS",
     "detect_format",
     "format_for_writing",
+    "sniff_format",
     "dump_skeleton",
     "load_skeleton",
     "read",
     "write",
 ]
-
-FORMATS: dict[str, tuple[str, ...]] = {
-    "skeleton": (".yaml", ".yml", ".json"),
-    "pnml": (".pnml",),
-    "sdf3": (".sdf3",),
-    "edges": (".edges",),
-    "tpne-json": (),
-    "tpne-teg": (".teg",),
-    "dot": (".dot", ".gv"),
-    "teg-dot": (),
-}
-"""Format name -> file extensions that select it (``.xml`` and ``.json`` are sniffed)."""
-
-
-# --------------------------------------------------------------------------- XML
-
-
-# --------------------------------------------------------------------------- detection
-
-_XML_ROOT = re.compile(rb"<\s*(?:[\w.-]+:)?(pnml|sdf3)\b")
-
-
-def detect_format(path: str | os.PathLike[str], head: bytes | None = None) -> str:
-    """The format name of a file, from its extension, else from its first bytes.
-
-    ``.xml`` files are told apart by their root element (``pnml`` or
-    ``sdf3``), ``.json`` files by their keys (TimedPetriNetEditor files have
-    ``nets``; skeletons have ``tasks``).
-
-    >>> detect_format("a.pnml"), detect_format("b.edges"), detect_format("c.xml", b"<sdf3 type='sdf'>")
-    ('pnml', 'edges', 'sdf3')
-    """
-    file = os.fspath(path)
-    ext = Path(file).suffix.lower()
-    for name, exts in FORMATS.items():
-        if ext in exts and ext != ".json":
-            return name
-    if head is None:
-        try:
-            with open(file, "rb") as fh:
-                head = fh.read(4096)
-        except OSError as exc:
-            raise InputError(f"cannot read the file: {exc.strerror}", file=file) from None
-    text = head.lstrip(b"\xef\xbb\xbf \t\r\n")
-    m = _XML_ROOT.search(head)
-    if m:
-        return m.group(1).decode()
-    if text.startswith(b"TimedEventGraph"):
-        return "tpne-teg"
-    if ext == ".json" or text.startswith(b"{"):
-        return "tpne-json" if re.search(rb'"(nets|revision)"\s*:', head) else "skeleton"
-    if re.match(rb"(\s*(#[^\n]*)?\n)*\s*\d+\s+\d+\s+\S+\s+\d+\s*(#|\n|$)", text):
-        return "edges"
-    if text.startswith(b"<"):
-        raise InputError("an XML file whose root element is neither <pnml> nor <sdf3>", file=file)
-    raise InputError("cannot tell the format of this file; expected one of "
-                     + ", ".join(ext for exts in FORMATS.values() for ext in exts)
-                     + " (or give the format explicitly)", file=file)
-
 
 # --------------------------------------------------------------------------- coercions
 

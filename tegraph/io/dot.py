@@ -144,6 +144,11 @@ def _teg_dot(g: Any, marks: Highlights) -> str:
     return "\n".join(out + ["}"]) + "\n"
 
 
+def _tokens_text(tokens: int) -> str:
+    """A few tokens as dots, more as their number."""
+    return "●" * tokens if tokens <= 5 else str(tokens)
+
+
 def _net_dot(net: PetriNet, marks: Highlights) -> str:
     crit, dead, caption = marks.critical, marks.token_free, marks.caption
     label = net.name + (f": {caption}" if caption else "")
@@ -152,15 +157,17 @@ def _net_dot(net: PetriNet, marks: Highlights) -> str:
         extra = f"\nh={exact_text(net.holding[k])}" if net.holding else ""
         style = _CRITICAL if k in crit else _DEAD if k in dead else ""
         out.append(f"  {_q('p:' + p)} [shape=circle, label={_q(f'{p}{extra}')}, "
-                   f"xlabel={_q('●' * int(net.marking[k]) if net.marking[k] <= 5 else net.marking[k])}"
+                   f"xlabel={_q(_tokens_text(int(net.marking[k])))}"
                    + (f", {style}" if style else "") + "];")
     for t in net.transitions:
         out.append(f"  {_q('t:' + t)} [shape=box, label={_q(t)}];")
     for mat, forward in ((net.pre, True), (net.post, False)):
-        for i, j in np.argwhere(mat > 0).tolist():
+        coo = mat.tocoo()  # canonical: one entry per arc
+        order = np.lexsort((coo.col, coo.row))  # place by place, as the rows are
+        for i, j, w in zip(coo.row[order].tolist(), coo.col[order].tolist(),
+                           coo.data[order].tolist()):
             ends = (f"p:{net.places[i]}", f"t:{net.transitions[j]}")
             s, d = ends if forward else ends[::-1]
-            w = int(mat[i, j])
             out.append(f"  {_q(s)} -> {_q(d)}" + (f" [label={_q(w)}]" if w != 1 else "") + ";")
     return "\n".join(out + ["}"]) + "\n"
 

@@ -8,7 +8,11 @@ The format of the SDF3 reference expansions (``shared/anchors/sdf/hsdf_edges``):
     0 1 1 0                   <- place 0 -> 1, holding time 1, no initial token
 
 Indices and tokens are integers >= 0; holding times are exact (``7/3``,
-``0.25`` and ``1e3`` are read exactly) and >= 0.
+``0.25`` and ``1e3`` are read exactly) and >= 0. The stated limits of
+:mod:`tegraph.model.limits` apply: tokens up to 2**63 - 1, numbers of at most
+4300 digits and exponents up to 1000, and at most as many transitions as the
+file has bytes, plus 2**20 (a huge index or ``# nodes`` count is refused
+rather than allocated).
 
 Reading and writing are whole-array numpy operations so that 4 million lines
 take about a second (``benchmarks/bench_edges.py``): the common all-integer
@@ -39,6 +43,14 @@ from maxplus.scalar import exact_text, exact_time
 from ..errors import InputError, ModelError
 from ..model.arcs import ArcList
 from ..model.convert import as_teg_like
+from ..model.limits import (
+    MAX_COUNT,
+    count_problem,
+    denominator_problem,
+    node_count_problem,
+    number_text_problem,
+    shown,
+)
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 
 __all__ = ["dumps_edges", "parse_edges", "read_edges", "write_edges"]
@@ -85,7 +97,7 @@ def parse_edges(data: bytes | str, file: str | None = None, name: str = "edges")
     if isinstance(data, str):
         data = data.encode("utf-8")
     names: dict[int, tuple[str, int]] = {}
-    n_declared = 0
+    n_declared = declared_at = 0
     clean = data
     if b"#" in data:
         for m in _NODE.finditer(data):
@@ -95,10 +107,13 @@ def parse_edges(data: bytes | str, file: str | None = None, name: str = "edges")
                 except UnicodeDecodeError:
                     raise InputError("a node name is not UTF-8 text", "node name", file,
                                      _line_of(data, m.start())) from None
-                names[int(m.group(1))] = (label, m.start())
+                index = _declared(m.group(1), "node", data, m.start(), file)
+                names[index] = (label, m.start())
         for m in _NODES.finditer(data):
             if _opens_line(data, m.start()):
-                n_declared = max(n_declared, int(m.group(1)))
+                count = _declared(m.group(1), "nodes", data, m.start(), file)
+                if count > n_declared:
+                    n_declared, declared_at = count, m.start()
         body = _HEADER.match(data).end()  # type: ignore[union-attr]  # matches "" at least
         clean = data[body:] if b"#" not in data[body:] else _COMMENT.sub(b"", data)
     parsed = _parse_fast(clean)
@@ -107,9 +122,39 @@ def parse_edges(data: bytes | str, file: str | None = None, name: str = "edges")
     src, dst, holding, tokens, scale = parsed
     n = int(max(src.max(initial=-1), dst.max(initial=-1))) + 1
     n = max(n, n_declared, max(names, default=-1) + 1)
+    why = node_count_problem(n, len(data), "transitions (the largest index + 1, or '# nodes')")
+    if why is not None:
+        line = (_line_of(data, declared_at) if n == n_declared else
+                _line_of(data, names[n - 1][1]) if n - 1 in names else
+                _line_of_index(data, n - 1, src, dst))
+        raise InputError(why, "nodes", file, line)
     return ArcList(np.ascontiguousarray(src), np.ascontiguousarray(dst),
                    np.ascontiguousarray(holding), np.ascontiguousarray(tokens), scale,
                    _names(names, n, data, file), n, name)
+
+
+def _declared(digits: bytes, what: str, data: bytes, pos: int, file: str | None) -> int:
+    """The number of a ``# node`` / ``# nodes`` line, refused before a huge one is converted."""
+    if len(digits) > 19:  # above any count the node limit lets through
+        raise InputError(f"{shown(digits.decode())} is above any number of transitions this "
+                         f"file can hold ({len(data)} bytes + 2**20)", what, file,
+                         _line_of(data, pos))
+    return int(digits)
+
+
+def _line_of_index(data: bytes, index: int, src: np.ndarray, dst: np.ndarray) -> int | None:
+    """The line of the first place naming transition ``index`` (None: a header named it)."""
+    hits = np.flatnonzero((src == index) | (dst == index))
+    if not len(hits):
+        return None
+    body = _HEADER.match(data).end()  # type: ignore[union-attr]
+    count = int(hits[0])
+    for number, raw in enumerate(data[body:].split(b"\n"), start=data.count(b"\n", 0, body) + 1):
+        if raw.split(b"#", 1)[0].strip():
+            if count == 0:
+                return number
+            count -= 1
+    return None  # pragma: no cover - every place has a line
 
 
 def _opens_line(data: bytes, pos: int) -> bool:
@@ -219,11 +264,20 @@ def _parse_general(clean: bytes, data: bytes, file: str | None) -> _Parsed:
         _diagnose(data, file)
     texts, inverse = np.unique(cols[:, 2], return_inverse=True)
     try:
-        values = [exact_time(t.decode("ascii"), "holding") for t in texts.tolist()]
-    except (MaxPlusValueError, UnicodeDecodeError):
+        decoded = [t.decode("ascii") for t in texts.tolist()]
+    except UnicodeDecodeError:
+        _diagnose(data, file)
+    if any(number_text_problem(t) for t in decoded):  # 1e999999999 would take hours
+        _diagnose(data, file)
+    try:
+        values = [exact_time(t, "holding") for t in decoded]
+    except MaxPlusValueError:
         _diagnose(data, file)
     if any(v < 0 for v in values):
         _diagnose(data, file)
+    why = denominator_problem(v.denominator for v in values)
+    if why is not None:
+        raise InputError(why, "holding", file)
     scale = math.lcm(1, *(v.denominator for v in values))
     ints = [int(v * scale) for v in values]
     table = np.array(ints, dtype=np.int64 if all(v < _SAFE for v in ints) else object)
@@ -241,20 +295,27 @@ def _diagnose(data: bytes, file: str | None) -> None:
             raise InputError(f"expected 4 fields 'src dst holding tokens', got {len(parts)}",
                              "", file, number)
         for field, text in zip(("src", "dst", "holding", "tokens"), parts):
-            shown = text.decode("utf-8", "replace")
+            written = text.decode("utf-8", "replace")
+            why = number_text_problem(written)
+            if why is not None:
+                raise InputError(f"expected a number within the limits: {why}", field, file,
+                                 number)
             if field == "holding":
                 try:
-                    value = exact_time(shown, field)
+                    value = exact_time(written, field)
                 except MaxPlusValueError:
                     raise InputError(f"expected an exact time such as 3, 0.25 or 7/3, got "
-                                     f"{shown!r}", field, file, number) from None
+                                     f"{shown(written)}", field, file, number) from None
                 if value < 0:
-                    raise InputError(f"a holding time must be >= 0, got {shown}", field, file,
-                                     number)
-            elif not re.fullmatch(rb"\+?\d+", text) or int(text) >= _SAFE:
+                    raise InputError(f"a holding time must be >= 0, got {shown(written)}", field,
+                                     file, number)
+            elif not re.fullmatch(rb"\+?[0-9]+", text):
                 what = "a transition index" if field != "tokens" else "a token count"
-                raise InputError(f"expected {what} (an integer >= 0), got {shown!r}", field,
-                                 file, number)
+                raise InputError(f"expected {what} (an integer >= 0), got {shown(written)}",
+                                 field, file, number)
+            elif int(text) > MAX_COUNT:
+                what = "a token count" if field == "tokens" else "a transition index"
+                raise InputError(count_problem(int(text), what) or "", field, file, number)
     raise InputError("malformed arc list", "", file)  # pragma: no cover - defensive
 
 

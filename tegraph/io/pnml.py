@@ -41,12 +41,20 @@ from typing import Any
 from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
+import scipy.sparse as sp
 
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_text, exact_time
 
 from ..errors import InputError
 from ..model.convert import as_petri_net
+from ..model.limits import (
+    MAX_COUNT,
+    count_problem,
+    denominator_problem,
+    number_text_problem,
+    shown,
+)
 from ..model.petri import PetriNet
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 from ._xml import XmlNode, parse_xml
@@ -118,8 +126,8 @@ def parse_pnml(data: bytes | str, file: str | None = None) -> PetriNet:
     transitions = [i for i, (k, _) in nodes.items() if k == "transition"]
     p_index = {i: k for k, i in enumerate(places)}
     t_index = {i: k for k, i in enumerate(transitions)}
-    pre = np.zeros((len(places), len(transitions)), dtype=np.int64)
-    post = np.zeros_like(pre)
+    # (kind, place, transition) -> weight; parallel arcs add up, in Python ints
+    weights: dict[tuple[str, int, int], int] = {}
     for arc in arcs:
         aid = arc.attrs["id"]
         where = f"arc[{aid}]"
@@ -137,14 +145,25 @@ def parse_pnml(data: bytes | str, file: str | None = None) -> PetriNet:
         if s_kind == d_kind:
             raise InputError(f"the arc joins two {s_kind}s ({s!r} and {d!r}); a P/T net arc "
                              "joins a place and a transition", where, file, arc.line)
-        if s_kind == "place":
-            pre[p_index[s], t_index[d]] += weight
-        else:
-            post[p_index[d], t_index[s]] += weight
+        key = ("pre", p_index[s], t_index[d]) if s_kind == "place" else \
+            ("post", p_index[d], t_index[s])
+        weights[key] = weights.get(key, 0) + weight
+        if weights[key] > MAX_COUNT:
+            raise InputError(f"the arcs between {s!r} and {d!r} weigh {weights[key]} together, "
+                             f"above 2**63 - 1 = {MAX_COUNT}", where, file, arc.line)
+    shape = (len(places), len(transitions))
+    pre, post = (sp.csr_array(
+        (np.array([w for k, w in weights.items() if k[0] == kind], dtype=np.int64),
+         (np.array([k[1] for k in weights if k[0] == kind], dtype=np.int64),
+          np.array([k[2] for k in weights if k[0] == kind], dtype=np.int64))), shape=shape)
+        for kind in ("pre", "post"))
     marking = np.array([_count(nodes[p][1].text_of("initialMarking", "text"), "initialMarking",
                                f"place[{p}]", file, nodes[p][1].line, default=0)
                         for p in places], dtype=np.int64)
     holding, initial, timed = _timing(places, transitions, nodes, post, file)
+    why = denominator_problem(t.denominator for t in holding + initial)
+    if why is not None:  # 1/2, 1/3, 1/5...: every time scaled by one huge denominator
+        raise InputError(why, f"net[{net_id}]", file, net.line)
     result = PetriNet(net_name, _names(places, nodes), _names(transitions, nodes), pre, post,
                       marking, holding if timed else [], initial if timed else [])
     result.attrs["pnml_ids"] = {"places": places, "transitions": transitions}
@@ -189,14 +208,19 @@ def _count(text: str | None, what: str, where: str, file: str | None, line: int,
            default: int) -> int:
     if text is None or not text.strip():
         return default
-    if not re.fullmatch(r"\+?\d+", text.strip()):
-        raise InputError(f"{what} must be an integer >= 0, got {text.strip()!r}", where, file,
-                         line)
+    if not re.fullmatch(r"\+?[0-9]+", text.strip()):
+        raise InputError(f"{what} must be an integer >= 0, got {shown(text.strip())}", where,
+                         file, line)
+    why = number_text_problem(text.strip()) or count_problem(int(text), what)
+    if why is not None:
+        raise InputError(why, where, file, line)
     return int(text)
 
 
 def _timing(places: list[str], transitions: list[str], nodes: dict[str, tuple[str, XmlNode]],
-            post: np.ndarray, file: str | None) -> tuple[list[Fraction], list[Fraction], bool]:
+            post: sp.csr_array, file: str | None
+            ) -> tuple[list[Fraction], list[Fraction], bool]:
+    post_by_transition = post.T.tocsr()
     holding = [Fraction(0)] * len(places)
     initial = [Fraction(0)] * len(places)
     timed = False
@@ -225,17 +249,21 @@ def _timing(places: list[str], transitions: list[str], nodes: dict[str, tuple[st
             raise InputError("expected <delay><interval><cn>lower bound</cn>...", where, file,
                              delay.line)
         value = _time(bound.text, "delay", where, file, bound.line)
-        for out in np.flatnonzero(post[:, k]).tolist():
+        for out in post_by_transition.indices[post_by_transition.indptr[k]:
+                                               post_by_transition.indptr[k + 1]].tolist():
             holding[out] += value
     return holding, initial, timed
 
 
 def _time(text: str, what: str, where: str, file: str | None, line: int) -> Fraction:
+    why = number_text_problem(text.strip())
+    if why is not None:
+        raise InputError(f"{what} must be an exact time: {why}", where, file, line)
     try:
         value = exact_time(text.strip(), what)
     except MaxPlusValueError:
-        raise InputError(f"{what} must be an exact time such as 3, 0.25 or 7/3, got {text!r}",
-                         where, file, line) from None
+        raise InputError(f"{what} must be an exact time such as 3, 0.25 or 7/3, got "
+                         f"{shown(text)}", where, file, line) from None
     if value < 0:
         raise InputError(f"{what} must be >= 0, got {text.strip()}", where, file, line)
     return value
@@ -307,15 +335,22 @@ def dumps_pnml(obj: Any) -> str:
         arc_prefix += "_"
     n_arc = 0
     for src_m, first, second in ((net.pre, p_ids, t_ids), (net.post, t_ids, p_ids)):
-        for p, t in np.argwhere(src_m > 0).tolist():
+        for p, t, weight in _arcs(src_m):
             s, d = (first[p], second[t]) if src_m is net.pre else (first[t], second[p])
-            weight = int(src_m[p, t])
             body = (f"<inscription><text>{weight}</text></inscription>" if weight != 1 else "")
-            out.append(f"      <arc id=\"{arc_prefix}{n_arc}\" source={quoteattr(s)} target={quoteattr(d)}>"
-                       f"{body}</arc>")
+            out.append(f"      <arc id=\"{arc_prefix}{n_arc}\" source={quoteattr(s)} "
+                       f"target={quoteattr(d)}>{body}</arc>")
             n_arc += 1
     out += ["    </page>", "  </net>", "</pnml>", ""]
     return "\n".join(out)
+
+
+def _arcs(weights: sp.csr_array) -> list[tuple[int, int, int]]:
+    """``(place, transition, weight)`` of every arc, place by place, as the rows are."""
+    coo = weights.tocoo()
+    order = np.lexsort((coo.col, coo.row))
+    return list(zip(coo.row[order].tolist(), coo.col[order].tolist(),
+                    coo.data[order].tolist()))
 
 
 def _ncname(name: str, fallback: str) -> str:

@@ -31,6 +31,7 @@ from xml.sax.saxutils import quoteattr
 
 from ..errors import InputError, ModelError
 from ..model.convert import as_teg
+from ..model.limits import count_problem, number_text_problem, shown
 from ..model.sdf import SDFChannel, SDFGraph
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 from ._xml import XmlNode, parse_xml
@@ -60,7 +61,8 @@ def parse_sdf3(data: bytes | str, file: str | None = None) -> SDFGraph:
     Examples
     --------
     >>> g = parse_sdf3('''<sdf3 type="sdf"><applicationGraph name="x"><sdf name="x">
-    ...   <actor name="a"><port name="o" type="out" rate="1"/><port name="i" type="in" rate="1"/></actor>
+    ...   <actor name="a"><port name="o" type="out" rate="1"/>
+    ...     <port name="i" type="in" rate="1"/></actor>
     ...   <channel name="c" srcActor="a" srcPort="o" dstActor="a" dstPort="i" initialTokens="1"/>
     ... </sdf><sdfProperties><actorProperties actor="a">
     ...   <processor type="p" default="true"><executionTime time="5"/></processor>
@@ -97,7 +99,8 @@ def parse_sdf3(data: bytes | str, file: str | None = None) -> SDFGraph:
             if ptype not in ("in", "out"):
                 raise InputError(f"a port type is 'in' or 'out', got {ptype!r}", where, file,
                                  port.line)
-            rate = _integer(port.attrs.get("rate", "1"), "rate", where, file, port.line)
+            rate = _integer(port.attrs.get("rate", "1"), "rate", where, file, port.line,
+                            count=True)
             if rate < 1:
                 raise InputError(f"a rate must be an integer >= 1, got {rate}", where, file,
                                  port.line)
@@ -121,7 +124,7 @@ def parse_sdf3(data: bytes | str, file: str | None = None) -> SDFGraph:
                                  f"'{ptype}'", where, file, ch.line)
             rates.append(ports[(a, p)][1])
         tokens = _integer(ch.attrs.get("initialTokens", "0"), "initialTokens", where, file,
-                          ch.line)
+                          ch.line, count=True)
         channels.append(SDFChannel(c, ch.attrs["srcActor"], ch.attrs["dstActor"], rates[0],
                                    rates[1], tokens))
     props = app.child("sdfProperties")
@@ -139,7 +142,7 @@ def parse_sdf3(data: bytes | str, file: str | None = None) -> SDFGraph:
                                  f"{where}/processor", file, proc.line)
             actors[a] = _integer(et.attrs["time"], "executionTime", f"{where}/processor", file,
                                  et.line)  # the last default processor wins, as in SDF3
-    graph = SDFGraph(name, actors, channels)
+    graph = SDFGraph(name, actors, channels, source=file)
     try:
         graph.repetition_vector()
     except ModelError as exc:
@@ -155,14 +158,23 @@ def _required(node: XmlNode, attr: str, file: str | None, where: str | None = No
     return value
 
 
-def _integer(text: str, what: str, where: str, file: str | None, line: int) -> int:
+def _integer(text: str, what: str, where: str, file: str | None, line: int,
+             count: bool = False) -> int:
+    """An integer >= 0 as SDF3 writes it; a ``count`` (rate, tokens) also below 2**63."""
+    why = number_text_problem(text)
+    if why is not None:
+        raise InputError(f"{what} must be an integer within the limits: {why}", where, file,
+                         line)
     try:
         value = int(text.strip())
     except ValueError:
-        raise InputError(f"{what} must be an integer >= 0, got {text!r}", where, file,
+        raise InputError(f"{what} must be an integer >= 0, got {shown(text)}", where, file,
                          line) from None
     if value < 0:
         raise InputError(f"{what} must be an integer >= 0, got {value}", where, file, line)
+    why = count_problem(value, what) if count else None
+    if why is not None:
+        raise InputError(why, where, file, line)
     return value
 
 

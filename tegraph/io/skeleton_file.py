@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from decimal import Decimal
 from pathlib import Path
 from typing import Any
@@ -21,15 +22,22 @@ import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from ..errors import SkeletonError
+from ..model.limits import text_problem
 from ..model.skeleton import Skeleton
 from ..model.skeleton_checks import KeyPath, Locator
+from ._detect import FORMAT_NAMES, sniff_format
 
-__all__ = ["dump_skeleton", "load_skeleton"]
+__all__ = ["SKELETON_EXTENSIONS", "dump_skeleton", "load_skeleton"]
+
+SKELETON_EXTENSIONS = (".yaml", ".yml", ".json")
+"""The extensions of skeleton files: ``.json`` is JSON, the others YAML."""
 
 _MAP_TAG = "tag:yaml.org,2002:map"
 _SEQ_TAG = "tag:yaml.org,2002:seq"
 _MERGE_TAG = "tag:yaml.org,2002:merge"
 # Aliases can expand a small file exponentially ("billion laughs"): stop early.
+# Only what aliases add is counted (a node built a second time, and every time
+# after): a large file without aliases is never refused, however many nodes it has.
 _MAX_ELEMENTS = 1_000_000
 
 
@@ -40,17 +48,21 @@ class _Builder:
         self.loader = loader
         self.loc = loc
         self.budget = _MAX_ELEMENTS
+        self.built: set[int] = set()  # nodes built once: building one again is an alias
         self.open: set[int] = set()  # nodes being built: an alias to one is recursive
         self.flattened: set[int] = set()
 
     def build(self, node: Node, path: KeyPath) -> Any:
-        self.budget -= 1
-        if self.budget < 0:
-            raise self.loc.error(
-                f"the document expands to more than {_MAX_ELEMENTS} elements through "
-                "aliases; expected a skeleton of ordinary size",
-                path,
-            )
+        if id(node) in self.built:
+            self.budget -= 1
+            if self.budget < 0:
+                raise self.loc.error(
+                    f"aliases add more than {_MAX_ELEMENTS} elements to the document; "
+                    "expected a skeleton of ordinary size",
+                    path,
+                )
+        else:
+            self.built.add(id(node))
         if isinstance(node, ScalarNode):
             return self.scalar(node, path)
         if id(node) in self.open:
@@ -119,11 +131,48 @@ class _Builder:
 _Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
+def _expansion(root: Node) -> tuple[int, int]:
+    """Nodes of the document as composed (each once) and as built (each alias expanded).
+
+    Computed over the composed nodes alone, children before parents, so a
+    billion-laughs document is measured in microseconds; a recursive alias
+    (a cycle) is left to the builder, which names it.
+    """
+    size: dict[int, int] = {}
+    opened: set[int] = set()  # on the current path: meeting one again is a cycle
+    stack: list[tuple[Node, bool]] = [(root, False)]
+    while stack:
+        node, done = stack.pop()
+        if id(node) in size:
+            continue
+        children = [] if isinstance(node, ScalarNode) else (
+            [n for pair in node.value for n in pair] if isinstance(node, MappingNode)
+            else list(node.value))
+        if done:
+            opened.discard(id(node))
+            size[id(node)] = 1 + sum(size[id(c)] for c in children)
+            continue
+        if id(node) in opened:
+            return len(size), 0  # a recursive alias: the builder names it
+        opened.add(id(node))
+        stack.append((node, True))
+        stack.extend((c, False) for c in children if id(c) not in size)
+    return len(size), size[id(root)]
+
+
 def _read_yaml(text: str, loc: Locator) -> Any:
     loader = _Loader(text)
     try:
         node = loader.get_single_node()
-        return None if node is None else _Builder(loader, loc).build(node, ())
+        if node is None:
+            return None
+        # An alias needs an anchor ('&'): without one no node is shared, nothing to measure.
+        distinct, built = _expansion(node) if "&" in text else (0, 0)
+        if built - distinct > 2 * _MAX_ELEMENTS:  # surely above: refuse before building
+            raise loc.error(
+                f"aliases add {built - distinct} elements to the document, more than "
+                f"{_MAX_ELEMENTS}; expected a skeleton of ordinary size", ())
+        return _Builder(loader, loc).build(node, ())
     except yaml.MarkedYAMLError as err:
         mark = err.problem_mark or err.context_mark
         problem = err.problem or err.context or "unreadable"
@@ -239,12 +288,29 @@ def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
                             f"{err.start}); expected a YAML or JSON text file", file=file,
                             line=raw[:err.start].count(b"\n") + 1) from None
     data = None
+    as_json = where.suffix.lower() == ".json"
     if text.strip():
-        data = _read_json(text, loc) if where.suffix.lower() == ".json" else _read_yaml(text, loc)
+        try:
+            if not as_json and text.lstrip().startswith("{"):
+                # JSON is YAML, and JSON's parser is some twenty times faster than YAML's
+                # on a large file (a generated skeleton of 100,000 tasks): try it first.
+                try:
+                    data, as_json = _read_json(text, loc), True
+                except SkeletonError:
+                    data = _read_yaml(text, loc)
+            else:
+                data = _read_json(text, loc) if as_json else _read_yaml(text, loc)
+        except SkeletonError:
+            _other_format(raw, file)  # an XML net read as YAML fails: say what it is
+            raise
+    if not isinstance(data, dict) or "tasks" not in data:
+        _other_format(raw, file, data)
     if data is None:  # nothing but blanks or comments
         raise SkeletonError("the file is empty; expected a skeleton with at least 'tasks'",
                             file=file)
-    if where.suffix.lower() != ".json":
+    if _SURROGATE_ESCAPE.search(text):
+        _refuse_surrogates(data, loc)
+    if not as_json:
         return Skeleton.from_dict(data, where.stem, file, locator=loc)
     try:
         return Skeleton.from_dict(data, where.stem, file, locator=loc)
@@ -252,6 +318,51 @@ def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
         # Lines of a JSON file are looked up only when there is an error to place.
         _json_lines(text, loc)
         return Skeleton.from_dict(data, where.stem, file, locator=loc)
+
+
+def _other_format(raw: bytes, file: str, data: Any = None) -> None:
+    """Refuse a file of another format that tegraph reads, saying which commands read it.
+
+    Called only when the file is no skeleton anyway (it does not parse, or
+    holds no ``tasks`` mapping), so a skeleton is never refused for how it looks.
+    """
+    fmt = sniff_format(raw[:4096])
+    if fmt is None and isinstance(data, dict) and isinstance(data.get("nets"), list):
+        fmt = "tpne-json"
+    if fmt is None:
+        return
+    readers = ("tegraph writes DOT drawings but reads none" if fmt == "dot" else
+               "`tegraph cycle-time` and `tegraph reach` read it (tegraph.io.read in Python)")
+    raise SkeletonError(f"this is {FORMAT_NAMES[fmt]}, not a skeleton file; {readers}",
+                        file=file)
+
+
+# JSON's "\ud800" and YAML's "\ud800" or "\U0000d800": a surrogate written as an escape
+_SURROGATE_ESCAPE = re.compile(r"\\(u|U0000)[dD][89a-fA-F]")
+
+
+def _refuse_surrogates(data: Any, loc: Locator) -> None:
+    """Refuse the first key or text holding a lone surrogate, at its key path.
+
+    Such a name is read without complaint and fails only when a report or a
+    file is written (UnicodeEncodeError); it is refused where it is read.
+    """
+    stack: list[tuple[KeyPath, Any]] = [((), data)]
+    while stack:
+        path, value = stack.pop()
+        if isinstance(value, str):
+            why = text_problem(value)
+            if why is not None:
+                raise loc.error(why, path)
+        elif isinstance(value, dict):
+            for key, item in reversed(list(value.items())):
+                why = text_problem(key)
+                if why is not None:  # the key path shows the surrogate escaped
+                    raise loc.error(f"the key {why}",
+                                    (*path, key.encode("utf-8", "backslashreplace").decode()))
+                stack.append(((*path, key), item))
+        elif isinstance(value, list):
+            stack.extend(((*path, i), item) for i, item in reversed(list(enumerate(value))))
 
 
 class _Dumper(yaml.SafeDumper):
@@ -275,7 +386,8 @@ def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = 
     ----------
     sk : Skeleton
     path : str or path-like
-        ``.json`` writes JSON, anything else YAML.
+        ``.json`` writes JSON, ``.yaml`` and ``.yml`` YAML; any other
+        extension is refused (nothing is written).
     overwrite : bool
         Replace an existing file; without it an existing file is never touched.
 
@@ -289,7 +401,8 @@ def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = 
     FileExistsError
         ``path`` exists and ``overwrite`` is False.
     SkeletonError
-        ``sk`` breaks a rule of spec §1 (nothing is written).
+        ``sk`` breaks a rule of spec §1, or ``path`` has no skeleton extension
+        (nothing is written).
 
     Examples
     --------
@@ -306,8 +419,13 @@ def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = 
     >>> load_skeleton(f) == sk
     True
     """
-    data = sk.to_dict()
     target = Path(os.fspath(path))
+    if target.suffix.lower() not in SKELETON_EXTENSIONS:
+        raise SkeletonError(f"a skeleton file is .yaml, .yml or .json, not "
+                            f"{target.suffix or 'a name without extension'!r}; name the file "
+                            "accordingly (other formats take a timed event graph: "
+                            "tegraph.io.write)", file=str(target))
+    data = sk.to_dict()
     if target.suffix.lower() == ".json":
         text = json.dumps(data, indent=2, ensure_ascii=False) + "\n"
     else:

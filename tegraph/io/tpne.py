@@ -38,12 +38,20 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time
 
 from ..errors import InputError, ModelError
 from ..model.convert import as_petri_net, as_teg
+from ..model.limits import (
+    count_problem,
+    node_count_problem,
+    number_text_problem,
+    shown,
+    text_problem,
+)
 from ..model.petri import PetriNet
 from ..model.teg import TimedEventGraph
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
@@ -52,6 +60,7 @@ __all__ = ["dumps_tpne_json", "dumps_tpne_teg", "parse_tpne_json", "parse_tpne_t
            "read_tpne_json", "read_tpne_teg", "write_tpne_json", "write_tpne_teg"]
 
 _LINE = re.compile(r"\s*(\S+)\s+(\S+?)\s*:\s*(\S+)\s+(\S+)\s*")
+_DIGITS = re.compile(r"[0-9]+")  # str.isdigit() takes "²", which int() refuses
 
 
 # --------------------------------------------------------------------------- JSON
@@ -87,17 +96,27 @@ def parse_tpne_json(data: bytes | str, file: str | None = None) -> PetriNet:
     if isinstance(data, str):
         data = data.encode("utf-8")
     try:
-        doc = json.loads(data.decode("utf-8-sig"), parse_float=Decimal)
+        text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text (byte {exc.start})", file=file) from None
+    try:
+        doc = json.loads(text, parse_float=_json_decimal, parse_int=_json_int)
+    except _NumberRefused as exc:
+        raise InputError(f"expected a number within the limits: {exc.why}", "", file,
+                         _line_of(text, exc.text)) from None
     except json.JSONDecodeError as exc:
         raise InputError(f"malformed JSON: {exc.msg} (column {exc.colno})", file=file,
                          line=exc.lineno) from None
+    except RecursionError:  # 3,000 nested brackets: json's C scanner gives up
+        raise InputError("malformed JSON: nested too deeply; expected a TimedPetriNetEditor "
+                         "net (objects and lists a few levels deep)", file=file) from None
+    except ValueError as exc:  # an integer of more digits than Python converts
+        raise InputError(f"malformed JSON: {exc}", file=file) from None
     nets = doc.get("nets") if isinstance(doc, dict) else None
     if not isinstance(nets, list) or not nets or not isinstance(nets[0], dict):
         raise InputError("expected an object with a non-empty list 'nets'", "nets", file)
     net = nets[0]
-    name = str(net.get("name") or Path(file or "net").stem)
+    name = _text(net.get("name"), "nets[0].name", file) or Path(file or "net").stem
     keys: dict[str, tuple[str, int]] = {}
     captions: dict[str, list[str]] = {"place": [], "transition": []}
     tokens: list[int] = []
@@ -115,51 +134,106 @@ def parse_tpne_json(data: bytes | str, file: str | None = None) -> PetriNet:
             if key in keys:
                 raise InputError(f"duplicate id {item['id']}", f"{where}.id", file)
             keys[key] = (kind, len(captions[kind]))
-            captions[kind].append(str(item.get("caption") or key))
+            captions[kind].append(_text(item.get("caption"), f"{where}.caption", file) or key)
             positions[kind + "s"].append((item.get("x"), item.get("y")))
             if kind == "place":
                 t = item.get("tokens", 0)
                 if type(t) is not int or t < 0:
-                    raise InputError(f"tokens must be an integer >= 0, got {t!r}",
+                    raise InputError(f"tokens must be an integer >= 0, got {shown(t)}",
                                      f"{where}.tokens", file)
+                why = count_problem(t, "tokens")
+                if why is not None:
+                    raise InputError(why, f"{where}.tokens", file)
                 tokens.append(t)
     n_p, n_t = len(captions["place"]), len(captions["transition"])
-    pre = np.zeros((n_p, n_t), dtype=np.int64)
-    post = np.zeros_like(pre)
+    pre_arcs: list[tuple[int, int]] = []
+    post_arcs: list[tuple[int, int]] = []
     holding = [Fraction(0)] * n_p
-    timed = "timed" in str(doc.get("type", "")).lower()
-    for k, arc in enumerate(net.get("arcs", [])):
+    kind_text = doc.get("type", "")
+    timed = isinstance(kind_text, str) and "timed" in kind_text.lower()
+    arcs = net.get("arcs", [])
+    if not isinstance(arcs, list):
+        raise InputError("expected a list of arcs", "nets[0].arcs", file)
+    for k, arc in enumerate(arcs):
         where = f"nets[0].arcs[{k}]"
         if not isinstance(arc, dict):
             raise InputError("expected an object", where, file)
         ends = []
         for end in ("from", "to"):
             ref = arc.get(end)
-            if ref not in keys:
-                raise InputError(f"{ref!r} is not the key (P<id> or T<id>) of a node of the net",
-                                 f"{where}.{end}", file)
+            if not isinstance(ref, str) or ref not in keys:
+                raise InputError(f"{shown(ref)} is not the key (P<id> or T<id>) of a node of "
+                                 "the net", f"{where}.{end}", file)
             ends.append(keys[ref])
         (k_from, i_from), (k_to, i_to) = ends
         if k_from == k_to:
             raise InputError(f"the arc joins two {k_from}s; an arc joins a place and a "
                              "transition", where, file)
         if k_from == "place":
-            pre[i_from, i_to] += 1
+            pre_arcs.append((i_from, i_to))
         else:
-            post[i_to, i_from] += 1
+            post_arcs.append((i_to, i_from))
             if "duration" in arc:
                 timed = True
                 holding[i_to] = _duration(arc["duration"], f"{where}.duration", file)
     result = PetriNet(name, _unique(captions["place"], "P"), _unique(captions["transition"], "T"),
-                      pre, post, np.array(tokens, dtype=np.int64), holding if timed else [],
+                      _weights(pre_arcs, n_p, n_t), _weights(post_arcs, n_p, n_t),
+                      np.array(tokens, dtype=np.int64), holding if timed else [],
                       [] if not timed else [Fraction(0)] * n_p)
     result.attrs["tpne_positions"] = positions
     return result
 
 
+class _NumberRefused(ValueError):
+    def __init__(self, text: str, why: str) -> None:
+        super().__init__(why)
+        self.text, self.why = text, why
+
+
+def _json_decimal(text: str) -> Decimal:
+    """A JSON number with a fraction or exponent, exactly; refused beyond the stated limits."""
+    why = number_text_problem(text)
+    if why is not None:
+        raise _NumberRefused(text, why)
+    return Decimal(text)
+
+
+def _json_int(text: str) -> int:
+    """A JSON integer; refused beyond the stated limits before it is converted."""
+    why = number_text_problem(text)
+    if why is not None:
+        raise _NumberRefused(text, why)
+    return int(text)
+
+
+def _line_of(text: str, needle: str) -> int | None:
+    pos = text.find(needle)
+    return None if pos < 0 else text.count("\n", 0, pos) + 1
+
+
+def _text(value: Any, where: str, file: str | None) -> str:
+    """A caption or name: a text that can be written back (empty when absent)."""
+    if value is None:
+        return ""
+    if isinstance(value, bool) or not isinstance(value, (str, int)):
+        raise InputError(f"expected a text, got {type(value).__name__}", where, file)
+    value = str(value)
+    why = text_problem(value)
+    if why is not None:
+        raise InputError(why, where, file)
+    return value
+
+
+def _weights(arcs: list[tuple[int, int]], n_p: int, n_t: int) -> sp.csr_array:
+    """Arc weights, places x transitions: how many arcs join each pair."""
+    rows = np.array([p for p, _ in arcs], dtype=np.int64)
+    cols = np.array([t for _, t in arcs], dtype=np.int64)
+    return sp.csr_array((np.ones(len(arcs), dtype=np.int64), (rows, cols)), shape=(n_p, n_t))
+
+
 def _duration(value: Any, where: str, file: str | None) -> Fraction:
     if isinstance(value, bool) or not isinstance(value, (int, Decimal)):
-        raise InputError(f"a duration is a number >= 0, got {value!r}", where, file)
+        raise InputError(f"a duration is a number >= 0, got {shown(value)}", where, file)
     t = Fraction(value)
     if t < 0:
         raise InputError(f"a duration must be >= 0, got {value}", where, file)
@@ -190,15 +264,18 @@ def dumps_tpne_json(obj: Any) -> str:
     --------
     >>> net = parse_tpne_json(dumps_tpne_json(parse_tpne_json(
     ...     '{"nets": [{"places": [{"id": 0, "tokens": 2}], "transitions": [{"id": 0}],'
-    ...     ' "arcs": [{"from": "T0", "to": "P0", "duration": 0.5}, {"from": "P0", "to": "T0"}]}]}')))
+    ...     ' "arcs": [{"from": "T0", "to": "P0", "duration": 0.5},'
+    ...     ' {"from": "P0", "to": "T0"}]}]}')))
     >>> net.holding, net.marking.tolist()
     ([Fraction(1, 2)], [2])
     """
     net = as_petri_net(obj)
-    if ((net.pre > 1) | (net.post > 1)).any():
-        p, t = np.argwhere((net.pre > 1) | (net.post > 1))[0]
-        raise ModelError("TimedPetriNetEditor arcs have weight 1",
-                         f"arc between {net.places[p]} and {net.transitions[t]}")
+    for weights in (net.pre, net.post):
+        heavy = [(p, t) for p, t, w in _arcs(weights) if w > 1]
+        if heavy:
+            p, t = heavy[0]
+            raise ModelError("TimedPetriNetEditor arcs have weight 1",
+                             f"arc between {net.places[p]} and {net.transitions[t]}")
     if net.initial and any(net.initial):
         k = next(i for i, v in enumerate(net.initial) if v)
         raise ModelError("TimedPetriNetEditor cannot hold availability times of initial tokens",
@@ -212,12 +289,12 @@ def dumps_tpne_json(obj: Any) -> str:
     transitions = [{"id": k, "caption": name, "x": x, "y": y}
                    for k, (name, (x, y)) in enumerate(zip(net.transitions, t_pos))]
     arcs = []
-    for t, p in np.argwhere(net.post.T > 0).tolist():
+    for t, p, _ in _arcs(net.post.T):
         arc = f'{{"from": "T{t}", "to": "P{p}"'
         if net.holding:
             arc += f', "duration": {_decimal(net.holding[p], net.places[p])}'
         arcs.append(arc + "}")
-    for p, t in np.argwhere(net.pre > 0).tolist():
+    for p, t, _ in _arcs(net.pre):
         arcs.append(f'{{"from": "P{p}", "to": "T{t}"}}')
     kind = ("Timed event graph" if marked else "Timed Petri net") if net.holding else "Petri net"
     lines = ["{", '  "revision": 4,', f'  "type": "{kind}",', '  "nets": [', "    {",
@@ -231,9 +308,19 @@ def dumps_tpne_json(obj: Any) -> str:
     return "\n".join(lines)
 
 
+def _arcs(weights: Any) -> list[tuple[int, int, int]]:
+    """``(row, column, weight)`` of every nonzero entry of a sparse matrix, row by row."""
+    coo = sp.coo_array(weights)
+    coo.sum_duplicates()
+    order = np.lexsort((coo.col, coo.row))
+    return list(zip(coo.row[order].tolist(), coo.col[order].tolist(),
+                    coo.data[order].tolist()))
+
+
 def _layout(given: Any, n: int, radius: float) -> list[tuple[Any, Any]]:
     if isinstance(given, list) and len(given) == n and all(
-            isinstance(x, (int, Decimal)) and isinstance(y, (int, Decimal)) for x, y in given):
+            isinstance(v, (int, Decimal)) and not isinstance(v, bool) and abs(v) < 10**9
+            for xy in given for v in xy):
         return [(int(x) if x == int(x) else float(x), int(y) if y == int(y) else float(y))
                 for x, y in given]
     # the editor's own default: a circle around (350, 350)
@@ -286,40 +373,56 @@ def parse_tpne_teg(data: bytes | str, file: str | None = None, orientation: str 
     """
     if orientation not in ("matrix", "from-to"):
         raise InputError(f"expected 'matrix' or 'from-to', got {orientation!r}", "orientation")
+    size = len(data.encode("utf-8") if isinstance(data, str) else data)
     text = data.decode("utf-8", "replace") if isinstance(data, bytes) else data
     lines = text.splitlines()
     header = lines[0].split() if lines else []
-    if (len(header) != 3 or header[0] != "TimedEventGraph" or not header[1].isdigit()
-            or not header[2].isdigit()):
+    if (len(header) != 3 or header[0] != "TimedEventGraph" or not _DIGITS.fullmatch(header[1])
+            or not _DIGITS.fullmatch(header[2])):
         raise InputError("expected the header 'TimedEventGraph <transitions> <lines>'",
                          "header", file, 1)
-    n, m = int(header[1]), int(header[2])
+    # a count of more than 19 digits is above any limit: not converted (4300-digit texts
+    # are refused by int() itself)
+    too_long = len(header[1]) > 19
+    n = 2**64 if too_long else int(header[1])
+    why = node_count_problem(n, size, "transitions")
+    if why is not None:
+        raise InputError(why.replace(str(2**64), shown(header[1], quote=False)) if too_long
+                         else why, "header", file, 1)
+    body = [(k, line) for k, line in enumerate(lines[1:], start=2) if line.strip()]
+    if len(header[2]) > 19 or len(body) != int(header[2]):
+        raise InputError(f"the header announces {shown(header[2], quote=False)} lines, the file "
+                         f"has {len(body)}", "header", file, 1)
     teg = TimedEventGraph(name)
     for k in range(n):
         teg.add_transition(f"T{k}")
-    body = [(k, line) for k, line in enumerate(lines[1:], start=2) if line.strip()]
-    if len(body) != m:
-        raise InputError(f"the header announces {m} lines, the file has {len(body)}", "header",
-                         file, 1)
     for number, line in body:
         match = _LINE.fullmatch(line)
         if not match:
             raise InputError("expected '<i> <j>: <duration> <tokens>'", "", file, number)
         i, j, d, t = match.groups()
         for field, value in (("i", i), ("j", j)):
-            if not value.isdigit() or int(value) >= n:
-                raise InputError(f"expected a transition index 0..{n - 1}, got {value!r}", field,
-                                 file, number)
-        if not t.isdigit():
-            raise InputError(f"expected a token count (an integer >= 0), got {t!r}", "tokens",
-                             file, number)
+            if not _DIGITS.fullmatch(value) or len(value) > 19 or int(value) >= n:
+                raise InputError(f"expected a transition index 0..{n - 1}, got {shown(value)}",
+                                 field, file, number)
+        if not _DIGITS.fullmatch(t):
+            raise InputError(f"expected a token count (an integer >= 0), got {shown(t)}",
+                             "tokens", file, number)
+        why = number_text_problem(t) or count_problem(int(t), "a token count")
+        if why is not None:
+            raise InputError(why, "tokens", file, number)
+        why = number_text_problem(d)
+        if why is not None:
+            raise InputError(f"expected a duration within the limits: {why}", "duration", file,
+                             number)
         try:
             duration = exact_time(d, "duration")
         except MaxPlusValueError:
-            raise InputError(f"expected a duration such as 3 or 0.5, got {d!r}", "duration",
-                             file, number) from None
+            raise InputError(f"expected a duration such as 3 or 0.5, got {shown(d)}",
+                             "duration", file, number) from None
         if duration < 0:
-            raise InputError(f"a duration must be >= 0, got {d}", "duration", file, number)
+            raise InputError(f"a duration must be >= 0, got {shown(d)}", "duration", file,
+                             number)
         src, dst = (int(j), int(i)) if orientation == "matrix" else (int(i), int(j))
         teg.add_place(src, dst, int(t), duration)
     return teg

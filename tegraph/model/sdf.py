@@ -30,16 +30,21 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..errors import ModelError
+from maxplus.scalar import int_array
+
+from ..errors import InputError, ModelError
 from .arcs import ArcList
+from .limits import DEFAULT_MAX_FIRINGS, MAX_DIGITS
 from .teg import TimedEventGraph
 
 __all__ = ["SDFChannel", "SDFGraph"]
 
+_MAX_BITS = int(MAX_DIGITS * 3.33) + 1  # a repetition entry of MAX_DIGITS decimal digits
+
 
 @dataclass(frozen=True)
 class SDFChannel:
-    """A channel ``src -> dst``: ``prod`` tokens per source firing, ``cons`` per destination firing."""
+    """A channel ``src -> dst``: ``prod`` tokens a source firing, ``cons`` a destination firing."""
 
     name: str
     src: str
@@ -59,6 +64,8 @@ class SDFGraph:
     actors : dict of str to int
         Execution time of each actor, in file order.
     channels : list of SDFChannel
+    source : str or None
+        The file the graph was read from, named in refusals (not compared).
 
     Examples
     --------
@@ -78,6 +85,7 @@ class SDFGraph:
     name: str
     actors: dict[str, int]
     channels: list[SDFChannel] = field(default_factory=list)
+    source: str | None = field(default=None, compare=False)
 
     def repetition_vector(self) -> dict[str, int]:
         """Smallest positive firings per iteration, per actor (connected parts separately).
@@ -102,6 +110,10 @@ class SDFGraph:
                 a = stack.pop()
                 for b, factor, c in adj[a]:
                     want = q[a] * factor
+                    if max(want.numerator, want.denominator).bit_length() > _MAX_BITS:
+                        raise ModelError(f"the repetition vector reaches an entry of more than "
+                                         f"{MAX_DIGITS} digits at actor {b}; such a graph "
+                                         "cannot be expanded", f"channel {c.name}")
                     if b not in q:
                         q[b] = want
                         part.append(b)
@@ -118,7 +130,24 @@ class SDFGraph:
                 q[a] = Fraction(v // g)
         return {a: int(q[a]) for a in self.actors}
 
-    def to_arcs(self) -> ArcList:
+    def expansion_size(self) -> tuple[int, int]:
+        """Firings and token transfers of one iteration: the size of :meth:`to_arcs`' work.
+
+        Firings are the sum of the repetition vector (the transitions of the
+        expansion); transfers are the tokens all channels carry in one
+        iteration, ``sum(q[dst] * cons)`` (the places before duplicates are
+        dropped). Both are computed from the repetition vector alone.
+
+        Examples
+        --------
+        >>> g = SDFGraph("g", {"a": 1, "b": 1}, [SDFChannel("ab", "a", "b", 10**9, 10**9 + 1)])
+        >>> g.expansion_size()
+        (2000000001, 1000000001000000000)
+        """
+        q = self.repetition_vector()
+        return sum(q.values()), sum(q[c.dst] * c.cons for c in self.channels)
+
+    def to_arcs(self, max_firings: int = DEFAULT_MAX_FIRINGS) -> ArcList:
         """The homogeneous (HSDF) expansion as an arc list (transitions ``actor_i``).
 
         Firing ``j`` of ``dst`` in iteration ``k`` takes the tokens of absolute
@@ -127,7 +156,33 @@ class SDFGraph:
         count as firings of earlier iterations), i.e. by ``src_(f mod q_src)``
         ``-floor(f / q_src)`` iterations before. Of the places between two
         firings only the one with fewest tokens constrains, and is kept.
+
+        Parameters
+        ----------
+        max_firings : int
+            Refuse an expansion of more firings, or token transfers, per
+            iteration than this (default
+            :data:`~tegraph.model.limits.DEFAULT_MAX_FIRINGS`, 10**7): its
+            arrays take some 100 bytes each. Checked from the repetition
+            vector before anything is built (:meth:`expansion_size`).
+
+        Raises
+        ------
+        InputError
+            The expansion is above ``max_firings`` (``where`` is ``max_firings``).
+        ModelError
+            Inconsistent rates.
         """
+        firings, transfers = self.expansion_size()
+        for count, what in ((firings, "firings (the sum of the repetition vector)"),
+                            (transfers, "token transfers (the sum over channels of "
+                                        "q[dst] * consumption rate)")):
+            if count > max_firings:
+                raise InputError(
+                    f"the homogeneous expansion of SDF graph {self.name!r} has {count} {what} "
+                    f"per iteration, above the limit of {max_firings}; raise `max_firings` to "
+                    "expand it (tegraph has no method that avoids the expansion)",
+                    "max_firings", self.source)
         q = self.repetition_vector()
         offset: dict[str, int] = {}
         names: list[str] = []
@@ -153,8 +208,8 @@ class SDFGraph:
         first = np.ones(len(s), dtype=bool)
         first[1:] = (s[1:] != s[:-1]) | (d[1:] != d[:-1])
         s, d, t = s[first], d[first], t[first]
-        exec_time = np.array([self.actors[a] for a in self.actors for _ in range(q[a])],
-                             dtype=np.int64)
+        # execution times of any size stay exact (object arrays from 2**62)
+        exec_time = int_array([self.actors[a] for a in self.actors for _ in range(q[a])])
         return ArcList(s, d, exec_time[s], t, 1, names, len(names), self.name)
 
     def to_teg(self) -> TimedEventGraph:

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..errors import SkeletonError
 from .elements import Clock, Link, Protocol, Task
+from .limits import text_problem
 
 if TYPE_CHECKING:  # checks read a skeleton's fields; the class is built above this module
     from .skeleton import Skeleton
@@ -102,6 +103,9 @@ def check_name(name: Any, path: KeyPath, what: str, loc: Locator) -> str:
         )
     if not name:
         raise loc.error(f"expected a non-empty {what}", path)
+    why = text_problem(name)  # "\ud800" from JSON: no file or report could hold it
+    if why is not None:
+        raise loc.error(f"the {what} {why}", path)
     if ":" in name:
         raise loc.error(
             f"the {what} {name!r} contains ':'; expected a name without ':' "

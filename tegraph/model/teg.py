@@ -39,6 +39,7 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import EPS, INT64_SAFE, exact_time, int_array
 
 from ..errors import InputError, ModelError, NotLiveError
+from .limits import count_problem, number_text_problem
 
 if TYPE_CHECKING:  # networkx costs 0.1 s to import; only the conversions need it
     import networkx as nx
@@ -572,6 +573,9 @@ def _check_tokens(value: Any, where: str) -> int:
         raise ModelError(f"tokens must be an integer >= 0, got {value!r}", where)
     if value != int(value) or value < 0:
         raise ModelError(f"tokens must be an integer >= 0, got {value!r}", where)
+    why = count_problem(int(value), "tokens")  # held in int64 arrays (MAX_COUNT)
+    if why is not None:
+        raise ModelError(why, where)
     return int(value)
 
 
@@ -582,6 +586,9 @@ def _check_time(value: Any, what: str, where: str) -> Fraction:
         if t < 0:
             raise ModelError(f"{what} must be >= 0, got {t}", where)
         return t
+    why = number_text_problem(value)  # "1e999999999" would take hours to expand
+    if why is not None:
+        raise ModelError(f"{what} must be a time: {why}", where)
     try:
         t = exact_time(value, what)
     except MaxPlusValueError as exc:

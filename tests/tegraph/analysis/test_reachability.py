@@ -27,6 +27,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
+import tegraph
 from tegraph import Skeleton, analyze, build_teg, load_skeleton
 from tegraph.analysis.reachability import (
     bounded_net,
@@ -36,6 +37,7 @@ from tegraph.analysis.reachability import (
 )
 from tegraph.cli import app
 from tegraph.io.pnml import read_pnml
+from tegraph.model.convert import as_petri_net
 from tegraph.model.petri import PetriNet
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton, write_corpus
@@ -49,7 +51,7 @@ CORPUS_SIZE = 300
 
 def reference_bfs(net: PetriNet, cap: int = 5000):
     """Textbook BFS over tuples: (states, edges, {dead marking: distance}) or None past ``cap``."""
-    pre, post = net.pre.T.tolist(), net.post.T.tolist()
+    pre, post = net.pre.toarray().T.tolist(), net.post.toarray().T.tolist()
     m0 = tuple(int(v) for v in net.marking)
     dist, queue, edges, dead = {m0: 0}, deque([m0]), 0, {}
     while queue:
@@ -177,6 +179,13 @@ def small_nets(draw) -> PetriNet:
 def test_matches_a_plain_breadth_first_search(net: PetriNet) -> None:
     ref = reference_bfs(net, cap=400)
     r = reachability_graph(net, max_states=400)
+    pre, post = net.pre.toarray(), net.post.toarray()
+    sources = [t for t in range(len(net.transitions))
+               if not pre[:, t].any() and post[:, t].any()]
+    if sources:  # always enabled, each firing adds a token: infinite, and nothing is dead
+        assert ref is None and (r.stopped_by, r.deadlock) == ("unbounded", False)
+        assert r.source_transition == net.transitions[sources[0]]
+        return
     if ref is None:  # more than 400 markings: the budget must say so
         assert not r.complete and r.states == 400
         return
@@ -248,7 +257,8 @@ def test_bounded_net_keeps_each_place_within_its_bound() -> None:
     b = bounded_net(net)
     # Hand argument: p + p~ is invariant (p~ gains what p loses), so every
     # reachable marking of b keeps p within m_p + 1.
-    assert ((b.post - b.pre)[:len(net.places)] + (b.post - b.pre)[len(net.places):] == 0).all()
+    inc = (b.post - b.pre).toarray()
+    assert (inc[:len(net.places)] + inc[len(net.places):] == 0).all()
     assert (b.marking[:len(net.places)] + b.marking[len(net.places):]
             == net.marking + 1).all()
 
@@ -310,3 +320,78 @@ def test_cli_ctrl_c_prints_the_partial_counts(anchors: Path) -> None:
     assert "inconclusive (interrupted after" in stdout and "Traceback" not in stderr
     states = int(stdout.split("untimed reachability, ")[1].split(" state")[0].replace(",", ""))
     assert 0 < states < 23_973_456_915
+
+
+# ------------------------------------------------------------------ sizes and verdicts up front
+
+SOURCE_NET = """{"revision": 4, "type": "Petri net", "nets": [{"name": "src",
+  "places": [{"id": 0, "caption": "buffer", "tokens": 0}],
+  "transitions": [{"id": 0, "caption": "produce"}, {"id": 1, "caption": "consume"}],
+  "arcs": [{"from": "T0", "to": "P0"}, {"from": "P0", "to": "T1"}]}]}"""
+
+
+def test_a_source_transition_is_reported_unbounded_at_once(tmp_path: Path) -> None:
+    """produce has no input place: always enabled, so no marking is dead; each firing adds
+    a token to buffer, so the markings 0, 1, 2... are all reachable (before: a search of
+    1,000,000 states, 48 s, and an inconclusive answer)."""
+    f = tmp_path / "source.json"
+    f.write_text(SOURCE_NET)
+    net = tegraph.read(f)
+    r = reachability_graph(net)
+    assert (r.stopped_by, r.deadlock, r.complete, r.source_transition) == \
+        ("unbounded", False, False, "produce")
+    assert r.verdict().startswith(
+        "unbounded: transition 'produce' has no input place, it can fire forever")
+    out = CliRunner().invoke(app, ["reach", str(f), "--json"])
+    assert out.exit_code == 0, out.output
+    d = json.loads(out.stdout)
+    assert (d["deadlock"], d["stopped_by"]) == (False, "unbounded")
+    assert d["unbounded"] == "transition produce has no input place, it can fire forever"
+    out = CliRunner().invoke(app, ["reach", str(f)])
+    assert "unbounded: transition 'produce'" in out.stdout
+
+
+def test_a_transition_without_any_place_is_explored() -> None:
+    # idle touches no place: always enabled but the marking never changes, so the graph
+    # is finite: 1 state, 1 edge (idle fires in place), and no dead marking
+    net = PetriNet("idle", ["p"], ["idle"], np.array([[0]]), np.array([[0]]), np.array([3]))
+    r = reachability_graph(net)
+    assert (r.states, r.edges, r.complete, r.deadlock, r.source_transition) == \
+        (1, 1, True, False, None)
+
+
+def test_markings_that_would_leave_64_bits_stop_the_search() -> None:
+    # t takes 1 token from p (5 tokens) and puts 2 into q (2**63 - 3): after one firing q
+    # holds 2**63 - 1, the largest int64; a second firing would wrap it to a negative count
+    # (before: the search went on with the wrapped, wrong markings)
+    top = 2**63 - 1
+    net = PetriNet("grow", ["p", "q"], ["t"], np.array([[1], [0]]), np.array([[0], [2]]),
+                   np.array([5, top - 2]))
+    r = reachability_graph(net)
+    assert (r.stopped_by, r.states, r.deadlock) == ("tokens", 2, None)
+    assert "2**63 - 1" in r.verdict()
+
+
+def test_the_memory_budget_bounds_the_search_of_a_net_of_many_places(anchors: Path,
+                                                                      tmp_path: Path) -> None:
+    """mp3playback's expansion: 10,601 transitions and 26,493 places (cases.json of the SDF
+    anchors). Before: a dense incidence of 26,493 x 10,601 (2.1 GiB, then MemoryError)."""
+    net = as_petri_net(tegraph.read(anchors / "sdf" / "xml" / "mp3playback.xml"))
+    assert (len(net.places), len(net.transitions)) == (26_493, 10_601)
+    assert net.pre.nnz == net.post.nnz == 26_493  # a marked graph: one arc in, one out
+    # a marking of 26,493 places takes 26,493 bytes (uint8) twice, plus 150: 10 MiB hold 197
+    r = reachability_graph(net, max_memory=10 * 2**20)
+    assert (r.stopped_by, r.states, r.deadlock) == ("memory", 197, None)
+    assert "memory budget of 10 MiB" in r.verdict()
+    out = tegraph.write(net, tmp_path / "mp3.pnml")  # `convert` to PNML, sparse all through
+    back = tegraph.read(out)
+    assert (back.pre != net.pre).nnz == 0 and (back.post != net.post).nnz == 0
+
+
+def test_a_billion_tokens_are_explored_in_narrow_markings() -> None:
+    # a ring a -> b -> a with 10**9 tokens: every split (k, 10**9 - k) is reachable, one new
+    # marking a level; a budget of 500 states ends it, whatever the count of tokens
+    net = PetriNet("ring", ["ab", "ba"], ["a", "b"], np.array([[0, 1], [1, 0]]),
+                   np.array([[1, 0], [0, 1]]), np.array([0, 10**9]))
+    r = reachability_graph(net, max_states=500)
+    assert (r.states, r.stopped_by, r.deadlock) == (500, "states", None)

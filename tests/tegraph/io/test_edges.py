@@ -90,7 +90,7 @@ def test_availability_times_cannot_be_written():
     ("1.5 2 3 4\n", 1, "src: expected a transition index"),
     ("0 -1 2 3\n", 1, "dst: expected a transition index"),
     ("0 1 2 3\n1 2 3 4.5\n", 2, "tokens: expected a token count"),
-    ("0 1 2 99999999999999999999\n", 1, "tokens: expected a token count"),
+    ("0 1 2 99999999999999999999\n", 1, "tokens: a token count must be at most 2**63 - 1"),
     ("# node 0 a\n# node 1 a\n0 1 2 3\n", 2, "both named 'a'"),
 ])
 def test_malformed_lines_are_named(text, line, expect):

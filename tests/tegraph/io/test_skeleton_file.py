@@ -164,8 +164,10 @@ REFUSALS = [
     # -- private clocks ---------------------------------------------------------------
     pytest.param(y("clocks:", "  A.clock: {period: 5}", "tasks:", "  A: {duration: 1, period: 10}"),
                  "tasks.A.period", "its private clock 'A.clock' collides with the clock declared "
-                 "at clocks.A.clock; expected distinct clock names", 4, id="private-clock-collides"),
-    pytest.param(y("tasks:", "  A: {duration: 1, period: 10}", "  B: {duration: 1, clock: A.clock}"),
+                 "at clocks.A.clock; expected distinct clock names", 4,
+                 id="private-clock-collides"),
+    pytest.param(y("tasks:", "  A: {duration: 1, period: 10}",
+                   "  B: {duration: 1, clock: A.clock}"),
                  "tasks.B.clock", "'A.clock' is the private clock of another task", 3,
                  id="borrowed-private-clock"),
     # -- wrong types and missing required keys ---------------------------------------
@@ -621,7 +623,8 @@ def skeletons(draw: st.DrawFn) -> Skeleton:
     order = draw(st.permutations(names))
     cut = draw(st.integers(0, len(order)))
     threads = [tuple(order[:cut])] if cut else []
-    return Skeleton(draw(NAMES), tasks, clocks, links, threads, unit=draw(st.sampled_from(["ms", "s"])))
+    return Skeleton(draw(NAMES), tasks, clocks, links, threads,
+                    unit=draw(st.sampled_from(["ms", "s"])))
 
 
 @settings(max_examples=60)

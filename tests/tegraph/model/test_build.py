@@ -221,7 +221,7 @@ def test_asyn_asyn_adds_nothing():
     assert nx.number_weakly_connected_components(g.to_networkx()) == 2
 
 
-# --------------------------------------------------------------------------- chains, clocks, threads
+# ------------------------------------------------------------------------ chains, clocks, threads
 @pytest.mark.parametrize("duration, expected", [
     # x_tick(k) = 1 + 4(k-1); x_activate(k) = max(x_tick(k), x_compute(k-1) + d).
     (F(3), [F(1), F(5), F(9), F(13)]),        # 3 <= 4: follows the clock

@@ -1,0 +1,180 @@
+"""The stated limits on what a model holds, and the checks of texts and numbers read.
+
+A value of any size is either held exactly or refused with a message that
+names the value and the limit, never approximated and never left to exhaust
+the machine. Every reader of a file (:mod:`tegraph.io`) and every model built
+in code applies the same bounds:
+
+==========================  ==============  ============================================
+limit                       value           why
+==========================  ==============  ============================================
+:data:`MAX_DIGITS`          4300            digits of a number's text (Python's own
+                                            limit on converting text to an int)
+:data:`MAX_EXPONENT`        1000            decimal exponent of a number's text:
+                                            ``1e999999999`` would be expanded into an
+                                            exact integer of a billion digits
+:data:`MAX_COUNT`           2**63 - 1       tokens, markings, arc weights and rates are
+                                            counted in 64-bit integers
+:data:`FREE_NODES`          2**20           nodes that no arc names (a declared count,
+                                            a skipped index) beyond the file's size in
+                                            bytes
+:data:`DEFAULT_MAX_FIRINGS` 10**7           firings of an SDF graph's homogeneous
+                                            expansion (a parameter, ``max_firings``)
+==========================  ==============  ============================================
+
+Times are exact rationals of any size within the first two bounds (a time of
+4300 digits, or ``1e1000``, is held exactly).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable
+from decimal import Decimal
+from typing import Any
+
+__all__ = ["DEFAULT_MAX_FIRINGS", "FREE_NODES", "MAX_COUNT", "MAX_DIGITS", "MAX_EXPONENT",
+           "count_problem", "denominator_problem", "node_count_problem", "number_text_problem",
+           "shown", "text_problem"]
+
+MAX_DIGITS = 4300
+"""Most digits in the text of one number (Python refuses longer texts as ints, too)."""
+
+MAX_EXPONENT = 1000
+"""Largest decimal exponent, in absolute value, of a number's text (as skeleton files)."""
+
+MAX_COUNT = 2**63 - 1
+"""Largest token count, marking, arc weight or rate: they are held as 64-bit integers."""
+
+FREE_NODES = 2**20
+"""Nodes no arc names that a file may declare beyond its own size in bytes."""
+
+DEFAULT_MAX_FIRINGS = 10**7
+"""Default bound on the firings (and token transfers) of one iteration of an SDF
+graph's homogeneous expansion: its arrays take about 100 bytes a firing."""
+
+_MAX_BITS = int(MAX_DIGITS * math.log2(10)) + 1
+_EXPONENT = re.compile(r"[eE]\s*[+-]?\s*(\d+)")
+_SHOWN = 40
+
+
+def shown(text: Any, quote: bool = True) -> str:
+    """A value for a message: its ``repr`` (or its text), cut to 40 characters with its length.
+
+    >>> shown("7/3"), shown(7, quote=False), shown("1" * 50)
+    ("'7/3'", '7', "'1111111111111111111111111111111111111111...' (50 characters)")
+    """
+    text = str(text)
+    if len(text) <= _SHOWN:
+        return repr(text) if quote else text
+    cut = f"{text[:_SHOWN]!r}"[:-1] + "...'" if quote else text[:_SHOWN] + "..."
+    return f"{cut} ({len(text)} characters)"
+
+
+def number_text_problem(text: Any) -> str | None:
+    """Why the text of a number is refused before it is converted, or None.
+
+    Applies :data:`MAX_DIGITS` and :data:`MAX_EXPONENT` to a str (or the text
+    of a :class:`~decimal.Decimal`); other values pass.
+
+    Examples
+    --------
+    >>> number_text_problem("7/3") is None, number_text_problem("1e1000") is None
+    (True, True)
+    >>> number_text_problem("1e999999999")
+    "'1e999999999' has the exponent 999999999, above the limit of 1000"
+    >>> print(number_text_problem("9" * 5000))  # doctest: +ELLIPSIS
+    '999...' (5000 characters) has 5000 digits, above the limit of 4300
+    """
+    if isinstance(text, Decimal):
+        text = str(text)
+    if not isinstance(text, str):
+        return None
+    digits = sum(c.isdigit() for c in text) if len(text) <= 4 * MAX_DIGITS else len(text)
+    if digits > MAX_DIGITS:
+        return f"{shown(text)} has {digits} digits, above the limit of {MAX_DIGITS}"
+    for e in _EXPONENT.findall(text):
+        if len(e) > 6 or int(e) > MAX_EXPONENT:
+            return (f"{shown(text)} has the exponent {shown(e, quote=False)}, above the limit "
+                    f"of {MAX_EXPONENT}")
+    return None
+
+
+def count_problem(value: int, what: str = "a token count") -> str | None:
+    """Why an integer count is refused (negative, or above :data:`MAX_COUNT`), or None.
+
+    >>> count_problem(3) is None
+    True
+    >>> print(count_problem(2**63))
+    a token count must be at most 2**63 - 1 = 9223372036854775807 (64-bit), got 9223372036854775808
+    """
+    if value < 0:
+        return f"{what} must be >= 0, got {value}"
+    if value > MAX_COUNT:
+        return (f"{what} must be at most 2**63 - 1 = {MAX_COUNT} (64-bit), got "
+                f"{shown(value, quote=False)}")
+    return None
+
+
+def node_count_problem(count: int, file_bytes: int, what: str = "nodes") -> str | None:
+    """Why ``count`` nodes are refused for a file of ``file_bytes`` bytes, or None.
+
+    Every node an arc names costs bytes of the file; nodes declared by a
+    header or skipped by an index cost none, so the count may exceed the
+    file's size in bytes by at most :data:`FREE_NODES`.
+
+    >>> node_count_problem(10, 100) is None
+    True
+    >>> print(node_count_problem(50_000_000, 30, "transitions"))  # doctest: +NORMALIZE_WHITESPACE
+    50000000 transitions for a file of 30 bytes; at most its size in bytes + 2**20 = 1048606
+    are accepted
+    """
+    limit = file_bytes + FREE_NODES
+    if count <= limit:
+        return None
+    return (f"{shown(count, quote=False)} {what} for a file of {file_bytes} bytes; at most "
+            f"its size in bytes + 2**20 = {limit} are accepted")
+
+
+def denominator_problem(denominators: Iterable[int]) -> str | None:
+    """Why the common denominator of exact times is refused (above :data:`MAX_DIGITS` digits).
+
+    Times are held as integers over one common denominator: the times
+    ``1/2, 1/3, 1/5, ...`` of a hundred thousand places would need one of
+    half a million digits, and every time multiplied by it.
+
+    >>> denominator_problem([2, 3, 10]) is None
+    True
+    >>> denominator_problem([10**4000, 3**3000])[:60]
+    'the times have a common denominator of more than 4300 digits'
+    """
+    scale = 1
+    for d in denominators:
+        if scale % d:
+            scale = scale * d // math.gcd(scale, d)
+            if scale.bit_length() > _MAX_BITS:
+                return (f"the times have a common denominator of more than {MAX_DIGITS} digits "
+                        f"(times are held over one denominator); write them with fewer "
+                        "distinct denominators")
+    return None
+
+
+def text_problem(text: str) -> str | None:
+    """Why a name cannot be written to any file (a lone UTF-16 surrogate), or None.
+
+    JSON can spell ``"\\ud800"``, which is no character: it would be read here
+    and fail only when written. Such a name is refused where it is read.
+
+    >>> text_problem("MT1") is None
+    True
+    >>> print(text_problem("a\\ud800"))  # doctest: +NORMALIZE_WHITESPACE
+    'a\\ud800' holds a lone surrogate (U+D800 at character 2), which is no character;
+    expected text
+    """
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError as err:
+        return (f"{shown(text)} holds a lone surrogate (U+{ord(text[err.start]):04X} at "
+                f"character {err.start + 1}), which is no character; expected text")
+    return None
