@@ -22,6 +22,7 @@ from . import io
 from .analysis.analyze import analyze_skeleton
 from .analysis.cycle_time import CycleTimeResult
 from .analysis.cycle_time import cycle_time as cycle_time_of
+from .analysis.reachability import DEFAULT_MAX_MEMORY
 from .analysis.results import Report
 from .design.explore import Exploration, explore_design
 from .design.explore_space import design_space
@@ -29,6 +30,7 @@ from .design.section import design_section
 from .errors import InputError, TegraphError
 from .io._files import DEFAULT_MAX_BYTES
 from .io.dot import dot_text
+from .model.limits import DEFAULT_MAX_FIRINGS
 from .model.skeleton import Skeleton
 from .report.dot import highlights
 from .report.explore_table import ResultsTable
@@ -88,7 +90,9 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
 
 def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
                default_holding: Any = None, max_bytes: int | None = None,
-               max_states: int = 1_000_000, max_seconds: float | None = None) -> CycleTimeResult:
+               max_states: int = 1_000_000, max_seconds: float | None = None,
+               max_memory: int = DEFAULT_MAX_MEMORY,
+               max_firings: int = DEFAULT_MAX_FIRINGS) -> CycleTimeResult:
     """Period, throughput, critical circuit and cycle times of a timed event graph or its file.
 
     Parameters
@@ -105,9 +109,11 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
         (a plain PNML P/T net); default 0.
     max_bytes : int, optional
         Size limit when ``source`` is a path.
-    max_states, max_seconds : int, float, optional
+    max_states, max_seconds, max_memory : int, float, int, optional
         Budgets of the reachability exploration run on a P/T net that is not
         a marked graph (beyond them its deadlock verdict is inconclusive).
+    max_firings : int
+        Largest homogeneous expansion of an SDF graph (firings per iteration).
 
     Returns
     -------
@@ -139,7 +145,8 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
         source = io.read(path, format, max_bytes=max_bytes or DEFAULT_MAX_BYTES)
         read_seconds = time.perf_counter() - t0
     result = cycle_time_of(source, verify=verify, default_holding=default_holding,
-                           max_states=max_states, max_seconds=max_seconds)
+                           max_states=max_states, max_seconds=max_seconds,
+                           max_memory=max_memory, max_firings=max_firings)
     result.source = path
     if read_seconds is not None:
         result.seconds = {"read": read_seconds, **result.seconds}

@@ -59,7 +59,8 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
           "chain": "--chain", "links": "--link", "clocks": "--clock",
           "objectives": "--objective", "scheduler": "--scheduler", "workers": "--workers",
           "output": "-o", "resume": "--resume", "overwrite": "--force", "plot": "--plot",
-          "max_variants": "--max-variants", "batch_size": "--batch-size"}
+          "max_variants": "--max-variants", "batch_size": "--batch-size",
+          "max_memory": "--max-memory", "max_firings": "--max-firings"}
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -182,6 +183,10 @@ def reach(
                                    help="State budget; beyond it the answer is inconclusive."),
     max_seconds: float | None = typer.Option(None, "--max-seconds", min=0,
                                                 help="Time budget in seconds."),
+    max_memory: str = typer.Option("2G", "--max-memory", help="Memory budget of the stored "
+                                   "markings of the untimed search (e.g. 512M, 4G)."),
+    max_firings: int = typer.Option(10**7, "--max-firings", min=1, help="Largest homogeneous "
+                                    "expansion of an SDF graph (firings per iteration)."),
     json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """State-space baseline: the reachability graph (deadlocks) or, with --timed, the timed
@@ -207,7 +212,7 @@ def reach(
         if timed and not isinstance(model, Skeleton):
             raise InputError("--timed needs a skeleton file (tasks, clocks, durations); "
                              f"this file holds a {type(model).__name__}", file=str(file))
-        net = None if isinstance(model, Skeleton) else as_petri_net(model)
+        net = None if isinstance(model, Skeleton) else as_petri_net(model, max_firings)
 
     # Ctrl-C asks the search to stop at its next batch; the partial counts are printed.
     interrupted: list[int] = []
@@ -232,9 +237,10 @@ def reach(
         if timed:
             result = timed_reachability(model, **budgets)
         elif net is None:
-            result = skeleton_reachability(build_teg(model), **budgets)
+            result = skeleton_reachability(build_teg(model), **budgets,
+                                           max_memory=_parse_size(max_memory))
         else:
-            result = reachability_graph(net, **budgets)
+            result = reachability_graph(net, **budgets, max_memory=_parse_size(max_memory))
     except TegraphError as exc:
         _fail(f"{file}: {exc}")
     finally:
@@ -242,7 +248,7 @@ def reach(
             signal.signal(signal.SIGINT, previous)
         if shown[0]:
             typer.echo("\r" + " " * 72 + "\r", err=True, nl=False)
-    typer.echo(to_json(result) if json_out else render_text(result))
+    typer.echo(to_json(result) if json_out else _cli_words(render_text(result)))
     if result.stopped_by == "interrupted":
         typer.echo("tegraph: interrupted; the counts above are partial", err=True)
         raise typer.Exit(130)
@@ -408,6 +414,10 @@ def cycle_time_command(
                                         "P/T net that is not a marked graph."),
     max_seconds: float | None = typer.Option(None, "--max-seconds", min=0,
                                                 help="Time budget of that search, in seconds."),
+    max_memory: str = typer.Option("2G", "--max-memory", help="Memory budget of the markings "
+                                   "that search stores (e.g. 512M, 4G)."),
+    max_firings: int = typer.Option(10**7, "--max-firings", min=1, help="Largest homogeneous "
+                                    "expansion of an SDF graph (firings per iteration)."),
 ) -> None:
     """Exact period, throughput and critical circuit of a timed event graph.
 
@@ -422,7 +432,8 @@ def cycle_time_command(
     with _refusals(file):
         result = cycle_time(file, format=fmt, max_bytes=_parse_size(max_size),
                             default_holding=default_holding, max_states=max_states,
-                            max_seconds=max_seconds)
+                            max_seconds=max_seconds, max_memory=_parse_size(max_memory),
+                            max_firings=max_firings)
     typer.echo(to_json(result) if json_out else _cli_words(render_text(result)), nl=json_out)
     raise typer.Exit(result.exit_status)
 

@@ -50,7 +50,8 @@ from ..model.petri import PetriNet
 from ..model.sdf import SDFGraph
 from ..model.skeleton import Skeleton
 from ..model.teg import TimedEventGraph
-from .reachability import Reachability, reachability_graph
+from ..model.limits import DEFAULT_MAX_FIRINGS
+from .reachability import DEFAULT_MAX_MEMORY, Reachability, reachability_graph
 
 __all__ = ["CycleTimeResult", "cycle_time"]
 
@@ -194,7 +195,9 @@ class CyclePart:
 
 
 def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
-               max_states: int = 1_000_000, max_seconds: float | None = None) -> CycleTimeResult:
+               max_states: int = 1_000_000, max_seconds: float | None = None,
+               max_memory: int = DEFAULT_MAX_MEMORY,
+               max_firings: int = DEFAULT_MAX_FIRINGS) -> CycleTimeResult:
     """Period, throughput, critical circuit and cycle times of a timed event graph.
 
     Parameters
@@ -207,9 +210,11 @@ def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
     default_holding : int, Fraction or str, optional
         Holding time of every place of a net that carries no timing at all
         (a plain PNML P/T net); default 0.
-    max_states, max_seconds : int, float, optional
+    max_states, max_seconds, max_memory : int, float, int, optional
         Budgets of the reachability exploration run on a P/T net that is not
         a marked graph (beyond them its deadlock verdict is inconclusive).
+    max_firings : int
+        Largest homogeneous expansion of an SDF graph (firings per iteration).
 
     Returns
     -------
@@ -238,13 +243,13 @@ def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
     """
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
-    graph, result = _as_graph(model, default_holding)
+    graph, result = _as_graph(model, default_holding, max_firings)
     result.seconds = seconds
     if graph is None:
         seconds["analysis"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         result.reachability = reachability_graph(model, max_states=max_states,
-                                                 max_seconds=max_seconds)
+                                                 max_seconds=max_seconds, max_memory=max_memory)
         seconds["reachability"] = time.perf_counter() - t0
         return result
     _solve(graph, result, verify)
@@ -252,7 +257,8 @@ def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
     return result
 
 
-def _as_graph(obj: Any, default_holding: Any) -> tuple[Any, CycleTimeResult]:
+def _as_graph(obj: Any, default_holding: Any,
+              max_firings: int = DEFAULT_MAX_FIRINGS) -> tuple[Any, CycleTimeResult]:
     kinds = ((Skeleton, "skeleton"), (SDFGraph, "SDF graph"), (PetriNet, "P/T net"),
              (ArcList, "arc list"), (TimedEventGraph, "timed event graph"))
     model = next((k for cls, k in kinds if isinstance(obj, cls)), None)
@@ -276,7 +282,7 @@ def _as_graph(obj: Any, default_holding: Any) -> tuple[Any, CycleTimeResult]:
             obj = PetriNet(obj.name, obj.places, obj.transitions, obj.pre, obj.post, obj.marking,
                            [h] * len(obj.places), [], dict(obj.attrs))
             notes.append(f"the net carries no timing: every place holds {exact_text(h)}")
-    graph = as_teg_like(obj)
+    graph = as_teg_like(obj, max_firings)
     if model == "SDF graph":
         notes.append("transitions are the firings actor_i of one iteration (the homogeneous "
                      "expansion); the period is the time per iteration")
