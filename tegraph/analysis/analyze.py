@@ -330,7 +330,8 @@ def _slack(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         s, d = g.src[places], g.dst[places]
         w_prime = [int(h) * T - W * int(m) for h, m in zip(g.holding[places].tolist(),
                                                            g.tokens[places].tolist())]
-        reduced = [-(wp + int(X[a]) - int(X[b])) for wp, a, b in zip(w_prime, s.tolist(), d.tolist())]
+        reduced = [-(wp + int(X[a]) - int(X[b]))
+                   for wp, a, b in zip(w_prime, s.tolist(), d.tolist())]
         sources = [g.compute(t) for t in group.tasks]
         # Every task lies on its own chain circuit, so each minimum exists,
         # and that circuit's length bounds how far each search must go.
@@ -373,8 +374,11 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         if clock is None or not groups[t.group].live:
             continue
         last, tick = last_event(g.teg, name), g.teg.attrs["clocks"][clock]
+        # The end of an activation (spec §4): its last write, or the end of
+        # its computation when it has none (a dater plus a constant).
+        offset = 0 if g.sk.tasks[name].outputs else int(g.sk.tasks[name].duration * g.scale)
         if t.group in group_regime:
-            watches.append(OverrunWatch(last, tick, group_regime[t.group]))
+            watches.append(OverrunWatch(last, tick, group_regime[t.group], end_offset=offset))
         else:
             period = ct[tick]
             proven = None
@@ -390,7 +394,7 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
             # Without a proven regime, only an overrun ends the search; it
             # must come when the task is slower than its clock.
             certain = ct[last] > period  # type: ignore[operator]
-            watches.append(OverrunWatch(last, tick, proven, certain=certain))
+            watches.append(OverrunWatch(last, tick, proven, certain=certain, end_offset=offset))
         watched.append(name)
     notes: list[str] = []
     if not regimes and not watches:

@@ -10,13 +10,15 @@ from tegraph.model.skeleton import Skeleton
 
 
 def _overruns_by_definition(sk: Skeleton, task: str, n: int) -> int | None:
-    """Spec §4 literally: smallest k >= 2 with x_last(k-1) > x_tick(k), over n firings."""
+    """Spec §4 (v1.1) literally: smallest k >= 2 with end(k-1) > x_tick(k), over n firings,
+    end = x_last, plus the duration when the task has no outputs (its last event is compute)."""
     teg = build_teg(sk)
     daters = teg.simulate(n)
-    last = daters[last_event(teg, task)]
+    extra = 0 if sk.tasks[task].outputs else sk.tasks[task].duration
+    end = [x + extra for x in daters[last_event(teg, task)]]
     tick = daters[teg.attrs["clocks"][sk.tasks[task].clock]]
     for k in range(2, n + 1):
-        if last[k - 2] > tick[k - 1]:
+        if end[k - 2] > tick[k - 1]:
             return k
     return None
 
@@ -34,10 +36,11 @@ def test_faster_writer_upstream_never_overrun_is_proven():
     # W posts its k-th message at 2(k-1) + 1; T's clock ticks at 5(k-1).
     # T.read(k) = max(T.activate(k), 2k - 1), T.activate(k) = max(5(k-1),
     # T.compute(k-1) + 4): T.compute(1) = 1, then 5(k-1) for k >= 2 (W's
-    # message is always there in time). x_last(k-1) = T.compute(k-1) <= 5(k-2)
-    # < 5(k-1): never an overrun. W's place into T.read is unbounded (W is
-    # faster), so the group is not rate-consistent and no full state repeats:
-    # the proof needs the bounds of regime_bounds.
+    # message is always there in time). T has no outputs, so activation k-1 ends
+    # at T.compute(k-1) + 4 <= 5(k-2) + 4 < 5(k-1) (spec §4, v1.1): never an
+    # overrun. W's place into T.read is unbounded (W is faster), so the group is
+    # not rate-consistent and no full state repeats: the proof needs the bounds
+    # of regime_bounds.
     sk = Skeleton.from_dict(FAST_WRITER)
     report = analyze(sk)
     t = report.tasks["T"]
