@@ -40,6 +40,7 @@ from maxplus.scalar import exact_text
 from ..model.build import build_teg, last_event, task_chain
 from ..model.skeleton import Skeleton
 from ..model.teg import Place, TimedEventGraph
+from .deadlocks import skeleton_deadlocks
 from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import minimal_semiflows
 from .liveness import token_free_circuits
@@ -189,19 +190,8 @@ class _Periods:
 
 
 def _deadlocks(g: _EventGraph) -> tuple[list[Deadlock], set[int]]:
-    circuits = token_free_circuits(g.src, g.dst, g.tokens, g.n)
-    dead_groups = {int(g.group_of_event[g.src[c[0]]]) for c in circuits}
-    out = []
-    for circuit in circuits:
-        events = [g.names[int(g.src[p])] for p in circuit]
-        tasks: list[str] = []
-        for p in circuit:
-            for t in g.event_tasks(int(g.src[p])):
-                if t not in tasks:
-                    tasks.append(t)
-        links = [g.places[p].origin["link"] for p in circuit
-                 if g.places[p].kind in ("asyn-syn", "syn-asyn")]
-        out.append(Deadlock(events, tasks, links, ""))
+    out = skeleton_deadlocks(g.teg)
+    dead_groups = {int(g.group_of_event[g.teg.index(d.events[0])]) for d in out}
     return out, dead_groups
 
 
