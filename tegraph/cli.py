@@ -279,7 +279,8 @@ def timeline(
     force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
 ) -> None:
     """Preemptive fixed-priority timing diagram (ORCCAD Figure 17), exact; exit 0 every
-    job ends by the next tick of its clock, 1 a job is late, 2 bad input or no matplotlib."""
+    job ends by the next tick of its clock, 1 a deadlock or an overrun, 2 bad input or no
+    matplotlib."""
     from maxplus.scalar import exact_time
 
     from .design.timeline import simulate_timeline
@@ -312,7 +313,7 @@ def timeline(
     typer.echo(render_timeline(result, width), nl=False)
     if output is not None:
         typer.echo(f"wrote {output}")
-    raise typer.Exit(1 if result.late_jobs else 0)
+    raise typer.Exit(result.exit_status)
 
 
 @app.command("cycle-time")
