@@ -262,3 +262,32 @@ def test_cli_timed_agrees_with_analyze_json() -> None:
         (g["period"], g["transient"]) for g in maxplus["groups"]]
     out = runner.invoke(app, ["reach", f, "--timed", "--max-states", "3"])
     assert out.exit_code == 0 and "inconclusive (budget 3 states reached)" in out.stdout
+
+
+def test_cli_timed_progress_on_a_terminal() -> None:
+    # A search longer than a second shows its progress on a terminal (stderr a tty), as the
+    # untimed one does; the bar is erased before the result is printed on stdout.
+    import os
+    import pty
+    import subprocess
+    import sys
+
+    main, child = pty.openpty()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "tegraph.cli", "reach", "--timed", "--max-states", "100000",
+         str(EXAMPLES / "fig12_double_sync.yaml")],
+        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=child)
+    os.close(child)
+    seen = b""
+    while True:  # read as it comes: a full terminal buffer would block the search
+        try:
+            chunk = os.read(main, 65536)
+        except OSError:  # the other end is closed: the process has ended
+            break
+        if not chunk:
+            break
+        seen += chunk
+    os.close(main)
+    out = proc.stdout.read()  # type: ignore[union-attr]
+    assert proc.wait(timeout=300) == 1 and b"MT2 overruns at activation 3" in out
+    assert b" states, " in seen and b"/s" in seen, seen[:200]
