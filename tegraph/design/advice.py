@@ -44,10 +44,8 @@ check costs the size of the groups touched, not of the skeleton.
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 from collections.abc import Iterator
-from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
@@ -69,19 +67,32 @@ _LIMIT = 64
 
 # ------------------------------------------------------------------ candidates
 
-@dataclass(frozen=True)
 class _Edits:
-    """Candidate edits, keyed by the original links and task names."""
+    """Candidate edits, keyed by the original links and task names (immutable).
 
-    protocol: tuple[tuple[Link, Protocol], ...] = ()
-    drop: frozenset[str] = frozenset()
-    add: frozenset[str] = frozenset()
-    kept: str = ""
-    """What the task of a Rule 1 finding keeps, or the clock a group of Rule 3
-    keeps, for the advice's words."""
+    ``kept`` is what the task of a Rule 1 finding keeps, or the clock a group of
+    Rule 3 keeps, for the advice's words. (A plain class: candidates are made by
+    the thousand, and ``dataclasses.replace`` would cost more than the check.)
+    """
+
+    __slots__ = ("protocol", "drop", "add", "kept")
+
+    def __init__(self, protocol: tuple[tuple[Link, Protocol], ...] = (),
+                 drop: frozenset[str] = frozenset(), add: frozenset[str] = frozenset(),
+                 kept: str = "") -> None:
+        self.protocol, self.drop, self.add, self.kept = protocol, drop, add, kept
 
     def set(self, link: Link, protocol: Protocol) -> _Edits:
-        return dataclasses.replace(self, protocol=self.protocol + ((link, protocol),))
+        return _Edits(self.protocol + ((link, protocol),), self.drop, self.add, self.kept)
+
+    def with_clock(self, task: str, present: bool) -> _Edits:
+        """``task`` keeps no clock (``present`` False) or gets one of its own."""
+        if present:
+            return _Edits(self.protocol, self.drop, self.add | {task}, self.kept)
+        return _Edits(self.protocol, self.drop | {task}, self.add - {task}, self.kept)
+
+    def saying(self, kept: str) -> _Edits:
+        return _Edits(self.protocol, self.drop, self.add, kept)
 
     def get(self, link: Link) -> Protocol:
         for known, protocol in reversed(self.protocol):
@@ -187,8 +198,7 @@ class Advisor:
         """Ways for ``task`` to stop waiting for ``sync``, best first."""
         kind, link = sync
         if kind == "clock":
-            yield dataclasses.replace(edits, drop=edits.drop | {task},
-                                      add=edits.add - {task})
+            yield edits.with_clock(task, False)
             return
         assert link is not None
         now = edits.get(link)
@@ -245,12 +255,12 @@ class Advisor:
             for keep in first + [s for s in syncs if s not in first]:
                 label = _sync_label(keep)
                 for edits in self._free(task, keep, frozenset({task}), empty):
-                    yield dataclasses.replace(edits, kept=label)
+                    yield edits.saying(label)
         elif finding.rule == 1:
             (task,) = finding.tasks
             seen = frozenset({task})
             yield from self._gain(task, seen, empty, outputs=False)
-            yield dataclasses.replace(empty, add=frozenset({task}))
+            yield empty.with_clock(task, True)
             yield from self._gain(task, seen, empty, inputs=False)
         elif finding.rule == 2:
             link = self._link(finding.links[0])
@@ -279,10 +289,10 @@ class Advisor:
             quiet = [t for t in tasks if not any(k == "input" for k, _ in self.syncs(t, empty))]
             for t in quiet + [t for t in tasks if t not in quiet]:
                 yield from self._free(t, ("clock", None), frozenset({t}),
-                                      dataclasses.replace(empty, add=frozenset({t})))
+                                      empty.with_clock(t, True))
             return
         for keep in clocks:
-            variants: Iterator[_Edits] = iter([dataclasses.replace(empty, kept=keep)])
+            variants: Iterator[_Edits] = iter([empty.saying(keep)])
             for clock, users in clocks.items():
                 if clock != keep:
                     for t in users:
@@ -291,7 +301,7 @@ class Advisor:
 
     def _unclock(self, variants: Iterator[_Edits], task: str) -> Iterator[_Edits]:
         for edits in variants:
-            dropped = dataclasses.replace(edits, drop=edits.drop | {task})
+            dropped = edits.with_clock(task, False)
             if self.needs_one(task, dropped):
                 yield from self._gain(task, frozenset({task}), dropped)
             else:
@@ -315,21 +325,24 @@ class Advisor:
             (Rule 1), and, when none qualifies, what the first candidate brings.
         """
         key = finding_key(finding)
-        brought: set[Key] | None = None
         first: _Edits | None = None
         # The smallest edits first; among equals, the order of preference.
         ranked = sorted(itertools.islice(self.candidates(finding), _LIMIT), key=_size)
         for edits in ranked:
-            new = self.brings(key, edits)
-            if new is None:
+            if self.brings(key, edits, whole=False) is None:
                 return self.change_of(edits), edits.kept, set()
             if first is None:
-                first, brought = edits, new
-        return (None, "" if first is None else self.describe(self.change_of(first)),
-                brought or set())
+                first = edits
+        if first is None:
+            return None, "", set()
+        brought = self.brings(key, first) or set()
+        return None, self.describe(self.change_of(first)), brought
 
-    def brings(self, key: Key, edits: _Edits) -> set[Key] | None:
+    def brings(self, key: Key, edits: _Edits, whole: bool = True) -> set[Key] | None:
         """None when ``edits`` remove the finding ``key`` and bring none; else what is new.
+
+        With ``whole`` False, what is new may be told only in part (Rule 1 first:
+        most candidates that fail, fail there, and the groups need not be re-formed).
 
         The rules are re-read only where the edits can change them: Rule 1 for
         the tasks whose links or clock they touch; the groups of those tasks are
@@ -347,6 +360,8 @@ class Advisor:
                 after.add((1, "error", (t,)))
             elif not syncs and t not in self.threaded:
                 after.add((1, "warning", (t,)))
+        if not whole and (key in after or not after <= self.keys):
+            return (after - self.keys) | ({key} & after)
         groups = sorted({self.group_of[t] for t in touched})
         part, root_of = self._regroup(groups, edits)
         for tasks, clocks, _ in part.values():
