@@ -315,6 +315,9 @@ class _Simulation:
                 self.ends.setdefault(last, []).append((task, offset, ended))
         self.ended = {task: ended for entries in self.ends.values()
                       for task, _, ended in entries}
+        # Per event, what its firing must record (a list: looked up at every firing).
+        self.end_of: list[list[tuple[str, int, deque[int]]] | None] = [
+            self.ends.get(e) for e in range(n)]
         self.count = [0] * n
         # Dead groups have no period: their daters are not kept.
         self.daters: list[list[int] | None] = [
@@ -371,9 +374,12 @@ class _Simulation:
                 touched.append(self.dst[p])
             self.inflight[g] = max(self.inflight[g], when)
         self.count[e] += 1
-        self.last_fired[e] = now
-        for _, offset, ended in self.ends.get(e, ()):
-            ended.append(now + offset)
+        if self.dead[g]:
+            self.last_fired[e] = now  # what is stuck, since when
+        ends = self.end_of[e]
+        if ends is not None:
+            for _, offset, ended in ends:
+                ended.append(now + offset)
         if self.instant[g] != now:
             self.instant[g], self.at_instant[g] = now, 0
         self.at_instant[g] += 1

@@ -357,8 +357,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     pacing = _pacing_clocks(skeleton)
     deadlocks = skeleton_deadlocks(build_teg(skeleton))
     stuck = {t for d in deadlocks for t in d.tasks}
-    dead = [t for group in synchronized_groups(skeleton) if stuck.intersection(group)
-            for t in group]
+    dead = {t for group in synchronized_groups(skeleton) if stuck.intersection(group)
+            for t in group}
     for job in jobs:
         clock = pacing[job.task]
         if clock is not None:
@@ -379,7 +379,7 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     return Timeline(skeleton.name, skeleton.unit, horizon, rows, priorities, source,
                     {t: skeleton.tasks[t].processor for t in skeleton.tasks}, ticks,
                     {t: skeleton.tasks[t].clock for t in skeleton.tasks}, jobs, pacing,
-                    deadlocks, [t for t in skeleton.tasks if t in set(dead)])
+                    deadlocks, [t for t in skeleton.tasks if t in dead])
 
 
 def _count(phase: Fraction, period: Fraction, horizon: Fraction) -> int:
