@@ -356,9 +356,9 @@ def timeline(
 ) -> None:
     """Preemptive fixed-priority timing diagram (ORCCAD Figure 17), exact.
 
-    Exit status: 0 every job ends by the next tick of its clock; 1 a job is
-    late; 2 the input or the output file was refused, or matplotlib is missing
-    for -o.
+    Exit status: 0 every job ends by the next tick of its clock; 1 a deadlock
+    or a late job; 2 the input or the output file was refused, or matplotlib
+    is missing for -o.
     """
     from maxplus.scalar import exact_time
 
@@ -394,7 +394,7 @@ def timeline(
     typer.echo(render_timeline(result, width), nl=False)
     if output is not None:
         typer.echo(f"wrote {output}")
-    raise typer.Exit(1 if result.late_jobs else 0)
+    raise typer.Exit(result.exit_status)
 
 
 @app.command("cycle-time")

@@ -40,6 +40,7 @@ from maxplus.scalar import exact_text
 from ..model.build import build_teg, last_event, task_chain
 from ..model.skeleton import Skeleton
 from ..model.teg import Place, TimedEventGraph
+from .deadlocks import skeleton_deadlocks
 from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import minimal_semiflows
 from .liveness import token_free_circuits
@@ -109,7 +110,7 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
     invariants = _invariants(graph, live, semiflow_budget, semiflow_max_places)
     overrun = any(t.overrun_at is not None for t in tasks.values())
     consistent = live and not unbounded and not overrun
-    methods = _methods(deadlocks, periods, invariants, tasks, steps)
+    methods = _methods(deadlocks, groups, periods, invariants, tasks, steps)
     return Report(
         name=skeleton.name, unit=skeleton.unit, live=live, consistent=consistent,
         deadlocks=deadlocks, reorder=reorder, groups=groups, tasks=tasks,
@@ -189,19 +190,8 @@ class _Periods:
 
 
 def _deadlocks(g: _EventGraph) -> tuple[list[Deadlock], set[int]]:
-    circuits = token_free_circuits(g.src, g.dst, g.tokens, g.n)
-    dead_groups = {int(g.group_of_event[g.src[c[0]]]) for c in circuits}
-    out = []
-    for circuit in circuits:
-        events = [g.names[int(g.src[p])] for p in circuit]
-        tasks: list[str] = []
-        for p in circuit:
-            for t in g.event_tasks(int(g.src[p])):
-                if t not in tasks:
-                    tasks.append(t)
-        links = [g.places[p].origin["link"] for p in circuit
-                 if g.places[p].kind in ("asyn-syn", "syn-asyn")]
-        out.append(Deadlock(events, tasks, links, ""))
+    out = skeleton_deadlocks(g.teg)
+    dead_groups = {int(g.group_of_event[g.teg.index(d.events[0])]) for d in out}
     return out, dead_groups
 
 
@@ -335,7 +325,8 @@ def _slack(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         s, d = g.src[places], g.dst[places]
         w_prime = [int(h) * T - W * int(m) for h, m in zip(g.holding[places].tolist(),
                                                            g.tokens[places].tolist())]
-        reduced = [-(wp + int(X[a]) - int(X[b])) for wp, a, b in zip(w_prime, s.tolist(), d.tolist())]
+        reduced = [-(wp + int(X[a]) - int(X[b]))
+                   for wp, a, b in zip(w_prime, s.tolist(), d.tolist())]
         sources = [g.compute(t) for t in group.tasks]
         # Every task lies on its own chain circuit, so each minimum exists,
         # and that circuit's length bounds how far each search must go.
@@ -378,8 +369,11 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         if clock is None or not groups[t.group].live:
             continue
         last, tick = last_event(g.teg, name), g.teg.attrs["clocks"][clock]
+        # The end of an activation (spec §4): its last write, or the end of
+        # its computation when it has none (a dater plus a constant).
+        offset = 0 if g.sk.tasks[name].outputs else int(g.sk.tasks[name].duration * g.scale)
         if t.group in group_regime:
-            watches.append(OverrunWatch(last, tick, group_regime[t.group]))
+            watches.append(OverrunWatch(last, tick, group_regime[t.group], end_offset=offset))
         else:
             period = ct[tick]
             proven = None
@@ -395,7 +389,7 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
             # Without a proven regime, only an overrun ends the search; it
             # must come when the task is slower than its clock.
             certain = ct[last] > period  # type: ignore[operator]
-            watches.append(OverrunWatch(last, tick, proven, certain=certain))
+            watches.append(OverrunWatch(last, tick, proven, certain=certain, end_offset=offset))
         watched.append(name)
     notes: list[str] = []
     if not regimes and not watches:
@@ -481,8 +475,9 @@ def _invariants(g: _EventGraph, live: bool, budget: int, max_places: int) -> Inv
     return InvariantCheck(True, count, (unmarked == 0) == live, unmarked)
 
 
-def _methods(deadlocks: list[Deadlock], periods: _Periods, inv: InvariantCheck,
-             tasks: dict[str, TaskReport], steps: int) -> dict[str, str]:
+def _methods(deadlocks: list[Deadlock], groups: list[GroupReport], periods: _Periods,
+             inv: InvariantCheck, tasks: dict[str, TaskReport], steps: int) -> dict[str, str]:
+    """How each verdict was obtained, claiming only what was computed."""
     n_dead = len(deadlocks)
     circuits = "none" if n_dead == 0 else f"{n_dead} found"
     if inv.computed:
@@ -491,19 +486,54 @@ def _methods(deadlocks: list[Deadlock], periods: _Periods, inv: InvariantCheck,
         cross += f" ({inv.count} minimal p-semiflows, {inv.unmarked} without token)"
     else:
         cross = f"semiflow cross-check not run: {inv.reason}"
-    undecided = [t for t in tasks.values() if not t.overrun_decided]
-    timing = (f"exact dater simulation over {steps} activations; each periodic "
-              "regime proven by a repeated state (homogeneity of the (max,+) recurrence)")
-    if undecided:
-        timing += f"; {len(undecided)} overrun(s) undecided within the budget"
+    live = [g for g in groups if g.live]
+    dead = len(groups) - len(live)
+    if not live:
+        cycle = "no live group: no period computed"
+    else:
+        cycle = ("maximum cycle ratio by exact Howard policy iteration; certificate "
+                 + ("verified" if periods.verified else "FAILED"))
+        if dead:
+            cycle = f"periods of the {len(live)} live group(s) only ({dead} dead): " + cycle
     return {
         "liveness": f"token-free circuits: {circuits} (Commoner's theorem); {cross}",
-        "periods": "maximum cycle ratio by exact Howard policy iteration; certificate "
-                   + ("verified" if periods.verified else "FAILED"),
-        "timing": timing,
-        "slack": "longest circuits through each compute event (Dijkstra after Johnson "
-                 "reweighting with the Howard potentials), exact",
+        "periods": cycle,
+        "timing": _timing_method(groups, tasks, steps),
+        "slack": ("longest circuits through each compute event (Dijkstra after Johnson "
+                  "reweighting with the Howard potentials), exact"
+                  if any(g.rate_consistent for g in groups)
+                  else "no slack computed: no group is rate-consistent"),
     }
+
+
+def _timing_method(groups: list[GroupReport], tasks: dict[str, TaskReport], steps: int) -> str:
+    """The ``timing`` line of the methods: what the dater simulation proved, if it ran."""
+    if not any(g.live for g in groups):
+        return "no dater simulation: every group is dead"
+    consistent = [g for g in groups if g.rate_consistent]
+    watched = [t for t in tasks.values() if t.clock is not None and groups[t.group].live]
+    if steps == 0:
+        return ("no dater simulation: no rate-consistent group (no transient to find) and "
+                "no clocked task in a live group (no overrun to watch)")
+    parts = [f"exact dater simulation over {steps} activations"]
+    found = [g for g in consistent if g.transient is not None]
+    if found:
+        parts.append(f"the periodic regime of {len(found)} rate-consistent group(s) proven by a "
+                     "repeated state (homogeneity of the (max,+) recurrence)")
+    if len(found) < len(consistent):
+        parts.append(f"{len(consistent) - len(found)} periodic regime(s) not found within "
+                     "the budget")
+    undecided = [t for t in watched if not t.overrun_decided]
+    decided = len(watched) - len(undecided)
+    if decided:
+        parts.append(f"the overrun of {decided} clocked task(s) decided (the first one seen, "
+                     "or none up to a proven periodic regime)")
+    if undecided:
+        parts.append(f"{len(undecided)} overrun(s) undecided within the budget")
+    dead = sum(not g.live for g in groups)
+    if dead:
+        parts.append(f"{dead} dead group(s) not simulated")
+    return "; ".join(parts)
 
 
 def _split_by(key: np.ndarray, n_parts: int) -> list[np.ndarray]:

@@ -210,11 +210,16 @@ class Regime:
 
 @dataclass
 class OverrunWatch:
-    """Watch ``x_last(k-1) > x_tick(k)`` for one clocked task.
+    """Watch ``end(k-1) > x_tick(k)`` for one clocked task, ``end(k) = x_last(k) + end_offset``.
 
+    The end of an activation (spec §4, v1.1) is its last write, or, for a
+    task without outputs, the end of its computation: ``x_compute(k)`` plus
+    the duration, given here scaled as ``end_offset`` (0 with outputs).
     ``regime`` is the index of a proven-periodic :class:`Regime` holding both
-    events (then "never" can be proven), or None when only an overrun can end
-    the search (``certain`` says whether an overrun is known to come).
+    events (then "never" can be proven: the difference ``end(k-1) - x_tick(k)``
+    is periodic once the regime holds, a constant ``end_offset`` included), or
+    None when only an overrun can end the search (``certain`` says whether an
+    overrun is known to come).
     After :func:`explore`: ``overrun_at`` (int or None) and ``decided``.
     """
 
@@ -222,6 +227,7 @@ class OverrunWatch:
     tick_event: int
     regime: int | None
     certain: bool = False
+    end_offset: int = 0
     overrun_at: int | None = None
     decided: bool = False
 
@@ -261,7 +267,7 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
         if previous is not None:
             for w in list(pending_watches):
                 watch = watches[w]
-                if previous[watch.last_event] > x[watch.tick_event]:
+                if previous[watch.last_event] + watch.end_offset > x[watch.tick_event]:
                     watch.overrun_at, watch.decided = k, True
                     pending_watches.discard(w)
         previous = x

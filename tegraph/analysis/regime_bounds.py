@@ -78,9 +78,11 @@ def autonomous_from(upstream: np.ndarray, cycle_time: list, period: Fraction, sr
     if len(crossing) == 0:
         return global_of[slow], 1
     mu = max(cycle_time[e] for e in np.flatnonzero(fast_mask).tolist())
-    potential = _potentials(np.flatnonzero(fast_mask), fast_mask, mu, src, dst, tokens, holding, scale)
+    potential = _potentials(np.flatnonzero(fast_mask), fast_mask, mu, src, dst, tokens, holding,
+                            scale)
     depth = max(int(tokens[up[src] & up[dst]].max(initial=0)), 1)
-    beta = _beta(fast_mask, potential, mu, src, dst, tokens, holding, initial, scale, n_events, up, depth)
+    beta = _beta(fast_mask, potential, mu, src, dst, tokens, holding, initial, scale, n_events,
+                 up, depth)
     lower = _lower_bounds(slow, slow_mask, period, src, dst, tokens, holding, initial, scale,
                           n_events, {int(dst[p]) for p in crossing.tolist()}, max_steps)
     if lower is None:

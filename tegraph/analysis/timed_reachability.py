@@ -28,12 +28,23 @@ firing). A group that repeats without time passing would fire forever at one
 instant (a circuit of zero holding time): it is retired with period 0.
 
 An **overrun** is the paper's sink-place event: when an instant ends, a
-clock has ticked ``k`` times while its task's last event has fired fewer than
-``k - 1`` times, so ``x_last(k-1) > x_tick(k)``. The first such ``k`` is the
-spec's ``overrun_at``; unlike the paper's sink, the run goes on (spec §3 has
-no sink). In a group that is not live the baseline reports what it sees (a
-clock ticking at a blocked task is an overrun to it), where ``analyze``
-reports the deadlock instead.
+clock has ticked ``k`` times while activation ``k - 1`` of its task has not
+ended: ``end(k-1) > x_tick(k)``, the end of an activation being its last write,
+or, for a task without outputs, the end of its computation (spec §4, v1.1).
+The first such ``k`` is the spec's ``overrun_at``; unlike the paper's sink,
+the run goes on (spec §3 has no sink).
+
+A **deadlock** is read off a state: the events that can never fire again are
+the largest set ``D`` of events each of which has an empty input place (no
+token, not even one still held) whose input event is in ``D`` (the first of
+them to fire would need a token that only another of them can bring). ``D``
+is empty exactly when the marking has no token-free circuit, which a firing
+never changes in a marked graph: a group is dead from its first state or
+never. A dead group reports no overrun (a clock ticking at a blocked task is
+the deadlock, as ``analyze`` says, spec §4); it is explored until ``D`` holds
+every event but its clocks' ticks, or until its state outside ``D`` repeats
+(what still runs then runs periodically, and ``D`` is final); then it is
+retired with its stuck events.
 """
 
 from __future__ import annotations
@@ -91,8 +102,12 @@ class TimedGroup:
     repeat: tuple[Fraction, Fraction] | None = None
     states: int = 0
     stuck_after: Fraction | None = None
-    """Set when the search ended by itself and the group had stopped firing
-    (a deadlock in time): the time of its last firing."""
+    """Set for a dead group: the time of the last firing of any of its stuck
+    events (0 when none ever fired); none of them fires after it."""
+    stuck_events: list[str] | None = None
+    """Set for a dead group: the events that never fire again (a token-free
+    circuit and what waits on it), in event order, as known when the search
+    left the group (a budget may stop it before more get stuck); its ticks go on."""
     stalled_at: Fraction | None = None
     """Set when the group kept firing at this instant with ever more tokens
     (a zero-duration task feeding a place that never empties): time cannot
@@ -104,8 +119,9 @@ class TimedTask:
     """Figures of one task: its group's period and its first overrun.
 
     ``decided`` is True when ``overrun_at`` is final: the task has no clock,
-    an overrun was seen, the group's state repeated (every later instant
-    replays a seen one), or the exploration ended by itself.
+    its group is dead (no overrun there, spec §4), an overrun was seen, the
+    group's state repeated (every later instant replays a seen one), or the
+    exploration ended by itself.
     """
 
     name: str
@@ -159,9 +175,14 @@ class TimedExploration:
         return any(t.overrun_at is not None for t in self.tasks.values())
 
     @property
+    def deadlock(self) -> bool:
+        """Whether some group is dead (it has stuck events)."""
+        return any(g.stuck_events is not None for g in self.groups)
+
+    @property
     def exit_status(self) -> int:
-        """1 when an overrun or a stuck group was found, else 0 (as ``tegraph analyze``)."""
-        return int(self.overrun or any(g.stuck_after is not None for g in self.groups))
+        """1 when an overrun or a deadlock was found, else 0 (as ``tegraph analyze``)."""
+        return int(self.overrun or self.deadlock)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``states``, ``complete``, ``tasks`` and ``groups`` as spec §4 means them."""
@@ -176,6 +197,7 @@ class TimedExploration:
                         "transient": None if g.transient is None
                         else {"k": g.transient[0], "cyclicity": g.transient[1]},
                         "states": g.states, "stuck_after": exact_text(g.stuck_after),
+                        "stuck_events": g.stuck_events,
                         "stalled_at": exact_text(g.stalled_at),
                         "repeat": None if g.repeat is None
                         else [exact_text(g.repeat[0]), exact_text(g.repeat[1])]}
@@ -265,18 +287,42 @@ class _Simulation:
             if tokens[p]:
                 self.inflight[g] = max(self.inflight[g], int(init[p]))
         self.groups = [TimedGroup(g, list(ts)) for g, ts in enumerate(task_lists)]
+        self.names = teg.transition_names
+        self.src = src
+        self.ticks = {e for e in range(n) if teg.transition_attrs[e].get("role") == "tick"}
+        self.last_fired = [-1] * n
+        # A group is dead from its first state or never (module docstring).
+        self.dead = [bool(self._stuck(g)) for g in range(len(members))]
         self.tasks: dict[str, TimedTask] = {}
         self.watch: dict[int, list[tuple[str, int]]] = {}
+        self.ends: dict[int, list[tuple[str, int, deque[int]]]] = {}
         for task, chain in teg.attrs.get("chains", {}).items():
             clock = teg.transition_attrs[chain[0]].get("clock")
-            # Without a clock there is nothing to overrun: decided from the start.
-            self.tasks[task] = TimedTask(task, group_of[chain[0]], decided=clock is None)
-            if clock is not None:  # an activation event: the task's clock
+            g = group_of[chain[0]]
+            # Without a clock there is nothing to overrun, and in a dead group the
+            # deadlock is reported instead (spec §4): decided from the start.
+            self.tasks[task] = TimedTask(task, g, decided=clock is None or self.dead[g])
+            if clock is not None and not self.dead[g]:  # an activation event: the task's clock
                 tick = teg.attrs["clocks"][clock]
-                self.watch.setdefault(tick, []).append((task, chain[-1]))
+                last = chain[-1]
+                # The end of an activation: its last write, or the end of its
+                # computation when it has no output (every place leaving
+                # T.compute holds duration(T), spec §2).
+                offset = (max(h for _, h in self.out[last])
+                          if teg.transition_attrs[last].get("role") == "compute" else 0)
+                ended: deque[int] = deque(maxlen=2)  # end times of the last two activations
+                self.watch.setdefault(tick, []).append((task, last))
+                self.ends.setdefault(last, []).append((task, offset, ended))
+        self.ended = {task: ended for entries in self.ends.values()
+                      for task, _, ended in entries}
+        # Per event, what its firing must record (a list: looked up at every firing).
+        self.end_of: list[list[tuple[str, int, deque[int]]] | None] = [
+            self.ends.get(e) for e in range(n)]
         self.count = [0] * n
-        self.daters: list[list[int] | None] = [[] for _ in range(n)]
-        self.log: list[list[int] | None] = [[] for _ in members]
+        # Dead groups have no period: their daters are not kept.
+        self.daters: list[list[int] | None] = [
+            None if self.dead[group_of[e]] else [] for e in range(n)]
+        self.log: list[list[int] | None] = [None if d else [] for d in self.dead]
         # Per group: state -> (id, time first seen, group firings by then).
         self.seen: list[dict[tuple, tuple[int, int, int]]] = [{} for _ in members]
         self.current = [0] * len(members)
@@ -328,6 +374,12 @@ class _Simulation:
                 touched.append(self.dst[p])
             self.inflight[g] = max(self.inflight[g], when)
         self.count[e] += 1
+        if self.dead[g]:
+            self.last_fired[e] = now  # what is stuck, since when
+        ends = self.end_of[e]
+        if ends is not None:
+            for _, offset, ended in ends:
+                ended.append(now + offset)
         if self.instant[g] != now:
             self.instant[g], self.at_instant[g] = now, 0
         self.at_instant[g] += 1
@@ -344,17 +396,56 @@ class _Simulation:
             self._schedule(event)
 
     def _end_instant(self) -> None:
-        """Overrun check: a tick of this instant found its task's previous activation unfinished."""
+        """Overrun check: tick k of this instant finds activation k - 1 of its task not ended."""
         for tick in self.ticked:
+            k = self.count[tick]
             for task, last in self.watch[tick]:
                 t = self.tasks[task]
-                if t.overrun_at is None and self.count[tick] - self.count[last] >= 2:
-                    t.overrun_at, t.decided = self.count[last] + 2, True
+                if t.overrun_at is not None or k < 2:
+                    continue
+                done = self.count[last]  # activations begun and ended, at most k
+                ended = self.ended[task]
+                # ended[-1] is the end of activation `done`, ended[-2] of `done - 1`.
+                if done < k - 1 or ended[len(ended) - 1 - (done - (k - 1))] > self.now:
+                    t.overrun_at, t.decided = k, True
         self.ticked.clear()
 
+    def _stuck(self, g: int) -> set[int]:
+        """The events of group g that can never fire again (module docstring).
+
+        The largest set D in which each event has an empty input place whose
+        input event is in D: start from every event with an empty input place
+        and drop, until none is left to drop, those whose empty input places all
+        come from outside D. A clock's tick is never in D (its self-loop always
+        holds its token).
+        """
+        fifo, src = self.fifo, self.src
+        feeding: dict[int, int] = {}  # event -> empty input places whose input event is in D
+        for e in self.members[g]:
+            empty = sum(1 for p in self.inp[e] if not fifo[p])
+            if empty:
+                feeding[e] = empty
+        candidates = set(feeding)
+        for e in candidates:  # only places from candidates count
+            feeding[e] = sum(1 for p in self.inp[e] if not fifo[p] and src[p] in candidates)
+        drop = [e for e, c in feeding.items() if c == 0]
+        stuck = set(candidates)
+        while drop:
+            e = drop.pop()
+            stuck.discard(e)
+            for p, _ in self.out[e]:
+                d = self.dst[p]
+                if not fifo[p] and d in stuck:
+                    feeding[d] -= 1
+                    if feeding[d] == 0:
+                        drop.append(d)
+        return stuck
+
     # ------------------------------------------------------------------ states
-    def _key(self, g: int) -> tuple:
+    def _key(self, g: int, skip: set[int] | None = None) -> tuple:
         """The group's state now: per place, its available tokens and the others' residues.
+
+        ``skip``: leave out the places into these events.
 
         A place is an int (all its tokens available: how many) or a tuple
         ``(available, residue, residue, ...)``. Availability never decreases
@@ -364,6 +455,8 @@ class _Simulation:
         now, fifo = self.now, self.fifo
         parts: list[int | tuple[int, ...]] = []
         for p in self.places_of[g]:
+            if skip and self.dst[p] in skip:
+                continue
             f = fifo[p]
             if not f or f[-1] <= now:
                 parts.append(len(f))
@@ -380,6 +473,9 @@ class _Simulation:
         for g in dirty:
             if self.current[g] < 0:
                 continue  # retired
+            if self.dead[g]:
+                self._record_dead(g)
+                continue
             key = self._key(g)
             seen = self.seen[g]
             entry = seen.get(key)
@@ -397,6 +493,30 @@ class _Simulation:
             self.stopped_by = "states"
         else:
             self.whole.add(whole)
+
+    def _record_dead(self, g: int) -> None:
+        """A dead group's state: its stuck events D and the places outside D.
+
+        Places into D only gather tokens that nothing consumes, so what still
+        runs depends on the other places alone: a repeat of (D, those places)
+        means it runs periodically from there, and D is final.
+        """
+        stuck = self._stuck(g)
+        everything = all(e in stuck or e in self.ticks for e in self.members[g])
+        key = (tuple(sorted(stuck)), self._key(g, skip=stuck))
+        seen = self.seen[g]
+        if everything or key in seen:
+            self._retire(g)
+        else:
+            self.current[g] = seen[key] = len(seen)
+
+    def _report_stuck(self, g: int) -> None:
+        """What is stuck in dead group g now: the events that never fire again, and since when."""
+        stuck = self._stuck(g)
+        group = self.groups[g]
+        group.stuck_events = [self.names[e] for e in sorted(stuck)]
+        fired = max((self.last_fired[e] for e in stuck), default=-1)
+        group.stuck_after = Fraction(max(fired, 0), self.scale)
 
     def _regime(self, g: int, entry: tuple[int, int, int]) -> None:
         """The group's state repeated: period, transient and cyclicity from the daters."""
@@ -430,6 +550,8 @@ class _Simulation:
 
     def _retire(self, g: int) -> None:
         """Leave group g out from now on (its events never fire again here)."""
+        if self.dead[g]:
+            self._report_stuck(g)
         self.groups[g].states = len(self.seen[g])
         self.current[g] = -1
         for e in self.members[g]:
@@ -475,14 +597,14 @@ class _Simulation:
         for g, group in enumerate(self.groups):
             if self.current[g] >= 0:
                 group.states = len(self.seen[g])
+                if self.dead[g]:  # a budget ended the search: what is stuck so far
+                    self._report_stuck(g)
         if self.complete:
-            for g, group in enumerate(self.groups):
-                if group.period is None and group.stalled_at is None:
-                    group.stuck_after = Fraction(max(self.instant[g], 0), self.scale)
             for t in self.tasks.values():
                 t.decided = t.decided or self.groups[t.group].stalled_at is None
         return TimedExploration(name, unit, len(self.whole), self.firings, self.complete,
-                                self.ended_by, self.stopped_by, Fraction(self.now, self.scale), self.groups,
+                                self.ended_by, self.stopped_by, Fraction(self.now, self.scale),
+                                self.groups,
                                 self.tasks, self.max_states, time.perf_counter() - self.start)
 
 

@@ -17,21 +17,32 @@ set of module tasks:
 A synchronized group is a weakly connected part of the timed event graph
 (spec §4 ``groups``): tasks joined by a synchronizing link, a thread or a
 shared clock. Each finding names the tasks, ports and links concerned and
-what to change. The automaton is recognized by its name (spec §6): ``RTA``,
-``automaton``, or a name ending in ``.RTA`` / ``.automaton``, any case.
+what to change: for Rules 1-3 a machine-applicable :class:`~.advice.Change`,
+chosen so that it brings no other finding of Rules 1-3 (:mod:`.advice`), so
+that following the advice never goes round in a circle. The automaton is
+recognized by its name (spec §6): ``RTA``, ``automaton``, or a name ending in
+``.RTA`` / ``.automaton``, any case.
 """
 
 from __future__ import annotations
 
-import itertools
+import dataclasses
 import re
 from dataclasses import dataclass
-from fractions import Fraction
 from typing import Any
 
 from maxplus.scalar import exact_text
 
-from ..model.skeleton import Link, Protocol, Skeleton
+from ..model.skeleton import Protocol, Skeleton
+from .advice import Advisor
+from .change import Change
+from .synchronization import (
+    Synchronization,
+    group_period,
+    link_index,
+    synchronizations,
+    synchronized_groups,
+)
 
 __all__ = [
     "RuleFinding",
@@ -45,9 +56,6 @@ __all__ = [
 ]
 
 _AUTOMATON = re.compile(r"(?:^|\.)(?:rta|automaton)$", re.IGNORECASE)
-# Which side of a link blocks (spec §1): the reader of ASYN/SYN, the writer of SYN/ASYN.
-_READER_BLOCKS = (Protocol.ASYN_SYN, Protocol.SYN_SYN)
-_WRITER_BLOCKS = (Protocol.SYN_ASYN, Protocol.SYN_SYN)
 _ORDER = {"error": 0, "warning": 1, "info": 2}
 
 
@@ -67,7 +75,10 @@ class RuleFinding:
     message : str
         What is wrong.
     advice : str
-        What to change.
+        What to change, in words.
+    change : Change or None
+        The same as an edit of the skeleton (Rules 1-3; None for Rule 4, and
+        when no change removes the finding without bringing another one).
     """
 
     rule: int
@@ -77,30 +88,14 @@ class RuleFinding:
     links: tuple[str, ...]
     message: str
     advice: str
+    change: Change | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for the JSON report."""
         return {"rule": self.rule, "severity": self.severity, "tasks": list(self.tasks),
                 "ports": list(self.ports), "links": list(self.links),
-                "message": self.message, "advice": self.advice}
-
-
-@dataclass(frozen=True)
-class Synchronization:
-    """One thing a task waits for: its clock, or a blocking side of a link."""
-
-    kind: str
-    """``"clock"``, ``"input"`` or ``"output"``."""
-    clock: str | None = None
-    port: str | None = None
-    """``TASK:PORT``."""
-    link: Link | None = None
-
-    @property
-    def label(self) -> str:
-        if self.kind == "clock":
-            return f"clock {self.clock}"
-        return f"{self.kind} {self.port} ({self.link.label})"  # type: ignore[union-attr]
+                "message": self.message, "advice": self.advice,
+                "change": None if self.change is None else self.change.to_dict()}
 
 
 def is_automaton(name: str) -> bool:
@@ -110,97 +105,6 @@ def is_automaton(name: str) -> bool:
     (True, True, False)
     """
     return bool(_AUTOMATON.search(name))
-
-
-def _link_index(sk: Skeleton) -> tuple[dict, dict]:
-    """Links by reader port and by writer port (one pass, so checks stay linear)."""
-    by_reader: dict[tuple[str, str], list[Link]] = {}
-    by_writer: dict[tuple[str, str], list[Link]] = {}
-    for link in sk.links:
-        by_reader.setdefault(link.reader, []).append(link)
-        by_writer.setdefault(link.writer, []).append(link)
-    return by_reader, by_writer
-
-
-def synchronizations(sk: Skeleton, task: str,
-                     index: tuple[dict, dict] | None = None) -> list[Synchronization]:
-    """What ``task`` waits for at each activation, in chain order (Rule 1).
-
-    Examples
-    --------
-    Figure 12: MT2 has a clock and also waits for MT1's message.
-
-    >>> sk = Skeleton.from_dict({"tasks": {
-    ...     "MT1": {"duration": 1, "period": 10, "outputs": ["y"]},
-    ...     "MT2": {"duration": 2, "period": 4, "inputs": ["y"]}},
-    ...   "links": [{"from": "MT1:y", "to": "MT2:y", "protocol": "ASYN/SYN"}]})
-    >>> [s.label for s in synchronizations(sk, "MT2")]
-    ['clock MT2.clock', 'input MT2:y (MT1:y -> MT2:y (ASYN/SYN))']
-    """
-    by_reader, by_writer = index if index is not None else _link_index(sk)
-    t = sk.tasks[task]
-    out = [Synchronization("clock", clock=t.clock)] if t.clock else []
-    for port in t.inputs:
-        for link in by_reader.get((task, port), ()):
-            if link.protocol in _READER_BLOCKS:
-                out.append(Synchronization("input", port=f"{task}:{port}", link=link))
-    for port in t.outputs:
-        for link in by_writer.get((task, port), ()):
-            if link.protocol in _WRITER_BLOCKS:
-                out.append(Synchronization("output", port=f"{task}:{port}", link=link))
-    return out
-
-
-def synchronized_groups(sk: Skeleton) -> list[tuple[str, ...]]:
-    """The synchronized groups: tasks joined by synchronizing links, threads, clocks.
-
-    These are the weakly connected parts of the timed event graph (spec §4),
-    found here by union-find on the skeleton; listed in the order of their
-    first task in the file, tasks in file order.
-
-    >>> sk = Skeleton.from_dict({"tasks": {
-    ...     "A": {"duration": 1, "period": 2, "outputs": ["x"]},
-    ...     "B": {"duration": 1, "inputs": ["x"]}, "C": {"duration": 1, "period": 2}},
-    ...   "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]})
-    >>> synchronized_groups(sk)
-    [('A', 'B'), ('C',)]
-    """
-    parent = {t: t for t in sk.tasks}
-
-    def find(t: str) -> str:
-        while parent[t] != t:
-            parent[t] = parent[parent[t]]
-            t = parent[t]
-        return t
-
-    def union(a: str, b: str) -> None:
-        parent[find(a)] = find(b)
-
-    for link in sk.links:
-        if link.protocol.synchronizing:
-            union(link.writer[0], link.reader[0])
-    for thread in sk.threads:
-        for a, b in itertools.pairwise(thread):
-            union(a, b)
-    first_of_clock: dict[str, str] = {}
-    for name, task in sk.tasks.items():
-        if task.clock:
-            union(name, first_of_clock.setdefault(task.clock, name))
-    groups: dict[str, list[str]] = {}
-    for name in sk.tasks:
-        groups.setdefault(find(name), []).append(name)
-    return [tuple(g) for g in groups.values()]
-
-
-def group_period(sk: Skeleton, tasks: tuple[str, ...] | list[str]) -> Fraction | None:
-    """The design period of a group: its fastest clock's period (None without a clock).
-
-    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": "5/2"}}})
-    >>> group_period(sk, ["A"])
-    Fraction(5, 2)
-    """
-    periods = [sk.clocks[sk.tasks[t].clock].period for t in tasks if sk.tasks[t].clock]
-    return min(periods) if periods else None
 
 
 def proposed_priorities(sk: Skeleton) -> dict[str, int]:
@@ -267,57 +171,78 @@ def check_rules(skeleton: Skeleton) -> list[RuleFinding]:
     [(3, 'error', ('MT1', 'MT2', 'MT3'))]
     """
     groups = synchronized_groups(skeleton)
-    group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
-    index = _link_index(skeleton)
-    findings = (_rule1(skeleton, index) + _rule2(skeleton, groups, group_of)
-                + _rule3(skeleton, groups, index) + _rule4(skeleton, groups))
+    structural = _structural(skeleton, groups)
+    advisor = Advisor(skeleton, structural, groups)
+    findings = [_advised(f, advisor) for f in structural]
+    findings += _rule4(skeleton, groups)
     index = {t: i for i, t in enumerate(skeleton.tasks)}
     findings.sort(key=lambda f: (f.rule, _ORDER[f.severity],
                                  min((index[t] for t in f.tasks), default=0)))
     return findings
 
 
+def _structural(skeleton: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
+    """The findings of Rules 1-3, their advice still to be chosen."""
+    group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
+    index = link_index(skeleton)
+    return (_rule1(skeleton, index) + _rule2(skeleton, groups, group_of)
+            + _rule3(skeleton, groups))
+
+
+def _advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
+    """The finding with the first change that brings no other finding, in words."""
+    change, said, brought = advisor.choose(finding)
+    if change is None:
+        if said:
+            advice = (f"no change of its links and clocks removes this without another finding "
+                      f"of Rules 1-3: {said} would bring "
+                      + "; ".join(_key_text(k) for k in sorted(brought)))
+        else:
+            advice = "no change of its links and clocks removes this"
+        return dataclasses.replace(finding, advice=advice)
+    words = advisor.describe(change)
+    if finding.rule == 1 and finding.severity == "error":
+        words = (f"keep only its {said}" + (" (footnote 6: the synchronizing port is best the "
+                 "first input read, or the last output posted)" if said != "clock" else "")
+                 + f": {words}")
+    elif finding.rule == 3 and said:
+        words = f"keep one clock ({said}): {words}"
+    elif finding.rule == 3:
+        words += " (one clock for the whole group)"
+    return dataclasses.replace(finding, advice=words, change=change)
+
+
+def _key_text(key: tuple) -> str:
+    """A finding named by its key (:func:`~.change.finding_key`), for an advice's words."""
+    rule, severity, tasks = key[:3]
+    if rule == 2:
+        return f"Rule 2 {severity} on {', '.join(key[4])}"
+    if rule == 3:
+        return f"Rule 3 {severity} on the group {{{', '.join(tasks)}}}"
+    return f"Rule {rule} {severity} on {', '.join(tasks)}"
+
+
 # ----------------------------------------------------------------------- Rule 1
+# Rules 1-3 state what is wrong; what to change is chosen by the advisor.
 
 def _rule1(sk: Skeleton, index: tuple[dict, dict]) -> list[RuleFinding]:
     threaded = {t for thread in sk.threads for t in thread}
     out = []
     for name in sk.tasks:
         syncs = synchronizations(sk, name, index)
-        ports = tuple(s.port for s in syncs if s.port)
-        links = tuple(s.link.label for s in syncs if s.link)
         if len(syncs) > 1:
-            # Footnote 6: the synchronizing port is best the first one read
-            # (else the last one posted), so the task computes on fresh data.
-            inputs = [s for s in syncs if s.kind == "input"]
-            outputs = [s for s in syncs if s.kind == "output"]
-            keep = inputs[0] if inputs else (syncs[0] if syncs[0].kind == "clock" else outputs[-1])
-            changes = []
-            for s in syncs:
-                if s is keep:
-                    continue
-                if s.kind == "clock":
-                    changes.append(f"remove the clock {s.clock} (the task then runs at the "
-                                   "rate of what it waits for)")
-                else:
-                    changes.append(f"make {s.link.label} ASYN/ASYN")  # type: ignore[union-attr]
             out.append(RuleFinding(
-                1, "error", (name,), ports, links,
+                1, "error", (name,), tuple(s.port for s in syncs if s.port),
+                tuple(s.link.label for s in syncs if s.link),
                 f"{name} has {len(syncs)} synchronizations ({'; '.join(s.label for s in syncs)}): "
                 "its activations are bound to two rates, which can overrun or deadlock "
-                "(Figures 7b, 12)",
-                f"keep only the {keep.label}"
-                + ("" if keep.kind == "clock" else " (footnote 6: the synchronizing port is "
-                   "best the first input read, or the last output posted)")
-                + f" and {', and '.join(changes)}"))
+                "(Figures 7b, 12)", ""))
         elif not syncs and name not in threaded:
             out.append(RuleFinding(
                 1, "warning", (name,), (), (),
                 f"{name} has no synchronization (no clock, no input read ASYN/SYN or SYN/SYN, "
                 "no output posted SYN/ASYN or SYN/SYN): it runs freely, as often as the "
-                "processor lets it",
-                f"give {name} a clock, or read its first input ASYN/SYN from the task it "
-                "cooperates with"))
+                "processor lets it", ""))
     return out
 
 
@@ -333,59 +258,39 @@ def _rule2(sk: Skeleton, groups: list[tuple[str, ...]], group_of: dict[str, int]
             out.append(RuleFinding(
                 2, "warning", (w, r), (f"{w}:{p}", f"{r}:{q}"), (link.label,),
                 f"{link.label} is a rendezvous: {w} and {r} both block on it, which the paper "
-                "advises to avoid (it adds circuits to the skeleton)",
-                f"make it ASYN/SYN ({r} waits for {w}'s message) or SYN/ASYN ({w} waits for "
-                f"{r}'s request)"))
+                "advises to avoid (it adds circuits to the skeleton)", ""))
         elif link.protocol is Protocol.ASYN_ASYN and group_of[w] != group_of[r]:
             pw, pr = periods[group_of[w]], periods[group_of[r]]
             if pw is not None and pw == pr:
-                clock = sk.tasks[r].clock
-                drop = f" and remove {r}'s clock {clock}" if clock else ""
                 out.append(RuleFinding(
                     2, "warning", (w, r), (f"{w}:{p}", f"{r}:{q}"), (link.label,),
                     f"{w} and {r} cooperate at one rate (period {exact_text(pw)} {sk.unit}) but "
                     f"{link.label} does not synchronize them: the scheduler may run {r} before "
-                    f"{w}, and the data then waits a period at each hop (Figure 4)",
-                    f"make {link.label.rsplit(' (', 1)[0]} ASYN/SYN{drop}, so that {r} runs "
-                    f"after {w} in one synchronized group"))
+                    f"{w}, and the data then waits a period at each hop (Figure 4)", ""))
     return out
 
 
 # ----------------------------------------------------------------------- Rule 3
 
-def _rule3(sk: Skeleton, groups: list[tuple[str, ...]], index: tuple[dict, dict]
-           ) -> list[RuleFinding]:
+def _rule3(sk: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
     out = []
     for tasks in groups:
         clocks: dict[str, list[str]] = {}
         for t in tasks:
             if sk.tasks[t].clock:
                 clocks.setdefault(sk.tasks[t].clock, []).append(t)  # type: ignore[arg-type]
-        if len(clocks) == 1:
-            continue
         if not clocks:
-            sources = [t for t in tasks if not any(s.kind == "input"
-                                                   for s in synchronizations(sk, t, index))]
-            where = (f"give a clock to {sources[0]}, which waits for no input" if sources else
-                     f"give a clock to {tasks[0]} and make its synchronizing input ASYN/ASYN "
-                     "(Rule 1): that also breaks the circular wait")
             out.append(RuleFinding(
                 3, "error", tasks, (), (),
                 f"the group {{{', '.join(tasks)}}} has no clock: nothing sets its rate (it "
                 "runs as fast as its tasks allow), and nothing breaks a circular wait such as "
-                "Figure 7a",
-                where + " (one clock for the whole group)"))
-        else:
-            names = list(clocks)
-            keep = names[0]
-            drop = "; ".join(f"remove {c} from {', '.join(clocks[c])}" for c in names[1:])
+                "Figure 7a", ""))
+        elif len(clocks) > 1:
             out.append(RuleFinding(
                 3, "error", tasks, (), (),
                 f"the group {{{', '.join(tasks)}}} has {len(clocks)} clocks ("
                 + ", ".join(f"{c} on {', '.join(ts)}" for c, ts in clocks.items())
-                + "): its tasks are bound to several rates, which can overrun (Figure 12)",
-                f"keep one clock ({keep}) and {drop}; those tasks then run at the pace of "
-                "their synchronizing input"))
+                + "): its tasks are bound to several rates, which can overrun (Figure 12)", ""))
     return out
 
 

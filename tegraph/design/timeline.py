@@ -18,8 +18,14 @@ diagram as data, exactly (Fractions), over the hyperperiod of the clocks:
 - at an instant where a computation ends and a clock ticks, the ending job
   posts its outputs before the newly released jobs are dispatched;
 - a job is *late* (drawn red) when it ends after the next tick of its pacing
-  clock (its own clock, else the single clock of its group): for a task with
-  a clock this is the overrun of spec §4.
+  clock (its own clock, else the single clock of its group): job ``j`` of a
+  task with a clock is late exactly when the task *overruns at activation
+  j + 1* (spec §4: tick ``j + 1`` comes while activation ``j`` has not ended,
+  the end being its last write, or its computation's end without outputs);
+- a skeleton that is not live is reported by its token-free circuits
+  (:func:`~tegraph.analysis.deadlocks.skeleton_deadlocks`, as ``tegraph
+  analyze``): the tasks of a dead group block for ever, and none of their
+  jobs is called late (spec §4: the deadlock is reported instead).
 
 The text rendering (:func:`render_timeline`) draws one row per task and the
 exact order of execution; :mod:`tegraph.report.plot` draws the picture.
@@ -34,7 +40,10 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
+from ..analysis.deadlocks import skeleton_deadlocks
+from ..analysis.results import Deadlock
 from ..errors import ModelError
+from ..model.build import build_teg
 from ..model.skeleton import Protocol, Skeleton
 from .rules import synchronized_groups
 from .schedulability import effective_priorities, hyperperiod
@@ -68,6 +77,11 @@ class Job:
         """How many times it lost the processor before finishing its computation."""
         return max(len(self.segments) - 1, 0)
 
+    @property
+    def overrun_at(self) -> int | None:
+        """The activation at which its task overruns because of this job (late: ``index + 1``)."""
+        return self.index + 1 if self.late else None
+
 
 @dataclass
 class Timeline:
@@ -86,6 +100,12 @@ class Timeline:
     clocks: dict[str, str | None]
     """The clock that activates each task (ticks are drawn on its row)."""
     jobs: list[Job]
+    pacing: dict[str, str | None] = field(default_factory=dict)
+    """The clock whose ticks each task's jobs must end by (its own, else its group's)."""
+    deadlocks: list[Deadlock] = field(default_factory=list)
+    """Token-free circuits of the timed event graph (empty: the skeleton is live)."""
+    dead_tasks: list[str] = field(default_factory=list)
+    """The tasks of the groups that hold a deadlock, in file order: never late."""
 
     def order_of_execution(self, processor: str | None = None
                            ) -> list[tuple[str, Fraction, Fraction]]:
@@ -98,14 +118,26 @@ class Timeline:
     def late_jobs(self) -> list[Job]:
         return [j for j in self.jobs if j.late]
 
+    def overrun_at(self, task: str) -> int | None:
+        """The first activation at which ``task`` overruns in the horizon (spec §4 numbering)."""
+        return next((j.overrun_at for j in self.jobs if j.task == task and j.late), None)
+
+    @property
+    def exit_status(self) -> int:
+        """0 no deadlock and no late job; 1 otherwise (as ``tegraph analyze``)."""
+        return 1 if self.deadlocks or self.late_jobs else 0
+
     def to_dict(self) -> dict[str, Any]:
         """Plain data (exact times as strings)."""
         return {"name": self.name, "unit": self.unit, "horizon": exact_text(self.horizon),
                 "priorities": self.priorities,
                 "ticks": {c: [exact_text(x) for x in ts] for c, ts in self.ticks.items()},
+                "deadlocks": [{"events": d.events, "tasks": d.tasks, "links": d.links}
+                              for d in self.deadlocks],
+                "dead_tasks": self.dead_tasks,
                 "jobs": [{"task": j.task, "index": j.index, "release": exact_text(j.release),
                           "finish": exact_text(j.finish), "deadline": exact_text(j.deadline),
-                          "late": j.late,
+                          "late": j.late, "overrun_at": j.overrun_at,
                           "segments": [[exact_text(a), exact_text(b)] for a, b in j.segments]}
                          for j in self.jobs]}
 
@@ -323,6 +355,10 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
             sim.remaining[t] -= step
         now += step
     pacing = _pacing_clocks(skeleton)
+    deadlocks = skeleton_deadlocks(build_teg(skeleton))
+    stuck = {t for d in deadlocks for t in d.tasks}
+    dead = {t for group in synchronized_groups(skeleton) if stuck.intersection(group)
+            for t in group}
     for job in jobs:
         clock = pacing[job.task]
         if clock is not None:
@@ -334,12 +370,16 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
                 job.late = job.deadline < horizon or (
                     job.deadline == horizon and sim.job[job.task] is job
                     and sim.remaining[job.task] > 0)
+            # In a dead group the clock ticks at a blocked task: that is the
+            # deadlock, reported as such, not an overrun (spec §4).
+            job.late = job.late and job.task not in dead
     order = list(by_processor)
     rows = sorted(skeleton.tasks, key=lambda t: (
         order.index(skeleton.tasks[t].processor), -priorities[t], sim.index[t]))
     return Timeline(skeleton.name, skeleton.unit, horizon, rows, priorities, source,
                     {t: skeleton.tasks[t].processor for t in skeleton.tasks}, ticks,
-                    {t: skeleton.tasks[t].clock for t in skeleton.tasks}, jobs)
+                    {t: skeleton.tasks[t].clock for t in skeleton.tasks}, jobs, pacing,
+                    deadlocks, [t for t in skeleton.tasks if t in dead])
 
 
 def _count(phase: Fraction, period: Fraction, horizon: Fraction) -> int:

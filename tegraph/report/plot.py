@@ -126,12 +126,19 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
             ax.plot(ticks, [y_of[t] - 0.42] * len(ticks), linestyle="none", marker="^",
                     markersize=6, color="black", zorder=3)
     ax.set_yticks([y_of[t] for t in rows])
-    ax.set_yticklabels([f"{t}  (prio {timeline.priorities[t]})" for t in rows])
     ax.set_ylim(-0.8, len(rows) - 0.4)
     ax.set_xlim(0, H)
     ax.set_xlabel(f"time ({timeline.unit})")
     ax.grid(axis="x", linestyle=":", linewidth=0.5)
-    ax.set_title(f"{timeline.name}: preemptive fixed priorities over 0-{H:g} {timeline.unit}")
+    title = f"{timeline.name}: preemptive fixed priorities over 0-{H:g} {timeline.unit}"
+    if timeline.deadlocks:
+        # The picture of a dead design must not look like a quiet one.
+        on = sorted({t for d in timeline.deadlocks for t in d.tasks}, key=rows.index)
+        title += f"\nDEADLOCK: a token-free circuit through {', '.join(on)}"
+    ax.set_title(title)
+    dead = set(timeline.dead_tasks)
+    ax.set_yticklabels([f"{t}  (prio {timeline.priorities[t]})" + ("  DEADLOCK" if t in dead
+                                                                    else "") for t in rows])
     fig.legend(handles=[Patch(facecolor=_RUN, edgecolor="black", label="computing"),
                         Patch(facecolor=_LATE, edgecolor="black", label="late job"),
                         Line2D([], [], color=_WAIT, label="released, waiting"),

@@ -74,16 +74,39 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
             lines.append(f"  processor {p or '(default)'}:")
         for task, a, b in timeline.order_of_execution(p):
             lines.append(f"  {exact_text(a):>8} - {exact_text(b):<8} {task}")
-    late = timeline.late_jobs
     lines.append("")
-    for j in late:
-        end = ("is still running at the horizon" if j.finish is None
-               else f"ends at {exact_text(j.finish)} {u}")
-        lines.append(f"LATE: {j.task} activation {j.index} {end}, after the next tick at "
-                     f"{exact_text(j.deadline)} {u}")
-    if not late:
-        lines.append("every job ends by the next tick of its clock")
+    for d in timeline.deadlocks:
+        lines.append("DEADLOCK: token-free circuit " + " -> ".join([*d.events, d.events[0]])
+                     + f" (tasks {', '.join(d.tasks)}): these events wait for each other and "
+                     "never fire")
+    if timeline.dead_tasks:
+        lines.append(f"  not live: {', '.join(timeline.dead_tasks)} (a clock ticking at a task "
+                     "blocked there is this deadlock, not an overrun)")
+    for j in timeline.late_jobs:
+        clock = timeline.pacing.get(j.task)
+        whose = (f"its clock {clock}" if timeline.clocks[j.task] == clock
+                 else f"its group's clock {clock}")
+        end = (f"has not ended by the end of the simulation ({exact_text(H)} {u})"
+               if j.finish is None else f"runs until {exact_text(j.finish)} {u}")
+        lines.append(f"OVERRUN: {j.task} overruns at activation {j.overrun_at}: {whose} ticks "
+                     f"at {exact_text(j.deadline)} {u} while activation {j.index} {end}")
+    lines.append(_verdict(timeline))
     return "\n".join(lines) + "\n"
+
+
+def _verdict(timeline: Timeline) -> str:
+    """The last line: what the simulation found, within its horizon."""
+    u, H = timeline.unit, exact_text(timeline.horizon)
+    if timeline.deadlocks:
+        late = len(timeline.late_jobs)
+        also = f", and {late} overrun(s) elsewhere" if late else ""
+        return (f"verdict: DEADLOCK ({len(timeline.deadlocks)} token-free circuit(s); "
+                f"{len(timeline.dead_tasks)} task(s) in groups that are not live){also}")
+    if timeline.late_jobs:
+        tasks = list(dict.fromkeys(j.task for j in timeline.late_jobs))
+        return (f"verdict: {len(timeline.late_jobs)} overrun(s) before {H} {u}, by "
+                + ", ".join(tasks))
+    return f"verdict: every job ends by the next tick of its clock (simulated up to {H} {u})"
 
 
 def _paint(row: list[str], a: Fraction, b: Fraction, col: Fraction, ch: str,

@@ -363,8 +363,11 @@ def check_overruns(r, sk: Skeleton, ref: RefTEG) -> None:
         if task.clock is None:
             assert rep.overrun_at is None
             continue
-        last, tick = x[ref.chains[t][-1]], x[f"{task.clock}.tick"]
-        hits = (k for k in range(2, n + 1) if last[k - 2] > tick[k - 1])
+        # Spec §4 (v1.1): activation k ends at its last write, or, without
+        # outputs, at the end of its computation (x_compute(k) + duration).
+        end = [v + (task.duration if not task.outputs else 0) for v in x[ref.chains[t][-1]]]
+        tick = x[f"{task.clock}.tick"]
+        hits = (k for k in range(2, n + 1) if end[k - 2] > tick[k - 1])
         first = next(hits, None)
         if rep.overrun_at is not None:
             assert rep.overrun_at == first, t

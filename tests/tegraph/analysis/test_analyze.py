@@ -10,13 +10,15 @@ from tegraph.model.skeleton import Skeleton
 
 
 def _overruns_by_definition(sk: Skeleton, task: str, n: int) -> int | None:
-    """Spec §4 literally: smallest k >= 2 with x_last(k-1) > x_tick(k), over n firings."""
+    """Spec §4 (v1.1) literally: smallest k >= 2 with end(k-1) > x_tick(k), over n firings,
+    end = x_last, plus the duration when the task has no outputs (its last event is compute)."""
     teg = build_teg(sk)
     daters = teg.simulate(n)
-    last = daters[last_event(teg, task)]
+    extra = 0 if sk.tasks[task].outputs else sk.tasks[task].duration
+    end = [x + extra for x in daters[last_event(teg, task)]]
     tick = daters[teg.attrs["clocks"][sk.tasks[task].clock]]
     for k in range(2, n + 1):
-        if last[k - 2] > tick[k - 1]:
+        if end[k - 2] > tick[k - 1]:
             return k
     return None
 
@@ -34,10 +36,11 @@ def test_faster_writer_upstream_never_overrun_is_proven():
     # W posts its k-th message at 2(k-1) + 1; T's clock ticks at 5(k-1).
     # T.read(k) = max(T.activate(k), 2k - 1), T.activate(k) = max(5(k-1),
     # T.compute(k-1) + 4): T.compute(1) = 1, then 5(k-1) for k >= 2 (W's
-    # message is always there in time). x_last(k-1) = T.compute(k-1) <= 5(k-2)
-    # < 5(k-1): never an overrun. W's place into T.read is unbounded (W is
-    # faster), so the group is not rate-consistent and no full state repeats:
-    # the proof needs the bounds of regime_bounds.
+    # message is always there in time). T has no outputs, so activation k-1 ends
+    # at T.compute(k-1) + 4 <= 5(k-2) + 4 < 5(k-1) (spec §4, v1.1): never an
+    # overrun. W's place into T.read is unbounded (W is faster), so the group is
+    # not rate-consistent and no full state repeats: the proof needs the bounds
+    # of regime_bounds.
     sk = Skeleton.from_dict(FAST_WRITER)
     report = analyze(sk)
     t = report.tasks["T"]
@@ -96,3 +99,67 @@ def test_transient_and_cyclicity_of_a_two_token_circuit():
     # = 13 > 12: overrun at k = 4.
     assert report.tasks["A"].overrun_at == 4
     assert _overruns_by_definition(sk, "A", 20) == 4
+
+
+# ------------------------------------------------------------------ how each verdict was obtained
+
+# B and C wait for each other's message: a token-free circuit (a dead group); A is a task of
+# duration 1 on its own clock of period 4 (a live, rate-consistent group).
+ONE_DEAD_ONE_LIVE = {"tasks": {
+    "A": {"duration": 1, "period": 4},
+    "B": {"duration": 1, "inputs": ["b"], "outputs": ["a"]},
+    "C": {"duration": 1, "inputs": ["a"], "outputs": ["b"]}},
+    "links": [{"from": "B:a", "to": "C:a", "protocol": "ASYN/SYN"},
+              {"from": "C:b", "to": "B:b", "protocol": "ASYN/SYN"}]}
+
+
+def test_methods_of_a_skeleton_whose_every_group_is_dead():
+    # Figure 7a: no group is live, so nothing was simulated and no period computed; the
+    # header used to say "dater simulation over 0 activations; each periodic regime proven
+    # by a repeated state" and "certificate verified".
+    from tegraph import load_skeleton
+    from tests.paths import REPO
+    m = analyze(load_skeleton(REPO / "examples" / "fig7a_circular_wait.yaml")).methods
+    assert m["timing"] == "no dater simulation: every group is dead"
+    assert m["periods"] == "no live group: no period computed"
+    assert m["slack"] == "no slack computed: no group is rate-consistent"
+    assert m["liveness"].startswith("token-free circuits: 1 found")
+
+
+def test_methods_of_a_skeleton_with_a_dead_and_a_live_group():
+    m = analyze(Skeleton.from_dict(ONE_DEAD_ONE_LIVE), design=False).methods
+    assert m["periods"].startswith("periods of the 1 live group(s) only (1 dead): maximum cycle "
+                                   "ratio by exact Howard policy iteration; certificate verified")
+    # A: compute at 4(k-1), periodic from k = 1; the state repeats at k = 2.
+    assert m["timing"] == (
+        "exact dater simulation over 2 activations; the periodic regime of 1 rate-consistent "
+        "group(s) proven by a repeated state (homogeneity of the (max,+) recurrence); the "
+        "overrun of 1 clocked task(s) decided (the first one seen, or none up to a proven "
+        "periodic regime); 1 dead group(s) not simulated")
+
+
+def test_methods_when_nothing_is_clocked():
+    # W (duration 1) posts to R (duration 2) ASYN/SYN, no clock: W runs every 1, R every 2,
+    # the place between them is unbounded: no rate-consistent group, no clocked task, so
+    # the dater simulation has nothing to find and does not run.
+    sk = Skeleton.from_dict({"tasks": {"W": {"duration": 1, "outputs": ["x"]},
+                                       "R": {"duration": 2, "inputs": ["x"]}},
+                             "links": [{"from": "W:x", "to": "R:x", "protocol": "ASYN/SYN"}]})
+    m = analyze(sk, design=False).methods
+    assert m["timing"] == ("no dater simulation: no rate-consistent group (no transient to "
+                           "find) and no clocked task in a live group (no overrun to watch)")
+    assert m["periods"].endswith("certificate verified")
+    # One free-running task (period 3): its regime is found, there is no overrun to watch.
+    m = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 3}}}), design=False).methods
+    assert "the periodic regime of 1 rate-consistent group(s) proven" in m["timing"]
+    assert "overrun" not in m["timing"]
+
+
+def test_methods_when_overruns_stay_undecided():
+    # FAST_WRITER with a budget of 2 firings: T's proof needs the regime of regime_bounds,
+    # which 2 firings do not reach; W's own regime (period 2 from k = 1) is found.
+    r = analyze(Skeleton.from_dict(FAST_WRITER), design=False, max_steps=2)
+    assert not r.tasks["T"].overrun_decided and r.tasks["W"].overrun_decided
+    assert r.methods["timing"].endswith(
+        "the overrun of 1 clocked task(s) decided (the first one seen, or none up to a proven "
+        "periodic regime); 1 overrun(s) undecided within the budget")

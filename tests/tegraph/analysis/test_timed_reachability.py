@@ -51,7 +51,8 @@ def test_one_clocked_task() -> None:
     r = timed_reachability(sk)
     assert (r.complete, r.ended_by) == (True, "repeat")
     assert (r.groups[0].period, r.groups[0].transient) == (F(4), (1, 1))
-    assert (r.tasks["A"].period, r.tasks["A"].overrun_at, r.tasks["A"].decided) == (F(4), None, True)
+    a = r.tasks["A"]
+    assert (a.period, a.overrun_at, a.decided) == (F(4), None, True)
     assert r.exit_status == 0
 
 
@@ -92,7 +93,60 @@ def test_a_deadlocked_group_stops_firing() -> None:
     r = timed_reachability(sk)
     assert (r.complete, r.ended_by, r.firings, r.groups[0].stuck_after) == (
         True, "quiescence", 0, F(0))
-    assert r.exit_status == 1 and "deadlock" in render_text(r)
+    # Each of the nine events waits on an empty place fed by the next one round the
+    # circle (the example's derivation): all of them are stuck from the first state.
+    assert r.groups[0].stuck_events == [
+        "MT1.read:b", "MT1.compute", "MT1.write:a", "MT2.read:c", "MT2.compute",
+        "MT2.write:b", "MT3.read:a", "MT3.compute", "MT3.write:c"]
+    assert r.deadlock and r.exit_status == 1 and "deadlock" in render_text(r)
+
+
+def test_a_clock_ticking_at_a_dead_group_is_the_deadlock_not_an_overrun() -> None:
+    # Figure 7b (hand derivation in the example): at 0, rtc ticks and MT1 activates, reads q
+    # and starts computing (4 firings); its rendezvous MT1.write:a then waits for MT2.read:c,
+    # which waits for MT3.write:c, which waits (MT3.compute, MT3.read:d) for MT1.write:d,
+    # which comes after MT1.write:a: the token-free circuit. MT2.compute and MT2.write:tau
+    # wait on it, and MT1.activate on MT1.write:d (its return place is empty after the first
+    # activation), MT1.read:q and MT1.compute on MT1.activate: every event but rtc.tick is
+    # stuck after those 4 firings, all at time 0. v1.0 of this search went on ticking (a
+    # million states, 43 s) and called MT1 overrun at activation 2; analyze reports the
+    # deadlock and no overrun (spec §4), and so does this search now.
+    sk = load_skeleton(EXAMPLES / "fig7b_wrong_order.yaml")
+    r = timed_reachability(sk)
+    g = r.groups[0]
+    assert (r.complete, r.firings, r.states) == (True, 4, 5)
+    assert (g.stuck_after, g.period) == (F(0), None)
+    assert g.stuck_events == [
+        "MT1.activate", "MT1.read:q", "MT1.compute", "MT1.write:a", "MT1.write:d",
+        "MT2.read:c", "MT2.compute", "MT2.write:tau", "MT3.read:d", "MT3.compute", "MT3.write:c"]
+    assert {t: (x.overrun_at, x.decided) for t, x in r.tasks.items()} == {
+        "MT1": (None, True), "MT2": (None, True), "MT3": (None, True)}
+    assert r.exit_status == 1 and "overrun" not in render_text(r)
+    out = CliRunner().invoke(app, ["reach", str(EXAMPLES / "fig7b_wrong_order.yaml"), "--timed"])
+    assert out.exit_code == 1 and "deadlock" in out.stdout
+
+
+def test_part_of_a_group_runs_on_beside_a_deadlock() -> None:
+    # A and B wait for each other's message: A.read:b -> A.compute -> A.write:a -> B.read:a
+    # -> B.compute -> B.write:b -> A.read:b holds no token. W (clock 2, duration 1) posts w to
+    # A ASYN/SYN and never waits: it writes at 1, 3, 5... A.read:w comes first in A's chain;
+    # its return place (A.write:a -> A.read:w, 1 token) lets it fire once, at 1 (W's first
+    # post); then that place is empty and fed by the stuck A.write:a. So the stuck events are
+    # all of A and B (the last to fire: A.read:w at 1), while W and its clock run for ever:
+    # W's messages pile up in the place into A.read:w only, which the dead group's state
+    # leaves out, so that state repeats after one period of W and the search ends.
+    sk = Skeleton.from_dict({"tasks": {
+        "W": {"duration": 1, "period": 2, "outputs": ["w"]},
+        "A": {"duration": 1, "inputs": ["w", "b"], "outputs": ["a"]},
+        "B": {"duration": 1, "inputs": ["a"], "outputs": ["b"]}},
+        "links": [{"from": "W:w", "to": "A:w", "protocol": "ASYN/SYN"},
+                  {"from": "A:a", "to": "B:a", "protocol": "ASYN/SYN"},
+                  {"from": "B:b", "to": "A:b", "protocol": "ASYN/SYN"}]})
+    r = timed_reachability(sk)
+    assert r.complete and r.groups[0].stuck_events == [
+        "A.read:w", "A.read:b", "A.compute", "A.write:a", "B.read:a", "B.compute", "B.write:b"]
+    assert r.groups[0].stuck_after == 1  # A.read:w fired once, at W's first post
+    assert r.tasks["W"].overrun_at is None and r.exit_status == 1
 
 
 def test_budget_stop_and_progress() -> None:
@@ -122,6 +176,13 @@ def check_agreement(sk: Skeleton) -> None:
     r = timed_reachability(sk, max_states=BUDGET)
     assert [g.tasks for g in r.groups] == [g.tasks for g in report.groups]
     for g, b in zip(report.groups, r.groups):
+        # A group is dead in one exactly when it is in the other, and what the
+        # timed search finds stuck holds the token-free circuits analyze reports.
+        assert (b.stuck_events is not None) == (not g.live)
+        if not g.live:
+            circuits = {e for d in report.deadlocks if set(d.tasks) <= set(g.tasks)
+                        for e in d.events}
+            assert circuits <= set(b.stuck_events)
         if g.rate_consistent:
             assert b.period is not None, f"group {g.index} did not repeat"
         if b.period is not None:
@@ -129,8 +190,9 @@ def check_agreement(sk: Skeleton) -> None:
     for name, t in report.tasks.items():
         b = r.tasks[name]
         group = report.groups[t.group]
-        if not group.live:
-            continue  # analyze reports the deadlock there, not overruns
+        if not group.live:  # both report the deadlock there, not overruns
+            assert b.overrun_at is None and t.overrun_at is None and b.decided
+            continue
         if group.rate_consistent:
             assert b.decided and b.period == t.period
         if b.decided and t.overrun_decided:
@@ -200,3 +262,32 @@ def test_cli_timed_agrees_with_analyze_json() -> None:
         (g["period"], g["transient"]) for g in maxplus["groups"]]
     out = runner.invoke(app, ["reach", f, "--timed", "--max-states", "3"])
     assert out.exit_code == 0 and "inconclusive (budget 3 states reached)" in out.stdout
+
+
+def test_cli_timed_progress_on_a_terminal() -> None:
+    # A search longer than a second shows its progress on a terminal (stderr a tty), as the
+    # untimed one does; the bar is erased before the result is printed on stdout.
+    import os
+    import pty
+    import subprocess
+    import sys
+
+    main, child = pty.openpty()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "tegraph.cli", "reach", "--timed", "--max-states", "100000",
+         str(EXAMPLES / "fig12_double_sync.yaml")],
+        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=child)
+    os.close(child)
+    seen = b""
+    while True:  # read as it comes: a full terminal buffer would block the search
+        try:
+            chunk = os.read(main, 65536)
+        except OSError:  # the other end is closed: the process has ended
+            break
+        if not chunk:
+            break
+        seen += chunk
+    os.close(main)
+    out = proc.stdout.read()  # type: ignore[union-attr]
+    assert proc.wait(timeout=300) == 1 and b"MT2 overruns at activation 3" in out
+    assert b" states, " in seen and b"/s" in seen, seen[:200]

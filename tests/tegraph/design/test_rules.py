@@ -16,6 +16,7 @@ from fractions import Fraction as F
 import pytest
 
 from tegraph import SkeletonError, analyze, load_skeleton
+from tegraph.design.change import Change
 from tegraph.design.rules import (
     check_rules,
     is_automaton,
@@ -66,9 +67,11 @@ def test_rule1_double_synchronization_of_figure_12():
     assert (f.severity, f.tasks, f.ports, f.links) == (
         "error", ("MT2",), ("MT2:y",), ("MT1:y -> MT2:y (ASYN/SYN)",))
     assert "2 synchronizations" in f.message
-    # Footnote 6: keep the input read first, drop the clock.
-    assert "keep only the input MT2:y" in f.advice
-    assert "remove the clock MT2.clock" in f.advice
+    # Footnote 6: keep the input read first, drop the clock (the group keeps rtc: Rule 3
+    # is then satisfied too, nothing new).
+    assert f.advice.startswith("keep only its input MT2:y")
+    assert "remove the clock MT2.clock of MT2" in f.advice
+    assert f.change == Change(drop_clock=("MT2",))
 
 
 def test_rule1_counts_blocking_outputs_and_rendezvous():
@@ -80,7 +83,12 @@ def test_rule1_counts_blocking_outputs_and_rendezvous():
             "links": [{"from": "W:a", "to": "R:a", "protocol": "SYN/ASYN"}]})
     errors = of_rule(check_rules(s), 1, "error")
     assert [(f.tasks, f.ports) for f in errors] == [(("W",), ("W:a",))]
-    assert "make W:a -> R:a (SYN/ASYN) ASYN/ASYN" in errors[0].advice
+    # W keeps its clock (no input: the clock comes first). Cutting a (ASYN/ASYN) would
+    # leave R alone in a group without a clock (a new Rule 3 error); ASYN/SYN hands the
+    # wait over to R, which then has its one synchronization (R's warning goes too).
+    assert errors[0].change == Change((("W:a", "R:a", "ASYN/SYN"),))
+    assert errors[0].advice == ("keep only its clock: make W:a -> R:a ASYN/SYN (R waits for "
+                                "W's message)")
     warnings = of_rule(check_rules(s), 1, "warning")
     assert [f.tasks for f in warnings] == [("R",)]
     assert "no synchronization" in warnings[0].message
@@ -111,11 +119,14 @@ def test_rule2_rendezvous_is_flagged():
 def test_rule2_unsynchronized_pipeline_of_figure_4():
     # Four groups, each one private 10 ms clock; the three ASYN/ASYN links join
     # groups of the same period: three findings, one per link.
-    findings = of_rule(check_rules(load_skeleton(EXAMPLES / "fig4_pipeline_unsynchronized.yaml")), 2)
+    pipeline = load_skeleton(EXAMPLES / "fig4_pipeline_unsynchronized.yaml")
+    findings = of_rule(check_rules(pipeline), 2)
     assert [f.links for f in findings] == [("MT1:x1 -> MT2:x1 (ASYN/ASYN)",),
                                            ("MT2:x2 -> MT3:x2 (ASYN/ASYN)",),
                                            ("MT3:x3 -> MT4:x3 (ASYN/ASYN)",)]
-    assert "make MT1:x1 -> MT2:x1 ASYN/SYN and remove MT2's clock MT2.clock" in findings[0].advice
+    assert ("make MT1:x1 -> MT2:x1 ASYN/SYN (MT2 waits for MT1's message); remove the clock "
+            "MT2.clock of MT2") == findings[0].advice
+    assert findings[0].change == Change((("MT1:x1", "MT2:x1", "ASYN/SYN"),), ("MT2",))
     assert all("Figure 4" in f.message for f in findings)
 
 
@@ -129,20 +140,24 @@ def test_rule3_group_without_clock_figure_7a():
     (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml")), 3)
     assert (f.severity, f.tasks) == ("error", ("MT1", "MT2", "MT3"))
     # Every task waits for an input: the advice also breaks the wait.
-    assert "give a clock to MT1 and make its synchronizing input ASYN/ASYN" in f.advice
+    assert f.change == Change((("MT2:b", "MT1:b", "ASYN/ASYN"),), add_clock=("MT1",))
+    assert f.advice == ("make MT2:b -> MT1:b ASYN/ASYN (neither side waits); give MT1 a clock "
+                        "of its own (a period of your choice) (one clock for the whole group)")
 
 
 def test_rule3_group_without_clock_names_its_source():
-    # C reads nothing: the clock goes there.
+    # C reads nothing: the clock goes there. C already waits to post z (SYN/ASYN to B):
+    # a clock as well would be two synchronizations (Rule 1), so z is cut (ASYN/ASYN);
+    # the group stays one through C:y -> A:y and A:x -> B:x, D:x.
     (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "ring_two_tokens.yaml")), 3)
-    assert "give a clock to C" in f.advice
+    assert f.change == Change((("C:z", "B:z", "ASYN/ASYN"),), add_clock=("C",))
 
 
 def test_rule3_two_clocks_in_one_group():
     (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "overrun_in_step.yaml")), 3)
     assert (f.severity, f.tasks) == ("error", ("MT1", "MT2"))
     assert "2 clocks (MT1.clock on MT1, MT2.clock on MT2)" in f.message
-    assert "keep one clock (MT1.clock) and remove MT2.clock from MT2" in f.advice
+    assert f.advice == "keep one clock (MT1.clock): remove the clock MT2.clock of MT2"
 
 
 # ------------------------------------------------------------------ Rule 4

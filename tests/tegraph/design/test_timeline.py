@@ -43,8 +43,11 @@ def test_computed_torque_follows_figure_17():
     # Durations 0.1, 0.1, 0.2, 0.3, 1.2; clocks 1, 2, 6 ms.
     tl = simulate_timeline(load_skeleton(EXAMPLES / "computed_torque.yaml"))
     d = F(1, 10)
-    chain = lambda t0: [("TG.JS", t0 + d, t0 + 2 * d), ("TF.TT.JS", t0 + 2 * d, t0 + 4 * d),
-                        ("CO.JS", t0 + 4 * d, t0 + 7 * d)]
+
+    def chain(t0):
+        return [("TG.JS", t0 + d, t0 + 2 * d), ("TF.TT.JS", t0 + 2 * d, t0 + 4 * d),
+                ("CO.JS", t0 + 4 * d, t0 + 7 * d)]
+
     assert order(tl) == [
         ("OBS.JL", 0, d), *chain(0), ("MOD.DYN", 7 * d, 1), ("OBS.JL", 1, 1 + d),
         ("MOD.DYN", 1 + d, 2), ("OBS.JL", 2, 2 + d), *chain(2), ("OBS.JL", 3, 3 + d),
@@ -71,14 +74,41 @@ def test_reversed_pipeline_of_figure_4():
 
 def test_overrun_of_figure_12_matches_the_analysis():
     # MT2 (clock 4) waits for MT1's message (every 10): activation 2, released at 4,
-    # reads y at 11 and ends at 13 > the tick at 8. The analysis: overrun_at = 3, i.e.
-    # activation 2 still runs at tick 3.
+    # reads y at 11 and ends (writes u) at 13 > tick 3 at 8. Spec §4 (v1.1): MT2 has an
+    # output, so end(k) = x_write:u(k) = 3, 13, 23 and the ticks are 0, 4, 8, 12:
+    # k = 2: 3 > 4 no; k = 3: 13 > 8 yes => overrun_at = 3 (the example file's derivation).
+    # The timeline used to say "activation 2 ends at 13 ms, after the next tick at 8 ms",
+    # the late job's number: one fact, two numberings. The one numbering is the spec's:
+    # MT2 overruns at activation 3, tick 3 finding activation 2 unfinished.
     sk = load_skeleton(EXAMPLES / "fig12_double_sync.yaml")
     tl = simulate_timeline(sk)
-    late = [(j.task, j.index, j.finish, j.deadline) for j in tl.late_jobs]
-    assert late[0] == ("MT2", 2, 13, 8)
-    assert analyze(sk).tasks["MT2"].overrun_at == late[0][1] + 1
-    assert "LATE: MT2 activation 2 ends at 13 ms, after the next tick at 8 ms" in render_timeline(tl)
+    late = [(j.task, j.index, j.finish, j.deadline, j.overrun_at) for j in tl.late_jobs]
+    assert late[0] == ("MT2", 2, 13, 8, 3)
+    assert analyze(sk).tasks["MT2"].overrun_at == tl.overrun_at("MT2") == 3
+    assert tl.overrun_at("MT1") is None
+    assert ("OVERRUN: MT2 overruns at activation 3: its clock MT2.clock ticks at 8 ms while "
+            "activation 2 runs until 13 ms") in render_timeline(tl)
+
+
+@pytest.mark.parametrize("example", ["fig7a_circular_wait.yaml", "fig7b_wrong_order.yaml"])
+def test_a_dead_design_reports_its_deadlock(example):
+    # Figure 7a: nobody can read first, no job ever starts. Figure 7b: MT1 computes 0-2 and
+    # then waits for ever at its rendezvous with MT2, which waits for MT3, which waits for
+    # MT1's second write (the circuits derived by hand in the examples). The diagram used
+    # to say "every job ends by the next tick of its clock" and exit 0.
+    sk = load_skeleton(EXAMPLES / example)
+    tl = simulate_timeline(sk)
+    assert [d.events for d in tl.deadlocks] == [d.events for d in analyze(sk).deadlocks]
+    assert tl.dead_tasks == ["MT1", "MT2", "MT3"] and tl.late_jobs == [] and tl.exit_status == 1
+    ran = [(t, a, b) for t, a, b in order(tl)]
+    assert ran == ([] if example.startswith("fig7a") else [("MT1", 0, 2)])
+    text = render_timeline(tl)
+    assert "DEADLOCK: token-free circuit " + " -> ".join(
+        [*tl.deadlocks[0].events, tl.deadlocks[0].events[0]]) in text
+    assert "every job ends" not in text and text.rstrip().endswith(
+        "verdict: DEADLOCK (1 token-free circuit(s); 3 task(s) in groups that are not live)")
+    out = run("timeline", str(EXAMPLES / example))
+    assert out.returncode == 1 and "DEADLOCK" in out.stdout
 
 
 def test_overrun_in_step_on_one_processor():
@@ -146,7 +176,8 @@ def test_text_rendering_is_exact():
     assert mod[:20] == "-------###-#########"
     assert lines[6].split("|")[1].count("^") == 6  # clock obs
     assert "     11/10 - 2        MOD.DYN" in text
-    assert text.endswith("every job ends by the next tick of its clock\n")
+    assert text.endswith("verdict: every job ends by the next tick of its clock "
+                         "(simulated up to 6 ms)\n")
 
 
 def test_long_horizons_are_drawn_approximately():
@@ -207,7 +238,8 @@ def test_without_matplotlib_the_message_says_how_to_install(tmp_path, monkeypatc
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False, capture_output=True,
+    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False,
+                          capture_output=True,
                           text=True, timeout=120)
 
 
@@ -216,7 +248,7 @@ def test_cli_timeline(tmp_path):
     assert ok.returncode == 0, ok.stderr
     assert "order of execution (exact):" in ok.stdout
     late = run("timeline", str(EXAMPLES / "fig12_double_sync.yaml"), "--horizon", "14")
-    assert late.returncode == 1 and "LATE: MT2 activation 2" in late.stdout
+    assert late.returncode == 1 and "MT2 overruns at activation 3" in late.stdout
     bad = run("timeline", str(EXAMPLES / "fig12_double_sync.yaml"), "--horizon", "-1")
     assert bad.returncode == 2 and "--horizon: expected a time > 0" in bad.stderr
     out = tmp_path / "d.svg"

@@ -1,0 +1,127 @@
+"""A machine-applicable edit of a skeleton: what a design-rule finding says to change.
+
+:class:`Change` is the structured form of a finding's advice (links that get
+another protocol, clocks removed, clocks added); :func:`apply_change` makes it;
+:func:`finding_key` says when two findings of two checks are the same one.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+from ..errors import InputError
+from ..model.skeleton import Clock, Link, Protocol, Skeleton
+
+__all__ = ["Change", "Key", "apply_change", "finding_key"]
+
+Key = tuple
+"""What identifies a finding: see :func:`finding_key`."""
+
+
+@dataclass(frozen=True)
+class Change:
+    """A machine-applicable edit of a skeleton: what a finding's advice says to do.
+
+    Attributes
+    ----------
+    protocols : tuple of (str, str, str)
+        ``(writer "TASK:PORT", reader "TASK:PORT", protocol)``: links to give
+        another protocol, in the order of the skeleton's links.
+    drop_clock : tuple of str
+        Tasks whose clock is removed (a ``period:`` shorthand included).
+    add_clock : tuple of str
+        Tasks that get a clock of their own; its period is the designer's choice
+        (the check assumes one equal to no other period of the skeleton).
+    """
+
+    protocols: tuple[tuple[str, str, str], ...] = ()
+    drop_clock: tuple[str, ...] = ()
+    add_clock: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for the JSON report."""
+        return {"protocols": [{"from": w, "to": r, "protocol": p} for w, r, p in self.protocols],
+                "drop_clock": list(self.drop_clock), "add_clock": list(self.add_clock)}
+
+
+def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | None = None
+                 ) -> Skeleton:
+    """The skeleton with ``change`` applied (the input is not modified).
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    change : Change
+    period : Fraction, optional
+        Period of each clock that ``change.add_clock`` adds (a private clock
+        ``T.clock``, phase 0); needed only when it adds one.
+
+    Returns
+    -------
+    Skeleton
+
+    Raises
+    ------
+    InputError
+        ``change`` names a link or task the skeleton does not have, or adds a
+        clock without ``period``.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "A": {"duration": 1, "period": 4, "outputs": ["x"]},
+    ...     "B": {"duration": 1, "period": 4, "inputs": ["x"]}},
+    ...   "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/ASYN"}]})
+    >>> out = apply_change(sk, Change((("A:x", "B:x", "ASYN/SYN"),), drop_clock=("B",)))
+    >>> out.links[0].protocol.value, out.tasks["B"].clock, sorted(out.clocks)
+    ('ASYN/SYN', None, ['A.clock'])
+    """
+    wanted = {(w, r): Protocol(p) for w, r, p in change.protocols}
+    links = []
+    for link in skeleton.links:
+        key = (":".join(link.writer), ":".join(link.reader))
+        links.append(Link(link.writer, link.reader, wanted.pop(key)) if key in wanted else link)
+    if wanted:
+        raise InputError(f"no link {' -> '.join(next(iter(wanted)))} in the skeleton", "change")
+    tasks, clocks = dict(skeleton.tasks), dict(skeleton.clocks)
+    for name in (*change.drop_clock, *change.add_clock):
+        if name not in tasks:
+            raise InputError(f"no task {name!r} in the skeleton", "change")
+    for name in change.drop_clock:
+        tasks[name] = dataclasses.replace(tasks[name], clock=None)
+    if change.add_clock and period is None:
+        raise InputError("a clock is added: give its period", "period")
+    for name in change.add_clock:
+        clock = f"{name}.clock"
+        while clock in clocks:
+            clock += "'"
+        clocks[clock] = Clock(clock, Fraction(period), private=True)  # type: ignore[arg-type]
+        tasks[name] = dataclasses.replace(tasks[name], clock=clock)
+    used = {t.clock for t in tasks.values()}
+    # A private clock belongs to its task's `period:`: it goes with it.
+    clocks = {c: k for c, k in clocks.items() if c in used or not k.private}
+    return dataclasses.replace(skeleton, tasks=tasks, clocks=clocks, links=links)
+
+
+def finding_key(finding: Any) -> Key:
+    """What identifies a finding across two checks of two versions of a skeleton.
+
+    Rule 1: the task (whatever it waits for, it is the one problem of that
+    task); Rule 2: the link as it stands (protocol included); Rule 3: the group
+    and whether it has no clock or too many. Rule 4: all its fields.
+
+    Examples
+    --------
+    >>> from tegraph.design.rules import RuleFinding
+    >>> finding_key(RuleFinding(1, "error", ("T",), ("T:a",), ("W:a -> T:a (ASYN/SYN)",), "", ""))
+    (1, 'error', ('T',))
+    """
+    if finding.rule == 1:
+        return (1, finding.severity, tuple(finding.tasks))
+    if finding.rule == 3:
+        return (3, finding.severity, tuple(finding.tasks), "has no clock" in finding.message)
+    return (finding.rule, finding.severity, tuple(finding.tasks), tuple(finding.ports),
+            tuple(finding.links))

@@ -1,0 +1,248 @@
+"""Following the design rules' advice converges: no finding ever comes back.
+
+Each finding of Rules 1-3 carries a structured ``change`` (links that get
+another protocol, clocks removed or added). The applier below turns it into
+an edit of the skeleton's dictionary form, written here from the spec alone
+(not with :func:`tegraph.design.advice.apply_change`), and the loop applies
+the advice of the first finding that has some, re-checks the rules, and
+asserts that the fixed finding is gone, that every finding left was there
+before, and that no finding ever comes back; it ends when no error is left or
+no advice is. Rule 4 (priorities) changes no group: its rate-monotonic
+proposal is applied last and must satisfy it.
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+from fractions import Fraction as F
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from tegraph import analyze, load_skeleton
+from tegraph.design.advice import Advisor
+from tegraph.design.change import Change, apply_change, finding_key
+from tegraph.design.rules import check_rules, proposed_priorities
+from tegraph.model.skeleton import Skeleton
+from tests.paths import REPO
+from tests.tegraph.skeleton_corpus import random_skeleton
+
+EXAMPLES = REPO / "examples"
+
+
+def applied(data: dict, change: dict) -> dict:
+    """The skeleton dictionary with one finding's ``change`` made (spec §1 keys only)."""
+    data = {**data, "tasks": {t: dict(v) for t, v in data["tasks"].items()},
+            "links": [dict(link) for link in data.get("links", [])]}
+    for edit in change["protocols"]:
+        (link,) = [x for x in data["links"] if (x["from"], x["to"]) == (edit["from"], edit["to"])]
+        link["protocol"] = edit["protocol"]
+    for t in change["drop_clock"]:
+        for key in ("clock", "period", "phase"):
+            data["tasks"][t].pop(key, None)
+    # A clock of its own, of a period no clock has: the designer's choice must not
+    # happen to equal a linked group's (Rule 2 would then speak).
+    periods = [F(str(c["period"])) for c in data.get("clocks", {}).values()]
+    periods += [F(str(t["period"])) for t in data["tasks"].values() if "period" in t]
+    for i, t in enumerate(change["add_clock"]):
+        data["tasks"][t]["period"] = str(max(periods, default=F(0)) + 1 + i)
+    return data
+
+
+def follow_advice(data: dict, limit: int = 200) -> tuple[list, int]:
+    """Apply advice until no finding with advice is left; return the last findings, steps.
+
+    When no finding of Rules 1-3 is left and there is no thread, the skeleton is live:
+    the paper's rules suffice against deadlocks (each task on a token-free circuit waits
+    on it; with one synchronization each, the one clocked task of its group cannot be on
+    it, and tasks that wait on each other only make a group without a clock, Rule 3).
+    A thread orders its tasks, which the rules do not look at: [T0, T2] with T0 reading
+    T2's message ASYN/SYN deadlocks with every rule followed.
+    """
+    sk = Skeleton.from_dict(data)
+    findings = check_rules(sk)
+    gone: set = set()
+    for step in range(limit):
+        structural = [f for f in findings if f.rule < 4]
+        todo = next((f for f in structural if f.change is not None), None)
+        if todo is None:  # no finding left, or none with advice
+            if not structural and not sk.threads:
+                assert analyze(sk, design=False).live, sk.to_dict()
+            return findings, step
+        before = {finding_key(f) for f in structural}
+        data = applied(sk.to_dict(), todo.change.to_dict())
+        sk = Skeleton.from_dict(data)
+        findings = check_rules(sk)
+        after = {finding_key(f) for f in findings if f.rule < 4}
+        assert finding_key(todo) not in after, todo
+        assert after <= before, (todo.advice, after - before)
+        gone |= before - after
+        assert not (after & gone), after & gone  # nothing comes back
+    raise AssertionError(f"no end after {limit} changes")
+
+
+def with_proposed_priorities(sk: Skeleton) -> Skeleton:
+    data = sk.to_dict()
+    for t, p in proposed_priorities(sk).items():
+        data["tasks"][t]["priority"] = p
+    return Skeleton.from_dict(data)
+
+
+# ------------------------------------------------------------------ the Autoware subset
+
+def test_autoware_subset_advice_does_not_go_round_in_a_circle():
+    # Hand derivation (the comment of examples/autoware_subset.yaml): PointCloudFusion
+    # reads front and rear ASYN/SYN (Rule 1 error), and the one group holds two clocks
+    # (Rule 3 error). Cutting the rear input (ASYN/ASYN), the old advice, leaves
+    # {RearLidarDriver, PointsTransformerRear} a group of period 100 beside the fusion's
+    # group of period 100: Rule 2 then asks for ASYN/SYN on that link, the design we
+    # started from. The advice now pulls the rear branch instead: the fusion keeps its
+    # front input; PointsTransformerRear posts `points` when the fusion asks (SYN/ASYN)
+    # and asks RearLidarDriver in turn (SYN/ASYN), whose clock goes. Then
+    # PointCloudFusion {input front}, PointsTransformerRear {output points},
+    # RearLidarDriver {output points}: one synchronization each; one group, one clock
+    # (FrontLidarDriver.clock); no ASYN/ASYN, no SYN/SYN link: nothing left for Rules 1-3.
+    # Rule 3's own advice is the same change, reached from the other end (the rear
+    # driver loses its clock and pushes: it posts SYN/ASYN, and so does its reader).
+    sk = load_skeleton(EXAMPLES / "autoware_subset.yaml")
+    findings = check_rules(sk)
+    assert [(f.rule, f.severity) for f in findings] == [(1, "error"), (3, "error"), (4, "info")]
+    pull = Change((("RearLidarDriver:points", "PointsTransformerRear:raw", "SYN/ASYN"),
+                   ("PointsTransformerRear:points", "PointCloudFusion:rear", "SYN/ASYN")),
+                  drop_clock=("RearLidarDriver",))
+    assert findings[0].tasks == ("PointCloudFusion",) and findings[0].change == pull
+    assert findings[0].advice.startswith("keep only its input PointCloudFusion:front")
+    assert findings[1].change == pull
+    fixed = apply_change(sk, pull)
+    assert [(f.rule, f.severity) for f in check_rules(fixed)] == [(4, "info")]
+    report = analyze(fixed, design=False)
+    assert report.live and report.consistent
+    # The old advice, applied: the circle's next step is a Rule 2 warning on that link.
+    cut = apply_change(sk, Change((("PointsTransformerRear:points", "PointCloudFusion:rear",
+                                    "ASYN/ASYN"),)))
+    assert [(f.rule, f.links) for f in check_rules(cut) if f.rule == 2] == [
+        (2, ("PointsTransformerRear:points -> PointCloudFusion:rear (ASYN/ASYN)",))]
+    last, steps = follow_advice(sk.to_dict())
+    assert steps == 1 and [f.rule for f in last] == [4]
+
+
+def test_rule2_does_not_give_the_reader_a_second_synchronization():
+    # The fusion's rear input cut (the old advice's first step): Rule 2 warns about the
+    # ASYN/ASYN link between two groups of period 100. ASYN/SYN would give
+    # PointCloudFusion a second synchronization (Rule 1, and two clocks, Rule 3), so the
+    # advice synchronizes the writer instead: PointsTransformerRear posts SYN/ASYN and
+    # pulls in turn (its input from RearLidarDriver SYN/ASYN, the rear clock goes).
+    sk = apply_change(load_skeleton(EXAMPLES / "autoware_subset.yaml"),
+                      Change((("PointsTransformerRear:points", "PointCloudFusion:rear",
+                               "ASYN/ASYN"),)))
+    (rule2,) = [f for f in check_rules(sk) if f.rule == 2]
+    assert rule2.change == Change(
+        (("RearLidarDriver:points", "PointsTransformerRear:raw", "SYN/ASYN"),
+         ("PointsTransformerRear:points", "PointCloudFusion:rear", "SYN/ASYN")),
+        drop_clock=("RearLidarDriver",))
+    assert "ASYN/SYN" not in rule2.advice
+
+
+def test_fusion_of_two_rates_is_cut_not_pulled():
+    # With the rear lidar at 50 ms, the two branches have different rates: cutting the
+    # rear input (ASYN/ASYN) leaves groups of 100 and 50 ms, which Rule 2 accepts, and is
+    # preferred to pulling (which would make the rear lidar run at the fusion's rate).
+    data = load_skeleton(EXAMPLES / "autoware_subset.yaml").to_dict()
+    data["tasks"]["RearLidarDriver"]["period"] = 50
+    (rule1,) = [f for f in check_rules(Skeleton.from_dict(data)) if f.rule == 1]
+    assert rule1.change == Change((("PointsTransformerRear:points", "PointCloudFusion:rear",
+                                    "ASYN/ASYN"),))
+    last, _ = follow_advice(data)
+    assert [f.rule for f in last] == [4]
+
+
+# ------------------------------------------------------------------ the loop, everywhere
+
+@pytest.mark.parametrize("example", sorted(p.name for p in EXAMPLES.glob("*.yaml")))
+def test_following_the_advice_on_the_examples(example: str):
+    findings, _ = follow_advice(load_skeleton(EXAMPLES / example).to_dict())
+    assert all(f.change is None for f in findings if f.rule < 4)
+
+
+def test_the_examples_end_without_findings():
+    # Not vacuous: every example with findings of Rules 1-3 loses them all by following
+    # the advice. By hand: Figure 12 drops MT2's clock (MT2 keeps its input y, the group
+    # keeps rtc: Rules 1 and 3 at once); Figure 7a cuts MT2:b -> MT1:b and gives MT1 a
+    # clock (every task then has one synchronization, the group one clock); the Autoware
+    # subset pulls its rear branch (test above): one step each.
+    ended = {}
+    for path in sorted(EXAMPLES.glob("*.yaml")):
+        findings, steps = follow_advice(load_skeleton(path).to_dict())
+        ended[path.stem] = (steps, [(f.rule, f.severity) for f in findings if f.rule < 4])
+    assert all(left == [] for _, left in ended.values()), ended
+    assert [ended[n][0] for n in ("fig12_double_sync", "fig7a_circular_wait",
+                                  "autoware_subset")] == [1, 1, 1]
+    assert sum(steps for steps, _ in ended.values()) >= 10
+
+
+def test_rule4_proposal_satisfies_rule4():
+    for path in sorted(EXAMPLES.glob("*.yaml")):
+        sk = with_proposed_priorities(load_skeleton(path))
+        assert [f for f in check_rules(sk) if f.rule == 4] == [], path.name
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.randoms(use_true_random=False))
+def test_following_the_advice_on_random_skeletons(rng: random.Random):
+    follow_advice(random_skeleton(rng, max_tasks=6))
+
+
+def test_following_the_advice_on_the_corpus():
+    """Not vacuous: many corpus skeletons have errors, and most of them end without."""
+    with_errors = ended_clean = 0
+    for seed in range(200):
+        data = random_skeleton(random.Random(seed))
+        if not any(f.severity == "error" for f in check_rules(Skeleton.from_dict(data))
+                   if f.rule < 4):
+            continue
+        with_errors += 1
+        findings, _ = follow_advice(data)
+        ended_clean += not any(f.rule < 4 for f in findings)
+    assert with_errors >= 80 and ended_clean >= 0.9 * with_errors, (with_errors, ended_clean)
+
+
+# ------------------------------------------------------------------ the check itself
+
+def full_recheck(sk: Skeleton, key: tuple, change: Change, period) -> set | None:
+    """What a change brings, by checking the whole edited skeleton again (another algorithm)."""
+    before = {finding_key(f) for f in check_rules(sk) if f.rule < 4}
+    after = {finding_key(f) for f in check_rules(apply_change(sk, change, period)) if f.rule < 4}
+    new = after - before
+    if key in after:
+        new.add(key)
+    return new or None
+
+
+def check_the_check(sk: Skeleton, per_finding: int = 6) -> int:
+    """The advisor's in-place re-check equals a full re-check, candidate by candidate."""
+    findings = [f for f in check_rules(sk) if f.rule < 4]
+    advisor = Advisor(sk, findings)
+    compared = 0
+    for f in findings:
+        key = finding_key(f)
+        for edits in itertools.islice(advisor.candidates(f), per_finding):
+            change = advisor.change_of(edits)
+            assert advisor.brings(key, edits) == full_recheck(sk, key, change, advisor.fresh), (
+                f.rule, f.tasks, change)
+            compared += 1
+    return compared
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.randoms(use_true_random=False))
+def test_the_in_place_check_equals_a_full_recheck(rng: random.Random):
+    check_the_check(Skeleton.from_dict(random_skeleton(rng, max_tasks=6)))
+
+
+def test_the_in_place_check_on_the_examples_and_corpus():
+    compared = sum(check_the_check(load_skeleton(p)) for p in sorted(EXAMPLES.glob("*.yaml")))
+    compared += sum(check_the_check(Skeleton.from_dict(random_skeleton(random.Random(seed))))
+                    for seed in range(60))
+    assert compared >= 300, compared
