@@ -166,7 +166,14 @@ def render_timed_exploration(result: TimedExploration) -> str:
         elif not t.decided:
             lines.append(f"  {t.name}: overrun undecided")
     late = [t for t in result.tasks.values() if t.overrun_at is not None]
-    if late:
+    dead = [g for g in result.groups if g.stuck_events is not None]
+    if dead:
+        found = (f"deadlock in group {dead[0].index} ({', '.join(dead[0].tasks)})"
+                 + (f" and {len(dead) - 1} more group{'s' * (len(dead) > 2)}"
+                    if len(dead) > 1 else ""))
+        if late:
+            found += f"; {late[0].name} overruns at activation {late[0].overrun_at}"
+    elif late:
         found = f"{late[0].name} overruns at activation {late[0].overrun_at}" + (
             f" and {len(late) - 1} more" if len(late) > 1 else "")
     elif result.complete:

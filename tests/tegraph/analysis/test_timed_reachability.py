@@ -265,7 +265,7 @@ def test_cli_timed_agrees_with_analyze_json() -> None:
 
 
 def test_cli_timed_progress_on_a_terminal() -> None:
-    # A search longer than a second shows its progress on a terminal (stderr a tty), as the
+    # A search longer than a second (400,000 states: a few seconds) shows its progress on a terminal (stderr a tty), as the
     # untimed one does; the bar is erased before the result is printed on stdout.
     import os
     import pty
@@ -274,7 +274,7 @@ def test_cli_timed_progress_on_a_terminal() -> None:
 
     main, child = pty.openpty()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "tegraph.cli", "reach", "--timed", "--max-states", "100000",
+        [sys.executable, "-m", "tegraph.cli", "reach", "--timed", "--max-states", "400000",
          str(EXAMPLES / "fig12_double_sync.yaml")],
         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=child)
     os.close(child)
