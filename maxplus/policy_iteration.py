@@ -316,8 +316,7 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
     """
     out_order, out_dst, out_starts, out_counts = arcs.out_arcs()
     done = np.zeros(len(rank), dtype=bool)
-    pending = np.unique(frontier)
-    pending = pending[np.argsort(-rank[pending], kind="stable")]
+    pending = frontier[np.argsort(-rank[frontier], kind="stable")]  # distinct nodes
     cuts = np.flatnonzero(np.diff(rank[pending])) + 1
     for level in np.split(pending, cuts):
         level = level[~done[level]]
