@@ -183,6 +183,7 @@ class _Values(NamedTuple):
     X: np.ndarray
     rank: np.ndarray
     n_ranks: int
+    x_max: int  # a bound on abs(X)
 
 
 class _Bounds:
@@ -235,7 +236,7 @@ def _howard(arcs: _InArcs) -> HowardSolution:
     iterations = 0
     prev: _Values | None = None
     check_all = True
-    terms = _ArcTerms(arcs)
+    terms = _ArcTerms(arcs, bounds)
     while True:
         cur = _value_determination(pol, arcs, prev, bounds)
         iterations += 1
@@ -258,17 +259,40 @@ def _howard(arcs: _InArcs) -> HowardSolution:
 
 
 class _ArcTerms:
-    """The arc terms ``w*T - W*t`` of the bias test, kept while one ratio holds everywhere."""
+    """The arc terms ``w*T - W*t`` of the bias test, kept while one ratio holds everywhere.
 
-    def __init__(self, arcs: _InArcs) -> None:
-        self.arcs = arcs
+    Packed as ``key = term * 2**bits + rank``, where ``rank`` orders the in-arcs
+    of a node from the last (0) to the first: then ``(X[tail] * 2**bits + key)``
+    has its maximum over a node's in-arcs at the first arc of largest value,
+    and one segmented maximum finds both the best value and its arc.
+    """
+
+    def __init__(self, arcs: _InArcs, bounds: _Bounds) -> None:
+        self.arcs, self.bounds = arcs, bounds
         self.ratio: tuple | None = None
         self.terms: np.ndarray | None = None
+        self.term_max = 0
+        degrees = np.diff(arcs.starts)
+        self.degree_max = int(degrees.max()) if len(degrees) else 1
+        self.bits = (self.degree_max - 1).bit_length()
 
     def of(self, W: Any, T: Any) -> np.ndarray:
+        """Terms (packed when ``packed`` is True after the call)."""
         if self.ratio != (W, T):
-            self.terms, self.ratio = self.arcs.s_w * T - W * self.arcs.s_t, (W, T)
+            arcs = self.arcs
+            self.ratio = (W, T)
+            self.term_max = self.bounds.w_max * abs(int(T)) + abs(int(W)) * self.bounds.t_max
+            self.packed = not self.bounds.wide and self.term_max << (self.bits + 1) < INT64_SAFE
+            self.terms = arcs.s_w * T - W * arcs.s_t
+            if self.packed:
+                offset = np.arange(len(arcs.s_dst), dtype=np.int64) - arcs.starts[arcs.s_dst]
+                self.terms <<= self.bits
+                self.terms += (self.degree_max - 1) - offset
         return self.terms
+
+    def fits(self, x_max: int) -> bool:
+        """Whether packed keys of potentials up to ``x_max`` stay below 2**62."""
+        return self.packed and (self.term_max + x_max) << (self.bits + 1) < INT64_SAFE
 
 
 def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InArcs,
@@ -295,7 +319,21 @@ def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InAr
         gain = np.flatnonzero((rank_src == rank_dst) & (value > X[cd]))
     else:
         term = terms.of(W[0], T[0])
-        value = X[cs] + (term if cand is None else term[cand])
+        if terms.fits(cur.x_max):
+            if cand is None:
+                # One segmented maximum over all arcs: best value and its arc.
+                bits = terms.bits
+                best = np.maximum.reduceat((X << bits)[s_src] + term, arcs.starts[:-1])
+                nodes = np.flatnonzero((best >> bits) > X)
+                if len(nodes) == 0:
+                    return None
+                offset = (terms.degree_max - 1) - (best[nodes] & ((1 << bits) - 1))
+                pol[nodes] = arcs.starts[nodes] + offset
+                return "bias"
+            term = term[cand] >> terms.bits
+        elif cand is not None:
+            term = term[cand]
+        value = X[cs] + term
         gain = np.flatnonzero(value > X[cd])
     if len(gain) == 0:
         return None
@@ -438,17 +476,19 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
                                                   arcs.s_t[pol[cycle_nodes]], prev, bounds)
     walk = 1 << rounds
     T_max, W_max = abs_max(T_c), abs_max(W_c)
-    bounds.check(abs_max(X_c) + (walk + 1) * (bounds.w_max * T_max + W_max * bounds.t_max))
+    term_max = bounds.w_max * T_max + W_max * bounds.t_max
+    x_max = abs_max(X_c) + walk * term_max
+    bounds.check(x_max + term_max)  # the bias test adds a term to a potential
     landing = bounds.local[land]  # index among the circuit nodes
     if len(W_c) == 1:
         W, T = W_c[0], T_c[0]
         X = X_c[landing] + sum_w * T - W * sum_t
         return _Values(np.full(n, W, dtype=W_c.dtype), np.full(n, T, dtype=T_c.dtype), X,
-                       np.zeros(n, dtype=np.int32), 1)
+                       np.zeros(n, dtype=np.int32), 1, x_max)
     which = circuit_of[landing]
     W, T = W_c[which], T_c[which]
     X = X_c[landing] + sum_w * T - W * sum_t
-    return _Values(W, T, X, rank_c[which], int(rank_c.max()) + 1)
+    return _Values(W, T, X, rank_c[which], int(rank_c.max()) + 1, x_max)
 
 
 def _distinct(nodes: np.ndarray, scratch: np.ndarray) -> np.ndarray:
