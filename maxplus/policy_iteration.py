@@ -47,6 +47,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components, depth_first_order
 
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
 
@@ -471,7 +472,12 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
         land, sum_w, sum_t = bounds.unpack(packed)
     elif sum_w is None:
         sum_w, sum_t = arcs.s_w[pol], arcs.s_t[pol]
-    cycle_nodes = np.sort(image)
+    if 64 * len(image) > n:  # sorted by a pass over the nodes rather than a sort
+        seen = np.zeros(n, dtype=bool)
+        seen[image] = True
+        cycle_nodes = np.flatnonzero(seen).astype(pred.dtype, copy=False)
+    else:
+        cycle_nodes = np.sort(image)
     W_c, T_c, X_c, circuit_of, rank_c = _circuits(cycle_nodes, pred, arcs.s_w[pol[cycle_nodes]],
                                                   arcs.s_t[pol[cycle_nodes]], prev, bounds)
     walk = 1 << rounds
@@ -526,27 +532,11 @@ def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cy
     local = bounds.local
     local[cycle_nodes] = np.arange(c, dtype=index)
     back = local[pred[cycle_nodes]]  # the predecessor on the circuit, as a position
-    # Root of each circuit: its smallest node (min-doubling around the circuit),
-    # so that an unchanged circuit keeps its root from one iteration to the next.
-    smallest = cycle_nodes
-    around = back
-    for _ in range(max(1, c.bit_length())):
-        smallest = np.minimum(smallest, smallest[around])
-        around = around[around]
-    is_root = smallest == cycle_nodes
-    # Sums along each circuit from its root (pointer jumping, cut at the roots).
-    sum_w = np.where(is_root, 0, w_cyc)
-    sum_t = np.where(is_root, 0, t_cyc)
-    positions = np.arange(c, dtype=index)
-    jump = np.where(is_root, positions, back)
-    active = np.flatnonzero(~is_root[jump])
-    while len(active):
-        target = jump[active]
-        sum_w[active] += sum_w[target]
-        sum_t[active] += sum_t[target]
-        jump[active] = jump[target]
-        active = active[~is_root[jump[active]]]
-    roots = np.flatnonzero(is_root)
+    # Root of each circuit: its smallest node, i.e. its first position (the
+    # circuit nodes are sorted), so that an unchanged circuit keeps its root
+    # from one iteration to the next.
+    walks = _walk_circuits if c > WALK_MIN_CIRCUIT_NODES else _jump_circuits
+    roots, circuit_of, sum_w, sum_t = walks(back, w_cyc, t_cyc)
     # The circuit of root r: its own policy arc and the path back to r.
     closing = back[roots]
     W_c = w_cyc[roots] + sum_w[closing]
@@ -554,9 +544,6 @@ def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cy
     g = gcd_arrays(W_c, T_c)  # T_c > 0: no circuit without tokens
     W_c, T_c = W_c // g, T_c // g
     rank_c = _rank_ratios(W_c, T_c)
-    slot = np.zeros(c, dtype=index)
-    slot[roots] = np.arange(len(roots), dtype=index)
-    circuit_of = slot[local[smallest]]
     # A circuit that was already a policy circuit keeps its root's potential
     # (Cochet-Terrasson et al. [1]): potentials then never decrease between
     # iterations of equal ratios, which rules out cycling.
@@ -573,6 +560,82 @@ def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cy
     else:
         X_c = carry[circuit_of] + sum_w * T_c[circuit_of] - W_c[circuit_of] * sum_t
     return W_c, T_c, X_c, circuit_of, rank_c
+
+
+WALK_MIN_CIRCUIT_NODES = 2048
+"""Above this many circuit nodes, circuits are walked in C (scipy's graph
+traversals and a cumulative sum) rather than by pointer jumping, whose
+``log2`` rounds of several passes cost more on long circuits."""
+
+
+def _jump_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
+    """Roots, circuit index and weight and token sums from the root, by pointer jumping.
+
+    ``back`` maps each circuit node (a position) to its predecessor on its
+    circuit. Returns root positions, per position the index of its circuit
+    (among the roots) and the sums of the arcs on the path from its root.
+    """
+    c = len(back)
+    positions = np.arange(c, dtype=back.dtype)
+    smallest, around = positions, back
+    for _ in range(max(1, c.bit_length())):
+        smallest = np.minimum(smallest, smallest[around])
+        around = around[around]
+    is_root = smallest == positions
+    sum_w = np.where(is_root, 0, w_cyc)
+    sum_t = np.where(is_root, 0, t_cyc)
+    jump = np.where(is_root, positions, back)
+    active = np.flatnonzero(~is_root[jump])
+    while len(active):
+        target = jump[active]
+        sum_w[active] += sum_w[target]
+        sum_t[active] += sum_t[target]
+        jump[active] = jump[target]
+        active = active[~is_root[jump[active]]]
+    roots = np.flatnonzero(is_root)
+    slot = np.zeros(c, dtype=back.dtype)
+    slot[roots] = np.arange(len(roots), dtype=back.dtype)
+    return roots, slot[smallest], sum_w, sum_t
+
+
+def _walk_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
+    """:func:`_jump_circuits` by traversals in C: long circuits cost ``O(c)``.
+
+    The circuits are the components of the permutation ``back``; a depth-first
+    search from a virtual node joined to every root lists each circuit in
+    order from its root, so sums from the root are cumulative sums.
+    """
+    c = len(back)
+    index = back.dtype
+    positions = np.arange(c, dtype=index)
+    graph = sp.csr_array((np.ones(c, dtype=np.int8), back, np.arange(c + 1)), shape=(c, c))
+    n_circuits, labels = connected_components(graph, directed=True, connection="strong")
+    first = np.full(n_circuits, c, dtype=index)
+    np.minimum.at(first, labels, positions)
+    following = np.empty(c, dtype=index)
+    following[back] = positions
+    indices = np.concatenate([following, first])
+    indptr = np.concatenate([np.arange(c + 1), [c + n_circuits]])
+    walk = sp.csr_array((np.ones(len(indices), dtype=np.int8), indices, indptr),
+                        shape=(c + 1, c + 1))
+    order = depth_first_order(walk, c, directed=True, return_predecessors=False)[1:]
+    label = labels[order]
+    starts = np.flatnonzero(np.concatenate(([True], label[1:] != label[:-1])))
+    segment = np.zeros(c, dtype=index)
+    segment[starts[1:]] = 1
+    np.cumsum(segment, out=segment)
+    sums = []
+    for values in (w_cyc, t_cyc):
+        along = values[order]
+        along[starts] = 0  # a root's own arc closes its circuit
+        along = np.cumsum(along)
+        along -= along[starts][segment]
+        out = np.empty(c, dtype=along.dtype)
+        out[order] = along
+        sums.append(out)
+    circuit_of = np.empty(c, dtype=index)
+    circuit_of[order] = segment
+    return order[starts], circuit_of, sums[0], sums[1]
 
 
 def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:

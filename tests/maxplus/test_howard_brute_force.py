@@ -9,6 +9,7 @@ reach the sweep: random small multigraphs almost never do.
 from __future__ import annotations
 
 import itertools
+from contextlib import contextmanager
 from fractions import Fraction
 
 import networkx as nx
@@ -85,6 +86,22 @@ def check(n, arcs):
     r2 = max_cycle_ratio(src, dst, [x * big for x in w], t, n)
     assert r2.cycle_times == [None if c is None else c * big for c in ct]
     assert r2.verify()
+    # circuits walked in C (the strategy for long circuits) instead of pointer jumping
+    with walking_every_circuit():
+        for scale in (1, big):
+            r3 = max_cycle_ratio(src, dst, [x * scale for x in w], t, n)
+            assert r3.cycle_times == [None if c is None else c * scale for c in ct]
+            assert r3.verify()
+
+
+@contextmanager
+def walking_every_circuit():
+    threshold = pi.WALK_MIN_CIRCUIT_NODES
+    pi.WALK_MIN_CIRCUIT_NODES = 0
+    try:
+        yield
+    finally:
+        pi.WALK_MIN_CIRCUIT_NODES = threshold
 
 
 @st.composite
