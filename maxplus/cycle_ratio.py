@@ -264,15 +264,22 @@ def _validate_arcs(src: Any, dst: Any, n_nodes: int | None) -> tuple[np.ndarray,
             raise MaxPlusValueError(
                 f"node {top} is out of range for n_nodes={n}", f"{name}[{where}]"
             )
-    return src_a, dst_a, n
+    # int32 node indices (when they fit) halve the memory every pass and every
+    # gather over the arcs moves; contiguous copies read faster than strided views.
+    index = np.int32 if max(n, len(src_a)) < 2**31 else np.int64
+    return (np.ascontiguousarray(src_a, dtype=index), np.ascontiguousarray(dst_a, dtype=index), n)
 
 
 def _index_array(values: Any, name: str) -> np.ndarray:
     arr = np.asarray(values)
     if arr.ndim != 1:
-        raise MaxPlusValueError(f"expected a 1-D array of node indices, got shape {arr.shape}", name)
+        raise MaxPlusValueError(
+            f"expected a 1-D array of node indices, got shape {arr.shape}", name)
     if arr.dtype.kind in "iu":
-        out = arr.astype(np.int64, copy=False)
+        out = arr
+        if arr.dtype.kind == "u" and len(arr) and int(arr.max()) > np.iinfo(np.int64).max:
+            k = int(np.argmax(arr))
+            raise MaxPlusValueError(f"node index {arr[k]} is too large", f"{name}[{k}]")
     else:
         out = np.empty(len(arr), dtype=np.int64)
         for k, v in enumerate(arr.tolist()):
@@ -327,9 +334,11 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
             try:
                 f = Fraction(v) if not isinstance(v, float) else Fraction(repr(v))
             except (TypeError, ValueError):
-                raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}", f"tokens[{k}]") from None
+                raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}",
+                                        f"tokens[{k}]") from None
             if isinstance(v, bool) or f.denominator != 1:
-                raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}", f"tokens[{k}]")
+                raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}",
+                                        f"tokens[{k}]")
             counts.append(int(f))
         arr = int_array(counts)  # Python ints past int64: token counts of any size
     if m and arr.min() < 0:
@@ -338,7 +347,8 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
     return arr
 
 
-def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray, n: int) -> None:
+def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray,
+                                n: int) -> None:
     zero = np.flatnonzero(tokens == 0)
     circuit = find_circuit(src, dst, n, zero)
     if circuit:

@@ -86,8 +86,8 @@ def check(n, arcs):
     r2 = max_cycle_ratio(src, dst, [x * big for x in w], t, n)
     assert r2.cycle_times == [None if c is None else c * big for c in ct]
     assert r2.verify()
-    # circuits walked in C (the strategy for long circuits) instead of pointer jumping
-    with walking_every_circuit():
+    # the strategies for long circuits and wide sweeps (in C) on every graph
+    with large_graph_paths():
         for scale in (1, big):
             r3 = max_cycle_ratio(src, dst, [x * scale for x in w], t, n)
             assert r3.cycle_times == [None if c is None else c * scale for c in ct]
@@ -95,13 +95,13 @@ def check(n, arcs):
 
 
 @contextmanager
-def walking_every_circuit():
-    threshold = pi.WALK_MIN_CIRCUIT_NODES
-    pi.WALK_MIN_CIRCUIT_NODES = 0
+def large_graph_paths():
+    thresholds = pi.WALK_MIN_CIRCUIT_NODES, pi.SWEEP_FEW, pi.ROWS_MIN_LEVEL
+    pi.WALK_MIN_CIRCUIT_NODES = pi.SWEEP_FEW = pi.ROWS_MIN_LEVEL = 0
     try:
         yield
     finally:
-        pi.WALK_MIN_CIRCUIT_NODES = threshold
+        pi.WALK_MIN_CIRCUIT_NODES, pi.SWEEP_FEW, pi.ROWS_MIN_LEVEL = thresholds
 
 
 @st.composite
