@@ -87,7 +87,8 @@ def verify_cycle_ratio(result: CycleRatioResult) -> None:
             raise CertificateError(f"circuit of arcs {loop} has no cycle time in the certificate")
         a_idx = np.flatnonzero(live_src & live_dst)
         i, j, w_arc, t_arc = dst[a_idx], src[a_idx], w[a_idx], t[a_idx]
-    if everywhere and len(W) and (W == W[0]).all() and (T == T[0]).all():
+    one_ratio = bool(everywhere and len(W) and (W == W[0]).all() and (T == T[0]).all())
+    if one_ratio:
         # One cycle time everywhere: no arc goes from a larger one to a smaller
         # one, and the potential inequality holds with the same W/T on every arc.
         broken = X[j] + (w_arc * T[0] - W[0] * t_arc) > X[i]
@@ -106,22 +107,24 @@ def verify_cycle_ratio(result: CycleRatioResult) -> None:
             f"arc {a} ({src[a]} -> {dst[a]}) violates the potential inequality: "
             "some circuit through it may exceed the claimed cycle time"
         )
-    nodes = np.flatnonzero(live)
-    pol = np.asarray(c.policy)[nodes]
+    nodes = np.arange(n) if everywhere else np.flatnonzero(live)
+    pol = np.asarray(c.policy) if everywhere else np.asarray(c.policy)[nodes]
     if len(nodes):
         if (pol < 0).any() or (pol >= len(src)).any() or (dst[pol] != nodes).any():
             raise CertificateError("a policy arc does not end at its node")
         j = src[pol]
         if not live[j].all():
             raise CertificateError("a policy arc comes from a node without cycle time")
-        i = nodes
-        same_pol = (W[j] == W[i]) & (T[j] == T[i])
-        eq = X[j] + w[pol] * T[i] - W[i] * t[pol] == X[i]
-        bad = np.flatnonzero(~(same_pol & eq))
+        if one_ratio:
+            tight = X[j] + (w[pol] * T[0] - W[0] * t[pol]) == X
+        else:
+            i = nodes
+            tight = (W[j] == W[i]) & (T[j] == T[i]) & (X[j] + w[pol] * T[i] - W[i] * t[pol] == X[i])
+        bad = np.flatnonzero(~tight)
         if len(bad):
             k = int(nodes[bad[0]])
             raise CertificateError(f"the policy arc of node {k} is not tight")
-    _verify_circuit(result)
+    _verify_circuit(result, one_ratio)
 
 
 def _arc(k: int, everywhere: bool, live: np.ndarray, src: np.ndarray, dst: np.ndarray) -> int:
@@ -137,7 +140,7 @@ def _exact_sum(values: np.ndarray) -> int:
     return sum(map(int, values.tolist()))
 
 
-def _verify_circuit(result: CycleRatioResult) -> None:
+def _verify_circuit(result: CycleRatioResult, one_ratio: bool) -> None:
     c = result.certificate
     arcs = np.asarray(result.circuit, dtype=np.int64)
     live = c.ratio_den != 0
@@ -157,6 +160,19 @@ def _verify_circuit(result: CycleRatioResult) -> None:
             f"circuit {arcs.tolist()} has ratio "
             f"{Fraction(total_w, c.scale * max(total_t, 1))}, not {result.ratio}"
         )
+    claimed_num = np.asarray(result.cycle_time_num)
+    claimed_den = np.asarray(result.cycle_time_den)
+    if one_ratio:
+        # Every node has the certificate's one cycle time: so must every claim.
+        top = Fraction(int(c.ratio_num[0]), c.scale * int(c.ratio_den[0]))
+        if top != result.ratio:
+            raise CertificateError(f"the cycle time is {top}, not the claimed {result.ratio}")
+        same = (claimed_num == claimed_num[0]) & (claimed_den == claimed_den[0])
+        if not same.all() or claimed_den[0] <= 0 or Fraction(int(claimed_num[0]),
+                                                              int(claimed_den[0])) != top:
+            k = int(np.flatnonzero(~same)[0]) if not same.all() else 0
+            raise CertificateError(f"the cycle time of node {k} disagrees with its certificate")
+        return
     nodes = np.flatnonzero(live)
     best = argmax_ratio(c.ratio_num[nodes], c.ratio_den[nodes])
     top = Fraction(int(c.ratio_num[nodes[best]]), c.scale * int(c.ratio_den[nodes[best]]))
@@ -164,8 +180,6 @@ def _verify_circuit(result: CycleRatioResult) -> None:
         raise CertificateError(f"the largest cycle time is {top}, not the claimed {result.ratio}")
     # Claimed cycle times: a/b == ratio_num / (scale * ratio_den) by exact
     # cross-multiplication, all nodes at once; none claimed where none is proven.
-    claimed_num = np.asarray(result.cycle_time_num)
-    claimed_den = np.asarray(result.cycle_time_den)
     wrong = np.flatnonzero(claimed_den[~live] != 0)
     if len(wrong):
         k = int(np.flatnonzero(~live)[wrong[0]])

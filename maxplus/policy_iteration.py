@@ -47,7 +47,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components, depth_first_order
+from scipy.sparse.csgraph import depth_first_order
 
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
 
@@ -278,6 +278,7 @@ class _ArcTerms:
         self.arcs, self.bounds = arcs, bounds
         self.ratio: tuple | None = None
         self.terms: np.ndarray | None = None
+        self.arc_order: np.ndarray | None = None
         self.term_max = 0
         degrees = np.diff(arcs.starts)
         self.degree_max = int(degrees.max()) if len(degrees) else 1
@@ -290,11 +291,14 @@ class _ArcTerms:
             self.ratio = (W, T)
             self.term_max = self.bounds.w_max * abs(int(T)) + abs(int(W)) * self.bounds.t_max
             self.packed = not self.bounds.wide and self.term_max << (self.bits + 1) < INT64_SAFE
-            self.terms = arcs.s_w * T - W * arcs.s_t
+            self.terms = arcs.s_w * T
+            self.terms -= W * arcs.s_t
             if self.packed:
-                offset = np.arange(len(arcs.s_dst), dtype=np.int64) - arcs.starts[arcs.s_dst]
+                if self.arc_order is None:  # each arc among its head's in-arcs, last first
+                    self.arc_order = arcs.starts[arcs.s_dst] - np.arange(len(arcs.s_dst))
+                    self.arc_order += self.degree_max - 1
                 self.terms <<= self.bits
-                self.terms += (self.degree_max - 1) - offset
+                self.terms += self.arc_order
         return self.terms
 
     def fits(self, x_max: int) -> bool:
@@ -615,31 +619,28 @@ def _jump_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
 
 
 def _walk_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
-    """:func:`_jump_circuits` by traversals in C: long circuits cost ``O(c)``.
+    """:func:`_jump_circuits` by a traversal in C: long circuits cost ``O(c)``.
 
-    The circuits are the components of the permutation ``back``; a depth-first
-    search from a virtual node joined to every root lists each circuit in
-    order from its root, so sums from the root are cumulative sums.
+    A depth-first search from a virtual node joined to every position in
+    increasing order enters each circuit at its first position (all smaller
+    ones lie on circuits already walked) and walks it in order, so the sums
+    from the root are cumulative sums.
     """
     c = len(back)
     index = back.dtype
     positions = np.arange(c, dtype=index)
-    graph = sp.csr_array((np.ones(c, dtype=np.int8), back, np.arange(c + 1)), shape=(c, c))
-    n_circuits, labels = connected_components(graph, directed=True, connection="strong")
-    first = np.full(n_circuits, c, dtype=index)
-    np.minimum.at(first, labels, positions)
     following = np.empty(c, dtype=index)
     following[back] = positions
-    indices = np.concatenate([following, first])
-    indptr = np.concatenate([np.arange(c + 1), [c + n_circuits]])
-    walk = sp.csr_array((np.ones(len(indices), dtype=np.int8), indices, indptr),
-                        shape=(c + 1, c + 1))
+    indptr = np.concatenate([np.arange(c + 1, dtype=index), [2 * c]])
+    walk = sp.csr_array((np.ones(2 * c, dtype=np.int8), np.concatenate([following, positions]),
+                         indptr), shape=(c + 1, c + 1))
     order = depth_first_order(walk, c, directed=True, return_predecessors=False)[1:]
-    label = labels[order]
-    starts = np.flatnonzero(np.concatenate(([True], label[1:] != label[:-1])))
-    segment = np.zeros(c, dtype=index)
-    segment[starts[1:]] = 1
-    np.cumsum(segment, out=segment)
+    new = np.empty(c, dtype=bool)
+    new[0] = True
+    np.not_equal(order[1:], following[order[:-1]], out=new[1:])
+    starts = np.flatnonzero(new)
+    segment = np.cumsum(new, dtype=index)
+    segment -= 1
     sums = []
     for values in (w_cyc, t_cyc):
         along = values[order]

@@ -118,6 +118,30 @@ def test_tampered_cycle_time_fails():
         _tampered(result, ratio_num=num, ratio_den=den).verify()
 
 
+def test_tampered_one_ratio_certificates_fail():
+    # Circuit 0 -> 1 -> 2 -> 0 (weights 5, 3, 4, one token each: ratio 4) with
+    # the chord 0 -> 2 (weight 1): every node has cycle time 4, the checker's
+    # one-ratio path. Each tampering below breaks one step of the proof.
+    def solve():
+        return max_cycle_ratio([0, 1, 2, 0], [1, 2, 0, 2], [5, 3, 4, 1], [1, 1, 1, 1])
+
+    assert solve().verify() and set(solve().cycle_times) == {Fraction(4)}
+    result = solve()
+    result.cycle_time_num = result.cycle_time_num.copy()
+    result.cycle_time_num[2] += 1  # node 2 claims 5
+    with pytest.raises(CertificateError, match="node 2"):
+        result.verify()
+    result = solve()
+    potential = result.certificate.potential.copy()
+    potential[1] += 1  # the policy arc 1 -> 2 is no longer tight (or 0 -> 1 fails)
+    with pytest.raises(CertificateError):
+        _tampered(result, potential=potential).verify()
+    result = solve()
+    result.ratio = Fraction(9, 2)
+    with pytest.raises(CertificateError):
+        result.verify()
+
+
 def test_nodes_without_upstream_circuit():
     # 0 -> 1 -> 2 is a path; only node 2 has a self-loop (ratio 5/1).
     result = max_cycle_ratio([0, 1, 2], [1, 2, 2], [1, 1, 5], [1, 1, 1])
