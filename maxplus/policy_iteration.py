@@ -183,14 +183,32 @@ def _objects(a: np.ndarray) -> np.ndarray:
 
 
 class _Values(NamedTuple):
-    """One value determination: per node ratio ``W/T``, potential ``X``, ratio rank."""
+    """One value determination: per node ratio ``W/T``, potential ``X``, ratio rank.
 
-    W: np.ndarray
-    T: np.ndarray
+    With one ratio everywhere (``n_ranks == 1``), ``W`` and ``T`` are that
+    ratio's two integers and ``rank`` is None: no per-node arrays to fill and
+    compare in every iteration.
+    """
+
+    W: Any
+    T: Any
     X: np.ndarray
-    rank: np.ndarray
+    rank: np.ndarray | None
     n_ranks: int
     x_max: int  # a bound on abs(X)
+
+    def ratio_at(self, nodes: np.ndarray) -> tuple[Any, Any]:
+        if self.n_ranks == 1:
+            return self.W, self.T
+        return self.W[nodes], self.T[nodes]
+
+    def arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """``W`` and ``T`` per node."""
+        if self.n_ranks == 1:
+            n = len(self.X)
+            return (np.full(n, self.W, dtype=self.X.dtype),
+                    np.full(n, self.T, dtype=self.X.dtype))
+        return self.W, self.T
 
 
 class _Bounds:
@@ -218,9 +236,12 @@ class _Bounds:
                     break
                 self.packed_rounds, self.t_bits = rounds, t_bits
         self.packed = None
-        if self.packed_rounds:
-            shift = self.land_bits + self.t_bits
-            self.packed = (arcs.s_w << shift) + (arcs.s_t << self.land_bits)
+        if self.packed_rounds:  # per arc: its weight, its tokens and its tail
+            self.packed = arcs.s_w << (self.land_bits + self.t_bits)
+            self.packed += arcs.s_t << self.land_bits
+            self.packed += arcs.s_src
+            self.low = np.empty(n, dtype=np.int64)
+            self.following = np.empty(n, dtype=np.int64)
         self.rounds_hint, self.circuit_hint = 0, 64  # of the previous value determination
         self.mark = np.zeros(n, dtype=arcs.order.dtype)
         self.local = np.zeros(n, dtype=arcs.order.dtype)
@@ -252,15 +273,20 @@ def _howard(arcs: _InArcs) -> HowardSolution:
             # An arc between two nodes whose ratio and potential did not change
             # was not improving at the last check and still is not. (Picking
             # those arcs out costs more than it saves when many nodes changed.)
-            changed = (cur.W != prev.W) | (cur.T != prev.T) | (cur.X != prev.X)
-            if 8 * np.count_nonzero(changed) < arcs.n:
+            if cur.n_ranks == 1 and prev.n_ranks == 1:
+                changed = (cur.X != prev.X) if (cur.W, cur.T) == (prev.W, prev.T) else None
+            else:
+                W, T = cur.arrays()
+                W_prev, T_prev = prev.arrays()
+                changed = (W != W_prev) | (T != T_prev) | (cur.X != prev.X)
+            if changed is not None and 8 * np.count_nonzero(changed) < arcs.n:
                 cand = np.flatnonzero(changed[s_src] | changed[s_dst])
         prev = cur
         step = _improve(pol, cur, cand, arcs, terms)
         if step is None and cand is not None:
             step = _improve(pol, cur, None, arcs, terms)  # the last word checks every arc
         if step is None:
-            return HowardSolution(cur.W, cur.T, cur.X, arcs.order[pol], iterations)
+            return HowardSolution(*cur.arrays(), cur.X, arcs.order[pol], iterations)
         # After a ratio improvement, gains were not examined: check all arcs next.
         check_all = step == "ratio"
 
@@ -329,7 +355,7 @@ def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InAr
         value = X[cs] + arcs.s_w[sub] * T[cd] - W[cd] * arcs.s_t[sub]
         gain = np.flatnonzero((rank_src == rank_dst) & (value > X[cd]))
     else:
-        term = terms.of(W[0], T[0])
+        term = terms.of(W, T)
         if terms.fits(cur.x_max):
             if cand is None:
                 # One segmented maximum over all arcs: best value and its arc.
@@ -454,7 +480,7 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
     pred = arcs.s_src[pol]
     # Pointer doubling: land[v] is 2**rounds policy arcs upstream of v, and
     # (sum_w, sum_t) the sums of those arcs; packed in one int64 while they fit.
-    packed = bounds.packed[pol] + pred if bounds.packed is not None else None
+    packed = bounds.packed[pol] if bounds.packed is not None else None
     land, sum_w, sum_t = pred, None, None
     # The image of land is tracked once it is likely small (from one round
     # before the previous determination stopped): the image of land∘land is
@@ -464,7 +490,8 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
     mask = (1 << bounds.land_bits) - 1
     while True:
         if image is None and rounds >= bounds.rounds_hint - 1:
-            image = _distinct(packed & mask if packed is not None else land, bounds.mark)
+            image = _distinct(np.bitwise_and(packed, mask, out=bounds.low)
+                              if packed is not None else land, bounds.mark)
         if image is not None:
             if len(image) <= bounds.circuit_hint and _closed(image, pred, bounds.mark):
                 break
@@ -474,8 +501,10 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
                 break  # land permutes its image: all circuit nodes
             image = following
         if packed is not None and rounds < bounds.packed_rounds:
-            low = packed & mask
-            packed = packed - low + packed[low]
+            low = np.bitwise_and(packed, mask, out=bounds.low)
+            following = np.take(packed, low, out=bounds.following)
+            packed -= low
+            packed += following
         else:
             if packed is not None:
                 land, sum_w, sum_t = bounds.unpack(packed)
@@ -506,15 +535,18 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
     x_max = abs_max(X_c) + walk * term_max
     bounds.check(x_max + term_max)  # the bias test adds a term to a potential
     landing = bounds.local[land]  # index among the circuit nodes
-    if len(W_c) == 1:
-        W, T = W_c[0], T_c[0]
-        X = X_c[landing] + sum_w * T - W * sum_t
-        return _Values(np.full(n, W, dtype=W_c.dtype), np.full(n, T, dtype=T_c.dtype), X,
-                       np.zeros(n, dtype=np.int32), 1, x_max)
-    which = circuit_of[landing]
-    W, T = W_c[which], T_c[which]
-    X = X_c[landing] + sum_w * T - W * sum_t
-    return _Values(W, T, X, rank_c[which], int(rank_c.max()) + 1, x_max)
+    n_ranks = int(rank_c.max()) + 1
+    if n_ranks == 1:  # reduced fractions: every circuit has the same W and T
+        W, T, rank = W_c[0], T_c[0], None
+    else:
+        which = circuit_of[landing]
+        W, T, rank = W_c[which], T_c[which], rank_c[which]
+    # X = X_c[landing] + sum_w * T - W * sum_t, in the arrays unpacking made.
+    sum_w *= T
+    sum_t *= W
+    sum_w -= sum_t
+    sum_w += X_c[landing]
+    return _Values(W, T, sum_w, rank, n_ranks, x_max)
 
 
 def _distinct(nodes: np.ndarray, scratch: np.ndarray) -> np.ndarray:
@@ -571,7 +603,8 @@ def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cy
     if prev is None:
         carry = np.zeros(len(roots), dtype=W_c.dtype)
     else:
-        keep = (prev.W[root_nodes] == W_c) & (prev.T[root_nodes] == T_c)
+        W_prev, T_prev = prev.ratio_at(root_nodes)
+        keep = (W_prev == W_c) & (T_prev == T_c)
         carry = np.where(keep, prev.X[root_nodes], 0)
     bounds.check(abs_max(carry) + c * (bounds.w_max * abs_max(T_c)
                                        + abs_max(W_c) * bounds.t_max))
