@@ -19,14 +19,20 @@ cycle are summed exactly in integers, and the "agrees" column says whether
 that exact value equals maxplus's. Their float ratio is compared within
 float precision for the column only; no float enters a maxplus verdict.
 
+Other checkouts of maxplus can join the same interleaved run, to measure a
+change against its parent: ``--maxplus main=/work/main`` (label=path; a
+``@numba`` suffix sets ``MAXPLUS_ENGINE=numba`` for checkouts that still had
+that kernel).
+
 Usage::
 
     python benchmarks/bench_peers.py                 # all families, 5 runs each
     python benchmarks/bench_peers.py --quick         # small smoke run
     python benchmarks/bench_peers.py --families sprand-1e5-s1 ring --runs 3
+    python benchmarks/bench_peers.py --maxplus before=../main --families ring
 
-Writes ``benchmarks/results/peers.md`` and ``benchmarks/results/peers.json``
-(``--out`` to change; ``--no-write`` to only print).
+Writes ``benchmarks/results/peers.table.md`` and ``benchmarks/results/peers.json``
+(``--out`` to change; ``--no-write`` to only print); ``peers.md`` is the reading.
 """
 
 from __future__ import annotations
@@ -50,7 +56,7 @@ REPO = HERE.parent
 PEERS = HERE / "peers"
 sys.path.insert(0, str(HERE))
 
-from sprand import equal_weights, ring_with_chords, sprand, torus_grid
+from sprand import equal_weights, ring_with_chords, sprand, torus_grid  # noqa: E402
 
 FAMILIES = {
     "sprand-1e4-s1": (lambda: sprand(10**4, seed=1), "SPRAND n=10^4, seed 1"),
@@ -85,16 +91,27 @@ def write_edges(path: Path, graph) -> None:
 
 
 def read_edges(path: Path):
-    """Integer ``.edges`` file -> (src, dst, weight, tokens, n)."""
+    """Integer ``.edges`` file -> (src, dst, weight, tokens, n).
+
+    numpy parses the numbers in C straight from the file's bytes: the reader's
+    own peak (text plus arrays, about 3x the file) must not pass for the
+    solver's. (Splitting the text into a list of Python byte strings first
+    peaked at 1.28 GiB on a 10^6-node file, more than any solver.)
+    """
     text = Path(path).read_bytes()
     n = None
-    body = []
-    for line in text.split(b"\n", 64)[:64]:  # "# nodes N" sits in the header
-        if line.startswith(b"# nodes"):
-            n = int(line.split()[2])
-    lines = text.split(b"\n")
-    body = b"\n".join(x for x in lines if x and not x.startswith(b"#"))
-    data = np.array(body.split(), dtype=np.int64).reshape(-1, 4)
+    start = 0
+    while text.startswith(b"#", start):  # "# nodes N" sits in the header
+        end = text.index(b"\n", start)
+        if text.startswith(b"# nodes", start):
+            n = int(text[start:end].split()[2])
+        start = end + 1
+    if b"#" in text[start:]:  # comments further down: drop those lines first
+        body = b"\n".join(x.split(b"#", 1)[0] for x in text[start:].split(b"\n"))
+    else:
+        body = text[start:]
+    del text
+    data = np.fromstring(body, dtype=np.int64, sep=" ").reshape(-1, 4)
     return data[:, 0], data[:, 1], data[:, 2], data[:, 3], n
 
 
@@ -122,7 +139,8 @@ def build_peers(build: Path) -> dict[str, Path]:
                          ("lemon", "/usr/include/lemon/howard_mmc.h")]:
         if not Path(header).exists():
             print(f"{header} not found: {name} is skipped (apt-get install "
-                  f"{'libboost-graph-dev' if name == 'boost' else 'liblemon-dev'})", file=sys.stderr)
+                  f"{'libboost-graph-dev' if name == 'boost' else 'liblemon-dev'})",
+                  file=sys.stderr)
             continue
         exe = build / f"{name}_howard"
         src = PEERS / f"{name}_howard.cpp"
@@ -135,10 +153,10 @@ def build_peers(build: Path) -> dict[str, Path]:
     return programs
 
 
-def child_maxplus(path: str) -> None:
+def child_maxplus(path: str, checkout: str) -> None:
     """One fresh-process run of maxplus: read, solve, verify; print JSON."""
     start = time.perf_counter()
-    sys.path.insert(0, str(REPO))
+    sys.path.insert(0, checkout)
     from maxplus.cycle_ratio import max_cycle_ratio
 
     imported = time.perf_counter()
@@ -151,18 +169,20 @@ def child_maxplus(path: str) -> None:
     import resource
 
     print(json.dumps({
-        "solver": "maxplus", "engine": result.engine, "seconds": t1 - t0, "verify_seconds": t2 - t1,
+        "solver": "maxplus", "seconds": t1 - t0, "verify_seconds": t2 - t1,
         "import_seconds": imported - start, "iterations": result.iterations,
         "ratio": str(result.ratio), "cycle_arcs": len(result.circuit),
         "peak_kib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
     }))
 
 
-def run_solver(kind: str, path: Path, programs: dict, engine: str) -> dict:
+def run_solver(kind: str, path: Path, programs: dict, checkouts: dict) -> dict:
     env = dict(os.environ)
-    if kind == "maxplus":
-        env["MAXPLUS_ENGINE"] = engine
-        cmd = [sys.executable, __file__, "--child", str(path)]
+    if kind in checkouts:
+        checkout, _, engine = checkouts[kind].partition("@")
+        if engine:
+            env["MAXPLUS_ENGINE"] = engine
+        cmd = [sys.executable, __file__, "--child", str(path), "--checkout", checkout]
     else:
         cmd = [str(programs[kind]), str(path)]
     start = time.perf_counter()
@@ -192,13 +212,13 @@ def summarize(name: str, runs: list[dict]) -> dict:
         entry = {
             "median_s": statistics.median(secs), "min_s": min(secs), "max_s": max(secs),
             "process_median_s": statistics.median(r["process_seconds"] for r in good),
-            "iterations": good[-1].get("iterations"), "peak_mib": max(r["peak_kib"] for r in good) / 1024,
+            "iterations": good[-1].get("iterations"),
+            "peak_mib": max(r["peak_kib"] for r in good) / 1024,
             "ratio": good[-1]["ratio"], "runs": len(good),
         }
         if "verify_seconds" in good[0]:
             entry["verify_median_s"] = statistics.median(r["verify_seconds"] for r in good)
             entry["import_median_s"] = statistics.median(r["import_seconds"] for r in good)
-            entry["engine"] = good[-1]["engine"]
         if "float_ratio" in good[-1]:
             entry["float_ratio"] = good[-1]["float_ratio"]
         if "capped" in good[-1]:
@@ -245,7 +265,8 @@ def table(summary: list[dict], labels: list[str]) -> str:
             agree = agrees(exact, e) if "float_ratio" in e and exact else (
                 f"exact {e['ratio']}" if label.startswith("maxplus") else "")
             lines.append(
-                f"| {s['family']} | {label} | {e['median_s']:.3f} | {e['min_s']:.3f}-{e['max_s']:.3f} "
+                f"| {s['family']} | {label} | {e['median_s']:.3f} "
+                f"| {e['min_s']:.3f}-{e['max_s']:.3f} "
                 f"| {e['process_median_s']:.2f} | {its} | {e['peak_mib']:.0f} | {verify} | {rel} "
                 f"| {agree} |")
     return "\n".join(lines)
@@ -256,35 +277,37 @@ def main() -> None:
     parser.add_argument("--families", nargs="+", default=None)
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--quick", action="store_true", help="three small graphs, 2 runs")
-    parser.add_argument("--engines", nargs="+", default=["numpy", "numba"],
-                        help="maxplus kernels to run (numba only if installed)")
+    parser.add_argument("--maxplus", nargs="+", default=[], metavar="LABEL=PATH[@ENGINE]",
+                        help="other checkouts of maxplus to run in the same interleaving")
     parser.add_argument("--cache", type=Path, default=None,
                         help="directory for the generated .edges files (default: a temporary one)")
     parser.add_argument("--out", type=Path, default=HERE / "results" / "peers")
     parser.add_argument("--no-write", action="store_true")
     parser.add_argument("--child", help=argparse.SUPPRESS)
+    parser.add_argument("--checkout", default=str(REPO), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        child_maxplus(args.child)
+        child_maxplus(args.child, args.checkout)
         return
     names = args.families or (QUICK if args.quick else list(FAMILIES))
     runs = 2 if args.quick else args.runs
-    engines = [e for e in args.engines if e != "numba" or _has_numba()]
+    checkouts = {"maxplus": str(REPO)}
+    for spec in args.maxplus:
+        label, _, where = spec.partition("=")
+        checkouts[f"maxplus-{label}"] = str(Path(where.split("@")[0]).resolve()) + (
+            "@" + where.split("@")[1] if "@" in where else "")
     with tempfile.TemporaryDirectory() as tmp:
         cache = args.cache or Path(tmp)
         cache.mkdir(parents=True, exist_ok=True)
         programs = build_peers(Path(tmp))
-        labels = [f"maxplus-{e}" for e in engines] + list(programs)
+        labels = list(checkouts) + list(programs)
         summary = []
         for name in names:
             path = family_file(cache, name)
             rows = []
             for _ in range(runs):  # interleaved: A B C, A B C, ...
                 for label in labels:
-                    if label.startswith("maxplus"):
-                        row = run_solver("maxplus", path, programs, label.split("-", 1)[1])
-                    else:
-                        row = run_solver(label, path, programs, "")
+                    row = run_solver(label, path, programs, checkouts)
                     row["label"] = label
                     rows.append(row)
             summary.append(summarize(name, rows))
@@ -295,12 +318,6 @@ def main() -> None:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         args.out.with_suffix(".json").write_text(json.dumps(summary, indent=1) + "\n")
         args.out.with_suffix(".table.md").write_text(text + "\n")
-
-
-def _has_numba() -> bool:
-    import importlib.util
-
-    return importlib.util.find_spec("numba") is not None
 
 
 if __name__ == "__main__":

@@ -54,7 +54,8 @@ def int_array(values: list[int]) -> np.ndarray:
     return out
 
 
-def find_circuit(src: np.ndarray, dst: np.ndarray, n: int, arcs: np.ndarray | None = None) -> list[int]:
+def find_circuit(src: np.ndarray, dst: np.ndarray, n: int,
+                 arcs: np.ndarray | None = None) -> list[int]:
     """One circuit (list of arc indices in order) among ``arcs``, or [] if acyclic.
 
     Parameters
@@ -141,7 +142,7 @@ def exact_ints(a: np.ndarray) -> np.ndarray:
 
 
 def products_fit(*pairs: tuple[np.ndarray, np.ndarray]) -> bool:
-    """True when, for each pair ``(a, b)``, every ``a[i] * b[j]`` and any sum of two stays in int64."""
+    """True when, for each pair ``(a, b)``, every ``a[i] * b[j]`` and a sum of two fit int64."""
     for a, b in pairs:
         if a.dtype == object or b.dtype == object or abs_max(a) * abs_max(b) >= INT64_SAFE:
             return False

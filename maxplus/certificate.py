@@ -52,73 +52,95 @@ def verify_cycle_ratio(result: CycleRatioResult) -> None:
     True
     """
     c = result.certificate
-    src, dst, w, t = result.src, result.dst, result.weight, result.tokens
+    src, dst = np.asarray(result.src), np.asarray(result.dst)
     n = result.n_nodes
-    W, T, X = c.ratio_num, c.ratio_den, c.potential
+    W, T, X, w, t = (np.asarray(a) for a in (c.ratio_num, c.ratio_den, c.potential,
+                                             result.weight, result.tokens))
     live = T != 0
-    if (np.asarray(T)[live] < 0).any():
+    everywhere = bool(live.all())
+    W_live, T_live = (W, T) if everywhere else (W[live], T[live])
+    if (T_live < 0).any():
         raise CertificateError("a ratio denominator is negative")
-    if live.any():
-        g = gcd_arrays(np.asarray(W)[live], np.asarray(T)[live])
-        if (g != 1).any():
-            raise CertificateError("cycle-time fractions in a certificate must be in lowest terms")
+    if len(T_live) and (gcd_arrays(W_live, T_live) != 1).any():
+        raise CertificateError("cycle-time fractions in a certificate must be in lowest terms")
     # Both fractions reduced and T > 0: equal ratios have equal (W, T), so each
     # check below needs only one product of a ratio part and an arc datum.
-    W, T, X, w, t = (np.asarray(a) for a in (W, T, X, w, t))
     big_ratio = abs_max(W) * abs_max(T)
     big_value = abs_max(X) + abs_max(w) * abs_max(T) + abs_max(W) * abs_max(t)
     # The arrays themselves must fit too: a graph without circuit has T = 0,
     # which would hide a weight beyond int64 from the products above.
     big_entry = max(abs_max(a) for a in (W, T, X, w, t))
     dtype = np.int64 if 2 * max(big_ratio, big_value, big_entry) < INT64_SAFE else object
-    W, T, X, w, t = (a.astype(dtype) for a in (W, T, X, w, t))
-    both = live[src] & live[dst]
-    leak = np.flatnonzero(live[src] & ~live[dst])
-    if len(leak):
-        a = int(leak[0])
-        raise CertificateError(
-            f"arc {a} ({src[a]} -> {dst[a]}) leaves a node with a cycle time for one without"
-        )
-    dead = np.flatnonzero(~live[src] & ~live[dst])
-    loop = find_circuit(src, dst, n, dead)
-    if loop:
-        raise CertificateError(f"circuit of arcs {loop} has no cycle time in the certificate")
-    a_idx = np.flatnonzero(both)
-    i, j = dst[a_idx], src[a_idx]
-    slower = W[j] * T[i] > W[i] * T[j]
-    if slower.any():
-        a = int(a_idx[np.flatnonzero(slower)[0]])
-        raise CertificateError(
-            f"arc {a} ({src[a]} -> {dst[a]}) goes from a larger cycle time to a smaller one"
-        )
-    same = (W[j] == W[i]) & (T[j] == T[i])
-    value = X[j] + w[a_idx] * T[i] - W[i] * t[a_idx]
-    broken = same & (value > X[i])
+    W, T, X, w, t = (a.astype(dtype, copy=False) for a in (W, T, X, w, t))
+    if everywhere:
+        i, j, w_arc, t_arc = dst, src, w, t
+    else:
+        live_src, live_dst = live[src], live[dst]
+        leak = np.flatnonzero(live_src & ~live_dst)
+        if len(leak):
+            a = int(leak[0])
+            raise CertificateError(
+                f"arc {a} ({src[a]} -> {dst[a]}) leaves a node with a cycle time for one without"
+            )
+        loop = find_circuit(src, dst, n, np.flatnonzero(~live_src & ~live_dst))
+        if loop:
+            raise CertificateError(f"circuit of arcs {loop} has no cycle time in the certificate")
+        a_idx = np.flatnonzero(live_src & live_dst)
+        i, j, w_arc, t_arc = dst[a_idx], src[a_idx], w[a_idx], t[a_idx]
+    one_ratio = bool(everywhere and len(W) and (W == W[0]).all() and (T == T[0]).all())
+    if one_ratio:
+        # One cycle time everywhere: no arc goes from a larger one to a smaller
+        # one, and the potential inequality holds with the same W/T on every arc.
+        broken = X[j] + (w_arc * T[0] - W[0] * t_arc) > X[i]
+    else:
+        slower = W[j] * T[i] > W[i] * T[j]
+        if slower.any():
+            a = _arc(np.flatnonzero(slower)[0], everywhere, live, src, dst)
+            raise CertificateError(
+                f"arc {a} ({src[a]} -> {dst[a]}) goes from a larger cycle time to a smaller one"
+            )
+        same = (W[j] == W[i]) & (T[j] == T[i])
+        broken = same & (X[j] + w_arc * T[i] - W[i] * t_arc > X[i])
     if broken.any():
-        a = int(a_idx[np.flatnonzero(broken)[0]])
+        a = _arc(np.flatnonzero(broken)[0], everywhere, live, src, dst)
         raise CertificateError(
             f"arc {a} ({src[a]} -> {dst[a]}) violates the potential inequality: "
             "some circuit through it may exceed the claimed cycle time"
         )
-    nodes = np.flatnonzero(live)
-    pol = np.asarray(c.policy)[nodes]
+    nodes = np.arange(n) if everywhere else np.flatnonzero(live)
+    pol = np.asarray(c.policy) if everywhere else np.asarray(c.policy)[nodes]
     if len(nodes):
         if (pol < 0).any() or (pol >= len(src)).any() or (dst[pol] != nodes).any():
             raise CertificateError("a policy arc does not end at its node")
         j = src[pol]
         if not live[j].all():
             raise CertificateError("a policy arc comes from a node without cycle time")
-        i = nodes
-        same_pol = (W[j] == W[i]) & (T[j] == T[i])
-        eq = X[j] + w[pol] * T[i] - W[i] * t[pol] == X[i]
-        bad = np.flatnonzero(~(same_pol & eq))
+        if one_ratio:
+            tight = X[j] + (w[pol] * T[0] - W[0] * t[pol]) == X
+        else:
+            i = nodes
+            tight = (W[j] == W[i]) & (T[j] == T[i]) & (X[j] + w[pol] * T[i] - W[i] * t[pol] == X[i])
+        bad = np.flatnonzero(~tight)
         if len(bad):
             k = int(nodes[bad[0]])
             raise CertificateError(f"the policy arc of node {k} is not tight")
-    _verify_circuit(result)
+    _verify_circuit(result, one_ratio)
 
 
-def _verify_circuit(result: CycleRatioResult) -> None:
+def _arc(k: int, everywhere: bool, live: np.ndarray, src: np.ndarray, dst: np.ndarray) -> int:
+    """Arc index of the ``k``-th checked arc (all arcs, or those between live nodes)."""
+    return int(k) if everywhere else int(np.flatnonzero(live[src] & live[dst])[k])
+
+
+def _exact_sum(values: np.ndarray) -> int:
+    """Sum of integers as a Python int, in int64 when it cannot overflow."""
+    values = np.asarray(values)
+    if values.dtype != object and abs_max(values) * max(len(values), 1) < INT64_SAFE:
+        return int(values.sum())
+    return sum(map(int, values.tolist()))
+
+
+def _verify_circuit(result: CycleRatioResult, one_ratio: bool) -> None:
     c = result.certificate
     arcs = np.asarray(result.circuit, dtype=np.int64)
     live = c.ratio_den != 0
@@ -131,13 +153,26 @@ def _verify_circuit(result: CycleRatioResult) -> None:
     src, dst = result.src, result.dst
     if not np.array_equal(dst[arcs], src[np.roll(arcs, -1)]):
         raise CertificateError(f"arcs {arcs.tolist()} do not form a circuit")
-    total_w = sum(int(v) for v in result.weight[arcs].tolist())
-    total_t = sum(int(v) for v in result.tokens[arcs].tolist())
+    total_w = _exact_sum(result.weight[arcs])
+    total_t = _exact_sum(result.tokens[arcs])
     if total_t == 0 or Fraction(total_w, c.scale * total_t) != result.ratio:
         raise CertificateError(
             f"circuit {arcs.tolist()} has ratio "
             f"{Fraction(total_w, c.scale * max(total_t, 1))}, not {result.ratio}"
         )
+    claimed_num = np.asarray(result.cycle_time_num)
+    claimed_den = np.asarray(result.cycle_time_den)
+    if one_ratio:
+        # Every node has the certificate's one cycle time: so must every claim.
+        top = Fraction(int(c.ratio_num[0]), c.scale * int(c.ratio_den[0]))
+        if top != result.ratio:
+            raise CertificateError(f"the cycle time is {top}, not the claimed {result.ratio}")
+        same = (claimed_num == claimed_num[0]) & (claimed_den == claimed_den[0])
+        if not same.all() or claimed_den[0] <= 0 or Fraction(int(claimed_num[0]),
+                                                              int(claimed_den[0])) != top:
+            k = int(np.flatnonzero(~same)[0]) if not same.all() else 0
+            raise CertificateError(f"the cycle time of node {k} disagrees with its certificate")
+        return
     nodes = np.flatnonzero(live)
     best = argmax_ratio(c.ratio_num[nodes], c.ratio_den[nodes])
     top = Fraction(int(c.ratio_num[nodes[best]]), c.scale * int(c.ratio_den[nodes[best]]))
@@ -145,8 +180,6 @@ def _verify_circuit(result: CycleRatioResult) -> None:
         raise CertificateError(f"the largest cycle time is {top}, not the claimed {result.ratio}")
     # Claimed cycle times: a/b == ratio_num / (scale * ratio_den) by exact
     # cross-multiplication, all nodes at once; none claimed where none is proven.
-    claimed_num = np.asarray(result.cycle_time_num)
-    claimed_den = np.asarray(result.cycle_time_den)
     wrong = np.flatnonzero(claimed_den[~live] != 0)
     if len(wrong):
         k = int(np.flatnonzero(~live)[wrong[0]])
@@ -155,8 +188,9 @@ def _verify_circuit(result: CycleRatioResult) -> None:
     scaled = den * c.scale if abs_max(den) * c.scale < INT64_SAFE else den.astype(object) * c.scale
     b = claimed_den[nodes]
     bad = b <= 0
-    bad[~bad] = compare_ratios(claimed_num[nodes][~bad], b[~bad], np.asarray(c.ratio_num)[nodes][~bad],
-                               scaled[~bad]) != 0
+    ok = ~bad
+    bad[ok] = compare_ratios(claimed_num[nodes][ok], b[ok], np.asarray(c.ratio_num)[nodes][ok],
+                             scaled[ok]) != 0
     if bad.any():
         k = int(nodes[np.flatnonzero(bad)[0]])
         raise CertificateError(f"the cycle time of node {k} disagrees with its certificate")

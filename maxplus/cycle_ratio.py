@@ -103,8 +103,6 @@ class CycleRatioResult:
     certificate : CycleRatioCertificate
     iterations : int
         Howard iterations (value determinations) run; 0 without circuit.
-    engine : str
-        Kernel that ran: ``"numpy"``, ``"numba"`` or ``""`` (no circuit).
     """
 
     ratio: Fraction | None
@@ -117,7 +115,6 @@ class CycleRatioResult:
     weight: np.ndarray = field(repr=False)
     tokens: np.ndarray = field(repr=False)
     iterations: int = 0
-    engine: str = ""
     _cycle_times: list | None = field(default=None, repr=False)
 
     @property
@@ -191,8 +188,6 @@ def max_cycle_ratio(
     weight: Any,
     tokens: Any = None,
     n_nodes: int | None = None,
-    *,
-    engine: str | None = None,
 ) -> CycleRatioResult:
     """Maximum cycle ratio, critical circuit and cycle-time vector, certified.
 
@@ -207,12 +202,6 @@ def max_cycle_ratio(
         Non-negative token counts (default 1 on every arc: the maximum cycle mean).
     n_nodes : int, optional
         Number of nodes (default ``max(src, dst) + 1``).
-    engine : {"auto", "numpy", "numba"}, optional
-        Kernel of the policy iteration: the numpy kernel (always there) or the
-        numba-compiled one (the optional extra; int64 arithmetic under the same
-        proven bound, else the numpy kernel runs). Default: the environment
-        variable ``MAXPLUS_ENGINE``, else ``"auto"`` (the numpy kernel: numba
-        has not yet been measured faster, see ``benchmarks/results/peers.md``). Results are exact and certified either way.
 
     Returns
     -------
@@ -249,7 +238,7 @@ def max_cycle_ratio(
     w_int, scale = _validate_weights(weight, len(src_a))
     t_int = _validate_tokens(tokens, len(src_a))
     _refuse_zero_token_circuits(src_a, dst_a, t_int, n)
-    return _solve(src_a, dst_a, w_int, t_int, scale, n, engine)
+    return _solve(src_a, dst_a, w_int, t_int, scale, n)
 
 
 # --------------------------------------------------------------------------- validation
@@ -275,15 +264,22 @@ def _validate_arcs(src: Any, dst: Any, n_nodes: int | None) -> tuple[np.ndarray,
             raise MaxPlusValueError(
                 f"node {top} is out of range for n_nodes={n}", f"{name}[{where}]"
             )
-    return src_a, dst_a, n
+    # int32 node indices (when they fit) halve the memory every pass and every
+    # gather over the arcs moves; contiguous copies read faster than strided views.
+    index = np.int32 if max(n, len(src_a)) < 2**31 else np.int64
+    return (np.ascontiguousarray(src_a, dtype=index), np.ascontiguousarray(dst_a, dtype=index), n)
 
 
 def _index_array(values: Any, name: str) -> np.ndarray:
     arr = np.asarray(values)
     if arr.ndim != 1:
-        raise MaxPlusValueError(f"expected a 1-D array of node indices, got shape {arr.shape}", name)
+        raise MaxPlusValueError(
+            f"expected a 1-D array of node indices, got shape {arr.shape}", name)
     if arr.dtype.kind in "iu":
-        out = arr.astype(np.int64, copy=False)
+        out = arr
+        if arr.dtype.kind == "u" and len(arr) and int(arr.max()) > np.iinfo(np.int64).max:
+            k = int(np.argmax(arr))
+            raise MaxPlusValueError(f"node index {arr[k]} is too large", f"{name}[{k}]")
     else:
         out = np.empty(len(arr), dtype=np.int64)
         for k, v in enumerate(arr.tolist()):
@@ -338,9 +334,11 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
             try:
                 f = Fraction(v) if not isinstance(v, float) else Fraction(repr(v))
             except (TypeError, ValueError):
-                raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}", f"tokens[{k}]") from None
+                raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}",
+                                        f"tokens[{k}]") from None
             if isinstance(v, bool) or f.denominator != 1:
-                raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}", f"tokens[{k}]")
+                raise MaxPlusValueError(f"expected a whole number of tokens, got {v!r}",
+                                        f"tokens[{k}]")
             counts.append(int(f))
         arr = int_array(counts)  # Python ints past int64: token counts of any size
     if m and arr.min() < 0:
@@ -349,7 +347,8 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
     return arr
 
 
-def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray, n: int) -> None:
+def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray,
+                                n: int) -> None:
     zero = np.flatnonzero(tokens == 0)
     circuit = find_circuit(src, dst, n, zero)
     if circuit:
@@ -360,7 +359,7 @@ def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.nda
 
 
 def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale: int,
-           n: int, engine: str | None = None) -> CycleRatioResult:
+           n: int) -> CycleRatioResult:
 
     live = _nodes_reached_by_circuits(src, dst, n)
     num = np.zeros(n, dtype=np.int64)
@@ -369,38 +368,50 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
     policy = np.full(n, -1, dtype=np.int64)
     circuit = np.zeros(0, dtype=np.int64)
     ratio: Fraction | None = None
-    iterations, used = 0, ""
-    if live.any():
-        keep = np.flatnonzero(live[src] & live[dst])
-        nodes = np.flatnonzero(live)
-        relabel = np.full(n, -1, dtype=np.int64)
-        relabel[nodes] = np.arange(len(nodes))
-        solution = howard_arrays(relabel[src[keep]], relabel[dst[keep]], w[keep], t[keep],
-                                 len(nodes), engine)
-        s_num, s_den, s_pot, s_pol = solution[:4]
-        iterations, used = solution.iterations, solution.engine
-        if s_num.dtype == object:
+    iterations = 0
+    if live is None or live.any():
+        if live is None:  # every node: no relabelling, no copies
+            nodes = slice(None)
+            solution = howard_arrays(src, dst, w, t, n)
+            s_pol = solution.policy
+        else:
+            keep = np.flatnonzero(live[src] & live[dst])
+            nodes = np.flatnonzero(live)
+            relabel = np.full(n, -1, dtype=np.int64)
+            relabel[nodes] = np.arange(len(nodes))
+            solution = howard_arrays(relabel[src[keep]], relabel[dst[keep]], w[keep], t[keep],
+                                     len(nodes))
+            s_pol = keep[solution.policy]
+        iterations = solution.iterations
+        if solution.ratio_num.dtype == object:
             num, den, potential = (np.zeros(n, dtype=object) for _ in range(3))
-        num[nodes] = s_num
-        den[nodes] = s_den
-        potential[nodes] = s_pot
-        policy[nodes] = keep[s_pol]
-        best = argmax_ratio(num[nodes], den[nodes])
-        circuit = _policy_circuit(int(nodes[best]), policy, src)
-        ratio = Fraction(int(num[nodes[best]]), scale * int(den[nodes[best]]))
+        num[nodes] = solution.ratio_num
+        den[nodes] = solution.ratio_den
+        potential[nodes] = solution.potential
+        policy[nodes] = s_pol
+        best = argmax_ratio(solution.ratio_num, solution.ratio_den)
+        best = best if live is None else int(nodes[best])
+        circuit = _policy_circuit(best, policy, src)
+        ratio = Fraction(int(num[best]), scale * int(den[best]))
     # Cycle times in lowest terms, with the weight scale folded in (in Python
     # ints when den * scale could leave int64).
     scaled_den = den * scale if abs_max(den) * scale < INT64_SAFE else den.astype(object) * scale
     ct_num, ct_den = _reduce(num, scaled_den, den != 0)
     cert = CycleRatioCertificate(scale, num, den, potential, policy, circuit)
-    return CycleRatioResult(ratio, circuit, ct_num, ct_den, cert, src, dst, w, t, iterations,
-                            used)
+    return CycleRatioResult(ratio, circuit, ct_num, ct_den, cert, src, dst, w, t, iterations)
 
 
-def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.ndarray:
-    """Boolean mask of the nodes downstream of (or on) some circuit."""
+def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.ndarray | None:
+    """Boolean mask of the nodes downstream of (or on) some circuit; None for all nodes.
+
+    When every node has an in-arc, a walk backwards along in-arcs never stops,
+    so it repeats a node: every node lies downstream of a circuit, and no
+    strongly connected components are needed.
+    """
     if len(src) == 0:
         return np.zeros(n, dtype=bool)
+    if n and np.bincount(dst, minlength=n).min() > 0:
+        return None
     graph = sp.csr_matrix((np.ones(len(src), dtype=np.int8), (src, dst)), shape=(n, n))
     n_comp, labels = connected_components(graph, directed=True, connection="strong")
     sizes = np.bincount(labels, minlength=n_comp)

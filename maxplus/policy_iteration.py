@@ -16,30 +16,40 @@ a long chain below a slow circuit would take one iteration per node. When
 nothing improves, the potentials satisfy the optimality inequalities
 everywhere: that is the certificate.
 
-Reference: J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
-J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
-algebra", IFAC Conference on System Structure and Control, 1998; A. Dasdan,
-"Experimental analysis of the fastest optimum cycle ratio and mean
-algorithms", ACM TODAES 9(4), 2004 (cycle-ratio form).
+Value determination doubles pointers: after ``k`` rounds every node knows the
+node ``2**k`` policy arcs upstream of it and the weight and token sums of those
+arcs. Once those landing nodes all lie on policy circuits (the image of the
+landing map is closed under the policy, checked each round), a node's
+potential is its landing node's plus the sums, because the potential terms
+``w·T - W·t`` add up to zero around a circuit. Only the circuit nodes, usually
+few, need their own pass (their smallest node is the root, of potential 0 or
+of its previous potential). Policy trees are shallow on most graphs, so this
+takes a handful of rounds; a chain of length ``L`` takes ``log2 L``.
 
-Every quantity is an integer (int64 when the caller has proven that no value
-can exceed 2**62, Python ints in object arrays otherwise), so no comparison
-needs a tolerance. Ratios are compared through their *rank* among the
-distinct ratios of the current policy, computed once per iteration.
+Every quantity is an integer: int64 while bounds computed from the data in
+each iteration keep every sum and product below ``2**62`` (weight and token
+sums travel packed in one int64 when their bound allows), Python ints in
+object arrays otherwise; no comparison needs a tolerance.
+
+References
+----------
+.. [1] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick, J.-P. Quadrat,
+   "Numerical computation of spectral elements in max-plus algebra", IFAC
+   Conference on System Structure and Control, 1998.
+.. [2] A. Dasdan, "Experimental analysis of the fastest optimum cycle ratio and
+   mean algorithms", ACM TODAES 9(4), 2004 (the cycle-ratio form).
 """
 
 from __future__ import annotations
 
-import importlib.util
-import os
-from dataclasses import dataclass, replace
 from functools import cmp_to_key
 from typing import Any, NamedTuple
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import depth_first_order
 
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
-from .errors import MaxPlusValueError
 
 __all__ = ["howard_arrays"]
 
@@ -52,86 +62,118 @@ class HowardSolution(NamedTuple):
     potential: np.ndarray
     policy: np.ndarray
     iterations: int
-    engine: str
-
-
-ENGINE_VARIABLE = "MAXPLUS_ENGINE"
-"""Environment variable that picks the kernel: ``auto`` (default), ``numpy`` or ``numba``."""
-
-JIT_MIN_ARCS: int | None = None
-"""``auto`` uses numba from this many arcs on (None: never). Measured
-(``benchmarks/results/peers.md``): its import and the loading of its cached
-machine code cost 0.6 - 0.9 s per process, and on SPRAND 10^6 it was no faster
-than the numpy kernel (17.9 s against 16.7 s, memory latency bounds both), so
-it has not earned a place in ``auto``; ``engine="numba"`` still selects it."""
 
 
 def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray,
-                  n: int, engine: str | None = None) -> HowardSolution:
+                  n: int) -> HowardSolution:
     """Optimal policy of a graph in which every node has at least one in-arc.
 
     Parameters
     ----------
-    src, dst : numpy.ndarray of int64
+    src, dst : numpy.ndarray of int
         Arcs; every node in ``range(n)`` must be the ``dst`` of some arc.
     w, t : numpy.ndarray
         Integer weights and token counts (int64, or object for Python ints of
         any size), with no circuit of zero tokens.
     n : int
         Number of nodes.
-    engine : {"auto", "numpy", "numba"}, optional
-        Kernel: numba's compiled loops when installed (int64 arithmetic only),
-        else numpy; default from the environment variable ``MAXPLUS_ENGINE``,
-        else ``"auto"`` (numba from ``JIT_MIN_ARCS`` arcs on when it can be imported).
 
     Returns
     -------
     HowardSolution
         Per node: the cycle time ``ratio_num/ratio_den`` (lowest terms), the
         potential (bias times ``ratio_den``) and the index of its policy arc;
-        the number of value determinations and the kernel used.
+        the number of value determinations.
+
+    See Also
+    --------
+    maxplus.cycle_ratio.max_cycle_ratio : validates, solves and certifies.
 
     Examples
     --------
     Circuit 0 -> 1 -> 0 of ratio (5+3)/2 and a self-loop of ratio 3 on node 1:
 
     >>> sol = howard_arrays(np.array([0, 1, 1]), np.array([1, 0, 1]),
-    ...     np.array([5, 3, 3]), np.array([1, 1, 1]), 2, engine="numpy")
+    ...     np.array([5, 3, 3]), np.array([1, 1, 1]), 2)
     >>> (sol.ratio_num // sol.ratio_den).tolist(), sol.policy.tolist()
     ([4, 4], [1, 0])
     """
-    engine = engine or os.environ.get(ENGINE_VARIABLE, "auto")
-    if engine not in ("auto", "numpy", "numba"):
-        raise MaxPlusValueError(f"expected 'auto', 'numpy' or 'numba', got {engine!r}", "engine")
-    if engine == "numba" and not _jit_available():
-        raise MaxPlusValueError("the numba kernel needs the optional package numba", "engine")
-    arcs = _InArcs.build(src, dst, w, t, n)
-    limits = _int64_limits(w, t, n)
-    if limits is not None:
-        if engine == "numba" or (engine == "auto" and JIT_MIN_ARCS is not None
-                                 and len(src) >= JIT_MIN_ARCS and _jit_available()):
-            from .policy_iteration_jit import howard_jit
-
-            pol = arcs.initial_policy()
-            s64 = arcs.as_int64()
-            W, T, X, iterations, ok = howard_jit(s64.s_src, s64.s_dst, s64.s_w, s64.s_t,
-                                                 s64.starts, s64.out_order, pol, n, limits)
-            if ok:
-                return HowardSolution(W, T, X, arcs.order[pol], iterations, "numba")
-        else:
-            try:
-                return _howard(arcs.as_int64(), limits)
-            except _LeavesInt64:
-                pass
-    return _howard(arcs.as_object(), None)
-
-
-def _jit_available() -> bool:
-    return importlib.util.find_spec("numba") is not None
+    arcs = _InArcs(src, dst, w, t, n)
+    if w.dtype != object and t.dtype != object:
+        try:
+            return _howard(arcs)
+        except _LeavesInt64:
+            pass
+    return _howard(arcs.as_object())
 
 
 class _LeavesInt64(Exception):
-    """A potential grew past what int64 arithmetic can carry exactly."""
+    """A sum or product could leave what int64 arithmetic carries exactly."""
+
+
+def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Permutation that sorts ``keys`` (ints in ``range(n)``) stably, and the segment offsets.
+
+    A counting sort in C (scipy's COO to CSR conversion, whose column indices
+    are the positions: distinct and increasing within a row, so nothing is
+    summed or re-sorted), several times faster than a comparison sort.
+
+    >>> order, starts = stable_order(np.array([2, 0, 2, 1]), 3)
+    >>> order.tolist(), starts.tolist()
+    [[1, 3, 0, 2], [0, 1, 2, 4]]
+    """
+    m = len(keys)
+    index = np.int32 if max(n, m) < 2**31 else np.int64
+    positions = np.arange(m, dtype=index)
+    matrix = sp.csr_array((np.ones(m, dtype=np.int8), (keys, positions)), shape=(n, m))
+    return matrix.indices.astype(index, copy=False), matrix.indptr.astype(index, copy=False)
+
+
+class _InArcs:
+    """Arcs sorted by head (CSR of in-arcs), built once; the order by tail on demand."""
+
+    def __init__(self, src, dst, w, t, n: int, _sorted=None) -> None:
+        self.n = n
+        if _sorted is not None:
+            self.order, self.s_src, self.s_dst, self.starts = _sorted
+        else:
+            self.order, self.starts = stable_order(dst, n)
+            index = self.order.dtype
+            self.s_src = src[self.order].astype(index, copy=False)
+            self.s_dst = np.repeat(np.arange(n, dtype=index), np.diff(self.starts))
+        self.s_w = w[self.order] if _sorted is None else w
+        self.s_t = t[self.order] if _sorted is None else t
+        self._out: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    def as_object(self) -> _InArcs:
+        return _InArcs(None, None, _objects(self.s_w), _objects(self.s_t), self.n,
+                       (self.order, self.s_src, self.s_dst, self.starts))
+
+    def out_arcs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Any]:
+        """Sorted-arc positions grouped by tail, their heads, offsets and counts (for sweeps).
+
+        The last item is the same as a sparse matrix (row: tail, column: head,
+        value: position), whose row selection gathers many rows in one C pass.
+        """
+        if self._out is None:
+            out_order, out_starts = stable_order(self.s_src, self.n)
+            out_dst = self.s_dst[out_order]
+            rows = sp.csr_array((out_order, out_dst, out_starts), shape=(self.n, self.n))
+            self._out = (out_order, out_dst, out_starts[:-1], np.diff(out_starts), rows)
+        return self._out
+
+    def initial_policy(self) -> np.ndarray:
+        """The heaviest in-arc of each node, a good first guess.
+
+        (The in-arc of largest ``w/t`` was measured too and took more
+        iterations: 40 against 32 on SPRAND 10^5, 49 against 33 on the torus.)
+        """
+        firsts = self.starts[:-1]
+        seg_max = np.maximum.reduceat(self.s_w, firsts)  # object arrays too (Python ints)
+        hit = np.flatnonzero(self.s_w == seg_max[self.s_dst])
+        seg = self.s_dst[hit]
+        first = np.concatenate(([True], seg[1:] != seg[:-1]))
+        return hit[first].astype(self.order.dtype, copy=False)
 
 
 def _objects(a: np.ndarray) -> np.ndarray:
@@ -140,123 +182,205 @@ def _objects(a: np.ndarray) -> np.ndarray:
     return out
 
 
-def _int64_limits(w: np.ndarray, t: np.ndarray, n: int) -> int | None:
-    """Slack that int64 arithmetic leaves for potentials, or None when int64 cannot be used.
+class _Values(NamedTuple):
+    """One value determination: per node ratio ``W/T``, potential ``X``, ratio rank.
 
-    A policy path or circuit has at most ``n`` distinct arcs, so its weight
-    sum is at most ``S_w = min(Σ|w|, n·max|w|)`` in absolute value and its token
-    sum at most ``S_t``; ratios ``W/T`` and path sums then stay within those,
-    products ``W·t``, ``w·T`` and a fresh potential ``w_path·T - W·t_path``
-    within ``2·S_w·S_t``. The potential a circuit keeps from earlier iterations
-    is checked at run time against the returned slack.
+    With one ratio everywhere (``n_ranks == 1``), ``W`` and ``T`` are that
+    ratio's two integers and ``rank`` is None: no per-node arrays to fill and
+    compare in every iteration.
     """
-    if w.dtype == object or t.dtype == object:
-        return None
-    w_max, t_max = abs_max(w), abs_max(t)
-    if w_max * len(w) < INT64_SAFE:
-        w_sum = int(np.abs(w).sum())
-    else:
-        w_sum = w_max * len(w)  # an upper bound is enough here
-    t_sum = int(t.sum()) if t_max * len(t) < INT64_SAFE else t_max * len(t)
-    s_w, s_t = min(w_sum, n * w_max), min(t_sum, n * t_max)
-    fixed = 2 * s_w * s_t + w_max * s_t + s_w * t_max
-    slack = INT64_SAFE - 2 * fixed
-    return slack if slack > 0 else None
+
+    W: Any
+    T: Any
+    X: np.ndarray
+    rank: np.ndarray | None
+    n_ranks: int
+    x_max: int  # a bound on abs(X)
+
+    def ratio_at(self, nodes: np.ndarray) -> tuple[Any, Any]:
+        if self.n_ranks == 1:
+            return self.W, self.T
+        return self.W[nodes], self.T[nodes]
+
+    def arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """``W`` and ``T`` per node."""
+        if self.n_ranks == 1:
+            n = len(self.X)
+            return (np.full(n, self.W, dtype=self.X.dtype),
+                    np.full(n, self.T, dtype=self.X.dtype))
+        return self.W, self.T
 
 
-@dataclass(frozen=True)
-class _InArcs:
-    """Arcs sorted by head (CSR of in-arcs) and the order by tail, built once."""
+class _Bounds:
+    """Scratch space, the int64 bounds and the packed arc sums of one Howard run."""
 
-    order: np.ndarray  # sorted position -> caller's arc index
-    s_src: np.ndarray
-    s_dst: np.ndarray
-    s_w: np.ndarray
-    s_t: np.ndarray
-    starts: np.ndarray  # n + 1 offsets
-    seg: np.ndarray  # head of each sorted arc (== s_dst)
-    out_order: np.ndarray  # sorted arcs by tail, for downstream sweeps
-    out_starts: np.ndarray
-    out_counts: np.ndarray
-    n: int
+    def __init__(self, arcs: _InArcs) -> None:
+        n = arcs.n
+        self.wide = arcs.s_w.dtype == object
+        self.w_max, self.t_max = abs_max(arcs.s_w), abs_max(arcs.s_t)
+        # A landing walk has at most 2**rounds <= 2n arcs (the doubling stops once
+        # 2**rounds reaches the height of the policy trees, which is below n).
+        if not self.wide and 2 * n * max(self.w_max, self.t_max) >= INT64_SAFE:
+            raise _LeavesInt64
+        # While a walk has at most 2**packed_rounds arcs, its landing node, token
+        # sum and weight sum travel in one int64, w_sum * 2**(L+B) + t_sum * 2**L
+        # + land (0 <= land < 2**L, 0 <= t_sum < 2**B): a doubling round is then
+        # one gather. The fields are sized for the longest walk that fits.
+        self.land_bits = max(1, (n - 1).bit_length())
+        self.packed_rounds = 0
+        if not self.wide:
+            for rounds in range(n.bit_length() + 2):
+                t_bits = ((1 << rounds) * self.t_max).bit_length()
+                w_bits = ((1 << rounds) * self.w_max).bit_length() + 1
+                if self.land_bits + t_bits + w_bits > 62:
+                    break
+                self.packed_rounds, self.t_bits = rounds, t_bits
+        self.packed = None
+        if self.packed_rounds:  # per arc: its weight, its tokens and its tail
+            self.packed = arcs.s_w << (self.land_bits + self.t_bits)
+            self.packed += arcs.s_t << self.land_bits
+            self.packed += arcs.s_src
+            self.low = np.empty(n, dtype=np.int64)
+            self.following = np.empty(n, dtype=np.int64)
+        self.rounds_hint, self.circuit_hint = 0, 64  # of the previous value determination
+        self.mark = np.zeros(n, dtype=arcs.order.dtype)
+        self.local = np.zeros(n, dtype=arcs.order.dtype)
 
-    @classmethod
-    def build(cls, src, dst, w, t, n) -> _InArcs:
-        order = np.argsort(dst, kind="stable")
-        s_src, s_dst = src[order], dst[order]
-        counts = np.bincount(dst, minlength=n)
-        starts = np.zeros(n + 1, dtype=np.int64)
-        np.cumsum(counts, out=starts[1:])
-        out_order = np.argsort(s_src, kind="stable")
-        out_counts = np.bincount(s_src, minlength=n)
-        out_starts = np.r_[0, np.cumsum(out_counts)[:-1]]
-        return cls(order, s_src, s_dst, w[order], t[order], starts, s_dst, out_order, out_starts,
-                   out_counts, n)
+    def unpack(self, packed: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(land, w_sum, t_sum) of packed walks."""
+        land = packed & ((1 << self.land_bits) - 1)
+        t_sum = (packed >> self.land_bits) & ((1 << self.t_bits) - 1)
+        return land, packed >> (self.land_bits + self.t_bits), t_sum
 
-    def as_int64(self) -> _InArcs:
-        return replace(self, s_w=self.s_w.astype(np.int64), s_t=self.s_t.astype(np.int64))
-
-    def as_object(self) -> _InArcs:
-        return replace(self, s_w=_objects(self.s_w), s_t=_objects(self.s_t))
-
-    def initial_policy(self) -> np.ndarray:
-        """The heaviest in-arc of each node, a good first guess.
-
-        (The in-arc of largest ``w/t`` was measured too and took more
-        iterations: 40 against 32 on SPRAND 10^5, 49 against 33 on the torus.)
-        """
-        return self.starts[:-1] + _segment_argmax(self.s_w, self.starts[:-1], self.seg)
+    def check(self, value: int) -> None:
+        if not self.wide and value >= INT64_SAFE:
+            raise _LeavesInt64
 
 
-def _howard(arcs: _InArcs, limits: int | None) -> HowardSolution:
-    s_src, s_dst, s_w, s_t, n = arcs.s_src, arcs.s_dst, arcs.s_w, arcs.s_t, arcs.n
-    out_order, out_starts, out_counts = arcs.out_order, arcs.out_starts, arcs.out_counts
+def _howard(arcs: _InArcs) -> HowardSolution:
+    s_src, s_dst = arcs.s_src, arcs.s_dst
+    bounds = _Bounds(arcs)
     pol = arcs.initial_policy()
     iterations = 0
-    W = np.zeros(n, dtype=s_w.dtype)
-    T = np.zeros(n, dtype=s_w.dtype)
-    X = np.zeros(n, dtype=s_w.dtype)
-    first = True
+    prev: _Values | None = None
     check_all = True
+    terms = _ArcTerms(arcs, bounds)
     while True:
-        W_new, T_new, X_new, rank = _value_determination(pol, s_src, s_w, s_t, n, W, T, X, first)
+        cur = _value_determination(pol, arcs, prev, bounds)
         iterations += 1
-        if limits is not None and abs_max(X_new) >= limits:
-            raise _LeavesInt64
-        if check_all:
-            cand = np.arange(len(s_src))
-        else:
+        cand = None
+        if not check_all:
             # An arc between two nodes whose ratio and potential did not change
-            # was not improving at the last full check and still is not.
-            changed = (W_new != W) | (T_new != T) | (X_new != X)
-            cand = np.flatnonzero(changed[s_src] | changed[s_dst])
-        W, T, X, first = W_new, T_new, X_new, False
-        cs, cd = s_src[cand], s_dst[cand]
+            # was not improving at the last check and still is not. (Picking
+            # those arcs out costs more than it saves when many nodes changed.)
+            if cur.n_ranks == 1 and prev.n_ranks == 1:
+                changed = (cur.X != prev.X) if (cur.W, cur.T) == (prev.W, prev.T) else None
+            else:
+                W, T = cur.arrays()
+                W_prev, T_prev = prev.arrays()
+                changed = (W != W_prev) | (T != T_prev) | (cur.X != prev.X)
+            if changed is not None and 8 * np.count_nonzero(changed) < arcs.n:
+                cand = np.flatnonzero(changed[s_src] | changed[s_dst])
+        prev = cur
+        step = _improve(pol, cur, cand, arcs, terms)
+        if step is None and cand is not None:
+            step = _improve(pol, cur, None, arcs, terms)  # the last word checks every arc
+        if step is None:
+            return HowardSolution(*cur.arrays(), cur.X, arcs.order[pol], iterations)
+        # After a ratio improvement, gains were not examined: check all arcs next.
+        check_all = step == "ratio"
+
+
+class _ArcTerms:
+    """The arc terms ``w*T - W*t`` of the bias test, kept while one ratio holds everywhere.
+
+    Packed as ``key = term * 2**bits + rank``, where ``rank`` orders the in-arcs
+    of a node from the last (0) to the first: then ``(X[tail] * 2**bits + key)``
+    has its maximum over a node's in-arcs at the first arc of largest value,
+    and one segmented maximum finds both the best value and its arc.
+    """
+
+    def __init__(self, arcs: _InArcs, bounds: _Bounds) -> None:
+        self.arcs, self.bounds = arcs, bounds
+        self.ratio: tuple | None = None
+        self.terms: np.ndarray | None = None
+        self.arc_order: np.ndarray | None = None
+        self.term_max = 0
+        degrees = np.diff(arcs.starts)
+        self.degree_max = int(degrees.max()) if len(degrees) else 1
+        self.bits = (self.degree_max - 1).bit_length()
+
+    def of(self, W: Any, T: Any) -> np.ndarray:
+        """Terms (packed when ``packed`` is True after the call)."""
+        if self.ratio != (W, T):
+            arcs = self.arcs
+            self.ratio = (W, T)
+            self.term_max = self.bounds.w_max * abs(int(T)) + abs(int(W)) * self.bounds.t_max
+            self.packed = not self.bounds.wide and self.term_max << (self.bits + 1) < INT64_SAFE
+            self.terms = arcs.s_w * T
+            self.terms -= W * arcs.s_t
+            if self.packed:
+                if self.arc_order is None:  # each arc among its head's in-arcs, last first
+                    self.arc_order = arcs.starts[arcs.s_dst] - np.arange(len(arcs.s_dst))
+                    self.arc_order += self.degree_max - 1
+                self.terms <<= self.bits
+                self.terms += self.arc_order
+        return self.terms
+
+    def fits(self, x_max: int) -> bool:
+        """Whether packed keys of potentials up to ``x_max`` stay below 2**62."""
+        return self.packed and (self.term_max + x_max) << (self.bits + 1) < INT64_SAFE
+
+
+def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InArcs,
+             terms: _ArcTerms) -> str | None:
+    """Switch policy arcs among ``cand`` (None: all arcs); the kind of step taken, or None."""
+    s_src, s_dst = arcs.s_src, arcs.s_dst
+    W, T, X, rank = cur.W, cur.T, cur.X, cur.rank
+    cs, cd = (s_src, s_dst) if cand is None else (s_src[cand], s_dst[cand])
+    if cur.n_ranks > 1:
         rank_src, rank_dst = rank[cs], rank[cd]
         # 1. Ratio improvement: a predecessor whose ratio is strictly larger.
-        better = rank_src > rank_dst
-        if better.any():
-            chosen, nodes = _best_per_node(cand[better], rank_src[better], s_dst)
+        better = np.flatnonzero(rank_src > rank_dst)
+        if len(better):
+            chosen, nodes = _best_per_node(better if cand is None else cand[better],
+                                           rank_src[better], s_dst)
             pol[nodes] = chosen
             rank[nodes] = rank[s_src[chosen]]
-            _sweep_downstream(pol, rank, nodes, s_src, s_dst, out_order, out_starts, out_counts)
-            # Gains were not examined this round: the next round looks at all arcs.
-            check_all = True
-            continue
+            _sweep_downstream(pol, rank, nodes, arcs)
+            return "ratio"
         # 2. Bias improvement among predecessors of the same ratio (then the
         #    potentials share the denominator T, so integers compare directly).
-        value = X[cs] + s_w[cand] * T[cd] - W[cd] * s_t[cand]
-        gain = (rank_src == rank_dst) & (value > X[cd])
-        if not gain.any():
-            return HowardSolution(W, T, X, arcs.order[pol], iterations, "numpy")
-        chosen, nodes = _best_per_node(cand[gain], value[gain], s_dst)
-        pol[nodes] = chosen
-        check_all = False
+        sub = slice(None) if cand is None else cand
+        value = X[cs] + arcs.s_w[sub] * T[cd] - W[cd] * arcs.s_t[sub]
+        gain = np.flatnonzero((rank_src == rank_dst) & (value > X[cd]))
+    else:
+        term = terms.of(W, T)
+        if terms.fits(cur.x_max):
+            if cand is None:
+                # One segmented maximum over all arcs: best value and its arc.
+                bits = terms.bits
+                best = np.maximum.reduceat((X << bits)[s_src] + term, arcs.starts[:-1])
+                nodes = np.flatnonzero((best >> bits) > X)
+                if len(nodes) == 0:
+                    return None
+                offset = (terms.degree_max - 1) - (best[nodes] & ((1 << bits) - 1))
+                pol[nodes] = arcs.starts[nodes] + offset
+                return "bias"
+            term = term[cand] >> terms.bits
+        elif cand is not None:
+            term = term[cand]
+        value = X[cs] + term
+        gain = np.flatnonzero(value > X[cd])
+    if len(gain) == 0:
+        return None
+    chosen, nodes = _best_per_node(gain if cand is None else cand[gain], value[gain], s_dst)
+    pol[nodes] = chosen
+    return "bias"
 
 
 def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
-                      s_src: np.ndarray, s_dst: np.ndarray, out_order: np.ndarray,
-                      out_starts: np.ndarray, out_counts: np.ndarray) -> None:
+                      arcs: _InArcs) -> None:
     """Pass larger ratio ranks downstream from ``frontier``, switching policies (in place).
 
     A node switches only to an in-arc whose tail ranks strictly higher, and
@@ -265,9 +389,9 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
     once already holds the largest rank that can reach it from the frontier,
     so no node switches twice and the sweep touches each arc about once.
     """
+    out_order, out_dst, out_starts, out_counts, rows = arcs.out_arcs()
     done = np.zeros(len(rank), dtype=bool)
-    pending = np.unique(frontier)
-    pending = pending[np.argsort(-rank[pending], kind="stable")]
+    pending = frontier[np.argsort(-rank[frontier], kind="stable")]  # distinct nodes
     cuts = np.flatnonzero(np.diff(rank[pending])) + 1
     for level in np.split(pending, cuts):
         level = level[~done[level]]
@@ -276,52 +400,72 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
         top = rank[level[0]]
         done[level] = True
         while len(level):
-            if len(level) <= 16:
+            if len(level) <= SWEEP_FEW:
                 # A deep chain advances a node or two per round: numpy's
                 # per-call overhead would dominate, so walk it in Python.
-                level = _sweep_few(level, top, pol, rank, done, s_dst, out_order, out_starts,
+                level = _sweep_few(level, top, pol, rank, done, out_order, out_dst, out_starts,
                                    out_counts)
                 continue
-            lengths = out_counts[level]
-            total = int(lengths.sum())
-            if total == 0:
-                break
-            offsets = np.repeat(out_starts[level] - (np.cumsum(lengths) - lengths), lengths)
-            arcs = np.sort(out_order[offsets + np.arange(total)])
-            arcs = arcs[rank[s_dst[arcs]] < top]  # every tail here holds rank `top`
-            if len(arcs) == 0:
-                break
-            chosen, level = _best_per_node(arcs, rank[s_src[arcs]], s_dst)
-            pol[level] = chosen
-            rank[level] = top
-            done[level] = True
+            if len(level) > ROWS_MIN_LEVEL:
+                selected = rows[level]
+                out, heads = selected.data, selected.indices
+            else:
+                lengths = out_counts[level]
+                offsets = np.repeat(out_starts[level] - (np.cumsum(lengths) - lengths), lengths)
+                offsets += np.arange(len(offsets), dtype=offsets.dtype)
+                out, heads = out_order[offsets], out_dst[offsets]
+            keep = rank[heads] < top  # every tail here holds rank `top`
+            level = _raise(pol, rank, done, heads[keep], out[keep], top)
+
+
+SWEEP_FEW = 16
+"""Sweep rounds from at most this many nodes are walked in Python."""
+
+ROWS_MIN_LEVEL = 4096
+"""From this many nodes on, a sweep round gathers their out-arcs by scipy's
+row selection (one C pass, about twice as fast as numpy's repeat-and-gather,
+which has less overhead on small rounds)."""
 
 
 def _sweep_few(level: np.ndarray, top: Any, pol: np.ndarray, rank: np.ndarray,
-               done: np.ndarray, s_dst: np.ndarray, out_order: np.ndarray,
+               done: np.ndarray, out_order: np.ndarray, out_dst: np.ndarray,
                out_starts: np.ndarray, out_counts: np.ndarray) -> np.ndarray:
-    """One round of :func:`_sweep_downstream` from a few nodes (same choices: lowest arc)."""
+    """One round of :func:`_sweep_downstream` from a few nodes."""
     best: dict[int, int] = {}
     for u in level.tolist():
         start = int(out_starts[u])
-        for k in out_order[start:start + int(out_counts[u])].tolist():
-            v = int(s_dst[k])
-            if rank[v] < top and (v not in best or k < best[v]):
+        end = start + int(out_counts[u])
+        for k, v in zip(out_order[start:end].tolist(), out_dst[start:end].tolist()):
+            if rank[v] < top:
                 best[v] = k
-    nodes = np.array(sorted(best), dtype=np.int64)
-    if len(nodes):
-        pol[nodes] = [best[v] for v in nodes.tolist()]
-        rank[nodes] = top
-        done[nodes] = True
-    return nodes
+    heads = np.fromiter(best, dtype=np.int64, count=len(best))
+    return _raise(pol, rank, done, heads, np.fromiter(best.values(), dtype=np.int64,
+                                                      count=len(best)), top)
+
+
+def _raise(pol: np.ndarray, rank: np.ndarray, done: np.ndarray, heads: np.ndarray,
+           arcs: np.ndarray, top: Any) -> np.ndarray:
+    """Switch ``heads`` to ``arcs`` (from nodes of rank ``top``) and raise them; the nodes raised.
+
+    Any such in-arc will do; of several for one node, the last written stays.
+    """
+    pol[heads] = arcs
+    level = heads[pol[heads] == arcs]
+    rank[level] = top
+    done[level] = True
+    return level
 
 
 def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray
                    ) -> tuple[np.ndarray, np.ndarray]:
     """For each destination among ``arcs`` (sorted by destination), its arc of largest key."""
     d = s_dst[arcs]
-    new_node = np.concatenate(([True], d[1:] != d[:-1]))
+    new_node = np.empty(len(d), dtype=bool)
+    new_node[0] = True
+    np.not_equal(d[1:], d[:-1], out=new_node[1:])
     starts = np.flatnonzero(new_node)
+    if len(starts) == len(d):  # one candidate per node: nothing to choose
+        return arcs, d
     segment = np.cumsum(new_node) - 1
     top = np.maximum.reduceat(key, starts)
     hit = np.flatnonzero(key == top[segment])
@@ -329,53 +473,171 @@ def _best_per_node(arcs: np.ndarray, key: np.ndarray, s_dst: np.ndarray
     return arcs[hit[first]], d[starts]
 
 
-def _lowest(values: np.ndarray) -> Any:
-    if values.dtype == object:
-        return min(values.tolist()) - 1 if len(values) else 0
-    return np.iinfo(np.int64).min
-
-
-def _segment_argmax(values: np.ndarray, starts: np.ndarray, seg: np.ndarray) -> np.ndarray:
-    """Offset, within its segment, of the first maximum of each (non-empty) segment."""
-    seg_max = np.maximum.reduceat(values, starts)  # object arrays too (Python ints)
-    hit = np.flatnonzero(values == seg_max[seg])
-    first = np.concatenate(([True], seg[hit[1:]] != seg[hit[:-1]]))
-    return hit[first] - starts[seg[hit[first]]]
-
-
-def _value_determination(pol: np.ndarray, s_src: np.ndarray, s_w: np.ndarray, s_t: np.ndarray,
-                         n: int, W_old: np.ndarray, T_old: np.ndarray, X_old: np.ndarray,
-                         first: bool):
+def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
+                         bounds: _Bounds) -> _Values:
     """Ratio, potential and ratio rank of every node under a policy."""
-    index = np.int32 if n < 2**31 else np.int64
-    pred = s_src[pol].astype(index)
-    nodes = np.arange(n, dtype=index)
-    # 2**steps >= n jumps backwards from any node land on its policy circuit,
-    # and every circuit node is hit (the jump permutes each circuit).
-    steps = max(1, int(n).bit_length())
-    landing = pred
-    for _ in range(steps):
-        landing = landing[landing]
-    on_cycle = np.zeros(n, dtype=bool)
-    on_cycle[landing] = True
-    cycle_nodes = np.flatnonzero(on_cycle).astype(index)
-    # Root of each circuit: its smallest node (min-doubling around the circuit),
-    # so that an unchanged circuit keeps its root from one iteration to the next.
-    local = np.full(n, -1, dtype=index)
-    local[cycle_nodes] = np.arange(len(cycle_nodes), dtype=index)
-    around = local[pred[cycle_nodes]]
-    smallest = cycle_nodes.copy()
-    for _ in range(max(1, len(cycle_nodes).bit_length())):
+    n = arcs.n
+    pred = arcs.s_src[pol]
+    # Pointer doubling: land[v] is 2**rounds policy arcs upstream of v, and
+    # (sum_w, sum_t) the sums of those arcs; packed in one int64 while they fit.
+    packed = bounds.packed[pol] if bounds.packed is not None else None
+    land, sum_w, sum_t = pred, None, None
+    # The image of land is tracked once it is likely small (from one round
+    # before the previous determination stopped): the image of land∘land is
+    # land's image of land's image, a pass over that image, not over all nodes.
+    image = None
+    rounds = 0
+    mask = (1 << bounds.land_bits) - 1
+    while True:
+        if image is None and rounds >= bounds.rounds_hint - 1:
+            image = _distinct(np.bitwise_and(packed, mask, out=bounds.low)
+                              if packed is not None else land, bounds.mark)
+        if image is not None:
+            if len(image) <= bounds.circuit_hint and _closed(image, pred, bounds.mark):
+                break
+            landed = packed[image] & mask if packed is not None else land[image]
+            following = _distinct(landed, bounds.mark)
+            if len(following) == len(image):
+                break  # land permutes its image: all circuit nodes
+            image = following
+        if packed is not None and rounds < bounds.packed_rounds:
+            low = np.bitwise_and(packed, mask, out=bounds.low)
+            following = np.take(packed, low, out=bounds.following)
+            packed -= low
+            packed += following
+        else:
+            if packed is not None:
+                land, sum_w, sum_t = bounds.unpack(packed)
+                packed = None
+            elif sum_w is None:
+                sum_w, sum_t = arcs.s_w[pol], arcs.s_t[pol]
+            sum_w = sum_w + sum_w[land]
+            sum_t = sum_t + sum_t[land]
+            land = land[land]
+        rounds += 1
+    bounds.rounds_hint = rounds
+    bounds.circuit_hint = max(64, 2 * len(image))
+    if packed is not None:
+        land, sum_w, sum_t = bounds.unpack(packed)
+    elif sum_w is None:
+        sum_w, sum_t = arcs.s_w[pol], arcs.s_t[pol]
+    if 64 * len(image) > n:  # sorted by a pass over the nodes rather than a sort
+        seen = np.zeros(n, dtype=bool)
+        seen[image] = True
+        cycle_nodes = np.flatnonzero(seen).astype(pred.dtype, copy=False)
+    else:
+        cycle_nodes = np.sort(image)
+    W_c, T_c, X_c, circuit_of, rank_c = _circuits(cycle_nodes, pred, arcs.s_w[pol[cycle_nodes]],
+                                                  arcs.s_t[pol[cycle_nodes]], prev, bounds)
+    walk = 1 << rounds
+    T_max, W_max = abs_max(T_c), abs_max(W_c)
+    term_max = bounds.w_max * T_max + W_max * bounds.t_max
+    x_max = abs_max(X_c) + walk * term_max
+    bounds.check(x_max + term_max)  # the bias test adds a term to a potential
+    landing = bounds.local[land]  # index among the circuit nodes
+    n_ranks = int(rank_c.max()) + 1
+    if n_ranks == 1:  # reduced fractions: every circuit has the same W and T
+        W, T, rank = W_c[0], T_c[0], None
+    else:
+        which = circuit_of[landing]
+        W, T, rank = W_c[which], T_c[which], rank_c[which]
+    # X = X_c[landing] + sum_w * T - W * sum_t, in the arrays unpacking made.
+    sum_w *= T
+    sum_t *= W
+    sum_w -= sum_t
+    sum_w += X_c[landing]
+    return _Values(W, T, sum_w, rank, n_ranks, x_max)
+
+
+def _distinct(nodes: np.ndarray, scratch: np.ndarray) -> np.ndarray:
+    """The distinct values of ``nodes`` (in no particular order), in ``O(len(nodes))``.
+
+    Each value's slot in ``scratch`` remembers the last position that wrote it;
+    only that position keeps the value. Nothing needs clearing between calls.
+    """
+    positions = np.arange(len(nodes), dtype=scratch.dtype)
+    scratch[nodes] = positions
+    return nodes[scratch[nodes] == positions]
+
+
+def _closed(image: np.ndarray, pred: np.ndarray, scratch: np.ndarray) -> bool:
+    """Whether ``image``, an image of an iterate of the policy map ``f``, holds only circuits.
+
+    Such an image contains every circuit node and satisfies ``f(I) ⊆ I``; it
+    holds nothing else exactly when ``f`` is one-to-one on it, i.e. when
+    ``f(I)`` is as large as ``I``.
+    """
+    return len(_distinct(pred[image], scratch)) == len(image)
+
+
+def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray,
+              prev: _Values | None, bounds: _Bounds):
+    """Per policy circuit its reduced ratio, rank, and the potentials of its nodes.
+
+    ``w_cyc`` and ``t_cyc`` are the weight and tokens of each circuit node's
+    policy arc. Returns ``(W_c, T_c, X_c, circuit_of, rank_c)``: ratio and rank per circuit,
+    potential and circuit index per circuit node (in the order of
+    ``cycle_nodes``, whose positions ``bounds.local`` records).
+    """
+    index = pred.dtype
+    c = len(cycle_nodes)
+    local = bounds.local
+    local[cycle_nodes] = np.arange(c, dtype=index)
+    back = local[pred[cycle_nodes]]  # the predecessor on the circuit, as a position
+    # Root of each circuit: its smallest node, i.e. its first position (the
+    # circuit nodes are sorted), so that an unchanged circuit keeps its root
+    # from one iteration to the next.
+    walks = _walk_circuits if c > WALK_MIN_CIRCUIT_NODES else _jump_circuits
+    roots, circuit_of, sum_w, sum_t = walks(back, w_cyc, t_cyc)
+    # The circuit of root r: its own policy arc and the path back to r.
+    closing = back[roots]
+    W_c = w_cyc[roots] + sum_w[closing]
+    T_c = t_cyc[roots] + sum_t[closing]
+    g = gcd_arrays(W_c, T_c)  # T_c > 0: no circuit without tokens
+    W_c, T_c = W_c // g, T_c // g
+    rank_c = _rank_ratios(W_c, T_c)
+    # A circuit that was already a policy circuit keeps its root's potential
+    # (Cochet-Terrasson et al. [1]): potentials then never decrease between
+    # iterations of equal ratios, which rules out cycling.
+    root_nodes = cycle_nodes[roots]
+    if prev is None:
+        carry = np.zeros(len(roots), dtype=W_c.dtype)
+    else:
+        W_prev, T_prev = prev.ratio_at(root_nodes)
+        keep = (W_prev == W_c) & (T_prev == T_c)
+        carry = np.where(keep, prev.X[root_nodes], 0)
+    bounds.check(abs_max(carry) + c * (bounds.w_max * abs_max(T_c)
+                                       + abs_max(W_c) * bounds.t_max))
+    if len(roots) == 1:
+        X_c = carry[0] + sum_w * T_c[0] - W_c[0] * sum_t
+    else:
+        X_c = carry[circuit_of] + sum_w * T_c[circuit_of] - W_c[circuit_of] * sum_t
+    return W_c, T_c, X_c, circuit_of, rank_c
+
+
+WALK_MIN_CIRCUIT_NODES = 2048
+"""Above this many circuit nodes, circuits are walked in C (scipy's graph
+traversals and a cumulative sum) rather than by pointer jumping, whose
+``log2`` rounds of several passes cost more on long circuits."""
+
+
+def _jump_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
+    """Roots, circuit index and weight and token sums from the root, by pointer jumping.
+
+    ``back`` maps each circuit node (a position) to its predecessor on its
+    circuit. Returns root positions, per position the index of its circuit
+    (among the roots) and the sums of the arcs on the path from its root.
+    """
+    c = len(back)
+    positions = np.arange(c, dtype=back.dtype)
+    smallest, around = positions, back
+    for _ in range(max(1, c.bit_length())):
         smallest = np.minimum(smallest, smallest[around])
         around = around[around]
-    is_root = np.zeros(n, dtype=bool)
-    is_root[cycle_nodes[smallest == cycle_nodes]] = True
-    # Pointer doubling over the policy forest cut at the roots: sum_w[i] and
-    # sum_t[i] add weights and tokens from i (included) to jump[i] (excluded).
-    # Nodes whose jump reached a root are final and drop out.
-    sum_w = np.where(is_root, 0, s_w[pol])
-    sum_t = np.where(is_root, 0, s_t[pol])
-    jump = np.where(is_root, nodes, pred)
+    is_root = smallest == positions
+    sum_w = np.where(is_root, 0, w_cyc)
+    sum_t = np.where(is_root, 0, t_cyc)
+    jump = np.where(is_root, positions, back)
     active = np.flatnonzero(~is_root[jump])
     while len(active):
         target = jump[active]
@@ -383,35 +645,51 @@ def _value_determination(pol: np.ndarray, s_src: np.ndarray, s_w: np.ndarray, s_
         sum_t[active] += sum_t[target]
         jump[active] = jump[target]
         active = active[~is_root[jump[active]]]
-    # The circuit of root r: its nodes' policy arcs, whose sums are those of r's
-    # in-arc plus the path back to r, i.e. sum over the circuit.
     roots = np.flatnonzero(is_root)
-    closing = pol[roots]
-    before = s_src[closing]
-    W_root = s_w[closing] + sum_w[before]
-    T_root = s_t[closing] + sum_t[before]
-    g = gcd_arrays(W_root, T_root)
-    g = np.where(g == 0, 1, g)
-    W_root, T_root = W_root // g, T_root // g
-    rank_root = _rank_ratios(W_root, T_root)
-    slot = np.zeros(n, dtype=index)
-    slot[roots] = np.arange(len(roots), dtype=index)
-    which = slot[jump]
-    W, T, rank = W_root[which], T_root[which], rank_root[which]
-    # A circuit that was already a policy circuit keeps its root's potential
-    # (Cochet-Terrasson et al.): potentials then never decrease between
-    # iterations of equal ratios, which rules out cycling.
-    if first:
-        root_value = np.zeros(len(roots), dtype=s_w.dtype)
-    else:
-        keep = (W_old[roots] == W_root) & (T_old[roots] == T_root)
-        root_value = np.where(keep, X_old[roots], 0)
-    X = sum_w * T - W * sum_t + root_value[which]
-    return W, T, X, rank
+    slot = np.zeros(c, dtype=back.dtype)
+    slot[roots] = np.arange(len(roots), dtype=back.dtype)
+    return roots, slot[smallest], sum_w, sum_t
+
+
+def _walk_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
+    """:func:`_jump_circuits` by a traversal in C: long circuits cost ``O(c)``.
+
+    A depth-first search from a virtual node joined to every position in
+    increasing order enters each circuit at its first position (all smaller
+    ones lie on circuits already walked) and walks it in order, so the sums
+    from the root are cumulative sums.
+    """
+    c = len(back)
+    index = back.dtype
+    positions = np.arange(c, dtype=index)
+    following = np.empty(c, dtype=index)
+    following[back] = positions
+    indptr = np.concatenate([np.arange(c + 1, dtype=index), [2 * c]])
+    walk = sp.csr_array((np.ones(2 * c, dtype=np.int8), np.concatenate([following, positions]),
+                         indptr), shape=(c + 1, c + 1))
+    order = depth_first_order(walk, c, directed=True, return_predecessors=False)[1:]
+    new = np.empty(c, dtype=bool)
+    new[0] = True
+    np.not_equal(order[1:], following[order[:-1]], out=new[1:])
+    starts = np.flatnonzero(new)
+    segment = np.cumsum(new, dtype=index)
+    segment -= 1
+    sums = []
+    for values in (w_cyc, t_cyc):
+        along = values[order]
+        along[starts] = 0  # a root's own arc closes its circuit
+        along = np.cumsum(along)
+        along -= along[starts][segment]
+        out = np.empty(c, dtype=along.dtype)
+        out[order] = along
+        sums.append(out)
+    circuit_of = np.empty(c, dtype=index)
+    circuit_of[order] = segment
+    return order[starts], circuit_of, sums[0], sums[1]
 
 
 def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
-    """Dense rank of each fraction num/den (den > 0 for used entries; 0 = unused).
+    """Dense rank of each fraction num/den (den > 0), as int32.
 
     Floats sort the fractions (an accelerator only); exact cross-multiplication
     then checks every adjacent pair, and decides equality. If floats misordered
@@ -419,12 +697,9 @@ def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     order is redone by exact comparisons.
     """
     k = len(num)
-    used = den != 0
-    rank = np.full(k, -1, dtype=np.int64)
-    idx = np.flatnonzero(used)
-    if len(idx) == 0:
-        return rank
-    order = idx[np.argsort(float_ratios(num[idx], den[idx]), kind="stable")]
+    if k == 1:
+        return np.zeros(1, dtype=np.int32)
+    order = np.argsort(float_ratios(num, den), kind="stable")
     step = compare_ratios(num[order[1:]], den[order[1:]], num[order[:-1]], den[order[:-1]])
     if (step < 0).any():
         def cmp(i: int, j: int) -> int:
@@ -433,7 +708,8 @@ def _rank_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
 
         # A loop over the distinct policy circuits, not over nodes; reached only
         # when floats cannot order the ratios.
-        order = np.array(sorted(idx.tolist(), key=cmp_to_key(cmp)), dtype=np.int64)
+        order = np.array(sorted(range(k), key=cmp_to_key(cmp)), dtype=np.int64)
         step = compare_ratios(num[order[1:]], den[order[1:]], num[order[:-1]], den[order[:-1]])
+    rank = np.empty(k, dtype=np.int32)
     rank[order] = np.r_[0, np.cumsum(step != 0)]
     return rank
