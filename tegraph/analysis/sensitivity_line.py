@@ -50,7 +50,7 @@ from fractions import Fraction
 from .sensitivity_model import ParametricGroup
 from .sensitivity_oracle import Affine, Certificate, Circuit, PointResult, evaluate
 
-__all__ = ["Cause", "Line", "LineSet", "intersect", "solve_lines"]
+__all__ = ["Cause", "Line", "LineSet", "intersect", "point_causes", "solve_lines"]
 
 Interval = tuple[Fraction, "Fraction | None"]
 
@@ -402,6 +402,23 @@ def _pace_causes(group: ParametricGroup, pieces: list, t: Fraction, side: str) -
             clock = next((name for name, info in group.clocks.items() if info.tick == event),
                          None)
             out.append(Cause("pace", group.index, clock=clock, circuit=lam[2], source=src[2]))
+    return out
+
+
+def point_causes(result: PointResult) -> list[Cause]:
+    """Why a group is not consistent at one point: its overruns, the sources left behind."""
+    group = result.group
+    out = []
+    for cert in result.violations:
+        watch = group.watches[cert.watch]
+        out.append(Cause("overrun", group.index, watch.task, watch.clock, cert))
+    top = result.cycle_time_max
+    critical = result.critical_circuit()
+    for event in group.sources:
+        if result.cycle_time[event] < top:
+            clock = next((n for n, info in group.clocks.items() if info.tick == event), None)
+            out.append(Cause("pace", group.index, clock=clock, circuit=critical,
+                             source=result.circuit(event)))
     return out
 
 

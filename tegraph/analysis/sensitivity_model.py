@@ -160,7 +160,7 @@ def parse_vary(skeleton: Skeleton, vary: Any = None) -> tuple[Parameter, ...]:
     seen: dict[str, str] = {}
     for name, rng, where in items:
         if name in seen:
-            raise InputError(f"parameter {name!r} is named twice (also at {seen[name]})", where)
+            raise InputError(f"parameter {name!r} is named twice", where)
         seen[name] = where
         out.append(_parameter(skeleton, name, rng, where))
     return tuple(out)
@@ -427,6 +427,7 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter]) -> list[P
                        + [(by_owner[("period", c)], "period", c) for c in clocks
                           if ("period", c) in by_owner])
         out.append(_parametric_group(sub, g, local, ends_with_duration))
+    _structure(out)
     return out
 
 
@@ -480,7 +481,7 @@ def _parametric_group(sub: Skeleton, index: int, local: list[tuple[int, str, str
         np.array([p.tokens for p in places], dtype=np.int64),
         np.array(param, dtype=np.int64), const, [p.initial for p in places],
         tuple(places), clocks, watches, tuple(j for j, _, _ in local))
-    _structure(group, teg.transition_attrs)
+    group.event_owners = tuple(tuple(a.get("tasks", ())) for a in teg.transition_attrs)
     return group
 
 
@@ -496,29 +497,36 @@ def _with_values(sub: Skeleton, local: list[tuple[int, str, str]],
     return dataclasses.replace(sub, tasks=tasks, clocks=clocks)
 
 
-def _structure(group: ParametricGroup, attrs: list[dict]) -> None:
-    """Liveness, strongly connected components and source components (independent of times)."""
-    n = group.n_events
-    src, dst, tokens = group.src, group.dst, group.tokens
-    empty = tokens == 0
+def _structure(groups: Sequence[ParametricGroup]) -> None:
+    """Liveness, strongly connected and source components of every group (all at once).
+
+    They do not depend on times. A group is live when no circuit of 0-token
+    places exists (spec §4); a source component is one no place enters.
+    """
+    if not groups:
+        return
+    offset = np.concatenate(([0], np.cumsum([g.n_events for g in groups])))
+    n = int(offset[-1])
+    src = np.concatenate([g.src + offset[i] for i, g in enumerate(groups)])
+    dst = np.concatenate([g.dst + offset[i] for i, g in enumerate(groups)])
+    empty = np.concatenate([g.tokens == 0 for g in groups])
     zero = sp.csr_matrix((np.ones(int(empty.sum()), dtype=np.int8), (src[empty], dst[empty])),
                          shape=(n, n))
     n_zero, zero_label = connected_components(zero, directed=True, connection="strong")
     sizes = np.bincount(zero_label, minlength=n_zero)
-    loops = src[empty][src[empty] == dst[empty]]
-    group.live = not ((sizes > 1).any() or len(loops))
+    dead = sizes[zero_label] > 1
+    dead[src[empty & (src == dst)]] = True
     graph = sp.csr_matrix((np.ones(len(src), dtype=np.int8), (src, dst)), shape=(n, n))
     _, component = connected_components(graph, directed=True, connection="strong")
-    group.component = component
-    entered = np.zeros(int(component.max(initial=-1)) + 1, dtype=bool)
-    crossing = component[src] != component[dst]
-    entered[component[dst[crossing]]] = True
-    first_event = {}
-    for e in range(n):
-        first_event.setdefault(int(component[e]), e)
-    group.sources = [e for c, e in sorted(first_event.items(), key=lambda ce: ce[1])
-                     if not entered[c]]
-    group.event_owners = tuple(tuple(a.get("tasks", ())) for a in attrs)
+    entered = np.zeros(int(component.max()) + 1, dtype=bool)
+    entered[component[dst[component[src] != component[dst]]]] = True
+    for i, g in enumerate(groups):
+        lo, hi = int(offset[i]), int(offset[i + 1])
+        g.live = not dead[lo:hi].any()
+        local = component[lo:hi]
+        g.component = local - local.min()
+        _, first = np.unique(local, return_index=True)
+        g.sources = sorted(int(e) for e in first if not entered[local[e]])
 
 
 def skeleton_at(skeleton: Skeleton, params: Sequence[Parameter],

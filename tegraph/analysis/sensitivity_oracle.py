@@ -48,7 +48,7 @@ from maxplus.scalar import INT64_SAFE
 
 from .sensitivity_model import ParametricGroup
 
-__all__ = ["Affine", "Certificate", "Circuit", "PointResult", "evaluate"]
+__all__ = ["Affine", "Certificate", "Circuit", "PointResult", "evaluate", "longest_paths"]
 
 _NEG = -(2**62)
 
@@ -174,7 +174,10 @@ def _policy_circuit(policy: np.ndarray, src: np.ndarray, event: int) -> list[int
         walk.append(p)
         e = int(src[p])
     # walk[i] enters the i-th visited event; the circuit is entered at e.
-    return walk[seen[e]:][::-1]
+    circuit = walk[seen[e]:][::-1]
+    # Start at the event numbered first (a tick, an activation), as a reader would.
+    first = min(range(len(circuit)), key=lambda i: int(src[circuit[i]]))
+    return circuit[first:] + circuit[:first]
 
 
 def evaluate(queries: Sequence[tuple], overruns: bool = True) -> list[PointResult]:
@@ -293,6 +296,8 @@ def _overruns(results: list[PointResult]) -> None:
         info = g.clocks[clock]
         for w in watched:
             watch = g.watches[w]
+            if value[watch.end] is None:
+                raise AssertionError("internal error: an event no marked place reaches")
             end_value = Fraction(value[watch.end], scale) + g.offset(watch, r.values)
             margin = info.phase - end_value
             if margin >= 0:
@@ -340,13 +345,14 @@ def _path(pred: list[int], g: ParametricGroup, end: int) -> tuple[int, list[int]
 
 
 def _longest_paths(jobs) -> list[tuple[list[int], list[int], int]]:
-    """Bellman-Ford longest paths of every job at once, on the events with χ <= P.
+    """Longest paths of every job, on the events with χ <= P (module docstring).
 
-    Returns, per job, the value of each event (scaled, ``_NEG``-ish when
-    unreachable), its tree predecessor (a place index, or ``-p-1`` for the
-    marked place p that starts it from the virtual source) and the scale.
+    Returns, per job, the value of each event (scaled), its tree predecessor (a
+    place index, or ``-p-1`` for the marked place p that starts it from the
+    virtual source) and the scale.
     """
     blocks = []
+    scales = []
     for r, _, period, _ in jobs:
         g = r.group
         keep = np.array([c <= period for c in r.cycle_time], dtype=bool)
@@ -357,31 +363,66 @@ def _longest_paths(jobs) -> list[tuple[list[int], list[int], int]]:
         arc = np.flatnonzero(keep[g.src] & keep[g.dst])
         weight = [(holdings[p].numerator * (scale // holdings[p].denominator)
                    - int(g.tokens[p]) * p_int) for p in arc.tolist()]
-        start = [_NEG] * g.n_events
-        start_pred = [-(2**40)] * g.n_events
+        start: list[int | None] = [None] * g.n_events
+        start_pred = [0] * g.n_events
         for p in np.flatnonzero((g.tokens > 0) & keep[g.dst]).tolist():
             a = g.initial[p]
             v = a.numerator * (scale // a.denominator) - p_int
             e = int(g.dst[p])
-            if v > start[e]:
+            if start[e] is None or v > start[e]:  # type: ignore[operator]
                 start[e], start_pred[e] = v, -p - 1
-        blocks.append((g, arc, weight, start, start_pred, scale))
-    wide = not all(_fits(w) and _fits([v for v in s if v != _NEG])
-                   for _, _, w, s, _, _ in blocks)
+        blocks.append((g.n_events, g.src[arc], g.dst[arc], arc, weight, start, start_pred))
+        scales.append(scale)
+    out = longest_paths(blocks)
+    return [(value, pred, scale) for (value, pred), scale in zip(out, scales)]
+
+
+def longest_paths(blocks: Sequence[tuple]) -> list[tuple[list[int | None], list[int]]]:
+    """Longest paths from given starting values, in many graphs at once (Bellman-Ford).
+
+    Parameters
+    ----------
+    blocks : sequence of (n, src, dst, labels, weight, start, start_pred)
+        A graph of n nodes with integer arc weights, no circuit of positive
+        weight; ``labels`` names each arc (reported as predecessor);
+        ``start[v]`` is the value of v before any arc (None: unreached) and
+        ``start_pred[v]`` what to report as its predecessor then.
+
+    Returns
+    -------
+    list of (values, predecessors)
+        Per block: each node's largest ``start[u] + weight of a path u -> v``
+        (None: unreached), and the label of the last arc of one such path
+        (``start_pred`` when it has none). Improvements are strict, so the
+        predecessors form a forest even across circuits of weight 0.
+
+    Examples
+    --------
+    >>> longest_paths([(3, np.array([0, 1, 0]), np.array([1, 2, 2]), np.array([7, 8, 9]),
+    ...                 [2, 3, 4], [0, None, None], [-1, -1, -1])])
+    [([0, 2, 5], [-1, 7, 8])]
+    """
+    blocks = list(blocks)
+    if not blocks:
+        return []
+    wide = not all(_fits(b[4]) and _fits([v for v in b[5] if v is not None]) for b in blocks)
     dtype = object if wide else np.int64
-    sizes = [b[0].n_events for b in blocks]
+    sizes = [b[0] for b in blocks]
     offset = np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
-    src = np.concatenate([b[0].src[b[1]] + offset[i] for i, b in enumerate(blocks)])
-    dst = np.concatenate([b[0].dst[b[1]] + offset[i] for i, b in enumerate(blocks)])
-    local_arc = np.concatenate([b[1] for b in blocks])
-    weight = np.array([w for b in blocks for w in b[2]], dtype=dtype)
-    value = np.array([v for b in blocks for v in b[3]], dtype=dtype)
-    pred = np.array([v for b in blocks for v in b[4]], dtype=np.int64)
+    src = np.concatenate([np.asarray(b[1], dtype=np.int64) + offset[i]
+                          for i, b in enumerate(blocks)])
+    dst = np.concatenate([np.asarray(b[2], dtype=np.int64) + offset[i]
+                          for i, b in enumerate(blocks)])
+    label = np.concatenate([np.asarray(b[3], dtype=np.int64) for b in blocks])
+    weight = np.array([w for b in blocks for w in b[4]], dtype=dtype)
+    value = np.array([_NEG if v is None else v for b in blocks for v in b[5]], dtype=dtype)
+    pred = np.array([v for b in blocks for v in b[6]], dtype=np.int64)
     order = np.argsort(dst, kind="stable")
-    src, dst, weight, local_arc = src[order], dst[order], weight[order], local_arc[order]
+    src, dst, weight, label = src[order], dst[order], weight[order], label[order]
     if len(dst):
         starts = np.flatnonzero(np.concatenate(([True], dst[1:] != dst[:-1])))
         targets = dst[starts]
+        counts = np.diff(np.append(starts, len(dst)))
         position = np.arange(len(dst))
         for _ in range(max(sizes) + 2):
             reach = value[src] > _NEG // 2
@@ -389,19 +430,21 @@ def _longest_paths(jobs) -> list[tuple[list[int], list[int], int]]:
             if candidate.dtype != dtype:
                 candidate = candidate.astype(dtype)
             best = np.maximum.reduceat(candidate, starts)
-            better = best > value[targets]
+            better = (best > value[targets]) & (best > _NEG // 2)
             if not better.any():
                 break
-            # The first place attaining each improved maximum becomes the predecessor.
-            hit = (candidate == np.repeat(best, np.diff(np.append(starts, len(dst))))) & reach
+            # The first arc attaining each improved maximum becomes the predecessor.
+            hit = (candidate == np.repeat(best, counts)) & reach
             first = np.minimum.reduceat(np.where(hit, position, len(dst)), starts)
             improved = np.flatnonzero(better)
             value[targets[improved]] = best[improved]
-            pred[targets[improved]] = local_arc[first[improved]]
+            pred[targets[improved]] = label[first[improved]]
         else:
-            raise AssertionError("internal error: a positive circuit among events with χ <= P")
+            raise AssertionError("internal error: a circuit of positive weight in a "
+                                 "longest-path problem")
     out = []
-    for i, b in enumerate(blocks):
+    for i in range(len(blocks)):
         lo, hi = int(offset[i]), int(offset[i + 1])
-        out.append(([int(v) for v in value[lo:hi].tolist()], pred[lo:hi].tolist(), b[5]))
+        out.append(([None if v <= _NEG // 2 else int(v) for v in value[lo:hi].tolist()],
+                    pred[lo:hi].tolist()))
     return out

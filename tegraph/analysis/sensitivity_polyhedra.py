@@ -69,6 +69,7 @@ class Polyhedron:
         self.generators: list[list[int]] = []
         self.tight: list[int] = []
         self.started = False
+        self._start()
         for row in rows:
             self.add(row)
 
@@ -82,17 +83,22 @@ class Polyhedron:
         if self.started:
             self._insert(index)
         else:
-            basis = _independent(self.rows, self.dimension + 1)
-            if basis is not None:
-                self.started = True
-                chosen = [self.rows[i] for i in basis]
-                self.generators = _simplicial(chosen, self.dimension + 1)
-                self.tight = [sum(1 << i for i in basis if _dot(self.rows[i], g) == 0)
-                              for g in self.generators]
-                for i in range(len(self.rows)):
-                    if i not in basis:
-                        self._insert(i)
+            self._start()
         return index - 1
+
+    def _start(self) -> None:
+        """The first cone, from n+1 independent rows, once there are; then the others."""
+        basis = _independent(self.rows, self.dimension + 1)
+        if basis is None:
+            return
+        self.started = True
+        chosen = [self.rows[i] for i in basis]
+        self.generators = _simplicial(chosen, self.dimension + 1)
+        self.tight = [sum(1 << i for i in basis if _dot(self.rows[i], g) == 0)
+                      for g in self.generators]
+        for i in range(len(self.rows)):
+            if i not in basis:
+                self._insert(i)
 
     def _insert(self, index: int) -> None:
         row = self.rows[index]
