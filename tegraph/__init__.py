@@ -11,6 +11,8 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .analysis.cycle_time import CycleTimeResult
 from .analysis.results import Report
+from .analysis.sensitivity import duration_margins, sensitivity
+from .analysis.sensitivity_results import SensitivityResult
 from .api import analyze, cycle_time, to_dot, write
 from .design.fix import FixResult, fix_ports
 from .design.rules import RuleFinding, check_rules
@@ -46,8 +48,11 @@ __all__ = [
     # analysis
     "CycleTimeResult",
     "Report",
+    "SensitivityResult",
     "analyze",
     "cycle_time",
+    "duration_margins",
+    "sensitivity",
     # design
     "FixResult",
     "RuleFinding",
