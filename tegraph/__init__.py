@@ -42,6 +42,9 @@ _WHERE = {
     "analyze": "tegraph.api",
     "cycle_time": "tegraph.api",
     "explore": "tegraph.api",
+    "SensitivityResult": "tegraph.analysis.sensitivity_results",
+    "duration_margins": "tegraph.analysis.sensitivity",
+    "sensitivity": "tegraph.analysis.sensitivity",
     # design
     "FixResult": "tegraph.design.fix",
     "RuleFinding": "tegraph.design.rules",
@@ -79,6 +82,8 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # static tools see the names where they are defined
     from .analysis.cycle_time import CycleTimeResult
     from .analysis.results import Report
+    from .analysis.sensitivity import duration_margins, sensitivity
+    from .analysis.sensitivity_results import SensitivityResult
     from .api import analyze, cycle_time, explore, to_dot, write
     from .design.fix import FixResult, fix_ports
     from .design.rules import RuleFinding, check_rules

@@ -597,6 +597,80 @@ def explore(
     raise typer.Exit(0 if result.front else 1)
 
 
+@app.command("sensitivity")
+def sensitivity_command(
+    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
+    vary: list[str] | None = typer.Option(
+        None, "--vary", metavar="PARAM[=LOW..HIGH]",
+        help="A parameter to vary: TASK.duration or CLOCK.period (a task's own clock is "
+             "TASK.clock), optionally with its range, exact: A.duration=0..5/2, "
+             "rtc.period=1.. (repeatable; default: every duration over [0, inf))."),
+    json_out: bool = typer.Option(False, "--json", help="Print the JSON report "
+                                  "(docs/sensitivity.schema.json)."),
+    plot: Path | None = typer.Option(
+        None, "--plot", metavar="OUT.svg|png",
+        help="Also draw it (one parameter: the periods against it; two: the map of the "
+             "regions); needs matplotlib: pip install 'tegraph[plot]'."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
+    formulas: bool = typer.Option(True, "--formulas/--no-formulas",
+                                  help="Compute each group's period as a formula."),
+    verify: bool = typer.Option(True, "--verify/--no-verify",
+                                help="Check every finite end with the analysis (consistent "
+                                     "at it, not just beyond): two analyses of a group each."),
+) -> None:
+    """How much durations can grow (scaling factor, margins), and each period as a formula.
+
+    Exact: every end is a rational, found by searches that stop at an exact
+    breakpoint, and checked with the analysis. Exit status: 0 consistent at
+    the nominal values; 1 not (the sensitivity is reported anyway); 2 the
+    input was refused (an unknown parameter, an empty or negative range).
+    """
+    from .analysis.sensitivity import sensitivity
+    from .io import load_skeleton
+    from .report.plot import PlotUnavailableError, matplotlib_available
+    from .report.sensitivity_plot import draw_sensitivity
+    from .report.sensitivity_text import render_sensitivity, sensitivity_json
+
+    if plot is not None:
+        if plot.suffix.lower() not in (".svg", ".png"):
+            _fail(f"--plot: cannot draw to {plot.name!r}; expected a file name ending in "
+                  ".svg or .png")
+        if len(vary or ()) not in (1, 2):
+            _fail("--plot: a drawing shows one or two parameters; name them with --vary "
+                  f"(given: {len(vary or ())})")
+        if not matplotlib_available():
+            _fail("--plot needs matplotlib, which is not installed; install it with: "
+                  "pip install 'tegraph[plot]'")
+        _output_file(plot, force)
+    with _refusals(file):
+        skeleton = load_skeleton(file)
+        try:
+            result = sensitivity(skeleton, vary or None, formulas=formulas or plot is not None,
+                                 verify=verify)
+        except InputError as exc:
+            if exc.where.startswith("vary"):
+                exc.with_where("--vary" + exc.where[len("vary"):])
+            raise
+    if plot is not None:
+        try:
+            draw_sensitivity(result, plot, overwrite=force)
+        except PlotUnavailableError as exc:
+            _fail(str(exc))
+        except FileExistsError:
+            _fail(f"{plot}: the file exists already; pass --force to replace it")
+        except InputError as exc:
+            _fail(f"{plot}: {exc.reason}")
+        except OSError as exc:
+            _fail(f"cannot write {plot}: {exc.strerror}")
+    if json_out:
+        typer.echo(sensitivity_json(result))
+    else:
+        typer.echo(_cli_words(render_sensitivity(result)), nl=False)
+        if plot is not None:
+            typer.echo(f"wrote {plot}")
+    raise typer.Exit(result.exit_status)
+
+
 def _parse_size(text: str | int) -> int:
     """A byte count from ``"300M"``, ``"2G"``, ``"512k"`` or a plain integer.
 

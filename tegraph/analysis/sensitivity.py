@@ -1,0 +1,469 @@
+"""How much the execution times may grow, and each period as an exact formula.
+
+``sensitivity`` answers, exactly, for the parameters named by ``vary``
+(durations ``TASK.duration`` and periods ``CLOCK.period``):
+
+- **scaling**: the factors α >= 0 by which all the varied durations can be
+  multiplied together with the skeleton consistent (spec §4), as a union of
+  closed intervals, and the *scaling factor*, the upper end of the one that
+  holds 1 (the critical scaling factor of Lehoczky, Sha and Ding [1]_, here
+  for synchronized task sets), with what limits it;
+- **margins**: for each parameter alone, its consistent values within its
+  range (for a duration: how far it can really grow, overruns included);
+- **period formulas**: each live group's cycle time as the maximum of
+  non-redundant circuit ratios over the box of its parameters (a sympy
+  ``Max``), and where a clocked group keeps pace with its clock.
+
+How each figure is proven is in ``docs/analysis.md`` ("Sensitivity"); in
+short, the consistent set along a line is read off exact certificates
+(:mod:`.sensitivity_line`), the formulas come from cutting planes
+(:mod:`.sensitivity_formulas`), and each finite end reported is checked
+again with :func:`~tegraph.analysis.analyze.analyze_skeleton` (consistent at
+the end, not just beyond), unless ``verify`` is False.
+
+References
+----------
+.. [1] J. Lehoczky, L. Sha, Y. Ding, "The rate monotonic scheduling algorithm:
+   exact characterization and average case behavior", RTSS 1989.
+.. [2] A. H. Ghamarian, M. C. W. Geilen, T. Basten, S. Stuijk, "Parametric
+   throughput analysis of synchronous data flow graphs", DATE 2008.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Any
+
+from maxplus.scalar import exact_text
+
+from ..model.skeleton import Skeleton
+from .sensitivity_formulas import GroupFormula, period_formulas
+from .sensitivity_line import Cause, Line, LineSet, intersect, point_causes, solve_lines
+from .sensitivity_margins import duration_margins
+from .sensitivity_model import (
+    Parameter,
+    ParametricGroup,
+    parametric_groups,
+    parse_vary,
+    skeleton_at,
+)
+from .sensitivity_oracle import evaluate
+from .sensitivity_results import (
+    Check,
+    GroupFormulaReport,
+    Limit,
+    Margin,
+    PaceReport,
+    Scaling,
+    SensitivityResult,
+    Term,
+)
+
+__all__ = ["duration_margins", "sensitivity"]
+
+Interval = tuple[Fraction, "Fraction | None"]
+_NUDGE = Fraction(1, 10**9)
+
+
+def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
+                max_formula_parameters: int = 6, verify: bool = True) -> SensitivityResult:
+    """Scaling factor, margins and period formulas of a skeleton, exact.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    vary : None, sequence of str or mapping
+        The parameters (see :func:`~.sensitivity_model.parse_vary`): texts
+        ``TASK.duration``, ``CLOCK.period``, each optionally ``=LOW..HIGH``.
+        Default: every task's duration over ``[0, ∞)``.
+    formulas : bool
+        Compute the period formulas (the part that costs most with many
+        parameters per group).
+    max_formula_parameters : int
+        A group depending on more varied parameters than this gets its
+        critical terms and exact partial derivatives at the nominal point
+        instead of a formula over the whole box.
+    verify : bool
+        Check every finite end reported with ``analyze_skeleton`` on its
+        group (consistent at the end, not just beyond).
+
+    Returns
+    -------
+    SensitivityResult
+
+    Raises
+    ------
+    InputError
+        ``vary`` names an unknown parameter, or a range that is malformed,
+        empty or negative (``where``: ``vary[i]``).
+
+    See Also
+    --------
+    duration_margins : the margin of every duration, fast enough for every analysis.
+    tegraph.analysis.analyze.analyze_skeleton : the figures at one point.
+
+    Examples
+    --------
+    One task of duration 2 on a clock of period 10: its duration may grow to
+    10 (a factor 5), and its group's cycle time is ``Max(10, d_A)``:
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}})
+    >>> r = sensitivity(sk)
+    >>> r.scaling.factor, r.margins["A.duration"].high
+    (Fraction(5, 1), Fraction(10, 1))
+    >>> r.formulas[0].expression()
+    Max(10, d_A)
+    """
+    started = time.perf_counter()
+    params = parse_vary(skeleton, vary)
+    nominal = [p.nominal for p in params]
+    groups = parametric_groups(skeleton, params)
+    live = [g for g in groups if g.live]
+    at_nominal = dict(zip([g.index for g in live],
+                          evaluate([(g, g.values({}, nominal)) for g in live])))
+    fine = {g.index: g.live and at_nominal[g.index].consistent for g in groups}
+    result = SensitivityResult(skeleton.name, skeleton.unit, params, all(g.live for g in groups),
+                               all(fine.values()), [list(g.tasks) for g in groups], None, {},
+                               None, source=skeleton.source)
+    result.effort["setup"] = {"rounds": 1, "points": len(live), "analyses": 0,
+                              "seconds": time.perf_counter() - started}
+    context = _Context(skeleton, params, nominal, groups, fine, at_nominal)
+    if any(p.kind == "duration" for p in params):
+        clock = time.perf_counter()
+        result.scaling = _scaling(context, verify)
+        result.effort["scaling"] = context.effort(clock)
+    clock = time.perf_counter()
+    result.margins = _margins(context, verify)
+    result.effort["margins"] = context.effort(clock)
+    if formulas:
+        clock = time.perf_counter()
+        found, rounds, points = period_formulas(live, params, max_formula_parameters)
+        result.formulas = [_formula_report(g, f, params, at_nominal[g.index])
+                           for g, f in zip(live, found)]
+        result.effort["formulas"] = {"rounds": rounds, "points": points, "analyses": 0,
+                                     "seconds": time.perf_counter() - clock}
+    result.methods = _methods(result, max_formula_parameters, verify)
+    if not result.live:
+        result.notes.append("the skeleton is not live (a circuit without token): no value of "
+                            "any parameter makes it consistent; liveness does not depend on times")
+    disagree = [c for c in result.checks if not c.agrees]
+    if disagree:
+        result.notes.append(f"{len(disagree)} cross-check(s) with the analysis DISAGREE, e.g. "
+                            f"{disagree[0].what} at {exact_text(disagree[0].value)}")
+    return result
+
+
+class _Context:
+    """What the parts share: the skeleton, parameters, groups and counters."""
+
+    def __init__(self, skeleton: Skeleton, params: Sequence[Parameter],
+                 nominal: list[Fraction], groups: list[ParametricGroup],
+                 fine: dict[int, bool], at_nominal: dict) -> None:
+        self.skeleton, self.params, self.nominal = skeleton, params, nominal
+        self.groups, self.fine, self.at_nominal = groups, fine, at_nominal
+        self.rounds = self.points = self.analyses = 0
+
+    def solve(self, pairs: list[tuple[ParametricGroup, Line]]) -> list[LineSet]:
+        sets, rounds, points = solve_lines(pairs, self.nominal)
+        self.rounds += rounds
+        self.points += points
+        return sets
+
+    def effort(self, since: float) -> dict[str, int | float]:
+        out = {"rounds": self.rounds, "points": self.points, "analyses": self.analyses,
+               "seconds": time.perf_counter() - since}
+        self.rounds = self.points = self.analyses = 0
+        return out
+
+    def consistent(self, group: ParametricGroup, values: dict[int, Fraction]):
+        """The group's verdict by ``analyze_skeleton`` at ``values``, and the report."""
+        from .analyze import analyze_skeleton
+
+        self.analyses += 1
+        moved = skeleton_at(group.skeleton, self.params, {j: values[j] for j in group.params})
+        report = analyze_skeleton(moved, semiflow_max_places=0)
+        g = report.groups[0]
+        if not (g.live and g.rate_consistent):
+            return False, report
+        if any(t.overrun_at is not None for t in report.tasks.values()):
+            return False, report
+        # An overrun the analysis could not rule out within its budget: no verdict.
+        return (True if all(t.overrun_decided for t in report.tasks.values()) else None), report
+
+    def limit(self, cause: Cause) -> Limit:
+        g = self.groups[cause.group]
+        names = g.names
+        if cause.kind == "overrun":
+            cert = cause.certificate
+            assert cert is not None
+            if cert.kind == "path":
+                events = [names[int(g.dst[cert.places[0]])]]
+                events += [names[int(g.dst[p])] for p in cert.places[1:]]
+                detail = (f"{cause.task} overruns: its activation ends after the next tick of "
+                          f"{cause.clock}, along {' -> '.join(events)}")
+            else:
+                events = [names[int(g.src[p])] for p in cert.places]
+                detail = (f"circuit {' -> '.join(events)} is slower than clock {cause.clock}: "
+                          f"{cause.task} overruns")
+            return Limit("overrun", detail, g.index, cause.task, cause.clock, None, events,
+                         certificate=cert.kind, tasks=_owners(g, events))
+        circuit = [names[int(g.src[p])] for p in cause.circuit.places]  # type: ignore[union-attr]
+        source = [names[int(g.src[p])] for p in cause.source.places]  # type: ignore[union-attr]
+        against = (f"clock {cause.clock}" if cause.clock is not None
+                   else f"the free-running circuit {' -> '.join(source)}")
+        detail = (f"circuit {' -> '.join(circuit)} is slower than {against}: a place of "
+                  f"group {g.index} ({', '.join(g.tasks)}) is unbounded")
+        return Limit("pace", detail, g.index, clock=cause.clock, events=circuit,
+                     source_events=source, tasks=_owners(g, circuit))
+
+
+    def nominal_limits(self, g: ParametricGroup, constant: bool) -> list[Limit]:
+        """Why group g is not consistent at the nominal values."""
+        if not g.live:
+            return [Limit("group", f"group {g.index} ({', '.join(g.tasks)}) is not live (a "
+                          "circuit without token), whatever the times", g.index)]
+        out = [self.limit(c) for c in point_causes(self.at_nominal[g.index])]
+        if constant:
+            out.insert(0, Limit("group", f"group {g.index} ({', '.join(g.tasks)}) is not "
+                                "consistent and does not depend on the values varied", g.index))
+        return out
+
+
+# --------------------------------------------------------------------------- scaling
+
+
+def _scaling(ctx: _Context, verify: bool) -> Scaling:
+    params, nominal = ctx.params, ctx.nominal
+    durations = [j for j, p in enumerate(params) if p.kind == "duration"]
+    low, high = Fraction(0), None
+    low_by: str | None = None
+    high_by: str | None = None
+    impossible: str | None = None
+    for j in durations:
+        p, d = params[j], nominal[j]
+        if d == 0:
+            if p.low > 0:
+                impossible = p.name
+            continue
+        if p.low / d > low:
+            low, low_by = p.low / d, p.name
+        if p.high is not None and (high is None or p.high / d < high):
+            high, high_by = p.high / d, p.name
+    line = Line({j: Fraction(0) for j in durations}, {j: nominal[j] for j in durations}, low,
+                high)
+    names = [params[j].name for j in durations]
+    blocked = [g for g in ctx.groups if not set(g.params) & set(durations) or not g.live
+               or not any(nominal[j] for j in g.params if j in line.direction)]
+    blocked = [g for g in blocked if not ctx.fine[g.index]]
+    if impossible is not None or (high is not None and low > high) or blocked:
+        limits = [x for g in blocked for x in ctx.nominal_limits(g, True)]
+        if impossible is not None:
+            limits.append(Limit("range", f"{impossible} is 0, outside its range: no factor "
+                                "brings it in", parameter=impossible))
+        return Scaling(names, [], None, False, limits)
+    moving = [g for g in ctx.groups if g.live and any(line.direction.get(j) for j in g.params)]
+    sets = ctx.solve([(g, line) for g in moving])
+    overall: list[Interval] = [(low, high)]
+    for s in sets:
+        overall = intersect(overall, s.intervals)
+
+    def limits_at(t: Fraction | None, side: str) -> list[Limit]:
+        if t is None:
+            return []
+        out = [ctx.limit(c) for s in sets for c in s.causes.get((t, side), [])]
+        if side == "above" and t == high:
+            out.append(Limit("range", f"the range of {high_by} ends here", parameter=high_by))
+        if side == "below" and t == low and low_by is not None:
+            out.append(Limit("range", f"the range of {low_by} starts here", parameter=low_by))
+        return out
+
+    one = Fraction(1)
+    holding = next(((a, b) for a, b in overall if a <= one and (b is None or one <= b)), None)
+    if holding is not None:
+        scaling = Scaling(names, overall, holding[1], True, limits_at(holding[1], "above"))
+    else:
+        below = [b for _, b in overall if b is not None and b < one]
+        above = [a for a, _ in overall if a > one]
+        nb = max(below) if below else None
+        na = min(above) if above else None
+        scaling = Scaling(names, overall, None, False, [], nb, na, limits_at(nb, "above"),
+                          limits_at(na, "below"))
+        scaling.limits = [x for g, s in zip(moving, sets) if not _contains(s.intervals, one)
+                          for x in ctx.nominal_limits(g, False)]
+    if verify:
+        _check_scaling(ctx, scaling, moving, sets, line)
+    return scaling
+
+
+def _owners(g: ParametricGroup, events: list[str]) -> list[str]:
+    index = {name: e for e, name in enumerate(g.names)}
+    return list(dict.fromkeys(t for name in events for t in g.event_owners[index[name]]))
+
+
+def _contains(intervals: list[Interval], t: Fraction) -> bool:
+    return any(a <= t and (b is None or t <= b) for a, b in intervals)
+
+
+def _beyond(t: Fraction, intervals: list[Interval], side: str) -> Fraction | None:
+    """A point just past the end t (above or below), before any other consistent value."""
+    if side == "above":
+        step = t * _NUDGE if t > 0 else _NUDGE
+        nxt = min((a for a, _ in intervals if a > t), default=None)
+        return t + step if nxt is None else min(t + step, (t + nxt) / 2)
+    step = t * _NUDGE
+    if step == 0:
+        return None
+    prev = max((b for _, b in intervals if b is not None and b < t), default=None)
+    return t - step if prev is None else max(t - step, (t + prev) / 2)
+
+
+def _check_scaling(ctx: _Context, scaling: Scaling, moving, sets, line: Line) -> None:
+    if scaling.nominal_consistent:
+        ends = [(scaling.factor, "above")]
+    else:
+        ends = [(scaling.nearest_below, "above"), (scaling.nearest_above, "below")]
+    for end, side in ends:
+        if end is None:
+            continue
+        limiting = [(g, s) for g, s in zip(moving, sets) if (end, side) in s.causes]
+        beyond = _beyond(end, scaling.intervals, side)
+        for g, _ in limiting:
+            verdict, _ = ctx.consistent(g, line.values(g, ctx.nominal, end))
+            scaling.checks.append(Check(f"scaling: group {g.index} at the factor", end, True,
+                                        verdict))
+            if beyond is not None and (line.high is None or beyond <= line.high):
+                verdict, report = ctx.consistent(g, line.values(g, ctx.nominal, beyond))
+                scaling.checks.append(Check(f"scaling: group {g.index} just beyond", beyond,
+                                            False, verdict))
+                _activations(scaling.limits + scaling.limits_below + scaling.limits_above,
+                             g, report)
+
+
+def _activations(limits: list[Limit], g: ParametricGroup, report) -> None:
+    for limit in limits:
+        if limit.kind == "overrun" and limit.group == g.index and limit.activation is None:
+            limit.activation = report.tasks[limit.task].overrun_at
+
+
+# --------------------------------------------------------------------------- margins
+
+
+def _margins(ctx: _Context, verify: bool) -> dict[str, Margin]:
+    params = ctx.params
+    pairs, owners = [], []
+    lines = {}
+    for j, p in enumerate(params):
+        lines[j] = Line({j: Fraction(0)}, {j: Fraction(1)}, p.low, p.high, p.low_open)
+        for g in ctx.groups:
+            if j in g.params and g.live:
+                pairs.append((g, lines[j]))
+                owners.append(j)
+    sets = ctx.solve(pairs)
+    by_param: dict[int, list[tuple[ParametricGroup, LineSet]]] = {}
+    for (g, _), j, s in zip(pairs, owners, sets):
+        by_param.setdefault(j, []).append((g, s))
+    out = {}
+    for j, p in enumerate(params):
+        mine = [g for g in ctx.groups if j in g.params]
+        found = by_param.get(j, [])
+        intervals: list[Interval] = [(p.low, p.high)]
+        if any(not g.live for g in mine):
+            intervals = []
+        for _, s in found:
+            intervals = intersect(intervals, s.intervals)
+        holding = next(((a, b) for a, b in intervals
+                        if a <= p.nominal and (b is None or p.nominal <= b)), None)
+        margin = Margin(p, [g.index for g in mine], intervals, holding is not None)
+        if holding is not None:
+            margin.low, margin.high = holding
+            margin.limits_low = _ends(ctx, found, holding[0], "below", p)
+            margin.limits_high = _ends(ctx, found, holding[1], "above", p)
+            if verify:
+                _check_margin(ctx, margin, found, lines[j])
+        out[p.name] = margin
+    return out
+
+
+def _ends(ctx: _Context, found, t: Fraction | None, side: str, p: Parameter) -> list[Limit]:
+    if t is None:
+        return []
+    limits = [ctx.limit(c) for _, s in found for c in s.causes.get((t, side), [])]
+    if (side == "below" and t == p.low) or (side == "above" and t == p.high):
+        limits.append(Limit("range", f"the range of {p.name} "
+                            + ("starts here" if side == "below" else "ends here"),
+                            parameter=p.name))
+    return limits
+
+
+def _check_margin(ctx: _Context, margin: Margin, found, line: Line) -> None:
+    p = margin.parameter
+    for end, side in ((margin.low, "below"), (margin.high, "above")):
+        if end is None or (side == "below" and end == p.low) or (side == "above"
+                                                                 and end == p.high):
+            continue
+        beyond = _beyond(end, margin.intervals, side)
+        for g, _ in found:
+            verdict, _ = ctx.consistent(g, line.values(g, ctx.nominal, end))
+            margin.checks.append(Check(f"{p.name} = end ({side})", end, True, verdict))
+            if beyond is not None:
+                verdict, report = ctx.consistent(g, line.values(g, ctx.nominal, beyond))
+                margin.checks.append(Check(f"{p.name} just {side}", beyond, False, verdict))
+                _activations(margin.limits_low if side == "below" else margin.limits_high,
+                             g, report)
+
+
+# --------------------------------------------------------------------------- formulas
+
+
+def _formula_report(g: ParametricGroup, f: GroupFormula, params: Sequence[Parameter],
+                    nominal_result) -> GroupFormulaReport:
+    names = g.names
+
+    def circuit(c) -> list[str]:
+        return [names[int(g.src[p])] for p in c.places]
+
+    terms = [Term(c.holding.const, {params[j].name: k for j, k in c.holding.coef}, c.tokens,
+                  circuit(c)) for c in f.terms]
+    pace = []
+    for region in f.regions:
+        inequalities = [({params[j].name: k for j, k in iq.coefficients if k}, iq.bound,
+                         circuit(iq.circuit)) for iq in region.inequalities]
+        pace.append(PaceReport(region.clock, region.empty, inequalities,
+                               circuit(region.blocking) if region.blocking else []))
+    return GroupFormulaReport(
+        g.index, list(g.tasks), list(g.clocks), [params[j].name for j in g.params], f.exact,
+        nominal_result.cycle_time_max, nominal_result.rate_consistent, terms,
+        {params[j].name: d for j, d in f.derivatives.items()}, pace,
+        {params[j].name: params[j].symbol for j in g.params})
+
+
+def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> dict[str, str]:
+    effort = result.effort
+    out = {}
+    line = ("exact line search in each group: Newton steps on overrun certificates (longest "
+            "paths, weights h - P·m) and upper envelopes of cycle ratios (Howard)")
+    if "scaling" in effort:
+        e = effort["scaling"]
+        out["scaling"] = (f"{line}, intersected over groups; {e['rounds']} batched oracle "
+                          f"calls, {e['points']} points")
+    e = effort["margins"]
+    out["margins"] = (f"the same, one line per parameter; {e['rounds']} batched oracle calls, "
+                      f"{e['points']} points")
+    if "formulas" in effort:
+        e = effort["formulas"]
+        out["formulas"] = (
+            f"up to {max_parameters} parameters per group: cutting planes, Howard at every "
+            "vertex and ray of the box (exact double description); more: critical circuits "
+            f"and one-sided derivatives at nominal; {e['rounds']} batched oracle calls, "
+            f"{e['points']} points")
+    if verify:
+        checks = result.checks
+        bad = sum(not c.agrees for c in checks)
+        out["check"] = (f"analyze_skeleton on the group at each finite end and just beyond "
+                        f"it: {len(checks)} points, "
+                        + ("all agree" if not bad else f"{bad} DISAGREE"))
+    else:
+        out["check"] = "not run (verify=False)"
+    return out

@@ -1,0 +1,315 @@
+"""Each group's cycle time as an exact formula of the parameters, and where it keeps pace.
+
+A group's cycle time is ``λ(θ) = max over its circuits γ of (c_γ + g_γ·θ)/m_γ``
+(Baccelli et al. 1992, Thm 3.112): a convex piecewise-affine function whose
+pieces are circuits. Over a box of a few parameters, the *non-redundant*
+terms (those that are the maximum on a full-dimensional part of the box) are
+found by cutting planes with Howard as the separation oracle:
+
+1. ``F`` is the maximum of the terms known (first: the critical circuit at
+   the nominal point); ``E = {(θ, z) : θ in the box, z >= every term}`` is
+   kept with its vertices and rays (:mod:`.sensitivity_polyhedra`).
+2. At each vertex ``(θ_v, F(θ_v))`` Howard gives ``λ(θ_v)``; along each ray
+   ``(r, r_z)`` of an unbounded box the largest slope ``max_γ g_γ·r / m_γ``.
+   A larger value comes with its critical circuit: a new term, a cut.
+3. When no vertex and no ray is cut, ``F = λ`` on the whole box: on a cell
+   of F (where one term t is the maximum), ``λ`` is convex, so at a convex
+   combination of vertices and rays ``λ <= Σ α·λ(v) + Σ μ·slope(r) =
+   Σ α·t(v) + Σ μ·t'(r) = t``; and ``λ >= F`` always.
+
+Each new term is a circuit not yet known (it exceeds F where found), so the
+loop ends. A term is non-redundant when it spans a facet of E.
+
+The region where a clocked group *keeps pace* with its clock C (``λ = P_C``)
+is ``{θ in the box : t(θ) <= P_C(θ)}`` for each term t; redundant
+inequalities are dropped one at a time (each tested against the others and
+the box).
+
+With more parameters than a formula is worth, the figures at the nominal
+point are given instead: the one-sided partial derivatives of λ, which are
+the largest and smallest slopes among the critical circuits. Those are the
+circuits of the *tight* subgraph of Howard's potentials, so each derivative
+is one more cycle-ratio problem (the slope as weight) on that subgraph.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Generator, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import numpy as np
+
+from maxplus import max_cycle_ratio
+
+from .sensitivity_model import Parameter, ParametricGroup
+from .sensitivity_oracle import Affine, Circuit, PointResult, _affine, _policy_circuit, evaluate
+from .sensitivity_polyhedra import Polyhedron, affine_rank
+
+__all__ = ["GroupFormula", "PaceInequality", "PaceRegion", "period_formulas"]
+
+
+@dataclass(frozen=True)
+class PaceInequality:
+    """``circuit``'s ratio at most the clock's period: ``Σ coef·θ <= bound``."""
+
+    coefficients: tuple[tuple[int, Fraction], ...]
+    bound: Fraction
+    circuit: Circuit
+
+
+@dataclass
+class PaceRegion:
+    """Where a clocked group keeps pace with ``clock`` (``λ = P``), inside the box."""
+
+    clock: str
+    inequalities: list[PaceInequality]
+    empty: bool
+    blocking: Circuit | None = None
+    """When empty because of a circuit that never fits the period: that circuit."""
+
+
+@dataclass
+class GroupFormula:
+    """A group's cycle time as a function of its parameters.
+
+    ``exact``: ``terms`` are the non-redundant terms over the whole box (the
+    cycle time is their maximum everywhere in it). Otherwise they are the
+    critical terms at the nominal point only, and ``derivatives`` the exact
+    one-sided partial derivatives there.
+    """
+
+    group: int
+    params: tuple[int, ...]
+    exact: bool
+    terms: list[Circuit]
+    derivatives: dict[int, tuple[Fraction, Fraction]]
+    regions: list[PaceRegion] = field(default_factory=list)
+    queries: int = 0
+
+
+def period_formulas(groups: Sequence[ParametricGroup], params: Sequence[Parameter],
+                    max_parameters: int = 6) -> tuple[list[GroupFormula], int, int]:
+    """The cycle-time formula of every live group (module docstring).
+
+    Returns
+    -------
+    (list of GroupFormula, rounds, queries)
+        One formula per group, the batched oracle calls and the points asked.
+    """
+    nominal = [p.nominal for p in params]
+    exact = [g for g in groups if len(g.params) <= max_parameters]
+    solvers = [_cutting_planes(g, params) for g in exact]
+    out: dict[int, GroupFormula] = {}
+    asked = [next(s) for s in solvers]
+    rounds = queries = 0
+    while any(a is not None for a in asked):
+        batch, owners = [], []
+        for k, qs in enumerate(asked):
+            for q in qs or ():
+                batch.append((exact[k], *q))
+                owners.append(k)
+        answers = evaluate(batch, overruns=False)
+        rounds += 1
+        queries += len(batch)
+        per: dict[int, list[PointResult]] = {}
+        for k, a in zip(owners, answers):
+            per.setdefault(k, []).append(a)
+        for k, got in per.items():
+            try:
+                asked[k] = solvers[k].send(got)
+            except StopIteration as done:
+                out[exact[k].index] = done.value
+                asked[k] = None
+    rest = [g for g in groups if len(g.params) > max_parameters]
+    if rest:
+        rounds += 2
+        queries += len(rest)
+        for formula in _at_nominal(rest, nominal):
+            out[formula.group] = formula
+    for g in groups:
+        out[g.index].regions = _pace_regions(g, out[g.index], params)
+    return [out[g.index] for g in groups], rounds, queries
+
+
+def _box(params: Sequence[Parameter], dims: Sequence[int], extra: int = 0) -> Polyhedron:
+    n = len(dims) + extra
+    box = Polyhedron(n)
+    for i, j in enumerate(dims):
+        unit = tuple(Fraction(int(k == i)) for k in range(n))
+        box.add((tuple(-x for x in unit), -params[j].low))
+        if params[j].high is not None:
+            box.add((unit, params[j].high))
+    return box
+
+
+def _cutting_planes(group: ParametricGroup, params: Sequence[Parameter]
+                    ) -> Generator[list[tuple], list[PointResult], GroupFormula]:
+    dims = group.params
+    p = len(dims)
+    nominal = {j: params[j].nominal for j in dims}
+    got = yield [(nominal,)]
+    terms: dict[tuple, Circuit] = {}
+    rows: dict[int, tuple] = {}  # row index in E -> term key
+    E = _box(params, dims, extra=1)
+    n_queries = 1
+
+    def add(circuit: Circuit) -> bool:
+        key = circuit.key()
+        if key in terms:
+            return False
+        terms[key] = circuit
+        m = circuit.tokens
+        a = tuple(Fraction(circuit.holding.coefficient(j), m) for j in dims) + (Fraction(-1),)
+        rows[E.add((a, -circuit.holding.const / m))] = key
+        return True
+
+    add(got[0].critical_circuit())
+    checked: set[tuple] = set()
+    while True:
+        todo = []
+        for is_vertex, point, _ in E.generator_items():
+            if (is_vertex, point) in checked or (not is_vertex and not any(point[:p])):
+                continue
+            todo.append((is_vertex, point))
+        if not todo:
+            break
+        got = yield [({j: point[i] for i, j in enumerate(dims)},) if is_vertex
+                     else ({j: point[i] for i, j in enumerate(dims)}, True)
+                     for is_vertex, point in todo]
+        n_queries += len(todo)
+        known = set(terms)
+        for (is_vertex, point), answer in zip(todo, got):
+            if answer.cycle_time_max > point[p]:
+                circuit = answer.critical_circuit()
+                if circuit.key() in known:
+                    raise AssertionError("internal error: a known term exceeds the envelope")
+                add(circuit)
+            else:
+                checked.add((is_vertex, point))
+    items = E.generator_items()
+    dimension = affine_rank([x for v, x, _ in items if v], [x for v, x, _ in items if not v])
+    kept = []
+    for row, key in rows.items():
+        face = [(v, x) for v, x, mask in items if mask >> row & 1]
+        rank = affine_rank([x for v, x in face if v], [x for v, x in face if not v])
+        if rank == dimension - 1:
+            kept.append(terms[key])
+    kept.sort(key=lambda c: (c.tokens, c.holding.const, c.holding.coef))
+    derivatives = _derivatives_from_terms(kept, dims, nominal)
+    return GroupFormula(group.index, dims, True, kept, derivatives, queries=n_queries)
+
+
+def _derivatives_from_terms(terms: list[Circuit], dims: Sequence[int],
+                            nominal: dict[int, Fraction]) -> dict[int, tuple[Fraction, Fraction]]:
+    values = [c.ratio(nominal) for c in terms]
+    top = max(values)
+    active = [c for c, v in zip(terms, values) if v == top]
+    out = {}
+    for j in dims:
+        slopes = [Fraction(c.holding.coefficient(j), c.tokens) for c in active]
+        out[j] = (min(slopes), max(slopes))
+    return out
+
+
+def _at_nominal(groups: Sequence[ParametricGroup], nominal: Sequence[Fraction]
+                ) -> list[GroupFormula]:
+    """Critical terms and one-sided derivatives at the nominal point (module docstring)."""
+    answers = evaluate([(g, {j: nominal[j] for j in g.params}) for g in groups], overruns=False)
+    # One copy of each group's tight critical subgraph per (parameter, sign), all in one
+    # Howard run: the largest ratio of a copy is the largest slope sign·coef/tokens.
+    copies = []  # (group position, parameter, sign, first node, first arc, local arcs)
+    src, dst, weight, tokens = [], [], [], []
+    nodes = arcs_so_far = 0
+    for k, (g, a) in enumerate(zip(groups, answers)):
+        top = a.cycle_time_max
+        on_top = np.array([c == top for c in a.cycle_time], dtype=bool)
+        arcs = np.flatnonzero(a.tight & on_top[g.src] & on_top[g.dst])
+        for j in g.params:
+            for sign in (1, -1):
+                copies.append((k, j, sign, nodes, arcs_so_far, arcs))
+                src.append(g.src[arcs] + nodes)
+                dst.append(g.dst[arcs] + nodes)
+                weight.append(np.where(g.param[arcs] == j, sign, 0))
+                tokens.append(g.tokens[arcs])
+                nodes += g.n_events
+                arcs_so_far += len(arcs)
+    slopes: dict[tuple[int, int, int], tuple[Fraction, list[int]]] = {}
+    if copies:
+        all_src = np.concatenate(src)
+        mcr = max_cycle_ratio(all_src, np.concatenate(dst),
+                              np.concatenate(weight).astype(np.int64),
+                              np.concatenate(tokens), n_nodes=nodes)
+        ct = mcr.cycle_times
+        policy = mcr.certificate.policy
+        for k, j, sign, first_node, first_arc, arcs in copies:
+            n = groups[k].n_events
+            best = max((e for e in range(first_node, first_node + n) if ct[e] is not None),
+                       key=lambda e: ct[e])
+            circuit = _policy_circuit(policy, all_src, best)
+            slopes[k, j, sign] = (sign * ct[best],
+                                  [int(arcs[a - first_arc]) for a in circuit])
+    out = []
+    for k, (g, a) in enumerate(zip(groups, answers)):
+        terms: dict[tuple, Circuit] = {}
+        critical = a.critical_circuit()
+        terms[critical.key()] = critical
+        derivatives = {}
+        for j in g.params:
+            right, right_places = slopes[k, j, 1]
+            left, left_places = slopes[k, j, -1]
+            derivatives[j] = (left, right)
+            for places in (right_places, left_places):
+                c = Circuit(g.index, tuple(places), _affine(g, places),
+                            int(sum(int(g.tokens[q]) for q in places)))
+                terms.setdefault(c.key(), c)
+        out.append(GroupFormula(g.index, g.params, False, list(terms.values()), derivatives,
+                                queries=1))
+    return out
+
+
+def _pace_regions(group: ParametricGroup, formula: GroupFormula, params: Sequence[Parameter]
+                  ) -> list[PaceRegion]:
+    if not formula.exact:
+        return []
+    dims = formula.params
+    out = []
+    for clock, info in group.clocks.items():
+        period = (Affine(Fraction(0), ((info.period_param, 1),)) if info.period_param >= 0
+                  else Affine(info.period))
+        candidates: list[tuple[tuple[Fraction, ...], Fraction, Circuit]] = []
+        blocking = None
+        for c in formula.terms:
+            a = tuple(Fraction(c.holding.coefficient(j), c.tokens) - period.coefficient(j)
+                      for j in dims)
+            b = period.const - c.holding.const / c.tokens
+            if not any(a):
+                if b < 0 and blocking is None:
+                    blocking = c
+                continue
+            if all((x, y) != (a, b) for x, y, _ in candidates):
+                candidates.append((a, b, c))
+        if blocking is not None:
+            out.append(PaceRegion(clock, [], True, blocking))
+            continue
+        whole = _box(params, dims)
+        for a, b, _ in candidates:
+            whole.add((a, b))
+        if whole.empty():
+            out.append(PaceRegion(clock, [], True))
+            continue
+        kept: list[int] = []
+        for i in range(len(candidates)):
+            others = _box(params, dims)
+            for k in kept + list(range(i + 1, len(candidates))):
+                others.add(candidates[k][:2])
+            a, b, _ = candidates[i]
+            items = others.generator_items()
+            exceeds = any(sum(x * y for x, y in zip(a, point)) > (b if v else 0)
+                          for v, point, _ in items)
+            if exceeds:
+                kept.append(i)
+        inequalities = [PaceInequality(tuple(zip(dims, candidates[i][0])), candidates[i][1],
+                                       candidates[i][2]) for i in kept]
+        out.append(PaceRegion(clock, inequalities, False))
+    return out

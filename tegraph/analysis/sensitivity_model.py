@@ -1,0 +1,543 @@
+"""The parameters of a sensitivity analysis and each group as a parametric event graph.
+
+A *parameter* is a task's duration (``TASK.duration``) or a clock's period
+(``CLOCK.period``; a task's private clock is ``TASK.clock``), with the range
+of values to explore. Every holding time of the timed event graph is then an
+affine function of the parameters: spec §2 puts a duration on the places that
+leave ``T.compute`` and a period on a clock's self-loop, and nothing else.
+
+This module does not restate spec §2: it reads the affine structure off
+:func:`~tegraph.model.build.build_teg` itself. Each group (spec §4: the tasks
+joined by synchronizing links, threads and shared clocks) is built twice, the
+varied parameters replaced by two sets of distinct *markers* larger than any
+other time of the group; a place whose holding is the j-th marker in both
+builds holds parameter j, a place whose holding is the same in both builds
+holds that constant, and any other outcome (a holding that is a sum or a
+multiple of parameters) is refused as an internal error rather than
+mis-read. So a change of spec §2 flows through.
+
+Groups are independent (no place joins two of them), so every later step
+works on one small group at a time, with its own exact scale.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from maxplus.errors import MaxPlusValueError
+from maxplus.scalar import exact_time
+
+from ..errors import InputError
+from ..model.build import build_teg, last_event
+from ..model.skeleton import Clock, Skeleton, Task
+from ..model.teg import Place
+
+__all__ = [
+    "ClockInfo",
+    "Parameter",
+    "ParametricGroup",
+    "Watch",
+    "activation_end_adds_duration",
+    "group_skeleton",
+    "parametric_groups",
+    "parse_vary",
+    "skeleton_at",
+    "skeleton_groups",
+]
+
+@dataclass(frozen=True)
+class Parameter:
+    """One varied time value and its range.
+
+    Attributes
+    ----------
+    name : str
+        ``TASK.duration`` or ``CLOCK.period``.
+    kind : {"duration", "period"}
+    owner : str
+        The task or the clock.
+    nominal : Fraction
+        Its value in the skeleton.
+    low, high : Fraction, Fraction or None
+        The range explored; ``high`` None: unbounded.
+    low_open : bool
+        True for a period's default range ``(0, ∞)``: a period is positive,
+        so the value 0 itself is never included.
+    """
+
+    name: str
+    kind: str
+    owner: str
+    nominal: Fraction
+    low: Fraction
+    high: Fraction | None
+    low_open: bool = False
+
+    @property
+    def symbol(self) -> str:
+        """Name of its symbol in a formula: ``d_TASK`` or ``P_CLOCK``."""
+        return ("d_" if self.kind == "duration" else "P_") + self.owner
+
+    def contains(self, value: Fraction) -> bool:
+        """Whether ``value`` lies in the range.
+
+        >>> Parameter("A.duration", "duration", "A", Fraction(1), Fraction(0), None).contains(5)
+        True
+        """
+        if value < self.low or (self.low_open and value == self.low):
+            return False
+        return self.high is None or value <= self.high
+
+
+def parse_vary(skeleton: Skeleton, vary: Any = None) -> tuple[Parameter, ...]:
+    """The parameters named by ``vary``, checked against the skeleton.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    vary : None, sequence or mapping
+        None: every task's duration over ``[0, ∞)``. A sequence of texts
+        ``NAME`` or ``NAME=LOW..HIGH`` (``HIGH`` empty: unbounded), or a
+        mapping ``NAME -> None | (low, high)``. ``NAME`` is ``TASK.duration``
+        or ``CLOCK.period``; values are exact (``5/2``, ``0.1``).
+
+    Returns
+    -------
+    tuple of Parameter
+        In the order given (without ``vary``: the tasks in file order).
+
+    Raises
+    ------
+    InputError
+        An unknown name, a name given twice, a malformed, empty or negative
+        range; ``where`` is ``vary`` or ``vary[i]``.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 4}}})
+    >>> [(p.name, str(p.low), p.high) for p in parse_vary(sk)]
+    [('A.duration', '0', None)]
+    >>> p, = parse_vary(sk, ["A.clock.period=2..9/2"])
+    >>> p.kind, p.owner, p.nominal, p.low, p.high
+    ('period', 'A.clock', Fraction(4, 1), Fraction(2, 1), Fraction(9, 2))
+    >>> parse_vary(sk, ["B.duration"])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    tegraph.errors.InputError: vary[0]: unknown parameter 'B.duration': no task 'B'; ...
+    """
+    if vary is None:
+        return tuple(Parameter(f"{t}.duration", "duration", t, task.duration, Fraction(0), None)
+                     for t, task in skeleton.tasks.items())
+    if isinstance(vary, str):
+        vary = [vary]
+    items: list[tuple[str, Any, str]] = []
+    if isinstance(vary, Mapping):
+        for name, rng in vary.items():
+            items.append((str(name), rng, f"vary[{name!r}]"))
+    elif isinstance(vary, Iterable):
+        for i, text in enumerate(vary):
+            where = f"vary[{i}]"
+            if not isinstance(text, str):
+                raise InputError(f"expected a text NAME or NAME=LOW..HIGH, got {text!r}", where)
+            name, eq, rng_text = text.partition("=")
+            items.append((name.strip(), _range_text(rng_text, where) if eq else None, where))
+    else:
+        raise InputError(f"expected a list of parameter names, got {type(vary).__name__}",
+                         "vary")
+    if not items:
+        raise InputError("expected at least one parameter to vary", "vary")
+    out: list[Parameter] = []
+    seen: dict[str, str] = {}
+    for name, rng, where in items:
+        if name in seen:
+            raise InputError(f"parameter {name!r} is named twice", where)
+        seen[name] = where
+        out.append(_parameter(skeleton, name, rng, where))
+    return tuple(out)
+
+
+def _range_text(text: str, where: str) -> tuple[str, str | None]:
+    low, sep, high = text.partition("..")
+    if not sep or not low.strip():
+        raise InputError(f"expected a range LOW..HIGH such as 0..5/2 (HIGH may be left out "
+                         f"for no bound), got {text!r}", where)
+    return low.strip(), (high.strip() or None)
+
+
+def _parameter(skeleton: Skeleton, name: str, rng: Any, where: str) -> Parameter:
+    tasks, clocks = skeleton.tasks, skeleton.clocks
+    known = (f"expected TASK.duration or CLOCK.period (tasks: {', '.join(tasks) or 'none'}; "
+             f"clocks: {', '.join(clocks) or 'none'})")
+    if name.endswith(".duration"):
+        owner, kind = name[: -len(".duration")], "duration"
+        if owner not in tasks:
+            raise InputError(f"unknown parameter {name!r}: no task {owner!r}; {known}", where)
+        nominal = tasks[owner].duration
+    elif name.endswith(".period"):
+        owner, kind = name[: -len(".period")], "period"
+        if owner not in clocks:
+            raise InputError(f"unknown parameter {name!r}: no clock {owner!r}; {known}", where)
+        nominal = clocks[owner].period
+    else:
+        raise InputError(f"unknown parameter {name!r}; {known}", where)
+    if rng is None:
+        return Parameter(name, kind, owner, nominal, Fraction(0), None, low_open=kind == "period")
+    try:
+        low_text, high_text = rng
+    except (TypeError, ValueError):
+        raise InputError(f"expected a range (low, high) for {name}, got {rng!r}", where) from None
+    low = _value(low_text, name, "low", where)
+    high = None if high_text is None else _value(high_text, name, "high", where)
+    if low < 0:
+        raise InputError(f"the range of {name} starts below 0 ({low}); expected LOW >= 0", where)
+    if kind == "period" and low == 0:
+        raise InputError(f"the range of {name} starts at 0; a period is > 0: expected LOW > 0",
+                         where)
+    if high is not None and high < low:
+        raise InputError(f"the range of {name} is empty ({low}..{high}); expected LOW <= HIGH",
+                         where)
+    return Parameter(name, kind, owner, nominal, low, high)
+
+
+def _value(text: Any, name: str, end: str, where: str) -> Fraction:
+    try:
+        return exact_time(text, where)
+    except (MaxPlusValueError, ValueError, ArithmeticError):
+        raise InputError(f"the {end} end of the range of {name} is not an exact number: "
+                         f"{text!r} (expected e.g. 2, 0.5 or 5/2)", where) from None
+
+
+# ------------------------------------------------------------------------------- groups
+
+
+def skeleton_groups(skeleton: Skeleton) -> list[list[str]]:
+    """The tasks of each group (spec §4), groups and tasks in file order.
+
+    Tasks are joined by a synchronizing link (not ASYN/ASYN), a thread or a
+    shared clock.
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "outputs": ["o"]},
+    ...     "B": {"duration": 1, "inputs": ["i"]}, "C": {"duration": 2}},
+    ...     "links": [{"from": "A:o", "to": "B:i", "protocol": "ASYN/SYN"}]})
+    >>> skeleton_groups(sk)
+    [['A', 'B'], ['C']]
+    """
+    names = list(skeleton.tasks)
+    index = {t: i for i, t in enumerate(names)}
+    clock_index = {c: len(names) + i for i, c in enumerate(skeleton.clocks)}
+    rows, cols = [], []
+    for t, task in skeleton.tasks.items():
+        if task.clock is not None:
+            rows.append(index[t])
+            cols.append(clock_index[task.clock])
+    for link in skeleton.links:
+        if link.protocol.synchronizing:
+            rows.append(index[link.writer[0]])
+            cols.append(index[link.reader[0]])
+    for thread in skeleton.threads:
+        for a, b in zip(thread, thread[1:]):
+            rows.append(index[a])
+            cols.append(index[b])
+    n = len(names) + len(clock_index)
+    graph = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    order: dict[int, list[str]] = {}
+    for t in names:
+        order.setdefault(int(label[index[t]]), []).append(t)
+    return list(order.values())
+
+
+def group_skeleton(skeleton: Skeleton, tasks: Sequence[str]) -> Skeleton:
+    """The skeleton of one group alone: its tasks, their clocks, links and threads.
+
+    Its timed event graph is the group's part of the skeleton's (ASYN/ASYN
+    links add no place), so every figure of spec §4 of the group is the same.
+    """
+    members = set(tasks)
+    clocks = {c: skeleton.clocks[c] for c in dict.fromkeys(
+        skeleton.tasks[t].clock for t in tasks if skeleton.tasks[t].clock is not None)}
+    links = [link for link in skeleton.links if link.protocol.synchronizing
+             and link.writer[0] in members and link.reader[0] in members]
+    threads = [th for th in skeleton.threads if th[0] in members]
+    return Skeleton(skeleton.name, {t: skeleton.tasks[t] for t in tasks}, clocks, links,
+                    threads, skeleton.unit)
+
+
+@functools.cache
+def activation_end_adds_duration() -> bool:
+    """Whether an activation of a task without outputs ends when its computation ends.
+
+    Spec v1.1 (§4, ``overrun_at``): ``end_T(k) = x_T.compute(k) + duration(T)``
+    for a task without outputs; v1.0 took ``x_T.compute(k)``, the start. The
+    answer is read off :func:`~tegraph.analysis.analyze.analyze_skeleton`, the
+    oracle every figure here is checked against, so that both always agree:
+    a task of duration 3 on a clock of period 2 overruns at activation 2 in
+    v1.1 (its first activation ends at 3 > 2) and at activation 5 in v1.0
+    (its computations start at 0, 3, 6, 9 against ticks 0, 2, 4, 6, 8).
+    """
+    from .analyze import analyze_skeleton
+
+    probe = Skeleton("probe", {"A": Task("A", Fraction(3), clock="c")},
+                     {"c": Clock("c", Fraction(2))})
+    first = analyze_skeleton(probe, semiflow_max_places=0).tasks["A"].overrun_at
+    if first not in (2, 5):
+        raise AssertionError(f"internal error: the overrun probe gave activation {first}")
+    return first == 2
+
+
+# ---------------------------------------------------------------- parametric groups
+
+
+@dataclass(frozen=True)
+class ClockInfo:
+    """A clock of a group: its tick event, its period (a parameter or a constant), phase."""
+
+    name: str
+    tick: int
+    period: Fraction
+    period_param: int
+    phase: Fraction
+
+
+@dataclass(frozen=True)
+class Watch:
+    """A clocked task whose overruns are watched.
+
+    Its activation k ends at ``x_end(k) + offset`` (``offset`` its duration
+    when the activation ends with its computation, spec v1.1, else 0).
+    """
+
+    task: str
+    clock: str
+    end: int
+    offset: Fraction
+    offset_param: int
+
+
+@dataclass
+class ParametricGroup:
+    """One group's timed event graph, each holding ``const + θ[param]`` (param -1: none).
+
+    Attributes
+    ----------
+    index : int
+        Position of the group (spec §4 order).
+    tasks : tuple of str
+    skeleton : Skeleton
+        The group alone (:func:`group_skeleton`).
+    names : tuple of str
+        Event names.
+    src, dst, tokens, param : numpy.ndarray of int64
+        Per place; ``param`` is the index of the parameter it holds, or -1.
+    const, initial : list of Fraction
+        Per place: constant holding (0 where a parameter is held) and the
+        availability time of its initial tokens.
+    places : tuple of Place
+        The built places (kinds and origins, for naming causes).
+    clocks : dict of str to ClockInfo
+    watches : list of Watch
+        The clocked tasks.
+    params : tuple of int
+        The parameters the group depends on.
+    """
+
+    index: int
+    tasks: tuple[str, ...]
+    skeleton: Skeleton
+    names: tuple[str, ...]
+    src: np.ndarray
+    dst: np.ndarray
+    tokens: np.ndarray
+    param: np.ndarray
+    const: list[Fraction]
+    initial: list[Fraction]
+    places: tuple[Place, ...]
+    clocks: dict[str, ClockInfo]
+    watches: list[Watch]
+    params: tuple[int, ...]
+    live: bool = True
+    component: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    """Strongly connected component of each event."""
+    sources: list[int] = field(default_factory=list)
+    """One event of each source component (no place enters it from another component)."""
+    event_owners: tuple[tuple[str, ...], ...] = ()
+    """The tasks whose chain holds each event (none for a tick)."""
+
+    @property
+    def n_events(self) -> int:
+        return len(self.names)
+
+    def values(self, theta: Mapping[int, Fraction], nominal: Sequence[Fraction]
+               ) -> dict[int, Fraction]:
+        """The value of each of the group's parameters: ``theta`` where given, else nominal."""
+        return {j: theta.get(j, nominal[j]) for j in self.params}
+
+    def holdings(self, values: Mapping[int, Fraction]) -> list[Fraction]:
+        """Holding time of every place at the parameter values ``values``."""
+        return [c if j < 0 else values[j]
+                for c, j in zip(self.const, self.param.tolist())]
+
+    def period(self, clock: str, values: Mapping[int, Fraction]) -> Fraction:
+        info = self.clocks[clock]
+        return info.period if info.period_param < 0 else values[info.period_param]
+
+    def offset(self, watch: Watch, values: Mapping[int, Fraction]) -> Fraction:
+        return watch.offset if watch.offset_param < 0 else values[watch.offset_param]
+
+
+def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter]) -> list[ParametricGroup]:
+    """Every group of the skeleton as a :class:`ParametricGroup`, in spec §4 order.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 5}}})
+    >>> g, = parametric_groups(sk, parse_vary(sk))
+    >>> g.names, g.param.tolist(), [str(c) for c in g.const]
+    (('A.clock.tick', 'A.activate', 'A.compute'), [-1, -1, -1, 0], ['5', '0', '0', '0'])
+    """
+    by_owner = {(p.kind, p.owner): j for j, p in enumerate(params)}
+    ends_with_duration = activation_end_adds_duration()
+    groups = skeleton_groups(skeleton)
+    group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
+    links: list[list] = [[] for _ in groups]
+    for link in skeleton.links:
+        if link.protocol.synchronizing:
+            links[group_of[link.writer[0]]].append(link)
+    threads: list[list] = [[] for _ in groups]
+    for thread in skeleton.threads:
+        threads[group_of[thread[0]]].append(thread)
+    out = []
+    for g, tasks in enumerate(groups):
+        clocks = {c: skeleton.clocks[c] for c in dict.fromkeys(
+            skeleton.tasks[t].clock for t in tasks if skeleton.tasks[t].clock is not None)}
+        sub = Skeleton(skeleton.name, {t: skeleton.tasks[t] for t in tasks}, clocks, links[g],
+                       threads[g], skeleton.unit)
+        local = sorted([(by_owner[("duration", t)], "duration", t) for t in tasks
+                        if ("duration", t) in by_owner]
+                       + [(by_owner[("period", c)], "period", c) for c in clocks
+                          if ("period", c) in by_owner])
+        out.append(_parametric_group(sub, g, local, ends_with_duration))
+    _structure(out)
+    return out
+
+
+# A marker is V·(2^k·L + 1): every constant time of the group is below V, and no
+# sum of two or more markers, nor any multiple or fraction of one, is a marker
+# (modulo V·L a sum of n markers is n·V), so one build decodes every holding that
+# is a constant or a single parameter, and refuses anything else.
+_MARKER_SPREAD = 2**64
+
+
+def _parametric_group(sub: Skeleton, index: int, local: list[tuple[int, str, str]],
+                      ends_with_duration: bool) -> ParametricGroup:
+    times = [t.duration for t in sub.tasks.values()]
+    times += [v for c in sub.clocks.values() for v in (c.period, c.phase)]
+    top = math.floor(max(times, default=Fraction(0))) + 1
+    marker = {j: Fraction(top * (2**k * _MARKER_SPREAD + 1)) for k, (j, _, _) in enumerate(local)}
+    teg = build_teg(_with_values(sub, local, marker))
+    param_of_marker = {v: j for j, v in marker.items()}
+    places = teg.places
+    const: list[Fraction] = []
+    param: list[int] = []
+    for p in places:
+        j = param_of_marker.get(p.holding)
+        if j is not None:
+            const.append(Fraction(0))
+            param.append(j)
+        elif p.holding < top:
+            const.append(p.holding)
+            param.append(-1)
+        else:
+            raise AssertionError(f"internal error: the holding time of place {p.name} is "
+                                 "not one parameter or a constant")
+    clock_param = {owner: j for j, kind, owner in local if kind == "period"}
+    duration_param = {owner: j for j, kind, owner in local if kind == "duration"}
+    ticks = teg.attrs["clocks"]
+    clocks = {c: ClockInfo(c, ticks[c], clock.period, clock_param.get(c, -1), clock.phase)
+              for c, clock in sub.clocks.items()}
+    watches = []
+    for t, task in sub.tasks.items():
+        if task.clock is None:
+            continue
+        if ends_with_duration and not task.outputs:
+            end = teg.attrs["compute"][t]
+            watches.append(Watch(t, task.clock, end, task.duration, duration_param.get(t, -1)))
+        else:
+            watches.append(Watch(t, task.clock, last_event(teg, t), Fraction(0), -1))
+    group = ParametricGroup(
+        index, tuple(sub.tasks), sub, teg.transition_names,
+        np.array([p.src for p in places], dtype=np.int64),
+        np.array([p.dst for p in places], dtype=np.int64),
+        np.array([p.tokens for p in places], dtype=np.int64),
+        np.array(param, dtype=np.int64), const, [p.initial for p in places],
+        tuple(places), clocks, watches, tuple(j for j, _, _ in local))
+    group.event_owners = tuple(tuple(a.get("tasks", ())) for a in teg.transition_attrs)
+    return group
+
+
+def _with_values(sub: Skeleton, local: list[tuple[int, str, str]],
+                 values: dict[int, Fraction]) -> Skeleton:
+    tasks = dict(sub.tasks)
+    clocks = dict(sub.clocks)
+    for j, kind, owner in local:
+        if kind == "duration":
+            tasks[owner] = dataclasses.replace(tasks[owner], duration=values[j])
+        else:
+            clocks[owner] = dataclasses.replace(clocks[owner], period=values[j])
+    return dataclasses.replace(sub, tasks=tasks, clocks=clocks)
+
+
+def _structure(groups: Sequence[ParametricGroup]) -> None:
+    """Liveness, strongly connected and source components of every group (all at once).
+
+    They do not depend on times. A group is live when no circuit of 0-token
+    places exists (spec §4); a source component is one no place enters.
+    """
+    if not groups:
+        return
+    offset = np.concatenate(([0], np.cumsum([g.n_events for g in groups])))
+    n = int(offset[-1])
+    src = np.concatenate([g.src + offset[i] for i, g in enumerate(groups)])
+    dst = np.concatenate([g.dst + offset[i] for i, g in enumerate(groups)])
+    empty = np.concatenate([g.tokens == 0 for g in groups])
+    zero = sp.csr_matrix((np.ones(int(empty.sum()), dtype=np.int8), (src[empty], dst[empty])),
+                         shape=(n, n))
+    n_zero, zero_label = connected_components(zero, directed=True, connection="strong")
+    sizes = np.bincount(zero_label, minlength=n_zero)
+    dead = sizes[zero_label] > 1
+    dead[src[empty & (src == dst)]] = True
+    graph = sp.csr_matrix((np.ones(len(src), dtype=np.int8), (src, dst)), shape=(n, n))
+    _, component = connected_components(graph, directed=True, connection="strong")
+    entered = np.zeros(int(component.max()) + 1, dtype=bool)
+    entered[component[dst[component[src] != component[dst]]]] = True
+    for i, g in enumerate(groups):
+        lo, hi = int(offset[i]), int(offset[i + 1])
+        g.live = not dead[lo:hi].any()
+        local = component[lo:hi]
+        g.component = local - local.min()
+        _, first = np.unique(local, return_index=True)
+        g.sources = sorted(int(e) for e in first if not entered[local[e]])
+
+
+def skeleton_at(skeleton: Skeleton, params: Sequence[Parameter],
+                values: Mapping[int, Fraction]) -> Skeleton:
+    """The skeleton with parameter j set to ``values[j]`` (the others as they are).
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 4}}})
+    >>> ps = parse_vary(sk, ["A.duration", "A.clock.period"])
+    >>> moved = skeleton_at(sk, ps, {0: Fraction(3), 1: Fraction(5)})
+    >>> moved.tasks["A"].duration, moved.clocks["A.clock"].period
+    (Fraction(3, 1), Fraction(5, 1))
+    """
+    local = [(j, params[j].kind, params[j].owner) for j in values]
+    return _with_values(skeleton, local, dict(values))

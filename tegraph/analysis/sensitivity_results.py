@@ -1,0 +1,275 @@
+"""What :func:`~tegraph.analysis.sensitivity.sensitivity` finds, by name, exact.
+
+Plain dataclasses with Fractions (``None`` for an unbounded end); ``to_dict``
+gives the JSON document's data (``docs/sensitivity.schema.json``), exact
+numbers as strings. Rendering is :mod:`tegraph.report.sensitivity_text`'s job.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from maxplus.scalar import exact_text
+
+from .sensitivity_model import Parameter
+
+__all__ = ["Check", "GroupFormulaReport", "Limit", "Margin", "PaceReport", "Scaling",
+           "SensitivityResult", "Term"]
+
+Interval = tuple[Fraction, "Fraction | None"]
+
+
+def _intervals(intervals: list[Interval]) -> list[list[str | None]]:
+    return [[exact_text(a), exact_text(b)] for a, b in intervals]
+
+
+@dataclass
+class Limit:
+    """Why consistent values end at a point (seen just beyond it).
+
+    ``kind``: ``"overrun"`` (``task`` overruns; ``events`` the path of the
+    unrolled graph ending its activation after the tick, or the circuit
+    slower than its clock), ``"pace"`` (the group's critical circuit
+    ``events`` becomes slower than the source ``source_events``: its clock's
+    tick when ``clock`` is set; a place between them is unbounded),
+    ``"range"`` (the range of ``parameter`` ends there), ``"group"`` (group
+    ``group`` is not consistent at any value).
+    """
+
+    kind: str
+    detail: str
+    group: int | None = None
+    task: str | None = None
+    clock: str | None = None
+    activation: int | None = None
+    events: list[str] = field(default_factory=list)
+    source_events: list[str] = field(default_factory=list)
+    parameter: str | None = None
+    certificate: str | None = None
+    tasks: list[str] = field(default_factory=list)
+    """The tasks whose events ``events`` are, in order."""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "group": self.group, "task": self.task, "clock": self.clock,
+                "tasks": self.tasks,
+                "activation": self.activation, "certificate": self.certificate,
+                "events": self.events, "source_events": self.source_events,
+                "parameter": self.parameter, "detail": self.detail}
+
+
+@dataclass
+class Check:
+    """One cross-check with the analysis of spec §4 (``analyze_skeleton``) at one point."""
+
+    what: str
+    value: Fraction
+    expected: bool
+    found: bool | None
+    """Consistent according to the analysis; None when it could not decide (budget)."""
+
+    @property
+    def agrees(self) -> bool:
+        return self.found == self.expected
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"what": self.what, "value": exact_text(self.value), "expected": self.expected,
+                "found": self.found}
+
+
+@dataclass
+class Scaling:
+    """Every varied duration multiplied by one factor α >= 0, the rest unchanged."""
+
+    parameters: list[str]
+    intervals: list[Interval]
+    factor: Fraction | None
+    """The upper end of the interval holding 1; None when unbounded or when 1 is not in one."""
+    nominal_consistent: bool
+    limits: list[Limit] = field(default_factory=list)
+    """What limits the factor (at ``factor``); when 1 is inconsistent, why (at 1)."""
+    nearest_below: Fraction | None = None
+    nearest_above: Fraction | None = None
+    """When 1 is inconsistent: the closest consistent factors below and above (None: none)."""
+    limits_below: list[Limit] = field(default_factory=list)
+    limits_above: list[Limit] = field(default_factory=list)
+    checks: list[Check] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "parameters": self.parameters,
+            "nominal_consistent": self.nominal_consistent,
+            "factor": exact_text(self.factor),
+            "limits": [x.to_dict() for x in self.limits],
+            "nearest_below": exact_text(self.nearest_below),
+            "nearest_above": exact_text(self.nearest_above),
+            "checks": [c.to_dict() for c in self.checks],
+        }
+
+
+@dataclass
+class Margin:
+    """The consistent values of one parameter alone (the others nominal) within its range.
+
+    Consistency is that of the groups the parameter belongs to (``groups``):
+    the other groups do not depend on it.
+    """
+
+    parameter: Parameter
+    groups: list[int]
+    intervals: list[Interval]
+    nominal_consistent: bool
+    low: Fraction | None = None
+    high: Fraction | None = None
+    """The interval holding the nominal value (None: unbounded above, or no such interval)."""
+    limits_low: list[Limit] = field(default_factory=list)
+    limits_high: list[Limit] = field(default_factory=list)
+    checks: list[Check] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "kind": self.parameter.kind,
+            "nominal": exact_text(self.parameter.nominal),
+            "range": [exact_text(self.parameter.low), exact_text(self.parameter.high)],
+            "range_low_open": self.parameter.low_open,
+            "groups": self.groups,
+            "nominal_consistent": self.nominal_consistent,
+            "low": exact_text(self.low) if self.nominal_consistent else None,
+            "high": exact_text(self.high),
+            "intervals": _intervals(self.intervals),
+            "limits_low": [x.to_dict() for x in self.limits_low],
+            "limits_high": [x.to_dict() for x in self.limits_high],
+            "checks": [c.to_dict() for c in self.checks],
+        }
+
+
+@dataclass
+class Term:
+    """``(constant + Σ coefficient·parameter) / tokens``: one circuit's ratio."""
+
+    constant: Fraction
+    coefficients: dict[str, int]
+    tokens: int
+    circuit: list[str]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"constant": exact_text(self.constant),
+                "coefficients": {p: str(c) for p, c in self.coefficients.items()},
+                "tokens": self.tokens, "circuit": self.circuit}
+
+
+@dataclass
+class PaceReport:
+    """Where a clocked group keeps pace with ``clock``: every inequality holds."""
+
+    clock: str
+    empty: bool
+    inequalities: list[tuple[dict[str, Fraction], Fraction, list[str]]]
+    """``(coefficients, bound, circuit)``: ``Σ coefficient·parameter <= bound``."""
+    blocking: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"clock": self.clock, "empty": self.empty, "blocking_circuit": self.blocking,
+                "inequalities": [{"coefficients": {p: exact_text(c) for p, c in co.items()},
+                                  "bound": exact_text(b), "circuit": circ}
+                                 for co, b, circ in self.inequalities]}
+
+
+@dataclass
+class GroupFormulaReport:
+    """One live group's cycle time as a function of its parameters."""
+
+    group: int
+    tasks: list[str]
+    clocks: list[str]
+    parameters: list[str]
+    exact: bool
+    cycle_time: Fraction
+    """At the nominal point."""
+    rate_consistent: bool
+    terms: list[Term]
+    derivatives: dict[str, tuple[Fraction, Fraction]]
+    """One-sided partial derivatives at the nominal point: (left, right)."""
+    pace: list[PaceReport]
+    symbols: dict[str, str]
+
+    def expression(self) -> Any:
+        """The formula as a sympy expression (``Max`` of the terms, exact rationals)."""
+        import sympy
+
+        symbol = {p: sympy.Symbol(s, nonnegative=True) for p, s in self.symbols.items()}
+        parts = [(sympy.Rational(t.constant.numerator, t.constant.denominator)
+                  + sum((c * symbol[p] for p, c in t.coefficients.items()), sympy.Integer(0)))
+                 / t.tokens for t in self.terms]
+        return sympy.Max(*parts) if len(parts) > 1 else parts[0]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "group": self.group,
+            "tasks": self.tasks,
+            "clocks": self.clocks,
+            "parameters": self.parameters,
+            "exact": self.exact,
+            "cycle_time": exact_text(self.cycle_time),
+            "rate_consistent": self.rate_consistent,
+            "period_terms": [t.to_dict() for t in self.terms],
+            "expression": str(self.expression()),
+            "derivatives": {p: {"left": exact_text(a), "right": exact_text(b)}
+                            for p, (a, b) in self.derivatives.items()},
+            "keeps_pace": [r.to_dict() for r in self.pace],
+        }
+
+
+@dataclass
+class SensitivityResult:
+    """Everything ``tegraph sensitivity`` reports about one skeleton."""
+
+    name: str
+    unit: str
+    parameters: tuple[Parameter, ...]
+    live: bool
+    consistent: bool
+    """At the nominal values."""
+    groups: list[list[str]]
+    scaling: Scaling | None
+    margins: dict[str, Margin]
+    formulas: list[GroupFormulaReport] | None
+    methods: dict[str, str] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    effort: dict[str, dict[str, int | float]] = field(default_factory=dict)
+    """Per part: oracle rounds (batched calls), points asked, analyses run, seconds."""
+    source: str | None = None
+
+    @property
+    def checks(self) -> list[Check]:
+        out = list(self.scaling.checks) if self.scaling else []
+        for m in self.margins.values():
+            out += m.checks
+        return out
+
+    @property
+    def exit_status(self) -> int:
+        """0 consistent at the nominal values; 1 not (the sensitivity is reported anyway)."""
+        return 0 if self.consistent else 1
+
+    def to_dict(self) -> dict[str, Any]:
+        scaling = self.scaling
+        return {
+            "name": self.name,
+            "unit": self.unit,
+            "live": self.live,
+            "consistent": self.consistent,
+            "parameters": [{"name": p.name, "kind": p.kind, "nominal": exact_text(p.nominal),
+                            "low": exact_text(p.low), "high": exact_text(p.high),
+                            "low_open": p.low_open} for p in self.parameters],
+            "scaling_factor": None if scaling is None else exact_text(scaling.factor),
+            "scaling_intervals": None if scaling is None else _intervals(scaling.intervals),
+            "scaling": None if scaling is None else scaling.to_dict(),
+            "margins": {name: m.to_dict() for name, m in self.margins.items()},
+            "groups": None if self.formulas is None else [f.to_dict() for f in self.formulas],
+            "checks_agree": all(c.agrees for c in self.checks),
+            "methods": self.methods,
+            "effort": self.effort,
+            "notes": self.notes,
+        }

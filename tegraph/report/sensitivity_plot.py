@@ -1,0 +1,243 @@
+"""Draw a sensitivity result: period against one parameter, or the map of two.
+
+matplotlib is optional (the ``[plot]`` extra), as for
+:mod:`tegraph.report.plot`. Every figure drawn comes exact from the result:
+the period curves are the maxima of the formula's terms (evaluated exactly
+at every breakpoint, then drawn as straight segments between them), the
+regions are polygons whose vertices come from the exact double description;
+only the drawing coordinates are floats.
+
+- One parameter: each group's period (cycle time) against the parameter, the
+  values where the group is consistent shaded, the nominal value marked.
+- Two parameters: for each group that depends on them, the cells of its
+  period formula (which circuit is critical where), the region where it
+  keeps pace with its clock outlined, the nominal point marked. Overruns are
+  not drawn in the plane (they are exact along lines: see the margins).
+"""
+
+from __future__ import annotations
+
+import os
+from fractions import Fraction
+from pathlib import Path
+
+from ..analysis.sensitivity_polyhedra import Polyhedron
+from ..analysis.sensitivity_results import GroupFormulaReport, SensitivityResult
+from ..errors import InputError
+from .plot import INSTALL_HINT, PlotUnavailableError, matplotlib_available
+
+__all__ = ["draw_sensitivity", "plot_parameters"]
+
+_FORMATS = (".svg", ".png")
+_SHADE, _CURVE, _PACE = "#c7e9c0", "#4878a8", "#d62728"
+
+
+def plot_parameters(result: SensitivityResult) -> int:
+    """How many parameters a drawing would show (1 or 2 can be drawn)."""
+    return len(result.parameters)
+
+
+def _window(result: SensitivityResult, k: int) -> tuple[Fraction, Fraction]:
+    p = result.parameters[k]
+    if p.high is not None:
+        return p.low, p.high
+    ends = [b for m in result.margins.values() for _, b in m.intervals if b is not None]
+    ends += [a for m in result.margins.values() for a, _ in m.intervals]
+    top = max([2 * p.nominal, Fraction(1), *(Fraction(3, 2) * e for e in ends)])
+    return p.low, top
+
+
+def _value(formula: GroupFormulaReport, point: dict[str, Fraction]) -> Fraction:
+    return max((t.constant + sum((c * point[n] for n, c in t.coefficients.items()),
+                                 Fraction(0))) / t.tokens for t in formula.terms)
+
+
+def draw_sensitivity(result: SensitivityResult, path: str | os.PathLike[str],
+                     overwrite: bool = False) -> Path:
+    """Draw the result for one or two parameters into an SVG or PNG file.
+
+    Raises
+    ------
+    InputError
+        Not ``.svg``/``.png``, or not one or two parameters (``where``: ``plot``).
+    FileExistsError
+        The file exists and ``overwrite`` is False.
+    PlotUnavailableError
+        matplotlib is not installed.
+    """
+    target = Path(os.fspath(path))
+    suffix = target.suffix.lower()
+    if suffix not in _FORMATS:
+        raise InputError(f"cannot draw to {target.name!r}; expected a file name ending in "
+                         ".svg or .png", where="plot")
+    n = plot_parameters(result)
+    if n not in (1, 2):
+        raise InputError(f"a drawing shows one or two parameters; {n} are varied (name one "
+                         "or two with `vary`)", where="plot")
+    if result.formulas is None:
+        raise InputError("a drawing needs the period formulas (formulas=True)", where="plot")
+    if not matplotlib_available():
+        raise PlotUnavailableError(
+            f"drawing needs matplotlib, which is not installed; install it with: "
+            f"{INSTALL_HINT}  (or: pip install matplotlib); the text report needs nothing")
+    import matplotlib
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8.0, 5.0), layout="constrained")
+    if n == 1:
+        _one(fig, result)
+    else:
+        _two(fig, result)
+    metadata = {"Date": None} if suffix == ".svg" else {"Software": "tegraph"}
+    try:
+        with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "tegraph"}), \
+                open(target, "wb" if overwrite else "xb") as out:
+            fig.savefig(out, format=suffix[1:], metadata=metadata)
+    except FileExistsError:
+        raise FileExistsError(f"{target}: the file exists already; pass overwrite=True "
+                              "to replace it") from None
+    return target
+
+
+def _one(fig, result: SensitivityResult) -> None:
+    p = result.parameters[0]
+    low, high = _window(result, 0)
+    ax = fig.add_subplot()
+    margin = result.margins[p.name]
+    for a, b in margin.intervals:
+        right = high if b is None else min(b, high)
+        if a == right:
+            ax.axvline(float(a), color=_SHADE, linewidth=3, zorder=0)
+        else:
+            ax.axvspan(float(a), float(right), color=_SHADE, zorder=0)
+    for f in result.formulas or ():
+        if p.name not in f.parameters:
+            continue
+        breaks = {low, high}
+        for t in f.terms:  # where two terms cross, the maximum may bend
+            for u in f.terms:
+                cu, cv = t.coefficients.get(p.name, 0) / t.tokens, u.coefficients.get(
+                    p.name, 0) / u.tokens
+                if cu != cv:
+                    x = (_at_zero(u, p.name, result) - _at_zero(t, p.name, result)) / (cu - cv)
+                    if low < x < high:
+                        breaks.add(x)
+        xs = sorted(breaks)
+        ys = [_value(f, {**_nominal(result), p.name: x}) for x in xs]
+        ax.plot([float(x) for x in xs], [float(y) for y in ys], color=_CURVE, linewidth=1.5,
+                label=f"group {f.group} ({', '.join(f.tasks)})")
+    ax.axvline(float(p.nominal), color="black", linestyle=":", linewidth=1, label="nominal")
+    ax.set_xlim(float(low), float(high))
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel(f"{p.name} ({result.unit})")
+    ax.set_ylabel(f"period / cycle time ({result.unit})")
+    ax.set_title(f"{result.name}: period against {p.name}; consistent values shaded")
+    ax.grid(linestyle=":", linewidth=0.5)
+    ax.legend(fontsize="small")
+
+
+def _nominal(result: SensitivityResult) -> dict[str, Fraction]:
+    return {p.name: p.nominal for p in result.parameters}
+
+
+def _at_zero(term, name: str, result: SensitivityResult) -> Fraction:
+    point = {**_nominal(result), name: Fraction(0)}
+    return (term.constant + sum((c * point[n] for n, c in term.coefficients.items()),
+                                Fraction(0))) / term.tokens
+
+
+def _two(fig, result: SensitivityResult) -> None:
+    px, py = result.parameters
+    (x0, x1), (y0, y1) = _window(result, 0), _window(result, 1)
+    groups = [f for f in result.formulas or () if px.name in f.parameters
+              or py.name in f.parameters]
+    colours = ["#fde0c5", "#c6dbef", "#d9f0d3", "#e7d4e8", "#fff2ae", "#f4cae4", "#e5e5e5"]
+    for k, f in enumerate(groups[:4]):
+        ax = fig.add_subplot(1, min(len(groups), 4), k + 1)
+        nominal = _nominal(result)
+        for i, t in enumerate(f.terms):  # the cell where term t is the largest
+            cell = _cell(f, i, px.name, py.name, (x0, x1, y0, y1), nominal)
+            if cell:
+                ax.fill([float(a) for a, _ in cell], [float(b) for _, b in cell],
+                        color=colours[i % len(colours)], edgecolor="grey", linewidth=0.5)
+                cx = sum(float(a) for a, _ in cell) / len(cell)
+                cy = sum(float(b) for _, b in cell) / len(cell)
+                ax.annotate(_term_text(t), (cx, cy), ha="center", fontsize="x-small")
+        for region in f.pace:
+            shape = _pace_polygon(region, px.name, py.name, (x0, x1, y0, y1), nominal)
+            if shape:
+                xs = [float(a) for a, _ in shape] + [float(shape[0][0])]
+                ys = [float(b) for _, b in shape] + [float(shape[0][1])]
+                ax.plot(xs, ys, color=_PACE, linewidth=1.5,
+                        label=f"keeps pace with {region.clock}")
+        ax.plot([float(px.nominal)], [float(py.nominal)], marker="o", color="black",
+                label="nominal")
+        ax.set_xlim(float(x0), float(x1))
+        ax.set_ylim(float(y0), float(y1))
+        ax.set_xlabel(f"{px.name} ({result.unit})")
+        ax.set_ylabel(f"{py.name} ({result.unit})")
+        ax.set_title(f"group {f.group}: critical circuit by region", fontsize="small")
+        ax.legend(fontsize="x-small")
+
+
+def _term_text(term) -> str:
+    parts = [str(term.constant)] if term.constant else []
+    parts += [f"{c}·{n}" if c != 1 else n for n, c in term.coefficients.items()]
+    body = " + ".join(parts) or "0"
+    return body if term.tokens == 1 else f"({body})/{term.tokens}"
+
+
+def _affine_2d(term, x: str, y: str, nominal) -> tuple[Fraction, Fraction, Fraction]:
+    """``term`` over the plane (x, y), the other parameters nominal: c + a·x + b·y."""
+    c = term.constant
+    a = b = Fraction(0)
+    for n, k in term.coefficients.items():
+        if n == x:
+            a += k
+        elif n == y:
+            b += k
+        else:
+            c += k * nominal[n]
+    return c / term.tokens, a / term.tokens, b / term.tokens
+
+
+def _box(window) -> Polyhedron:
+    x0, x1, y0, y1 = window
+    P = Polyhedron(2)
+    for row in (((Fraction(-1), Fraction(0)), -x0), ((Fraction(1), Fraction(0)), x1),
+                ((Fraction(0), Fraction(-1)), -y0), ((Fraction(0), Fraction(1)), y1)):
+        P.add(row)
+    return P
+
+
+def _ordered(points) -> list[tuple[Fraction, Fraction]]:
+    import math
+
+    if len(points) < 3:
+        return []
+    cx = sum(float(a) for a, _ in points) / len(points)
+    cy = sum(float(b) for _, b in points) / len(points)
+    return sorted(points, key=lambda q: math.atan2(float(q[1]) - cy, float(q[0]) - cx))
+
+
+def _cell(f: GroupFormulaReport, i: int, x: str, y: str, window, nominal):
+    P = _box(window)
+    ci, ai, bi = _affine_2d(f.terms[i], x, y, nominal)
+    for k, t in enumerate(f.terms):
+        if k != i:  # t_k <= t_i
+            ck, ak, bk = _affine_2d(t, x, y, nominal)
+            P.add(((ak - ai, bk - bi), ci - ck))
+    return _ordered(P.vertices())
+
+
+def _pace_polygon(region, x: str, y: str, window, nominal):
+    if region.empty:
+        return []
+    P = _box(window)
+    for coefficients, bound, _ in region.inequalities:
+        a = coefficients.get(x, Fraction(0))
+        b = coefficients.get(y, Fraction(0))
+        rest = sum((c * nominal[n] for n, c in coefficients.items() if n not in (x, y)),
+                   Fraction(0))
+        P.add(((a, b), bound - rest))
+    return _ordered(P.vertices())

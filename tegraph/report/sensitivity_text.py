@@ -1,0 +1,249 @@
+"""The sensitivity report as text an engineer reads in a minute, and as a JSON document.
+
+Three parts, most useful first: how far all the varied durations can grow
+together (the scaling factor), each parameter alone (its consistent values
+and what ends them), each group's period as a formula. Exact values first,
+a decimal beside them; every time carries its unit; the verdict is last.
+"""
+
+from __future__ import annotations
+
+import json
+from fractions import Fraction
+
+from tabulate import tabulate
+
+from maxplus.scalar import exact_text
+
+from ..analysis.sensitivity_results import Limit, SensitivityResult
+from ._format import number
+from .document import json_report
+
+__all__ = ["render_sensitivity", "sensitivity_json"]
+
+
+def sensitivity_json(result: SensitivityResult, indent: int | None = 2) -> str:
+    """The JSON document (``report: "sensitivity"``, ``docs/sensitivity.schema.json``).
+
+    >>> from tegraph import Skeleton
+    >>> from tegraph.analysis.sensitivity import sensitivity
+    >>> r = sensitivity(Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}}))
+    >>> doc = json.loads(sensitivity_json(r))
+    >>> doc["report"], doc["scaling_factor"], doc["margins"]["A.duration"]["high"]
+    ('sensitivity', '5', '10')
+    """
+    return json.dumps(json_report("sensitivity", result.to_dict()), indent=indent,
+                      ensure_ascii=False)
+
+
+def _interval(a: Fraction, b: Fraction | None, unit: str = "", open_low: bool = False) -> str:
+    u = f" {unit}" if unit else ""
+    left = "(" if open_low and a == 0 else "["
+    if b is None:
+        return f"{left}{exact_text(a)}, ∞)" + u
+    if a == b:
+        return f"{{{exact_text(a)}}}" + u
+    return f"{left}{exact_text(a)}, {exact_text(b)}]" + u
+
+
+def _intervals(intervals, unit: str = "", open_low: bool = False) -> str:
+    if not intervals:
+        return "none"
+    return " ∪ ".join(_interval(a, b, unit, open_low) for a, b in intervals)
+
+
+def _limit(limit: Limit) -> str:
+    """The full sentence, with the activation of an overrun when the analysis gave it."""
+    text = limit.detail
+    if limit.kind == "overrun" and limit.activation is not None:
+        text = text.replace(f"{limit.task} overruns",
+                            f"{limit.task} overruns (at activation {limit.activation} just "
+                            "beyond)", 1)
+    return text
+
+
+def _short(limit: Limit) -> str:
+    """A few words for a table cell."""
+    if limit.kind == "overrun":
+        at = f" at activation {limit.activation}" if limit.activation is not None else ""
+        return f"{limit.task} overruns{at}"
+    if limit.kind == "pace":
+        who = (f"circuit of {', '.join(limit.tasks)}" if limit.tasks
+               else "circuit " + " -> ".join(limit.events))
+        against = f"clock {limit.clock}" if limit.clock else "its free-running source"
+        return f"{who} slower than {against}"
+    if limit.kind == "range":
+        return "end of its range"
+    return limit.detail
+
+
+def render_sensitivity(result: SensitivityResult) -> str:
+    """The human report (see the module docstring).
+
+    Returns
+    -------
+    str
+    """
+    u = result.unit
+    n_params = len(result.parameters)
+    lines = [f"sensitivity of {result.name}" + (f" ({result.source})" if result.source else "")
+             + f": {n_params} parameter{'s' * (n_params != 1)}, times in {u}"]
+    lines.append("at the nominal values: " + ("consistent" if result.consistent
+                                               else "NOT CONSISTENT"))
+    lines.append("consistent means live, every group rate-consistent, no overrun (spec §4); "
+                 "a duration or period may make it so again further on (it is not monotone)")
+    if result.scaling is not None:
+        lines += ["", *_scaling_lines(result)]
+    lines += ["", *_margin_lines(result)]
+    if result.formulas is not None:
+        lines += ["", *_formula_lines(result)]
+    lines.append("")
+    lines.append("how:")
+    for key, text in result.methods.items():
+        lines.append(f"  {key}: {text}")
+    for note in result.notes:
+        lines.append(f"note: {note}")
+    lines.append("")
+    lines.append(_verdict(result))
+    return "\n".join(lines) + "\n"
+
+
+def _scaling_lines(result: SensitivityResult) -> list[str]:
+    s = result.scaling
+    assert s is not None
+    count = len(s.parameters)
+    lines = [f"all {count} varied duration{'s' * (count != 1)} multiplied by one factor α "
+             "(the other times unchanged):"]
+    lines.append("  consistent for " + (f"α in {_intervals(s.intervals)}" if s.intervals
+                                         else "no α"))
+    if s.nominal_consistent:
+        if s.factor is None:
+            lines.append("  scaling factor: none: nothing finite limits it (α can grow "
+                         "without bound)")
+        else:
+            lines.append(f"  scaling factor {number(s.factor)}: the durations can all grow "
+                         f"{number(s.factor)} times together")
+            for limit in s.limits:
+                lines.append(f"    limit: {_limit(limit)}")
+    else:
+        lines.append("  α = 1 (the nominal durations) is NOT consistent:")
+        for limit in s.limits:
+            lines.append(f"    because {_limit(limit)}")
+        below = "none" if s.nearest_below is None else number(s.nearest_below)
+        above = "none" if s.nearest_above is None else number(s.nearest_above)
+        lines.append(f"  nearest consistent factors: below {below}, above {above}")
+    return lines
+
+
+def _margin_lines(result: SensitivityResult) -> list[str]:
+    u = result.unit
+    rows = []
+    for m in result.margins.values():
+        p = m.parameter
+        if m.nominal_consistent:
+            grow = "unbounded" if m.high is None else f"+{number(m.high - p.nominal)}"
+            around = _interval(m.low, m.high, "", p.low_open)  # type: ignore[arg-type]
+            why = "; ".join(dict.fromkeys(_short(x) for x in m.limits_high)) or "-"
+            others = [iv for iv in m.intervals if iv != (m.low, m.high)]
+        else:
+            grow, around, why = "-", "NOT at nominal", "-"
+            others = m.intervals
+        rows.append([p.symbol, number(p.nominal), around, grow, why,
+                     _intervals(others, "", p.low_open) if others else "-"])
+    lines = [f"each parameter alone, the others nominal (consistency of its group; times "
+             f"in {u}):"]
+    table = tabulate(rows, headers=["parameter", "nominal", "consistent around nominal",
+                                    "can grow by", "limited above by", "other consistent values"])
+    lines += ["  " + line for line in table.splitlines()]
+    lines.append("  (a duration's 'can grow by' sees overruns, which the slack of `analyze` "
+                 "does not; full paths and circuits: --json)")
+    return lines
+
+
+def _formula_lines(result: SensitivityResult) -> list[str]:
+    u = result.unit
+    lines = ["period of each live group as a function of its parameters (cycle time, "
+             f"in {u}; its period where rate-consistent; "
+             + ", ".join(f"{p.symbol} = {p.name}" for p in result.parameters[:6])
+             + (", ..." if len(result.parameters) > 6 else "") + "):"]
+    still = [f for f in result.formulas or () if not f.parameters]
+    for f in result.formulas or ():
+        if not f.parameters:
+            continue
+        clocks = f", clocks {', '.join(f.clocks)}" if f.clocks else ", no clock"
+        head = f"  group {f.group} ({', '.join(f.tasks)}{clocks}): "
+        if f.exact:
+            lines.append(head + f"{f.expression()} (exact over the whole range)")
+        else:
+            lines.append(head + f"{number(f.cycle_time)} at nominal, {len(f.parameters)} "
+                         "parameters: only the terms critical there and the exact one-sided "
+                         "derivatives")
+            lines.append(f"    critical terms: {f.expression()}")
+        moving = {p: d for p, d in f.derivatives.items() if d != (0, 0)}
+        if moving:
+            lines.append("    at nominal, d(period)/d(parameter) (left, right): "
+                         + ", ".join(f"{p} ({exact_text(a)}, {exact_text(b)})"
+                                     for p, (a, b) in moving.items()))
+        for region in f.pace:
+            if region.empty:
+                why = (f": circuit {' -> '.join(region.blocking)} alone is slower"
+                       if region.blocking else "")
+                lines.append(f"    keeps pace with clock {region.clock}: never in the "
+                             f"range{why}")
+            elif not region.inequalities:
+                lines.append(f"    keeps pace with clock {region.clock}: everywhere in the range")
+            else:
+                symbol = {p.name: p.symbol for p in result.parameters}
+                parts = [_inequality({symbol[n]: c for n, c in co.items()}, b)
+                         for co, b, _ in region.inequalities]
+                lines.append(f"    keeps pace with clock {region.clock} where: "
+                             + ", ".join(parts))
+    if still:
+        shown = ", ".join(str(f.group) for f in still[:12]) + (", ..." if len(still) > 12 else "")
+        lines.append(f"  groups {shown}: do not depend on the varied parameters "
+                     f"({len(still)} group{'s' * (len(still) != 1)})")
+    return lines
+
+
+def _inequality(coefficients: dict[str, Fraction], bound: Fraction) -> str:
+    """``Σ c·x <= b`` with every coefficient positive: negative terms go to the right side.
+
+    >>> F = Fraction
+    >>> _inequality({"d_A": F(1), "P_c": F(-1)}, F(0)), _inequality({"d_A": F(1, 2)}, F(3))
+    ('d_A <= P_c', '1/2·d_A <= 3')
+    """
+    def side(terms: list[tuple[str, Fraction]], constant: Fraction) -> str:
+        parts = [name if c == 1 else f"{exact_text(c)}·{name}" for name, c in terms]
+        if constant or not parts:
+            parts.append(exact_text(constant) if constant >= 0 or not parts
+                         else f"- {exact_text(-constant)}")
+        return " + ".join(parts).replace("+ - ", "- ")
+
+    left = [(n, c) for n, c in coefficients.items() if c > 0]
+    right = [(n, -c) for n, c in coefficients.items() if c < 0]
+    if not left:
+        return f"{side([], -bound)} <= {side(right, Fraction(0))}"
+    return f"{side(left, Fraction(0))} <= {side(right, bound)}"
+
+
+def _verdict(result: SensitivityResult) -> str:
+    state = "consistent" if result.consistent else "NOT CONSISTENT"
+    parts = [f"verdict: {state} at the nominal values"]
+    s = result.scaling
+    if s is not None:
+        if s.nominal_consistent and s.factor is not None:
+            by_range = all(x.kind == "range" for x in s.limits) and s.limits
+            parts.append(f"the varied durations can grow together by a factor "
+                         f"{number(s.factor)}" + (" (up to their ranges)" if by_range else ""))
+        elif s.nominal_consistent:
+            parts.append("the varied durations can grow together without bound")
+        elif s.nearest_below is not None or s.nearest_above is not None:
+            parts.append("some other scaling of the durations is consistent")
+        else:
+            parts.append("no scaling of the durations makes it consistent")
+    checks = result.checks
+    if checks:
+        bad = sum(not c.agrees for c in checks)
+        parts.append("every end cross-checked with the analysis" if not bad
+                     else f"{bad} cross-check(s) DISAGREE")
+    return "; ".join(parts) + f" (exit status {result.exit_status})"
