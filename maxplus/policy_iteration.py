@@ -120,7 +120,7 @@ def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
 
     >>> order, starts = stable_order(np.array([2, 0, 2, 1]), 3)
     >>> order.tolist(), starts.tolist()
-    [[1, 3, 0, 2], [0, 1, 2, 4]]
+    ([1, 3, 0, 2], [0, 1, 2, 4])
     """
     m = len(keys)
     index = np.int32 if max(n, m) < 2**31 else np.int64

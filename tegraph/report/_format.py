@@ -27,12 +27,16 @@ _LONG_INTEGER = 16
 """Integers with more digits than this get a rounded decimal beside them (10^400 ≈ 1e+400)."""
 
 
-def _terminates(value: Fraction) -> bool:
-    d = value.denominator
+def _decimal_places(value: Fraction) -> int | None:
+    """Places after the point of the exact decimal of ``value``; None if it has none."""
+    d, places = value.denominator, 0
     for p in (2, 5):
+        count = 0
         while d % p == 0:
             d //= p
-    return d == 1
+            count += 1
+        places = max(places, count)
+    return places if d == 1 else None
 
 
 def decimal_text(value: Fraction) -> str | None:
@@ -59,10 +63,11 @@ def decimal_text(value: Fraction) -> str | None:
         if len(str(abs(value.numerator))) <= _LONG_INTEGER:
             return None
         return "≈" + format(Context(prec=_ROUNDED_DIGITS).create_decimal(value.numerator), ".5e")
-    if _terminates(value):
-        digits = max(len(str(value.numerator)), len(str(value.denominator)))
-        ctx = Context(prec=digits + 2)
-        exact = ctx.divide(Decimal(value.numerator), Decimal(value.denominator))
+    places = _decimal_places(value)
+    if places is not None and places <= _EXACT_DIGITS:
+        # p/q with q = 2^a 5^b is (p * 10^n / q) / 10^n for n = max(a, b), exactly.
+        scaled = value.numerator * 10**places // value.denominator
+        exact = Decimal(scaled).scaleb(-places)
         if len(exact.normalize().as_tuple().digits) <= _EXACT_DIGITS:
             return format(exact.normalize(), "f")
     digits = _ROUNDED_DIGITS
