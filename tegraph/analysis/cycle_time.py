@@ -46,11 +46,11 @@ from maxplus.scalar import exact_text, exact_time
 from ..errors import InputError
 from ..model.arcs import ArcList
 from ..model.convert import as_teg_like
+from ..model.limits import DEFAULT_MAX_FIRINGS
 from ..model.petri import PetriNet
 from ..model.sdf import SDFGraph
 from ..model.skeleton import Skeleton
 from ..model.teg import TimedEventGraph
-from ..model.limits import DEFAULT_MAX_FIRINGS
 from .reachability import DEFAULT_MAX_MEMORY, Reachability, reachability_graph
 
 __all__ = ["CycleTimeResult", "cycle_time"]

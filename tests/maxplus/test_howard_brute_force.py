@@ -22,6 +22,13 @@ from maxplus.cycle_ratio import max_cycle_ratio
 from maxplus.errors import ZeroTokenCircuitError
 
 
+def _arc(src, dst, w, t, tail, head, weight, tokens):
+    """Append one arc to the four parallel lists."""
+    src.append(tail)
+    dst.append(head)
+    w.append(weight)
+    t.append(tokens)
+
 def brute_force(n, arcs):
     """(max ratio, per-node cycle time, has zero-token circuit) by enumeration."""
     g = nx.DiGraph()
@@ -189,7 +196,7 @@ def test_iterations_long_chain_below_fast_circuit(L):
     w = [1, 100, 1000, 0]
     t = [1, 1, 0, 0]
     for k in range(2, L + 1):
-        src.append(k); dst.append(k + 1); w.append(0); t.append(0)
+        _arc(src, dst, w, t, k, k + 1, 0, 0)
     r, it = count_iterations(src, dst, w, t, L + 2)
     assert r.iterations == it
     assert r.verify()
@@ -205,10 +212,10 @@ def test_iterations_ladder(L):
     n = 2 * L
     for k in range(L):
         c, v = 2 * k, 2 * k + 1
-        src.append(c); dst.append(c); w.append(k); t.append(1)          # circuit of ratio k
-        src.append(c); dst.append(v); w.append(0); t.append(0)
+        _arc(src, dst, w, t, c, c, k, 1)          # circuit of ratio k
+        _arc(src, dst, w, t, c, v, 0, 0)
         if k:
-            src.append(2 * k - 1); dst.append(v); w.append(10**6); t.append(0)  # heavy chain arc
+            _arc(src, dst, w, t, 2 * k - 1, v, 10**6, 0)  # heavy chain arc
     r, _ = count_iterations(src, dst, w, t, n)
     assert r.verify()
     exp = []
@@ -223,7 +230,8 @@ def dag_of_blocks(draw):
     arcs, blocks, n = [], [], 0
     for _ in range(draw(st.integers(2, 5))):
         k = draw(st.integers(1, 3))
-        nodes = list(range(n, n + k)); n += k
+        nodes = list(range(n, n + k))
+        n += k
         ratio_w = draw(st.integers(0, 6))
         for a, b in zip(nodes, nodes[1:] + nodes[:1]):
             arcs.append((a, b, ratio_w, 1))
@@ -237,14 +245,15 @@ def dag_of_blocks(draw):
         prev = draw(st.sampled_from(blocks[i]))
         for _ in range(draw(st.integers(0, 6))):
             arcs.append((prev, n, draw(st.integers(-2, 20)), draw(st.integers(0, 1))))
-            prev = n; n += 1
+            prev, n = n, n + 1
         arcs.append((prev, draw(st.sampled_from(blocks[j])), draw(st.integers(-2, 20)),
                      draw(st.integers(0, 1))))
     # tails hanging below random nodes
     for _ in range(draw(st.integers(0, 3))):
         prev = draw(st.integers(0, n - 1))
         for _ in range(draw(st.integers(1, 8))):
-            arcs.append((prev, n, draw(st.integers(-2, 20)), 0)); prev = n; n += 1
+            arcs.append((prev, n, draw(st.integers(-2, 20)), 0))
+            prev, n = n, n + 1
     perm = draw(st.permutations(range(n)))
     arcs = [(perm[a], perm[b], w, t) for a, b, w, t in arcs]
     return n, list(draw(st.permutations(arcs)))
@@ -262,9 +271,10 @@ def reverse_ladder(L):
     # improvement switches every v_k to v_{k+1} at once.
     src, dst, w, t = [], [], [], []
     for k in range(L):
-        src += [2 * k, 2 * k]; dst += [2 * k, 2 * k + 1]; w += [k, 10**6]; t += [1, 0]
+        _arc(src, dst, w, t, 2 * k, 2 * k, k, 1)
+        _arc(src, dst, w, t, 2 * k, 2 * k + 1, 10**6, 0)
         if k + 1 < L:
-            src.append(2 * k + 3); dst.append(2 * k + 1); w.append(0); t.append(0)
+            _arc(src, dst, w, t, 2 * k + 3, 2 * k + 1, 0, 0)
     return src, dst, w, t, 2 * L
 
 
