@@ -127,10 +127,13 @@ class Report:
             "live": self.live,
             "consistent": self.consistent,
             "deadlocks": [
-                {"events": d.events, "tasks": d.tasks, "links": d.links, "advice": d.advice}
+                {"events": d.events, "tasks": d.tasks,
+                 "links": [link.document() for link in d.links], "advice": d.advice}
                 for d in self.deadlocks
             ],
-            "reorder": self.reorder,
+            "reorder": None if self.reorder is None else {
+                key: [link.document() for link in value] if key == "links" else value
+                for key, value in self.reorder.items()},
             "groups": [
                 {
                     "tasks": g.tasks,

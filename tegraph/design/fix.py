@@ -102,7 +102,7 @@ class FixResult:
         return {"status": self.status, "deadlocks": self.deadlocks,
                 "changes": [{"task": c.task, "side": c.side, "before": list(c.before),
                              "after": list(c.after), "reason": c.reason} for c in self.changes],
-                "circuit": self.circuit, "links": self.links}
+                "circuit": self.circuit, "links": [link.document() for link in self.links]}
 
 
 @dataclass

@@ -138,7 +138,8 @@ class ChainLatency:
             "segments": [{"tasks": s.tasks, "group": s.group, "from": s.start, "to": s.end,
                           "period": exact_text(s.period), "latency": exact_text(s.latency),
                           "note": s.note} for s in self.segments],
-            "hops": [{"from": h.writer, "to": h.reader, "links": h.links} for h in self.hops],
+            "hops": [{"from": h.writer, "to": h.reader,
+                      "links": [link.document() for link in h.links]} for h in self.hops],
             "bounds": [{"name": b.name, "value": exact_text(b.value), "formula": b.formula,
                         "note": b.note} for b in self.bounds],
         }

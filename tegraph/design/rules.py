@@ -93,7 +93,7 @@ class RuleFinding:
     def to_dict(self) -> dict[str, Any]:
         """Plain data for the JSON report."""
         return {"rule": self.rule, "severity": self.severity, "tasks": list(self.tasks),
-                "ports": list(self.ports), "links": list(self.links),
+                "ports": list(self.ports), "links": [link.document() for link in self.links],
                 "message": self.message, "advice": self.advice,
                 "change": None if self.change is None else self.change.to_dict()}
 

@@ -132,7 +132,8 @@ class Timeline:
         return {"name": self.name, "unit": self.unit, "horizon": exact_text(self.horizon),
                 "priorities": self.priorities,
                 "ticks": {c: [exact_text(x) for x in ts] for c, ts in self.ticks.items()},
-                "deadlocks": [{"events": d.events, "tasks": d.tasks, "links": d.links}
+                "deadlocks": [{"events": d.events, "tasks": d.tasks,
+                               "links": [link.document() for link in d.links]}
                               for d in self.deadlocks],
                 "dead_tasks": self.dead_tasks,
                 "jobs": [{"task": j.task, "index": j.index, "release": exact_text(j.release),

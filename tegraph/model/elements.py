@@ -11,7 +11,7 @@ import enum
 from dataclasses import dataclass
 from fractions import Fraction
 
-__all__ = ["Clock", "Link", "Protocol", "Task"]
+__all__ = ["Clock", "Link", "LinkLabel", "Protocol", "Task"]
 
 
 class Protocol(enum.Enum):
@@ -69,9 +69,43 @@ class Link:
     protocol: Protocol
 
     @property
-    def label(self) -> str:
+    def label(self) -> LinkLabel:
         """``W:p -> R:q (PROTO)``, the link as the user wrote it."""
-        return (
-            f"{self.writer[0]}:{self.writer[1]} -> {self.reader[0]}:{self.reader[1]} "
-            f"({self.protocol.value})"
-        )
+        return LinkLabel(self.writer, self.reader, self.protocol)
+
+
+class LinkLabel(str):
+    """A link's text ``W:p -> R:q (PROTO)`` that also knows its two ports and protocol.
+
+    Findings, deadlocks and latency hops name links by this text in reports
+    and messages; the JSON reports give each as an object (:meth:`document`),
+    which a reader need not parse. Task and port names may hold any character
+    but ``:``, so the text alone is not always unambiguous.
+
+    Examples
+    --------
+    >>> label = LinkLabel(("A", "x"), ("B", "y"), Protocol.ASYN_SYN)
+    >>> label, label.document()
+    ('A:x -> B:y (ASYN/SYN)', {'from': 'A:x', 'to': 'B:y', 'protocol': 'ASYN/SYN'})
+    """
+
+    __slots__ = ("writer", "reader", "protocol")
+    writer: tuple[str, str]
+    reader: tuple[str, str]
+    protocol: Protocol
+
+    def __new__(cls, writer: tuple[str, str], reader: tuple[str, str],
+                protocol: Protocol) -> LinkLabel:
+        text = f"{writer[0]}:{writer[1]} -> {reader[0]}:{reader[1]} ({protocol.value})"
+        self = super().__new__(cls, text)
+        self.writer, self.reader, self.protocol = writer, reader, protocol
+        return self
+
+    def __reduce__(self) -> tuple:
+        # Results travel between processes (tegraph explore on Dask workers).
+        return (LinkLabel, (self.writer, self.reader, self.protocol))
+
+    def document(self) -> dict[str, str]:
+        """``{"from": "W:p", "to": "R:q", "protocol": "PROTO"}``, as the skeleton file writes it."""
+        return {"from": ":".join(self.writer), "to": ":".join(self.reader),
+                "protocol": self.protocol.value}

@@ -19,7 +19,7 @@ from ..design.explore import Exploration
 
 __all__ = ["SCHEMA_VERSION", "json_report", "to_document", "to_json"]
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 
 
 def json_report(command: str, body: dict[str, Any]) -> dict[str, Any]:
@@ -28,7 +28,7 @@ def json_report(command: str, body: dict[str, Any]) -> dict[str, Any]:
     ``docs/report.schema.json`` describes each command's document.
 
     >>> json_report("reach", {"states": 3})
-    {'schema_version': 1, 'report': 'reach', 'states': 3}
+    {'schema_version': 2, 'report': 'reach', 'states': 3}
     """
     return {"schema_version": SCHEMA_VERSION, "report": command, **body}
 
@@ -93,6 +93,6 @@ def to_json(result: Any, indent: int | None = 2) -> str:
     >>> from tegraph import Skeleton, analyze
     >>> r = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 3}}}))
     >>> to_json(r, indent=None)[:61]
-    '{"schema_version": 1, "name": "skeleton", "unit": "ms", "live'
+    '{"schema_version": 2, "name": "skeleton", "unit": "ms", "live'
     """
     return json.dumps(to_document(result), indent=indent, ensure_ascii=False)

@@ -58,7 +58,7 @@ def test_live_and_consistent_exits_0_with_exact_figures(live_file):
     assert report["tasks"]["B"]["slack"] == "23/3"
     assert report["tasks"]["A"]["slack"] == "8"
     assert report["live"] is True and report["consistent"] is True
-    assert report["schema_version"] == 1
+    assert report["schema_version"] == 2
 
 
 def test_human_report_names_verdicts_and_methods(live_file):

@@ -325,5 +325,5 @@ def test_period_equals_brute_force_enumeration(g):
 def test_cycle_time_result_is_json_serializable_with_exact_strings():
     g = parse_tpne_teg("TimedEventGraph 1 1\n0 0: 7 3\n")
     doc = json.loads(tegraph.to_json(cycle_time(g)))
-    assert doc["period"] == "7/3" and doc["throughput"] == "3/7" and doc["schema_version"] == 1
+    assert doc["period"] == "7/3" and doc["throughput"] == "3/7" and doc["schema_version"] == 2
     assert np.isclose(float(F(doc["period"])), 7 / 3)

@@ -214,7 +214,7 @@ def test_every_analyze_report_matches_the_schema(example):
     assert out.returncode in (0, 1), out.stderr
     doc = json.loads(out.stdout)
     validate(doc)
-    assert doc["schema_version"] == 1
+    assert doc["schema_version"] == 2
 
 
 @pytest.mark.parametrize("rel", [
@@ -226,7 +226,7 @@ def test_every_cycle_time_report_matches_the_schema(anchors, rel):
     out = run("cycle-time", str(anchors / rel), "--json")
     doc = json.loads(out.stdout)
     validate(doc)
-    assert doc["schema_version"] == 1 and doc["report"] == "cycle-time"
+    assert doc["schema_version"] == 2 and doc["report"] == "cycle-time"
     assert out.returncode == (1 if "House" in rel else 0)
 
 
@@ -273,7 +273,7 @@ def test_every_rules_report_matches_the_schema(example):
 
 def test_schema_rejects_a_report_that_breaks_it():
     with pytest.raises(jsonschema.ValidationError):
-        validate({"schema_version": 1, "report": "cycle-time", "period": 2.5})
+        validate({"schema_version": 2, "report": "cycle-time", "period": 2.5})
     good = json.loads(run("reach", str(REPO / "examples" / "fig4_pipeline_synchronized.yaml"),
                           "--json").stdout)
     validate(good)
