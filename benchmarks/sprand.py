@@ -51,7 +51,7 @@ def ring_with_chords(n: int = 100_000, skip: int = 5, max_weight: int = 10_000,
 
 def torus_grid(side: int = 316, max_weight: int = 10_000, max_tokens: int = 10, seed: int = 0
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """A ``side x side`` torus: node ``(r, c)`` has arcs to ``(r, c+1)`` and ``(r+1, c)`` (wrapping)."""
+    """A ``side x side`` torus: ``(r, c)`` has arcs to ``(r, c+1)`` and ``(r+1, c)``, wrapping."""
     rng = np.random.default_rng(seed)
     r, c = np.divmod(np.arange(side * side, dtype=np.int64), side)
     right = r * side + (c + 1) % side

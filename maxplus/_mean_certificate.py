@@ -97,7 +97,8 @@ def check_mean_certificate(values: np.ndarray, finite: np.ndarray, p: int, q: in
         raise CertificateError(f"expected {n} potentials, got shape {x.shape}")
     weights = np.where(finite, values, 0)
     big = q * _abs_max(weights) + abs(p) + 2 * _abs_max(x)
-    dtype = np.int64 if big < INT64_SAFE and values.dtype != object and x.dtype != object else object
+    narrow = big < INT64_SAFE and values.dtype != object and x.dtype != object
+    dtype = np.int64 if narrow else object
     weights, x = weights.astype(dtype), x.astype(dtype)
     slack = x[:, None] - x[None, :] - q * weights + p  # >= 0 on every arc
     broken = finite & (slack < 0)
@@ -123,7 +124,7 @@ def check_mean_certificate_lists(rows: Sequence[Sequence[int | None]], p: int, q
     >>> check_mean_certificate_lists([[1, 5], [3, 2]], 4, 1, [0, 0], [0, 1])
     Traceback (most recent call last):
     ...
-    maxplus.errors.CertificateError: arc 1 -> 0 violates the potential inequality: some circuit through it may have a mean above 4/1
+    maxplus.errors.CertificateError: arc 1 -> 0 violates the potential inequality: ...
     """
     n = len(rows)
     _check_walk(lambda i, j: rows[i][j], n, p, q, walk)

@@ -128,7 +128,8 @@ def _refusals(file: Path) -> Iterator[None]:
 @app.command()
 def analyze(
     file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    json_out: bool = typer.Option(False, "--json", help="Print the JSON report (docs/skeleton.md §5)."),
+    json_out: bool = typer.Option(False, "--json",
+                                  help="Print the JSON report (docs/skeleton.md §5)."),
     csv_dir: Path | None = typer.Option(None, "--csv", metavar="DIR",
                                         help="Write tasks.csv and groups.csv into this "
                                              "existing directory."),

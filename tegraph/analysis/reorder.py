@@ -124,7 +124,8 @@ class PrecedenceGraph:
         self._ticks: dict[str, int] = {}
         for name, task in sk.tasks.items():
             for pos, port in enumerate(task.outputs):
-                self.write[name, port] = self._node(f"{name}.write:{port}", 2 + len(task.inputs) + pos)
+                self.write[name, port] = self._node(f"{name}.write:{port}",
+                                                    2 + len(task.inputs) + pos)
         merged = {link.reader: self.write[link.writer] for link in sk.links
                   if link.protocol is Protocol.SYN_SYN}
         events_of: dict[str, list[int]] = {}
@@ -155,7 +156,8 @@ class PrecedenceGraph:
                 self._edge(activate, compute)
             for w in writes:
                 self._edge(compute, w)
-            events_of[name] = ([activate] if activate is not None else []) + reads + [compute] + writes
+            first = [activate] if activate is not None else []
+            events_of[name] = first + reads + [compute] + writes
             if task.clock:
                 tick = self._tick(task.clock)
                 self._edge(tick, activate)  # type: ignore[arg-type]

@@ -71,7 +71,9 @@ class GroupReport:
     critical_holdings: list[Fraction] = field(default_factory=list)
     """Holding time of each place of the critical circuit, in circuit order."""
     critical_tokens: int | None = None
-    """Initial tokens on the critical circuit: its ratio is ``sum(critical_holdings) / critical_tokens``."""
+    """Initial tokens on the critical circuit.
+
+    Its ratio is ``sum(critical_holdings) / critical_tokens``."""
 
     @property
     def critical_holding(self) -> Fraction | None:

@@ -1,6 +1,7 @@
 """Sensor-to-actuator latency of a chain of tasks.
 
-A chain ``[T1, ..., Tn]`` (spec §6 ``chains:``, or the ``chains`` argument of :func:`tegraph.analyze`)
+A chain ``[T1, ..., Tn]`` (spec §6 ``chains:``, or the ``chains`` argument of
+:func:`tegraph.analyze`)
 follows the data: each task reads an output of the one before. The latency
 of the data sampled by T1 is measured from T1's reading of its sensor (its
 first unlinked input; the start of its computation if it has none) to Tn's
@@ -203,7 +204,7 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
             pieces[-1].append(t)
         else:
             pieces.append([t])
-    hops = [Hop(a[-1], b[0], [l.label for l in _links(skeleton, a[-1], b[0])])
+    hops = [Hop(a[-1], b[0], [link.label for link in _links(skeleton, a[-1], b[0])])
             for a, b in itertools.pairwise(pieces)]
     segments = []
     for s, tasks in enumerate(pieces):
@@ -221,11 +222,11 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
 
 
 def _links(sk: Skeleton, writer: str, reader: str) -> list:
-    return [l for l in sk.links if l.writer[0] == writer and l.reader[0] == reader]
+    return [link for link in sk.links if link.writer[0] == writer and link.reader[0] == reader]
 
 
 def _linked(sk: Skeleton, task: str, port: str) -> bool:
-    return any((task, port) in (l.writer, l.reader) for l in sk.links)
+    return any((task, port) in (link.writer, link.reader) for link in sk.links)
 
 
 def _sensor(sk: Skeleton, task: str) -> tuple[str, str, str]:
@@ -268,7 +269,8 @@ def _steady_latency(sk: Skeleton, group: list[str], tasks: list[str], start, end
         name=sk.name, unit=sk.unit, tasks={t: sk.tasks[t] for t in group},
         clocks={c: k for c, k in sk.clocks.items()
                 if any(sk.tasks[t].clock == c for t in group)},
-        links=[l for l in sk.links if l.writer[0] in members and l.reader[0] in members],
+        links=[link for link in sk.links
+               if link.writer[0] in members and link.reader[0] in members],
         threads=[th for th in sk.threads if th[0] in members])
     teg = build_teg(sub)
     port_event = {pt: e for e, attrs in enumerate(teg.transition_attrs)
@@ -282,8 +284,8 @@ def _steady_latency(sk: Skeleton, group: list[str], tasks: list[str], start, end
         return compute[task], Fraction(0) if kind == "compute" else sk.tasks[task].duration
 
     causal = (Protocol.ASYN_SYN, Protocol.SYN_SYN)  # write k happens before read k
-    hops = [[(port_event[l.writer], port_event[l.reader], l.protocol in causal)
-             for l in _links(sk, a, b)] for a, b in itertools.pairwise(tasks)]
+    hops = [[(port_event[link.writer], port_event[link.reader], link.protocol in causal)
+             for link in _links(sk, a, b)] for a, b in itertools.pairwise(tasks)]
     (start_e, start_d), (end_e, end_d) = event(start), event(end)
     K, c = transient
     n = 2 * (K + c) + 4 * len(tasks) + 8
@@ -358,7 +360,8 @@ def _bounds(segments: list[Segment], sched: Schedulability, unit: str) -> list[B
     note = "T: period of the segment's group; R: its response time (Joseph-Pandya)"
     if why:
         reason = "; ".join(dict.fromkeys(why))
-        return [Bound(DAVARE, None, formula_davare, reason), Bound(DUERR, None, formula_duerr, reason)]
+        return [Bound(DAVARE, None, formula_davare, reason),
+                Bound(DUERR, None, formula_duerr, reason)]
     davare = sum((T + R for T, R, _ in terms), Fraction(0))
     duerr = Fraction(0)
     for i, (T, R, (proc, prio)) in enumerate(terms):

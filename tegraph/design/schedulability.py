@@ -63,8 +63,10 @@ _MAX_ITERATIONS = 1_000_000
 def hyperperiod(periods: Iterable[Fraction]) -> Fraction:
     """Least common multiple of positive rationals: ``lcm(numerators)/gcd(denominators)``.
 
-    >>> hyperperiod([Fraction(1), Fraction(2), Fraction(6)]), hyperperiod([Fraction(3, 2), Fraction(5, 4)])
-    (Fraction(6, 1), Fraction(15, 2))
+    >>> hyperperiod([Fraction(1), Fraction(2), Fraction(6)])
+    Fraction(6, 1)
+    >>> hyperperiod([Fraction(3, 2), Fraction(5, 4)])
+    Fraction(15, 2)
     """
     num, den = 1, 0
     for p in periods:
@@ -269,8 +271,10 @@ def schedulability(skeleton: Skeleton, report: Report | None = None) -> Schedula
     >>> from tegraph import load_skeleton
     >>> s = schedulability(load_skeleton("examples/computed_torque.yaml"))
     >>> p = s.processors[0]
-    >>> p.demand, p.hyperperiod, [(u.tasks[0], u.response_time) for u in p.units]
-    (Fraction(18, 5), Fraction(6, 1), [('OBS.JL', Fraction(1, 10)), ('TG.JS', Fraction(7, 10)), ('MOD.DYN', Fraction(2, 1))])
+    >>> p.demand, p.hyperperiod
+    (Fraction(18, 5), Fraction(6, 1))
+    >>> [(u.tasks[0], str(u.response_time)) for u in p.units]
+    [('OBS.JL', '1/10'), ('TG.JS', '7/10'), ('MOD.DYN', '2')]
     """
     if report is None:
         report = analyze_skeleton(skeleton)

@@ -115,7 +115,7 @@ class Skeleton:
         >>> Skeleton("s", {"A": Task("A", Fraction(1), clock="rtc")}).validate()
         Traceback (most recent call last):
         ...
-        tegraph.errors.SkeletonError: tasks.A.clock: no clock 'rtc'; expected a clock declared under clocks (none)
+        tegraph.errors.SkeletonError: tasks.A.clock: no clock 'rtc'; expected a clock declared ...
         """
         check_skeleton(self, Locator(file=self.source))
         return self

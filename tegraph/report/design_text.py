@@ -28,7 +28,8 @@ def render_rules(findings: list[RuleFinding]) -> str:
     >>> print(render_rules([]), end="")
     design rules (ORCCAD section 6): all followed
     """
-    by_severity = [(s, sum(f.severity == s for f in findings)) for s in ("error", "warning", "info")]
+    by_severity = [(s, sum(f.severity == s for f in findings))
+                   for s in ("error", "warning", "info")]
     listed = ", ".join(count(n, s) for s, n in by_severity if n)
     if not any(f.severity != "info" for f in findings):
         head = "design rules (ORCCAD section 6): all followed" + (f" ({listed})" if listed else "")
@@ -133,8 +134,9 @@ def render_latency(result: ChainLatency, unit: str = "ms") -> str:
         lines.append("  latency: unknown")
     else:
         periods = result.in_periods
-        extra = "" if periods is None else \
-            f" = {exact_text(periods)} sampling period(s) of {exact_text(result.segments[0].period)} {unit}"
+        extra = "" if periods is None else (
+            f" = {exact_text(periods)} sampling period(s) of "
+            f"{exact_text(result.segments[0].period)} {unit}")
         what = "exactly" if result.kind == "exact" else "at most"
         lines.append(f"  latency: {what} {exact_text(result.value)} {unit}{extra}")
     return "\n".join(lines) + "\n"

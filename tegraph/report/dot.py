@@ -35,8 +35,9 @@ def highlights(result: CycleTimeResult | None) -> Highlights:
     >>> from tegraph.analysis.cycle_time import cycle_time
     >>> g = TimedEventGraph("ring"); _ = g.add_transition("a"); _ = g.add_transition("b")
     >>> _ = g.add_place("a", "b", 0, 2); _ = g.add_place("b", "a", 1, 3)
-    >>> highlights(cycle_time(g))
-    Highlights(critical=frozenset({0, 1}), token_free=frozenset(), caption='period 5 (critical circuit in red)')
+    >>> highlights(cycle_time(g))  # doctest: +NORMALIZE_WHITESPACE
+    Highlights(critical=frozenset({0, 1}), token_free=frozenset(),
+               caption='period 5 (critical circuit in red)')
     """
     if result is None:
         return Highlights()

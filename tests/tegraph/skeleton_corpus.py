@@ -3,10 +3,11 @@
 :func:`random_skeleton` draws a valid skeleton dictionary (spec §1) from a
 ``random.Random``: 1 to 5 tasks, shared, private or no clocks, up to two
 inputs and outputs per task, links with the four protocols, an occasional
-thread; or a ring of 2 to 5 tasks with circuits of several tokens. The tests feed it hypothesis' ``st.randoms()`` (so failures shrink
-and replay) and, for the fixed corpus, ``random.Random(seed)`` for the seeds
-``0 .. n-1``: :func:`write_corpus` writes those files at test time, so the
-corpus is the same on every machine and nothing is committed but this code.
+thread; or a ring of 2 to 5 tasks with circuits of several tokens. The tests
+feed it hypothesis' ``st.randoms()`` (so failures shrink and replay) and, for
+the fixed corpus, ``random.Random(seed)`` for the seeds ``0 .. n-1``:
+:func:`write_corpus` writes those files at test time, so the corpus is the same
+on every machine and nothing is committed but this code.
 
 The wiring is shared with the hypothesis strategies of
 ``test_analysis_properties`` (which draw with ``draw`` instead of a

@@ -303,7 +303,7 @@ def live_tegs(draw):
     g = TimedEventGraph("random")
     for k in range(n):
         g.add_transition(f"e{k}")
-    for k in range(draw(st.integers(1, 9))):
+    for _ in range(draw(st.integers(1, 9))):
         s, d = draw(st.integers(0, n - 1)), draw(st.integers(0, n - 1))
         g.add_place(s, d, tokens=draw(st.integers(1, 3)),
                     holding=F(draw(st.integers(0, 40)), draw(st.integers(1, 6))))

@@ -124,7 +124,8 @@ def test_both_tables_run_out_of_budget_alike(graph, budget):
 # Dense and sparse tables: same rows and budget verdict on any net, and edge cases.
 
 nets = st.integers(1, 8).flatmap(lambda p: st.integers(0, 5).flatmap(
-    lambda t: st.lists(st.lists(st.integers(-2, 2), min_size=t, max_size=t), min_size=p, max_size=p)))
+    lambda t: st.lists(st.lists(st.integers(-2, 2), min_size=t, max_size=t),
+                       min_size=p, max_size=p)))
 
 
 def rows_of(res):
@@ -160,8 +161,8 @@ def test_all_zero_and_empty(method, shape):
 @pytest.mark.parametrize("method", ["dense", "sparse"])
 def test_explicit_zeros_and_self_loops_in_sparse_input(method):
     # places 0, 1: circuit t0 <-> t1; place 2: self-loop of t0 (a zero row), stored explicitly
-    C = sp.csr_matrix((np.array([-1, 1, 1, -1, 0]), (np.array([0, 0, 1, 1, 2]), np.array([0, 1, 0, 1, 0]))),
-                      shape=(3, 2))
+    rows, cols = np.array([0, 0, 1, 1, 2]), np.array([0, 1, 0, 1, 0])
+    C = sp.csr_matrix((np.array([-1, 1, 1, -1, 0]), (rows, cols)), shape=(3, 2))
     r = minimal_semiflows(C, method=method)
     assert [y.tolist() for y in r.semiflows] == [[1, 1, 0], [0, 0, 1]]
 

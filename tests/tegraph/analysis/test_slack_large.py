@@ -48,9 +48,10 @@ def random_graph(rng, n_target, big_sizes=()):
 
 
 def reference(n, arcs, sources):
-    """Per-source Dijkstra over the whole graph, zero weights made positive by a lexicographic lift."""
+    """Per-source Dijkstra over the whole graph; a lexicographic lift makes 0 weights positive."""
     big = n + 1
-    s = np.array([a for a, _, _ in arcs]); d = np.array([b for _, b, _ in arcs])
+    s = np.array([a for a, _, _ in arcs])
+    d = np.array([b for _, b, _ in arcs])
     w = np.array([x for _, _, x in arcs], dtype=np.float64)
     lifted = w * big + 1
     g = sp.coo_matrix((lifted, (s, d)), shape=(n, n))
@@ -59,7 +60,8 @@ def reference(n, arcs, sources):
     for a, b, x in zip(s.tolist(), d.tolist(), lifted.tolist()):
         m[a, b] = min(x, m.get((a, b), x))
     keys = list(m)
-    g = sp.csr_matrix(([m[k] for k in keys], ([k[0] for k in keys], [k[1] for k in keys])), shape=(n, n))
+    g = sp.csr_matrix(([m[k] for k in keys], ([k[0] for k in keys], [k[1] for k in keys])),
+                      shape=(n, n))
     dist = dijkstra(g, directed=True, indices=sources)
     w_int = np.array([x for _, _, x in arcs], dtype=np.int64)
     out = []
@@ -87,7 +89,8 @@ def test_large_against_whole_graph_dijkstra(seed, big_sizes):
     got = shortest_circuits_through(events, s, d, weights, heads)
     assert got == expected
     # bounds: exact answers (tightest), answers + slack, or None
-    upper = [None if e is None else (e if i % 3 == 0 else (None if i % 3 == 1 else e + int(rng.integers(0, 5))))
+    upper = [None if e is None else
+             (e if i % 3 == 0 else (None if i % 3 == 1 else e + int(rng.integers(0, 5))))
              for i, e in enumerate(expected)]
     assert shortest_circuits_through(events, s, d, weights, heads, upper) == expected
     tight = [e for e in expected]
@@ -100,7 +103,8 @@ def test_exact_path_equals_float_path(seed):
     n, arcs = random_graph(rng, 300, (40,))
     events = np.arange(n) + 7
     sources_local = rng.choice(n, 120, replace=False).tolist()
-    s = events[[a for a, _, _ in arcs]]; d = events[[b for _, b, _ in arcs]]
+    s = events[[a for a, _, _ in arcs]]
+    d = events[[b for _, b, _ in arcs]]
     weights = [x for _, _, x in arcs]
     heads = [int(events[c]) for c in sources_local]
     f = shortest_circuits_through(events, s, d, weights, heads)

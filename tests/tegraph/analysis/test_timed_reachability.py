@@ -265,8 +265,9 @@ def test_cli_timed_agrees_with_analyze_json() -> None:
 
 
 def test_cli_timed_progress_on_a_terminal() -> None:
-    # A search longer than a second (400,000 states: a few seconds) shows its progress on a terminal (stderr a tty), as the
-    # untimed one does; the bar is erased before the result is printed on stdout.
+    # A search longer than a second (400,000 states: a few seconds) shows its progress on a
+    # terminal (stderr a tty), as the untimed one does; the bar is erased before the result
+    # is printed on stdout.
     import os
     import pty
     import subprocess

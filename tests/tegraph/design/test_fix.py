@@ -52,7 +52,8 @@ def sides_on_token_free_circuits(sk: Skeleton) -> set[tuple[str, str]]:
         a, b = names[p.src], names[p.dst]
         task = p.origin["task"]
         # Between two reads (a SYN/SYN read is named by its writer's event) or two writes.
-        reads = [e for e in (a, b) if ".read:" in e or (".write:" in e and not e.startswith(task + "."))]
+        reads = [e for e in (a, b)
+                 if ".read:" in e or (".write:" in e and not e.startswith(task + "."))]
         writes = [e for e in (a, b) if e.startswith(task + ".write:")]
         if len(reads) == 2:
             out.add((task, "inputs"))
@@ -129,7 +130,8 @@ def random_skeleton(rng: random.Random) -> Skeleton:
     names = [f"T{i}" for i in range(n)]
     tasks, clocks = {}, {}
     for i, name in enumerate(names):
-        body = {"duration": rng.randint(0, 3), "inputs": [f"i{j}" for j in range(rng.randint(0, 3))],
+        body = {"duration": rng.randint(0, 3),
+                "inputs": [f"i{j}" for j in range(rng.randint(0, 3))],
                 "outputs": [f"o{i}_{j}" for j in range(rng.randint(1, 3))]}
         if rng.random() < 0.4:
             body["period"] = rng.randint(1, 10)
@@ -139,12 +141,14 @@ def random_skeleton(rng: random.Random) -> Skeleton:
         for port in tasks[name]["inputs"]:
             if rng.random() < 0.85:
                 w = rng.choice([x for x in names if x != name])
-                links.append({"from": f"{w}:{rng.choice(tasks[w]['outputs'])}", "to": f"{name}:{port}",
-                              "protocol": rng.choice(["ASYN/SYN", "SYN/ASYN", "SYN/SYN", "ASYN/SYN"])})
+                protocol = rng.choice(["ASYN/SYN", "SYN/ASYN", "SYN/SYN", "ASYN/SYN"])
+                links.append({"from": f"{w}:{rng.choice(tasks[w]['outputs'])}",
+                              "to": f"{name}:{port}", "protocol": protocol})
     threads = []
     if rng.random() < 0.2:
         threads = [rng.sample(names, 2)]
-    return Skeleton.from_dict({"tasks": tasks, "links": links, "threads": threads, "clocks": clocks})
+    return Skeleton.from_dict({"tasks": tasks, "links": links, "threads": threads,
+                               "clocks": clocks})
 
 
 def test_random_dead_but_reorderable_skeletons():
@@ -173,8 +177,8 @@ def test_random_dead_but_reorderable_skeletons():
 # ------------------------------------------------------------------ command line
 
 def run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False, capture_output=True,
-                          text=True, timeout=120, cwd=cwd)
+    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False,
+                          capture_output=True, text=True, timeout=120, cwd=cwd)
 
 
 def test_cli_fix_writes_a_live_skeleton(tmp_path):
@@ -205,7 +209,8 @@ def test_cli_fix_replaces_the_input_only_when_named(tmp_path):
     assert src.read_text() == before
     done = run("fix", str(src), "-o", str(src), "--force")
     assert done.returncode == 0 and load_skeleton(src).tasks["MT2"].inputs == ("a", "c")
-    assert done.stdout.splitlines()[-1] == "verdict: live after reordering 1 port list (exit status 0)"
+    assert done.stdout.splitlines()[-1] == (
+        "verdict: live after reordering 1 port list (exit status 0)")
 
 
 def test_cli_fix_refuses_a_missing_directory_before_any_work(tmp_path):
