@@ -66,6 +66,8 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
         for x in timeline.ticks[c]:
             row[min(int(x / col), columns - 1)] = "^"
         lines.append(f"{c:<{label}} |{''.join(row)}|")
+    lines.append(_LEGEND + ("" if exact else " (a column shows # or X when the task runs at some "
+                                              "time within it)"))
     lines.append("")
     lines.append("order of execution (exact):")
     processors = list(dict.fromkeys(timeline.processors[t] for t in timeline.tasks))
@@ -92,6 +94,11 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
                      f"at {exact_text(j.deadline)} {u} while activation {j.index} {end}")
     lines.append(_verdict(timeline))
     return "\n".join(lines) + "\n"
+
+
+_LEGEND = ("legend: # runs, - released and waiting (for its processor or a message), "
+           "X runs late (it ends after the next tick of its clock), ^ clock tick, "
+           "blank idle")
 
 
 def _verdict(timeline: Timeline) -> str:

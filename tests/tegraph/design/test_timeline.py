@@ -259,3 +259,15 @@ def test_cli_timeline(tmp_path):
         assert exists.returncode == 2 and "--force" in exists.stderr
     else:
         assert drawn.returncode == 2 and INSTALL_HINT in drawn.stderr and not out.exists()
+
+
+def test_text_diagram_explains_its_symbols():
+    # Figure 12: MT2's late activation is drawn X; every symbol drawn is in the legend.
+    from tegraph.report.timeline_text import render_timeline
+
+    text = render_timeline(simulate_timeline(load_skeleton(EXAMPLES / "fig12_double_sync.yaml")))
+    rows = text.splitlines()[1:5]
+    legend = next(line for line in text.splitlines() if line.startswith("legend: "))
+    drawn = {ch for row in rows for ch in row.split("|")[1]} - {" "}
+    assert drawn == {"#", "-", "X", "^"}
+    assert all(f"{ch} " in legend for ch in drawn)
