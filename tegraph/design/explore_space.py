@@ -30,6 +30,7 @@ from maxplus.scalar import exact_text, exact_time
 from ..errors import InputError
 from ..model.skeleton import Protocol, Skeleton
 from ..model.skeleton_checks import Locator, check_chain
+from .synchronization import group_period, synchronized_groups
 
 __all__ = [
     "ClockChoice",
@@ -221,33 +222,8 @@ class DesignSpace:
         clock of its group (spec §4 groups: tasks joined by synchronizing links,
         threads and shared clocks); None for a task whose group has no clock."""
         sk = self.skeleton
-        parent = {t: t for t in sk.tasks}
-
-        def find(t: str) -> str:
-            while parent[t] != t:
-                parent[t] = parent[parent[t]]
-                t = parent[t]
-            return t
-
-        def join(a: str, b: str) -> None:
-            parent[find(a)] = find(b)
-
-        for link in sk.links:
-            if link.protocol.synchronizing:
-                join(link.writer[0], link.reader[0])
-        for thread in sk.threads:
-            for a, b in zip(thread, thread[1:]):
-                join(a, b)
-        first_of_clock: dict[str, str] = {}
-        for name, task in sk.tasks.items():
-            if task.clock is not None:
-                join(name, first_of_clock.setdefault(task.clock, name))
-        fastest: dict[str, Fraction] = {}
-        for name, task in sk.tasks.items():
-            if task.clock is not None:
-                root, period = find(name), sk.clocks[task.clock].period
-                fastest[root] = min(period, fastest.get(root, period))
-        return {name: fastest.get(find(name)) for name in sk.tasks}
+        return {name: period for tasks in synchronized_groups(sk)
+                for period in [group_period(sk, tasks)] for name in tasks}
 
     @cached_property
     def fingerprint(self) -> str:
