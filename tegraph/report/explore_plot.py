@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..design.explore import Exploration
 from ..errors import InputError
-from .plot import INSTALL_HINT, PlotUnavailableError
+from .plot import INSTALL_HINT, PlotUnavailableError, save_figure
 
 __all__ = ["draw_front"]
 
@@ -71,7 +71,6 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
         raise InputError(f"cannot draw to {target.name!r}; expected a file name ending in "
                          ".svg or .png", "plot")
     try:
-        import matplotlib
         from matplotlib.figure import Figure
     except ImportError:
         raise PlotUnavailableError(
@@ -116,15 +115,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
     how = "exhaustive" if result.exhaustive else f"{result.method}, not exhaustive"
     fig.suptitle(f"{result.space.skeleton.name}: {len(result.front)} design(s) on the front "
                  f"({how})", fontsize="medium")
-    metadata = {"Date": None} if suffix == ".svg" else {"Software": "tegraph"}
-    try:
-        with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "tegraph"}), \
-                open(target, "wb" if overwrite else "xb") as out:
-            fig.savefig(out, format=suffix[1:], metadata=metadata)
-    except FileExistsError:
-        raise FileExistsError(f"{target}: the file exists already; pass overwrite=True "
-                              "to replace it") from None
-    return target
+    return save_figure(fig, target, overwrite)
 
 
 def _label(name: str, unit: str) -> str:

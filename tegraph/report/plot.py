@@ -21,7 +21,9 @@ from typing import Any
 from ..design.timeline import Timeline
 from ..errors import InputError, TegraphError
 
-__all__ = ["INSTALL_HINT", "PlotUnavailableError", "draw_timeline", "matplotlib_available"]
+__all__ = [
+    "INSTALL_HINT", "PlotUnavailableError", "draw_timeline", "matplotlib_available", "save_figure",
+]
 
 INSTALL_HINT = "pip install 'tegraph[plot]'"
 _FORMATS = (".svg", ".png")
@@ -100,9 +102,8 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
     suffix = target.suffix.lower()
     if suffix not in _FORMATS:
         raise InputError(f"cannot draw to {target.name!r}; expected a file name ending in "
-                         ".svg or .png", where="-o")
+                         ".svg or .png", where="path")
     Figure = _matplotlib()
-    import matplotlib
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -145,10 +146,39 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
                         Line2D([], [], color="black", marker="^", linestyle="none",
                                label="clock tick")],
                loc="outside lower center", ncol=4, fontsize="small", frameon=False)
-    # Fixed metadata: the same timeline gives the same SVG bytes.
+    return save_figure(fig, target, overwrite)
+
+
+def save_figure(fig: Any, target: Path, overwrite: bool = False) -> Path:
+    """Write a matplotlib figure to ``target`` (.svg or .png), reproducibly.
+
+    Fixed metadata and SVG hash salt make the same figure give the same bytes;
+    SVG text stays text (searchable, accessible), not glyph outlines. The file
+    is opened exclusively unless ``overwrite``: nothing is replaced by accident.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    target : Path
+        Its suffix, ``.svg`` or ``.png``, chooses the format.
+    overwrite : bool
+        Replace an existing file.
+
+    Returns
+    -------
+    Path
+        ``target``.
+
+    Raises
+    ------
+    FileExistsError
+        ``target`` exists and ``overwrite`` is false.
+    """
+    import matplotlib
+
+    suffix = target.suffix.lower()
     metadata = {"Date": None} if suffix == ".svg" else {"Software": "tegraph"}
     try:
-        # SVG text stays text (searchable, accessible), not glyph outlines.
         with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "tegraph"}), \
                 open(target, "wb" if overwrite else "xb") as out:
             fig.savefig(out, format=suffix[1:], metadata=metadata)
