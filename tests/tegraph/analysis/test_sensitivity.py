@@ -2,7 +2,8 @@
 
 The hand derivations use only spec §2-§4 (places, daters, overrun_at) and
 the comments of the example files; each is written next to its assertion.
-The properties on random skeletons are in ``test_sensitivity_properties``.
+The checks against the analysis at points (examples and random skeletons) are in
+``test_sensitivity_properties``.
 """
 
 from __future__ import annotations
