@@ -69,7 +69,8 @@ _SHORT_STEPS = 1_000
 
 
 def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
-                max_formula_parameters: int = 6, verify: bool = True) -> SensitivityResult:
+                max_formula_parameters: int = 6, verify: bool = True,
+                margins: bool = True) -> SensitivityResult:
     """Scaling factor, margins and period formulas of a skeleton, exact.
 
     Parameters
@@ -89,6 +90,10 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     verify : bool
         Check every finite end reported with ``analyze_skeleton`` on its
         group (consistent at the end, not just beyond).
+    margins : bool
+        Compute each parameter's margin (one line search per parameter: the
+        part that costs most on thousands of tasks); without it, ``margins``
+        is empty.
 
     Returns
     -------
@@ -135,9 +140,10 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
         clock = time.perf_counter()
         result.scaling = _scaling(context, verify)
         result.effort["scaling"] = context.effort(clock)
-    clock = time.perf_counter()
-    result.margins = _margins(context, verify)
-    result.effort["margins"] = context.effort(clock)
+    if margins:
+        clock = time.perf_counter()
+        result.margins = _margins(context, verify)
+        result.effort["margins"] = context.effort(clock)
     if formulas:
         clock = time.perf_counter()
         found, rounds, points = period_formulas(live, params, max_formula_parameters)
@@ -455,9 +461,12 @@ def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> di
         e = effort["scaling"]
         out["scaling"] = (f"{line}, intersected over groups; {e['rounds']} batched oracle "
                           f"calls, {e['points']} points")
-    e = effort["margins"]
-    out["margins"] = (f"the same, one line per parameter; {e['rounds']} batched oracle calls, "
-                      f"{e['points']} points")
+    if "margins" in effort:
+        e = effort["margins"]
+        out["margins"] = (f"the same, one line per parameter; {e['rounds']} batched oracle "
+                          f"calls, {e['points']} points")
+    else:
+        out["margins"] = "not computed (margins=False)"
     if "formulas" in effort:
         e = effort["formulas"]
         out["formulas"] = (
