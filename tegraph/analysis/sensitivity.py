@@ -14,7 +14,7 @@
   non-redundant circuit ratios over the box of its parameters (a sympy
   ``Max``), and where a clocked group keeps pace with its clock.
 
-How each figure is proven is in ``docs/analysis.md`` ("Sensitivity"); in
+How each figure is proven is in ``docs/sensitivity.md``; in
 short, the consistent set along a line is read off exact certificates
 (:mod:`.sensitivity_line`), the formulas come from cutting planes
 (:mod:`.sensitivity_formulas`), and each finite end reported is checked
@@ -98,6 +98,13 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     Returns
     -------
     SensitivityResult
+        ``scaling`` (None when no duration is varied): the consistent factors
+        as closed intervals and ``factor``, with its limits; ``margins``: per
+        parameter name, its consistent values and the interval around the
+        nominal value, with the cause at each end; ``formulas``: per live
+        group, the non-redundant terms of its cycle time and where it keeps
+        pace with each clock; ``checks``, ``methods`` and ``effort`` say how
+        each was obtained (oracle calls, points, cross-check analyses).
 
     Raises
     ------
@@ -109,6 +116,24 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     --------
     duration_margins : the margin of every duration, fast enough for every analysis.
     tegraph.analysis.analyze.analyze_skeleton : the figures at one point.
+
+    Notes
+    -----
+    Every time is exact (Fractions, in the skeleton's unit). Consistency is
+    not monotone in the durations (a slower producer can bound a place), so
+    the consistent factors and values are unions of closed intervals. The
+    methods and proofs: ``docs/sensitivity.md``.
+
+    References
+    ----------
+    .. [1] J. Lehoczky, L. Sha, Y. Ding, "The rate monotonic scheduling algorithm:
+       exact characterization and average case behavior", RTSS 1989 (the
+       critical scaling factor).
+    .. [2] A. H. Ghamarian, M. C. W. Geilen, T. Basten, S. Stuijk, "Parametric
+       throughput analysis of synchronous data flow graphs", DATE 2008.
+    .. [3] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, "Synchronization
+       and Linearity", Wiley 1992, Thm 3.112 (cycle time as a maximum of
+       circuit ratios).
 
     Examples
     --------
