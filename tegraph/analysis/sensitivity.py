@@ -292,7 +292,8 @@ def _scaling(ctx: _Context, verify: bool) -> Scaling:
     line = Line({j: Fraction(0) for j in durations}, {j: nominal[j] for j in durations}, low,
                 high)
     names = [params[j].name for j in durations]
-    blocked = [g for g in ctx.groups if not set(g.params) & set(durations) or not g.live
+    varied = set(durations)  # once: a set per group costs O(groups × parameters)
+    blocked = [g for g in ctx.groups if varied.isdisjoint(g.params) or not g.live
                or not any(nominal[j] for j in g.params if j in line.direction)]
     blocked = [g for g in blocked if not ctx.fine[g.index]]
     if impossible is not None or (high is not None and low > high) or blocked:
