@@ -139,29 +139,44 @@ def main() -> None:
     parser.add_argument("--margin-runs", type=int, default=1)
     parser.add_argument("--big", type=int, default=10_000)
     parser.add_argument("--mid", type=int, default=1_000)
+    parser.add_argument("--parts", type=int, nargs="+", default=[1, 2, 3],
+                        help="which measurements (1 formulas, 2 scaling factor, 3 margins)")
     args = parser.parse_args()
     # The checkout's tegraph, not an installed copy.
     sys.path[:0] = [str(ROOT), str(HERE)]
     from generate_skeleton import generate
 
-    from tegraph import Skeleton, duration_margins, load_skeleton, sensitivity
-    from tegraph.analysis.analyze import analyze_skeleton
+    from tegraph import Skeleton, load_skeleton
 
     print(f"# bench_sensitivity: runs={args.runs}, margin runs={args.margin_runs}")
-    print("\n## 1. Period formula and keep-pace region (exact) vs a grid of analyses\n")
-    print("| skeleton | parameters | exact: time (median [min, max]) | formula terms | "
-          "oracle calls (formulas) | grid | grid time | time per grid analysis |")
-    print("|---|---|---|---|---|---|---|---|")
     cases = [(name, load_skeleton(ROOT / "examples" / name)) for name in (
         "computed_torque.yaml", "threads.yaml", "rendezvous_two_clocks.yaml",
         "ring_two_tokens.yaml")]
     cases.append((f"generated {args.mid}", Skeleton.from_dict(generate(args.mid))))
     cases.append((f"generated {args.mid}, consistent",
                   Skeleton.from_dict(consistent_variant(generate(args.mid)))))
+    bigs = [(f"generated {args.big}", Skeleton.from_dict(generate(args.big))),
+            (f"generated {args.big}, consistent",
+             Skeleton.from_dict(consistent_variant(generate(args.big))))]
+    if 1 in args.parts:
+        formulas(cases, args.runs)
+    if 2 in args.parts:
+        scaling(bigs, args.runs, args.big)
+    if 3 in args.parts:
+        margins(cases[-2:], bigs, args)
+
+
+def formulas(cases, runs: int) -> None:
+    from tegraph import sensitivity
+
+    print("\n## 1. Period formula and keep-pace region (exact) vs a grid of analyses\n")
+    print("| skeleton | parameters | exact: time (median [min, max]) | formula terms | "
+          "oracle calls (formulas) | grid | grid time | time per grid analysis |")
+    print("|---|---|---|---|---|---|---|---|")
     for label, sk in cases:
         for k, per_axis in ((2, 5), (4, 3)):
             vary = pick(sk, k)
-            med, low, high, r = timed(args.runs, sensitivity, sk, vary, margins=False)
+            med, low, high, r = timed(runs, sensitivity, sk, vary, margins=False)
             terms = max((len(f.terms) for f in r.formulas), default=0)
             n, seconds = grid(sk, vary, per_axis)
             names = ", ".join(v.split("=")[0] for v in vary)
@@ -169,15 +184,18 @@ def main() -> None:
                   f"{effort_text(r.effort, 'formulas')} | {per_axis}^{k} = {n} | "
                   f"{seconds:.3g} s | {seconds / n * 1000:.3g} ms |", flush=True)
 
-    print(f"\n## 2. Scaling factor, {args.big} tasks, every duration varied\n")
+
+
+def scaling(bigs, runs: int, big: int) -> None:
+    from tegraph import sensitivity
+    from tegraph.analysis.analyze import analyze_skeleton
+
+    print(f"\n## 2. Scaling factor, {big} tasks, every duration varied\n")
     print("| skeleton | time (median [min, max]) | factor | oracle calls | one analysis "
           "(whole skeleton) | bisection to 10^-9 (about 35 analyses) |")
     print("|---|---|---|---|---|---|")
-    bigs = [(f"generated {args.big}", Skeleton.from_dict(generate(args.big))),
-            (f"generated {args.big}, consistent",
-             Skeleton.from_dict(consistent_variant(generate(args.big))))]
     for label, sk in bigs:
-        med, low, high, r = timed(args.runs, sensitivity, sk, formulas=False,
+        med, low, high, r = timed(runs, sensitivity, sk, formulas=False,
                                   margins=False)
         s = r.scaling
         factor = (str(s.factor) if s.factor is not None else
@@ -189,11 +207,16 @@ def main() -> None:
               f"{effort_text(r.effort, 'scaling')} | {a_med:.3g} s | "
               f"about {35 * a_med:.0f} s |", flush=True)
 
+
+
+def margins(mids, bigs, args) -> None:
+    from tegraph import duration_margins, sensitivity
+    from tegraph.analysis.analyze import analyze_skeleton
+
     print(f"\n## 3. All margins, {args.mid} and {args.big} tasks\n")
     print("| skeleton | sensitivity, every duration's margin | verified | oracle calls | "
           "duration_margins (analyze's column) | one analysis |")
     print("|---|---|---|---|---|---|")
-    mids = cases[-2:]
     for (label, sk), verify in [*((c, True) for c in mids), *((c, False) for c in bigs)]:
         med, low, high, r = timed(args.margin_runs, sensitivity, sk, formulas=False,
                                   verify=verify)
