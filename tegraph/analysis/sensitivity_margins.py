@@ -128,8 +128,9 @@ def duration_margins(skeleton: Skeleton, report: Report | None = None
     clocked = [g for g in groups if g.clocks and _slack_covers(g, index)]
     for bounds in _clocked_margins(clocked, nominal, report, index):
         margins.update(bounds)
+    done = {g.index for g in clocked}  # by index: comparing groups field by field is slow
     searched = [(g, Line({index[t]: Fraction(0)}, {index[t]: Fraction(1)}, nominal[index[t]],
-                         None)) for g in groups if g not in clocked for t in g.tasks]
+                         None)) for g in groups if g.index not in done for t in g.tasks]
     sets, _, _ = solve_lines(searched, nominal)
     for (_, line), found in zip(searched, sets):
         (j,) = line.direction
