@@ -40,7 +40,8 @@ __all__ = ["analyze", "cycle_time", "explore", "to_dot", "write"]
 
 #: Above this many tasks ``analyze`` leaves the duration margins to ``sensitivity``:
 #: measured (benchmarks/results/sensitivity.md), they cost about as much as
-#: the analysis itself on generated skeletons (0.24 s at 1,000 tasks, 3.2 s at 10,000).
+#: the analysis itself on generated skeletons (0.21 s beside 0.44 s at 1,000 tasks,
+#: 3.9 s beside 2.9 s at 10,000).
 MARGINS_MAX_TASKS = 2_000
 
 
