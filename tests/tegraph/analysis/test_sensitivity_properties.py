@@ -315,3 +315,22 @@ def test_random_ranged_margins_against_the_analysis(rng):
     sk = Skeleton.from_dict(random_skeleton(rng, max_tasks=4))
     r = sensitivity(sk, vary_of(sk, rng, 3), formulas=False, verify=False)
     check_margins(sk, r, rng, points=2)
+
+
+@settings(max_examples=30, **SETTINGS)
+@given(st.randoms(use_true_random=False))
+def test_random_duration_margins_agree_with_the_line_search(rng):
+    # analyze's "can grow by" (one nominal analysis: slack and longest paths)
+    # against the exact line search of sensitivity, and the analysis at its end.
+    from tegraph import duration_margins
+
+    sk = Skeleton.from_dict(random_skeleton(rng, max_tasks=4))
+    fast = duration_margins(sk)
+    r = sensitivity(sk, formulas=False, verify=False)
+    for task, grow in fast.items():
+        m = r.margins[f"{task}.duration"]
+        assert m.nominal_consistent, task
+        d = sk.tasks[task].duration
+        assert (None if m.high is None else m.high - d) == grow, (task, m.intervals, grow)
+        if grow is not None:
+            assert verdict(at(sk, {task: d + grow}), m.groups) in (True, None)
