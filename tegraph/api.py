@@ -108,7 +108,7 @@ def _add_duration_margins(skeleton: Skeleton, report: Report, max_tasks: int) ->
     if n > max_tasks:
         report.methods["duration_margins"] = (
             f"not computed: {n} tasks, above margins_max_tasks = {max_tasks}; "
-            "tegraph.sensitivity computes them")
+            "tegraph.sensitivity (the command tegraph sensitivity) computes them")
         return
     margins = duration_margins(skeleton, report)
     for name, task in report.tasks.items():
