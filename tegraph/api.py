@@ -24,6 +24,7 @@ from .analysis.cycle_time import CycleTimeResult
 from .analysis.cycle_time import cycle_time as cycle_time_of
 from .analysis.reachability import DEFAULT_MAX_MEMORY
 from .analysis.results import Report
+from .analysis.sensitivity_margins import duration_margins
 from .design.explore import Exploration, explore_design
 from .design.explore_space import design_space
 from .design.section import design_section
@@ -37,10 +38,16 @@ from .report.explore_table import ResultsTable
 
 __all__ = ["analyze", "cycle_time", "explore", "to_dot", "write"]
 
+#: Above this many tasks ``analyze`` leaves the duration margins to ``sensitivity``:
+#: measured (benchmarks/results/sensitivity.md), they cost about as much as
+#: the analysis itself on generated skeletons (0.21 s beside 0.44 s at 1,000 tasks,
+#: 3.9 s beside 2.9 s at 10,000).
+MARGINS_MAX_TASKS = 2_000
+
 
 def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
             semiflow_max_places: int = 2_000_000, chains: Sequence[Sequence[str]] = (),
-            design: bool = True) -> Report:
+            design: bool = True, margins_max_tasks: int = MARGINS_MAX_TASKS) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack, design.
 
     Parameters
@@ -62,6 +69,12 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
     design : bool
         Add the design section (rules 1-4, schedulability, latencies); it
         never changes the exit status of spec §5.
+    margins_max_tasks : int
+        Up to this many tasks, each task's ``duration_margin`` (how much its
+        duration may grow, its group staying consistent:
+        :func:`~tegraph.analysis.sensitivity_margins.duration_margins`) is
+        computed; above it, ``methods["duration_margins"]`` says it was not
+        (it costs about one more analysis; ``tegraph.sensitivity`` computes them).
 
     Returns
     -------
@@ -83,9 +96,33 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
     (True, True, Fraction(10, 1), Fraction(8, 1))
     """
     report = analyze_skeleton(skeleton, max_steps, semiflow_budget, semiflow_max_places)
+    _add_duration_margins(skeleton, report, margins_max_tasks)
     if design:
         report.design = design_section(skeleton, report, chains)
     return report
+
+
+def _add_duration_margins(skeleton: Skeleton, report: Report, max_tasks: int) -> None:
+    """Fill each task's ``duration_margin`` and ``duration_margin_state``; say how."""
+    n = len(skeleton.tasks)
+    if n > max_tasks:
+        report.methods["duration_margins"] = (
+            f"not computed: {n} tasks, above margins_max_tasks = {max_tasks}; "
+            "tegraph.sensitivity (the command tegraph sensitivity) computes them")
+        return
+    margins = duration_margins(skeleton, report)
+    for name, task in report.tasks.items():
+        if name not in margins:
+            task.duration_margin_state = "not consistent"
+        elif margins[name] is None:
+            task.duration_margin_state = "unbounded"
+        else:
+            task.duration_margin, task.duration_margin_state = margins[name], "exact"
+    report.methods["duration_margins"] = (
+        "how much each duration may grow alone, its group staying consistent (no "
+        "overrun, every place bounded): the slack bound and longest paths to each "
+        "activation's end at the nominal point in clocked groups, an exact line search "
+        "otherwise")
 
 
 def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,

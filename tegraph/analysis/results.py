@@ -52,6 +52,11 @@ class TaskReport:
     critical: bool | None
     clock: str | None = None
     overrun_decided: bool = True
+    duration_margin: Fraction | None = None
+    """How much the duration may grow, its group staying consistent (``duration_margins``)."""
+    duration_margin_state: str = "not computed"
+    """``"exact"`` (``duration_margin``), ``"unbounded"``, ``"not consistent"`` or
+    ``"not computed"`` (``tegraph.analyze`` above its ``margins_max_tasks``)."""
 
 
 @dataclass
@@ -159,6 +164,8 @@ class Report:
                     "slack": exact_text(t.slack),
                     "critical": t.critical,
                     "overrun_decided": t.overrun_decided,
+                    "duration_margin": exact_text(t.duration_margin),
+                    "duration_margin_state": t.duration_margin_state,
                 }
                 for t in self.tasks.values()
             },

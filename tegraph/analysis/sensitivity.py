@@ -14,7 +14,7 @@
   non-redundant circuit ratios over the box of its parameters (a sympy
   ``Max``), and where a clocked group keeps pace with its clock.
 
-How each figure is proven is in ``docs/analysis.md`` ("Sensitivity"); in
+How each figure is proven is in ``docs/sensitivity.md``; in
 short, the consistent set along a line is read off exact certificates
 (:mod:`.sensitivity_line`), the formulas come from cutting planes
 (:mod:`.sensitivity_formulas`), and each finite end reported is checked
@@ -65,10 +65,12 @@ __all__ = ["duration_margins", "sensitivity"]
 
 Interval = tuple[Fraction, "Fraction | None"]
 _NUDGE = Fraction(1, 10**9)
+_SHORT_STEPS = 1_000
 
 
 def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
-                max_formula_parameters: int = 6, verify: bool = True) -> SensitivityResult:
+                max_formula_parameters: int = 6, verify: bool = True,
+                margins: bool = True) -> SensitivityResult:
     """Scaling factor, margins and period formulas of a skeleton, exact.
 
     Parameters
@@ -88,10 +90,21 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     verify : bool
         Check every finite end reported with ``analyze_skeleton`` on its
         group (consistent at the end, not just beyond).
+    margins : bool
+        Compute each parameter's margin (one line search per parameter: the
+        part that costs most on thousands of tasks); without it, ``margins``
+        is empty.
 
     Returns
     -------
     SensitivityResult
+        ``scaling`` (None when no duration is varied): the consistent factors
+        as closed intervals and ``factor``, with its limits; ``margins``: per
+        parameter name, its consistent values and the interval around the
+        nominal value, with the cause at each end; ``formulas``: per live
+        group, the non-redundant terms of its cycle time and where it keeps
+        pace with each clock; ``checks``, ``methods`` and ``effort`` say how
+        each was obtained (oracle calls, points, cross-check analyses).
 
     Raises
     ------
@@ -103,6 +116,24 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     --------
     duration_margins : the margin of every duration, fast enough for every analysis.
     tegraph.analysis.analyze.analyze_skeleton : the figures at one point.
+
+    Notes
+    -----
+    Every time is exact (Fractions, in the skeleton's unit). Consistency is
+    not monotone in the durations (a slower producer can bound a place), so
+    the consistent factors and values are unions of closed intervals. The
+    methods and proofs: ``docs/sensitivity.md``.
+
+    References
+    ----------
+    .. [1] J. Lehoczky, L. Sha, Y. Ding, "The rate monotonic scheduling algorithm:
+       exact characterization and average case behavior", RTSS 1989 (the
+       critical scaling factor).
+    .. [2] A. H. Ghamarian, M. C. W. Geilen, T. Basten, S. Stuijk, "Parametric
+       throughput analysis of synchronous data flow graphs", DATE 2008.
+    .. [3] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, "Synchronization
+       and Linearity", Wiley 1992, Thm 3.112 (cycle time as a maximum of
+       circuit ratios).
 
     Examples
     --------
@@ -134,9 +165,10 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
         clock = time.perf_counter()
         result.scaling = _scaling(context, verify)
         result.effort["scaling"] = context.effort(clock)
-    clock = time.perf_counter()
-    result.margins = _margins(context, verify)
-    result.effort["margins"] = context.effort(clock)
+    if margins:
+        clock = time.perf_counter()
+        result.margins = _margins(context, verify)
+        result.effort["margins"] = context.effort(clock)
     if formulas:
         clock = time.perf_counter()
         found, rounds, points = period_formulas(live, params, max_formula_parameters)
@@ -183,10 +215,16 @@ class _Context:
 
         self.analyses += 1
         moved = skeleton_at(group.skeleton, self.params, {j: values[j] for j in group.params})
-        report = analyze_skeleton(moved, semiflow_max_places=0)
+        # A short dater simulation first: just past a pace limit the group is
+        # slower than its clock by 10^-9 of a period, and the full budget would
+        # be spent (seconds) looking for an overrun that cannot change a verdict
+        # already False; an early overrun (its activation is reported) is seen.
+        report = analyze_skeleton(moved, max_steps=_SHORT_STEPS, semiflow_max_places=0)
         g = report.groups[0]
         if not (g.live and g.rate_consistent):
             return False, report
+        if not all(t.overrun_decided for t in report.tasks.values()):
+            report = analyze_skeleton(moved, semiflow_max_places=0)
         if any(t.overrun_at is not None for t in report.tasks.values()):
             return False, report
         # An overrun the analysis could not rule out within its budget: no verdict.
@@ -254,7 +292,8 @@ def _scaling(ctx: _Context, verify: bool) -> Scaling:
     line = Line({j: Fraction(0) for j in durations}, {j: nominal[j] for j in durations}, low,
                 high)
     names = [params[j].name for j in durations]
-    blocked = [g for g in ctx.groups if not set(g.params) & set(durations) or not g.live
+    varied = set(durations)  # once: a set per group costs O(groups × parameters)
+    blocked = [g for g in ctx.groups if varied.isdisjoint(g.params) or not g.live
                or not any(nominal[j] for j in g.params if j in line.direction)]
     blocked = [g for g in blocked if not ctx.fine[g.index]]
     if impossible is not None or (high is not None and low > high) or blocked:
@@ -448,9 +487,12 @@ def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> di
         e = effort["scaling"]
         out["scaling"] = (f"{line}, intersected over groups; {e['rounds']} batched oracle "
                           f"calls, {e['points']} points")
-    e = effort["margins"]
-    out["margins"] = (f"the same, one line per parameter; {e['rounds']} batched oracle calls, "
-                      f"{e['points']} points")
+    if "margins" in effort:
+        e = effort["margins"]
+        out["margins"] = (f"the same, one line per parameter; {e['rounds']} batched oracle "
+                          f"calls, {e['points']} points")
+    else:
+        out["margins"] = "not computed (margins=False)"
     if "formulas" in effort:
         e = effort["formulas"]
         out["formulas"] = (

@@ -3,7 +3,7 @@
 Along a line ``θ(t) = base + t·direction`` (t in a range ``[low, high]``), the
 set of t where a live group is consistent (spec §4: rate-consistent, no
 overrun) is a finite union of closed intervals with exact endpoints. Two
-facts give it (proofs in ``docs/analysis.md``, "Sensitivity"):
+facts give it (proofs in ``docs/sensitivity.md``):
 
 - **No overrun is convex.** ``Y_end(θ)`` (:mod:`.sensitivity_oracle`) is a
   maximum of affine functions of θ (one per elementary path, +∞ past a

@@ -75,10 +75,33 @@ def duration_margins(skeleton: Skeleton, report: Report | None = None
         takes. Tasks of groups that are not consistent are left out (no
         growth keeps them consistent: they are not to begin with).
 
+    Raises
+    ------
+    TegraphError
+        Only as :func:`~tegraph.analysis.analyze.analyze_skeleton` would, on
+        a skeleton built in code without validation; ``report`` is trusted
+        to be the analysis of ``skeleton``.
+
     See Also
     --------
     tegraph.analysis.sensitivity.sensitivity : every consistent value of each
         duration and period, with causes.
+    tegraph.analyze : shows these margins as "can grow by" beside the slack.
+
+    Notes
+    -----
+    The slack of spec §4 is a period margin: it sees circuits only, not an
+    activation that ends after the next tick while the group keeps pace.
+    Here both bounds are taken (module docstring: one forward and one
+    reverse longest path per clocked task, weights ``h - P·m``); groups
+    without clock are searched exactly along the line [1]_.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, "Synchronization
+       and Linearity", Wiley 1992, §3.6 (daters and cycle times of timed
+       event graphs); the critical scaling factor of J. Lehoczky, L. Sha,
+       Y. Ding, RTSS 1989, per duration.
 
     Examples
     --------
@@ -105,8 +128,9 @@ def duration_margins(skeleton: Skeleton, report: Report | None = None
     clocked = [g for g in groups if g.clocks and _slack_covers(g, index)]
     for bounds in _clocked_margins(clocked, nominal, report, index):
         margins.update(bounds)
+    done = {g.index for g in clocked}  # by index: comparing groups field by field is slow
     searched = [(g, Line({index[t]: Fraction(0)}, {index[t]: Fraction(1)}, nominal[index[t]],
-                         None)) for g in groups if g not in clocked for t in g.tasks]
+                         None)) for g in groups if g.index not in done for t in g.tasks]
     sets, _, _ = solve_lines(searched, nominal)
     for (_, line), found in zip(searched, sets):
         (j,) = line.direction

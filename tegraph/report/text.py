@@ -15,7 +15,7 @@ from tabulate import tabulate
 
 from ..analysis.cycle_time import CycleTimeResult
 from ..analysis.reachability import Reachability
-from ..analysis.results import GroupReport, Report
+from ..analysis.results import GroupReport, Report, TaskReport
 from ..analysis.timed_reachability import TimedExploration
 from ..design.explore import Exploration
 from ..design.fix import FixResult
@@ -34,6 +34,13 @@ from .graph_text import (
 from .timeline_text import render_timeline
 
 __all__ = ["render_report", "render_text"]
+
+
+def _grow(t: TaskReport, unit: str) -> str:
+    """The "can grow by" cell: the exact margin, "unbounded", or "-"."""
+    if t.duration_margin_state == "exact":
+        return human(t.duration_margin, unit)
+    return "unbounded" if t.duration_margin_state == "unbounded" else "-"
 
 
 def render_report(report: Report) -> str:
@@ -88,14 +95,21 @@ def render_report(report: Report) -> str:
         if not t.overrun_decided:
             overrun = "undecided (budget)"
         rows.append([t.name, t.group, human(t.period, u), overrun, human(t.slack, u),
+                     _grow(t, u),
                      "-" if t.critical is None else ("yes" if t.critical else "no")])
     lines.append("")
     lines.append(tabulate(rows, headers=["task", "group", "period", "overrun",
-                                         "slack (period margin)", "critical"]))
+                                         "slack (period margin)", "can grow by", "critical"]))
     if any(t.slack is not None for t in report.tasks.values()):
         lines.append("slack: how much the task's duration may grow before its group's period "
                      "(or its clock's) is exceeded, the other durations unchanged (spec §4); "
                      "it is no overrun margin")
+    if any(t.duration_margin_state != "not computed" for t in report.tasks.values()):
+        lines.append("can grow by: how much the duration may grow, the others unchanged, "
+                     "with its group still consistent: no overrun and every place bounded "
+                     "(exact; \"-\": the group is not consistent as it is)")
+    elif "duration_margins" in report.methods:
+        lines.append(f"can grow by: {report.methods['duration_margins']}")
     if report.unbounded_places:
         lines.append("")
         lines.append("unbounded places (tokens pile up):")

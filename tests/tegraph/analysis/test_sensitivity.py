@@ -2,7 +2,8 @@
 
 The hand derivations use only spec §2-§4 (places, daters, overrun_at) and
 the comments of the example files; each is written next to its assertion.
-The properties on random skeletons are in ``test_sensitivity_properties``.
+The checks against the analysis at points (examples and random skeletons) are in
+``test_sensitivity_properties``.
 """
 
 from __future__ import annotations
@@ -311,3 +312,67 @@ def test_cli_plot_never_overwrites(tmp_path):
     again = run(*args)
     assert again.returncode == 2 and "exists" in again.stderr
     assert run(*args, "--force").returncode == 0
+
+
+# ------------------------------------------------------------------ analyze's "can grow by"
+
+
+STEP = {"tasks": {
+    "MT1": {"duration": 3, "period": 10, "outputs": ["y"]},
+    "MT2": {"duration": 3, "period": 10, "inputs": ["y"], "outputs": ["u"]}},
+    "links": [{"from": "MT1:y", "to": "MT2:y", "protocol": "ASYN/SYN"}]}
+
+
+def test_analyze_shows_how_much_each_duration_may_grow():
+    # MT2 ends its activation at d1 + d2 after the common tick (spec §4), so
+    # each may grow by 10 - 3 - 3 = 4 ms, while the slack (a period margin,
+    # each task's own chain 10 - 3) says 7 ms.
+    from tegraph import analyze
+    from tegraph.report import render_text, to_json
+
+    report = analyze(Skeleton.from_dict(STEP))
+    assert [(t.slack, t.duration_margin, t.duration_margin_state)
+            for t in report.tasks.values()] == [(7, 4, "exact"), (7, 4, "exact")]
+    text = render_text(report)
+    header = next(line for line in text.splitlines() if line.startswith("task"))
+    assert "slack (period margin)" in header and "can grow by" in header
+    row = next(line for line in text.splitlines() if line.startswith("MT2"))
+    assert row.split()[-3:] == ["4", "ms", "no"] and "7 ms" in row
+    doc = json.loads(to_json(report))
+    assert doc["tasks"]["MT1"]["duration_margin"] == "4"
+    assert doc["tasks"]["MT1"]["duration_margin_state"] == "exact"
+
+
+def test_analyze_margins_not_consistent_unbounded_and_not_computed():
+    from tegraph import analyze
+    from tegraph.report import render_text
+
+    # examples/overrun_in_step.yaml: 6 + 6 > 10, MT2 overruns at activation 2:
+    # no growth keeps it consistent ("-"), though each slack is 4 ms.
+    step = analyze(example("overrun_in_step.yaml"))
+    assert {t.duration_margin_state for t in step.tasks.values()} == {"not consistent"}
+    row = next(line for line in render_text(step).splitlines() if line.startswith("MT2"))
+    assert "at activation 2" in row and "4 ms" in row and " - " in row
+    # threads.yaml: the free-running thread LOG, DIAG has no clock: its period
+    # follows its durations, nothing limits them.
+    threads = analyze(example("threads.yaml"))
+    assert threads.tasks["LOG"].duration_margin_state == "unbounded"
+    assert threads.tasks["TG.JS"].duration_margin == F(4, 5)
+    # Above margins_max_tasks the analysis says it did not compute them.
+    skipped = analyze(example("threads.yaml"), margins_max_tasks=4)
+    assert {t.duration_margin_state for t in skipped.tasks.values()} == {"not computed"}
+    assert "margins_max_tasks = 4" in skipped.methods["duration_margins"]
+    assert "tegraph.sensitivity" in render_text(skipped)
+
+
+def test_analyze_margins_follow_the_report_schema():
+    jsonschema = pytest.importorskip("jsonschema")
+    from tegraph import analyze
+    from tegraph.report import to_json
+
+    schema = json.loads((REPO / "docs" / "report.schema.json").read_text())
+    for name in ("computed_torque.yaml", "overrun_in_step.yaml", "threads.yaml"):
+        for limit in (2_000, 0):
+            doc = json.loads(to_json(analyze(example(name), design=False,
+                                             margins_max_tasks=limit)))
+            jsonschema.validate(doc, schema)
