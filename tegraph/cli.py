@@ -607,7 +607,7 @@ def sensitivity_command(
              "TASK.clock), optionally with its range, exact: A.duration=0..5/2, "
              "rtc.period=1.. (repeatable; default: every duration over [0, inf))."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report "
-                                  "(docs/sensitivity.schema.json)."),
+                                  "(docs/report.schema.json)."),
     plot: Path | None = typer.Option(
         None, "--plot", metavar="OUT.svg|png",
         help="Also draw it (one parameter: the periods against it; two: the map of the "

@@ -1,7 +1,7 @@
 """What :func:`~tegraph.analysis.sensitivity.sensitivity` finds, by name, exact.
 
 Plain dataclasses with Fractions (``None`` for an unbounded end); ``to_dict``
-gives the JSON document's data (``docs/sensitivity.schema.json``), exact
+gives the JSON document's data (``docs/report.schema.json``), exact
 numbers as strings. Rendering is :mod:`tegraph.report.sensitivity_text`'s job.
 """
 

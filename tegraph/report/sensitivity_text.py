@@ -23,7 +23,7 @@ __all__ = ["render_sensitivity", "sensitivity_json"]
 
 
 def sensitivity_json(result: SensitivityResult, indent: int | None = 2) -> str:
-    """The JSON document (``report: "sensitivity"``, ``docs/sensitivity.schema.json``).
+    """The JSON document (``report: "sensitivity"``, ``docs/report.schema.json``).
 
     >>> from tegraph import Skeleton
     >>> from tegraph.analysis.sensitivity import sensitivity

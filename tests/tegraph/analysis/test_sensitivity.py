@@ -25,7 +25,7 @@ from tegraph.report.sensitivity_text import render_sensitivity, sensitivity_json
 
 REPO = Path(__file__).resolve().parents[3]
 EXAMPLES = REPO / "examples"
-SCHEMA = json.loads((REPO / "docs" / "sensitivity.schema.json").read_text())
+SCHEMA = json.loads((REPO / "docs" / "report.schema.json").read_text())
 
 
 def example(name: str) -> Skeleton:
