@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import NoReturn
@@ -72,6 +72,22 @@ def _cli_words(text: str) -> str:
 def _fail(message: str) -> NoReturn:
     typer.echo(f"tegraph: error: {_cli_words(message)}", err=True)
     raise typer.Exit(2)
+
+
+def _draw(draw: Callable[..., object], result: object, path: Path, force: bool) -> None:
+    """Draw ``result`` into ``path`` with ``draw``; every refusal is one message, exit 2."""
+    from .report.plot import PlotUnavailableError
+
+    try:
+        draw(result, path, overwrite=force)
+    except PlotUnavailableError as exc:
+        _fail(str(exc))
+    except FileExistsError:
+        _fail(f"{path}: the file exists already; pass --force to replace it")
+    except InputError as exc:
+        _fail(f"{path}: {exc.reason}")
+    except OSError as exc:
+        _fail(f"cannot write {path}: {exc.strerror}")
 
 
 def _output_file(path: Path, force: bool, *, source: Path | None = None) -> None:
@@ -365,7 +381,7 @@ def timeline(
 
     from .design.timeline import simulate_timeline
     from .io import load_skeleton
-    from .report.plot import PlotUnavailableError, draw_timeline
+    from .report.plot import draw_timeline
     from .report.timeline_text import render_timeline
 
     end = None
@@ -382,16 +398,7 @@ def timeline(
         skeleton = load_skeleton(file)
         result = simulate_timeline(skeleton, end)
     if output is not None:
-        try:
-            draw_timeline(result, output, overwrite=force)
-        except PlotUnavailableError as exc:
-            _fail(str(exc))
-        except FileExistsError:
-            _fail(f"{output}: the file exists already; pass --force to replace it")
-        except InputError as exc:
-            _fail(f"{output}: {exc.reason}")
-        except OSError as exc:
-            _fail(f"cannot write {output}: {exc.strerror}")
+        _draw(draw_timeline, result, output, force)
     typer.echo(render_timeline(result, width), nl=False)
     if output is not None:
         typer.echo(f"wrote {output}")
@@ -533,7 +540,7 @@ def explore(
     from .io import load_skeleton
     from .report import render_text, to_json
     from .report.explore_plot import draw_front
-    from .report.plot import PlotUnavailableError, matplotlib_available
+    from .report.plot import matplotlib_available
 
     if plot is not None:
         if plot.suffix.lower() not in (".svg", ".png"):
@@ -586,12 +593,7 @@ def explore(
     text = to_json(result) + "\n" if json_out else _cli_words(render_text(result))
     # (a JSON document ends with one newline, as a text report does)
     if plot is not None:
-        try:
-            draw_front(result, plot, overwrite=force)
-        except (PlotUnavailableError, InputError) as exc:
-            _fail(str(exc))
-        except OSError as exc:
-            _fail(f"cannot write {plot}: {exc.strerror}")
+        _draw(draw_front, result, plot, force)
         if not json_out:
             text += f"wrote {plot}\n"
     typer.echo(text, nl=False)
@@ -628,7 +630,7 @@ def sensitivity_command(
     """
     from .analysis.sensitivity import sensitivity
     from .io import load_skeleton
-    from .report.plot import PlotUnavailableError, matplotlib_available
+    from .report.plot import matplotlib_available
     from .report.sensitivity_plot import draw_sensitivity
     from .report.sensitivity_text import render_sensitivity, sensitivity_json
 
@@ -653,16 +655,7 @@ def sensitivity_command(
                 exc.with_where("--vary" + exc.where[len("vary"):])
             raise
     if plot is not None:
-        try:
-            draw_sensitivity(result, plot, overwrite=force)
-        except PlotUnavailableError as exc:
-            _fail(str(exc))
-        except FileExistsError:
-            _fail(f"{plot}: the file exists already; pass --force to replace it")
-        except InputError as exc:
-            _fail(f"{plot}: {exc.reason}")
-        except OSError as exc:
-            _fail(f"cannot write {plot}: {exc.strerror}")
+        _draw(draw_sensitivity, result, plot, force)
     if json_out:
         typer.echo(sensitivity_json(result))
     else:

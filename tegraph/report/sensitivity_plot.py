@@ -24,7 +24,7 @@ from pathlib import Path
 from ..analysis.sensitivity_polyhedra import Polyhedron
 from ..analysis.sensitivity_results import GroupFormulaReport, SensitivityResult
 from ..errors import InputError
-from .plot import INSTALL_HINT, PlotUnavailableError, matplotlib_available
+from .plot import INSTALL_HINT, PlotUnavailableError, matplotlib_available, save_figure
 
 __all__ = ["draw_sensitivity", "plot_parameters"]
 
@@ -80,7 +80,6 @@ def draw_sensitivity(result: SensitivityResult, path: str | os.PathLike[str],
         raise PlotUnavailableError(
             f"drawing needs matplotlib, which is not installed; install it with: "
             f"{INSTALL_HINT}  (or: pip install matplotlib); the text report needs nothing")
-    import matplotlib
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 5.0), layout="constrained")
@@ -88,15 +87,7 @@ def draw_sensitivity(result: SensitivityResult, path: str | os.PathLike[str],
         _one(fig, result)
     else:
         _two(fig, result)
-    metadata = {"Date": None} if suffix == ".svg" else {"Software": "tegraph"}
-    try:
-        with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "tegraph"}), \
-                open(target, "wb" if overwrite else "xb") as out:
-            fig.savefig(out, format=suffix[1:], metadata=metadata)
-    except FileExistsError:
-        raise FileExistsError(f"{target}: the file exists already; pass overwrite=True "
-                              "to replace it") from None
-    return target
+    return save_figure(fig, target, overwrite)
 
 
 def _one(fig, result: SensitivityResult) -> None:
