@@ -224,7 +224,7 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
 
     Examples
     --------
-    Two machines (rates 5 and 6) feed an assembly step (De Schutter 1996):
+    Two machines (rates 5 and 6) feed an assembly step (De Schutter [2]_):
 
     >>> A0 = [[None, None, None], [None, None, None], [6, 6, None]]
     >>> A1 = [[5, None, None], [None, 6, None], [None, None, 3]]
