@@ -74,6 +74,8 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     Parameters
     ----------
     skeleton : Skeleton
+        The controller; the varied parameters keep their nominal values
+        elsewhere.
     vary : None, sequence of str or mapping
         The parameters (see :func:`~.sensitivity_model.parse_vary`): texts
         ``TASK.duration``, ``CLOCK.period``, each optionally ``=LOW..HIGH``.
@@ -92,6 +94,9 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     Returns
     -------
     SensitivityResult
+        ``scaling`` (the scaling factor and its consistent intervals),
+        ``margins`` per parameter, ``formulas`` per live group, the
+        cross-checks and the effort spent.
 
     Raises
     ------
@@ -103,6 +108,29 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     --------
     duration_margins : the margin of every duration, fast enough for every analysis.
     tegraph.analysis.analyze.analyze_skeleton : the figures at one point.
+    tegraph.analysis.sensitivity_formulas.period_formulas : the period formulas.
+
+    Notes
+    -----
+    The scaling factor is the critical scaling factor of Lehoczky, Sha and
+    Ding [1]_, and the margins the computation-time sensitivity of Bini et
+    al. [2]_, both for synchronized task sets judged by the consistency of
+    spec §4. A group's cycle time is the maximum of its circuits' ratios
+    [3]_, so a convex piecewise-affine function of the parameters, as in the
+    parametric throughput analysis of Ghamarian et al. [4]_.
+
+    References
+    ----------
+    .. [1] J. Lehoczky, L. Sha, Y. Ding, "The rate monotonic scheduling
+       algorithm: exact characterization and average case behavior", IEEE
+       Real-Time Systems Symposium (RTSS), 1989.
+    .. [2] E. Bini, M. Di Natale, G. Buttazzo, "Sensitivity analysis for
+       fixed-priority real-time systems", Euromicro Conference on Real-Time
+       Systems (ECRTS), 2006.
+    .. [3] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992.
+    .. [4] A. H. Ghamarian, M. C. W. Geilen, T. Basten, S. Stuijk, "Parametric
+       throughput analysis of synchronous data flow graphs", DATE 2008.
 
     Examples
     --------

@@ -62,6 +62,7 @@ def duration_margins(skeleton: Skeleton, report: Report | None = None
     Parameters
     ----------
     skeleton : Skeleton
+        The controller.
     report : Report, optional
         Its analysis (:func:`~tegraph.analysis.analyze.analyze_skeleton`);
         computed when not given.
@@ -79,6 +80,20 @@ def duration_margins(skeleton: Skeleton, report: Report | None = None
     --------
     tegraph.analysis.sensitivity.sensitivity : every consistent value of each
         duration and period, with causes.
+    tegraph.analysis.slack.shortest_circuits_through : the slacks, which see
+        circuits only.
+
+    Notes
+    -----
+    The analogue, for synchronized task graphs, of the computation-time
+    sensitivity of Bini et al. [1]_: one nominal analysis and one forward and
+    one reverse longest-path computation per clocked task (module docstring).
+
+    References
+    ----------
+    .. [1] E. Bini, M. Di Natale, G. Buttazzo, "Sensitivity analysis for
+       fixed-priority real-time systems", Euromicro Conference on Real-Time
+       Systems (ECRTS), 2006.
 
     Examples
     --------
