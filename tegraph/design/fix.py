@@ -120,15 +120,40 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
     Parameters
     ----------
     skeleton : Skeleton
+        The design whose port orders may change (nothing else does).
 
     Returns
     -------
     FixResult
+        ``status`` and the ``changes`` of port order, task side by task side,
+        with the reordered skeleton; or why no port order can make it live.
 
     Raises
     ------
     AssertionError
         Internal error: the chosen orders do not give a live timed event graph.
+
+    See Also
+    --------
+    tegraph.analysis.reorder.reorder_ports : the decision it builds on.
+    tegraph.check_rules : the design rules of the same paper.
+
+    Notes
+    -----
+    A skeleton is live when its timed event graph has no token-free circuit
+    (Commoner's theorem [1]_); the preference for the first reading or the
+    last posting synchronizing port is footnote 6 of the ORCCAD paper [2]_.
+    The order is one topological order found by Kahn's algorithm [3]_.
+
+    References
+    ----------
+    .. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+    .. [2] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [3] A. B. Kahn, "Topological sorting of large networks", Communications
+       of the ACM 5(11), 558–562, 1962.
 
     Examples
     --------
