@@ -287,12 +287,27 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     Returns
     -------
     Timeline
+        What runs on each processor when, up to ``horizon`` (Figure 17 of the
+        ORCCAD paper [1]_ is such a diagram).
 
     Raises
     ------
     ModelError
         The horizon is not positive, or a task of duration 0 with nothing to
         wait for loops without time passing.
+
+    See Also
+    --------
+    tegraph.design.schedulability.schedulability : the response times that
+        bound what the timeline shows.
+    tegraph.design.schedulability.hyperperiod : the default horizon's length.
+    tegraph.analyze : the analysis without processor contention.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
 
     Examples
     --------
