@@ -190,7 +190,7 @@ def render_text(result: Any, **options: Any) -> str:
     Returns
     -------
     str
-        The report, one line of text per figure or finding.
+        The human-readable report, several lines.
 
     Raises
     ------
