@@ -84,6 +84,31 @@ class CycleRatioCertificate:
        backwards reaches a circuit of ratio exactly ``χ_i``;
     3. no arc leads from a node with a cycle time to one without, and the
        nodes without a cycle time span no circuit.
+
+    Attributes
+    ----------
+    scale : int
+        Common denominator by which the weights were scaled to integers.
+    ratio_num, ratio_den : numpy.ndarray of int
+        Per node, the reduced cycle time times ``scale``; ``ratio_den == 0``
+        for a node without cycle time.
+    potential : numpy.ndarray of int
+        Per node, the potential scaled by ``scale * ratio_den``.
+    policy : numpy.ndarray of int
+        Per node, its chosen in-arc (-1 for a node without cycle time).
+    circuit : numpy.ndarray of int
+        Arcs of one critical circuit, in order.
+
+    See Also
+    --------
+    CycleRatioResult.verify : checks it.
+    maxplus.certificate.verify_cycle_ratio : the checker.
+
+    Examples
+    --------
+    >>> c = max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3]).certificate
+    >>> c.scale, c.ratio_num.tolist(), c.ratio_den.tolist(), c.potential.tolist()
+    (1, [4, 4], [1, 1], [0, 1])
     """
 
     scale: int
@@ -108,8 +133,20 @@ class CycleRatioResult:
         Per node, ``χ_i = num/den`` in lowest terms; ``den == 0`` for a node that
         no circuit reaches (its cycle time is None).
     certificate : CycleRatioCertificate
+        The exact proof of the cycle times.
     iterations : int
         Howard iterations (value determinations) run; 0 without circuit.
+
+    See Also
+    --------
+    max_cycle_ratio : computes it.
+    CycleRatioCertificate : what :meth:`verify` checks.
+
+    Examples
+    --------
+    >>> r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
+    >>> r.ratio, r.circuit.tolist(), r.bias
+    (Fraction(4, 1), [0, 1], [Fraction(0, 1), Fraction(1, 1)])
     """
 
     ratio: Fraction | None

@@ -109,6 +109,22 @@ class CycleTimeResult:
         The exact certificate of the period was checked (None when not run).
     seconds : dict of str to float
         ``read``, ``analysis``, ``certificate`` wall times.
+
+    See Also
+    --------
+    cycle_time : computes it.
+    tegraph.report.to_json : its JSON report.
+    tegraph.report.render_text : its text report.
+
+    Examples
+    --------
+    A ring of two places without token deadlocks: no period, the token-free
+    circuit instead, and exit status 1.
+
+    >>> from tegraph.io.tpne import parse_tpne_teg
+    >>> r = cycle_time(parse_tpne_teg("TimedEventGraph 2 2\\n0 1: 2 0\\n1 0: 3 0\\n"))
+    >>> r.period, r.token_free_circuit, r.exit_status
+    (None, ['T1', 'T0'], 1)
     """
 
     name: str
