@@ -83,6 +83,11 @@ class FixResult:
     links : list of str
         When impossible: the synchronizing links on that circuit; turning one
         of them asynchronous (ASYN/ASYN), or adding a clock, breaks it.
+
+    See Also
+    --------
+    fix_ports : makes it.
+    tegraph.analysis.reorder.ReorderResult : the decision it refines.
     """
 
     status: str

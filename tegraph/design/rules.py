@@ -87,6 +87,10 @@ class RuleFinding:
     change : Change or None
         The same as an edit of the skeleton (Rules 1-3; None for Rule 4, and
         when no change removes the finding without bringing another one).
+
+    See Also
+    --------
+    check_rules : makes them.
     """
 
     rule: int

@@ -85,7 +85,20 @@ class Job:
 
 @dataclass
 class Timeline:
-    """The result of :func:`simulate_timeline`."""
+    """The result of :func:`simulate_timeline`.
+
+    See Also
+    --------
+    simulate_timeline : makes it.
+    tegraph.report.render_text : its text diagram.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}})
+    >>> tl = simulate_timeline(sk)
+    >>> tl.horizon, tl.tasks, tl.order_of_execution()
+    (Fraction(10, 1), ['A'], [('A', Fraction(0, 1), Fraction(2, 1))])
+    """
 
     name: str
     unit: str
