@@ -15,17 +15,25 @@ orders. :func:`fix_ports` builds on it and chooses *which* order:
    they are added to the graph as hard edges. The other sides are then tried
    again one by one, in file order, and kept when they close no circuit.
 2. **Prefer short latency on the sides that must change** (footnote 6 of the
-   paper: "the synchronizing port will be either the first reading or the
+   ORCCAD paper [1]_: "the synchronizing port will be either the first reading or the
    last posting one so that the MT computes with the last available data").
    On a side that must change, the synchronizing inputs (read ASYN/SYN or
    SYN/SYN) are placed before the other inputs, and the blocking outputs
    (posted SYN/ASYN or SYN/SYN) after the others, as far as these preference
    edges close no circuit.
-3. One topological order of the result (Kahn, declared positions as
-   priorities) gives every port order; the reordered skeleton is rebuilt and
+3. One topological order of the result (Kahn's algorithm [2]_, declared
+   positions as priorities) gives every port order; the reordered skeleton is rebuilt and
    checked for token-free circuits before it is returned.
 
 Nothing here prints or writes files: the command line does.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+.. [2] A. B. Kahn, "Topological sorting of large networks", Communications
+   of the ACM 5(11), 558–562, 1962.
 """
 
 from __future__ import annotations

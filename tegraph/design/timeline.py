@@ -1,8 +1,9 @@
 """Timing diagram: exact preemptive fixed-priority simulation of a skeleton.
 
-Figure 17 of the ORCCAD paper shows the computed-torque law on one processor
-under rate-monotonic priorities. :func:`simulate_timeline` produces that
-diagram as data, exactly (Fractions), over the hyperperiod of the clocks:
+Figure 17 of the ORCCAD paper [1]_ shows the computed-torque law on one
+processor under rate-monotonic priorities [2]_. :func:`simulate_timeline`
+produces that diagram as data, exactly (Fractions), over the hyperperiod of
+the clocks:
 
 - each processor runs, at every instant, its most urgent *ready* task
   (larger priority first; equal priorities first come, first served; then
@@ -29,6 +30,15 @@ diagram as data, exactly (Fractions), over the hyperperiod of the clocks:
 
 The text rendering (:func:`render_timeline`) draws one row per task and the
 exact order of execution; :mod:`tegraph.report.plot` draws the picture.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+.. [2] C. L. Liu, J. W. Layland, "Scheduling algorithms for
+   multiprogramming in a hard-real-time environment", Journal of the ACM
+   20(1), 46–61, 1973.
 """
 
 from __future__ import annotations
