@@ -298,7 +298,8 @@ def max_cycle_ratio(
     exact integer arithmetic; the cycle-time vector of a reducible graph is
     ``χ_i = max`` over the strongly connected classes upstream of ``i`` of
     their maximum ratio ([1]_, Thm 3.112). With all tokens 1 the ratio is
-    Karp's maximum cycle mean [2]_.
+    Karp's maximum cycle mean [2]_. Howard's algorithm was the fastest in
+    practice in Dasdan's comparison of cycle-ratio algorithms [4]_.
 
     References
     ----------
@@ -309,6 +310,9 @@ def max_cycle_ratio(
     .. [3] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
        J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
        algebra", IFAC Conference on System Structure and Control, 1998.
+    .. [4] A. Dasdan, "Experimental analysis of the fastest optimum cycle ratio
+       and mean algorithms", ACM Transactions on Design Automation of
+       Electronic Systems 9(4), 385–418, 2004.
 
     Examples
     --------
