@@ -58,6 +58,17 @@ class CriticalGraph:
     components : list of list of int
         Strongly connected classes of the critical graph, each increasing,
         ordered by their smallest node.
+
+    See Also
+    --------
+    critical_graph : computes it.
+    cyclicity : the cyclicity, from the critical classes.
+
+    Examples
+    --------
+    >>> g = critical_graph([[1, 5], [3, 2]])
+    >>> g.eigenvalue, g.nodes, g.arcs, g.components
+    (Fraction(4, 1), [0, 1], [(0, 1), (1, 0)], [[0, 1]])
     """
 
     eigenvalue: Fraction | None

@@ -6,14 +6,22 @@ a cycle time per node, potentials and a policy. It proves the cycle times when
 1. along every arc ``j -> i`` between nodes with cycle times, ``χ_i >= χ_j``,
    and when they are equal, ``X_i >= X_j + w·T - W·t`` (``χ = W/T`` in lowest
    terms, ``X`` the potential scaled by ``T``): summed around any circuit this
-   gives ``Σw / Σt <= χ`` (the potential argument of Karp 1978 and of
-   Cochet-Terrasson et al. 1998);
+   gives ``Σw / Σt <= χ`` (the potential argument of Karp [1]_ and of
+   Cochet-Terrasson et al. [2]_);
 2. every node's policy arc comes from a node of the same cycle time and is
    tight, so following it backwards reaches a circuit of ratio exactly ``χ_i``;
 3. no arc leaves the nodes with a cycle time, and the other nodes span no circuit.
 
 This module recomputes all of that from the arcs with integer arithmetic and
 trusts nothing computed by the solver but the claimed numbers.
+
+References
+----------
+.. [1] R. M. Karp, "A characterization of the minimum cycle mean in a
+   digraph", Discrete Mathematics 23(3), 309–311, 1978.
+.. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+   J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+   algebra", IFAC Conference on System Structure and Control, 1998.
 """
 
 from __future__ import annotations
@@ -35,14 +43,42 @@ __all__ = ["verify_cycle_ratio"]
 def verify_cycle_ratio(result: CycleRatioResult) -> None:
     """Check the certificate of a cycle-ratio result in exact arithmetic.
 
+    Checks, with integer arithmetic only, that the potentials are feasible
+    on every arc (so no circuit exceeds the claimed cycle times), that every
+    policy arc is tight (so the claimed cycle times are reached), and that
+    the reported critical circuit has exactly the claimed ratio. This is the
+    potential argument behind Karp's theorem [1]_ and Howard's policy
+    iteration [2]_.
+
     Parameters
     ----------
     result : CycleRatioResult
+        A result of :func:`maxplus.cycle_ratio.max_cycle_ratio`, with its
+        certificate; nothing computed by the solver is trusted but the
+        claimed numbers.
+
+    Returns
+    -------
+    None
+        When the certificate proves the claimed cycle times.
 
     Raises
     ------
     CertificateError
         Naming the arc, node or circuit where the proof fails.
+
+    See Also
+    --------
+    maxplus.cycle_ratio.max_cycle_ratio : computes the result and certificate.
+    maxplus.cycle_ratio.CycleRatioCertificate : what is being checked.
+
+    References
+    ----------
+    .. [1] R. M. Karp, "A characterization of the minimum cycle mean in a
+       digraph", Discrete Mathematics 23(3), 309–311, 1978.
+    .. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+       J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+       algebra", IFAC Conference on System Structure and Control, 1998.
 
     Examples
     --------

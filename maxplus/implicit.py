@@ -58,6 +58,17 @@ class ExplicitSystem:
         p, the largest delay.
     n_states : int
         n, the size of the original state; ``X(k)[l·n:(l+1)·n] = x(k−l)``.
+
+    See Also
+    --------
+    to_explicit : computes it.
+    simulate : runs the implicit system directly.
+
+    Examples
+    --------
+    >>> e = to_explicit([[None, None], [1, None]], [[2, None], [None, 3]])
+    >>> e.order, e.n_states, e.A.tolist()
+    (1, 2, [[Fraction(2, 1), -inf], [Fraction(3, 1), Fraction(3, 1)]])
     """
 
     A: np.ndarray
@@ -224,7 +235,7 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
 
     Examples
     --------
-    Two machines (rates 5 and 6) feed an assembly step (De Schutter 1996):
+    Two machines (rates 5 and 6) feed an assembly step (De Schutter [2]_):
 
     >>> A0 = [[None, None, None], [None, None, None], [6, 6, None]]
     >>> A1 = [[5, None, None], [None, 6, None], [None, None, 3]]

@@ -79,6 +79,17 @@ class HowardResult:
     circuit : list of int
         Nodes of a circuit of mean ``eigenvalue``, in order (arcs
         ``circuit[0] -> circuit[1] -> ... -> circuit[0]``); empty without circuit.
+
+    See Also
+    --------
+    howard : computes it.
+    maxplus.max_cycle_ratio : the same on sparse arc arrays, with tokens.
+
+    Examples
+    --------
+    >>> h = howard([[1, 5], [3, 2]])
+    >>> h.eigenvalue, h.bias, h.policy, h.circuit
+    (Fraction(4, 1), [Fraction(0, 1), Fraction(-1, 1)], [1, 0], [0, 1])
     """
 
     eigenvalue: Fraction | None

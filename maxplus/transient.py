@@ -46,7 +46,30 @@ __all__ = ["TrajectoryPeriodicity", "trajectory_transient", "transient"]
 
 
 class TrajectoryPeriodicity(NamedTuple):
-    """``x(k + period) = period·rate ⊗ x(k)`` for every ``k >= transient``."""
+    """``x(k + period) = period·rate ⊗ x(k)`` for every ``k >= transient``.
+
+    Attributes
+    ----------
+    transient : int
+        First step from which the trajectory is periodic.
+    period : int
+        Its period, in steps.
+    rate : Fraction or None
+        The growth per step, the cycle time (None when the trajectory
+        stays at ε).
+
+    See Also
+    --------
+    trajectory_transient : computes it for one initial state.
+    transient : the transient of every initial state.
+
+    Examples
+    --------
+    From ``x(0) = (0, 0)``: ``x(1) = (5, 3)``, ``x(2) = (8, 8) = 8 ⊗ x(0)``.
+
+    >>> trajectory_transient([[1, 5], [3, 2]], [0, 0])
+    TrajectoryPeriodicity(transient=0, period=2, rate=Fraction(4, 1))
+    """
 
     transient: int
     period: int

@@ -82,9 +82,38 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
         :func:`tegraph.report.to_json` gives the JSON of ``docs/skeleton.md`` §5,
         :func:`tegraph.report.render_text` the human report.
 
+    Raises
+    ------
+    SkeletonError
+        A chain of ``chains`` names an unknown task, a task twice, or two
+        consecutive tasks with no link between them.
+
     See Also
     --------
     tegraph.analysis.analyze.analyze_skeleton : the figures of spec §4 alone.
+    cycle_time : the period of any timed event graph or file.
+    tegraph.check_rules : the design rules alone.
+
+    Notes
+    -----
+    Liveness is decided by Commoner's theorem [1]_, [2]_ (no token-free
+    circuit), the periods are the (max,+) cycle times [3]_, the design
+    section follows section 6 of the ORCCAD paper [4]_ with Joseph-Pandya
+    response times [5]_.
+
+    References
+    ----------
+    .. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+    .. [2] T. Murata, "Petri nets: properties, analysis and applications",
+       Proceedings of the IEEE 77(4), 541–580, 1989.
+    .. [3] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992.
+    .. [4] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [5] M. Joseph, P. Pandya, "Finding response times in a real-time
+       system", The Computer Journal 29(5), 390–395, 1986.
 
     Examples
     --------
@@ -155,6 +184,8 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
     Returns
     -------
     CycleTimeResult
+        Period, throughput, critical circuit and cycle times, or the
+        token-free circuit of a deadlock; ``source`` is the file read.
 
     Raises
     ------
@@ -164,6 +195,24 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
     See Also
     --------
     tegraph.analysis.cycle_time.cycle_time : the same on a model.
+    maxplus.max_cycle_ratio : the exact kernel.
+    analyze : the full report of a skeleton.
+
+    Notes
+    -----
+    The period is the maximum cycle ratio [1]_, computed by Howard's policy
+    iteration [2]_ in exact arithmetic and certified; a token-free circuit is
+    a deadlock by Commoner's theorem [3]_.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992.
+    .. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+       J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+       algebra", IFAC Conference on System Structure and Control, 1998.
+    .. [3] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
 
     Examples
     --------
@@ -197,7 +246,9 @@ def write(obj: Any, path: str | os.PathLike[str], format: str | None = None,
     Parameters
     ----------
     obj : Skeleton, TimedEventGraph, PetriNet, SDFGraph or ArcList
+        The model to write.
     path : str or path-like
+        The file.
     format : str, optional
         A name of :data:`tegraph.io.FORMATS`; default from the extension.
     overwrite : bool
@@ -206,17 +257,28 @@ def write(obj: Any, path: str | os.PathLike[str], format: str | None = None,
     Returns
     -------
     pathlib.Path
+        The file written.
 
     Raises
     ------
     InputError
-        The target cannot hold the content.
+        The target cannot hold the content, or the extension names no format.
     FileExistsError
         ``path`` exists and ``overwrite`` is False.
 
     See Also
     --------
     tegraph.io.write : the same without the analysis (a DOT drawing is then plain).
+    to_dot : the coloured DOT text without a file.
+    tegraph.read : the converse.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}})
+    >>> p = write(sk, os.path.join(tempfile.mkdtemp(), "a.dot"))
+    >>> p.read_text().splitlines()[1]
+    '  label="skeleton: period 10 (critical circuit in red)"; rankdir=LR;'
     """
     fmt = format or io.format_for_writing(obj, os.fspath(path))
     marks = None
@@ -231,16 +293,25 @@ def to_dot(obj: Any, view: str | None = None) -> str:
     Parameters
     ----------
     obj : Skeleton, TimedEventGraph, PetriNet, SDFGraph or ArcList
+        The model to draw.
     view : {"skeleton", "teg", "net"}, optional
         Default: ``skeleton`` for a Skeleton, ``net`` for a P/T net, ``teg`` otherwise.
 
     Returns
     -------
     str
+        A Graphviz ``digraph``; its caption gives the period when there is one.
+
+    Raises
+    ------
+    InputError
+        ``obj`` is not a model this project reads.
 
     See Also
     --------
     tegraph.io.dot.dot_text : the drawing alone, coloured as told.
+    write : the same to a file.
+    cycle_time : the figures the colours come from.
 
     Examples
     --------
@@ -282,6 +353,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     Parameters
     ----------
     skeleton : Skeleton
+        The design to vary.
     links : mapping of str to protocols, or sequence of str
         ``{"W:p -> R:q": ["ASYN/SYN", "SYN/SYN"]}``; None or a bare name: all four.
     all_links : bool
@@ -329,6 +401,24 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     See Also
     --------
     tegraph.design.explore.explore_design : the search on a design space.
+    analyze : the analysis of one variant.
+    tegraph.fix_ports : the port reordering applied to a deadlocked variant.
+
+    Notes
+    -----
+    This automates the synthesis of section 6 of the ORCCAD paper [1]_: a
+    variant is live when it has no token-free circuit [2]_, schedulable by
+    Joseph-Pandya response times [3]_.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [2] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+    .. [3] M. Joseph, P. Pandya, "Finding response times in a real-time
+       system", The Computer Journal 29(5), 390–395, 1986.
 
     Examples
     --------

@@ -3,18 +3,20 @@
 How each figure is obtained:
 
 - **live / deadlocks**: token-free circuits of the timed event graph (Commoner
-  et al. 1971 [1]_), cross-checked by the minimal p-semiflows
+  et al. [1]_), cross-checked by the minimal p-semiflows
   (:mod:`.invariants`).
 - **reorder**: the polynomial precedence-graph test of :mod:`.reorder`, whose
   answer is re-checked by rebuilding the reordered graph.
 - **periods** (cycle times): the certified maximum cycle ratio of
-  :func:`maxplus.max_cycle_ratio`; with it, the unbounded places (output
-  event slower than input event) and the critical circuits.
+  :func:`maxplus.max_cycle_ratio` (Howard's policy iteration [2]_); with it,
+  the unbounded places (output event slower than input event) and the
+  critical circuits.
 - **transient, overrun_at**: exact dater simulation with a proof of the
   periodic regime (:mod:`.dynamics`).
 - **slack**: longest circuits through each ``T.compute`` under the weights
-  ``holding - λ·tokens``, by Dijkstra after Johnson's reweighting with the
-  Howard potentials (which are exactly the feasible potentials needed).
+  ``holding - λ·tokens``, by Dijkstra [3]_ after Johnson's reweighting [4]_
+  with the Howard potentials (which are exactly the feasible potentials
+  needed).
 
 Each step is a function of the graph (:class:`_EventGraph`, built once) and
 of the results of the steps before it.
@@ -22,7 +24,14 @@ of the results of the steps before it.
 References
 ----------
 .. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed graphs",
-   Journal of Computer and System Sciences 5(5), 1971.
+   Journal of Computer and System Sciences 5(5), 511–523, 1971.
+.. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+   J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+   algebra", IFAC Conference on System Structure and Control, 1998.
+.. [3] E. W. Dijkstra, "A note on two problems in connexion with graphs",
+   Numerische Mathematik 1, 269–271, 1959.
+.. [4] D. B. Johnson, "Efficient algorithms for shortest paths in sparse
+   networks", Journal of the ACM 24(1), 1–13, 1977.
 """
 
 from __future__ import annotations

@@ -3,17 +3,19 @@
 :func:`cycle_time` is what ``tegraph cycle-time FILE`` runs once the file is
 read. It accepts every model the project reads (a skeleton, a timed event
 graph, a P/T net, an SDF graph, an arc list), turns it into arc arrays and
-runs the exact maximum cycle ratio of :func:`maxplus.max_cycle_ratio`.
+runs the exact maximum cycle ratio of :func:`maxplus.max_cycle_ratio`
+(Howard's policy iteration [4]_; Karp's maximum cycle mean [3]_ when every
+place holds one token).
 
 * The **period** ``λ`` is the largest ``Σ holding / Σ tokens`` over the
   circuits: the time between two firings of the slowest transition in the
   long run; the **throughput** is ``1/λ`` firings per time unit (for an SDF
   graph: iterations per time unit, SDF3's throughput).
 * The cycle time of a transition is the largest ratio among the circuits
-  upstream of it (Baccelli et al. 1992, Thm 3.112); the transitions differ
+  upstream of it (Baccelli et al. [1]_, Thm 3.112); the transitions differ
   only when the graph is not strongly connected. A transition that no
   circuit reaches (an input) has none.
-* A circuit without token never fires (Commoner et al. 1971): the graph
+* A circuit without token never fires (Commoner et al. [2]_): the graph
   deadlocks, no period exists, and that circuit is reported instead.
 * A P/T net that is not a marked graph has no (max,+) figures: the result
   says why (the place or arc at fault), and what still applies is run
@@ -24,6 +26,18 @@ runs the exact maximum cycle ratio of :func:`maxplus.max_cycle_ratio`.
 
 The result is data (:class:`CycleTimeResult`, :meth:`~CycleTimeResult.to_dict`
 for the JSON report of ``docs/report.schema.json``); nothing is printed.
+
+References
+----------
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992.
+.. [2] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+   graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+.. [3] R. M. Karp, "A characterization of the minimum cycle mean in a
+   digraph", Discrete Mathematics 23(3), 309–311, 1978.
+.. [4] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+   J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+   algebra", IFAC Conference on System Structure and Control, 1998.
 """
 
 from __future__ import annotations
@@ -95,6 +109,22 @@ class CycleTimeResult:
         The exact certificate of the period was checked (None when not run).
     seconds : dict of str to float
         ``read``, ``analysis``, ``certificate`` wall times.
+
+    See Also
+    --------
+    cycle_time : computes it.
+    tegraph.report.to_json : its JSON report.
+    tegraph.report.render_text : its text report.
+
+    Examples
+    --------
+    A ring of two places without token deadlocks: no period, the token-free
+    circuit instead, and exit status 1.
+
+    >>> from tegraph.io.tpne import parse_tpne_teg
+    >>> r = cycle_time(parse_tpne_teg("TimedEventGraph 2 2\\n0 1: 2 0\\n1 0: 3 0\\n"))
+    >>> r.period, r.token_free_circuit, r.exit_status
+    (None, ['T1', 'T0'], 1)
     """
 
     name: str
@@ -219,6 +249,9 @@ def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
     Returns
     -------
     CycleTimeResult
+        Period, throughput, critical circuit and per-transition cycle times,
+        or the deadlocked circuit, or (for a P/T net that is not a marked
+        graph) the reason and the reachability verdict.
 
     Raises
     ------
@@ -229,6 +262,27 @@ def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
     --------
     tegraph.cycle_time : the same, reading a file first.
     maxplus.max_cycle_ratio : the kernel.
+    tegraph.analysis.reachability.reachability_graph : the untimed fallback
+        for a P/T net that is not a marked graph.
+
+    Notes
+    -----
+    The period is the maximum cycle ratio of the graph [1]_, computed exactly
+    by Howard's policy iteration [4]_ (with one token per place it is Karp's
+    maximum cycle mean [3]_). A circuit without token is a deadlock by
+    Commoner's theorem [2]_, and is reported instead of a period.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992.
+    .. [2] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+    .. [3] R. M. Karp, "A characterization of the minimum cycle mean in a
+       digraph", Discrete Mathematics 23(3), 309–311, 1978.
+    .. [4] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+       J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+       algebra", IFAC Conference on System Structure and Control, 1998.
 
     Examples
     --------

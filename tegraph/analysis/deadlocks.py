@@ -2,14 +2,14 @@
 
 :func:`~tegraph.analysis.liveness.token_free_circuits` finds one token-free
 circuit per strongly connected part of the 0-token places (Commoner et al.
-1971 [1]_); this module names each one as spec §4 reports it: its events in
+[1]_); this module names each one as spec §4 reports it: its events in
 order, the tasks whose chains hold them, and the links whose places it goes
 through. ``tegraph analyze`` and ``tegraph timeline`` report the same circuits.
 
 References
 ----------
 .. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed graphs",
-   Journal of Computer and System Sciences 5(5), 1971.
+   Journal of Computer and System Sciences 5(5), 511–523, 1971.
 """
 
 from __future__ import annotations

@@ -4,11 +4,25 @@ A p-semiflow is a vector ``y >= 0``, ``y != 0``, with ``yᵀ·C = 0`` for the
 incidence matrix ``C`` (places × transitions); ``yᵀ·M`` is then the same for
 every reachable marking ``M``. In a marked graph the supports of the minimal
 p-semiflows are exactly the elementary circuits, so the graph is live if and
-only if every minimal semiflow carries a token — the check of the ORCCAD
-paper (§4), made here by the Farkas algorithm of Martínez and Silva
-("A simple and fast algorithm to obtain all invariants of a generalised
-Petri net", 1982). Their number can grow exponentially: the enumeration runs
-under a budget on the number of candidate rows and says so when it stops.
+only if every minimal semiflow carries a token (Commoner's theorem [1]_,
+[2]_) — the check of the ORCCAD paper (§4) [3]_, made here by the Farkas
+algorithm of Martínez and Silva [4]_. Their number can grow exponentially:
+the enumeration runs under a budget on the number of candidate rows and says
+so when it stops.
+
+References
+----------
+.. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+   graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+.. [2] T. Murata, "Petri nets: properties, analysis and applications",
+   Proceedings of the IEEE 77(4), 541–580, 1989.
+.. [3] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+.. [4] J. Martínez, M. Silva, "A simple and fast algorithm to obtain all
+   invariants of a generalised Petri net", in C. Girault, W. Reisig (eds.),
+   *Application and Theory of Petri Nets*, Informatik-Fachberichte 52,
+   Springer, 1982.
 """
 
 from __future__ import annotations
@@ -53,7 +67,25 @@ class SemiflowResult:
         return [rows[k] for k in order]
 
     def unmarked(self, marking: np.ndarray) -> np.ndarray:
-        """Indices (rows of ``matrix``) of the semiflows without token under ``marking``."""
+        """Indices (rows of ``matrix``) of the semiflows without token under ``marking``.
+
+        Parameters
+        ----------
+        marking : array_like of int
+            Tokens per place.
+
+        Returns
+        -------
+        numpy.ndarray of int
+            Rows of ``matrix`` whose support holds no token: in a marked graph,
+            the circuits that deadlock.
+
+        Examples
+        --------
+        >>> r = minimal_semiflows(np.array([[-1, 1], [1, -1], [0, 0]]))
+        >>> r.unmarked([0, 0, 1]).tolist()
+        [0]
+        """
         return np.flatnonzero(self.matrix @ np.asarray(marking, dtype=np.int64) == 0)
 
 
@@ -80,18 +112,39 @@ def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000,
     Returns
     -------
     SemiflowResult
+        ``computed`` and one minimal semiflow per row of ``matrix``; when the
+        budget ran out, ``computed`` is False and ``matrix`` has no rows.
+
+    See Also
+    --------
+    SemiflowResult.unmarked : the semiflows without token under a marking.
 
     Notes
     -----
-    Martínez & Silva (1982): eliminate one transition column at a time,
-    combining each row with a positive entry with each row with a negative one,
-    and drop every row whose support contains another row's support. The
+    The Farkas algorithm of Martínez and Silva [1]_: eliminate one transition
+    column at a time, combining each row with a positive entry with each row
+    with a negative one, and drop every row whose support contains another
+    row's support. The
     order of elimination does not change the result, so transitions with a
     single input and a single output place (most events of a skeleton) are
     eliminated first, all at once: in a marked graph they join places into
     paths and circuits, found as connected components. On a large net the
     table is kept sparse (a semiflow of a skeleton is a short circuit), so a
     step costs in proportion to the entries it touches, not to rows × places.
+
+    In a marked graph the minimal semiflows are the elementary circuits, and
+    the net is live if and only if each carries a token [2]_, [3]_.
+
+    References
+    ----------
+    .. [1] J. Martínez, M. Silva, "A simple and fast algorithm to obtain all
+       invariants of a generalised Petri net", in C. Girault, W. Reisig (eds.),
+       *Application and Theory of Petri Nets*, Informatik-Fachberichte 52,
+       Springer, 1982.
+    .. [2] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+    .. [3] T. Murata, "Petri nets: properties, analysis and applications",
+       Proceedings of the IEEE 77(4), 541–580, 1989.
 
     Examples
     --------

@@ -1,11 +1,21 @@
 """Liveness of a timed event graph by the token-free-circuit criterion.
 
 A marked graph is live if and only if every circuit carries at least one
-token (Commoner, Holt, Even, Pnueli, "Marked directed graphs", J. Comput.
-Syst. Sci. 5, 1971; the paper's Theorem 2). So liveness is decided in linear
-time by the strongly connected components of the subgraph of 0-token places:
-every non-trivial component (or 0-token self-loop) holds a token-free circuit,
-a deadlock whose events never fire.
+token (Commoner, Holt, Even and Pnueli [1]_; see also Murata [2]_; Theorem 2 of
+the ORCCAD paper [3]_). So liveness is decided in linear time by the strongly
+connected components of the subgraph of 0-token places: every non-trivial
+component (or 0-token self-loop) holds a token-free circuit, a deadlock whose
+events never fire.
+
+References
+----------
+.. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+   graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+.. [2] T. Murata, "Petri nets: properties, analysis and applications",
+   Proceedings of the IEEE 77(4), 541–580, 1989.
+.. [3] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
 """
 
 from __future__ import annotations
@@ -28,6 +38,7 @@ def token_free_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray,
     tokens : numpy.ndarray of int
         Initial tokens of every place.
     n_events : int
+        Number of events (transitions).
 
     Returns
     -------
@@ -35,6 +46,25 @@ def token_free_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray,
         Each circuit as the places it goes through, in order
         (``dst[c[k]] == src[c[k+1]]``); empty when the graph is live.
         Circuits are listed in the order of their smallest event.
+
+    See Also
+    --------
+    dead_events : the events these circuits starve.
+    tegraph.analysis.deadlocks.skeleton_deadlocks : the circuits named by
+        tasks and links.
+    tegraph.analysis.invariants.minimal_semiflows : the semiflow cross-check.
+
+    Notes
+    -----
+    The graph is live exactly when the list is empty, by Commoner's theorem
+    [1]_, [2]_.
+
+    References
+    ----------
+    .. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+    .. [2] T. Murata, "Petri nets: properties, analysis and applications",
+       Proceedings of the IEEE 77(4), 541–580, 1989.
 
     Examples
     --------
@@ -91,6 +121,24 @@ def dead_events(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray, n_events: 
 
     An event downstream of a dead event waits, in some firing, for a token that
     never comes (after it has used up the tokens already on the way).
+
+    Parameters
+    ----------
+    src, dst : numpy.ndarray of int
+        Input and output event of every place.
+    tokens : numpy.ndarray of int
+        Initial tokens of every place.
+    n_events : int
+        Number of events (transitions).
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True for each event that fires only finitely often.
+
+    See Also
+    --------
+    token_free_circuits : the circuits the dead events start from.
 
     Examples
     --------

@@ -1,6 +1,6 @@
 """The untimed reachability graph: the state-space baseline for deadlocks.
 
-The ORCCAD paper (§4-5) checks its nets by walking their reachability graph;
+The ORCCAD paper [1]_ (§4-5) checks its nets by walking their reachability graph;
 :mod:`tegraph.analysis.liveness` answers the same question structurally (token-free
 circuits). This module is the walk, so that the two can be compared and the
 difference in cost measured (``benchmarks/bench_baseline.py``).
@@ -20,10 +20,20 @@ marking of the whole net is ever dead. :func:`skeleton_reachability`
 therefore explores each group (weakly connected part) on its own, with every
 place ``p`` bounded to ``m_p + 1`` tokens by a complementary place. Every
 circuit through a complementary place holds a token, so the bounded group is
-live exactly when the group is (Commoner's theorem on both marked graphs);
+live exactly when the group is (Commoner's theorem [2]_, [3]_ on both marked graphs);
 bounded and strongly connected, a group that is not live reaches a marking
 where none of its events can fire. Its firing sequence is also a firing
 sequence of the unbounded net.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+.. [2] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+   graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+.. [3] T. Murata, "Petri nets: properties, analysis and applications",
+   Proceedings of the IEEE 77(4), 541–580, 1989.
 """
 
 from __future__ import annotations

@@ -11,10 +11,23 @@ event), the clocks' ``tick -> activate`` places, and for a thread
 these edges (up to transitivity), so a circuit here is a deadlock for every
 order; conversely, if the graph is acyclic, ordering every task's ports along
 one topological order gives 0-token places that all point forward in it: no
-token-free circuit, the skeleton is live (Commoner et al. 1971).
+token-free circuit, the skeleton is live (Commoner et al. [1]_, [2]_).
 
-The topological order is chosen by Kahn's algorithm with the declared port
-positions as priorities, so declared orders that are already fine stay.
+The topological order is chosen by Kahn's algorithm [3]_ with the declared
+port positions as priorities, so declared orders that are already fine stay.
+The example is Figure 7b of the ORCCAD paper [4]_.
+
+References
+----------
+.. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+   graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+.. [2] T. Murata, "Petri nets: properties, analysis and applications",
+   Proceedings of the IEEE 77(4), 541–580, 1989.
+.. [3] A. B. Kahn, "Topological sorting of large networks", Communications
+   of the ACM 5(11), 558–562, 1962.
+.. [4] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
 """
 
 from __future__ import annotations
@@ -60,21 +73,46 @@ def reorder_ports(skeleton: Skeleton) -> ReorderResult:
     Parameters
     ----------
     skeleton : Skeleton
+        Tasks, ports, links, clocks and threads; the declared port positions
+        are kept wherever they already work.
 
     Returns
     -------
     ReorderResult
+        ``possible`` True with the changed ``orders`` (per task, its inputs
+        and outputs in the new order) and the reordered skeleton; or
+        ``possible`` False with the ``circuit`` of events and the ``links``
+        on it that deadlock every port order.
+
+    See Also
+    --------
+    PrecedenceGraph : the obligations the order must respect.
+    tegraph.analysis.cycle_time.cycle_time : period of the reordered skeleton.
 
     Notes
     -----
     Linear in the size of the skeleton (plus a log factor for the priority
-    queue). The argument is in the module docstring; the result is re-checked
-    by the analysis, which rebuilds the timed event graph of the reordered
-    skeleton and tests it for token-free circuits.
+    queue of Kahn's algorithm [3]_). The argument is in the module docstring:
+    an acyclic precedence graph leaves no token-free circuit, so the skeleton
+    is live by Commoner's theorem [1]_, [2]_. The result is re-checked by the
+    analysis, which rebuilds the timed event graph of the reordered skeleton
+    and tests it for token-free circuits.
+
+    References
+    ----------
+    .. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+    .. [2] T. Murata, "Petri nets: properties, analysis and applications",
+       Proceedings of the IEEE 77(4), 541–580, 1989.
+    .. [3] A. B. Kahn, "Topological sorting of large networks", Communications
+       of the ACM 5(11), 558–562, 1962.
+    .. [4] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
 
     Examples
     --------
-    Figure 7b of the ORCCAD paper: MT2 waits to read ``c`` from MT3 before it
+    Figure 7b of the ORCCAD paper [4]_: MT2 waits to read ``c`` from MT3 before it
     reads ``a``, so MT1 stays blocked writing ``a`` (SYN/ASYN) and never writes
     ``d``, for which MT3 waits:
 
@@ -196,6 +234,15 @@ class PrecedenceGraph:
         self.succ[a].append(b)
 
     def topological_order(self) -> list[int] | None:
+        """Kahn's topological order of the events, declared port positions first.
+
+        Returns
+        -------
+        list of int or None
+            Event indices in an order where every obligation points forward;
+            None when the obligations contain a circuit (see
+            :meth:`find_circuit`).
+        """
         n = len(self.names)
         indegree = [0] * n
         for outs in self.succ:
@@ -214,7 +261,14 @@ class PrecedenceGraph:
         return order if len(order) == n else None
 
     def find_circuit(self) -> list[int]:
-        """One circuit, by iterative depth-first search (colours white/grey/black)."""
+        """One circuit, by iterative depth-first search (colours white/grey/black).
+
+        Returns
+        -------
+        list of int
+            Event indices of one circuit of obligations, in order; empty when
+            the graph is acyclic.
+        """
         n = len(self.names)
         colour = [0] * n
         for root in range(n):

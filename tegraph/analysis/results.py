@@ -99,7 +99,21 @@ class InvariantCheck:
 
 @dataclass
 class Report:
-    """Everything ``tegraph analyze`` reports about one skeleton."""
+    """Everything ``tegraph analyze`` reports about one skeleton.
+
+    See Also
+    --------
+    tegraph.analyze : makes it.
+    tegraph.report.to_json : its JSON document (``docs/skeleton.md`` §5).
+    tegraph.report.render_text : its text report.
+
+    Examples
+    --------
+    >>> from tegraph import Skeleton, analyze
+    >>> r = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}}))
+    >>> r.live, r.consistent, r.exit_status, list(r.tasks)
+    (True, True, 0, ['A'])
+    """
 
     name: str
     unit: str

@@ -1,10 +1,11 @@
 """Each group's cycle time as an exact formula of the parameters, and where it keeps pace.
 
 A group's cycle time is ``λ(θ) = max over its circuits γ of (c_γ + g_γ·θ)/m_γ``
-(Baccelli et al. 1992, Thm 3.112): a convex piecewise-affine function whose
+(Baccelli et al. [1]_, Thm 3.112): a convex piecewise-affine function whose
 pieces are circuits. Over a box of a few parameters, the *non-redundant*
 terms (those that are the maximum on a full-dimensional part of the box) are
-found by cutting planes with Howard as the separation oracle:
+found by cutting planes with Howard's policy iteration [2]_ as the
+separation oracle:
 
 1. ``F`` is the maximum of the terms known (first: the critical circuit at
    the nominal point); ``E = {(θ, z) : θ in the box, z >= every term}`` is
@@ -30,6 +31,14 @@ point are given instead: the one-sided partial derivatives of λ, which are
 the largest and smallest slopes among the critical circuits. Those are the
 circuits of the *tight* subgraph of Howard's potentials, so each derivative
 is one more cycle-ratio problem (the slope as weight) on that subgraph.
+
+References
+----------
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992.
+.. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+   J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+   algebra", IFAC Conference on System Structure and Control, 1998.
 """
 
 from __future__ import annotations
@@ -92,10 +101,57 @@ def period_formulas(groups: Sequence[ParametricGroup], params: Sequence[Paramete
                     max_parameters: int = 6) -> tuple[list[GroupFormula], int, int]:
     """The cycle-time formula of every live group (module docstring).
 
+    Parameters
+    ----------
+    groups : sequence of ParametricGroup
+        The live groups, from
+        :func:`tegraph.analysis.sensitivity_model.parametric_groups`.
+    params : sequence of Parameter
+        The varied parameters and their boxes, from
+        :func:`tegraph.analysis.sensitivity_model.parse_vary`.
+    max_parameters : int
+        A group with more parameters than this gets the derivatives at the
+        nominal point instead of an exact formula.
+
     Returns
     -------
     (list of GroupFormula, rounds, queries)
         One formula per group, the batched oracle calls and the points asked.
+
+    See Also
+    --------
+    tegraph.analysis.sensitivity.sensitivity : the analysis that reports them.
+    maxplus.max_cycle_ratio : the oracle at each point.
+
+    Notes
+    -----
+    The cycle time is the maximum of the circuits' ratios [1]_, a convex
+    piecewise-affine function of the parameters; its pieces are found by
+    cutting planes, each oracle call a policy iteration [2]_.
+
+    References
+    ----------
+    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992.
+    .. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+       J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+       algebra", IFAC Conference on System Structure and Control, 1998.
+
+    Examples
+    --------
+    One task of duration θ under a clock of period 5: ``λ(θ) = max(θ, 5)``,
+    and the task keeps pace with its clock while ``θ <= 5``:
+
+    >>> from tegraph.model.skeleton import Skeleton
+    >>> from tegraph.analysis.sensitivity_model import parametric_groups, parse_vary
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 5}}})
+    >>> ps = parse_vary(sk)
+    >>> (f,), rounds, queries = period_formulas(parametric_groups(sk, ps), ps)
+    >>> f.exact, [(t.holding.coef, str(t.holding.const), t.tokens) for t in f.terms]
+    (True, [(((0, 1),), '0', 1), ((), '5', 1)])
+    >>> q, = f.regions[0].inequalities
+    >>> q.coefficients, q.bound
+    (((0, Fraction(1, 1)),), Fraction(5, 1))
     """
     nominal = [p.nominal for p in params]
     exact = [g for g in groups if len(g.params) <= max_parameters]

@@ -223,7 +223,20 @@ class GroupFormulaReport:
 
 @dataclass
 class SensitivityResult:
-    """Everything ``tegraph sensitivity`` reports about one skeleton."""
+    """Everything ``tegraph sensitivity`` reports about one skeleton.
+
+    See Also
+    --------
+    tegraph.sensitivity : makes it.
+    tegraph.report.to_json : its JSON document.
+
+    Examples
+    --------
+    >>> from tegraph import Skeleton, sensitivity
+    >>> r = sensitivity(Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}}))
+    >>> r.consistent, r.exit_status, [p.name for p in r.parameters]
+    (True, 0, ['A.duration'])
+    """
 
     name: str
     unit: str

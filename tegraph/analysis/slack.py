@@ -1,10 +1,20 @@
 """Slack kernel: the lightest circuit through each of a set of events.
 
 The slack of a task is how much its duration can grow before the period of
-its group does; with Johnson's reduced weights (Howard's potentials make
-them non-negative, 0 on critical circuits) it is the lightest circuit through
-the task's compute event. Arrays in, arrays out, as
-:mod:`scipy.sparse.csgraph`: the caller validates.
+its group does; with Johnson's reduced weights [1]_ (Howard's potentials [2]_
+make them non-negative, 0 on critical circuits) it is the lightest circuit
+through the task's compute event, found by Dijkstra's algorithm [3]_. Arrays
+in, arrays out, as :mod:`scipy.sparse.csgraph`: the caller validates.
+
+References
+----------
+.. [1] D. B. Johnson, "Efficient algorithms for shortest paths in sparse
+   networks", Journal of the ACM 24(1), 1–13, 1977.
+.. [2] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+   J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+   algebra", IFAC Conference on System Structure and Control, 1998.
+.. [3] E. W. Dijkstra, "A note on two problems in connexion with graphs",
+   Numerische Mathematik 1, 269–271, 1959.
 """
 
 from __future__ import annotations
@@ -44,16 +54,31 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
         ``min over arcs k into c of dist(c, s[k]) + weights[k]`` for each
         source c, None when no circuit passes through c.
 
+    See Also
+    --------
+    scipy.sparse.csgraph.dijkstra : the float kernel used below 2**53.
+    maxplus.max_cycle_ratio : the potentials that make the weights non-negative.
+
     Notes
     -----
-    Dijkstra (1959) from each source, restricted to the source's strongly
+    Dijkstra's algorithm [1]_ from each source, restricted to the source's strongly
     connected component (a circuit cannot leave it) and to distances up to
     ``upper``. scipy's Dijkstra runs on blocks of sources when every distance
     stays below 2**53, where float64 is exact; otherwise an exact heap
     Dijkstra in Python stops once no shorter circuit can be found.
     :meth:`tegraph.analysis.Analysis` calls it with Johnson's reduced weights
-    (Howard's potentials make every weight non-negative), so that the
+    [2]_ (Howard's potentials [3]_ make every weight non-negative), so that the
     lightest circuit is the slack of a task's compute event.
+
+    References
+    ----------
+    .. [1] E. W. Dijkstra, "A note on two problems in connexion with graphs",
+       Numerische Mathematik 1, 269–271, 1959.
+    .. [2] D. B. Johnson, "Efficient algorithms for shortest paths in sparse
+       networks", Journal of the ACM 24(1), 1–13, 1977.
+    .. [3] J. Cochet-Terrasson, G. Cohen, S. Gaubert, M. Mc Gettrick,
+       J.-P. Quadrat, "Numerical computation of spectral elements in max-plus
+       algebra", IFAC Conference on System Structure and Control, 1998.
 
     Examples
     --------

@@ -5,7 +5,7 @@ Each finding of Rules 1 to 3 (:func:`tegraph.design.rules.check_rules`) gets a
 get another protocol, clocks removed, clocks added), and its advice is that
 change in words. The change is the smallest of a short list of candidates
 (fewest links and clocks edited; among equals, the order below, which is the
-ORCCAD paper's preference) that *brings no new finding*: applied to the
+ORCCAD paper's preference [1]_) that *brings no new finding*: applied to the
 skeleton, the finding is gone and every finding of Rules 1-3 left was there
 before. So, following the advice one finding at a time, the findings of Rules
 1-3 only ever shrink: none comes back, and the loop ends. When no candidate
@@ -40,6 +40,12 @@ A candidate is checked where it can change the rules (:meth:`Advisor.brings`):
 Rule 1 for the tasks it touches, Rule 3 for the groups their tasks form
 afterwards, Rule 2 for its links and the ASYN/ASYN links of those groups. So a
 check costs the size of the groups touched, not of the skeleton.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
 """
 
 from __future__ import annotations

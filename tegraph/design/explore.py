@@ -1,7 +1,7 @@
 """Synthesis of the synchronization: search protocol and clock choices for the best live,
 consistent, schedulable designs (ORCCAD §6, ``tegraph explore``).
 
-Section 6 of the ORCCAD paper gives rules for *adding* synchronization to a
+Section 6 of the ORCCAD paper [1]_ gives rules for *adding* synchronization to a
 multi-rate controller; this module makes the tool choose, link by link,
 between ASYN/ASYN, ASYN/SYN, SYN/ASYN and SYN/SYN, and clock periods among
 candidates, by judging variants exactly (:mod:`.explore_eval`) and keeping the
@@ -16,6 +16,12 @@ Pareto front of the objectives (chain latencies, period, processor load).
 
 Writing the results file and rendering are done above this floor
 (:func:`tegraph.explore`, :mod:`tegraph.report.explore_text`).
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ verdict. Two rules, both proven here and cross-checked against
 
 **Rule A (time does not matter).** Whether a skeleton is live, and whether
 some port order makes it live, depends only on its token-free places and
-merged events, never on durations or periods (Commoner's theorem on the
+merged events, never on durations or periods (Commoner's theorem [1]_ on the
 0-token graph; the precedence graph of :mod:`tegraph.analysis.reorder` holds
 no time). So a protocol assignment that deadlocks for every port order does so
 for every choice of clock periods: its ``n_clock_variants`` variants are judged
@@ -36,6 +36,11 @@ circuits come from merges: a merged class holding two events of one task's
 chain (a task reading two SYN/SYN inputs of one writer port sees one event
 twice, reorder's self-loop), and a class whose members are joined by a path of
 ``G`` (the path closes on the merged event).
+
+References
+----------
+.. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+   graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
 """
 
 from __future__ import annotations

@@ -15,17 +15,25 @@ orders. :func:`fix_ports` builds on it and chooses *which* order:
    they are added to the graph as hard edges. The other sides are then tried
    again one by one, in file order, and kept when they close no circuit.
 2. **Prefer short latency on the sides that must change** (footnote 6 of the
-   paper: "the synchronizing port will be either the first reading or the
+   ORCCAD paper [1]_: "the synchronizing port will be either the first reading or the
    last posting one so that the MT computes with the last available data").
    On a side that must change, the synchronizing inputs (read ASYN/SYN or
    SYN/SYN) are placed before the other inputs, and the blocking outputs
    (posted SYN/ASYN or SYN/SYN) after the others, as far as these preference
    edges close no circuit.
-3. One topological order of the result (Kahn, declared positions as
-   priorities) gives every port order; the reordered skeleton is rebuilt and
+3. One topological order of the result (Kahn's algorithm [2]_, declared
+   positions as priorities) gives every port order; the reordered skeleton is rebuilt and
    checked for token-free circuits before it is returned.
 
 Nothing here prints or writes files: the command line does.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+.. [2] A. B. Kahn, "Topological sorting of large networks", Communications
+   of the ACM 5(11), 558–562, 1962.
 """
 
 from __future__ import annotations
@@ -83,6 +91,11 @@ class FixResult:
     links : list of str
         When impossible: the synchronizing links on that circuit; turning one
         of them asynchronous (ASYN/ASYN), or adding a clock, breaks it.
+
+    See Also
+    --------
+    fix_ports : makes it.
+    tegraph.analysis.reorder.ReorderResult : the decision it refines.
     """
 
     status: str
@@ -120,15 +133,40 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
     Parameters
     ----------
     skeleton : Skeleton
+        The design whose port orders may change (nothing else does).
 
     Returns
     -------
     FixResult
+        ``status`` and the ``changes`` of port order, task side by task side,
+        with the reordered skeleton; or why no port order can make it live.
 
     Raises
     ------
     AssertionError
         Internal error: the chosen orders do not give a live timed event graph.
+
+    See Also
+    --------
+    tegraph.analysis.reorder.reorder_ports : the decision it builds on.
+    tegraph.check_rules : the design rules of the same paper.
+
+    Notes
+    -----
+    A skeleton is live when its timed event graph has no token-free circuit
+    (Commoner's theorem [1]_); the preference for the first reading or the
+    last posting synchronizing port is footnote 6 of the ORCCAD paper [2]_.
+    The order is one topological order found by Kahn's algorithm [3]_.
+
+    References
+    ----------
+    .. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
+       graphs", Journal of Computer and System Sciences 5(5), 511–523, 1971.
+    .. [2] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [3] A. B. Kahn, "Topological sorting of large networks", Communications
+       of the ACM 5(11), 558–562, 1962.
 
     Examples
     --------

@@ -25,18 +25,31 @@ contention). It needs a rate-consistent group.
 Between segments (an ASYN/ASYN hop between groups) nothing relates the two
 clocks, and the published bounds for register communication apply, each
 segment s standing for one periodic task of period ``T_s`` (its group's
-period) and response time ``R_s`` (the Joseph-Pandya response time of its
-group on its processor, :mod:`tegraph.design.schedulability`):
+period) and response time ``R_s`` (the Joseph-Pandya response time [1]_ of
+its group on its processor, :mod:`tegraph.design.schedulability`):
 
-- **Davare et al. 2007** (DAC, "Period optimization for hard real-time
-  distributed automotive systems"): ``L <= Σ_s (T_s + R_s)``;
-- **Dürr et al. 2019** (CASES / ACM TECS, "End-to-end timing analysis of
-  sporadic cause-effect chains in distributed systems"): the term of a
-  segment followed, on the same processor, by a segment of strictly lower
-  priority shrinks to ``T_s + max(R_s - T_{s+1}, 0)``.
+- **Davare et al. 2007** [2]_: ``L <= Σ_s (T_s + R_s)``;
+- **Dürr et al. 2019** [3]_: the term of a segment followed, on the same
+  processor, by a segment of strictly lower priority shrinks to
+  ``T_s + max(R_s - T_{s+1}, 0)``.
 
 Both bound the time from a change of the sensor value to the actuator output
-that reflects it, one sampling period of T1 included.
+that reflects it, one sampling period of T1 included. The daters inside a
+segment are those of the (max,+) model of the timed event graph [4]_.
+
+References
+----------
+.. [1] M. Joseph, P. Pandya, "Finding response times in a real-time
+   system", The Computer Journal 29(5), 390–395, 1986.
+.. [2] A. Davare, Q. Zhu, M. Di Natale, C. Pinello, S. Kanajan,
+   A. Sangiovanni-Vincentelli, "Period optimization for hard real-time
+   distributed automotive systems", Design Automation Conference (DAC),
+   2007.
+.. [3] M. Dürr, G. von der Brüggen, K.-H. Chen, J.-J. Chen, "End-to-end
+   timing analysis of sporadic cause-effect chains in distributed systems",
+   ACM Transactions on Embedded Computing Systems 18(5s) (CASES), 2019.
+.. [4] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992.
 """
 
 from __future__ import annotations
@@ -149,6 +162,22 @@ class ChainLatency:
 def parse_chain(text: str) -> tuple[str, ...]:
     """``"A,B,C"`` -> ``("A", "B", "C")`` (task names may hold dots, never commas).
 
+    Parameters
+    ----------
+    text : str
+        Comma-separated task names; spaces around a name are dropped.
+
+    Returns
+    -------
+    tuple of str
+        The task names, in order.
+
+    See Also
+    --------
+    chain_latency : the latency of the parsed chain.
+
+    Examples
+    --------
     >>> parse_chain("TG.JS, TF.TT.JS,CO.JS")
     ('TG.JS', 'TF.TT.JS', 'CO.JS')
     """
@@ -163,6 +192,7 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     Parameters
     ----------
     skeleton : Skeleton
+        The tasks, links, clocks and threads of the controller.
     chain : sequence of str
         Task names, sensor first; each reads an output of the one before.
     report : Report, optional
@@ -175,12 +205,42 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     Returns
     -------
     ChainLatency
+        The segments (one per synchronized group crossed, each with its exact
+        steady-state worst latency), the hops between them and, when there is
+        more than one segment, the Davare [2]_ and Dürr [3]_ bounds.
 
     Raises
     ------
     SkeletonError
         The chain names an unknown task, a task twice, or two consecutive
         tasks with no link between them.
+
+    See Also
+    --------
+    parse_chain : a chain from ``"A,B,C"``.
+    tegraph.design.schedulability.schedulability : the response times ``R_s``.
+    tegraph.analysis.analyze.analyze_skeleton : the report the segments use.
+
+    Notes
+    -----
+    Inside a segment the latency is exact: the steady-state daters of the
+    timed event graph [4]_ are traced back over one cyclicity. Across an
+    ASYN/ASYN hop each segment stands for one periodic task of period
+    ``T_s`` and Joseph-Pandya response time ``R_s`` [1]_.
+
+    References
+    ----------
+    .. [1] M. Joseph, P. Pandya, "Finding response times in a real-time
+       system", The Computer Journal 29(5), 390–395, 1986.
+    .. [2] A. Davare, Q. Zhu, M. Di Natale, C. Pinello, S. Kanajan,
+       A. Sangiovanni-Vincentelli, "Period optimization for hard real-time
+       distributed automotive systems", Design Automation Conference (DAC),
+       2007.
+    .. [3] M. Dürr, G. von der Brüggen, K.-H. Chen, J.-J. Chen, "End-to-end
+       timing analysis of sporadic cause-effect chains in distributed systems",
+       ACM Transactions on Embedded Computing Systems 18(5s) (CASES), 2019.
+    .. [4] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992.
 
     Examples
     --------

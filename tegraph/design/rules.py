@@ -1,8 +1,7 @@
 """The design rules of section 6 of the ORCCAD paper, checked on a skeleton.
 
-Simon, Espiau, Kapellos, Pissard-Gibollet give four *sufficient* (not
-necessary) conditions for a deadlock-free, temporally consistent, low-latency
-set of module tasks:
+The ORCCAD paper [1]_ gives four *sufficient* (not necessary) conditions for
+a deadlock-free, temporally consistent, low-latency set of module tasks:
 
 1. one and only one synchronization per task: a clock, or one synchronizing
    port (an input read ASYN/SYN or SYN/SYN, an output posted SYN/ASYN or
@@ -12,7 +11,7 @@ set of module tasks:
    in whatever order the scheduler picks, Figure 4);
 3. one and only one clock per synchronized group;
 4. one priority per group, different priorities for different groups on one
-   processor, rate-monotonic order, the Robot-task automaton highest.
+   processor, rate-monotonic order [2]_, the Robot-task automaton highest.
 
 A synchronized group is a weakly connected part of the timed event graph
 (spec §4 ``groups``): tasks joined by a synchronizing link, a thread or a
@@ -22,6 +21,15 @@ chosen so that it brings no other finding of Rules 1-3 (:mod:`.advice`), so
 that following the advice never goes round in a circle. The automaton is
 recognized by its name (spec §6): ``RTA``, ``automaton``, or a name ending in
 ``.RTA`` / ``.automaton``, any case.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+.. [2] C. L. Liu, J. W. Layland, "Scheduling algorithms for
+   multiprogramming in a hard-real-time environment", Journal of the ACM
+   20(1), 46–61, 1973.
 """
 
 from __future__ import annotations
@@ -79,6 +87,10 @@ class RuleFinding:
     change : Change or None
         The same as an edit of the skeleton (Rules 1-3; None for Rule 4, and
         when no change removes the finding without bringing another one).
+
+    See Also
+    --------
+    check_rules : makes them.
     """
 
     rule: int
@@ -143,11 +155,12 @@ def proposed_priorities(sk: Skeleton) -> dict[str, int]:
 
 
 def check_rules(skeleton: Skeleton) -> list[RuleFinding]:
-    """Check Rules 1-4 of section 6 of the ORCCAD paper.
+    """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
 
     Parameters
     ----------
     skeleton : Skeleton
+        The design to check (file order decides the order of findings).
 
     Returns
     -------
@@ -155,6 +168,22 @@ def check_rules(skeleton: Skeleton) -> list[RuleFinding]:
         By rule, then errors before warnings before proposals, then file order.
         No ``error`` or ``warning``: the design follows the rules (which
         suffice for a live, consistent skeleton, spec §4).
+
+    See Also
+    --------
+    tegraph.fix_ports : repairs a dead skeleton by reordering ports.
+    tegraph.design.schedulability.schedulability : the Rule 4 priorities checked
+        by response times.
+    tegraph.analyze : the report that carries these findings.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [2] C. L. Liu, J. W. Layland, "Scheduling algorithms for
+       multiprogramming in a hard-real-time environment", Journal of the ACM
+       20(1), 46–61, 1973.
 
     Examples
     --------

@@ -2,8 +2,8 @@
 
 The timed event graph gives each task its period as if every task had its
 own processor. On a real processor the tasks share the time; section 6 of the
-ORCCAD paper (Simon et al.) assigns one priority per synchronized group,
-rate-monotonic, and states two conditions:
+ORCCAD paper (Simon et al. [1]_) assigns one priority per synchronized
+group, rate-monotonic [3]_, and states two conditions:
 
 - a group (or a thread) fits its period when ``τ >= Σ d`` — for a thread
   this falls out of the thread circuit of the timed event graph (one token,
@@ -14,7 +14,7 @@ rate-monotonic, and states two conditions:
   utilization ``Σ D_i/τ_i <= 1``: necessary for any scheduler, sufficient for
   rate-monotonic priorities when the periods divide one another (harmonic).
 
-The exact test is the response-time analysis of Joseph and Pandya (1986):
+The exact test is the response-time analysis of Joseph and Pandya [2]_:
 the worst response time of a unit released with all more urgent units
 (critical instant) is the least fixed point of
 ``R = C + Σ_{j more urgent} ceil(R/T_j)·C_j``; it meets its implicit deadline
@@ -25,6 +25,17 @@ with one priority and one rate (one unit per group and processor when Rule 4
 is followed). Units of equal priority are counted as interfering with each
 other (their order is unknown). Not modelled: release jitter across
 processors, blocking on shared resources, context-switch costs.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+.. [2] M. Joseph, P. Pandya, "Finding response times in a real-time
+   system", The Computer Journal 29(5), 390–395, 1986.
+.. [3] C. L. Liu, J. W. Layland, "Scheduling algorithms for
+   multiprogramming in a hard-real-time environment", Journal of the ACM
+   20(1), 46–61, 1973.
 """
 
 from __future__ import annotations
@@ -63,6 +74,23 @@ _MAX_ITERATIONS = 1_000_000
 def hyperperiod(periods: Iterable[Fraction]) -> Fraction:
     """Least common multiple of positive rationals: ``lcm(numerators)/gcd(denominators)``.
 
+    Parameters
+    ----------
+    periods : iterable of Fraction
+        Positive periods (ints and Fractions alike).
+
+    Returns
+    -------
+    Fraction
+        The least positive rational that every period divides an integer
+        number of times; 1 for no period.
+
+    See Also
+    --------
+    schedulability : uses it for the paper's utilization condition.
+
+    Examples
+    --------
     >>> hyperperiod([Fraction(1), Fraction(2), Fraction(6)])
     Fraction(6, 1)
     >>> hyperperiod([Fraction(3, 2), Fraction(5, 4)])
@@ -78,7 +106,7 @@ def hyperperiod(periods: Iterable[Fraction]) -> Fraction:
 
 def response_time(cost: Fraction, interferers: Iterable[tuple[Fraction, Fraction]]
                   ) -> Fraction | None:
-    """Worst-case response time by Joseph and Pandya's recurrence, exactly.
+    """Worst-case response time by Joseph and Pandya's recurrence [1]_, exactly.
 
     Parameters
     ----------
@@ -93,6 +121,15 @@ def response_time(cost: Fraction, interferers: Iterable[tuple[Fraction, Fraction
         The least fixed point of ``R = C + Σ ceil(R/T_j)·C_j`` (the response
         of the first release at the critical instant, also when it exceeds
         the period); None when the interferers leave no time (``Σ C_j/T_j >= 1``).
+
+    See Also
+    --------
+    schedulability : the response time of every unit of a skeleton.
+
+    References
+    ----------
+    .. [1] M. Joseph, P. Pandya, "Finding response times in a real-time
+       system", The Computer Journal 29(5), 390–395, 1986.
 
     Examples
     --------
@@ -229,6 +266,33 @@ def effective_priorities(skeleton: Skeleton) -> tuple[dict[str, int], dict[str |
     all its tasks get the rate-monotonic proposal of
     :func:`tegraph.design.rules.proposed_priorities` (and the source says so).
 
+    Parameters
+    ----------
+    skeleton : Skeleton
+        Tasks with their processors and optional declared priorities.
+
+    Returns
+    -------
+    (dict, dict)
+        ``task -> priority`` (larger is more urgent) and ``processor ->
+        "declared" or "rate-monotonic"``.
+
+    See Also
+    --------
+    tegraph.design.rules.proposed_priorities : the rate-monotonic proposal
+        (ORCCAD rule 4 [1]_, after Liu and Layland [2]_).
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [2] C. L. Liu, J. W. Layland, "Scheduling algorithms for
+       multiprogramming in a hard-real-time environment", Journal of the ACM
+       20(1), 46–61, 1973.
+
+    Examples
+    --------
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 4},
     ...                                    "B": {"duration": 1, "period": 2}}})
     >>> effective_priorities(sk)
@@ -254,6 +318,7 @@ def schedulability(skeleton: Skeleton, report: Report | None = None) -> Schedula
     Parameters
     ----------
     skeleton : Skeleton
+        The tasks with their durations, processors and priorities.
     report : Report, optional
         ``analyze_skeleton(skeleton)``, computed when not given: the periods come
         from its cycle times.
@@ -261,6 +326,32 @@ def schedulability(skeleton: Skeleton, report: Report | None = None) -> Schedula
     Returns
     -------
     Schedulability
+        Per processor its units (with response times) and the paper's
+        utilization condition; per thread its verdict; the priorities used.
+
+    See Also
+    --------
+    response_time : the recurrence of one unit.
+    effective_priorities : where the priorities come from.
+    hyperperiod : the ``T`` of the paper's condition.
+    tegraph.design.latency.chain_latency : uses the response times.
+
+    Notes
+    -----
+    The paper's condition is section 6 of the ORCCAD paper [1]_; the exact
+    test is Joseph and Pandya's response-time analysis [2]_ under
+    rate-monotonic [3]_ or declared priorities.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [2] M. Joseph, P. Pandya, "Finding response times in a real-time
+       system", The Computer Journal 29(5), 390–395, 1986.
+    .. [3] C. L. Liu, J. W. Layland, "Scheduling algorithms for
+       multiprogramming in a hard-real-time environment", Journal of the ACM
+       20(1), 46–61, 1973.
 
     Examples
     --------

@@ -1,8 +1,9 @@
 """Timing diagram: exact preemptive fixed-priority simulation of a skeleton.
 
-Figure 17 of the ORCCAD paper shows the computed-torque law on one processor
-under rate-monotonic priorities. :func:`simulate_timeline` produces that
-diagram as data, exactly (Fractions), over the hyperperiod of the clocks:
+Figure 17 of the ORCCAD paper [1]_ shows the computed-torque law on one
+processor under rate-monotonic priorities [2]_. :func:`simulate_timeline`
+produces that diagram as data, exactly (Fractions), over the hyperperiod of
+the clocks:
 
 - each processor runs, at every instant, its most urgent *ready* task
   (larger priority first; equal priorities first come, first served; then
@@ -29,6 +30,15 @@ diagram as data, exactly (Fractions), over the hyperperiod of the clocks:
 
 The text rendering (:func:`render_timeline`) draws one row per task and the
 exact order of execution; :mod:`tegraph.report.plot` draws the picture.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+.. [2] C. L. Liu, J. W. Layland, "Scheduling algorithms for
+   multiprogramming in a hard-real-time environment", Journal of the ACM
+   20(1), 46–61, 1973.
 """
 
 from __future__ import annotations
@@ -85,7 +95,20 @@ class Job:
 
 @dataclass
 class Timeline:
-    """The result of :func:`simulate_timeline`."""
+    """The result of :func:`simulate_timeline`.
+
+    See Also
+    --------
+    simulate_timeline : makes it.
+    tegraph.report.render_text : its text diagram.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}})
+    >>> tl = simulate_timeline(sk)
+    >>> tl.horizon, tl.tasks, tl.order_of_execution()
+    (Fraction(10, 1), ['A'], [('A', Fraction(0, 1), Fraction(2, 1))])
+    """
 
     name: str
     unit: str
@@ -287,12 +310,27 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     Returns
     -------
     Timeline
+        What runs on each processor when, up to ``horizon`` (Figure 17 of the
+        ORCCAD paper [1]_ is such a diagram).
 
     Raises
     ------
     ModelError
         The horizon is not positive, or a task of duration 0 with nothing to
         wait for loops without time passing.
+
+    See Also
+    --------
+    tegraph.design.schedulability.schedulability : the response times that
+        bound what the timeline shows.
+    tegraph.design.schedulability.hyperperiod : the default horizon's length.
+    tegraph.analyze : the analysis without processor contention.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
 
     Examples
     --------

@@ -99,16 +99,28 @@ def read(path: str | os.PathLike[str], format: str | None = None, *,
     Parameters
     ----------
     path : str or path-like
+        The file.
     format : str, optional
         Force a format name of :data:`FORMATS` instead of detecting it.
     max_bytes : int
         Refuse larger files (default :data:`DEFAULT_MAX_BYTES`).
+
+    Returns
+    -------
+    Skeleton, PetriNet, SDFGraph, ArcList or TimedEventGraph
+        The model the format holds (see the module table).
 
     Raises
     ------
     InputError
         Unknown format, file too large, or a malformed file (the message
         names the file, the line when known, and the element).
+
+    See Also
+    --------
+    write : the converse.
+    load_skeleton : a skeleton file, checked against spec §1.
+    detect_format : the format :func:`read` picks.
 
     Examples
     --------

@@ -3,7 +3,7 @@
 An SDF graph has actors with an execution time and channels that carry
 tokens at fixed rates: each firing of the source actor produces ``prod``
 tokens, each firing of the destination consumes ``cons``; ``tokens`` are
-there initially. What is read, as SDF3 itself reads it:
+there initially. What is read, as SDF3 [4]_ itself reads it:
 
 * the execution time of an actor is that of the **last** ``<processor>`` of
   its ``actorProperties`` carrying a ``default`` attribute (any value), 0 if none;
@@ -12,14 +12,25 @@ there initially. What is read, as SDF3 itself reads it:
 * an actor without a self-loop channel may fire concurrently with itself
   (unbounded auto-concurrency): no self-loop is added.
 
-The repetition vector ``q`` (the smallest positive integers with
+The repetition vector ``q`` [3]_ (the smallest positive integers with
 ``q[src] * prod == q[dst] * cons`` on every channel) expands the graph into
 its homogeneous graph: one transition ``actor_i`` per firing
 ``i < q[actor]`` of an iteration, one place per dependency, holding the
 execution time of the source firing (:meth:`SDFGraph.to_arcs`). Its maximum
 cycle ratio is the period of the graph: the time per iteration, whose
-inverse is SDF3's throughput (Sriram & Bhattacharyya, *Embedded
-Multiprocessors*, 2009, ch. 3; Ghamarian et al., ACSD 2006).
+inverse is SDF3's throughput ([1]_, ch. 3; [2]_).
+
+References
+----------
+.. [1] S. Sriram, S. S. Bhattacharyya, *Embedded Multiprocessors: Scheduling
+   and Synchronization*, 2nd ed., CRC Press, 2009.
+.. [2] A. H. Ghamarian et al., "Throughput analysis of synchronous data flow
+   graphs", International Conference on Application of Concurrency to
+   System Design (ACSD), 2006.
+.. [3] E. A. Lee, D. G. Messerschmitt, "Synchronous data flow", Proceedings
+   of the IEEE 75(9), 1235–1245, 1987.
+.. [4] S. Stuijk, M. Geilen, T. Basten, "SDF³: SDF For Free", International
+   Conference on Application of Concurrency to System Design (ACSD), 2006.
 """
 
 from __future__ import annotations
@@ -43,7 +54,39 @@ __all__ = ["dumps_sdf3", "parse_sdf3", "read_sdf3", "write_sdf3"]
 
 
 def read_sdf3(path: str | os.PathLike[str], *, max_bytes: int = DEFAULT_MAX_BYTES) -> SDFGraph:
-    """Read an SDF3 XML file (``<sdf3 type="sdf">``); see the module docstring."""
+    """Read an SDF3 XML file (``<sdf3 type="sdf">``); see the module docstring.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    max_bytes : int
+        Larger files are refused before they are read.
+
+    Returns
+    -------
+    SDFGraph
+        Actors with their execution times, channels with rates and tokens.
+
+    Raises
+    ------
+    InputError
+        The file is unreadable or too large, or its content is refused (see
+        :func:`parse_sdf3`).
+
+    See Also
+    --------
+    parse_sdf3 : the same from text.
+    write_sdf3 : the converse.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> g = SDFGraph("g", {"a": 3}, [SDFChannel("c", "a", "a", 1, 1, 1)])
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     read_sdf3(write_sdf3(g, os.path.join(folder, "g.xml"))) == g
+    True
+    """
     file = os.fspath(path)
     return parse_sdf3(read_limited(file, max_bytes), file)
 
@@ -51,12 +94,30 @@ def read_sdf3(path: str | os.PathLike[str], *, max_bytes: int = DEFAULT_MAX_BYTE
 def parse_sdf3(data: bytes | str, file: str | None = None) -> SDFGraph:
     """Parse SDF3 XML text.
 
+    Parameters
+    ----------
+    data : bytes or str
+        The XML (str is encoded as UTF-8).
+    file : str, optional
+        File name, for the messages of refused input.
+
+    Returns
+    -------
+    SDFGraph
+        Actors with their execution times, channels with rates and tokens.
+
     Raises
     ------
     InputError
         Malformed XML, a DOCTYPE, a missing name, a channel to an unknown
         actor or port, a rate that is not a positive integer, initial tokens
         or an execution time that is not an integer >= 0, inconsistent rates.
+
+    See Also
+    --------
+    read_sdf3 : the same from a file.
+    dumps_sdf3 : the converse.
+    tegraph.model.sdf.SDFGraph.to_arcs : the homogeneous expansion.
 
     Examples
     --------
@@ -182,12 +243,73 @@ def _integer(text: str, what: str, where: str, file: str | None, line: int,
 
 
 def write_sdf3(obj: Any, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
-    """Write an SDF graph, or a timed event graph as a homogeneous one, as SDF3 XML."""
+    """Write an SDF graph, or a timed event graph as a homogeneous one, as SDF3 XML.
+
+    Parameters
+    ----------
+    obj : SDFGraph or any model :func:`tegraph.model.convert.as_teg` takes
+        What to write; anything but an SDF graph is written as its timed
+        event graph, one actor per transition.
+    path : str or os.PathLike
+        The file.
+    overwrite : bool
+        Replace an existing file (default False).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Raises
+    ------
+    FileExistsError
+        ``path`` exists and ``overwrite`` is False (the file is not touched).
+    InputError
+        ``obj`` is not a model this project reads.
+
+    See Also
+    --------
+    dumps_sdf3 : the text written.
+    read_sdf3 : the converse.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> g = SDFGraph("g", {"a": 3}, [SDFChannel("c", "a", "a", 1, 1, 1)])
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     write_sdf3(g, os.path.join(folder, "g.xml")).name
+    'g.xml'
+    """
     return write_bytes(path, dumps_sdf3(obj), overwrite)
 
 
 def dumps_sdf3(obj: Any) -> str:
     """SDF3 XML text; one processor ``p`` marked default per actor, one port per channel end.
+
+    Parameters
+    ----------
+    obj : SDFGraph or any model :func:`tegraph.model.convert.as_teg` takes
+        What to write, as for :func:`write_sdf3`.
+
+    Returns
+    -------
+    str
+        The XML document that SDF3 [1]_ and :func:`parse_sdf3` read.
+
+    Raises
+    ------
+    InputError
+        ``obj`` is not a model this project reads.
+
+    See Also
+    --------
+    write_sdf3 : the same to a file.
+    parse_sdf3 : the converse.
+
+    References
+    ----------
+    .. [1] S. Stuijk, M. Geilen, T. Basten, "SDF³: SDF For Free", International
+       Conference on Application of Concurrency to System Design (ACSD), 2006.
 
     Examples
     --------

@@ -259,6 +259,12 @@ def load_skeleton(path: str | os.PathLike[str]) -> Skeleton:
         rule of the format; the message names the file, the key path, the line
         when known, and what is expected.
 
+    See Also
+    --------
+    dump_skeleton : the converse.
+    tegraph.io.read : any supported file.
+    tegraph.model.skeleton.Skeleton.from_dict : a skeleton from a mapping.
+
     Examples
     --------
     >>> import pathlib, tempfile
@@ -385,6 +391,7 @@ def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = 
     Parameters
     ----------
     sk : Skeleton
+        The skeleton to write.
     path : str or path-like
         ``.json`` writes JSON, ``.yaml`` and ``.yml`` YAML; any other
         extension is refused (nothing is written).
@@ -403,6 +410,11 @@ def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = 
     SkeletonError
         ``sk`` breaks a rule of spec §1, or ``path`` has no skeleton extension
         (nothing is written).
+
+    See Also
+    --------
+    load_skeleton : the converse.
+    tegraph.write : any model to any format.
 
     Examples
     --------

@@ -70,6 +70,32 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
     TimedEventGraph
         With the provenance described in the module docstring.
 
+    Raises
+    ------
+    ModelError
+        A dangling reference: an unknown task, clock or port.
+
+    See Also
+    --------
+    tegraph.model.skeleton.Skeleton.validate : the rules assumed here.
+    tegraph.cycle_time : the period of the graph built.
+    tegraph.analyze : the full analysis of the skeleton.
+
+    Notes
+    -----
+    The Petri net model of periodic module tasks and their synchronizations
+    is that of section 3 of the ORCCAD paper [1]_; every place has one input
+    and one output transition, so the net is a timed event graph, linear in
+    the (max,+) algebra [2]_.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [2] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+       and Linearity*, Wiley, 1992.
+
     Examples
     --------
     A task of duration 3 activated by a clock of period 4 and phase 1:

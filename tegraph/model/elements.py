@@ -15,7 +15,29 @@ __all__ = ["Clock", "Link", "LinkLabel", "Protocol", "Task"]
 
 
 class Protocol(enum.Enum):
-    """Link protocol, writer side first (spec §1)."""
+    """Link protocol, writer side first (spec §1).
+
+    The four protocols of section 2.3 of the ORCCAD paper [1]_: ASYN/ASYN
+    adds no synchronization; ASYN/SYN blocks the reader until a new message
+    is posted; SYN/ASYN blocks the writer until the next read request; SYN/SYN is a
+    rendezvous.
+
+    See Also
+    --------
+    Link : a link and its protocol.
+    tegraph.build_teg : the places (or merged event) each protocol adds.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+
+    Examples
+    --------
+    >>> Protocol("ASYN/SYN"), Protocol.ASYN_SYN.synchronizing
+    (<Protocol.ASYN_SYN: 'ASYN/SYN'>, True)
+    """
 
     ASYN_ASYN = "ASYN/ASYN"
     ASYN_SYN = "ASYN/SYN"
@@ -30,7 +52,27 @@ class Protocol(enum.Enum):
 
 @dataclass(frozen=True)
 class Clock:
-    """A real-time clock: ticks at ``phase + (k-1) * period``, k >= 1."""
+    """A real-time clock: ticks at ``phase + (k-1) * period``, k >= 1.
+
+    Attributes
+    ----------
+    name : str
+        The clock's name (``T.clock`` for a task's ``period:`` shorthand).
+    period, phase : Fraction
+        Time between two ticks, and time of the first tick.
+    private : bool
+        Made by a task's ``period:`` shorthand.
+
+    See Also
+    --------
+    Task : a task activated by a clock.
+    tegraph.Skeleton : the skeleton that holds the clocks.
+
+    Examples
+    --------
+    >>> Clock("rtc", Fraction(10), Fraction(1)).phase
+    Fraction(1, 1)
+    """
 
     name: str
     period: Fraction
@@ -46,6 +88,32 @@ class Task:
     ``priority`` and ``processor`` are the optional scheduling attributes of
     spec §6 (a larger priority is more urgent; ``None``: not declared, all
     such tasks share one default processor). The timed event graph ignores them.
+
+    Attributes
+    ----------
+    name : str
+        The task's name.
+    duration : Fraction
+        Worst-case execution time of one activation.
+    clock : str or None
+        The clock that activates it, if any.
+    inputs, outputs : tuple of str
+        Port names, in the order they are read and written.
+    priority : int or None
+        Declared priority (larger is more urgent).
+    processor : str or None
+        Declared processor.
+
+    See Also
+    --------
+    Clock : what activates a clocked task.
+    Link : what joins two tasks' ports.
+    tegraph.Skeleton : the skeleton that holds the tasks.
+
+    Examples
+    --------
+    >>> Task("A", Fraction(2), clock="rtc", outputs=("x",)).inputs
+    ()
     """
 
     name: str
@@ -62,6 +130,23 @@ class Link:
     """A link from the output port ``writer`` to the input port ``reader``.
 
     Ports are ``(task, port)`` pairs.
+
+    Attributes
+    ----------
+    writer, reader : (str, str)
+        The ``(task, port)`` written and read.
+    protocol : Protocol
+        How the two sides synchronize.
+
+    See Also
+    --------
+    Protocol : the four protocols.
+    LinkLabel : the link's text in reports.
+
+    Examples
+    --------
+    >>> Link(("A", "x"), ("B", "y"), Protocol.SYN_SYN).label
+    'A:x -> B:y (SYN/SYN)'
     """
 
     writer: tuple[str, str]

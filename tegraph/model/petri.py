@@ -116,6 +116,26 @@ class PetriNet:
     ------
     ModelError
         Shapes that do not match the names, a negative weight or marking.
+
+    See Also
+    --------
+    tegraph.TimedEventGraph : the marked-graph case, with (max,+) semantics.
+    tegraph.analysis.reachability.reachability_graph : its reachable markings.
+    tegraph.cycle_time : its period when it is a marked graph.
+
+    References
+    ----------
+    .. [1] T. Murata, "Petri nets: properties, analysis and applications",
+       Proceedings of the IEEE 77(4), 541–580, 1989.
+
+    Examples
+    --------
+    A ring of two places and two transitions is a marked graph [1]_:
+
+    >>> net = PetriNet("n", ["p", "q"], ["t", "u"], np.array([[1, 0], [0, 1]]),
+    ...                np.array([[0, 1], [1, 0]]), np.array([1, 0]))
+    >>> net.marked_graph_violation() is None, net.to_teg().transition_names
+    (True, ('t', 'u'))
     """
 
     name: str

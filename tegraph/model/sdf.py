@@ -3,7 +3,7 @@
 An SDF graph has actors with an execution time and channels that carry
 tokens at fixed rates: each firing of the source actor produces ``prod``
 tokens, each firing of the destination consumes ``cons``; ``tokens`` are
-there initially. What is read, as SDF3 itself reads it:
+there initially. What is read, as SDF3 [4]_ itself reads it:
 
 * the execution time of an actor is that of the **last** ``<processor>`` of
   its ``actorProperties`` carrying a ``default`` attribute (any value), 0 if none;
@@ -12,14 +12,25 @@ there initially. What is read, as SDF3 itself reads it:
 * an actor without a self-loop channel may fire concurrently with itself
   (unbounded auto-concurrency): no self-loop is added.
 
-The repetition vector ``q`` (the smallest positive integers with
+The repetition vector ``q`` [3]_ (the smallest positive integers with
 ``q[src] * prod == q[dst] * cons`` on every channel) expands the graph into
 its homogeneous graph: one transition ``actor_i`` per firing
 ``i < q[actor]`` of an iteration, one place per dependency, holding the
 execution time of the source firing (:meth:`SDFGraph.to_arcs`). Its maximum
 cycle ratio is the period of the graph: the time per iteration, whose
-inverse is SDF3's throughput (Sriram & Bhattacharyya, *Embedded
-Multiprocessors*, 2009, ch. 3; Ghamarian et al., ACSD 2006).
+inverse is SDF3's throughput ([1]_, ch. 3; [2]_).
+
+References
+----------
+.. [1] S. Sriram, S. S. Bhattacharyya, *Embedded Multiprocessors: Scheduling
+   and Synchronization*, 2nd ed., CRC Press, 2009.
+.. [2] A. H. Ghamarian et al., "Throughput analysis of synchronous data flow
+   graphs", International Conference on Application of Concurrency to
+   System Design (ACSD), 2006.
+.. [3] E. A. Lee, D. G. Messerschmitt, "Synchronous data flow", Proceedings
+   of the IEEE 75(9), 1235–1245, 1987.
+.. [4] S. Stuijk, M. Geilen, T. Basten, "SDF³: SDF For Free", International
+   Conference on Application of Concurrency to System Design (ACSD), 2006.
 """
 
 from __future__ import annotations
@@ -67,6 +78,11 @@ class SDFGraph:
     source : str or None
         The file the graph was read from, named in refusals (not compared).
 
+    See Also
+    --------
+    tegraph.io.sdf3.read_sdf3 : an SDF graph from an SDF3 file.
+    tegraph.analysis.cycle_time.cycle_time : its period and throughput.
+
     Examples
     --------
     ``a`` fires twice per firing of ``b`` (rates 1 and 2); the two tokens on
@@ -90,11 +106,35 @@ class SDFGraph:
     def repetition_vector(self) -> dict[str, int]:
         """Smallest positive firings per iteration, per actor (connected parts separately).
 
+        The balance equations ``q[src] * prod == q[dst] * cons`` of Lee and
+        Messerschmitt [1]_, solved along a spanning tree of each connected
+        part and checked on the other channels.
+
+        Returns
+        -------
+        dict of str to int
+            Firings of each actor in one iteration, in actor order.
+
         Raises
         ------
         ModelError
             Inconsistent rates: the message names a channel closing an
             inconsistent cycle (such a graph needs unbounded memory or deadlocks).
+
+        See Also
+        --------
+        expansion_size : the size of the expansion it implies.
+
+        References
+        ----------
+        .. [1] E. A. Lee, D. G. Messerschmitt, "Synchronous data flow",
+           Proceedings of the IEEE 75(9), 1235–1245, 1987.
+
+        Examples
+        --------
+        >>> g = SDFGraph("g", {"a": 1, "b": 1}, [SDFChannel("ab", "a", "b", 2, 3)])
+        >>> g.repetition_vector()
+        {'a': 3, 'b': 2}
         """
         adj: dict[str, list[tuple[str, Fraction, SDFChannel]]] = {a: [] for a in self.actors}
         for c in self.channels:
@@ -138,6 +178,20 @@ class SDFGraph:
         iteration, ``sum(q[dst] * cons)`` (the places before duplicates are
         dropped). Both are computed from the repetition vector alone.
 
+        Returns
+        -------
+        (int, int)
+            Firings and token transfers per iteration.
+
+        Raises
+        ------
+        ModelError
+            Inconsistent rates (see :meth:`repetition_vector`).
+
+        See Also
+        --------
+        to_arcs : refuses an expansion above its ``max_firings``.
+
         Examples
         --------
         >>> g = SDFGraph("g", {"a": 1, "b": 1}, [SDFChannel("ab", "a", "b", 10**9, 10**9 + 1)])
@@ -166,12 +220,42 @@ class SDFGraph:
             arrays take some 100 bytes each. Checked from the repetition
             vector before anything is built (:meth:`expansion_size`).
 
+        Returns
+        -------
+        ArcList
+            One transition ``actor_i`` per firing of an iteration, one arc per
+            dependency, holding the execution time of its source firing; its
+            maximum cycle ratio is the period of the graph [1]_, [2]_.
+
         Raises
         ------
         InputError
             The expansion is above ``max_firings`` (``where`` is ``max_firings``).
         ModelError
             Inconsistent rates.
+
+        See Also
+        --------
+        to_teg : the same as a timed event graph.
+        repetition_vector : the firings per iteration.
+
+        References
+        ----------
+        .. [1] S. Sriram, S. S. Bhattacharyya, *Embedded Multiprocessors: Scheduling
+           and Synchronization*, 2nd ed., CRC Press, 2009.
+        .. [2] A. H. Ghamarian et al., "Throughput analysis of synchronous data flow
+           graphs", International Conference on Application of Concurrency to
+           System Design (ACSD), 2006.
+
+        Examples
+        --------
+        The graph of the class example: ``a`` fires twice per iteration.
+
+        >>> g = SDFGraph("g", {"a": 2, "b": 3}, [SDFChannel("ab", "a", "b", 1, 2, 0),
+        ...                                     SDFChannel("ba", "b", "a", 2, 1, 2)])
+        >>> arcs = g.to_arcs()
+        >>> arcs.names, arcs.src.tolist(), arcs.dst.tolist(), arcs.tokens.tolist()
+        (['a_0', 'a_1', 'b_0'], [0, 1, 2, 2], [2, 2, 0, 1], [0, 0, 1, 1])
         """
         firings, transfers = self.expansion_size()
         for count, what in ((firings, "firings (the sum of the repetition vector)"),
@@ -213,7 +297,32 @@ class SDFGraph:
         return ArcList(s, d, exec_time[s], t, 1, names, len(names), self.name)
 
     def to_teg(self) -> TimedEventGraph:
-        """The homogeneous expansion as a :class:`~tegraph.model.teg.TimedEventGraph`."""
+        """The homogeneous expansion as a :class:`~tegraph.model.teg.TimedEventGraph`.
+
+        Returns
+        -------
+        TimedEventGraph
+            One transition ``actor_i`` per firing of an iteration.
+
+        Raises
+        ------
+        InputError
+            The expansion is above the default ``max_firings`` of :meth:`to_arcs`.
+        ModelError
+            Inconsistent rates.
+
+        See Also
+        --------
+        to_arcs : the same as arrays, with a ``max_firings`` of choice.
+        from_teg : the converse, with all rates 1.
+
+        Examples
+        --------
+        >>> g = SDFGraph("g", {"a": 2, "b": 3}, [SDFChannel("ab", "a", "b", 1, 2, 0),
+        ...                                     SDFChannel("ba", "b", "a", 2, 1, 2)])
+        >>> g.to_teg().transition_names
+        ('a_0', 'a_1', 'b_0')
+        """
         return self.to_arcs().to_teg()
 
     @classmethod
@@ -226,11 +335,34 @@ class SDFGraph:
         self-loop: it serves any number of tokens at once, as a place does).
         Every circuit keeps its times and tokens, so its cycle ratio.
 
+        Parameters
+        ----------
+        teg : TimedEventGraph
+            Integer holding times, initial tokens available at 0.
+
+        Returns
+        -------
+        SDFGraph
+            All rates 1: one actor per transition (and per place whose time
+            differs from its siblings'), one channel per place.
+
         Raises
         ------
         ModelError
             A time is not an integer, or initial tokens are available after 0:
             SDF3 has neither.
+
+        See Also
+        --------
+        to_teg : the converse.
+        tegraph.io.sdf3.write_sdf3 : writes the result as SDF3 XML.
+
+        Examples
+        --------
+        >>> g = SDFGraph("g", {"a": 2, "b": 3}, [SDFChannel("ab", "a", "b", 1, 2, 0),
+        ...                                     SDFChannel("ba", "b", "a", 2, 1, 2)])
+        >>> SDFGraph.from_teg(g.to_teg()).actors
+        {'a_0': 2, 'a_1': 2, 'b_0': 3}
         """
         g = teg
         names = g.transition_names

@@ -41,6 +41,29 @@ class Skeleton:
         The file it was read from.
     chains : list of tuple of str
         Sensor-to-actuator chains of tasks for the latency report (spec §6).
+
+    See Also
+    --------
+    tegraph.load_skeleton : a skeleton from its file.
+    tegraph.build_teg : its timed event graph.
+    tegraph.analyze : its analysis.
+
+    Notes
+    -----
+    A skeleton describes the module tasks of the ORCCAD paper [1]_, their
+    clocks and their synchronizing links.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}})
+    >>> sk.name, sk.unit, list(sk.clocks), list(sk.tasks)
+    ('skeleton', 'ms', ['A.clock'], ['A'])
     """
 
     name: str

@@ -162,6 +162,12 @@ class TimedEventGraph:
     transition_attrs : list of dict
         Keyword attributes given to :meth:`add_transition`, one dict per event.
 
+    See Also
+    --------
+    tegraph.build_teg : the timed event graph of a skeleton.
+    tegraph.cycle_time : its period and critical circuit.
+    tegraph.PetriNet : the untimed net of the same places.
+
     Examples
     --------
     A clock of period 4 and phase 1 that activates a task of duration 3:

@@ -40,15 +40,29 @@ def to_document(result: Any) -> dict[str, Any]:
     Parameters
     ----------
     result : Report, CycleTimeResult, Reachability, TimedExploration or Exploration
+        A result of this project.
 
     Returns
     -------
     dict
+        The document of ``docs/report.schema.json``, with its
+        ``schema_version``.
 
     Raises
     ------
     TypeError
         For an object that is no result of this project.
+
+    See Also
+    --------
+    to_json : the same as JSON text.
+
+    Examples
+    --------
+    >>> from tegraph import Skeleton, analyze
+    >>> r = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 3}}}))
+    >>> to_document(r)["schema_version"], to_document(r)["live"]
+    (2, True)
     """
     raise TypeError(f"no JSON document for a {type(result).__name__}")
 
@@ -87,6 +101,28 @@ def _(result: Reachability | TimedExploration) -> dict[str, Any]:
 
 def to_json(result: Any, indent: int | None = 2) -> str:
     """:func:`to_document` as JSON text (UTF-8 characters kept as they are).
+
+    Parameters
+    ----------
+    result : Report, CycleTimeResult, Reachability, TimedExploration or Exploration
+        A result of this project.
+    indent : int or None
+        Indentation of the JSON text; None writes one line.
+
+    Returns
+    -------
+    str
+        The document of ``docs/report.schema.json`` for that result.
+
+    Raises
+    ------
+    TypeError
+        For an object that is no result of this project.
+
+    See Also
+    --------
+    to_document : the same as Python data.
+    tegraph.report.render_text : the human report of the same result.
 
     Examples
     --------

@@ -204,11 +204,17 @@ def render_text(result: Any, **options: Any) -> str:
     Returns
     -------
     str
+        The human-readable report, several lines.
 
     Raises
     ------
     TypeError
         For an object that is no result of this project.
+
+    See Also
+    --------
+    tegraph.report.to_json : the JSON document of the same result.
+    tegraph.analyze : the analysis whose report this renders most often.
 
     Examples
     --------
