@@ -311,7 +311,12 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
             )
         if np.all(arr == np.round(arr)) and (m == 0 or np.abs(arr).max() < 2**53):
             return arr.astype(np.int64), 1
-    values = [exact(v, f"weight[{k}]", allow_eps=False) for k, v in enumerate(arr.tolist())]
+    items = arr.tolist()
+    if arr.dtype == object and all(type(v) is int for v in items):
+        # Scaled integers too large for int64 (tegraph's holdings over a big common
+        # denominator) are exact already: skip one Fraction per arc.
+        return int_array(items), 1
+    values = [exact(v, f"weight[{k}]", allow_eps=False) for k, v in enumerate(items)]
     scale = 1
     for v in values:
         scale = math.lcm(scale, v.denominator)  # type: ignore[union-attr]
