@@ -41,8 +41,9 @@ try:
     main()
 except SystemExit as exc:
     code = exc.code
+use = resource.getrusage(resource.RUSAGE_SELF)
 with open(rss_file, "w") as fh:
-    fh.write(str(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss))
+    fh.write(f"{use.ru_maxrss} {use.ru_utime + use.ru_stime}")
 sys.exit(code)
 """
 
@@ -63,12 +64,15 @@ def measure(checkout: Path, path: Path, extra: tuple[str, ...], rss_file: Path,
         out = subprocess.run([sys.executable, "-c", CHILD, str(rss_file), str(path), "--json",
                               *extra], cwd=checkout, capture_output=True, timeout=timeout)
     except subprocess.TimeoutExpired:
-        return {"time": None, "rss": None, "rc": "timeout", "stdout": b""}
+        return {"time": None, "rss": None, "cpu": None, "rc": "timeout", "stdout": b""}
     elapsed = time.perf_counter() - start
-    rss = int(rss_file.read_text()) / 1024 if rss_file.exists() else None
+    rss, cpu = None, None
+    if rss_file.exists():
+        kib, seconds = rss_file.read_text().split()
+        rss, cpu = int(kib) / 1024, float(seconds)
     # An uncaught exception also exits with 1: no RSS file written means it crashed.
     rc = out.returncode if out.returncode in (0, 1, 2) and rss is not None else "crash"
-    return {"time": elapsed, "rss": rss, "rc": rc, "stdout": out.stdout,
+    return {"time": elapsed, "rss": rss, "cpu": cpu, "rc": rc, "stdout": out.stdout,
             "error": out.stderr.decode(errors="replace").strip().splitlines()[-1:]}
 
 
@@ -109,7 +113,8 @@ def main() -> None:
                     r = measure(checkout, path, extra, Path(tmp) / "rss", limit or args.timeout)
                     results[name].append(r)
                     print(f"{shape} {n} {' '.join(extra)} {name}: {r['time']} s "
-                          f"{r['rss']} MiB rc {r['rc']}", file=sys.stderr, flush=True)
+                          f"cpu {r['cpu']} s {r['rss']} MiB rc {r['rc']}", file=sys.stderr,
+                          flush=True)
             rows.append((shape, n, extra, results))
     lines = table(rows, [name for name, _ in variants], args.runs)
     text = "\n".join(lines) + "\n"
@@ -123,12 +128,14 @@ def table(rows: list, names: list[str], runs: int) -> list[str]:
             f"Machine: {os.cpu_count()} cores, shared: other engineers ran test suites "
             "concurrently, so absolute times are inflated and noisy; A and B runs alternate, "
             f"so the load falls on both alike. Median of {runs} runs (min-max), seconds; "
-            "peak RSS is the largest of the runs; \"crash\": the time to the traceback. "
+            "CPU is user + system time of the process (less sensitive to the load than wall "
+            "time); peak RSS is the largest of the runs; \"crash\": the time to the traceback. "
             "A = main, B = perf. "
             f"Measured {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}.", ""]
     cols = ["shape", "tasks"]
     for name in names:
-        cols += [f"{name} time (s)", f"{name} peak RSS (MiB)", f"{name} exit"]
+        cols += [f"{name} time (s)", f"{name} CPU (s)", f"{name} peak RSS (MiB)",
+                 f"{name} exit"]
     if len(names) == 2:
         cols += ["B/A", "same stdout"]
     out = head + ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
@@ -140,8 +147,9 @@ def table(rows: list, names: list[str], runs: int) -> list[str]:
             times = [r["time"] for r in rs if r["time"] is not None]
             rss = [r["rss"] for r in rs if r["rss"] is not None]
             codes = sorted({str(r["rc"]) for r in rs})
+            cpus = [r["cpu"] for r in rs if r["cpu"] is not None]
             cells += [spread(times) if rs and rs[-1]["rc"] not in ("timeout",) else "timeout",
-                      f"{max(rss):.0f}" if rss else "-", "/".join(codes)]
+                      spread(cpus), f"{max(rss):.0f}" if rss else "-", "/".join(codes)]
             medians.append(statistics.median(times) if times else None)
         if len(names) == 2:
             a, b = medians
