@@ -20,7 +20,6 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import statistics
 import subprocess
@@ -91,9 +90,6 @@ def main() -> None:
     parser.add_argument("--cases", nargs="*", help="e.g. groups:1000 chain:10000")
     parser.add_argument("--output", type=Path, help="write the Markdown table here too")
     args = parser.parse_args()
-    sys.path.insert(0, str(HERE))
-    from generate_skeleton import SHAPES
-
     cases = CASES
     if args.cases:
         cases = [(c.split(":")[0], int(c.split(":")[1]), tuple(c.split(":")[2:]), None)
@@ -104,7 +100,11 @@ def main() -> None:
         for shape, n, extra, limit in cases:
             path = Path(tmp) / f"{shape}-{n}.json"
             if not path.exists():
-                path.write_text(json.dumps(SHAPES[shape](n, seed=0)))
+                # In a child process: a parent that held the 100,000-task document
+                # would pass its RSS on through fork (Linux keeps the larger
+                # high-water mark across exec), and every later child would report it.
+                subprocess.run([sys.executable, str(HERE / "generate_skeleton.py"), str(n),
+                                "--shape", shape, "-o", str(path)], check=True)
             results: dict[str, list[dict]] = {name: [] for name, _ in variants}
             for _ in range(args.runs):
                 for name, checkout in variants:  # interleaved: A, B, A, B, ...
