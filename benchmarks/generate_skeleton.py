@@ -9,9 +9,16 @@ are small against the clock period, so most groups are consistent; a few
 groups get a second clock on one of their tasks (double synchronization, the
 ORCCAD paper's Figure 12), which makes them overrun.
 
+Two more shapes put every task in ONE synchronized group, to see how each
+phase grows with the size of a group rather than with the number of groups:
+``chain`` is an ASYN/SYN chain driven by the clock of its first task, and
+``chain-clocks`` is the same chain where every task also has its own 7 ms
+clock (one group bound by as many clocks as tasks).
+
 Usage::
 
     python benchmarks/generate_skeleton.py 10000 -o /tmp/sk10k.yaml [--seed 0]
+        [--shape groups|chain|chain-clocks]
 """
 
 from __future__ import annotations
@@ -80,13 +87,44 @@ def generate(n_tasks: int, seed: int = 0) -> dict:
     return doc
 
 
+def generate_chain(n_tasks: int, every_clock: bool = False, seed: int = 0) -> dict:
+    """An ASYN/SYN chain ``C0 -> C1 -> ...`` of ``n_tasks`` tasks: one synchronized group.
+
+    ``C0`` has a 10 ms clock; with ``every_clock`` every other task also has
+    its own 7 ms clock, so the group is bound by ``n_tasks`` clocks.
+    """
+    rng = random.Random(seed)
+    tasks: dict[str, dict] = {}
+    links: list[dict] = []
+    for k in range(n_tasks):
+        task: dict = {"duration": f"{rng.randint(1, 100)}/{1000 * max(1, n_tasks // 100)}"}
+        if k == 0:
+            task["period"] = 10
+        elif every_clock:
+            task["period"] = 7
+        if k > 0:
+            task["inputs"] = ["i"]
+            links.append({"from": f"C{k - 1}:o", "to": f"C{k}:i", "protocol": "ASYN/SYN"})
+        if k < n_tasks - 1:
+            task["outputs"] = ["o"]
+        tasks[f"C{k}"] = task
+    shape = "chain-clocks" if every_clock else "chain"
+    return {"name": f"{shape}-{n_tasks}", "tasks": tasks, "links": links}
+
+
+SHAPES = {"groups": generate,
+          "chain": lambda n, seed=0: generate_chain(n, False, seed),
+          "chain-clocks": lambda n, seed=0: generate_chain(n, True, seed)}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("n_tasks", type=int)
     parser.add_argument("-o", "--output", type=Path, required=True)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--shape", choices=sorted(SHAPES), default="groups")
     args = parser.parse_args()
-    doc = generate(args.n_tasks, args.seed)
+    doc = SHAPES[args.shape](args.n_tasks, seed=args.seed)
     # JSON is a subset of YAML and loads much faster for large files.
     args.output.write_text(json.dumps(doc, indent=1))
 

@@ -400,7 +400,12 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
             )
         if np.all(arr == np.round(arr)) and (m == 0 or np.abs(arr).max() < 2**53):
             return arr.astype(np.int64), 1
-    values = [exact(v, f"weight[{k}]", allow_eps=False) for k, v in enumerate(arr.tolist())]
+    items = arr.tolist()
+    if arr.dtype == object and all(type(v) is int for v in items):
+        # Scaled integers too large for int64 (tegraph's holdings over a big common
+        # denominator) are exact already: skip one Fraction per arc.
+        return int_array(items), 1
+    values = [exact(v, f"weight[{k}]", allow_eps=False) for k, v in enumerate(items)]
     scale = 1
     for v in values:
         scale = math.lcm(scale, v.denominator)  # type: ignore[union-attr]
@@ -532,17 +537,23 @@ def _reduce(num: np.ndarray, den: np.ndarray, mask: np.ndarray) -> tuple[np.ndar
 def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarray:
     """Arcs of the policy circuit reached backwards from ``start``, in forward order.
 
-    Each node has one policy predecessor, so a breadth-first search on the
-    predecessor graph (in C) visits the walk ``start, pred(start), ...`` in
-    order; the walk closes on the predecessor of its last node.
+    Each node has one policy predecessor: the walk ``start, pred(start), ...``
+    runs until a node repeats (or has no policy arc), and closes on the
+    predecessor of its last node. The walk is followed node by node: it is as
+    long as the circuit and the path to it, whereas a graph of all n nodes per
+    call cost O(n) each time (one call per group of a skeleton: quadratic).
     """
-    n = len(policy)
-    has = policy >= 0
-    pred = src[policy[has]]
-    indptr = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(has, out=indptr[1:])
-    graph = sp.csr_matrix((np.ones(len(pred), dtype=np.int8), pred, indptr), shape=(n, n))
-    walk = breadth_first_order(graph, start, directed=True, return_predecessors=False)
+    seen: set[int] = set()
+    walk_list: list[int] = []
+    node = int(start)
+    while node not in seen:
+        seen.add(node)
+        walk_list.append(node)
+        arc = int(policy[node])
+        if arc < 0:
+            break
+        node = int(src[arc])
+    walk = np.array(walk_list, dtype=np.int64)
     entry = int(src[policy[walk[-1]]])
     cycle_nodes = walk[int(np.flatnonzero(walk == entry)[0]):]
     return policy[cycle_nodes][::-1].copy()

@@ -14,7 +14,7 @@ import os
 import time
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from maxplus.errors import MaxPlusError
 
@@ -25,8 +25,6 @@ from .analysis.cycle_time import cycle_time as cycle_time_of
 from .analysis.reachability import DEFAULT_MAX_MEMORY
 from .analysis.results import Report
 from .analysis.sensitivity_margins import duration_margins
-from .design.explore import Exploration, explore_design
-from .design.explore_space import design_space
 from .design.section import design_section
 from .errors import InputError, TegraphError
 from .io._files import DEFAULT_MAX_BYTES
@@ -34,7 +32,9 @@ from .io.dot import dot_text
 from .model.limits import DEFAULT_MAX_FIRINGS
 from .model.skeleton import Skeleton
 from .report.dot import highlights
-from .report.explore_table import ResultsTable
+
+if TYPE_CHECKING:  # the exploration is imported when called: `analyze` need not load it
+    from .design.explore import Exploration
 
 __all__ = ["analyze", "cycle_time", "explore", "to_dot", "write"]
 
@@ -431,6 +431,10 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     ...  (found.entry(r) for r in found.front)]
     [('ASYN/SYN', '3'), ('SYN/SYN', '3')]
     """
+    from .design.explore import explore_design
+    from .design.explore_space import design_space
+    from .report.explore_table import ResultsTable
+
     space = design_space(skeleton, links, all_links, clocks, chains, objectives)
     if output is None and resume:
         raise InputError("nothing to resume without an `output` file", "resume")

@@ -7,8 +7,9 @@ The daters of a timed event graph follow (``docs/skeleton.md`` §3)::
 
 All times are scaled to integers by their common denominator, so every value
 here is an exact int64. Events are computed level by level in a topological
-order of the 0-token places, each level one numpy operation, and all groups
-of a skeleton advance together.
+order of the 0-token places, each level one numpy operation (a long, thin
+chain: one place at a time, in Python), and all groups of a skeleton advance
+together.
 
 **Periodic regime, proven.** For a set ``S`` of events closed under
 predecessors (no place enters ``S`` from outside) whose events all have the
@@ -88,8 +89,8 @@ class DaterSimulation:
         self._m_h = holding[marked][order]
         self._m_a = initial[marked][order]
         self._m_starts, self._m_targets = _segments(self._m_dst)
-        self._levels = _levels(src[keep & (tokens == 0)], dst[keep & (tokens == 0)],
-                               holding[keep & (tokens == 0)], active)
+        free = keep & (tokens == 0)
+        self._levels, self._sequence = _levels(src[free], dst[free], holding[free], active)
         # Events with no input place at all fire at time 0 (max over nothing
         # taken as the origin of time); a skeleton never has one.
         has_input = np.zeros(n_events, dtype=bool)
@@ -117,6 +118,15 @@ class DaterSimulation:
             if len(p_src):
                 best = np.maximum.reduceat(x[p_src] + p_h, starts)
                 x[events] = np.maximum(x[events], best)
+        if self._sequence is not None:
+            # A deep, thin DAG (a long chain): one place at a time in Python beats
+            # a few numpy calls per level. Same maxima of the same exact integers.
+            xs = x.tolist()
+            for p_src, p_dst, p_h in zip(*self._sequence):
+                v = xs[p_src] + p_h
+                if v > xs[p_dst]:
+                    xs[p_dst] = v
+            x = np.array(xs, dtype=self.dtype)
         self.history.append(x)
         if len(self.history) > max(self.depth, 1):
             self.history.pop(0)
@@ -134,6 +144,7 @@ class DaterSimulation:
         self.history = [widen(row) for row in self.history]
         self._m_h, self._m_a = self._m_h.astype(object), self._m_a.astype(object)
         self._levels = [(e, st, ps, ph.astype(object)) for e, st, ps, ph in self._levels]
+        # (the thin DAG's holdings are Python ints already)
 
 
 def _segments(sorted_keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -143,33 +154,33 @@ def _segments(sorted_keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return starts, sorted_keys[starts]
 
 
+_THIN = 32
+"""Fewer 0-token places than this per topological level on average: the DAG is
+thin (a long chain), levels cost more as numpy calls than places as Python."""
+
+
 def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.ndarray):
-    """Group 0-token places by the topological level of their output event."""
+    """Group 0-token places by the topological level of their output event.
+
+    Returns ``(levels, None)``, one numpy step per level, or, for a thin DAG,
+    ``([], (src, dst, holding))``: the places as lists in level order.
+    """
     n = len(active)
-    indegree = np.bincount(dst, minlength=n)
-    level = np.full(n, -1, dtype=np.int64)
-    frontier = np.flatnonzero(active & (indegree == 0))
     order = np.argsort(src, kind="stable")
     s_sorted, d_by_src = src[order], dst[order]
-    starts_src = np.searchsorted(s_sorted, np.arange(n))
-    ends_src = np.searchsorted(s_sorted, np.arange(n), side="right")
-    depth = 0
-    remaining = indegree.copy()
-    while len(frontier):
-        level[frontier] = depth
-        lengths = ends_src[frontier] - starts_src[frontier]
-        if lengths.sum() == 0:
-            break
-        idx = np.repeat(starts_src[frontier], lengths) + _ragged_arange(lengths)
-        succ = d_by_src[idx]
-        np.subtract.at(remaining, succ, 1)
-        frontier = np.unique(succ[remaining[succ] == 0])
-        depth += 1
+    level = _breadth_levels(n, s_sorted, d_by_src, dst, active)
+    if level is None:
+        level = _kahn_levels(n, s_sorted, d_by_src, dst, active)
     if (active & (level < 0)).any():
         raise ModelError("the 0-token places of the simulated events contain a circuit; "
                          "simulate live events only", "active")
+    depth = int(level.max(initial=-1)) + 1
     out = []
     place_level = level[dst]
+    if len(dst) < _THIN * depth:
+        by_level = np.lexsort((dst, place_level))
+        return out, (src[by_level].tolist(), dst[by_level].tolist(),
+                     holding[by_level].tolist())
     # One sort splits the places by level (a scan per level would cost depth × places).
     by_level = np.lexsort((dst, place_level))
     bounds = np.searchsorted(place_level[by_level], np.arange(1, depth + 2))
@@ -179,7 +190,62 @@ def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.nd
             continue
         starts, events = _segments(dst[by_dst])
         out.append((events, starts, src[by_dst], holding[by_dst]))
-    return out
+    return out, None
+
+
+def _breadth_levels(n: int, s_sorted: np.ndarray, d_by_src: np.ndarray, dst: np.ndarray,
+                    active: np.ndarray) -> np.ndarray | None:
+    """Levels by a numpy breadth-first pass, one pass per level; None for a thin DAG.
+
+    A long chain would take a pass per event: past ``2 * _THIN`` levels holding
+    fewer than ``_THIN`` places each on average, :func:`_kahn_levels` takes over.
+    """
+    indegree = np.bincount(dst, minlength=n)
+    level = np.full(n, -1, dtype=np.int64)
+    frontier = np.flatnonzero(active & (indegree == 0))
+    starts_src = np.searchsorted(s_sorted, np.arange(n))
+    ends_src = np.searchsorted(s_sorted, np.arange(n), side="right")
+    depth = 0
+    seen = 0
+    remaining = indegree.copy()
+    while len(frontier):
+        level[frontier] = depth
+        lengths = ends_src[frontier] - starts_src[frontier]
+        if lengths.sum() == 0:
+            break
+        seen += int(lengths.sum())
+        if depth == 2 * _THIN and seen < _THIN * depth:
+            return None
+        idx = np.repeat(starts_src[frontier], lengths) + _ragged_arange(lengths)
+        succ = d_by_src[idx]
+        np.subtract.at(remaining, succ, 1)
+        frontier = np.unique(succ[remaining[succ] == 0])
+        depth += 1
+    return level
+
+
+def _kahn_levels(n: int, s_sorted: np.ndarray, d_by_src: np.ndarray, dst: np.ndarray,
+                 active: np.ndarray) -> np.ndarray:
+    """The same levels (longest path from a source, in places) by Kahn's algorithm in Python."""
+    starts = np.searchsorted(s_sorted, np.arange(n + 1)).tolist()
+    succ = d_by_src.tolist()
+    remaining = np.bincount(dst, minlength=n).tolist()
+    level = [-1] * n
+    best = [0] * n  # the level so far; an event's is final once all its inputs are
+    stack = np.flatnonzero(active & (np.bincount(dst, minlength=n) == 0)).tolist()
+    for e in stack:
+        level[e] = 0
+    while stack:
+        e = stack.pop()
+        above = level[e] + 1
+        for d in succ[starts[e]:starts[e + 1]]:
+            if best[d] < above:
+                best[d] = above
+            remaining[d] -= 1
+            if remaining[d] == 0:
+                level[d] = best[d]
+                stack.append(d)
+    return np.array(level, dtype=np.int64)
 
 
 def _ragged_arange(lengths: np.ndarray) -> np.ndarray:

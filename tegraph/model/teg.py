@@ -39,7 +39,7 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import EPS, INT64_SAFE, exact_time, int_array
 
 from ..errors import InputError, ModelError, NotLiveError
-from .limits import count_problem, number_text_problem
+from .limits import MAX_COUNT, count_problem, number_text_problem
 
 if TYPE_CHECKING:  # networkx costs 0.1 s to import; only the conversions need it
     import networkx as nx
@@ -308,13 +308,15 @@ class TimedEventGraph:
         """
         if "arrays" not in self._cache:
             ps = self._places
-            scale = math.lcm(1, *(t.denominator for p in ps for t in (p.holding, p.initial)))
+            # Few distinct denominators: the lcm of the set, and each time scaled by
+            # integer arithmetic (a Fraction product per place costs a gcd).
+            scale = math.lcm(1, *{t.denominator for p in ps for t in (p.holding, p.initial)})
             self._cache["arrays"] = TEGArrays(
                 src=np.array([p.src for p in ps], dtype=np.int64),
                 dst=np.array([p.dst for p in ps], dtype=np.int64),
                 tokens=np.array([p.tokens for p in ps], dtype=np.int64),
-                holding=int_array([int(p.holding * scale) for p in ps]),
-                initial=int_array([int(p.initial * scale) for p in ps]),
+                holding=int_array([_scaled(p.holding, scale) for p in ps]),
+                initial=int_array([_scaled(p.initial, scale) for p in ps]),
                 scale=scale, n_transitions=self.n_transitions)
         return self._cache["arrays"]
 
@@ -572,7 +574,14 @@ class TimedEventGraph:
         return Daters(times, a.scale, self.transition_names)
 
 
+def _scaled(t: Fraction, scale: int) -> int:
+    """``t * scale`` for a ``scale`` that ``t.denominator`` divides, exactly."""
+    return t.numerator * (scale // t.denominator)
+
+
 def _check_tokens(value: Any, where: str) -> int:
+    if type(value) is int and 0 <= value <= MAX_COUNT:  # the builder's own counts: no ABC checks
+        return value
     if isinstance(value, bool) or not isinstance(value, (Integral, Rational, float)):
         raise ModelError(f"tokens must be an integer >= 0, got {value!r}", where)
     if isinstance(value, float) and not math.isfinite(value):

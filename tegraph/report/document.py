@@ -16,6 +16,7 @@ from ..analysis.reachability import Reachability
 from ..analysis.results import Report
 from ..analysis.timed_reachability import TimedExploration
 from ..design.explore import Exploration
+from .json_text import dumps_indented
 
 __all__ = ["SCHEMA_VERSION", "json_report", "to_document", "to_json"]
 
@@ -131,4 +132,7 @@ def to_json(result: Any, indent: int | None = 2) -> str:
     >>> to_json(r, indent=None)[:61]
     '{"schema_version": 2, "name": "skeleton", "unit": "ms", "live'
     """
-    return json.dumps(to_document(result), indent=indent, ensure_ascii=False)
+    doc = to_document(result)
+    if type(indent) is int:
+        return dumps_indented(doc, indent)  # the same text, without json's per-value generators
+    return json.dumps(doc, indent=indent, ensure_ascii=False)
