@@ -111,6 +111,22 @@ Sync = tuple[str, Link | None]
 """``("clock", None)``, ``("input", link)`` or ``("output", link)``."""
 
 
+class _Roots:
+    """The root task of each task of some groups, as a read-only mapping (built on demand)."""
+
+    __slots__ = ("groups", "group_of", "chosen")
+
+    def __init__(self, groups: list[tuple[str, ...]], group_of: dict[str, int],
+                 chosen: set[int]) -> None:
+        self.groups, self.group_of, self.chosen = groups, group_of, chosen
+
+    def __contains__(self, task: object) -> bool:
+        return self.group_of.get(task) in self.chosen  # type: ignore[arg-type]
+
+    def __getitem__(self, task: str) -> str:
+        return self.groups[self.group_of[task]][0]
+
+
 class Advisor:
     """The structure of one skeleton, the candidates for each finding, and their check.
 
@@ -131,6 +147,7 @@ class Advisor:
         self.groups = synchronized_groups(skeleton) if groups is None else groups
         self.group_of = {t: g for g, ts in enumerate(self.groups) for t in ts}
         self.periods = [group_period(skeleton, g) for g in self.groups]
+        self._group_clocks: dict[int, tuple[dict[str, int], list[tuple[Fraction, str]]]] = {}
         self.by_reader, self.by_writer = link_index(skeleton)
         self.order = {t: i for i, t in enumerate(skeleton.tasks)}
         self.link_order = {id(link): i for i, link in enumerate(skeleton.links)}
@@ -298,14 +315,18 @@ class Advisor:
                                       empty.with_clock(t, True))
             return
         for keep in clocks:
-            variants: Iterator[_Edits] = iter([empty.saying(keep)])
+            # One task at a time, breadth first: a group bound by thousands of clocks
+            # would nest a generator per task (Python's recursion limit). Only the first
+            # _LIMIT variants (in the order of the choices) are ever examined, and the
+            # first _LIMIT complete ones extend the first _LIMIT partial ones.
+            variants = [empty.saying(keep)]
             for clock, users in clocks.items():
                 if clock != keep:
                     for t in users:
-                        variants = self._unclock(variants, t)
+                        variants = list(itertools.islice(self._unclock(variants, t), _LIMIT))
             yield from variants
 
-    def _unclock(self, variants: Iterator[_Edits], task: str) -> Iterator[_Edits]:
+    def _unclock(self, variants: list[_Edits], task: str) -> Iterator[_Edits]:
         for edits in variants:
             dropped = edits.with_clock(task, False)
             if self.needs_one(task, dropped):
@@ -370,9 +391,9 @@ class Advisor:
             return (after - self.keys) | ({key} & after)
         groups = sorted({self.group_of[t] for t in touched})
         part, root_of = self._regroup(groups, edits)
-        for tasks, clocks, _ in part.values():
-            if len(clocks) != 1:
-                after.add((3, "error", tuple(tasks), not clocks))
+        for tasks, n_clocks, _ in part.values():
+            if n_clocks != 1:
+                after.add((3, "error", tuple(tasks), not n_clocks))
         seen: set[int] = set()
         for link in [link for link, _ in edits.protocol] + [
                 link for g in groups for link in self.asyn[g]]:
@@ -397,7 +418,7 @@ class Advisor:
     def _regroup(self, groups: list[int], edits: _Edits) -> tuple[dict, dict[str, str]]:
         """The groups that the tasks of ``groups`` form once ``edits`` are made.
 
-        Returns ``{root: (tasks in file order, their clocks, design period)}``
+        Returns ``{root: (tasks in file order, how many clocks, design period)}``
         and the root of each of those tasks (union-find over them only).
         """
         if (all(p.synchronizing == link.protocol.synchronizing for link, p in edits.protocol)
@@ -436,35 +457,48 @@ class Advisor:
             entry[0].append(t)
             if clock_of[t]:
                 entry[1].add(clock_of[t])  # type: ignore[arg-type]
+        counted: dict[str, tuple[list[str], int, Fraction | None]] = {}
         for root, (members, clocks, _) in part.items():
             period = min((self.fresh if c.endswith("\0new") else self.sk.clocks[c].period
                           for c in clocks), default=None)
-            part[root] = (members, clocks, period)
-        return part, root_of
+            counted[root] = (members, len(clocks), period)
+        return counted, root_of
 
-    def _same_groups(self, groups: list[int], edits: _Edits) -> tuple[dict, dict[str, str]]:
+    def _same_groups(self, groups: list[int], edits: _Edits) -> tuple[dict, _Roots]:
         """:meth:`_regroup` when no link starts or stops synchronizing and no shared
-        clock is dropped: the groups stay, only their clocks change."""
-        part: dict[str, tuple[list[str], set[str], Fraction | None]] = {}
-        root_of: dict[str, str] = {}
+        clock is dropped: the groups stay, only the clocks of the edited tasks change.
+
+        Costs the edited tasks, not the groups: a group bound by thousands of clocks
+        has a finding per task, and each is checked here.
+        """
+        part: dict[str, tuple[tuple[str, ...], int, Fraction | None]] = {}
         for g in groups:
-            members = list(self.groups[g])
-            root = members[0]
-            clocks: set[str] = set()
-            period = None
-            for t in members:
-                root_of[t] = root
-                if t in edits.add:
-                    clock, length = f"{t}\0new", self.fresh
-                elif t in edits.drop or self.sk.tasks[t].clock is None:
-                    continue
-                else:
-                    clock = self.sk.tasks[t].clock  # type: ignore[assignment]
-                    length = self.sk.clocks[clock].period
-                clocks.add(clock)
-                period = length if period is None else min(period, length)
-            part[root] = (members, clocks, period)
-        return part, root_of
+            members = self.groups[g]
+            users, by_period = self._clocks_of_group(g)
+            edited = [t for t in edits.drop | edits.add if self.group_of[t] == g]
+            left = dict.fromkeys(c for t in edited if (c := self.sk.tasks[t].clock))
+            for c in left:
+                left[c] = users[c] - sum(self.sk.tasks[t].clock == c for t in edited)
+            gone = {c for c, n in left.items() if n == 0}
+            added = sum(t in edits.add for t in edited)
+            period = next((length for length, c in by_period if c not in gone), None)
+            if added:
+                period = self.fresh if period is None else min(period, self.fresh)
+            part[members[0]] = (members, len(users) - len(gone) + added, period)
+        return part, _Roots(self.groups, self.group_of, set(groups))
+
+    def _clocks_of_group(self, g: int) -> tuple[dict[str, int], list[tuple[Fraction, str]]]:
+        """The users of each clock of group ``g``, and its clocks by period (cached)."""
+        known = self._group_clocks.get(g)
+        if known is None:
+            users: dict[str, int] = {}
+            for t in self.groups[g]:
+                clock = self.sk.tasks[t].clock
+                if clock:
+                    users[clock] = users.get(clock, 0) + 1
+            by_period = sorted((self.sk.clocks[c].period, c) for c in users)
+            known = self._group_clocks[g] = (users, by_period)
+        return known
 
     def change_of(self, edits: _Edits) -> Change:
         """The :class:`Change` of ``edits`` (links in skeleton order, tasks in file order)."""

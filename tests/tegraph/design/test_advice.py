@@ -246,3 +246,23 @@ def test_the_in_place_check_on_the_examples_and_corpus():
     compared += sum(check_the_check(Skeleton.from_dict(random_skeleton(random.Random(seed))))
                     for seed in range(60))
     assert compared >= 300, compared
+
+
+def test_a_group_bound_by_more_clocks_than_the_recursion_limit():
+    # A chain T0 -> T1 -> ... read ASYN/SYN, every task on a clock of its own: one group
+    # with 1,100 clocks (more than Python's default recursion limit of 1,000 frames).
+    # Rule 3 advises keeping one clock; each other task still reads its input, so it
+    # needs nothing else (by hand): the change drops the 1,099 other clocks.
+    import sys
+
+    n = 1_100
+    assert n > sys.getrecursionlimit()
+    tasks = {f"T{i}": {"duration": 1, "period": 7, "inputs": ["i"] if i else [],
+                       "outputs": ["o"] if i < n - 1 else []} for i in range(n)}
+    links = [{"from": f"T{i}:o", "to": f"T{i + 1}:i", "protocol": "ASYN/SYN"}
+             for i in range(n - 1)]
+    findings = check_rules(Skeleton.from_dict({"tasks": tasks, "links": links}))
+    (rule3,) = [f for f in findings if f.rule == 3]
+    assert rule3.change is not None
+    assert rule3.change.drop_clock == tuple(f"T{i}" for i in range(1, n))
+    assert sum(f.rule == 1 for f in findings) == n - 1  # T1..: a clock and an input
