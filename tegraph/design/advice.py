@@ -319,11 +319,20 @@ class Advisor:
             # would nest a generator per task (Python's recursion limit). Only the first
             # _LIMIT variants (in the order of the choices) are ever examined, and the
             # first _LIMIT complete ones extend the first _LIMIT partial ones.
-            variants = [empty.saying(keep)]
-            for clock, users in clocks.items():
-                if clock != keep:
-                    for t in users:
-                        variants = list(itertools.islice(self._unclock(variants, t), _LIMIT))
+            others = [t for clock, users in clocks.items() if clock != keep for t in users]
+            # A task's links do not change when other tasks lose their clocks: when none
+            # is left without a synchronization, the one candidate is every drop at once
+            # (what the loop below gives, without a copy of the drops per task).
+            at_once = _Edits(drop=frozenset(others), kept=keep)
+            needy = [t for t in others if self.needs_one(t, at_once)]
+            if not needy:
+                yield at_once
+                continue
+            # The others are dropped at once; those left without a synchronization
+            # gain one, one task at a time, breadth first.
+            variants = [_Edits(drop=frozenset(others).difference(needy), kept=keep)]
+            for t in needy:
+                variants = list(itertools.islice(self._unclock(variants, t), _LIMIT))
             yield from variants
 
     def _unclock(self, variants: list[_Edits], task: str) -> Iterator[_Edits]:
@@ -476,10 +485,11 @@ class Advisor:
             members = self.groups[g]
             users, by_period = self._clocks_of_group(g)
             edited = [t for t in edits.drop | edits.add if self.group_of[t] == g]
-            left = dict.fromkeys(c for t in edited if (c := self.sk.tasks[t].clock))
-            for c in left:
-                left[c] = users[c] - sum(self.sk.tasks[t].clock == c for t in edited)
-            gone = {c for c, n in left.items() if n == 0}
+            losing: dict[str, int] = {}
+            for t in edited:
+                if clock := self.sk.tasks[t].clock:
+                    losing[clock] = losing.get(clock, 0) + 1
+            gone = {c for c, n in losing.items() if n == users[c]}
             added = sum(t in edits.add for t in edited)
             period = next((length for length, c in by_period if c not in gone), None)
             if added:
