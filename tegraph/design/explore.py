@@ -34,7 +34,6 @@ from typing import Any
 from maxplus.scalar import exact_text
 
 from ..errors import InputError
-from ..model.elements import LinkLabel
 from .explore_eval import ANALYZED, FAILED, PRUNED, VariantResult
 from .explore_prune import DeadlockOracle
 from .explore_run import Progress, RunLog, run_search
@@ -138,11 +137,6 @@ class Exploration:
                 "objectives": {k: exact_text(v) for k, v in r.objectives.items()},
                 "kinds": dict(r.kinds), "repaired": r.repaired, "orders": r.orders}
 
-    def _link_documents(self, r: VariantResult) -> list[dict[str, str]]:
-        links = self.space.skeleton.links
-        return [LinkLabel(links[c.index].writer, links[c.index].reader, p).document()
-                for c, p in zip(self.space.links, self.space.protocols(r.variant))]
-
     def to_dict(self) -> dict[str, Any]:
         """The body of the JSON report (``docs/explore.schema.json``)."""
         sk = self.space.skeleton
@@ -165,7 +159,7 @@ class Exploration:
                 "clocks": {c.name: [exact_text(t) for t in c.periods]
                            for c in self.space.clocks}},
             "chains": [list(c) for c in self.space.chains],
-            "front": [{**self.entry(r), "links": self._link_documents(r)} for r in self.front],
+            "front": [self.entry(r) for r in self.front],
             "engine": {"kind": self.log.engine, "workers": self.log.workers,
                        "address": self.log.address, "batches": self.log.batches,
                        "largest_batch": max(self.log.batch_sizes, default=0),

@@ -48,7 +48,7 @@ def test_json_report_follows_the_schema_and_holds_the_front(tmp_path):
     # rtc = 10 gives load 3/5, 20 gives 3/10 with twice the period; 5 does not fit.
     front = {d["clocks"]["rtc"]: d for d in doc["front"]}
     assert set(front) == {"10", "20"}
-    assert front["10"]["links"] == [{"from": "MT1:x1", "to": "MT2:x1", "protocol": "ASYN/SYN"}]
+    assert front["10"]["links"] == {"MT1:x1 -> MT2:x1": "ASYN/SYN"}  # issue 15's front format
     assert front["10"]["objectives"] == {f"latency:{CHAIN}": "6", "period": "1", "load": "3/5"}
     assert front["20"]["objectives"]["load"] == "3/10"
     assert front["10"]["kinds"] == {f"latency:{CHAIN}": "exact"}
