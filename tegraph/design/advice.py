@@ -55,6 +55,7 @@ from collections.abc import Iterator
 from fractions import Fraction
 from typing import Any
 
+from ..model.elements import LinkLabel
 from ..model.skeleton import Link, Protocol, Skeleton
 from .change import Change, Key, finding_key
 from .synchronization import (
@@ -343,12 +344,10 @@ class Advisor:
             else:
                 yield dropped
 
-    def _link(self, label: str) -> Link:
-        writer, _, rest = label.partition(" -> ")
-        reader = rest.rsplit(" (", 1)[0]
-        w, p = writer.split(":")
-        r, q = reader.split(":")
-        return next(link for link in self.by_writer[(w, p)] if link.reader == (r, q))
+    def _link(self, label: LinkLabel) -> Link:
+        # The label knows its ports: names may hold " -> ", so its text is never parsed.
+        return next(link for link in self.by_writer[label.writer]
+                    if link.reader == label.reader)
 
     # ------------------------------------------------------------ the check
     def choose(self, finding: Any) -> tuple[Change | None, str, set[Key]]:

@@ -266,3 +266,16 @@ def test_a_group_bound_by_more_clocks_than_the_recursion_limit():
     assert rule3.change is not None
     assert rule3.change.drop_clock == tuple(f"T{i}" for i in range(1, n))
     assert sum(f.rule == 1 for f in findings) == n - 1  # T1..: a clock and an input
+
+
+def test_advice_for_a_link_whose_task_name_holds_an_arrow():
+    # Names may hold " -> " (only ':' is reserved): the advice must not parse link texts.
+    # A:x -> C:y SYN/SYN is a rendezvous (Rule 2); its advice makes it ASYN/SYN.
+    sk = Skeleton.from_dict({
+        "tasks": {"A -> B": {"duration": 1, "period": 10, "outputs": ["x"]},
+                  "C": {"duration": 1, "inputs": ["y"]}},
+        "links": [{"from": "A -> B:x", "to": "C:y", "protocol": "SYN/SYN"}]})
+    (rule2,) = [f for f in check_rules(sk) if f.rule == 2]
+    assert rule2.links[0].document() == {"from": "A -> B:x", "to": "C:y", "protocol": "SYN/SYN"}
+    assert rule2.change is not None
+    assert rule2.change.protocols == (("A -> B:x", "C:y", "ASYN/SYN"),)
