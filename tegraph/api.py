@@ -136,8 +136,8 @@ def _add_duration_margins(skeleton: Skeleton, report: Report, max_tasks: int) ->
     n = len(skeleton.tasks)
     if n > max_tasks:
         report.methods["duration_margins"] = (
-            f"not computed: {n} tasks, above margins_max_tasks = {max_tasks}; "
-            "tegraph.sensitivity (the command tegraph sensitivity) computes them")
+            f"not computed: {n:,} tasks, more than {max_tasks:,} (they would cost about as "
+            "much as the analysis again); the sensitivity analysis computes them")
         return
     margins = duration_margins(skeleton, report)
     for name, task in report.tasks.items():

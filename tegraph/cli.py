@@ -407,8 +407,8 @@ def timeline(
     if output is not None:
         _draw(draw_timeline, result, output, force)
     typer.echo(render_timeline(result, width), nl=False)
-    if output is not None:
-        typer.echo(f"wrote {output}")
+    if output is not None:  # on stderr: the verdict stays the last line of the report
+        typer.echo(f"wrote {output}", err=True)
     raise typer.Exit(result.exit_status)
 
 
@@ -601,9 +601,9 @@ def explore(
     # (a JSON document ends with one newline, as a text report does)
     if plot is not None:
         _draw(draw_front, result, plot, force)
-        if not json_out:
-            text += f"wrote {plot}\n"
     typer.echo(text, nl=False)
+    if plot is not None:  # on stderr: the verdict stays the last line of the report
+        typer.echo(f"wrote {plot}", err=True)
     raise typer.Exit(0 if result.front else 1)
 
 
@@ -633,7 +633,8 @@ def sensitivity_command(
     Exact: every end is a rational, found by searches that stop at an exact
     breakpoint, and checked with the analysis. Exit status: 0 consistent at
     the nominal values; 1 not (the sensitivity is reported anyway); 2 the
-    input was refused (an unknown parameter, an empty or negative range).
+    input was refused (an unknown parameter, an empty or negative range, a
+    range without the nominal value).
     """
     from .analysis.sensitivity import sensitivity
     from .io import load_skeleton
@@ -648,6 +649,8 @@ def sensitivity_command(
         if len(vary or ()) not in (1, 2):
             _fail("--plot: a drawing shows one or two parameters; name them with --vary "
                   f"(given: {len(vary or ())})")
+        if not formulas:
+            _fail("--plot draws the periods from their formulas; leave out --no-formulas")
         if not matplotlib_available():
             _fail("--plot needs matplotlib, which is not installed; install it with: "
                   "pip install 'tegraph[plot]'")
@@ -655,7 +658,7 @@ def sensitivity_command(
     with _refusals(file):
         skeleton = load_skeleton(file)
         try:
-            result = sensitivity(skeleton, vary or None, formulas=formulas or plot is not None,
+            result = sensitivity(skeleton, vary or None, formulas=formulas,
                                  verify=verify)
         except InputError as exc:
             if exc.where.startswith("vary"):
@@ -667,8 +670,8 @@ def sensitivity_command(
         typer.echo(sensitivity_json(result))
     else:
         typer.echo(_cli_words(render_sensitivity(result)), nl=False)
-        if plot is not None:
-            typer.echo(f"wrote {plot}")
+    if plot is not None:  # on stderr: the verdict stays the last line of the report
+        typer.echo(f"wrote {plot}", err=True)
     raise typer.Exit(result.exit_status)
 
 

@@ -206,6 +206,12 @@ def _parameter(skeleton: Skeleton, name: str, rng: Any, where: str) -> Parameter
     if high is not None and high < low:
         raise InputError(f"the range of {name} is empty ({low}..{high}); expected LOW <= HIGH",
                          where)
+    if nominal < low or (high is not None and nominal > high):
+        # Margins and the scaling factor are measured from the nominal value: a range
+        # without it would make "consistent at the nominal values" mean two things.
+        raise InputError(f"the range of {name} ({low}..{'' if high is None else high}) leaves "
+                         f"out its nominal value {nominal}; expected LOW <= {nominal} <= HIGH "
+                         "(change the skeleton to move the nominal value)", where)
     return Parameter(name, kind, owner, nominal, low, high)
 
 

@@ -156,7 +156,7 @@ def _margin_lines(result: SensitivityResult) -> list[str]:
                                     "can grow by", "limited above by", "other consistent values"])
     lines += ["  " + line for line in table.splitlines()]
     lines.append("  (a duration's 'can grow by' sees overruns, which the slack of `analyze` "
-                 "does not; full paths and circuits: --json)")
+                 "does not; full paths and circuits: in the JSON document)")
     return lines
 
 

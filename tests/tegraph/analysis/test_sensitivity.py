@@ -231,6 +231,11 @@ def test_vary_refusals_name_the_parameter():
         parse_vary(sk, ["dyn.period", "dyn.period=1..2"])
     with pytest.raises(InputError, match="not an exact number"):
         parse_vary(sk, ["dyn.period=x..2"])
+    # MOD.DYN's nominal duration is 6/5 ms: a range must hold it (margins start there).
+    with pytest.raises(InputError, match="leaves out its nominal value 6/5"):
+        parse_vary(sk, ["MOD.DYN.duration=3..3"])
+    with pytest.raises(InputError, match="nominal value 6"):
+        parse_vary(sk, ["dyn.period=1..5"])
 
 
 def test_ranges_are_exact_and_respected():
@@ -361,8 +366,9 @@ def test_analyze_margins_not_consistent_unbounded_and_not_computed():
     # Above margins_max_tasks the analysis says it did not compute them.
     skipped = analyze(example("threads.yaml"), margins_max_tasks=4)
     assert {t.duration_margin_state for t in skipped.tasks.values()} == {"not computed"}
-    assert "margins_max_tasks = 4" in skipped.methods["duration_margins"]
-    assert "tegraph.sensitivity" in render_text(skipped)
+    n = len(example("threads.yaml").tasks)
+    assert f"not computed: {n} tasks, more than 4" in skipped.methods["duration_margins"]
+    assert "the sensitivity analysis computes them" in render_text(skipped)
 
 
 def test_analyze_margins_follow_the_report_schema():

@@ -254,7 +254,8 @@ def test_cli_timeline(tmp_path):
     out = tmp_path / "d.svg"
     drawn = run("timeline", str(EXAMPLES / "computed_torque.yaml"), "-o", str(out))
     if matplotlib_available():
-        assert drawn.returncode == 0 and out.exists() and f"wrote {out}" in drawn.stdout
+        assert drawn.returncode == 0 and out.exists() and f"wrote {out}" in drawn.stderr
+        assert drawn.stdout.splitlines()[-1].startswith("verdict: ")  # the last line
         exists = run("timeline", str(EXAMPLES / "computed_torque.yaml"), "-o", str(out))
         assert exists.returncode == 2 and "--force" in exists.stderr
     else:
