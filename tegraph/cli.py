@@ -380,7 +380,7 @@ def timeline(
 ) -> None:
     """Preemptive fixed-priority timing diagram (ORCCAD Figure 17), exact.
 
-    Exit status: 0 every job ends by the next tick of its clock; 1 a deadlock
+    Exit status: 0 every job ends by the next tick of its pacing clock; 1 a deadlock
     or a late job; 2 the input or the output file was refused, or matplotlib
     is missing for -o.
     """

@@ -8,6 +8,7 @@ from fractions import Fraction
 from maxplus.scalar import exact_text
 
 from ..design.timeline import Timeline
+from ._format import count
 
 __all__ = ["render_timeline"]
 
@@ -97,23 +98,33 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
 
 
 _LEGEND = ("legend: # runs, - released and waiting (for its processor or a message), "
-           "X runs late (it ends after the next tick of its clock), ^ clock tick, "
+           "X runs late (it ends after the next tick of its pacing clock: its own, else its "
+           "group's), ^ clock tick, "
            "blank idle")
 
 
 def _verdict(timeline: Timeline) -> str:
-    """The last line: what the simulation found, within its horizon."""
+    """The last line: what the simulation found, within its horizon, and the exit status."""
     u, H = timeline.unit, exact_text(timeline.horizon)
+    status = f" (exit status {timeline.exit_status})"
     if timeline.deadlocks:
         late = len(timeline.late_jobs)
-        also = f", and {late} overrun(s) elsewhere" if late else ""
-        return (f"verdict: DEADLOCK ({len(timeline.deadlocks)} token-free circuit(s); "
-                f"{len(timeline.dead_tasks)} task(s) in groups that are not live){also}")
+        also = f", and {count(late, 'overrun')} elsewhere" if late else ""
+        return (f"verdict: DEADLOCK ({count(len(timeline.deadlocks), 'token-free circuit')}; "
+                f"{count(len(timeline.dead_tasks), 'task')} in groups that are not live)"
+                f"{also}{status}")
     if timeline.late_jobs:
         tasks = list(dict.fromkeys(j.task for j in timeline.late_jobs))
-        return (f"verdict: {len(timeline.late_jobs)} overrun(s) before {H} {u}, by "
-                + ", ".join(tasks))
-    return f"verdict: every job ends by the next tick of its clock (simulated up to {H} {u})"
+        shown = ", ".join(tasks[:_NAMED]) + (
+            f" and {len(tasks) - _NAMED:,} more" if len(tasks) > _NAMED else "")
+        return (f"verdict: {count(len(timeline.late_jobs), 'overrun')} before {H} {u}, by "
+                f"{shown}{status}")
+    return (f"verdict: every job ends by the next tick of its pacing clock (simulated up to "
+            f"{H} {u}){status}")
+
+
+_NAMED = 5
+"""Late tasks named on the verdict line (the OVERRUN lines above name them all)."""
 
 
 def _paint(row: list[str], a: Fraction, b: Fraction, col: Fraction, ch: str,

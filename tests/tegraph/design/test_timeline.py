@@ -106,7 +106,8 @@ def test_a_dead_design_reports_its_deadlock(example):
     assert "DEADLOCK: token-free circuit " + " -> ".join(
         [*tl.deadlocks[0].events, tl.deadlocks[0].events[0]]) in text
     assert "every job ends" not in text and text.rstrip().endswith(
-        "verdict: DEADLOCK (1 token-free circuit(s); 3 task(s) in groups that are not live)")
+        "verdict: DEADLOCK (1 token-free circuit; 3 tasks in groups that are not live) "
+        "(exit status 1)")
     out = run("timeline", str(EXAMPLES / example))
     assert out.returncode == 1 and "DEADLOCK" in out.stdout
 
@@ -176,8 +177,8 @@ def test_text_rendering_is_exact():
     assert mod[:20] == "-------###-#########"
     assert lines[6].split("|")[1].count("^") == 6  # clock obs
     assert "     11/10 - 2        MOD.DYN" in text
-    assert text.endswith("verdict: every job ends by the next tick of its clock "
-                         "(simulated up to 6 ms)\n")
+    assert text.endswith("verdict: every job ends by the next tick of its pacing clock "
+                         "(simulated up to 6 ms) (exit status 0)\n")
 
 
 def test_long_horizons_are_drawn_approximately():
@@ -272,3 +273,23 @@ def test_text_diagram_explains_its_symbols():
     drawn = {ch for row in rows for ch in row.split("|")[1]} - {" "}
     assert drawn == {"#", "-", "X", "^"}
     assert all(f"{ch} " in legend for ch in drawn)
+
+
+def test_verdict_names_a_few_late_tasks_and_counts_the_rest():
+    # A chain T0 -> ... -> T7 read ASYN/SYN; T0 on a 10 ms clock, each other task also
+    # on its own 7 ms clock: T1..T7 are bound to two rates, so all 7 run late (Figure 12).
+    n = 8
+    tasks = {f"T{i}": {"duration": 1, "period": 7 if i else 10,
+                       "inputs": ["i"] if i else [], "outputs": ["o"] if i < n - 1 else []}
+             for i in range(n)}
+    links = [{"from": f"T{i}:o", "to": f"T{i + 1}:i", "protocol": "ASYN/SYN"}
+             for i in range(n - 1)]
+    from tegraph import Skeleton
+    from tegraph.report.timeline_text import render_timeline
+
+    tl = simulate_timeline(Skeleton.from_dict({"tasks": tasks, "links": links}))
+    late = list(dict.fromkeys(j.task for j in tl.late_jobs))
+    assert sorted(late) == [f"T{i}" for i in range(1, n)]
+    verdict = render_timeline(tl).splitlines()[-1]
+    assert verdict.startswith(f"verdict: {len(tl.late_jobs)} overruns before ")
+    assert verdict.endswith(f"by {', '.join(late[:5])} and 2 more (exit status 1)")
