@@ -167,15 +167,22 @@ def render_timed_exploration(result: TimedExploration) -> str:
             lines.append(f"  {t.name}: overrun undecided")
     late = [t for t in result.tasks.values() if t.overrun_at is not None]
     dead = [g for g in result.groups if g.stuck_events is not None]
+    stalled = [g for g in result.groups if g.stalled_at is not None]
+    found_parts = []
     if dead:
-        found = (f"deadlock in group {dead[0].index} ({', '.join(dead[0].tasks)})"
-                 + (f" and {len(dead) - 1} more group{'s' * (len(dead) > 2)}"
-                    if len(dead) > 1 else ""))
-        if late:
-            found += f"; {late[0].name} overruns at activation {late[0].overrun_at}"
-    elif late:
-        found = f"{late[0].name} overruns at activation {late[0].overrun_at}" + (
-            f" and {len(late) - 1} more" if len(late) > 1 else "")
+        found_parts.append(f"deadlock in group {dead[0].index} ({', '.join(dead[0].tasks)})"
+                           + (f" and {count(len(dead) - 1, 'more group')}" if len(dead) > 1
+                              else ""))
+    if late:
+        found_parts.append(f"{late[0].name} overruns at activation {late[0].overrun_at}"
+                           + (f" and {len(late) - 1:,} more" if len(late) > 1 else ""))
+    if stalled:
+        found_parts.append(f"group {stalled[0].index} fires without end at time "
+                           f"{exact_text(stalled[0].stalled_at)} {u} (zero-duration tasks)"
+                           + (f" and {count(len(stalled) - 1, 'more group')}"
+                              if len(stalled) > 1 else ""))
+    if found_parts:
+        found = "; ".join(found_parts)
     elif result.complete:
         found = "no overrun (every group reached a repeated state or stopped)"
     else:
