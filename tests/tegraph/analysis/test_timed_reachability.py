@@ -292,3 +292,18 @@ def test_cli_timed_progress_on_a_terminal() -> None:
     out = proc.stdout.read()  # type: ignore[union-attr]
     assert proc.wait(timeout=300) == 1 and b"MT2 overruns at activation 3" in out
     assert b" states, " in seen and b"/s" in seen, seen[:200]
+
+
+def test_a_group_firing_without_end_is_in_the_verdict():
+    # A and B, both of duration 0, pass one token round a circuit: they fire at time 0
+    # without end (a zero-duration circuit); C runs alone on its 5 ms clock.
+    sk = Skeleton.from_dict({
+        "tasks": {"A": {"duration": 0, "inputs": ["y"], "outputs": ["x"]},
+                  "B": {"duration": 0, "inputs": ["x"], "outputs": ["y"]},
+                  "C": {"duration": 1, "period": 5}},
+        "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"},
+                  {"from": "B:y", "to": "A:y", "protocol": "SYN/ASYN"}]})
+    r = timed_reachability(sk)
+    assert [g.stalled_at for g in r.groups] == [0, None]
+    assert render_text(r).splitlines()[-1] == (
+        "verdict: group 0 fires without end at time 0 ms (zero-duration tasks) (exit status 0)")
