@@ -483,29 +483,32 @@ def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> di
     out = {}
     line = ("exact line search in each group: Newton steps on overrun certificates (longest "
             "paths, weights h - P·m) and upper envelopes of cycle ratios (Howard)")
+
+    def spent(e: dict) -> str:
+        calls, points = e["rounds"], e["points"]
+        return (f"{calls:,} batched oracle call{'s' * (calls != 1)}, "
+                f"{points:,} point{'s' * (points != 1)}")
+
     if "scaling" in effort:
-        e = effort["scaling"]
-        out["scaling"] = (f"{line}, intersected over groups; {e['rounds']} batched oracle "
-                          f"calls, {e['points']} points")
+        out["scaling"] = f"{line}, intersected over groups; {spent(effort['scaling'])}"
     if "margins" in effort:
-        e = effort["margins"]
-        out["margins"] = (f"the same, one line per parameter; {e['rounds']} batched oracle "
-                          f"calls, {e['points']} points")
+        out["margins"] = f"{line}, one line per parameter; {spent(effort['margins'])}"
     else:
-        out["margins"] = "not computed (margins=False)"
+        out["margins"] = "not computed (`margins` False)"
     if "formulas" in effort:
-        e = effort["formulas"]
         out["formulas"] = (
             f"up to {max_parameters} parameters per group: cutting planes, Howard at every "
             "vertex and ray of the box (exact double description); more: critical circuits "
-            f"and one-sided derivatives at nominal; {e['rounds']} batched oracle calls, "
-            f"{e['points']} points")
+            f"and one-sided derivatives at nominal; {spent(effort['formulas'])}")
     if verify:
         checks = result.checks
         bad = sum(not c.agrees for c in checks)
-        out["check"] = (f"analyze_skeleton on the group at each finite end and just beyond "
-                        f"it: {len(checks)} points, "
-                        + ("all agree" if not bad else f"{bad} DISAGREE"))
+        where = "analyze_skeleton on the group at each finite end and just beyond it"
+        if not checks:
+            out["check"] = f"{where}: no finite end, nothing to check"
+        else:
+            out["check"] = (f"{where}: {len(checks):,} point{'s' * (len(checks) != 1)}, "
+                            + ("all agree" if not bad else f"{bad} DISAGREE"))
     else:
-        out["check"] = "not run (verify=False)"
+        out["check"] = "not run (`verify` False)"
     return out
