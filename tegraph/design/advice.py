@@ -66,9 +66,9 @@ from .synchronization import (
     synchronized_groups,
 )
 
-__all__ = ["Advisor"]
+__all__ = ["CANDIDATE_LIMIT", "Advisor"]
 
-_LIMIT = 64
+CANDIDATE_LIMIT = 64
 """Candidates examined per finding (the smallest of them first)."""
 
 
@@ -318,8 +318,8 @@ class Advisor:
         for keep in clocks:
             # One task at a time, breadth first: a group bound by thousands of clocks
             # would nest a generator per task (Python's recursion limit). Only the first
-            # _LIMIT variants (in the order of the choices) are ever examined, and the
-            # first _LIMIT complete ones extend the first _LIMIT partial ones.
+            # CANDIDATE_LIMIT variants (in the order of the choices) are ever examined, and the
+            # first CANDIDATE_LIMIT complete ones extend the first CANDIDATE_LIMIT partial ones.
             others = [t for clock, users in clocks.items() if clock != keep for t in users]
             # A task's links do not change when other tasks lose their clocks: when none
             # is left without a synchronization, the one candidate is every drop at once
@@ -333,7 +333,7 @@ class Advisor:
             # gain one, one task at a time, breadth first.
             variants = [_Edits(drop=frozenset(others).difference(needy), kept=keep)]
             for t in needy:
-                variants = list(itertools.islice(self._unclock(variants, t), _LIMIT))
+                variants = list(itertools.islice(self._unclock(variants, t), CANDIDATE_LIMIT))
             yield from variants
 
     def _unclock(self, variants: list[_Edits], task: str) -> Iterator[_Edits]:
@@ -362,7 +362,7 @@ class Advisor:
         key = finding_key(finding)
         first: _Edits | None = None
         # The smallest edits first; among equals, the order of preference.
-        ranked = sorted(itertools.islice(self.candidates(finding), _LIMIT), key=_size)
+        ranked = sorted(itertools.islice(self.candidates(finding), CANDIDATE_LIMIT), key=_size)
         for edits in ranked:
             if self.brings(key, edits, whole=False) is None:
                 return self.change_of(edits), edits.kept, set()

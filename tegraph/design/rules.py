@@ -42,7 +42,7 @@ from typing import Any
 from maxplus.scalar import exact_text
 
 from ..model.skeleton import Protocol, Skeleton
-from .advice import Advisor
+from .advice import CANDIDATE_LIMIT, Advisor
 from .change import Change
 from .synchronization import (
     Synchronization,
@@ -222,12 +222,15 @@ def _advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
     """The finding with the first change that brings no other finding, in words."""
     change, said, brought = advisor.choose(finding)
     if change is None:
+        # Only a bounded set of candidate changes is examined: say so, claim no more.
         if said:
-            advice = (f"no change of its links and clocks removes this without another finding "
-                      f"of Rules 1-3: {said} would bring "
+            advice = (f"none of the changes examined (the smallest of their kind, at most "
+                      f"{CANDIDATE_LIMIT}) removes this without another finding of Rules 1-3: "
+                      f"{said} would bring "
                       + "; ".join(_key_text(k) for k in sorted(brought)))
         else:
-            advice = "no change of its links and clocks removes this"
+            advice = (f"none of the changes examined (the smallest of their kind, at most "
+                      f"{CANDIDATE_LIMIT}) removes this")
         return dataclasses.replace(finding, advice=advice)
     words = advisor.describe(change)
     if finding.rule == 1 and finding.severity == "error":
