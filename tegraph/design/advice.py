@@ -55,6 +55,8 @@ from collections.abc import Iterator
 from fractions import Fraction
 from typing import Any
 
+from maxplus.scalar import exact_text
+
 from ..model.elements import LinkLabel
 from ..model.skeleton import Link, Protocol, Skeleton
 from .change import Change, Key, finding_key
@@ -533,7 +535,9 @@ class Advisor:
         for t in change.drop_clock:
             parts.append(f"remove the clock {self.sk.tasks[t].clock} of {t}")
         for t in change.add_clock:
-            parts.append(f"give {t} a clock of its own (a period of your choice)")
+            # The check assumed a period that no group has (Rule 2 compares periods).
+            parts.append(f"give {t} a clock of its own (a period of your choice that no "
+                         f"other group has, e.g. {exact_text(self.fresh)} {self.sk.unit})")
         return "; ".join(parts)
 
 

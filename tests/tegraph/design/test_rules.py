@@ -141,8 +141,10 @@ def test_rule3_group_without_clock_figure_7a():
     assert (f.severity, f.tasks) == ("error", ("MT1", "MT2", "MT3"))
     # Every task waits for an input: the advice also breaks the wait.
     assert f.change == Change((("MT2:b", "MT1:b", "ASYN/ASYN"),), add_clock=("MT1",))
+    # No group has a clock: any period is one no other group has (the example says 1 ms).
     assert f.advice == ("make MT2:b -> MT1:b ASYN/ASYN (neither side waits); give MT1 a clock "
-                        "of its own (a period of your choice) (one clock for the whole group)")
+                        "of its own (a period of your choice that no other group has, e.g. "
+                        "1 ms) (one clock for the whole group)")
 
 
 def test_rule3_group_without_clock_names_its_source():
