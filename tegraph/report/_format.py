@@ -21,6 +21,8 @@ __all__ = ["count", "decimal_text", "human", "number"]
 
 _EXACT_DIGITS = 15
 """A terminating decimal with at most this many significant digits is printed exactly."""
+_MAX_PLACES = 4_000
+"""An exact decimal is computed up to this many places after the point (cost: its digits)."""
 _ROUNDED_DIGITS = 6
 """Significant digits of a rounded decimal (more when that would look like an integer)."""
 _LONG_INTEGER = 16
@@ -64,12 +66,13 @@ def decimal_text(value: Fraction) -> str | None:
             return None
         return "≈" + format(Context(prec=_ROUNDED_DIGITS).create_decimal(value.numerator), ".5e")
     places = _decimal_places(value)
-    if places is not None and places <= _EXACT_DIGITS:
+    if places is not None and places <= _MAX_PLACES:
         # p/q with q = 2^a 5^b is (p * 10^n / q) / 10^n for n = max(a, b), exactly.
         scaled = value.numerator * 10**places // value.denominator
-        exact = Decimal(scaled).scaleb(-places)
-        if len(exact.normalize().as_tuple().digits) <= _EXACT_DIGITS:
-            return format(exact.normalize(), "f")
+        exact = Decimal(scaled).scaleb(-places).normalize()
+        if len(exact.as_tuple().digits) <= _EXACT_DIGITS:
+            # Few significant digits but far from 1 (3/10^17): exact scientific notation.
+            return format(exact, "f" if places <= _EXACT_DIGITS else "e")
     digits = _ROUNDED_DIGITS
     rounded = Context(prec=digits).divide(Decimal(value.numerator), Decimal(value.denominator))
     if abs(rounded.adjusted()) >= _EXACT_DIGITS:  # far from 1: scientific notation says it

@@ -111,3 +111,9 @@ def test_cycle_time_of_several_groups_names_each_period():
             "below)") in text
     assert "  group 0 [OBS.JL]: period 1 ms: obs.tick -> obs.tick: 1 ms over 1 token = 1 ms" in text
     assert text.splitlines()[-1] == "verdict: period 6 ms, certificate verified (exit status 0)"
+
+
+def test_a_short_exact_decimal_far_from_one_is_exact_not_approximate():
+    # 3/10^17 terminates with one significant digit: 3e-17 exactly, no "≈".
+    assert human(Fraction(3, 10**17), "ms") == "3/100000000000000000 ms (3e-17)"
+    assert decimal_text(Fraction(1, 256)) == "0.00390625"
