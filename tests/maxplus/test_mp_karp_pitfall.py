@@ -16,45 +16,22 @@ k instead gives max(4, 3, 4, 5) = 5 at node 1, k = 1.
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
-import sys
-import types
 from fractions import Fraction
-
-import numpy as np
-import pytest
 
 from maxplus import eigenvalue, howard, karp
 
 A = [[1, 5], [3, 2]]
 
 
-def _mplusa_karp():
-    """mplusa's karp_algorithm, or None when mplusa is not installed.
-
-    mplusa 0.0.5's package ``__init__`` imports its plotting module, which
-    fails (it needs matplotlib, and annotates with an undefined name); the
-    algebra module does not need it, so it is loaded under bare parent
-    packages, and sys.modules is restored afterwards.
-    """
-    spec = importlib.util.find_spec("mplusa")
-    if spec is None or not spec.submodule_search_locations:
-        return None
-    saved = {k: v for k, v in sys.modules.items() if k == "mplusa" or k.startswith("mplusa.")}
-    try:
-        for k in saved:
-            del sys.modules[k]
-        root = spec.submodule_search_locations[0]
-        for name, path in (("mplusa", root), ("mplusa.maxplus", f"{root}/maxplus")):
-            package = types.ModuleType(name)
-            package.__path__ = [path]
-            sys.modules[name] = package
-        return importlib.import_module("mplusa.maxplus.maxplus").karp_algorithm
-    finally:
-        for k in [k for k in sys.modules if k == "mplusa" or k.startswith("mplusa.")]:
-            del sys.modules[k]
-        sys.modules.update(saved)
+def _max_over_k(matrix):
+    """The flawed formula (mplusa 0.0.5's ``karp_algorithm``): max over (v, k) of
+    (D_n(v) - D_k(v)) / (n - k), with D_k(v) the best k-arc walk ending in v."""
+    n = len(matrix)
+    walks = [[Fraction(0)] * n]
+    for _ in range(n):
+        last = walks[-1]
+        walks.append([max(last[u] + matrix[v][u] for u in range(n)) for v in range(n)])
+    return max((walks[n][v] - walks[k][v]) / (n - k) for v in range(n) for k in range(n))
 
 
 def test_our_eigenvalue_is_the_hand_derived_4():
@@ -63,12 +40,9 @@ def test_our_eigenvalue_is_the_hand_derived_4():
     assert howard(A).circuit in ([0, 1], [1, 0])
 
 
-def test_mplusa_karp_takes_the_max_over_k_and_gets_5():
-    karp_algorithm = _mplusa_karp()
-    if karp_algorithm is None:
-        pytest.skip("mplusa is not installed")
-    # mplusa reads A[k, j] as the arc k -> j: its graph is the transpose of
-    # ours, which has the same circuits and the same means.
-    wrong = karp_algorithm(np.array(A, dtype=float))
-    assert wrong == 5.0  # a documented defect of the peer: λ is 4
-    assert eigenvalue(A) == 4 != wrong
+def test_the_max_over_k_pitfall_gets_5_where_karp_gets_4():
+    # By hand (module docstring): the maximum over k is 5 at node 1, k = 1; Karp's
+    # min over k then max over nodes is 4. The peer itself is compared with ours in
+    # benchmarks/peers/dense_peers.py (its "mplusa agrees" column), where it is installed.
+    assert _max_over_k(A) == 5
+    assert karp(A) == 4 != _max_over_k(A)
