@@ -1,6 +1,6 @@
 """Exact (max,+) scalars and the validation of user input.
 
-The semiring is ``R_max = (Q ∪ {ε}, ⊕ = max, ⊗ = +)`` with ``ε = -inf``. Every
+The semiring is ``R_max = (Q ∪ {ε}, ⊕ = max, ⊗ = +)`` [1]_ with ``ε = -inf``. Every
 finite value is held as a :class:`fractions.Fraction`; ε is the float ``-inf``,
 so Python's own ``max`` and ``+`` already implement ⊕ and ⊗ on these values
 (``Fraction(3) + float('-inf') == float('-inf')``).
@@ -15,6 +15,11 @@ multiplied by the least common multiple of their denominators. Integers below
 2**53 are exact in binary floating point, so a float64 array of scaled
 integers (with ``-inf`` for ε) gives exact (max,+) arithmetic at numpy speed;
 above that bound the same code runs on object arrays of Python ints.
+
+References
+----------
+.. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
+   and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
 """
 
 from __future__ import annotations
@@ -79,11 +84,6 @@ def is_eps(value: Any) -> bool:
     --------
     exact : reads ``None``, ``"eps"`` and ``-inf`` as ε.
 
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
-
     Examples
     --------
     >>> is_eps(EPS), is_eps(Fraction(0))
@@ -118,11 +118,6 @@ def exact(value: Any, where: str = "value", allow_eps: bool = True) -> Scalar:
     --------
     exact_time : a finite value (no ε).
     exact_vector, exact_matrix : whole vectors and matrices, entries named.
-
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
 
     Examples
     --------
@@ -208,11 +203,6 @@ def exact_time(value: Any, where: str = "value") -> Fraction:
     exact : the same, ε allowed.
     exact_text : writes such a value back.
 
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
-
     Examples
     --------
     >>> exact_time("0.25")
@@ -235,11 +225,6 @@ def exact_text(value: Fraction | int | None) -> str | None:
     See Also
     --------
     exact_time : reads such a text back.
-
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
 
     Examples
     --------
@@ -278,11 +263,6 @@ def exact_vector(values: Any, name: str = "x", allow_eps: bool = True) -> list[S
     --------
     exact_matrix : the same for a matrix.
     exact : one entry.
-
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
 
     Examples
     --------
@@ -330,11 +310,6 @@ def exact_matrix(values: Any, name: str = "A", square: bool = True) -> np.ndarra
     --------
     exact_vector : the same for a vector.
     to_scaled : the matrix as scaled integers.
-
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
 
     Examples
     --------
@@ -406,11 +381,6 @@ def common_denominator(values: Iterable[Scalar]) -> int:
     --------
     to_scaled : scales a matrix by it.
 
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
-
     Examples
     --------
     >>> common_denominator([Fraction(1, 2), Fraction(2, 3), EPS])
@@ -449,11 +419,6 @@ def to_scaled(matrix: np.ndarray, scale: int | None = None,
     from_scaled : the inverse.
     common_denominator : the default scale.
 
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
-
     Examples
     --------
     >>> a, s = to_scaled(exact_matrix([["1/2", None], [1, 0]]))
@@ -491,11 +456,6 @@ def from_scaled(array: np.ndarray, scale: int) -> np.ndarray:
     See Also
     --------
     to_scaled : the forward conversion.
-
-    References
-    ----------
-    .. [1] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992, §3.2 (the semiring R_max = (R ∪ {ε}, max, +)).
 
     Examples
     --------
