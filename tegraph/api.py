@@ -1,6 +1,6 @@
 """The few calls that cross floors: analyze with its design section, cycle time of a file,
-writing a drawing coloured by the analysis, and the exploration of designs with its
-results file.
+the state-space baselines of any model, writing a drawing coloured by the analysis, and
+the exploration of designs with its results file.
 
 Everything below this module keeps to its floor (``docs/architecture.md``):
 the analysis does not read files, the readers do not analyze, the report
@@ -36,7 +36,7 @@ from .report.dot import highlights
 if TYPE_CHECKING:  # the exploration is imported when called: `analyze` need not load it
     from .design.explore import Exploration
 
-__all__ = ["analyze", "cycle_time", "explore", "to_dot", "write"]
+__all__ = ["analyze", "cycle_time", "explore", "reach", "to_dot", "write"]
 
 #: Above this many tasks ``analyze`` leaves the duration margins to ``sensitivity``:
 #: measured (benchmarks/results/sensitivity.md), they cost about as much as
@@ -237,6 +237,73 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
     if read_seconds is not None:
         result.seconds = {"read": read_seconds, **result.seconds}
     return result
+
+
+def reach(model: Any, *, timed: bool = False, max_states: int = 1_000_000,
+          max_seconds: float | None = None, max_memory: int = DEFAULT_MAX_MEMORY,
+          max_firings: int = DEFAULT_MAX_FIRINGS, progress: Any = None,
+          stop: Any = None) -> Any:
+    """The state-space baseline of a model: the ORCCAD searches (spec §4, ORCCAD §5).
+
+    A skeleton is explored group by group (its timed event graph, places bounded
+    to m + 1 tokens), or, with ``timed``, by the timed exploration; any other
+    model (a timed event graph, a P/T net, an SDF graph expanded to its
+    homogeneous graph) by the reachability graph of its P/T net.
+
+    Parameters
+    ----------
+    model : Skeleton, TimedEventGraph, PetriNet or SDFGraph
+        What :func:`tegraph.io.read` or :func:`tegraph.io.load_skeleton` gives.
+    timed : bool
+        The timed exploration (skeletons only).
+    max_states, max_seconds, max_memory : int, float, int, optional
+        Budgets; beyond one the answer is inconclusive (``max_memory``: bytes of
+        stored markings, untimed searches only).
+    max_firings : int
+        Largest homogeneous expansion of an SDF graph (firings per iteration).
+    progress, stop : callable, optional
+        ``progress(states, other, seconds)`` every batch; ``stop()`` true ends
+        the search (its counts are then partial).
+
+    Returns
+    -------
+    Reachability or TimedExploration
+
+    Raises
+    ------
+    InputError
+        ``timed`` for a model that is not a skeleton.
+    TegraphError
+        A model that has no P/T net within ``max_firings``.
+
+    See Also
+    --------
+    tegraph.analysis.reachability.reachability_graph : the untimed search of a net.
+    tegraph.analysis.timed_reachability.timed_reachability : the timed search.
+    analyze : the (max,+) answers the baselines are compared with.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}})
+    >>> reach(sk).deadlock, reach(sk, timed=True).exit_status
+    (False, 0)
+    """
+    from .analysis.reachability import reachability_graph, skeleton_reachability
+    from .analysis.timed_reachability import timed_reachability
+    from .model.build import build_teg
+    from .model.convert import as_petri_net
+
+    budgets = {"max_states": max_states, "max_seconds": max_seconds, "progress": progress,
+               "stop": stop}
+    if timed:
+        if not isinstance(model, Skeleton):
+            raise InputError("the timed exploration needs a skeleton (tasks, clocks, "
+                             f"durations), not a {type(model).__name__}", "timed")
+        return timed_reachability(model, **budgets)
+    if isinstance(model, Skeleton):
+        return skeleton_reachability(build_teg(model), **budgets, max_memory=max_memory)
+    return reachability_graph(as_petri_net(model, max_firings), **budgets,
+                              max_memory=max_memory)
 
 
 def write(obj: Any, path: str | os.PathLike[str], format: str | None = None,

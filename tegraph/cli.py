@@ -61,7 +61,7 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
           "objectives": "--objective", "scheduler": "--scheduler", "workers": "--workers",
           "output": "-o", "resume": "--resume", "overwrite": "--force", "plot": "--plot",
           "max_variants": "--max-variants", "batch_size": "--batch-size",
-          "max_memory": "--max-memory", "max_firings": "--max-firings"}
+          "max_memory": "--max-memory", "max_firings": "--max-firings", "timed": "--timed"}
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -220,58 +220,35 @@ def reach(
     deadlock or an overrun; 2 the input was refused; 130 interrupted (Ctrl-C).
     """
     import signal
-    import time
 
-    from .analysis.reachability import reachability_graph, skeleton_reachability
-    from .analysis.timed_reachability import timed_reachability
+    from .api import reach as run_search
     from .io import load_skeleton, read
-    from .model.build import build_teg
-    from .model.convert import as_petri_net
-    from .model.skeleton import Skeleton
     from .report import render_text, to_json
 
+    memory = _size(max_memory, "--max-memory")
     with _refusals(file):
         model = (load_skeleton(file) if file.suffix.lower() in (".yaml", ".yml")
                  else read(file))
-        if timed and not isinstance(model, Skeleton):
-            raise InputError("--timed needs a skeleton file (tasks, clocks, durations); "
-                             f"this file holds a {type(model).__name__}", file=str(file))
-        net = None if isinstance(model, Skeleton) else as_petri_net(model, max_firings)
 
     # Ctrl-C asks the search to stop at its next batch; the partial counts are printed.
     interrupted: list[int] = []
-    shown = [0.0]
-    draw = sys.stderr.isatty()
-
-    def progress(states: int, _other: int, seconds: float) -> None:
-        if not draw or seconds < 1 or time.monotonic() - shown[0] < 0.1:
-            return
-        shown[0] = time.monotonic()
-        done = min(1.0, states / max(max_states, 1))
-        bar = "#" * int(30 * done) + "-" * (30 - int(30 * done))
-        typer.echo(f"\r[{bar}] {states:,} states, {states / seconds:,.0f}/s ", err=True, nl=False)
-
+    bar = _ProgressBar()
     try:
         previous = signal.signal(signal.SIGINT, lambda *_: interrupted.append(1))
     except ValueError:  # not the main thread: Ctrl-C stays a KeyboardInterrupt
         previous = None
-    budgets = dict(max_states=max_states, max_seconds=max_seconds, progress=progress,
-                   stop=lambda: bool(interrupted))
     try:
-        if timed:
-            result = timed_reachability(model, **budgets)
-        elif net is None:
-            result = skeleton_reachability(build_teg(model), **budgets,
-                                           max_memory=_parse_size(max_memory))
-        else:
-            result = reachability_graph(net, **budgets, max_memory=_parse_size(max_memory))
-    except TegraphError as exc:
-        _fail(f"{file}: {exc}")
+        with _refusals(file):
+            result = run_search(
+                model, timed=timed, max_states=max_states, max_seconds=max_seconds,
+                max_memory=memory, max_firings=max_firings, stop=lambda: bool(interrupted),
+                progress=lambda states, _, seconds: bar.show(
+                    states / max(max_states, 1), f"{states:,} states, "
+                    f"{states / seconds:,.0f}/s", seconds))
     finally:
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
-        if shown[0]:
-            typer.echo("\r" + " " * 72 + "\r", err=True, nl=False)
+        bar.erase()
     typer.echo(to_json(result) if json_out else _cli_words(render_text(result)))
     if result.stopped_by == "interrupted":
         typer.echo("tegraph: interrupted; the counts above are partial", err=True)
@@ -445,9 +422,9 @@ def cycle_time_command(
     from .report import render_text, to_json
 
     with _refusals(file):
-        result = cycle_time(file, format=fmt, max_bytes=_parse_size(max_size),
+        result = cycle_time(file, format=fmt, max_bytes=_size(max_size, "--max-size"),
                             default_holding=default_holding, max_states=max_states,
-                            max_seconds=max_seconds, max_memory=_parse_size(max_memory),
+                            max_seconds=max_seconds, max_memory=_size(max_memory, "--max-memory"),
                             max_firings=max_firings)
     typer.echo(to_json(result) if json_out else _cli_words(render_text(result)), nl=json_out)
     raise typer.Exit(result.exit_status)
@@ -478,7 +455,7 @@ def convert(
 
     _output_file(target, force)
     try:
-        model = read(source, from_fmt, max_bytes=_parse_size(max_size))
+        model = read(source, from_fmt, max_bytes=_size(max_size, "--max-size"))
         written = write(model, target, to_fmt, overwrite=force)
     except InputError as exc:
         _fail(str(exc))
@@ -539,8 +516,6 @@ def explore(
     schedulable; 2 the input was refused; 130 interrupted (the -o file keeps
     what was judged: --resume goes on).
     """
-    import time
-
     from .api import explore as run_exploration
     from .design.explore_space import parse_clock_choice, parse_link_choice
     from .design.latency import parse_chain
@@ -564,16 +539,11 @@ def explore(
     clocks = dict(parse_clock_choice(text) for text in clock or [])
     objectives = None if not objective else [
         o for text in objective for o in text.split(",") if o.strip()]
-    shown = [0.0]
+    bar = _ProgressBar()
 
     def progress(p) -> None:
-        if not sys.stderr.isatty() or time.monotonic() - shown[0] < 0.1:
-            return
-        shown[0] = time.monotonic()
-        done = min(1.0, p.judged / max(p.total, 1))
-        bar = "#" * int(30 * done) + "-" * (30 - int(30 * done))
-        typer.echo(f"\r[{bar}] {p.judged:,}/{p.total:,} variants, {p.rate:,.1f}/s, "
-                   f"front {p.front} ", err=True, nl=False)
+        bar.show(p.judged / max(p.total, 1), f"{p.judged:,}/{p.total:,} variants, "
+                 f"{p.rate:,.1f}/s, front {p.front}")
 
     try:
         with _refusals(file):
@@ -595,8 +565,7 @@ def explore(
         typer.echo(f"tegraph: interrupted{kept}", err=True)
         raise typer.Exit(130) from None
     finally:
-        if shown[0]:
-            typer.echo("\r" + " " * 78 + "\r", err=True, nl=False)
+        bar.erase()
     text = to_json(result) + "\n" if json_out else _cli_words(render_text(result))
     # (a JSON document ends with one newline, as a text report does)
     if plot is not None:
@@ -675,18 +644,39 @@ def sensitivity_command(
     raise typer.Exit(result.exit_status)
 
 
-def _parse_size(text: str | int) -> int:
-    """A byte count from ``"300M"``, ``"2G"``, ``"512k"`` or a plain integer.
+def _size(text: str, option: str) -> int:
+    """A byte count from ``"300M"``, ``"2G"``, ``"512k"`` or a plain integer (exit 2 else).
 
-    >>> _parse_size("300M"), _parse_size("2G"), _parse_size(1000)
+    >>> _size("300M", "--max-memory"), _size("2G", "--max-memory"), _size("1000", "--max-size")
     (314572800, 2147483648, 1000)
     """
-    if isinstance(text, int):
-        return text
-    m = re.fullmatch(r"\s*(\d+)\s*([kKmMgG]?)[iI]?[bB]?\s*", str(text))
+    m = re.fullmatch(r"\s*(\d+)\s*([kKmMgG]?)[iI]?[bB]?\s*", text)
     if not m:
-        raise InputError(f"expected a size such as 300M or 2G, got {text!r}", "--max-size")
+        _fail(f"{option}: expected a size such as 300M or 2G, got {text!r}")
     return int(m.group(1)) * {"": 1, "k": 2**10, "m": 2**20, "g": 2**30}[m.group(2).lower()]
+
+
+class _ProgressBar:
+    """A progress bar on stderr, only on a terminal, redrawn at most ten times a second."""
+
+    def __init__(self) -> None:
+        self.drawn = 0.0  # time.monotonic() of the last drawing; 0: never drawn
+
+    def show(self, done: float, text: str, seconds: float | None = None) -> None:
+        """Draw ``done`` (0 to 1) and ``text``; a search shows itself after a second."""
+        import time
+
+        now = time.monotonic()
+        if (not sys.stderr.isatty() or (seconds is not None and seconds < 1)
+                or now - self.drawn < 0.1):
+            return
+        self.drawn = now
+        filled = int(30 * min(1.0, done))
+        typer.echo(f"\r[{'#' * filled}{'-' * (30 - filled)}] {text} ", err=True, nl=False)
+
+    def erase(self) -> None:
+        if self.drawn:
+            typer.echo("\r" + " " * 79 + "\r", err=True, nl=False)
 
 
 def main() -> None:

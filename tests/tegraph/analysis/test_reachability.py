@@ -302,7 +302,8 @@ def test_cli_on_pnml_budget_and_refusals(anchors: Path, tmp_path: Path) -> None:
     out = CliRunner().invoke(app, ["reach", str(house), "--max-states", "100", "--json"])
     assert json.loads(out.stdout)["deadlock"] is None
     out = CliRunner().invoke(app, ["reach", str(house), "--timed"])
-    assert out.exit_code == 2 and out.stderr.count("\n") == 1 and "--timed needs" in out.stderr
+    assert out.exit_code == 2 and out.stderr.count("\n") == 1
+    assert "--timed: the timed exploration needs a skeleton" in out.stderr
     out = CliRunner().invoke(app, ["reach", str(tmp_path / "missing.yaml")])
     assert out.exit_code == 2 and "Traceback" not in out.output
 

@@ -15,8 +15,7 @@ from typer.testing import CliRunner
 
 import tegraph
 from tegraph import cycle_time
-from tegraph.cli import _parse_size as parse_size
-from tegraph.cli import app
+from tegraph.cli import _size, app
 from tegraph.errors import InputError
 from tegraph.io import detect_format
 from tegraph.model.arcs import ArcList
@@ -79,7 +78,10 @@ def test_size_limit_refuses_large_files_unless_raised(anchors):
     out = run("cycle-time", str(path), "--max-size", "10k")
     assert out.returncode == 2 and "above the limit" in out.stderr and "--max-size" in out.stderr
     assert run("cycle-time", str(path), "--max-size", "1M").returncode == 0
-    assert parse_size("1M") == 2**20
+    assert _size("1M", "--max-size") == 2**20
+    bad = run("cycle-time", str(path), "--max-size", "12Q")
+    assert bad.returncode == 2 and bad.stderr == (
+        "tegraph: error: --max-size: expected a size such as 300M or 2G, got '12Q'\n")
 
 
 # ------------------------------------------------------------------ convert
