@@ -607,9 +607,9 @@ def sensitivity_command(
     """
     from .analysis.sensitivity import sensitivity
     from .io import load_skeleton
+    from .report import render_text, to_json
     from .report.plot import matplotlib_available
     from .report.sensitivity_plot import draw_sensitivity
-    from .report.sensitivity_text import render_sensitivity, sensitivity_json
 
     if plot is not None:
         if plot.suffix.lower() not in (".svg", ".png"):
@@ -636,9 +636,9 @@ def sensitivity_command(
     if plot is not None:
         _draw(draw_sensitivity, result, plot, force)
     if json_out:
-        typer.echo(sensitivity_json(result))
+        typer.echo(to_json(result))
     else:
-        typer.echo(_cli_words(render_sensitivity(result)), nl=False)
+        typer.echo(_cli_words(render_text(result)), nl=False)
     if plot is not None:  # on stderr: the verdict stays the last line of the report
         typer.echo(f"wrote {plot}", err=True)
     raise typer.Exit(result.exit_status)

@@ -8,7 +8,6 @@ a decimal beside them; every time carries its unit; the verdict is last.
 
 from __future__ import annotations
 
-import json
 from fractions import Fraction
 
 from tabulate import tabulate
@@ -17,23 +16,8 @@ from maxplus.scalar import exact_text
 
 from ..analysis.sensitivity_results import Limit, SensitivityResult
 from ._format import number
-from .document import json_report
 
-__all__ = ["render_sensitivity", "sensitivity_json"]
-
-
-def sensitivity_json(result: SensitivityResult, indent: int | None = 2) -> str:
-    """The JSON document (``report: "sensitivity"``, ``docs/report.schema.json``).
-
-    >>> from tegraph import Skeleton
-    >>> from tegraph.analysis.sensitivity import sensitivity
-    >>> r = sensitivity(Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}}))
-    >>> doc = json.loads(sensitivity_json(r))
-    >>> doc["report"], doc["scaling_factor"], doc["margins"]["A.duration"]["high"]
-    ('sensitivity', '5', '10')
-    """
-    return json.dumps(json_report("sensitivity", result.to_dict()), indent=indent,
-                      ensure_ascii=False)
+__all__ = ["render_sensitivity"]
 
 
 def _interval(a: Fraction, b: Fraction | None, unit: str = "", open_low: bool = False) -> str:

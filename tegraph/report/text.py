@@ -16,6 +16,7 @@ from tabulate import tabulate
 from ..analysis.cycle_time import CycleTimeResult
 from ..analysis.reachability import Reachability
 from ..analysis.results import GroupReport, Report, TaskReport
+from ..analysis.sensitivity_results import SensitivityResult
 from ..analysis.timed_reachability import TimedExploration
 from ..design.explore import Exploration
 from ..design.fix import FixResult
@@ -31,6 +32,7 @@ from .graph_text import (
     render_reachability,
     render_timed_exploration,
 )
+from .sensitivity_text import render_sensitivity
 from .timeline_text import render_timeline
 
 __all__ = ["render_report", "render_text"]
@@ -237,3 +239,4 @@ render_text.register(FixResult, lambda result, name="skeleton", **_: render_fix(
 render_text.register(Timeline, lambda result, width=96, **_: render_timeline(result, width))
 render_text.register(list, lambda result, **_: render_rules(result))
 render_text.register(Exploration, lambda result, **_: render_exploration(result))
+render_text.register(SensitivityResult, lambda result, **_: render_sensitivity(result))

@@ -21,7 +21,7 @@ from tegraph import Skeleton, duration_margins, load_skeleton, sensitivity
 from tegraph.analysis.analyze import analyze_skeleton
 from tegraph.analysis.sensitivity_model import parse_vary
 from tegraph.errors import InputError
-from tegraph.report.sensitivity_text import render_sensitivity, sensitivity_json
+from tegraph.report import render_text, to_json
 
 REPO = Path(__file__).resolve().parents[3]
 EXAMPLES = REPO / "examples"
@@ -269,10 +269,10 @@ def test_not_live_nothing_is_consistent():
 def test_json_document_follows_its_schema():
     jsonschema = pytest.importorskip("jsonschema")
     for name in ("computed_torque.yaml", "fig12_double_sync.yaml", "threads.yaml"):
-        doc = json.loads(sensitivity_json(sensitivity(example(name))))
+        doc = json.loads(to_json(sensitivity(example(name))))
         jsonschema.validate(doc, SCHEMA)
         assert doc["report"] == "sensitivity"
-    doc = json.loads(sensitivity_json(sensitivity(example("computed_torque.yaml"))))
+    doc = json.loads(to_json(sensitivity(example("computed_torque.yaml"))))
     assert doc["scaling_factor"] == "5"
     assert doc["margins"]["CO.JS.duration"]["high"] == "2"
     assert doc["groups"][1]["period_terms"][0]["coefficients"] in (
@@ -280,7 +280,7 @@ def test_json_document_follows_its_schema():
 
 
 def test_text_report_ends_with_its_verdict():
-    text = render_sensitivity(sensitivity(example("computed_torque.yaml")))
+    text = render_text(sensitivity(example("computed_torque.yaml")))
     last = text.strip().splitlines()[-1]
     assert last.startswith("verdict: consistent") and "factor 5" in last
     assert "Max(2, d_CO.JS, d_TF.TT.JS, d_TG.JS)" in text

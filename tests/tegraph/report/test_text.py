@@ -117,3 +117,25 @@ def test_a_short_exact_decimal_far_from_one_is_exact_not_approximate():
     # 3/10^17 terminates with one significant digit: 3e-17 exactly, no "≈".
     assert human(Fraction(3, 10**17), "ms") == "3/100000000000000000 ms (3e-17)"
     assert decimal_text(Fraction(1, 256)) == "0.00390625"
+
+
+def test_json_text_is_the_standard_library_text_for_every_example(monkeypatch):
+    # to_json writes with orjson; its bytes must be json.dumps(indent=2)'s, for analyze and
+    # sensitivity documents alike, and the json fallback must give the same text.
+    import json
+
+    import orjson
+
+    from tegraph import sensitivity
+    from tegraph.report import to_document, to_json
+
+    results = [analyze(load_skeleton(p)) for p in sorted((REPO / "examples").glob("*.yaml"))]
+    results.append(sensitivity(load_skeleton(REPO / "examples" / "computed_torque.yaml")))
+    expected = [json.dumps(to_document(r), indent=2, ensure_ascii=False) for r in results]
+    assert [to_json(r) for r in results] == expected
+
+    def refuse(*_args, **_kwargs):
+        raise orjson.JSONEncodeError("as for an integer beyond 64 bits")
+
+    monkeypatch.setattr(orjson, "dumps", refuse)
+    assert [to_json(r) for r in results] == expected
