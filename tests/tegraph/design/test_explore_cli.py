@@ -55,6 +55,8 @@ def test_json_report_follows_the_schema_and_holds_the_front(tmp_path):
 
 
 def test_text_ends_with_the_verdict_and_names_the_method(tmp_path):
+    # [test] installs matplotlib; a narrower install skips with the reason.
+    pytest.importorskip("matplotlib", reason="--plot draws with matplotlib (the [plot] extra)")
     plot = tmp_path / "front.svg"
     # A separate process: the command as a user runs it, progress bar off (no terminal).
     out = run(FIG4, "--link", "MT1:x1 -> MT2:x1", "--clock", "rtc=10,20", "--chain", CHAIN,
