@@ -45,15 +45,17 @@ __all__ = ["analyze", "cycle_time", "explore", "reach", "to_dot", "write"]
 MARGINS_MAX_TASKS = 2_000
 
 
-def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
+def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_000,
+            semiflow_budget: int = 2000,
             semiflow_max_places: int = 2_000_000, chains: Sequence[Sequence[str]] = (),
             design: bool = True, margins_max_tasks: int = MARGINS_MAX_TASKS) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack, design.
 
     Parameters
     ----------
-    skeleton : Skeleton
-        From :func:`tegraph.load_skeleton` or built in code.
+    skeleton : Skeleton or path
+        From :func:`tegraph.load_skeleton` or built in code; a path (``str`` or
+        ``os.PathLike``) is read with :func:`tegraph.load_skeleton` first.
     max_steps : int
         Budget on the firing index of the dater simulation; only reached for
         overruns that cannot be decided otherwise (the report says so).
@@ -87,6 +89,10 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
     SkeletonError
         A chain of ``chains`` names an unknown task, a task twice, or two
         consecutive tasks with no link between them.
+    InputError
+        ``skeleton`` is a path whose file is refused (it names the file and key path).
+    TypeError
+        ``skeleton`` is neither a :class:`Skeleton` nor a path.
 
     See Also
     --------
@@ -124,6 +130,11 @@ def analyze(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int =
     >>> r.live, r.consistent, r.tasks["A"].period, r.tasks["A"].slack
     (True, True, Fraction(10, 1), Fraction(8, 1))
     """
+    if isinstance(skeleton, (str, os.PathLike)):
+        skeleton = io.load_skeleton(skeleton)
+    elif not isinstance(skeleton, Skeleton):
+        raise TypeError(f"skeleton: expected a Skeleton (tegraph.load_skeleton reads one from "
+                        f"a file) or a path, got {type(skeleton).__name__}")
     report = analyze_skeleton(skeleton, max_steps, semiflow_budget, semiflow_max_places)
     _add_duration_margins(skeleton, report, margins_max_tasks)
     if design:
