@@ -1,8 +1,9 @@
 """JSON documents of every command (``docs/report.schema.json``).
 
 Each result's ``to_dict()`` gives its data (exact numbers as strings); a
-document adds ``schema_version`` and, for every command but ``analyze``
-(whose document is the one of ``docs/skeleton.md`` §5), the ``report`` name.
+document adds ``schema_version`` and the ``report`` name (the command), so a
+program reading any of them knows which it holds. ``analyze``'s document is the
+one of ``docs/skeleton.md`` §5 with these two keys first.
 """
 
 from __future__ import annotations
@@ -64,15 +65,15 @@ def to_document(result: Any) -> dict[str, Any]:
     --------
     >>> from tegraph import Skeleton, analyze
     >>> r = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 3}}}))
-    >>> to_document(r)["schema_version"], to_document(r)["live"]
-    (2, True)
+    >>> to_document(r)["schema_version"], to_document(r)["report"], to_document(r)["live"]
+    (2, 'analyze', True)
     """
     raise TypeError(f"no JSON document for a {type(result).__name__}")
 
 
 @to_document.register
 def _(result: Report) -> dict[str, Any]:
-    return {"schema_version": SCHEMA_VERSION, **result.to_dict()}
+    return json_report("analyze", result.to_dict())
 
 
 @to_document.register
@@ -137,7 +138,7 @@ def to_json(result: Any, indent: int | None = 2) -> str:
     >>> from tegraph import Skeleton, analyze
     >>> r = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 3}}}))
     >>> to_json(r, indent=None)[:61]
-    '{"schema_version": 2, "name": "skeleton", "unit": "ms", "live'
+    '{"schema_version": 2, "report": "analyze", "name": "skeleton"'
     """
     doc = to_document(result)
     if indent == 2:

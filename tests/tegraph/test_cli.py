@@ -58,13 +58,18 @@ def test_live_and_consistent_exits_0_with_exact_figures(live_file):
     assert report["tasks"]["B"]["slack"] == "23/3"
     assert report["tasks"]["A"]["slack"] == "8"
     assert report["live"] is True and report["consistent"] is True
-    assert report["schema_version"] == 2
+    # Like every command's document: the version and the command first.
+    assert list(report)[:2] == ["schema_version", "report"]
+    assert report["schema_version"] == 2 and report["report"] == "analyze"
 
 
 def test_human_report_names_verdicts_and_methods(live_file):
     out = run("analyze", str(live_file))
     assert out.returncode == 0
-    assert "live" in out.stdout and "Commoner" in out.stdout
+    # The liveness line gives the verdict and its theorem ("live" alone would also
+    # match the verdict line, so the test could not fail on it).
+    liveness = next(line for line in out.stdout.splitlines() if line.startswith("liveness:"))
+    assert liveness.split(None, 2)[1] == "live" and "Commoner's theorem" in liveness
     # 23/3 = 7.666...: a non-terminating decimal, rounded and marked.
     assert "23/3 ms (≈7.66667)" in out.stdout
     assert out.stdout.splitlines()[-1] == "verdict: live and consistent (exit status 0)"
