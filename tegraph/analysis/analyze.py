@@ -47,6 +47,7 @@ from maxplus import CycleRatioResult, max_cycle_ratio
 from maxplus.scalar import exact_text
 
 from ..model.build import build_teg, last_event, task_chain
+from ..model.elements import flow_list
 from ..model.skeleton import Skeleton
 from ..model.teg import Place, TimedEventGraph
 from .deadlocks import skeleton_deadlocks
@@ -214,7 +215,8 @@ def _reorder(skeleton: Skeleton, deadlocks: list[Deadlock]) -> dict:
         if left:
             raise AssertionError("internal error: the reordered skeleton is not live")
         advice = "reorder ports: " + "; ".join(
-            f"{t} inputs {o['inputs']} outputs {o['outputs']}" for t, o in result.orders.items())
+            f"{t} inputs {flow_list(o['inputs'])} outputs {flow_list(o['outputs'])}"
+            for t, o in result.orders.items())
     else:
         advice = ("no port order helps: make one of these links asynchronous "
                   "(ASYN/ASYN), or break the circular wait with a clock: "

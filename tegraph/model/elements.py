@@ -8,10 +8,27 @@ them is :class:`tegraph.model.skeleton.Skeleton`. Times are exact
 from __future__ import annotations
 
 import enum
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 
-__all__ = ["Clock", "Link", "LinkLabel", "Protocol", "Task"]
+import yaml
+
+__all__ = ["Clock", "Link", "LinkLabel", "Protocol", "Task", "flow_list"]
+
+
+def flow_list(names: Iterable[str]) -> str:
+    """Names as a skeleton file writes a list of them: YAML flow style.
+
+    Reports print port orders this way so that a user can paste them into the
+    file; a name that YAML would misread (a comma, a leading ``*``) is quoted.
+
+    Examples
+    --------
+    >>> flow_list(["a", "c"]), flow_list([]), flow_list(["x, y"])
+    ('[a, c]', '[]', "['x, y']")
+    """
+    return yaml.safe_dump(list(names), default_flow_style=True, width=float("inf")).strip()
 
 
 class Protocol(enum.Enum):

@@ -23,6 +23,7 @@ from ..design.fix import FixResult
 from ..design.latency import ChainLatency
 from ..design.schedulability import Schedulability
 from ..design.timeline import Timeline
+from ..model.elements import flow_list
 from ._format import count, human
 from .design_text import render_fix, render_latency, render_rules, render_schedulability
 from .explore_text import render_exploration
@@ -71,7 +72,8 @@ def render_report(report: Report) -> str:
         if report.reorder["possible"]:
             lines.append("reorder: a port order makes the skeleton live:")
             for task, order in report.reorder["orders"].items():
-                lines.append(f"  {task}: inputs {order['inputs']}, outputs {order['outputs']}")
+                lines.append(f"  {task}: inputs {flow_list(order['inputs'])}, "
+                             f"outputs {flow_list(order['outputs'])}")
         else:
             lines.append("reorder: no port order makes the skeleton live "
                          "(the precedence graph of reads, computes and writes has a circuit)")

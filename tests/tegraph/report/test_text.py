@@ -139,3 +139,11 @@ def test_json_text_is_the_standard_library_text_for_every_example(monkeypatch):
 
     monkeypatch.setattr(orjson, "dumps", refuse)
     assert [to_json(r) for r in results] == expected
+
+
+def test_a_port_order_is_printed_as_the_file_writes_it():
+    # examples/fig7b_wrong_order.yaml, by hand in its header: reading a before c
+    # (the paper's Figure 11) makes it live; a user pastes the order into the file.
+    text = render_text(analyze(load_skeleton(EXAMPLES / "fig7b_wrong_order.yaml")))
+    assert "  MT2: inputs [a, c], outputs [tau]" in text.splitlines()
+    assert "['a'" not in text  # no Python list syntax anywhere
