@@ -30,9 +30,6 @@ app = typer.Typer(
          "by (max,+) algebra on timed event graphs.",
 )
 
-_EXIT = "Exit status: 0 {ok}; 1 {found}; 2 the input was refused (one line on stderr)."
-
-
 def _version(value: bool) -> None:
     if value:
         from importlib.metadata import version
@@ -162,7 +159,7 @@ def analyze(
     """Analyze a synchronization skeleton: liveness, periods, overruns, slack.
 
     Exit status: 0 live and consistent; 1 a deadlock, an unbounded place or an
-    overrun; 2 the input was refused (one line on stderr).
+    overrun; 2 the input was refused (one line on stderr); 130 interrupted (Ctrl-C).
     """
     # One analysis per process: it builds hundreds of thousands of long-lived
     # objects (places, Fractions, report entries) and leaves almost no cyclic
@@ -269,7 +266,7 @@ def fix(
     """Reorder ports so that the skeleton is live, keeping every declared order that is fine.
 
     Exit status: 0 live (or already live); 1 no port order helps (nothing is
-    written); 2 the input or the output file was refused.
+    written); 2 the input or the output file was refused; 130 interrupted (Ctrl-C).
     """
     from .design.fix import fix_ports
     from .io import dump_skeleton, load_skeleton
@@ -311,7 +308,8 @@ def rules(
     """Design rules of ORCCAD section 6, threads, schedulability and chain latencies.
 
     Exit status: 0 the rules are followed (info findings aside) and every
-    processor is schedulable; 1 otherwise; 2 the input was refused.
+    processor is schedulable; 1 otherwise; 2 the input was refused; 130 interrupted
+    (Ctrl-C).
     """
     import json
 
@@ -359,7 +357,7 @@ def timeline(
 
     Exit status: 0 every job ends by the next tick of its pacing clock; 1 a deadlock
     or a late job; 2 the input or the output file was refused, or matplotlib
-    is missing for -o.
+    is missing for -o; 130 interrupted (Ctrl-C).
     """
     from maxplus.scalar import exact_time
 
@@ -416,7 +414,7 @@ def cycle_time_command(
     A P/T net that is not a marked graph has no (max,+) figures: the report says
     why and gives the deadlock verdict of its untimed reachability graph instead.
     Exit status: 0 no deadlock found; 1 a deadlock (a circuit without token, or
-    a reachable dead marking); 2 the input was refused.
+    a reachable dead marking); 2 the input was refused; 130 interrupted (Ctrl-C).
     """
     from .api import cycle_time
     from .report import render_text, to_json
@@ -448,7 +446,8 @@ def convert(
     net that is not a marked graph goes only to net formats (PNML,
     TimedPetriNetEditor JSON, DOT).
 
-    Exit status: 0 written; 2 the input or the output file was refused.
+    Exit status: 0 written; 2 the input or the output file was refused; 130
+    interrupted (Ctrl-C).
     """
     from .api import write
     from .io import read
@@ -603,7 +602,7 @@ def sensitivity_command(
     breakpoint, and checked with the analysis. Exit status: 0 consistent at
     the nominal values; 1 not (the sensitivity is reported anyway); 2 the
     input was refused (an unknown parameter, an empty or negative range, a
-    range without the nominal value).
+    range without the nominal value); 130 interrupted (Ctrl-C).
     """
     from .analysis.sensitivity import sensitivity
     from .io import load_skeleton

@@ -8,7 +8,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from typer.testing import CliRunner
 
+from tegraph.cli import app
 from tests.paths import REPO
 
 LIVE = """\
@@ -200,3 +202,17 @@ def test_no_output_directory_is_created_silently(tmp_path, args):
     assert out.returncode == 2 and out.stdout == ""
     assert f"the directory {missing} does not exist" in out.stderr
     assert not (tmp_path / "not").exists()
+
+
+def test_every_command_help_lists_its_exit_statuses_with_130():
+    # main() turns Ctrl-C into exit status 130 for every command (the README says
+    # so), so every --help must say it, beside 0 and 2.
+    from typer.main import get_command
+
+    group = get_command(app)
+    assert len(group.commands) >= 9
+    for name in group.commands:
+        text = " ".join(CliRunner().invoke(app, [name, "--help"], terminal_width=200)
+                        .stdout.split())
+        assert "Exit status: 0" in text, name
+        assert "2 the input" in text and "130 interrupted" in text, name
