@@ -316,6 +316,26 @@ def _check_threads(sk: Skeleton, loc: Locator) -> None:
                     where,
                 )
             placed[task] = where
+        _check_thread_processor(sk, thread, i, loc)
+
+
+def _check_thread_processor(sk: Skeleton, thread: Sequence[str], i: int, loc: Locator) -> None:
+    # A thread is one OS thread: it runs on one processor (tasks without a
+    # `processor` share the default one), or the thread places of spec §2 would
+    # serialize tasks that the schedulability analysis puts on two processors.
+    first = sk.tasks[thread[0]].processor
+    for j, task in enumerate(thread):
+        here = sk.tasks[task].processor
+        if here != first:
+            raise loc.error(
+                f"the thread runs {thread[0]!r} on {_on(first)} and {task!r} on {_on(here)}; "
+                "a thread is one OS thread: expected all its tasks on one processor",
+                ("threads", i, j),
+            )
+
+
+def _on(processor: str | None) -> str:
+    return "the default processor" if processor is None else f"processor {processor!r}"
 
 
 def check_chain(sk: Skeleton, chain: Any, path: KeyPath, loc: Locator) -> tuple[str, ...]:

@@ -331,3 +331,28 @@ def test_cli_rules_exit_statuses(tmp_path):
     assert refused.returncode == 2 and refused.stdout == ""
     assert "--chain[0][1]: no link from TG.JS to CO.JS" in refused.stderr
     assert refused.stderr.count("\n") == 1
+
+
+# ------------------------------------------------------------------ threads and processors
+
+def test_a_thread_across_two_processors_is_refused(tmp_path):
+    # A thread is one OS thread (spec §2 serializes its tasks): A on cpu0 and B on the
+    # default processor cannot be one thread. One message, key path of B, exit 2.
+    from typer.testing import CliRunner
+
+    from tegraph.cli import app
+
+    path = tmp_path / "split.yaml"
+    path.write_text("tasks:\n  A: {duration: 1, period: 10, processor: cpu0}\n"
+                    "  B: {duration: 1, period: 10}\nthreads:\n  - [A, B]\n")
+    done = CliRunner().invoke(app, ["rules", str(path)])
+    assert done.exit_code == 2, done.output
+    (line,) = done.output.strip().splitlines()
+    assert "threads[0][1]" in line and "'cpu0'" in line and "default processor" in line
+    assert "'A'" in line and "'B'" in line
+    with pytest.raises(SkeletonError, match="one processor"):
+        sk({"tasks": {"A": {"duration": 1, "processor": "x"},
+                      "B": {"duration": 1, "processor": "y"}}, "threads": [["B", "A"]]})
+    # One processor (named, or the default for all): accepted.
+    sk({"tasks": {"A": {"duration": 1, "processor": "x"},
+                  "B": {"duration": 1, "processor": "x"}}, "threads": [["A", "B"]]})
