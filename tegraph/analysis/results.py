@@ -58,6 +58,24 @@ class TaskReport:
     """``"exact"`` (``duration_margin``), ``"unbounded"``, ``"not consistent"`` or
     ``"not computed"`` (``tegraph.analyze`` above its ``margins_max_tasks``)."""
 
+    @property
+    def overrun(self) -> str:
+        """The overrun verdict in words, one for each case tables must tell apart.
+
+        ``"at activation k"``; ``"never"`` (decided: no activation overruns);
+        ``"no clock"`` (spec §4: only a clocked task can overrun); ``"not live"``
+        (its group is dead: the deadlock is reported instead); ``"undecided
+        (budget)"`` (the simulation budget ran out first). ``overrun_at`` alone
+        is null in all but the first case.
+        """
+        if self.overrun_at is not None:
+            return f"at activation {self.overrun_at}"
+        if self.clock is None:
+            return "no clock"
+        if self.period is None:
+            return "not live"
+        return "never" if self.overrun_decided else "undecided (budget)"
+
 
 @dataclass
 class GroupReport:

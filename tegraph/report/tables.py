@@ -70,11 +70,14 @@ def write_csv(report: Report, directory: str | Path, overwrite: bool = False) ->
     with open(targets[0], "w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
         writer.writerow(["task", "group", f"period ({u})", f"period ({u}, decimal)",
-                         "overrun_at (activation)", f"slack ({u})", f"slack ({u}, decimal)",
-                         "critical"])
+                         "overrun", "overrun_at (activation)", f"slack ({u})",
+                         f"slack ({u}, decimal)", "critical"])
         for t in report.tasks.values():
+            # `overrun` tells apart what an empty overrun_at cell cannot: never, no
+            # clock, not live, undecided.
             writer.writerow([t.name, t.group, exact_text(t.period), _decimal(t.period),
-                             t.overrun_at, exact_text(t.slack), _decimal(t.slack), t.critical])
+                             t.overrun, t.overrun_at, exact_text(t.slack), _decimal(t.slack),
+                             t.critical])
     with open(targets[1], "w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
         writer.writerow(["group", "tasks", "clocks", "live", "rate_consistent", f"period ({u})",

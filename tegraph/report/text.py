@@ -92,13 +92,7 @@ def render_report(report: Report) -> str:
             lines.append(critical_circuit_text(g, u))
     rows = []
     for t in report.tasks.values():
-        if t.clock is None or t.period is None:
-            overrun = "-"
-        else:
-            overrun = "never" if t.overrun_at is None else f"at activation {t.overrun_at}"
-        if not t.overrun_decided:
-            overrun = "undecided (budget)"
-        rows.append([t.name, t.group, human(t.period, u), overrun, human(t.slack, u),
+        rows.append([t.name, t.group, human(t.period, u), t.overrun, human(t.slack, u),
                      _grow(t, u),
                      "-" if t.critical is None else ("yes" if t.critical else "no")])
     lines.append("")

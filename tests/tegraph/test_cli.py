@@ -125,10 +125,12 @@ def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
     out_dir.mkdir()
     assert run("analyze", str(live_file), "--csv", str(out_dir)).returncode == 0
     rows = (out_dir / "tasks.csv").read_text().splitlines()
-    assert rows[0] == ('task,group,period (ms),"period (ms, decimal)",overrun_at (activation),'
-                       'slack (ms),"slack (ms, decimal)",critical')
-    # B: period 10, slack 23/3 (derivation in test_live_and_consistent_exits_0...).
-    assert rows[2] == "B,0,10,10,,23/3,7.66666666666667,False"
+    assert rows[0] == ('task,group,period (ms),"period (ms, decimal)",overrun,'
+                       'overrun_at (activation),slack (ms),"slack (ms, decimal)",critical')
+    # A: clocked, slack 8 < its period, so it never overruns; B: no clock of its own,
+    # period 10, slack 23/3 (derivation in test_live_and_consistent_exits_0...).
+    assert rows[1] == "A,0,10,10,never,,8,8,False"
+    assert rows[2] == "B,0,10,10,no clock,,23/3,7.66666666666667,False"
     (out_dir / "tasks.csv").write_text("mine")
     again = run("analyze", str(live_file), "--csv", str(out_dir))
     assert again.returncode == 2 and "exists" in again.stderr
@@ -216,3 +218,22 @@ def test_every_command_help_lists_its_exit_statuses_with_130():
                         .stdout.split())
         assert "Exit status: 0" in text, name
         assert "2 the input" in text and "130 interrupted" in text, name
+
+
+@pytest.mark.parametrize("example, expected", [
+    # By hand in each example's header: fig7b is dead (MT1 has the clock rtc, MT2
+    # and MT3 none); in overrun_in_step MT2 overruns at activation 2, MT1 never.
+    ("fig7b_wrong_order.yaml", {"MT1": "not live", "MT2": "no clock", "MT3": "no clock"}),
+    ("overrun_in_step.yaml", {"MT1": "never", "MT2": "at activation 2"}),
+])
+def test_csv_overrun_tells_never_from_no_clock_from_not_live(tmp_path, example, expected):
+    import csv
+
+    out = CliRunner().invoke(app, ["analyze", str(REPO / "examples" / example), "--csv",
+                                   str(tmp_path)])
+    assert out.exit_code == 1
+    with open(tmp_path / "tasks.csv", newline="") as fh:
+        rows = {row["task"]: row for row in csv.DictReader(fh)}
+    assert {t: rows[t]["overrun"] for t in expected} == expected
+    late = {t: rows[t]["overrun_at (activation)"] for t in expected}
+    assert late == {t: (w.split()[-1] if w.startswith("at ") else "") for t, w in expected.items()}
