@@ -44,6 +44,7 @@ References
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -58,7 +59,7 @@ from ..model.skeleton import Protocol, Skeleton
 from .rules import synchronized_groups
 from .schedulability import effective_priorities, hyperperiod
 
-__all__ = ["Job", "Timeline", "simulate_timeline"]
+__all__ = ["Job", "OverrunMap", "Timeline", "simulate_timeline"]
 
 _STEPS_PER_INSTANT = 1000
 """Budget, per chain step of the skeleton, of steps taken at one instant."""
@@ -91,6 +92,19 @@ class Job:
     def overrun_at(self) -> int | None:
         """The activation at which its task overruns because of this job (late: ``index + 1``)."""
         return self.index + 1 if self.late else None
+
+
+class OverrunMap(dict):
+    """Task -> first activation that overruns, or None: ``timeline.overrun_at[task]``.
+
+    Calling it, ``timeline.overrun_at(task)`` (the method of tegraph 0.x),
+    still answers the same, with a :class:`DeprecationWarning`.
+    """
+
+    def __call__(self, task: str) -> int | None:
+        warnings.warn("Timeline.overrun_at is an attribute now (as Report.tasks[T].overrun_at): "
+                      "write timeline.overrun_at[task]", DeprecationWarning, stacklevel=2)
+        return self[task]
 
 
 @dataclass
@@ -141,9 +155,18 @@ class Timeline:
     def late_jobs(self) -> list[Job]:
         return [j for j in self.jobs if j.late]
 
-    def overrun_at(self, task: str) -> int | None:
-        """The first activation at which ``task`` overruns in the horizon (spec §4 numbering)."""
-        return next((j.overrun_at for j in self.jobs if j.task == task and j.late), None)
+    @property
+    def overrun_at(self) -> OverrunMap:
+        """Each task's first activation that overruns in the horizon, or None (spec §4 numbering).
+
+        ``timeline.overrun_at["A"]`` reads as ``report.tasks["A"].overrun_at``
+        of :func:`tegraph.analyze`: the same attribute, the same numbering.
+        """
+        first: dict[str, int | None] = dict.fromkeys(self.tasks)
+        for j in self.jobs:
+            if j.late and first.get(j.task) is None:
+                first[j.task] = j.overrun_at
+        return OverrunMap(first)
 
     @property
     def exit_status(self) -> int:

@@ -88,7 +88,7 @@ def test_end_of_a_task_without_outputs_is_the_end_of_its_computation():
     assert (late.task, late.index, late.finish, late.deadline) == ("R", 1, None, 4)
     tl = simulate_timeline(sk, horizon=12)
     assert [(j.index, j.finish) for j in tl.jobs if j.task == "R"] == [(1, 5), (2, 9), (3, None)]
-    assert tl.overrun_at("R") == 2 and tl.overrun_at("W") is None
+    assert tl.overrun_at["R"] == 2 and tl.overrun_at["W"] is None
     assert ("OVERRUN: R overruns at activation 2: its clock R.clock ticks at 4 ms while "
             "activation 1 runs until 5 ms") in render_timeline(tl)
 
@@ -101,7 +101,7 @@ def test_task_slower_than_its_clock_overruns_by_less_than_its_duration():
     assert build_teg(sk).simulate(4)["R.compute"] == [3, 8, 13, 18]
     timed = timed_reachability(sk, max_states=2000)
     assert timed.tasks["R"].overrun_at == 2
-    assert simulate_timeline(sk, horizon=20).overrun_at("R") == 2
+    assert simulate_timeline(sk, horizon=20).overrun_at["R"] == 2
 
 
 def test_figure_12_one_numbering_in_three_commands(tmp_path):
@@ -210,7 +210,7 @@ def check_three_agree(data: dict) -> int | None:
         rep = report.tasks[t]
         if not rep.overrun_decided:
             continue
-        assert tl.overrun_at(t) == rep.overrun_at, (t, rep.overrun_at, horizon)
+        assert tl.overrun_at[t] == rep.overrun_at, (t, rep.overrun_at, horizon)
         confirmed += rep.overrun_at is not None
     return confirmed
 

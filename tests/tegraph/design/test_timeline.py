@@ -84,8 +84,8 @@ def test_overrun_of_figure_12_matches_the_analysis():
     tl = simulate_timeline(sk)
     late = [(j.task, j.index, j.finish, j.deadline, j.overrun_at) for j in tl.late_jobs]
     assert late[0] == ("MT2", 2, 13, 8, 3)
-    assert analyze(sk).tasks["MT2"].overrun_at == tl.overrun_at("MT2") == 3
-    assert tl.overrun_at("MT1") is None
+    assert analyze(sk).tasks["MT2"].overrun_at == tl.overrun_at["MT2"] == 3
+    assert tl.overrun_at["MT1"] is None
     assert ("OVERRUN: MT2 overruns at activation 3: its clock MT2.clock ticks at 8 ms while "
             "activation 2 runs until 13 ms") in render_timeline(tl)
 
@@ -293,3 +293,16 @@ def test_verdict_names_a_few_late_tasks_and_counts_the_rest():
     verdict = render_timeline(tl).splitlines()[-1]
     assert verdict.startswith(f"verdict: {len(tl.late_jobs)} overruns before ")
     assert verdict.endswith(f"by {', '.join(late[:5])} and 2 more (exit status 1)")
+
+
+def test_overrun_at_is_an_attribute_as_in_the_analysis_report():
+    # Issue 21: Timeline.overrun_at was a method where Report.tasks[T].overrun_at is an
+    # attribute. Duration 11 on a clock of 10: activation 1 runs 0-11, tick 2 comes at 10
+    # while it runs, so the overrun is at activation 2 (spec §4); B (2 on 10) never overruns.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 11, "period": 10},
+                                       "B": {"duration": 2, "period": 10, "processor": "p2"}}})
+    tl = simulate_timeline(sk, horizon=30)
+    assert tl.overrun_at == {"A": 2, "B": None}
+    assert tl.overrun_at["A"] == analyze(sk).tasks["A"].overrun_at == 2
+    with pytest.warns(DeprecationWarning, match=r"overrun_at\[task\]"):
+        assert tl.overrun_at("A") == 2  # the 0.x call still answers
