@@ -292,6 +292,8 @@ def fix(
     typer.echo(render_fix(result, skeleton.name), nl=False)
     if output is not None:
         typer.echo(f"wrote {output} (live; comments of {file.name} are not copied)")
+    else:
+        typer.echo("nothing written (no -o given)")
     typer.echo(fix_verdict(result))
     raise typer.Exit(0)
 

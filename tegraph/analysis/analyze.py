@@ -264,7 +264,8 @@ def _unbounded_advice(g: _EventGraph, ct: list[Fraction | None], kind: str, a: i
     reader = ", ".join(g.event_tasks(b))
     if kind == "clock-overrun":
         return (f"{reader} needs {slow} {u} per activation but its clock ticks every {fast} {u}: "
-                f"activations are lost. Lengthen the clock period to at least {slow} {u}, "
+                "its ticks queue up without bound (none is lost: each activation starts "
+                f"further behind its tick). Lengthen the clock period to at least {slow} {u}, "
                 "or drop one of the task's two synchronizations (Rule 1).")
     if kind == "messages-overwritten":
         return (f"{writer} posts every {fast} {u} but {reader} reads every {slow} {u}: "

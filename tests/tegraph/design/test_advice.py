@@ -30,6 +30,12 @@ from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton
 
 EXAMPLES = REPO / "examples"
+# A 2 ms control loop that also waits (ASYN/SYN) for gains computed every 5 ms
+# (issue 21): two synchronizations on CTRL (Rule 1), two clocks in one group (Rule 3).
+CTRL_GAINS = {"tasks": {
+    "GAINS": {"duration": 1, "period": 5, "outputs": ["k"]},
+    "CTRL": {"duration": "1/2", "period": 2, "inputs": ["k"], "outputs": ["u"]}},
+    "links": [{"from": "GAINS:k", "to": "CTRL:k", "protocol": "ASYN/SYN"}]}
 
 
 def applied(data: dict, change: dict) -> dict:
@@ -279,3 +285,14 @@ def test_advice_for_a_link_whose_task_name_holds_an_arrow():
     assert rule2.links[0].document() == {"from": "A -> B:x", "to": "C:y", "protocol": "SYN/SYN"}
     assert rule2.change is not None
     assert rule2.change.protocols == (("A -> B:x", "C:y", "ASYN/SYN"),)
+
+
+def test_clock_overrun_advice_says_ticks_are_queued():
+    # Spec §2: a clock's place C.tick -> T.activate keeps its tokens; docs/skeleton.md §6
+    # "ticks are queued, never lost". CTRL (clock 2 ms) also waits for GAINS (5 ms):
+    # CTRL runs every 5 ms and its ticks pile up; the advice must not say they are lost.
+    sk = Skeleton.from_dict(CTRL_GAINS)
+    (place,) = analyze(sk, design=False).unbounded_places
+    assert place.kind == "clock-overrun"
+    assert "lost" not in place.advice.replace("none is lost", "")
+    assert "queue" in place.advice

@@ -229,3 +229,20 @@ def test_cli_fix_refuses_when_no_order_helps(tmp_path):
     assert "MT2:b -> MT1:b (ASYN/SYN)" in done.stdout and "nothing written" in done.stdout
     bad = run("fix", str(tmp_path / "missing.yaml"))
     assert bad.returncode == 2 and "no such file" in bad.stderr
+
+
+def test_cli_fix_without_output_says_nothing_was_written(tmp_path):
+    # Without -o, fix writes nothing: it says so, and the verdict stays the last line.
+    from typer.testing import CliRunner
+
+    from tegraph.cli import app
+
+    src = tmp_path / "in.yaml"
+    shutil.copy(EXAMPLES / "fig7b_wrong_order.yaml", src)
+    before = src.read_bytes()
+    done = CliRunner().invoke(app, ["fix", str(src)])
+    assert done.exit_code == 0, done.output
+    lines = done.output.strip().splitlines()
+    assert lines[-2] == "nothing written (no -o given)"
+    assert lines[-1].startswith("verdict: live after reordering")
+    assert src.read_bytes() == before and sorted(tmp_path.iterdir()) == [src]
