@@ -207,6 +207,9 @@ class CyclePart:
         Transitions of a circuit attaining it.
     critical_holdings : list of Fraction
     critical_tokens : int
+    critical_places : list of int
+        Its places (indices in the graph), ``critical_places[i]`` leaving
+        ``critical_circuit[i]``: a drawing marks each part's own critical circuit.
     """
 
     label: str
@@ -215,6 +218,7 @@ class CyclePart:
     critical_circuit: list[str]
     critical_holdings: list[Fraction]
     critical_tokens: int
+    critical_places: list[int] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready data (exact strings)."""
@@ -433,7 +437,7 @@ def _parts(graph: Any, a: Any, r: Any, names: Callable[[int], str]) -> list[Cycl
             text, int(sizes[label[best]]), Fraction(int(num[best]), int(den[best]) * a.scale),
             [names(int(a.src[p])) for p in arcs.tolist()],
             [Fraction(int(h), a.scale) for h in a.holding[arcs].tolist()],
-            int(sum(int(t) for t in a.tokens[arcs].tolist()))))
+            int(sum(int(t) for t in a.tokens[arcs].tolist())), arcs.tolist()))
     return parts
 
 

@@ -22,8 +22,9 @@ def highlights(result: CycleTimeResult | None) -> Highlights:
     Returns
     -------
     Highlights
-        The critical circuit's places when a period exists, a token-free
-        circuit's places on a deadlock, and a caption saying which.
+        The critical circuit's places when a period exists (each part's own
+        when the graph has several parts, as a multi-rate skeleton's groups),
+        a token-free circuit's places on a deadlock, and a caption saying which.
 
     See Also
     --------
@@ -49,8 +50,13 @@ def highlights(result: CycleTimeResult | None) -> Highlights:
     if result.period is None:
         return Highlights(caption="no circuit")
     if result.parts:
-        caption = (f"largest period {exact_text(result.period)} of {len(result.parts)} parts "
-                   "(its critical circuit in red; each part runs at its own period)")
-    else:
-        caption = f"period {exact_text(result.period)} (critical circuit in red)"
+        # A multi-rate design: each part (group) runs at its own period, set by its
+        # own critical circuit; marking only the slowest one would call a clock of
+        # one group the critical circuit of the whole design.
+        periods = ", ".join(exact_text(p.period) for p in result.parts)
+        caption = (f"{len(result.parts)} parts, each at its own period ({periods}); "
+                   "each part's critical circuit in red")
+        places = frozenset(p for part in result.parts for p in part.critical_places)
+        return Highlights(critical=places, caption=caption)
+    caption = f"period {exact_text(result.period)} (critical circuit in red)"
     return Highlights(critical=frozenset(result.critical_places), caption=caption)

@@ -92,3 +92,14 @@ def test_networkx_round_trip_of_a_net_and_of_a_teg():
     assert isinstance(h, TimedEventGraph)
     assert [(p.src, p.dst, p.tokens, p.holding) for p in h.places] == \
         [(p.src, p.dst, p.tokens, p.holding) for p in g.places]
+
+
+def test_a_multi_rate_skeleton_marks_each_groups_own_critical_circuit():
+    # examples/computed_torque.yaml, by hand in its header: three groups, each
+    # paced by its own clock's self-loop (obs 1 ms, ctl 2 ms, dyn 6 ms). Each
+    # group runs at its own period, so each clock's loop is its group's critical
+    # circuit; marking only dyn's (the slowest) would call it the design's.
+    dot = to_dot(tegraph.load_skeleton(EXAMPLES / "computed_torque.yaml"), view="teg")
+    red = {k for k, v in edges(dot).items() if 'color="red"' in v}
+    assert red == {("obs.tick", "obs.tick"), ("ctl.tick", "ctl.tick"), ("dyn.tick", "dyn.tick")}
+    assert "3 parts, each at its own period (1, 2, 6)" in dot
