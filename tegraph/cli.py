@@ -58,7 +58,8 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
           "objectives": "--objective", "scheduler": "--scheduler", "workers": "--workers",
           "output": "-o", "resume": "--resume", "overwrite": "--force", "plot": "--plot",
           "max_variants": "--max-variants", "batch_size": "--batch-size",
-          "max_memory": "--max-memory", "max_firings": "--max-firings", "timed": "--timed"}
+          "max_memory": "--max-memory", "max_firings": "--max-firings", "timed": "--timed",
+          "max_jobs": "--max-jobs", "horizon": "--horizon"}
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -354,6 +355,10 @@ def timeline(
                                 "largest clock phase plus the hyperperiod of the clocks)."),
     width: int = typer.Option(96, "--width", min=10, help="Columns of the text diagram."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
+    max_jobs: int = typer.Option(
+        100_000, "--max-jobs", min=1,
+        help="Refuse at once (exit 2) a simulation that may take more jobs than this "
+             "(bounded before simulating: ticks, horizon over duration, waits)."),
 ) -> None:
     """Preemptive fixed-priority timing diagram (ORCCAD Figure 17), exact.
 
@@ -380,7 +385,7 @@ def timeline(
         _output_file(output, force)
     with _refusals(file):
         skeleton = load_skeleton(file)
-        result = simulate_timeline(skeleton, end)
+        result = simulate_timeline(skeleton, end, max_jobs=max_jobs)
     if output is not None:
         _draw(draw_timeline, result, output, force)
     typer.echo(render_timeline(result, width), nl=False)

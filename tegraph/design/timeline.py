@@ -53,16 +53,21 @@ from maxplus.scalar import exact_text
 
 from ..analysis.deadlocks import skeleton_deadlocks
 from ..analysis.results import Deadlock
-from ..errors import ModelError
+from ..errors import InputError, ModelError
 from ..model.build import build_teg
 from ..model.skeleton import Protocol, Skeleton
 from .rules import synchronized_groups
 from .schedulability import effective_priorities, hyperperiod
 
-__all__ = ["Job", "OverrunMap", "Timeline", "simulate_timeline"]
+__all__ = ["MAX_JOBS", "Job", "OverrunMap", "Timeline", "simulate_timeline"]
 
 _STEPS_PER_INSTANT = 1000
 """Budget, per chain step of the skeleton, of steps taken at one instant."""
+
+MAX_JOBS = 100_000
+"""Default bound on the jobs a simulation may run (``max_jobs``): at some ten
+thousand jobs a second, a refusal comes at once where the work would take minutes.
+"""
 
 
 @dataclass
@@ -143,6 +148,9 @@ class Timeline:
     """Token-free circuits of the timed event graph (empty: the skeleton is live)."""
     dead_tasks: list[str] = field(default_factory=list)
     """The tasks of the groups that hold a deadlock, in file order: never late."""
+    full_horizon: Fraction | None = None
+    """The default horizon (largest phase plus hyperperiod) when a shorter ``horizon``
+    cut the simulation: nothing is proven past ``horizon`` then. None otherwise."""
 
     def order_of_execution(self, processor: str | None = None
                            ) -> list[tuple[str, Fraction, Fraction]]:
@@ -176,6 +184,7 @@ class Timeline:
     def to_dict(self) -> dict[str, Any]:
         """Plain data (exact times as strings)."""
         return {"name": self.name, "unit": self.unit, "horizon": exact_text(self.horizon),
+                "full_horizon": exact_text(self.full_horizon),
                 "priorities": self.priorities,
                 "ticks": {c: [exact_text(x) for x in ts] for c, ts in self.ticks.items()},
                 "deadlocks": [{"events": d.events, "tasks": d.tasks,
@@ -316,8 +325,8 @@ class _Sim:
                 self.turn[k] = (j + 1) % len(self.sk.threads[k])
 
 
-def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None = None
-                      ) -> Timeline:
+def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None = None,
+                      max_jobs: int = MAX_JOBS) -> Timeline:
     """Simulate ``skeleton`` under preemptive fixed priorities, exactly.
 
     Parameters
@@ -329,6 +338,11 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
         End of the simulation. Default: the largest clock phase plus the
         hyperperiod of the clock periods; without a clock, twice the sum of
         the durations (at least 1).
+    max_jobs : int
+        Bound on the jobs simulated (default :data:`MAX_JOBS`). Before
+        simulating, each task's jobs up to the horizon are bounded (ticks of
+        its clock, horizon over duration, one more than the task it waits for
+        or alternates with); past ``max_jobs`` the call is refused at once.
 
     Returns
     -------
@@ -341,6 +355,11 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     ModelError
         The horizon is not positive, or a task of duration 0 with nothing to
         wait for loops without time passing.
+    InputError
+        ``max_jobs`` is not a positive integer, or the simulation up to the
+        horizon may take more jobs than ``max_jobs`` (``where`` is
+        ``"max_jobs"``; the message names the horizon, the hyperperiod and the
+        tasks that run most often).
 
     See Also
     --------
@@ -365,18 +384,20 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     >>> [(t, str(a), str(b)) for t, a, b in tl.order_of_execution()]
     [('A', '0', '1'), ('B', '1', '2'), ('A', '2', '3'), ('B', '3', '4')]
     """
+    if isinstance(max_jobs, bool) or not isinstance(max_jobs, int) or max_jobs < 1:
+        raise InputError(f"expected an integer >= 1, got {max_jobs!r}", "max_jobs")
     priorities, source = effective_priorities(skeleton)
     clocks = skeleton.clocks
-    if horizon is None:
-        if clocks:
-            horizon = max(c.phase for c in clocks.values()) + hyperperiod(
-                c.period for c in clocks.values())
-        else:
-            horizon = max(2 * sum((t.duration for t in skeleton.tasks.values()), Fraction(0)),
-                          Fraction(1))
-    horizon = Fraction(horizon)
+    if clocks:
+        full = max(c.phase for c in clocks.values()) + hyperperiod(
+            c.period for c in clocks.values())
+    else:
+        full = max(2 * sum((t.duration for t in skeleton.tasks.values()), Fraction(0)),
+                   Fraction(1))
+    horizon = full if horizon is None else Fraction(horizon)
     if horizon <= 0:
         raise ModelError(f"the horizon must be > 0, got {horizon}", "timeline")
+    _check_jobs(skeleton, horizon, horizon == full and bool(clocks), max_jobs)
     ticks = {c: [k.phase + n * k.period for n in range(_count(k.phase, k.period, horizon))]
              for c, k in clocks.items()}
     activated: dict[Fraction, list[str]] = {}
@@ -441,7 +462,85 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     return Timeline(skeleton.name, skeleton.unit, horizon, rows, priorities, source,
                     {t: skeleton.tasks[t].processor for t in skeleton.tasks}, ticks,
                     {t: skeleton.tasks[t].clock for t in skeleton.tasks}, jobs, pacing,
-                    deadlocks, [t for t in skeleton.tasks if t in dead])
+                    deadlocks, [t for t in skeleton.tasks if t in dead],
+                    full if horizon < full else None)
+
+
+def job_bounds(skeleton: Skeleton, horizon: Fraction) -> dict[str, int | None]:
+    """An upper bound on the jobs each task starts before ``horizon`` (None: no bound).
+
+    Jobs of one task run one after the other, so a task of duration ``d > 0``
+    starts at most ``horizon/d + 1`` (each started job but the last has
+    computed ``d``); a clocked task at most one per tick before the horizon.
+    A task waiting for another (the reader of an ASYN/SYN link its writer's
+    messages, the writer of a SYN/ASYN link its reader's requests, both sides
+    of a SYN/SYN link, the next task of a thread) starts at most one job more
+    than that other: each wait consumes what one of its jobs produced. The
+    bounds are the least fixed point of these inequalities (shortest paths of
+    weight 1, by relaxation). None remains only for tasks of duration 0 with
+    no clock, where nothing bounds the jobs: the simulation refuses such a
+    loop at the first instant it repeats without time passing.
+    """
+    bound: dict[str, int | None] = {}
+    for name, task in skeleton.tasks.items():
+        own = []
+        if task.clock:
+            k = skeleton.clocks[task.clock]
+            own.append(_count(k.phase, k.period, horizon))
+        if task.duration > 0:
+            own.append(math.floor(horizon / task.duration) + 1)
+        bound[name] = min(own) if own else None
+    waits: list[tuple[str, str]] = []  # (task that waits, task it waits for)
+    for link in skeleton.links:
+        w, r = link.writer[0], link.reader[0]
+        if link.protocol is Protocol.ASYN_SYN:
+            waits.append((r, w))
+        elif link.protocol is Protocol.SYN_ASYN:
+            waits.append((w, r))
+        elif link.protocol is Protocol.SYN_SYN:
+            waits += [(r, w), (w, r)]
+    for thread in skeleton.threads:
+        waits += [(b, a) for a, b in zip(thread, thread[1:] + thread[:1])]
+    for _ in range(len(bound)):
+        changed = False
+        for waiter, other in waits:
+            via = bound[other]
+            if via is not None and (bound[waiter] is None or via + 1 < bound[waiter]):
+                bound[waiter] = via + 1
+                changed = True
+        if not changed:
+            break
+    return bound
+
+
+def _check_jobs(sk: Skeleton, horizon: Fraction, default: bool, max_jobs: int) -> None:
+    """Refuse, before simulating, a horizon whose jobs may exceed ``max_jobs``."""
+    bounds = job_bounds(sk, horizon)
+    total = sum(b for b in bounds.values() if b is not None)
+    if total <= max_jobs:
+        return
+    u = sk.unit
+    if sk.clocks:
+        hyper = hyperperiod(c.period for c in sk.clocks.values())
+        why = (f"the default horizon, the largest clock phase plus the hyperperiod "
+               f"{exact_text(hyper)} {u} of the clock periods" if default
+               else f"the hyperperiod of the clock periods is {exact_text(hyper)} {u}")
+    else:
+        why = "no clock: the default horizon is twice the sum of the durations"
+    busiest = sorted((b, t) for t, b in bounds.items() if b is not None)[::-1][:3]
+    shown = ", ".join(f"{t} {_amount(b)}" for b, t in busiest)
+    raise InputError(
+        f"simulating up to {exact_text(horizon)} {u} ({why}) may take {_amount(total)} jobs "
+        f"({shown}), more than `max_jobs` = {max_jobs:,}: give a shorter `horizon`, or raise "
+        "`max_jobs` (nothing was simulated)", "max_jobs")
+
+
+def _amount(n: int) -> str:
+    """A count as text: exact with thousands separators, or its order of magnitude."""
+    if n.bit_length() <= 64:
+        return f"{n:,}"
+    return f"more than 10^{math.floor((n.bit_length() - 1) * math.log10(2))}"
+
 
 
 def _count(phase: Fraction, period: Fraction, horizon: Fraction) -> int:

@@ -119,6 +119,12 @@ def _verdict(timeline: Timeline) -> str:
             f" and {len(tasks) - _NAMED:,} more" if len(tasks) > _NAMED else "")
         return (f"verdict: {count(len(timeline.late_jobs), 'overrun')} before {H} {u}, by "
                 f"{shown}{status}")
+    if timeline.full_horizon is not None:
+        # A cut simulation proves nothing past its end: say so on the verdict line.
+        return (f"verdict: every job ends by the next tick of its pacing clock up to {H} {u} "
+                f"only (the horizon cut the simulation; the default horizon is "
+                f"{exact_text(timeline.full_horizon)} {u}: a later overrun is not "
+                f"excluded){status}")
     return (f"verdict: every job ends by the next tick of its pacing clock (simulated up to "
             f"{H} {u}){status}")
 

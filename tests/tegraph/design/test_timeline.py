@@ -306,3 +306,83 @@ def test_overrun_at_is_an_attribute_as_in_the_analysis_report():
     assert tl.overrun_at["A"] == analyze(sk).tasks["A"].overrun_at == 2
     with pytest.warns(DeprecationWarning, match=r"overrun_at\[task\]"):
         assert tl.overrun_at("A") == 2  # the 0.x call still answers
+
+
+def _writer_feeding(duration):
+    # A clockless writer of the given duration runs freely; the clocked reader (period 1)
+    # waits ASYN/SYN for its messages: up to 1/duration + 1 writer jobs in the hyperperiod 1.
+    return Skeleton.from_dict({
+        "tasks": {"W": {"duration": duration, "outputs": ["m"]},
+                  "R": {"duration": 1, "period": 1, "inputs": ["m"]}},
+        "links": [{"from": "W:m", "to": "R:m", "protocol": "ASYN/SYN"}]})
+
+
+def _refused_at_once(call):
+    """``call()`` raises InputError within 10 s (it used to run for ever: a hang is a failure)."""
+    import signal
+    import time
+
+    def too_long(*_):
+        raise AssertionError("still simulating after 10 s")
+
+    old = signal.signal(signal.SIGALRM, too_long)
+    signal.alarm(10)
+    start = time.monotonic()
+    try:
+        with pytest.raises(InputError) as info:
+            call()
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
+    assert time.monotonic() - start < 5
+    return info.value
+
+
+@pytest.mark.parametrize("duration", ["1e-400", "1/" + "9" * 4000])
+def test_a_tiny_duration_is_refused_before_simulating(duration):
+    # Issue 21 (items 5 and 7): both ran past 60 s. Hyperperiod 1 ms; W may run
+    # 1/duration + 1 > 10^399 jobs, R one per tick (1): far past the default max_jobs.
+    err = _refused_at_once(lambda: simulate_timeline(_writer_feeding(duration)))
+    assert err.where == "max_jobs"
+    assert "hyperperiod 1 ms" in err.reason and "`horizon`" in err.reason
+    assert "W more than 10^399" in err.reason
+
+
+def test_a_long_hyperperiod_is_refused_naming_it():
+    # 999983 and 999979 are primes: hyperperiod = their product 999962000357 ms, with
+    # 999979 ticks of A and 999983 of B before it: 1,999,962 jobs > 100,000.
+    from tegraph.design.timeline import MAX_JOBS
+
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 999983},
+                                       "B": {"duration": 1, "period": 999979}}})
+    err = _refused_at_once(lambda: simulate_timeline(sk))
+    assert 999983 * 999979 == 999962000357
+    assert "hyperperiod 999962000357 ms" in err.reason and "1,999,962 jobs" in err.reason
+    assert f"`max_jobs` = {MAX_JOBS:,}" in err.reason
+    with pytest.raises(InputError, match="expected an integer >= 1"):
+        simulate_timeline(sk, max_jobs=0)
+    # A horizon that cuts the simulation: it runs, and the verdict says up to when.
+    tl = simulate_timeline(sk, horizon=2_000_000)
+    # Ticks before 2000000: A at 0, 999983, 1999966; B at 0, 999979, 1999958.
+    assert tl.full_horizon == 999962000357 and len(tl.jobs) == 6
+    assert ("up to 2000000 ms only (the horizon cut the simulation; the default horizon is "
+            "999962000357 ms: a later overrun is not excluded)") in render_timeline(tl)
+    assert simulate_timeline(sk, horizon=2_000_000, max_jobs=6).full_horizon is not None
+    with pytest.raises(InputError, match="may take 6 jobs"):
+        simulate_timeline(sk, horizon=2_000_000, max_jobs=5)
+
+
+def test_cli_refuses_a_long_simulation_naming_its_options(tmp_path):
+    from tegraph.design.timeline import MAX_JOBS
+
+    f = tmp_path / "p.yaml"
+    f.write_text("tasks:\n  A: {duration: 1, period: 999983}\n  B: {duration: 1, period: 999979}\n")
+    res = CliRunner().invoke(app, ["timeline", str(f)])
+    assert res.exit_code == 2, res.output
+    assert res.output.startswith("tegraph: error: --max-jobs: simulating up to 999962000357 ms")
+    assert "give a shorter --horizon, or raise --max-jobs" in res.output
+    assert "Traceback" not in res.output
+    # The option's default is the library's constant.
+    assert f"more than --max-jobs = {MAX_JOBS:,}" in res.output
+    res = CliRunner().invoke(app, ["timeline", str(f), "--max-jobs", "1", "--horizon", "1"])
+    assert res.exit_code == 2 and "may take 2 jobs" in res.output  # one tick each at 0
