@@ -57,9 +57,11 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
+from ..analysis.liveness import token_free_circuits
+from ..model.build import build_teg
 from ..model.elements import LinkLabel
 from ..model.skeleton import Link, Protocol, Skeleton
-from .change import Change, Key, finding_key
+from .change import Change, Key, apply_change, finding_key
 from .synchronization import (
     READER_BLOCKS,
     WRITER_BLOCKS,
@@ -68,10 +70,16 @@ from .synchronization import (
     synchronized_groups,
 )
 
-__all__ = ["CANDIDATE_LIMIT", "Advisor"]
+__all__ = ["CANDIDATE_LIMIT", "SPLIT", "Advisor", "Choice"]
 
 CANDIDATE_LIMIT = 64
 """Candidates examined per finding (the smallest of them first)."""
+
+SPLIT = "split"
+"""What a Rule 3 change keeps when it splits the group rather than drop clocks."""
+
+_SPLIT_LIMIT = 8
+"""Links cut one at a time to split a group of several clocks (Rule 3)."""
 
 
 # ------------------------------------------------------------------ candidates
@@ -130,6 +138,32 @@ class _Roots:
         return self.groups[self.group_of[task]][0]
 
 
+class Choice:
+    """What :meth:`Advisor.choose` found for one finding.
+
+    Attributes
+    ----------
+    change : Change or None
+        None when no candidate examined removes the finding without another one.
+    kept : str
+        With a change: what the task keeps (Rule 1) or the clock kept (Rule 3).
+        Without: the first candidate, in words.
+    brought : set of keys
+        Without a change: what the first candidate would bring.
+    live : bool or None
+        None when the skeleton is live; else whether the change makes it live.
+    periods : str
+        What the change does to the period of each group it touches, in words.
+    """
+
+    __slots__ = ("change", "kept", "brought", "live", "periods")
+
+    def __init__(self, change: Change | None, kept: str, brought: set[Key],
+                 live: bool | None = None, periods: str = "") -> None:
+        self.change, self.kept, self.brought = change, kept, brought
+        self.live, self.periods = live, periods
+
+
 class Advisor:
     """The structure of one skeleton, the candidates for each finding, and their check.
 
@@ -161,6 +195,8 @@ class Advisor:
         periods = [c.period for c in skeleton.clocks.values()]
         self.fresh = max(periods, default=Fraction(0)) + 1  # a period no group has
         self.keys = {finding_key(f) for f in findings}
+        self._dead: bool | None = None  # token-free circuits in the skeleton (on demand)
+        self._live: dict[Change, bool] = {}
         self._inputs: dict[str, list[Link]] = {}
         self._outputs: dict[str, list[Link]] = {}
         self.clock_users: dict[str, int] = {}
@@ -317,6 +353,7 @@ class Advisor:
                 yield from self._free(t, ("clock", None), frozenset({t}),
                                       empty.with_clock(t, True))
             return
+        yield from self._split(tasks)
         for keep in clocks:
             # One task at a time, breadth first: a group bound by thousands of clocks
             # would nest a generator per task (Python's recursion limit). Only the first
@@ -338,6 +375,31 @@ class Advisor:
                 variants = list(itertools.islice(self._unclock(variants, t), CANDIDATE_LIMIT))
             yield from variants
 
+    def _split(self, tasks: tuple[str, ...]) -> Iterator[_Edits]:
+        """Rule 3, several clocks: cut links between tasks on different clocks.
+
+        Each clocked task keeps its clock, and so its sampling period (a 2 ms loop
+        that reads 5 ms gains ASYN/SYN reads them ASYN/ASYN); each cut alone, then
+        all of them at once. Only links whose both ends keep a clock are cut, so no
+        task is left without a synchronization.
+        """
+        empty = _Edits()
+        cuts = []
+        for t in tasks:
+            clock = self.sk.tasks[t].clock
+            for link in self.outputs(t):
+                other = self.sk.tasks[link.reader[0]].clock
+                if link.protocol.synchronizing and clock and other and other != clock:
+                    cuts.append(link)
+        empty = empty.saying(SPLIT)
+        for link in cuts[:_SPLIT_LIMIT]:
+            yield empty.set(link, Protocol.ASYN_ASYN)
+        if 1 < len(cuts) <= _SPLIT_LIMIT:
+            every = empty
+            for link in cuts:
+                every = every.set(link, Protocol.ASYN_ASYN)
+            yield every
+
     def _unclock(self, variants: list[_Edits], task: str) -> Iterator[_Edits]:
         for edits in variants:
             dropped = edits.with_clock(task, False)
@@ -352,28 +414,111 @@ class Advisor:
                     if link.reader == label.reader)
 
     # ------------------------------------------------------------ the check
-    def choose(self, finding: Any) -> tuple[Change | None, str, set[Key]]:
-        """The first candidate that brings no new finding, with the words of its advice.
+    def choose(self, finding: Any) -> Choice:
+        """The best candidate that brings no new finding, with the words of its advice.
+
+        Among the candidates that bring no new finding, the first (smallest, then
+        in the order of preference) that is best by, in turn: making the skeleton
+        live when it is dead (token-free circuits of the edited skeleton), and
+        changing the sampling period of the fewest clocked tasks (a task that loses
+        its clock takes its new group's design period). The scan stops at the
+        first candidate that is live and changes no sampling period.
 
         Returns
         -------
-        (Change or None, str, set of keys)
-            The change (None when no candidate qualifies), what the task keeps
-            (Rule 1), and, when none qualifies, what the first candidate brings.
+        Choice
         """
         key = finding_key(finding)
         first: _Edits | None = None
+        best: tuple[tuple[int, int], _Edits] | None = None
         # The smallest edits first; among equals, the order of preference.
         ranked = sorted(itertools.islice(self.candidates(finding), CANDIDATE_LIMIT), key=_size)
         for edits in ranked:
-            if self.brings(key, edits, whole=False) is None:
-                return self.change_of(edits), edits.kept, set()
-            if first is None:
-                first = edits
+            if self.brings(key, edits, whole=False) is not None:
+                first = first or edits
+                continue
+            rank = (0 if self.makes_live(edits) is not False else 1, len(self.resampled(edits)))
+            if best is None or rank < best[0]:
+                best = (rank, edits)
+            if rank == (0, 0):
+                break
+        if best is not None:
+            edits = best[1]
+            return Choice(self.change_of(edits), edits.kept, set(), self.makes_live(edits),
+                          self.periods_text(edits))
         if first is None:
-            return None, "", set()
+            return Choice(None, "", set())
         brought = self.brings(key, first) or set()
-        return None, self.describe(self.change_of(first)), brought
+        return Choice(None, self.describe(self.change_of(first)), brought)
+
+    # ------------------------------------------------------------ rates and liveness
+    def _groups_after(self, edits: _Edits) -> tuple[list[int], dict, Any]:
+        """The groups the edited tasks are in, and those their tasks form after ``edits``."""
+        touched = {t for link, _ in edits.protocol for t in (link.writer[0], link.reader[0])}
+        touched |= edits.drop | edits.add
+        groups = sorted({self.group_of[t] for t in touched})
+        part, root_of = self._regroup(groups, edits)
+        return groups, part, root_of
+
+    def resampled(self, edits: _Edits) -> list[tuple[str, Fraction, Fraction | None]]:
+        """The clocked tasks whose sampling period ``edits`` change: (task, before, after).
+
+        A task keeps its clock's period as long as it keeps its clock; a task that
+        loses it runs at the design period of the group it is in afterwards (its
+        fastest clock; None: no clock is left to pace it).
+        """
+        if not edits.drop:
+            return []
+        _, part, root_of = self._groups_after(edits)
+        out = []
+        for t in sorted(edits.drop, key=self.order.__getitem__):
+            own = self.sk.clocks[self.sk.tasks[t].clock].period  # type: ignore[index]
+            after = part[root_of[t]][2]
+            if after != own:
+                out.append((t, own, after))
+        return out
+
+    def makes_live(self, edits: _Edits) -> bool | None:
+        """Whether the skeleton with ``edits`` made is live; None when it is live already."""
+        if self._dead is None:
+            self._dead = bool(_token_free(self.sk))
+        if not self._dead:
+            return None
+        change = self.change_of(edits)
+        if change not in self._live:
+            edited = apply_change(self.sk, change, self.fresh if change.add_clock else None)
+            self._live[change] = not _token_free(edited)
+        return self._live[change]
+
+    def periods_text(self, edits: _Edits) -> str:
+        """What ``edits`` do to the period of each group they touch, before -> after."""
+        u = self.sk.unit
+        groups, part, _ = self._groups_after(edits)
+        before = [(self.groups[g], self.periods[g]) for g in groups]
+        after = [(tuple(members), period) for members, _, period in part.values()]
+        text = "design periods (each group's fastest clock), before -> after: "
+        if set(before) == set(after):
+            text += ", ".join(f"{_group_text(g)} {self._period(p, u)}" for g, p in before)
+            text += ", unchanged"
+        else:
+            text += (", ".join(f"{_group_text(g)} {self._period(p, u)}" for g, p in before)
+                     + " -> " + ", ".join(f"{_group_text(g)} {self._period(p, u)}"
+                                          for g, p in after))
+        moved = self.resampled(edits)
+        if moved:
+            text += "; " + "; ".join(
+                f"{t} is sampled every {self._period(a, u)} instead of {exact_text(b)} {u} "
+                "(its clock goes)" for t, b, a in moved)
+        elif any(self.sk.tasks[t].clock for g, _ in before for t in g):
+            text += "; every clocked task keeps its clock's period"
+        return text
+
+    def _period(self, period: Fraction | None, unit: str) -> str:
+        if period is None:
+            return "no clock"
+        if period == self.fresh:
+            return "a period of your choice"
+        return f"{exact_text(period)} {unit}"
 
     def brings(self, key: Key, edits: _Edits, whole: bool = True) -> set[Key] | None:
         """None when ``edits`` remove the finding ``key`` and bring none; else what is new.
@@ -557,3 +702,16 @@ def _sync_label(sync: Sync) -> str:
         return "clock"
     port = link.reader if kind == "input" else link.writer
     return f"{kind} {port[0]}:{port[1]}"
+
+
+def _group_text(tasks: tuple[str, ...] | list[str]) -> str:
+    """A group for the advice's words (a long group by its first tasks and its size)."""
+    if len(tasks) <= 4:
+        return "{" + ", ".join(tasks) + "}"
+    return "{" + ", ".join(tasks[:3]) + f", ... ({len(tasks)} tasks)}}"
+
+
+def _token_free(sk: Skeleton) -> list:
+    teg = build_teg(sk)
+    a = teg.arrays()
+    return token_free_circuits(a.src, a.dst, a.tokens, teg.n_transitions)

@@ -42,7 +42,7 @@ from typing import Any
 from maxplus.scalar import exact_text
 
 from ..model.skeleton import Protocol, Skeleton
-from .advice import CANDIDATE_LIMIT, Advisor
+from .advice import CANDIDATE_LIMIT, SPLIT, Advisor
 from .change import Change
 from .synchronization import (
     Synchronization,
@@ -219,15 +219,16 @@ def _structural(skeleton: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleF
 
 
 def _advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
-    """The finding with the first change that brings no other finding, in words."""
-    change, said, brought = advisor.choose(finding)
+    """The finding with the best change that brings no other finding, in words."""
+    choice = advisor.choose(finding)
+    change, said = choice.change, choice.kept
     if change is None:
         # Only a bounded set of candidate changes is examined: say so, claim no more.
         if said:
             advice = (f"none of the changes examined (the smallest of their kind, at most "
                       f"{CANDIDATE_LIMIT}) removes this without another finding of Rules 1-3: "
                       f"{said} would bring "
-                      + "; ".join(_key_text(k) for k in sorted(brought)))
+                      + "; ".join(_key_text(k) for k in sorted(choice.brought)))
         else:
             advice = (f"none of the changes examined (the smallest of their kind, at most "
                       f"{CANDIDATE_LIMIT}) removes this")
@@ -237,10 +238,19 @@ def _advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
         words = (f"keep only its {said}" + (" (footnote 6: the synchronizing port is best the "
                  "first input read, or the last output posted)" if said != "clock" else "")
                  + f": {words}")
+    elif finding.rule == 3 and said == SPLIT:
+        words = f"split the group, each clocked task keeping its clock: {words}"
     elif finding.rule == 3 and said:
         words = f"keep one clock ({said}): {words}"
     elif finding.rule == 3:
         words += " (one clock for the whole group)"
+    words += f" [{choice.periods}]"
+    if choice.live is False:
+        # Under a deadlock, advice that leaves it is said to leave it (spec §4 deadlocks).
+        words += (" This alone leaves the skeleton dead: none of the changes examined for this "
+                  "finding makes it live (see the deadlock's own advice).")
+    elif choice.live:
+        words += " This also makes the skeleton live."
     return dataclasses.replace(finding, advice=words, change=change)
 
 

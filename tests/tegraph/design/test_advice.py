@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import itertools
 import random
+import re
 from fractions import Fraction as F
 
 import pytest
@@ -296,3 +297,126 @@ def test_clock_overrun_advice_says_ticks_are_queued():
     assert place.kind == "clock-overrun"
     assert "lost" not in place.advice.replace("none is lost", "")
     assert "queue" in place.advice
+
+
+# ------------------------------------------------------------------ rates and liveness
+
+_STATED = re.compile(r"before -> after: (.*?)(?:; |\])")
+_GROUP = re.compile(r"\{([^}]*)\} (\S+) ms")
+_LONG = re.compile(r"(.*), \.\.\. \((\d+) tasks\)")
+
+
+def stated_after(advice: str) -> dict[tuple, F]:
+    """The groups and design periods an advice says its change leaves (numbers only).
+
+    A long group is named by its first three tasks and its size: its key is
+    ``(first three tasks, size)``; see :func:`group_key`.
+    """
+    m = _STATED.search(advice)
+    assert m, advice
+    after = m.group(1).split(" -> ")[-1]
+    out = {}
+    for names, period in _GROUP.findall(after):
+        long = _LONG.fullmatch(names)
+        key = (tuple(long.group(1).split(", ")), int(long.group(2))) if long else (
+            tuple(names.split(", ")), len(names.split(", ")))
+        out[key] = F(period)
+    return out
+
+
+def group_key(tasks) -> tuple:
+    tasks = tuple(tasks)
+    return (tasks if len(tasks) <= 4 else tasks[:3], len(tasks))
+
+
+def test_a_clocked_control_loop_keeps_its_period():
+    # CTRL: clock 2 ms + input k read ASYN/SYN from GAINS (clock 5 ms): Rule 1 (two
+    # synchronizations) and Rule 3 (two clocks in {GAINS, CTRL}). Removing CTRL's clock
+    # would make CTRL run at GAINS' 5 ms. Reading k ASYN/ASYN leaves {GAINS} on 5 ms and
+    # {CTRL} on 2 ms, each with one clock and one synchronization: Rules 1-3 hold.
+    findings = check_rules(Skeleton.from_dict(CTRL_GAINS))
+    cut = Change((("GAINS:k", "CTRL:k", "ASYN/ASYN"),))
+    for f in [f for f in findings if f.rule in (1, 3)]:
+        assert f.change == cut, f.advice
+        assert "{GAINS, CTRL} 2 ms -> {GAINS} 5 ms, {CTRL} 2 ms" in f.advice
+        assert "every clocked task keeps its clock's period" in f.advice
+        # Applied mechanically (this file's applier) and re-analysed.
+        after = Skeleton.from_dict(applied(CTRL_GAINS, f.change.to_dict()))
+        report = analyze(after, design=False)
+        assert report.live and report.consistent
+        assert (report.tasks["CTRL"].period, report.tasks["GAINS"].period) == (2, 5)
+        assert [x for x in check_rules(after) if x.rule < 4] == []
+        assert stated_after(f.advice) == {group_key(g.tasks): g.period for g in report.groups}
+
+
+def test_dropping_a_clock_says_the_new_sampling_period():
+    # The candidate that keeps CTRL's input and drops its clock is not chosen (the cut
+    # is), but its words must say what it does to CTRL's rate.
+    data = {"tasks": {
+        "GAINS": {"duration": 1, "period": 5, "outputs": ["k"]},
+        "CTRL": {"duration": "1/2", "period": 2, "inputs": ["k"]}},
+        "links": [{"from": "GAINS:k", "to": "CTRL:k", "protocol": "ASYN/SYN"}]}
+    advisor = Advisor(Skeleton.from_dict(data), [])
+    # The candidate "keep the input, drop the clock" changes CTRL's sampling period
+    # from 2 ms to 5 ms (it joins {GAINS, CTRL}, paced by GAINS' 5 ms clock), and says so.
+    (f,) = [f for f in check_rules(Skeleton.from_dict(data)) if f.rule == 1]
+    drop = next(e for e in advisor.candidates(f) if e.drop == {"CTRL"} and not e.protocol)
+    assert advisor.resampled(drop) == [("CTRL", F(2), F(5))]
+    assert ("{GAINS, CTRL} 2 ms -> {GAINS, CTRL} 5 ms; CTRL is sampled every 5 ms instead "
+            "of 2 ms (its clock goes)") in advisor.periods_text(drop)
+
+
+def test_the_stated_periods_agree_with_the_analysis_on_the_examples_and_corpus():
+    # Each advised change, applied: the groups it says it leaves, with their design
+    # periods, are the groups analyze finds (weakly connected parts of the timed event
+    # graph, a different algorithm) with their fastest clock.
+    cases = [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]
+    cases += [Skeleton.from_dict(random_skeleton(random.Random(seed))) for seed in range(60)]
+    checked = 0
+    for sk in cases:
+        data = sk.to_dict()
+        for f in check_rules(sk):
+            if f.change is None or f.rule > 3 or f.change.add_clock:
+                continue
+            after = Skeleton.from_dict(applied(data, f.change.to_dict()))
+            report = analyze(after, design=False)
+            fastest = {group_key(g.tasks): min(after.clocks[c].period for c in g.clocks)
+                       for g in report.groups if g.clocks}
+            for group, period in stated_after(f.advice).items():
+                assert fastest[group] == period, (f.advice, fastest)
+                checked += 1
+    assert checked > 20
+
+
+def _dead_and_one_more(extra: dict, links: list) -> dict:
+    fig7b = load_skeleton(EXAMPLES / "fig7b_wrong_order.yaml").to_dict()
+    fig7b["tasks"].update(extra)
+    fig7b["links"] = fig7b["links"] + links
+    return fig7b
+
+
+def test_advice_under_a_deadlock_makes_it_live_or_says_it_does_not():
+    # Figure 7b is dead (MT2 reads c before meeting MT1 on a). MT2's Rule 1 advice used to
+    # make MT1:a -> MT2:a SYN/ASYN, which keeps the circuit MT2.read:c -> MT2.read:a ->
+    # MT1.write:a -> MT1.write:d -> MT3 -> MT2.read:c: still dead. Cutting a (ASYN/ASYN)
+    # or c removes the finding and the circuit.
+    sk = load_skeleton(EXAMPLES / "fig7b_wrong_order.yaml")
+    (mt2,) = [f for f in check_rules(sk) if f.rule == 1 and f.tasks == ("MT2",)]
+    assert analyze(Skeleton.from_dict(applied(sk.to_dict(), mt2.change.to_dict())),
+                   design=False).live
+    assert mt2.advice.endswith("This also makes the skeleton live.")
+    # Every advice printed under a deadlock: applied, live exactly when it says so.
+    dead = _dead_and_one_more(
+        {"G": {"duration": 1, "period": 5, "outputs": ["k"]},
+         "C": {"duration": 1, "period": 2, "inputs": ["k"]}},
+        [{"from": "G:k", "to": "C:k", "protocol": "ASYN/SYN"}])
+    said = {}
+    for f in check_rules(Skeleton.from_dict(dead)):
+        if f.change is None or f.rule > 3:
+            continue
+        live = analyze(Skeleton.from_dict(applied(dead, f.change.to_dict())), design=False).live
+        assert ("This also makes the skeleton live." in f.advice) == live, f.advice
+        assert ("This alone leaves the skeleton dead" in f.advice) == (not live), f.advice
+        said[f.tasks] = live
+    # C's findings are far from the circuit of MT1, MT2, MT3: no change for them helps.
+    assert said[("C",)] is False and said[("MT2",)] is True

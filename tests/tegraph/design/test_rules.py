@@ -67,11 +67,13 @@ def test_rule1_double_synchronization_of_figure_12():
     assert (f.severity, f.tasks, f.ports, f.links) == (
         "error", ("MT2",), ("MT2:y",), ("MT1:y -> MT2:y (ASYN/SYN)",))
     assert "2 synchronizations" in f.message
-    # Footnote 6: keep the input read first, drop the clock (the group keeps rtc: Rule 3
-    # is then satisfied too, nothing new).
-    assert f.advice.startswith("keep only its input MT2:y")
-    assert "remove the clock MT2.clock of MT2" in f.advice
-    assert f.change == Change(drop_clock=("MT2",))
+    # Two one-edit changes remove it with nothing new: keep the input read first (footnote
+    # 6) and drop MT2's 4 ms clock, which makes MT2 run at MT1's 10 ms; or keep the clock
+    # and read y ASYN/ASYN, which keeps both sampling periods (issue 21): preferred.
+    assert f.advice.startswith("keep only its clock")
+    assert "make MT1:y -> MT2:y ASYN/ASYN" in f.advice
+    assert "{MT1, MT2} 4 ms -> {MT1} 10 ms, {MT2} 4 ms" in f.advice
+    assert f.change == Change((("MT1:y", "MT2:y", "ASYN/ASYN"),))
 
 
 def test_rule1_counts_blocking_outputs_and_rendezvous():
@@ -87,8 +89,11 @@ def test_rule1_counts_blocking_outputs_and_rendezvous():
     # leave R alone in a group without a clock (a new Rule 3 error); ASYN/SYN hands the
     # wait over to R, which then has its one synchronization (R's warning goes too).
     assert errors[0].change == Change((("W:a", "R:a", "ASYN/SYN"),))
+    # W and R stay one group on c (5 ms), W keeps its clock.
     assert errors[0].advice == ("keep only its clock: make W:a -> R:a ASYN/SYN (R waits for "
-                                "W's message)")
+                                "W's message) [design periods (each group's fastest clock), "
+                                "before -> after: {W, R} 5 ms, unchanged; every clocked task "
+                                "keeps its clock's period]")
     warnings = of_rule(check_rules(s), 1, "warning")
     assert [f.tasks for f in warnings] == [("R",)]
     assert "no synchronization" in warnings[0].message
@@ -124,8 +129,11 @@ def test_rule2_unsynchronized_pipeline_of_figure_4():
     assert [f.links for f in findings] == [("MT1:x1 -> MT2:x1 (ASYN/ASYN)",),
                                            ("MT2:x2 -> MT3:x2 (ASYN/ASYN)",),
                                            ("MT3:x3 -> MT4:x3 (ASYN/ASYN)",)]
+    # MT1 and MT2 join one group paced by MT1's 10 ms clock; MT2's own clock was 10 ms too.
     assert ("make MT1:x1 -> MT2:x1 ASYN/SYN (MT2 waits for MT1's message); remove the clock "
-            "MT2.clock of MT2") == findings[0].advice
+            "MT2.clock of MT2 [design periods (each group's fastest clock), before -> after: "
+            "{MT1} 10 ms, {MT2} 10 ms -> {MT1, MT2} 10 ms; every clocked task keeps its "
+            "clock's period]") == findings[0].advice
     assert findings[0].change == Change((("MT1:x1", "MT2:x1", "ASYN/SYN"),), ("MT2",))
     assert all("Figure 4" in f.message for f in findings)
 
@@ -142,9 +150,14 @@ def test_rule3_group_without_clock_figure_7a():
     # Every task waits for an input: the advice also breaks the wait.
     assert f.change == Change((("MT2:b", "MT1:b", "ASYN/ASYN"),), add_clock=("MT1",))
     # No group has a clock: any period is one no other group has (the example says 1 ms).
+    # The group has no clock before; after, MT1's new clock paces it; the circular wait
+    # through MT2:b -> MT1:b is cut, so the skeleton (dead, Figure 7a) becomes live.
     assert f.advice == ("make MT2:b -> MT1:b ASYN/ASYN (neither side waits); give MT1 a clock "
                         "of its own (a period of your choice that no other group has, e.g. "
-                        "1 ms) (one clock for the whole group)")
+                        "1 ms) (one clock for the whole group) [design periods (each group's "
+                        "fastest clock), before -> after: {MT1, MT2, MT3} no clock -> "
+                        "{MT1, MT2, MT3} a period of your choice] This also makes the "
+                        "skeleton live.")
 
 
 def test_rule3_group_without_clock_names_its_source():
@@ -159,7 +172,11 @@ def test_rule3_two_clocks_in_one_group():
     (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "overrun_in_step.yaml")), 3)
     assert (f.severity, f.tasks) == ("error", ("MT1", "MT2"))
     assert "2 clocks (MT1.clock on MT1, MT2.clock on MT2)" in f.message
-    assert f.advice == "keep one clock (MT1.clock): remove the clock MT2.clock of MT2"
+    # Both clocks are 10 ms: MT2 keeps its sampling period on MT1's clock.
+    assert f.advice == ("keep one clock (MT1.clock): remove the clock MT2.clock of MT2 "
+                        "[design periods (each group's fastest clock), before -> after: "
+                        "{MT1, MT2} 10 ms, unchanged; every clocked task keeps its clock's "
+                        "period]")
 
 
 # ------------------------------------------------------------------ Rule 4
