@@ -8,7 +8,33 @@ so Python's own ``max`` and ``+`` already implement ⊕ and ⊗ on these values
 Inputs may be ints, Fractions, decimal or fraction strings (``"0.1"``,
 ``"7/3"``), floats (taken by their shortest decimal text, so ``0.1`` is exactly
 ``1/10``), and ``None`` / ``"eps"`` / ``-inf`` for ε. Everything is validated
-once, here, with messages that name the offending entry.
+once, here, with messages that name the offending entry: :func:`exact` is the one
+number parser of the project (every file reader, command-line option and library
+call converts through it), so one grammar and one bound hold everywhere.
+
+The text of a number, after surrounding blanks are stripped, is exactly one of::
+
+    number   := sign? ( digits "/" digits              one fraction p/q
+                      | mantissa exponent? )           an integer or a decimal
+    mantissa := digits ( "." digits? )? | "." digits
+    exponent := ("e" | "E") sign? digits
+    digits   := [0-9] ( "_"? [0-9] )*                  1_000: as Python and YAML 1.1
+    sign     := "+" | "-"
+
+Nothing else: no blank inside (``"1 000"``), no second slash (``"5/2/3"``), no
+decimal in a fraction (``"1.5/2"``), no hexadecimal. The words ``nan`` and
+``inf`` are refused by name; ``-inf``, ``eps``, ``ε`` mean ε where ε is allowed.
+Booleans, complex numbers and other objects are refused; numpy integers are
+integers and numpy floats are read, like floats, by their own shortest decimal
+text (``np.float32(0.1)`` is ``1/10``); a :class:`~decimal.Decimal` by its text.
+
+**The bound** (:data:`MAX_DIGITS`, 4,300: Python's own limit on converting a
+text to an int): each integer of the text (``p``, ``q``, the digits of a
+decimal) and the numerator and the denominator of the exact value have at most
+4,300 digits. So ``1e4299`` is held exactly while ``1e999999999`` is refused
+from its text, by its size ("has 1,000,000,000 digits; at most 4,300 are
+accepted"), without being expanded; a refused text is shown by its first 40
+characters and its length.
 
 Internally the algorithms work on *scaled integers*: all entries of a matrix
 multiplied by the least common multiple of their denominators. Integers below
@@ -25,6 +51,7 @@ References
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable
 from decimal import Decimal
 from fractions import Fraction
@@ -40,6 +67,7 @@ __all__ = [
     "EPS",
     "FLOAT_EXACT_BOUND",
     "INT64_SAFE",
+    "MAX_DIGITS",
     "TOP",
     "Scalar",
     "common_denominator",
@@ -51,6 +79,7 @@ __all__ = [
     "from_scaled",
     "int_array",
     "is_eps",
+    "size_problem",
     "to_scaled",
 ]
 
@@ -130,53 +159,192 @@ def exact(value: Any, where: str = "value", allow_eps: bool = True) -> Scalar:
     return result
 
 
-def _exact(value: Any, where: str) -> Scalar:
+MAX_DIGITS = 4300
+"""Most digits of a number: of each integer in its text, and of the numerator and the
+denominator of its exact value (Python's own limit on converting text to an int)."""
+
+# The grammar of a number's text (docs/skeleton.md, "Time values"): one sign, then ONE
+# fraction of two integers or one decimal with an optional exponent. An underscore may
+# stand between two digits, as in Python and YAML 1.1 (1_000). Nothing else: no space
+# inside, no second slash ("5/2/3"), no decimal in a fraction ("1.5/2").
+_DIGITS = r"[0-9](?:_?[0-9])*"
+_NUMBER = re.compile(
+    rf"(?P<sign>[+-]?)(?:(?P<p>{_DIGITS})/(?P<q>{_DIGITS})"
+    rf"|(?P<int>{_DIGITS})?(?:\.(?P<frac>{_DIGITS})?)?(?:[eE](?P<exp>[+-]?{_DIGITS}))?)")
+_NAN_WORDS = {"nan", "+nan", "-nan", "snan"}
+_INF_WORDS = {"inf", "+inf", "infinity", "+infinity"}
+_TEN_TO_LIMIT = 10**MAX_DIGITS
+_SHOWN = 40
+
+
+def _shown(text: str) -> str:
+    """A text for a message: quoted, cut to 40 characters with its length when longer."""
+    if len(text) <= _SHOWN:
+        return repr(text)
+    return f"{text[:_SHOWN]!r}"[:-1] + f"...' ({len(text):,} characters)"
+
+
+def _too_many(shown: str, digits: int | str, part: str = "") -> str:
+    count = f"{digits:,}" if isinstance(digits, int) else digits
+    return f"{shown} has {part}{count} digits; at most {MAX_DIGITS:,} are accepted"
+
+
+def _int_problem(n: int, shown: str, what: str = "") -> str | None:
+    """Why the integer ``n`` (a numerator or a denominator) is refused, or None."""
+    n = abs(n)
+    if n < _TEN_TO_LIMIT:
+        return None
+    bits = n.bit_length()
+    # log10(2) = 0.30103: this count is exact or one too small; 10**d settles it (cheap
+    # up to millions of digits; beyond, the count is given as "more than").
+    if bits < 10**7:
+        d = int((bits - 1) * 0.30102999566398120) + 1
+        count: int | str = d + 1 if n >= 10**d else d
+    else:
+        count = f"more than {MAX_DIGITS:,}"
+    return _too_many(shown, count, what)
+
+
+def size_problem(value: Any) -> str | None:
+    """Why a number is refused by its size, or None; the digit bound of every reader.
+
+    A number is accepted when each integer of its text (``p`` and ``q`` of
+    ``p/q``, the digits of a decimal) and the numerator and the denominator of
+    its exact value have at most :data:`MAX_DIGITS` digits. The exponent of a
+    decimal is bounded by that: ``1e999999999`` is refused from its text, never
+    expanded. Values that are not numbers pass (the parser names them).
+
+    Parameters
+    ----------
+    value : any
+
+    Returns
+    -------
+    str or None
+
+    Examples
+    --------
+    >>> size_problem("1e4299") is None, size_problem("7/3") is None
+    (True, True)
+    >>> size_problem("1e999999999")
+    "'1e999999999' has 1,000,000,000 digits; at most 4,300 are accepted"
+    >>> print(size_problem("9" * 5000))  # doctest: +ELLIPSIS
+    '999...' (5,000 characters) has 5,000 digits; at most 4,300 are accepted
+    """
+    if isinstance(value, str) and len(value) < 40 and "e" not in value.lower():
+        return None  # fewer than 40 digits and no exponent: nothing to bound (the fast path)
+    try:
+        _parse(value, "value")
+    except _SizeError as err:
+        return err.problem
+    except MaxPlusValueError:
+        return None
+    return None
+
+
+class _SizeError(MaxPlusValueError):
+    """A number refused by its size (a MaxPlusValueError like every refusal)."""
+
+    def __init__(self, problem: str, where: str) -> None:
+        self.problem = problem
+        super().__init__(problem, where)
+
+
+def _text_value(text: str, where: str, original: Any) -> Scalar:
+    """The exact value of a number's text, by the grammar above, within MAX_DIGITS."""
+    stripped = text.strip()
+    word = stripped.lower()
+    if word in _EPS_WORDS:
+        return EPS
+    if word in _NAN_WORDS:
+        raise MaxPlusValueError("expected a number, got NaN", where)
+    if word in _INF_WORDS:
+        raise MaxPlusValueError("+inf is not a (max,+) value (did you mean ε = -inf?)", where)
+    shown = _shown(stripped)
+    m = _NUMBER.fullmatch(stripped)
+    if m is None or not (m["p"] or m["int"] or m["frac"]):
+        raise MaxPlusValueError(
+            f"expected a number such as 3, 0.5, 1e-3 or '7/3' (an integer, a decimal or one "
+            f"fraction of two integers), got {shown}", where)
+    sign = -1 if m["sign"] == "-" else 1
+    if m["p"] is not None:
+        p, q = m["p"].replace("_", ""), m["q"].replace("_", "")
+        for part in (p, q):
+            if len(part) > MAX_DIGITS:
+                raise _SizeError(_too_many(shown, len(part)), where)
+        if int(q) == 0:
+            raise MaxPlusValueError(f"{shown} has a zero denominator", where)
+        return Fraction(sign * int(p), int(q))
+    whole, frac = (m["int"] or "").replace("_", ""), (m["frac"] or "").replace("_", "")
+    mantissa = (whole + frac).lstrip("0")
+    if len(whole) + len(frac) > MAX_DIGITS:
+        raise _SizeError(_too_many(shown, len(whole) + len(frac)), where)
+    exp_text = (m["exp"] or "0").replace("_", "")
+    if not mantissa:
+        return Fraction(0)  # 0e999999999 is zero, whatever its exponent
+    exp_digits = exp_text.lstrip("+-").lstrip("0")
+    # The value is M * 10**shift, M the mantissa's integer (1 to MAX_DIGITS digits).
+    if len(exp_digits) > 12:  # |shift| > 10**12 - MAX_DIGITS: refused without int()
+        if exp_text.startswith("-"):
+            raise _SizeError(_too_many(shown, f"more than {MAX_DIGITS:,}",
+                                       "a denominator of "), where)
+        raise _SizeError(_too_many(shown, f"more than {10**12:,}"), where)
+    shift = int(exp_text) - len(frac)
+    if shift > 0 and len(mantissa) + shift > MAX_DIGITS:
+        raise _SizeError(_too_many(shown, len(mantissa) + shift), where)
+    # A denominator 10**k over a numerator M < 10**MAX_DIGITS keeps more than
+    # k - MAX_DIGITS digits after reduction: k >= 2 * MAX_DIGITS is refused unexpanded.
+    if shift <= -2 * MAX_DIGITS:
+        raise _SizeError(_too_many(shown, f"more than {MAX_DIGITS:,}", "a denominator of "),
+                         where)
+    value = Fraction(sign * int(mantissa) * 10**max(shift, 0), 10**max(-shift, 0))
+    why = _int_problem(value.denominator, shown, "a denominator of ")
+    if why is not None:
+        raise _SizeError(why, where)
+    return value
+
+
+def _parse(value: Any, where: str) -> Scalar:
+    """THE conversion of one user value (every reader, option and call goes through it)."""
     if value is None:
         return EPS
     if isinstance(value, (bool, np.bool_)):
         raise MaxPlusValueError(f"expected a number, got the boolean {value!r}", where)
-    if isinstance(value, Fraction):
-        return value
-    if isinstance(value, Integral):
-        return Fraction(int(value))
-    if isinstance(value, Rational):
-        return Fraction(value.numerator, value.denominator)
+    if isinstance(value, str):
+        return _text_value(value, where, value)
+    if isinstance(value, (Integral, Rational)):
+        result = (Fraction(int(value)) if isinstance(value, Integral)
+                  else Fraction(value.numerator, value.denominator))
+        for part, what in ((result.numerator, ""), (result.denominator, "a denominator of ")):
+            why = _int_problem(part, f"the {type(value).__name__}", what)
+            if why is not None:
+                raise _SizeError(why, where)
+        return result
     if isinstance(value, (float, np.floating)):
         f = float(value)
         if math.isnan(f):
             raise MaxPlusValueError("expected a number, got NaN", where)
-        if f == EPS:
-            return EPS
         if math.isinf(f):
-            raise MaxPlusValueError("+inf is not a (max,+) value (did you mean ε = -inf?)", where)
-        # repr gives the shortest decimal text that round-trips: 0.1 -> "0.1" -> 1/10.
-        return Fraction(repr(f))
-    if isinstance(value, Decimal):
-        if not value.is_finite():
-            if value.is_infinite() and value < 0:
+            if f < 0:
                 return EPS
-            raise MaxPlusValueError(f"expected a finite number, got {value}", where)
-        return Fraction(value)
-    if isinstance(value, str):
-        text = value.strip()
-        if text.lower() in _EPS_WORDS:
-            return EPS
-        try:
-            if "/" in text:
-                num, den = text.split("/", 1)
-                if Fraction(den.strip()) == 0:
-                    raise MaxPlusValueError(f"{value!r} has a zero denominator", where)
-                return Fraction(num.strip()) / Fraction(den.strip())
-            return Fraction(text)
-        except MaxPlusValueError:
-            raise
-        except (ValueError, ZeroDivisionError):
-            raise MaxPlusValueError(
-                f"expected a number such as 3, 0.5 or '7/3', got the text {value!r}", where
-            ) from None
+            raise MaxPlusValueError("+inf is not a (max,+) value (did you mean ε = -inf?)", where)
+        # The shortest decimal text that round-trips in the value's own precision:
+        # 0.1 -> "0.1" -> 1/10, and np.float32(0.1) -> "0.1" too (not 0.10000000149...).
+        return _text_value(repr(f) if isinstance(value, float) else str(value), where, value)
+    if isinstance(value, Decimal):
+        if value.is_nan():
+            raise MaxPlusValueError("expected a number, got NaN", where)
+        if value.is_infinite():
+            if value < 0:
+                return EPS
+            raise MaxPlusValueError("+inf is not a (max,+) value (did you mean ε = -inf?)", where)
+        return _text_value(str(value), where, value)  # its exponent bounded before expansion
     raise MaxPlusValueError(
-        f"expected a number, got {type(value).__name__} {value!r}", where
-    )
+        f"expected a number, got {type(value).__name__} {_shown(repr(value))}", where)
+
+
+def _exact(value: Any, where: str) -> Scalar:
+    return _parse(value, where)
 
 
 def exact_time(value: Any, where: str = "value") -> Fraction:

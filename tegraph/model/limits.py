@@ -8,11 +8,12 @@ in code applies the same bounds:
 ==========================  ==============  ============================================
 limit                       value           why
 ==========================  ==============  ============================================
-:data:`MAX_DIGITS`          4300            digits of a number's text (Python's own
-                                            limit on converting text to an int)
-:data:`MAX_EXPONENT`        1000            decimal exponent of a number's text:
-                                            ``1e999999999`` would be expanded into an
-                                            exact integer of a billion digits
+:data:`MAX_DIGITS`          4300            digits of each integer of a number's text
+                                            and of its exact value's numerator and
+                                            denominator (Python's own limit on
+                                            converting text to an int); it bounds the
+                                            exponent too: ``1e999999999`` is refused
+                                            from its text, never expanded
 :data:`MAX_COUNT`           2**63 - 1       tokens, markings, arc weights and rates are
                                             counted in 64-bit integers
 :data:`FREE_NODES`          2**20           nodes that no arc names (a declared count,
@@ -22,27 +23,23 @@ limit                       value           why
                                             expansion (a parameter, ``max_firings``)
 ==========================  ==============  ============================================
 
-Times are exact rationals of any size within the first two bounds (a time of
-4300 digits, or ``1e1000``, is held exactly).
+Times are exact rationals of any size within the first bound (a time of
+4300 digits, or ``1e4299``, is held exactly). The bound is defined once, with the
+number grammar, by :mod:`maxplus.scalar` (the lowest floor, which every reader,
+option and library call converts through); this module re-exports it.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable
-from decimal import Decimal
 from typing import Any
 
-__all__ = ["DEFAULT_MAX_FIRINGS", "FREE_NODES", "MAX_COUNT", "MAX_DIGITS", "MAX_EXPONENT",
+from maxplus.scalar import MAX_DIGITS, size_problem
+
+__all__ = ["DEFAULT_MAX_FIRINGS", "FREE_NODES", "MAX_COUNT", "MAX_DIGITS",
            "count_problem", "denominator_problem", "node_count_problem", "number_text_problem",
            "shown", "text_problem"]
-
-MAX_DIGITS = 4300
-"""Most digits in the text of one number (Python refuses longer texts as ints, too)."""
-
-MAX_EXPONENT = 1000
-"""Largest decimal exponent, in absolute value, of a number's text (as skeleton files)."""
 
 MAX_COUNT = 2**63 - 1
 """Largest token count, marking, arc weight or rate: they are held as 64-bit integers."""
@@ -55,7 +52,6 @@ DEFAULT_MAX_FIRINGS = 10**7
 graph's homogeneous expansion: its arrays take about 100 bytes a firing."""
 
 _MAX_BITS = int(MAX_DIGITS * math.log2(10)) + 1
-_EXPONENT = re.compile(r"[eE]\s*[+-]?\s*(\d+)")
 _SHOWN = 40
 
 
@@ -73,32 +69,21 @@ def shown(text: Any, quote: bool = True) -> str:
 
 
 def number_text_problem(text: Any) -> str | None:
-    """Why the text of a number is refused before it is converted, or None.
+    """Why a number is refused by its size before it is converted, or None.
 
-    Applies :data:`MAX_DIGITS` and :data:`MAX_EXPONENT` to a str (or the text
-    of a :class:`~decimal.Decimal`); other values pass.
+    The readers ask this first to name the value in their own words; it is
+    :func:`maxplus.scalar.size_problem`, the one bound (:data:`MAX_DIGITS`).
 
     Examples
     --------
     >>> number_text_problem("7/3") is None, number_text_problem("1e1000") is None
     (True, True)
     >>> number_text_problem("1e999999999")
-    "'1e999999999' has the exponent 999999999, above the limit of 1000"
+    "'1e999999999' has 1,000,000,000 digits; at most 4,300 are accepted"
     >>> print(number_text_problem("9" * 5000))  # doctest: +ELLIPSIS
-    '999...' (5000 characters) has 5000 digits, above the limit of 4300
+    '999...' (5,000 characters) has 5,000 digits; at most 4,300 are accepted
     """
-    if isinstance(text, Decimal):
-        text = str(text)
-    if not isinstance(text, str):
-        return None
-    digits = sum(c.isdigit() for c in text) if len(text) <= 4 * MAX_DIGITS else len(text)
-    if digits > MAX_DIGITS:
-        return f"{shown(text)} has {digits} digits, above the limit of {MAX_DIGITS}"
-    for e in _EXPONENT.findall(text):
-        if len(e) > 6 or int(e) > MAX_EXPONENT:
-            return (f"{shown(text)} has the exponent {shown(e, quote=False)}, above the limit "
-                    f"of {MAX_EXPONENT}")
-    return None
+    return size_problem(text)
 
 
 def count_problem(value: int, what: str = "a token count") -> str | None:
