@@ -42,6 +42,7 @@ References
 
 from __future__ import annotations
 
+import hashlib
 from functools import cmp_to_key
 from typing import Any, NamedTuple
 
@@ -89,6 +90,49 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     --------
     maxplus.cycle_ratio.max_cycle_ratio : validates, solves and certifies.
 
+    Notes
+    -----
+    **Termination.** Write ``χ`` for the per-node ratios and ``X`` for the
+    potentials of a value determination.
+
+    1. *Each step strictly improves.* A policy arc ``j -> i`` joins nodes of
+       equal ratio (``i`` reaches the circuit that ``j`` reaches). A ratio
+       step switches ``i`` to an in-arc whose tail has a strictly larger
+       ratio (the sweep likewise, from nodes it raised): backwards from any
+       node, the old ratios never decrease along the new policy, so a circuit
+       of the new policy switched no arc (around a circuit they cannot rise)
+       and is an old one; hence ``χ' >= χ`` everywhere, strictly at the
+       switched nodes. A bias step switches ``i`` to an in-arc of the same
+       ratio with ``X_j + w·T - W·t > X_i``. A new circuit made of such arcs
+       and tight policy arcs has, summing around it (the ``X`` cancel),
+       ``Σ(w·T - W·t) > 0``: a ratio strictly above ``W/T``, so ``χ`` rises.
+       Otherwise every circuit is an old one and keeps its root's potential
+       (:func:`_circuits`), and summing along the policy path from it gives
+       ``X' >= X``, strictly at the switched nodes.
+    2. *No policy comes back.* ``χ`` takes finitely many values and never
+       decreases, so it changes finitely often; and a policy fixes ``χ``, so
+       a policy of an earlier ``χ`` cannot recur. While ``χ`` stays the
+       same, no circuit is created (a created circuit raises ``χ``, step 1),
+       so the roots and their potentials stay fixed, ``X`` is a function of
+       the policy, and ``X`` rising strictly rules out a repeat. There are
+       finitely many policies: the iteration ends.
+    3. *Each value determination ends.* After ``k`` doubling rounds every
+       node lands ``2**k`` policy arcs upstream; once ``2**k`` exceeds the
+       height of the policy trees (below ``n``), the landing nodes are the
+       circuit nodes, which the landing map permutes, and the loop stops
+       (about ``log2 n`` rounds). In :func:`_circuits`, ``back`` maps every
+       circuit node to its predecessor on the circuit (a permutation): the
+       minimum propagated over ``bit_length(c)`` doublings covers each whole
+       circuit, so every circuit has one root, and pointer jumping doubles
+       each node's distance to its root per round until it reaches it.
+
+    The proof needs every comparison to be exact: all arithmetic is in
+    integers, int64 only below bounds computed from the data, Python ints
+    otherwise. The proof is also checked while running: a policy seen
+    before (a 128-bit digest of it) means a bug, not a hard graph; the int64
+    run then starts again in Python ints, and a repeat there raises
+    RuntimeError instead of looping.
+
     Examples
     --------
     Circuit 0 -> 1 -> 0 of ratio (5+3)/2 and a self-loop of ratio 3 on node 1:
@@ -102,13 +146,21 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     if w.dtype != object and t.dtype != object:
         try:
             return _howard(arcs)
-        except _LeavesInt64:
-            pass
-    return _howard(arcs.as_object())
+        except (_LeavesInt64, _Revisited):
+            pass  # the same iteration in Python ints, where nothing is packed or bounded
+    try:
+        return _howard(arcs.as_object())
+    except _Revisited:
+        raise RuntimeError("internal error: policy iteration revisited a policy "
+                           "(it would loop for ever); please report it") from None
 
 
 class _LeavesInt64(Exception):
     """A sum or product could leave what int64 arithmetic carries exactly."""
+
+
+class _Revisited(Exception):
+    """The iteration came back to a policy it had left: a bug, caught rather than looped on."""
 
 
 def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -265,6 +317,7 @@ def _howard(arcs: _InArcs) -> HowardSolution:
     prev: _Values | None = None
     check_all = True
     terms = _ArcTerms(arcs, bounds)
+    seen = {_digest(pol)}
     while True:
         cur = _value_determination(pol, arcs, prev, bounds)
         iterations += 1
@@ -287,49 +340,72 @@ def _howard(arcs: _InArcs) -> HowardSolution:
             step = _improve(pol, cur, None, arcs, terms)  # the last word checks every arc
         if step is None:
             return HowardSolution(*cur.arrays(), cur.X, arcs.order[pol], iterations)
+        digest = _digest(pol)
+        if digest in seen:  # impossible by the proof in howard_arrays: a bug
+            raise _Revisited
+        seen.add(digest)
         # After a ratio improvement, gains were not examined: check all arcs next.
         check_all = step == "ratio"
+
+
+def _digest(pol: np.ndarray) -> bytes:
+    """128 bits that tell policies apart (a collision: about 2**-128 per pair)."""
+    return hashlib.blake2b(pol.tobytes(), digest_size=16).digest()
 
 
 class _ArcTerms:
     """The arc terms ``w*T - W*t`` of the bias test, kept while one ratio holds everywhere.
 
-    Packed as ``key = term * 2**bits + rank``, where ``rank`` orders the in-arcs
-    of a node from the last (0) to the first: then ``(X[tail] * 2**bits + key)``
-    has its maximum over a node's in-arcs at the first arc of largest value,
-    and one segmented maximum finds both the best value and its arc.
+    Stored, when int64 allows, as packed keys ``term * 2**bits + rank``, where
+    ``rank`` orders the in-arcs of a node from the last (0) to the first: then
+    ``(X[tail] * 2**bits + key)`` has its maximum over a node's in-arcs at the
+    first arc of largest value, and one segmented maximum finds both the best
+    value and its arc. A key is not a term (it is ``2**bits`` times larger):
+    :meth:`keys` gives keys, :meth:`terms` always terms, so that no caller
+    can take one for the other (reading keys as terms made up gains, and the
+    iteration switched between two policies for ever: issue 21).
     """
 
     def __init__(self, arcs: _InArcs, bounds: _Bounds) -> None:
         self.arcs, self.bounds = arcs, bounds
         self.ratio: tuple | None = None
-        self.terms: np.ndarray | None = None
+        self.stored: np.ndarray | None = None
+        self.packed = False
         self.arc_order: np.ndarray | None = None
         self.term_max = 0
         degrees = np.diff(arcs.starts)
         self.degree_max = int(degrees.max()) if len(degrees) else 1
         self.bits = (self.degree_max - 1).bit_length()
 
-    def of(self, W: Any, T: Any) -> np.ndarray:
-        """Terms (packed when ``packed`` is True after the call)."""
-        if self.ratio != (W, T):
-            arcs = self.arcs
-            self.ratio = (W, T)
-            self.term_max = self.bounds.w_max * abs(int(T)) + abs(int(W)) * self.bounds.t_max
-            self.packed = not self.bounds.wide and self.term_max << (self.bits + 1) < INT64_SAFE
-            self.terms = arcs.s_w * T
-            self.terms -= W * arcs.s_t
-            if self.packed:
-                if self.arc_order is None:  # each arc among its head's in-arcs, last first
-                    self.arc_order = arcs.starts[arcs.s_dst] - np.arange(len(arcs.s_dst))
-                    self.arc_order += self.degree_max - 1
-                self.terms <<= self.bits
-                self.terms += self.arc_order
-        return self.terms
+    def _store(self, W: Any, T: Any) -> None:
+        if self.ratio == (W, T):
+            return
+        arcs = self.arcs
+        self.ratio = (W, T)
+        self.term_max = self.bounds.w_max * abs(int(T)) + abs(int(W)) * self.bounds.t_max
+        self.packed = not self.bounds.wide and self.term_max << (self.bits + 1) < INT64_SAFE
+        self.stored = arcs.s_w * T
+        self.stored -= W * arcs.s_t
+        if self.packed:
+            if self.arc_order is None:  # each arc among its head's in-arcs, last first
+                self.arc_order = arcs.starts[arcs.s_dst] - np.arange(len(arcs.s_dst))
+                self.arc_order += self.degree_max - 1
+            self.stored <<= self.bits
+            self.stored += self.arc_order
 
-    def fits(self, x_max: int) -> bool:
-        """Whether packed keys of potentials up to ``x_max`` stay below 2**62."""
-        return self.packed and (self.term_max + x_max) << (self.bits + 1) < INT64_SAFE
+    def keys(self, W: Any, T: Any, x_max: int) -> np.ndarray | None:
+        """Packed keys of all arcs, or None unless keys of potentials up to ``x_max`` fit int64."""
+        self._store(W, T)
+        if self.packed and (self.term_max + x_max) << (self.bits + 1) < INT64_SAFE:
+            return self.stored
+        return None
+
+    def terms(self, W: Any, T: Any, cand: np.ndarray | None) -> np.ndarray:
+        """The terms of the arcs ``cand`` (None: all arcs), never to be written to."""
+        self._store(W, T)
+        stored = self.stored if cand is None else self.stored[cand]
+        # An arithmetic shift floors: (term * 2**bits + rank) >> bits == term, signs included.
+        return stored >> self.bits if self.packed else stored
 
 
 def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InArcs,
@@ -355,22 +431,18 @@ def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InAr
         value = X[cs] + arcs.s_w[sub] * T[cd] - W[cd] * arcs.s_t[sub]
         gain = np.flatnonzero((rank_src == rank_dst) & (value > X[cd]))
     else:
-        term = terms.of(W, T)
-        if terms.fits(cur.x_max):
-            if cand is None:
-                # One segmented maximum over all arcs: best value and its arc.
-                bits = terms.bits
-                best = np.maximum.reduceat((X << bits)[s_src] + term, arcs.starts[:-1])
-                nodes = np.flatnonzero((best >> bits) > X)
-                if len(nodes) == 0:
-                    return None
-                offset = (terms.degree_max - 1) - (best[nodes] & ((1 << bits) - 1))
-                pol[nodes] = arcs.starts[nodes] + offset
-                return "bias"
-            term = term[cand] >> terms.bits
-        elif cand is not None:
-            term = term[cand]
-        value = X[cs] + term
+        keys = terms.keys(W, T, cur.x_max) if cand is None else None
+        if keys is not None:
+            # One segmented maximum over all arcs: best value and its arc.
+            bits = terms.bits
+            best = np.maximum.reduceat((X << bits)[s_src] + keys, arcs.starts[:-1])
+            nodes = np.flatnonzero((best >> bits) > X)
+            if len(nodes) == 0:
+                return None
+            offset = (terms.degree_max - 1) - (best[nodes] & ((1 << bits) - 1))
+            pol[nodes] = arcs.starts[nodes] + offset
+            return "bias"
+        value = X[cs] + terms.terms(W, T, cand)
         gain = np.flatnonzero(value > X[cd])
     if len(gain) == 0:
         return None
