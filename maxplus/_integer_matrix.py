@@ -18,6 +18,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ._arrays import INT64_SAFE
+from ._params import unmasked
 from .scalar import common_denominator, exact_matrix, is_eps
 
 __all__ = ["IntegerMatrix", "from_exact", "integer_matrix", "plain_int_rows", "rows_of"]
@@ -80,6 +81,7 @@ def integer_matrix(A: Any, name: str = "A") -> IntegerMatrix:
     >>> m.values.tolist(), m.finite.tolist(), m.scale
     ([[1, 0], [2, 0]], [[True, False], [True, True]], 2)
     """
+    A = unmasked(A, name)  # the fast path would read what lies under a mask
     if isinstance(A, np.ndarray) and A.ndim == 2 and A.size and A.shape[0] == A.shape[1]:
         fast = _from_array(A)
         if fast is not None:

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from ._params import unmasked
 from .errors import MaxPlusValueError
 from .scalar import (
     EPS,
@@ -147,6 +148,7 @@ def operand(value: Any, name: str, square: bool = False) -> tuple[Any, int]:
     >>> operand([1, None], "x")[0].tolist()
     [Fraction(1, 1), -inf]
     """
+    value = unmasked(value, name)
     rank = rank_of(value)
     if rank == 0:
         item = value.item() if isinstance(value, np.ndarray) else value
@@ -169,6 +171,7 @@ def square_matrix(value: Any, name: str = "A") -> np.ndarray:
     >>> square_matrix([[1]]).tolist()
     [[Fraction(1, 1)]]
     """
+    value = unmasked(value, name)
     if rank_of(value) != 2:
         raise MaxPlusValueError("expected a square matrix (list of rows)", name)
     return exact_matrix(value, name, square=True)

@@ -52,6 +52,7 @@ from ._arrays import (
     gcd_arrays,
     int_array,
 )
+from ._params import unmasked, whole_number
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
 from .policy_iteration import howard_arrays
 from .scalar import exact
@@ -202,12 +203,17 @@ class CycleRatioResult:
         Parameters
         ----------
         node : int
-            A node with a cycle time.
+            A node with a cycle time, in ``range(n_nodes)``.
 
         Returns
         -------
         numpy.ndarray of int
             Arc indices of the circuit, in forward order.
+
+        Raises
+        ------
+        MaxPlusValueError
+            ``node`` is not a whole number in range, or has no cycle time.
 
         Examples
         --------
@@ -215,7 +221,13 @@ class CycleRatioResult:
         >>> r.policy_circuit(2).tolist(), r.cycle_times[2]
         ([1, 0], Fraction(4, 1))
         """
-        return _policy_circuit(node, self.certificate.policy, self.src)
+        k = whole_number(node, "node")
+        if k >= self.n_nodes:
+            raise MaxPlusValueError(f"expected a node below n_nodes={self.n_nodes}, got {k}",
+                                    "node")
+        if self.certificate.policy[k] < 0:
+            raise MaxPlusValueError(f"node {k} has no cycle time: no circuit reaches it", "node")
+        return _policy_circuit(k, self.certificate.policy, self.src)
 
     @property
     def circuit_nodes(self) -> list[int]:
@@ -269,7 +281,15 @@ def max_cycle_ratio(
     tokens : array_like of int, optional
         Non-negative token counts (default 1 on every arc: the maximum cycle mean).
     n_nodes : int, optional
-        Number of nodes (default ``max(src, dst) + 1``).
+        Number of nodes (default ``max(src, dst) + 1``), at most
+        ``2 * len(src) + MAX_SPARE_NODES`` (2**20): every result has one entry
+        per node, so nodes are not relabelled but bounded by what the arcs can
+        touch, which keeps memory proportional to the input. A graph whose
+        node numbers are sparse (say up to 10**12) is to be numbered from 0
+        first (``numpy.unique(..., return_inverse=True)`` does it).
+
+    Masked arrays are accepted when nothing is masked. Every bad argument
+    raises :class:`~maxplus.errors.MaxPlusValueError` naming it.
 
     Returns
     -------
@@ -280,8 +300,9 @@ def max_cycle_ratio(
     Raises
     ------
     MaxPlusValueError
-        Mismatched array lengths, a node index out of range, a weight that is
-        not a finite number, a negative or fractional token count.
+        Mismatched array lengths or shapes, a masked entry, a node index out of
+        range or beyond the bound above, ``n_nodes`` not a whole number, a weight
+        that is not a finite number, a negative or fractional token count.
     ZeroTokenCircuitError
         A circuit whose arcs carry no token (its ratio is infinite); the
         exception names the circuit's arcs and nodes.
@@ -333,37 +354,64 @@ def max_cycle_ratio(
 # --------------------------------------------------------------------------- validation
 
 
-def _validate_arcs(src: Any, dst: Any, n_nodes: int | None) -> tuple[np.ndarray, np.ndarray, int]:
+MAX_SPARE_NODES = 2**20
+"""Nodes that no arc touches, allowed beyond the two per arc (see :func:`max_cycle_ratio`)."""
+
+
+def _validate_arcs(src: Any, dst: Any, n_nodes: Any) -> tuple[np.ndarray, np.ndarray, int]:
     src_a = _index_array(src, "src")
     dst_a = _index_array(dst, "dst")
     if len(src_a) != len(dst_a):
         raise MaxPlusValueError(
             f"src has {len(src_a)} arcs but dst has {len(dst_a)}", "dst"
         )
+    # Every result array has one entry per node: the node count is bounded by
+    # what the arcs can touch, so that memory stays proportional to the input.
+    limit = 2 * len(src_a) + MAX_SPARE_NODES
+    bound = (f"at most {limit} nodes for {len(src_a)} arcs (2 per arc + {MAX_SPARE_NODES}); "
+             "number the nodes the arcs use from 0")
     top = int(max(src_a.max(initial=-1), dst_a.max(initial=-1)))
+    name = "src" if int(src_a.max(initial=-1)) == top else "dst"
+    where = f"{name}[{int(np.argmax(src_a if name == 'src' else dst_a))}]" if top >= 0 else ""
     if n_nodes is None:
+        if top >= limit:
+            raise MaxPlusValueError(f"node {top} is out of range: {bound}", where)
         n = top + 1
     else:
-        n = int(n_nodes)
-        if n < 0:
-            raise MaxPlusValueError(f"expected a non-negative node count, got {n_nodes}", "n_nodes")
+        n = whole_number(n_nodes, "n_nodes")
+        if n > limit:
+            raise MaxPlusValueError(f"n_nodes={n} is too large: {bound}", "n_nodes")
         if top >= n:
-            name = "src" if int(src_a.max(initial=-1)) == top else "dst"
-            where = int(np.flatnonzero((src_a if name == "src" else dst_a) == top)[0])
-            raise MaxPlusValueError(
-                f"node {top} is out of range for n_nodes={n}", f"{name}[{where}]"
-            )
+            raise MaxPlusValueError(f"node {top} is out of range for n_nodes={n}", where)
     # int32 node indices (when they fit) halve the memory every pass and every
     # gather over the arcs moves; contiguous copies read faster than strided views.
     index = np.int32 if max(n, len(src_a)) < 2**31 else np.int64
     return (np.ascontiguousarray(src_a, dtype=index), np.ascontiguousarray(dst_a, dtype=index), n)
 
 
-def _index_array(values: Any, name: str) -> np.ndarray:
-    arr = np.asarray(values)
+def _vector(values: Any, name: str) -> np.ndarray:
+    """A 1-D array of the values, as given: no masked entry, no int rounded to a float."""
+    values = unmasked(values, name)
+    if isinstance(values, np.ndarray):
+        arr = values
+    else:
+        try:
+            arr = np.asarray(values)
+        except ValueError:  # ragged nesting
+            raise MaxPlusValueError("expected a 1-D array (one value per arc), got nested "
+                                    "sequences of different lengths", name) from None
+        if arr.dtype.kind == "f":
+            # numpy 2 turns Python ints past uint64 into floats (2**64 + 1 becomes
+            # 2.0**64): keep the objects, exact, and read each one.
+            arr = np.asarray(values, dtype=object)
     if arr.ndim != 1:
-        raise MaxPlusValueError(
-            f"expected a 1-D array of node indices, got shape {arr.shape}", name)
+        raise MaxPlusValueError(f"expected a 1-D array (one value per arc), got shape "
+                                f"{arr.shape}", name)
+    return arr
+
+
+def _index_array(values: Any, name: str) -> np.ndarray:
+    arr = _vector(values, name)
     if arr.dtype.kind in "iu":
         out = arr
         if arr.dtype.kind == "u" and len(arr) and int(arr.max()) > np.iinfo(np.int64).max:
@@ -375,6 +423,8 @@ def _index_array(values: Any, name: str) -> np.ndarray:
             integral = isinstance(v, int) or (isinstance(v, float) and v.is_integer())
             if isinstance(v, bool) or not integral:
                 raise MaxPlusValueError(f"expected a node index, got {v!r}", f"{name}[{k}]")
+            if v >= 2**63:  # beyond any n_nodes allowed, and beyond int64
+                raise MaxPlusValueError(f"node index {int(v)} is too large", f"{name}[{k}]")
             out[k] = int(v)
     if len(out) and out.min() < 0:
         k = int(np.flatnonzero(out < 0)[0])
@@ -384,8 +434,8 @@ def _index_array(values: Any, name: str) -> np.ndarray:
 
 def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
     """Scale exact weights to integers; returns (int64 or object array, scale)."""
-    arr = np.asarray(weight) if not isinstance(weight, np.ndarray) else weight
-    if arr.ndim != 1 or len(arr) != m:
+    arr = _vector(weight, "weight")
+    if len(arr) != m:
         raise MaxPlusValueError(
             f"expected {m} weights (one per arc), got shape {np.shape(arr)}", "weight"
         )
@@ -415,8 +465,8 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
 def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
     if tokens is None:
         return np.ones(m, dtype=np.int64)
-    arr = np.asarray(tokens)
-    if arr.ndim != 1 or len(arr) != m:
+    arr = _vector(tokens, "tokens")
+    if len(arr) != m:
         raise MaxPlusValueError(
             f"expected {m} token counts (one per arc), got shape {np.shape(arr)}", "tokens"
         )

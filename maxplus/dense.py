@@ -74,7 +74,7 @@ def identity(n: int) -> np.ndarray:
     Raises
     ------
     MaxPlusValueError
-        ``n`` is not a positive integer.
+        ``n`` is not a positive integer, or exceeds ``MAX_IDENTITY_SIZE`` (8192).
 
     See Also
     --------
@@ -93,7 +93,14 @@ def identity(n: int) -> np.ndarray:
     """
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise MaxPlusValueError(f"expected a positive integer size, got {n!r}", "n")
+    if n > MAX_IDENTITY_SIZE:  # n*n Python objects: 10**12 would ask numpy for 7 TiB
+        raise MaxPlusValueError(f"expected a size of at most {MAX_IDENTITY_SIZE} (a dense "
+                                f"matrix of n*n exact entries), got {n}", "n")
     return as_exact(identity_scaled(int(n)), 1)
+
+
+MAX_IDENTITY_SIZE = 2**13
+"""The largest :func:`identity`: 2**26 entries, about a minute and gigabytes of Fractions."""
 
 
 def oplus(A: Any, B: Any) -> Any:

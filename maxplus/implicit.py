@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ._arrays import find_circuit
+from ._params import unmasked
 from ._scaled import as_exact, product_scaled, rank_of, scale_together
 from .dense import otimes, star
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
@@ -93,14 +94,15 @@ def _refuse_circuit(A0: np.ndarray) -> None:
 
 
 def _validate(matrices: Sequence[Any], B: Any) -> tuple[list[np.ndarray], np.ndarray | None]:
-    mats = [exact_matrix(M, f"A{lag}", square=True) for lag, M in enumerate(matrices)]
+    mats = [exact_matrix(unmasked(M, f"A{lag}"), f"A{lag}", square=True)
+            for lag, M in enumerate(matrices)]
     n = len(mats[0])
     for lag, M in enumerate(mats):
         if len(M) != n:
             raise MaxPlusValueError(f"expected {n}x{n} like A0, got {len(M)}x{len(M)}", f"A{lag}")
     inputs = None
     if B is not None:
-        inputs = exact_matrix(B, "B", square=False)
+        inputs = exact_matrix(unmasked(B, "B"), "B", square=False)
         if len(inputs) != n:
             raise MaxPlusValueError(f"expected {n} rows like A0, got {len(inputs)}", "B")
     _refuse_circuit(mats[0])
@@ -173,9 +175,10 @@ def _initial_states(initial: Any, n: int, p: int) -> list[list]:
     if initial is None:
         return [[EPS] * n for _ in range(p)]
     if rank_of(initial) == 1:
-        given = [exact_vector(initial, "initial")]
+        given = [exact_vector(unmasked(initial, "initial"), "initial")]
     elif rank_of(initial) == 2:
-        given = [exact_vector(v, f"initial[{k}]") for k, v in enumerate(initial)]
+        given = [exact_vector(unmasked(v, f"initial[{k}]"), f"initial[{k}]")
+                 for k, v in enumerate(initial)]
     else:
         raise MaxPlusValueError("expected x(0) or a list [x(0), x(-1), ...]", "initial")
     if len(given) > p:
@@ -254,7 +257,7 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
             raise MaxPlusValueError("inputs need an input matrix B", "B")
         m = system.B.shape[1]
         if rank_of(inputs) == 1:
-            row = exact_vector(inputs, "inputs")
+            row = exact_vector(unmasked(inputs, "inputs"), "inputs")
             if len(row) != m:
                 raise MaxPlusValueError(f"expected {m} inputs like the columns of B, "
                                         f"got {len(row)}", "inputs")
@@ -264,7 +267,7 @@ def simulate(A0: Any, A1: Any, *higher: Any, B: Any = None, initial: Any = None,
             for k in range(steps):
                 u_rows[k] = row
         else:
-            u_rows = exact_matrix(inputs, "inputs", square=False)
+            u_rows = exact_matrix(unmasked(inputs, "inputs"), "inputs", square=False)
             if u_rows.shape[1] != m:
                 raise MaxPlusValueError(f"expected {m} columns like B, got {u_rows.shape[1]}",
                                         "inputs")

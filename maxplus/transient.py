@@ -37,6 +37,7 @@ from ._graphs import (
 )
 from ._integer_matrix import from_exact
 from ._max_mean import cycle_times
+from ._params import unmasked, whole_number
 from ._scaled import identity_scaled, product_scaled, scale_together, scaled, square_matrix, times
 from .errors import MaxPlusError, MaxPlusValueError, ReducibleMatrixError
 from .scalar import EPS, exact_vector
@@ -225,6 +226,7 @@ def transient(A: Any, max_power: int = 10_000) -> int:
     >>> transient([[3, 7], [2, 4]]), transient([[10, 0], [0, 9]])
     (2, 20)
     """
+    max_power = whole_number(max_power, "max_power")
     M = square_matrix(A)
     graph = critical_closure(M)[0]
     n = len(M)
@@ -316,9 +318,10 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
     >>> trajectory_transient([[3, 7], [2, 4]], [0, 0])
     TrajectoryPeriodicity(transient=1, period=2, rate=Fraction(9, 2))
     """
+    max_steps = whole_number(max_steps, "max_steps")
     M = square_matrix(A)
     n = len(M)
-    x = exact_vector(x0, "x0")
+    x = exact_vector(unmasked(x0, "x0"), "x0")
     if len(x) != n:
         raise MaxPlusValueError(f"expected {n} entries to match A, got {len(x)}", "x0")
     support = np.array([v != EPS for v in x], dtype=bool)
