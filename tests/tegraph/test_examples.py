@@ -36,7 +36,8 @@ ALL_EXAMPLES = [
     "overrun_in_step.yaml",
     "threads.yaml",
     "ring_two_tokens.yaml",
-    "autoware_subset.yaml",
+    "lidar_fusion_two_clocks.yaml",
+    "autoware_reference_system.yaml",
 ]
 
 
@@ -469,3 +470,115 @@ def test_overrun_daters_match_report_for_every_clocked_example():
             tick = x[f"{task.clock}.tick"]
             hits = [k for k in range(2, n + 1) if last[k - 2] > tick[k - 1]]
             assert r.tasks[t].overrun_at == (hits[0] if hits else None), (name, t)
+
+
+# ------------------------------------------- the Autoware reference system
+
+# From ros-realtime/reference-system at de8f3bc0 (the file's header cites the paths):
+# autoware_system_builder.hpp builds 6 sensors, 9 transforms, 5 fusions, 1 cyclic node,
+# 1 intersection node (two callbacks, two tasks here) and 2 command nodes: 25 tasks;
+# its subscriptions number 9 + 5*2 + 6 + 2 + 2 = 29 links, the cyclic node's 6 ASYN/ASYN.
+# timing/default.hpp, struct Default: the clock periods below, in ms.
+AUTOWARE = "autoware_reference_system.yaml"
+AUTOWARE_CLOCKS = {"FrontLidarDriver": 100, "RearLidarDriver": 100, "PointCloudMap": 120,
+                   "Visualizer": 60, "Lanelet2Map": 100, "EuclideanClusterSettings": 25,
+                   "BehaviorPlanner": 100}
+W = F("0.22837")  # README: number_crunch_limit 4096 runs 0.22837 ms on its i7
+
+
+def test_autoware_reference_system_is_the_source_graph():
+    sk = _load(AUTOWARE)
+    assert len(sk.tasks) == 25
+    assert {t: sk.clocks[task.clock].period for t, task in sk.tasks.items()
+            if task.clock is not None} == AUTOWARE_CLOCKS
+    protocols = [link.protocol.value for link in sk.links]
+    assert len(protocols) == 29 and protocols.count("ASYN/ASYN") == 6
+    assert all(link.reader[0] == "BehaviorPlanner" for link in sk.links
+               if link.protocol.value == "ASYN/ASYN")
+    # the sensors and the command nodes crunch nothing; every other callback crunches 4096
+    idle = {*AUTOWARE_CLOCKS} - {"BehaviorPlanner"} | {"VehicleDBWSystem", "IntersectionOutput"}
+    assert {t: task.duration for t, task in sk.tasks.items()} \
+        == {t: (0 if t in idle else W) for t in sk.tasks}
+
+
+def test_autoware_reference_system():
+    # Hand derivation (the comment of the example): live (every ASYN/SYN link goes from a
+    # lower rank to a higher one); three groups: the lidar and map front end (5 clocks),
+    # the cluster settings (25 ms), the behavior planner's (100 ms). In the front end
+    # each task runs at the slowest clock upstream: 100 on the lidar path, 120 from
+    # PointCloudMap on; three ASYN/SYN places join a faster writer to a 120 ms reader
+    # (messages-overwritten), so that group has no period. Groups 1 and 2 have periods
+    # 25 and 100 from k = 1; nothing overruns; slack = period - duration.
+    d = report_dict(AUTOWARE)
+    r = _report(AUTOWARE)
+    assert d["live"] is True and d["consistent"] is False
+    assert d["deadlocks"] == [] and d["reorder"] is None
+    front = ["FrontLidarDriver", "RearLidarDriver", "PointCloudMap", "Visualizer",
+             "Lanelet2Map", "PointsTransformerFront", "PointsTransformerRear",
+             "VoxelGridDownsampler", "PointCloudMapLoader", "RayGroundFilter",
+             "ObjectCollisionEstimator", "ParkingPlanner", "LanePlanner", "PointCloudFusion",
+             "NDTLocalizer", "Lanelet2GlobalPlanner", "Lanelet2MapLoader",
+             "EuclideanClusterDetector"]
+    settings = ["EuclideanClusterSettings", "EuclideanIntersection", "IntersectionOutput"]
+    behavior = ["MPCController", "VehicleInterface", "BehaviorPlanner", "VehicleDBWSystem"]
+    assert [g["tasks"] for g in d["groups"]] == [front, settings, behavior]
+    assert [sorted(g["clocks"]) for g in d["groups"]] == [
+        sorted(f"{t}.clock" for t in ("FrontLidarDriver", "RearLidarDriver", "PointCloudMap",
+                                      "Visualizer", "Lanelet2Map")),
+        ["EuclideanClusterSettings.clock"], ["BehaviorPlanner.clock"]]
+    assert [(g.period, g.transient) for g in r.groups] == [(None, None), (25, (1, 1)),
+                                                            (100, (1, 1))]
+    at_120 = {"PointCloudMap", "PointCloudMapLoader", "NDTLocalizer", "Lanelet2GlobalPlanner",
+              "Lanelet2MapLoader", "ParkingPlanner", "LanePlanner"}
+    hand_period = {t: (120 if t in at_120 else 100) for t in front}
+    hand_period |= {"Visualizer": 60} | {t: 25 for t in settings} | {t: 100 for t in behavior}
+    assert {t: r.tasks[t].period for t in r.tasks} == hand_period
+    assert all(r.tasks[t].overrun_at is None for t in r.tasks)
+    assert all(r.tasks[t].slack is None for t in front)
+    assert {t: r.tasks[t].slack for t in settings + behavior} == {
+        "EuclideanClusterSettings": 25, "EuclideanIntersection": 25 - W,
+        "IntersectionOutput": 25, "MPCController": 100 - W, "VehicleInterface": 100 - W,
+        "BehaviorPlanner": 100 - W, "VehicleDBWSystem": 100}
+    assert 25 - W == F(2477163, 100000) and 100 - W == F(9977163, 100000)
+    assert not any(r.tasks[t].critical for t in settings + behavior)
+    assert sorted((u["from"], u["to"], u["kind"]) for u in d["unbounded_places"]) == sorted([
+        ("VoxelGridDownsampler.write:out", "NDTLocalizer.read:VoxelGridDownsampler",
+         "messages-overwritten"),
+        ("Visualizer.write:out", "Lanelet2GlobalPlanner.read:Visualizer",
+         "messages-overwritten"),
+        ("Lanelet2Map.write:out", "Lanelet2MapLoader.read:Lanelet2Map",
+         "messages-overwritten")])
+    assert d["invariants"]["count"] == 7 + 25  # clock self-loops + chains
+
+
+def test_autoware_reference_system_daters():
+    x = daters(AUTOWARE, 2)
+    hand = {  # the comment's daters of groups 1 and 2, k = 1, 2
+        "EuclideanClusterSettings.clock.tick": [0, 25],
+        "EuclideanIntersection.read:EuclideanClusterSettings": [0, 25],
+        "EuclideanIntersection.write:out": [W, 25 + W],
+        "IntersectionOutput.compute": [W, 25 + W],
+        "BehaviorPlanner.compute": [0, 100], "BehaviorPlanner.write:out": [W, 100 + W],
+        "MPCController.write:out": [2 * W, 100 + 2 * W],
+        "VehicleInterface.read:BehaviorPlanner": [2 * W, 100 + 2 * W],
+        "VehicleInterface.write:out": [3 * W, 100 + 3 * W],
+        "VehicleDBWSystem.compute": [3 * W, 100 + 3 * W],
+    }
+    for event, times in hand.items():
+        assert x[event] == [F(t) for t in times], event
+
+
+def test_autoware_verdicts_hold_for_the_readmes_10_ms():
+    """The header's claim: with every crunching callback at 10 ms (the README's words)
+    instead of 0.22837, the groups, periods and liveness are the same (every chain ratio,
+    10, stays below the fastest clock of its group, 25)."""
+    data = _load(AUTOWARE).to_dict()
+    for task in data["tasks"].values():
+        if F(str(task["duration"])) == W:
+            task["duration"] = 10
+    r = analyze(Skeleton.from_dict(data))
+    base = _report(AUTOWARE)
+    assert r.live and [(g.tasks, g.period) for g in r.groups] \
+        == [(g.tasks, g.period) for g in base.groups]
+    assert {t: r.tasks[t].period for t in r.tasks} == {t: base.tasks[t].period for t in r.tasks}
+    assert all(r.tasks[t].overrun_at is None for t in r.tasks)

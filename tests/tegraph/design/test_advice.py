@@ -97,10 +97,10 @@ def with_proposed_priorities(sk: Skeleton) -> Skeleton:
     return Skeleton.from_dict(data)
 
 
-# ------------------------------------------------------------------ the Autoware subset
+# ------------------------------------------------------ the two-lidar fusion
 
-def test_autoware_subset_advice_does_not_go_round_in_a_circle():
-    # Hand derivation (the comment of examples/autoware_subset.yaml): PointCloudFusion
+def test_lidar_fusion_advice_does_not_go_round_in_a_circle():
+    # Hand derivation (the comment of examples/lidar_fusion_two_clocks.yaml): PointCloudFusion
     # reads front and rear ASYN/SYN (Rule 1 error), and the one group holds two clocks
     # (Rule 3 error). Cutting the rear input (ASYN/ASYN), the old advice, leaves
     # {RearLidarDriver, PointsTransformerRear} a group of period 100 beside the fusion's
@@ -113,7 +113,7 @@ def test_autoware_subset_advice_does_not_go_round_in_a_circle():
     # (FrontLidarDriver.clock); no ASYN/ASYN, no SYN/SYN link: nothing left for Rules 1-3.
     # Rule 3's own advice is the same change, reached from the other end (the rear
     # driver loses its clock and pushes: it posts SYN/ASYN, and so does its reader).
-    sk = load_skeleton(EXAMPLES / "autoware_subset.yaml")
+    sk = load_skeleton(EXAMPLES / "lidar_fusion_two_clocks.yaml")
     findings = check_rules(sk)
     assert [(f.rule, f.severity) for f in findings] == [(1, "error"), (3, "error"), (4, "info")]
     pull = Change((("RearLidarDriver:points", "PointsTransformerRear:raw", "SYN/ASYN"),
@@ -141,7 +141,7 @@ def test_rule2_does_not_give_the_reader_a_second_synchronization():
     # PointCloudFusion a second synchronization (Rule 1, and two clocks, Rule 3), so the
     # advice synchronizes the writer instead: PointsTransformerRear posts SYN/ASYN and
     # pulls in turn (its input from RearLidarDriver SYN/ASYN, the rear clock goes).
-    sk = apply_change(load_skeleton(EXAMPLES / "autoware_subset.yaml"),
+    sk = apply_change(load_skeleton(EXAMPLES / "lidar_fusion_two_clocks.yaml"),
                       Change((("PointsTransformerRear:points", "PointCloudFusion:rear",
                                "ASYN/ASYN"),)))
     (rule2,) = [f for f in check_rules(sk) if f.rule == 2]
@@ -156,7 +156,7 @@ def test_fusion_of_two_rates_is_cut_not_pulled():
     # With the rear lidar at 50 ms, the two branches have different rates: cutting the
     # rear input (ASYN/ASYN) leaves groups of 100 and 50 ms, which Rule 2 accepts, and is
     # preferred to pulling (which would make the rear lidar run at the fusion's rate).
-    data = load_skeleton(EXAMPLES / "autoware_subset.yaml").to_dict()
+    data = load_skeleton(EXAMPLES / "lidar_fusion_two_clocks.yaml").to_dict()
     data["tasks"]["RearLidarDriver"]["period"] = 50
     (rule1,) = [f for f in check_rules(Skeleton.from_dict(data)) if f.rule == 1]
     assert rule1.change == Change((("PointsTransformerRear:points", "PointCloudFusion:rear",
@@ -177,15 +177,15 @@ def test_the_examples_end_without_findings():
     # Not vacuous: every example with findings of Rules 1-3 loses them all by following
     # the advice. By hand: Figure 12 drops MT2's clock (MT2 keeps its input y, the group
     # keeps rtc: Rules 1 and 3 at once); Figure 7a cuts MT2:b -> MT1:b and gives MT1 a
-    # clock (every task then has one synchronization, the group one clock); the Autoware
-    # subset pulls its rear branch (test above): one step each.
+    # clock (every task then has one synchronization, the group one clock); the two-lidar
+    # fusion pulls its rear branch (test above): one step each.
     ended = {}
     for path in sorted(EXAMPLES.glob("*.yaml")):
         findings, steps = follow_advice(load_skeleton(path).to_dict())
         ended[path.stem] = (steps, [(f.rule, f.severity) for f in findings if f.rule < 4])
     assert all(left == [] for _, left in ended.values()), ended
     assert [ended[n][0] for n in ("fig12_double_sync", "fig7a_circular_wait",
-                                  "autoware_subset")] == [1, 1, 1]
+                                  "lidar_fusion_two_clocks")] == [1, 1, 1]
     assert sum(steps for steps, _ in ended.values()) >= 10
 
 
