@@ -264,10 +264,11 @@ def fix(
     force: bool = typer.Option(False, "--force", help="Replace an existing output file (the "
                                "input file too, when -o names it; its comments are lost)."),
 ) -> None:
-    """Reorder ports so that the skeleton is live, keeping every declared order that is fine.
+    """Reorder ports (or threads, when no port order helps) so that the skeleton is live,
+    keeping every declared order that is fine.
 
-    Exit status: 0 live (or already live); 1 no port order helps (nothing is
-    written); 2 the input or the output file was refused; 130 interrupted (Ctrl-C).
+    Exit status: 0 live (or already live); 1 no port or thread order helps (nothing
+    is written); 2 the input or the output file was refused; 130 interrupted (Ctrl-C).
     """
     from .design.fix import fix_ports
     from .io import dump_skeleton, load_skeleton

@@ -55,7 +55,7 @@ from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import minimal_semiflows
 from .liveness import token_free_circuits
 from .regime_bounds import autonomous_from
-from .reorder import reorder_ports
+from .reorder import reorder_ports, thread_advice
 from .results import Deadlock, GroupReport, InvariantCheck, Report, TaskReport, UnboundedPlace
 from .slack import shortest_circuits_through
 
@@ -218,9 +218,10 @@ def _reorder(skeleton: Skeleton, deadlocks: list[Deadlock]) -> dict:
             f"{t} inputs {flow_list(o['inputs'])} outputs {flow_list(o['outputs'])}"
             for t, o in result.orders.items())
     else:
-        advice = ("no port order helps: make one of these links asynchronous "
-                  "(ASYN/ASYN), or break the circular wait with a clock: "
-                  + "; ".join(result.links or ["(the circuit passes only through threads)"]))
+        advice = thread_advice(skeleton) or (
+            "no port order helps: make one of these links asynchronous "
+            "(ASYN/ASYN), or break the circular wait with a clock: "
+            + "; ".join(result.links or ["(the circuit passes only through threads)"]))
     for d in deadlocks:
         d.advice = advice
     return {"possible": result.possible, "orders": result.orders,

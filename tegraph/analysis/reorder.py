@@ -35,9 +35,13 @@ from __future__ import annotations
 import heapq
 from dataclasses import dataclass, field, replace
 
+from ..model.build import build_teg
+from ..model.elements import flow_list
 from ..model.skeleton import Protocol, Skeleton
+from .liveness import token_free_circuits
 
-__all__ = ["PrecedenceGraph", "ReorderResult", "reorder_ports"]
+__all__ = ["PrecedenceGraph", "ReorderResult", "ThreadRepair", "reorder_ports",
+           "reorder_threads", "thread_advice"]
 
 
 @dataclass
@@ -65,6 +69,125 @@ class ReorderResult:
     skeleton: Skeleton | None = None
     circuit: list[str] = field(default_factory=list)
     links: list[str] = field(default_factory=list)
+
+
+@dataclass
+class ThreadRepair:
+    """Thread orders that make a skeleton live when no port order does.
+
+    Attributes
+    ----------
+    threads : dict
+        ``index -> new order`` of each thread that changes (its index in the
+        file's ``threads``).
+    orders : dict
+        Port orders that must change as well, as :attr:`ReorderResult.orders`.
+    skeleton : Skeleton
+        The skeleton with those threads and ports reordered (live).
+    """
+
+    threads: dict[int, tuple[str, ...]]
+    orders: dict[str, dict[str, list[str]]]
+    skeleton: Skeleton
+
+
+def reorder_threads(skeleton: Skeleton) -> ThreadRepair | None:
+    """Orders of the threads (and then of ports) that make ``skeleton`` live, if found.
+
+    A thread runs its tasks one after the other, so a thread ``[EST, IMU]`` in
+    which EST waits for IMU's message deadlocks whatever the port orders; written
+    ``[IMU, EST]`` it does not. Take the precedence graph without the threads
+    (:class:`PrecedenceGraph`): task A must come before task B in a thread when
+    some event of A reaches some event of B there. The threads are ordered one
+    at a time (in the order of their sorted task names, so that the file's order
+    does not matter), each by Kahn's algorithm on that relation, declared
+    positions first, and its obligations are added before the next; the ports
+    are then ordered as :func:`reorder_ports` does.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+
+    Returns
+    -------
+    ThreadRepair or None
+        None when the skeleton has no thread, when no thread changes, or when
+        this search (greedy, one thread at a time: a search over every
+        combination of thread orders could find one where it does not) finds
+        no live order.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "IMU": {"duration": 1, "period": 10, "outputs": ["m"]},
+    ...     "EST": {"duration": 2, "inputs": ["m"]}},
+    ...   "links": [{"from": "IMU:m", "to": "EST:m", "protocol": "ASYN/SYN"}],
+    ...   "threads": [["EST", "IMU"]]})
+    >>> reorder_threads(sk).threads
+    {0: ('IMU', 'EST')}
+    """
+    if not skeleton.threads:
+        return None
+    graph = PrecedenceGraph(replace(skeleton, threads=[]))
+    threads = list(skeleton.threads)
+    for k in sorted(range(len(threads)), key=lambda i: sorted(threads[i])):
+        order = _thread_order(graph, threads[k])
+        if order is None:
+            return None
+        graph.add_thread(k, order)
+        threads[k] = order
+    if graph.topological_order() is None:
+        return None
+    changed = {k: tuple(t) for k, t in enumerate(threads) if tuple(t) != skeleton.threads[k]}
+    if not changed:
+        return None
+    ports = reorder_ports(replace(skeleton, threads=[tuple(t) for t in threads]))
+    if not ports.possible or ports.skeleton is None:  # pragma: no cover - the graph is acyclic
+        return None
+    return ThreadRepair(changed, ports.orders, ports.skeleton)
+
+
+def thread_advice(skeleton: Skeleton) -> str | None:
+    """The words of :func:`reorder_threads`' repair, or None when it finds none.
+
+    The repair is re-checked: the timed event graph of the reordered skeleton is
+    rebuilt and has no token-free circuit.
+    """
+    repair = reorder_threads(skeleton)
+    if repair is None:
+        return None
+    rebuilt = build_teg(repair.skeleton).arrays()
+    if token_free_circuits(rebuilt.src, rebuilt.dst, rebuilt.tokens,
+                           int(max(rebuilt.src.max(), rebuilt.dst.max())) + 1):
+        raise AssertionError("internal error: the reordered threads are not live")
+    words = "; ".join(f"write threads[{k}] as {flow_list(list(order))}"
+                      for k, order in repair.threads.items())
+    if repair.orders:
+        words += "; then reorder ports: " + "; ".join(
+            f"{t} inputs {flow_list(o['inputs'])} outputs {flow_list(o['outputs'])}"
+            for t, o in repair.orders.items())
+    return (f"no port order helps, a thread order does: {words} (a thread runs its tasks one "
+            "after the other: as declared, a task waits for one that runs after it)")
+
+
+def _thread_order(graph: PrecedenceGraph, thread: tuple[str, ...]) -> tuple[str, ...] | None:
+    """The tasks of ``thread`` in an order the obligations allow, declared order first."""
+    reach = {t: graph.reached(graph.events_of[t]) for t in thread}
+    events = {t: set(graph.events_of[t]) for t in thread}
+    before = {b: {a for a in thread if a != b and reach[a] & events[b]} for b in thread}
+    position = {t: i for i, t in enumerate(thread)}
+    heap = [position[t] for t in thread if not before[t]]
+    heapq.heapify(heap)
+    order: list[str] = []
+    while heap:
+        t = thread[heapq.heappop(heap)]
+        order.append(t)
+        for b in thread:
+            if t in before[b]:
+                before[b].discard(t)
+                if not before[b]:
+                    heapq.heappush(heap, position[b])
+    return tuple(order) if len(order) == len(thread) else None
 
 
 def reorder_ports(skeleton: Skeleton) -> ReorderResult:
@@ -209,15 +332,32 @@ class PrecedenceGraph:
                 self.link_edges.setdefault((r, w), []).append(link.label)
             elif link.protocol is Protocol.SYN_SYN:
                 self.link_edges.setdefault((w, w), []).append(link.label)
+        self.events_of = events_of
         for k, thread in enumerate(sk.threads):
-            for a, b in zip(thread, thread[1:]):
-                end = self._node(f"thread[{k}]:{a}.end", 0)
-                start = self._node(f"thread[{k}]:{b}.start", 0)
-                for e in events_of[a]:
-                    self._edge(e, end)
-                self._edge(end, start)
-                for e in events_of[b]:
-                    self._edge(start, e)
+            self.add_thread(k, thread)
+
+    def add_thread(self, k: int, thread: tuple[str, ...] | list[str]) -> None:
+        """The obligations of thread ``k`` run in the order ``thread``: all of each
+        task before all of the next (its 0-token thread places)."""
+        for a, b in zip(thread, thread[1:]):
+            end = self._node(f"thread[{k}]:{a}.end", 0)
+            start = self._node(f"thread[{k}]:{b}.start", 0)
+            for e in self.events_of[a]:
+                self._edge(e, end)
+            self._edge(end, start)
+            for e in self.events_of[b]:
+                self._edge(start, e)
+
+    def reached(self, sources: list[int]) -> set[int]:
+        """The events reachable from ``sources`` (themselves included)."""
+        seen = set(sources)
+        stack = list(sources)
+        while stack:
+            for b in self.succ[stack.pop()]:
+                if b not in seen:
+                    seen.add(b)
+                    stack.append(b)
+        return seen
 
     def _node(self, name: str, priority: int) -> int:
         self.names.append(name)

@@ -49,11 +49,11 @@ from scipy.sparse.csgraph import connected_components
 from ..analysis.liveness import token_free_circuits
 
 # The precedence graph is reorder.py's; fix.py only adds edges to it.
-from ..analysis.reorder import PrecedenceGraph, reorder_ports
+from ..analysis.reorder import PrecedenceGraph, reorder_ports, reorder_threads
 from ..model.build import build_teg
 from ..model.skeleton import Protocol, Skeleton
 
-__all__ = ["FixResult", "PortChange", "fix_ports"]
+__all__ = ["FixResult", "PortChange", "ThreadChange", "fix_ports"]
 
 _READER_BLOCKS = (Protocol.ASYN_SYN, Protocol.SYN_SYN)
 _WRITER_BLOCKS = (Protocol.SYN_ASYN, Protocol.SYN_SYN)
@@ -66,6 +66,17 @@ class PortChange:
     task: str
     side: str
     """``"inputs"`` or ``"outputs"``."""
+    before: tuple[str, ...]
+    after: tuple[str, ...]
+    reason: str
+
+
+@dataclass(frozen=True)
+class ThreadChange:
+    """A thread whose order changed (when no port order alone helps)."""
+
+    index: int
+    """Its position in the file's ``threads``."""
     before: tuple[str, ...]
     after: tuple[str, ...]
     reason: str
@@ -91,6 +102,10 @@ class FixResult:
     links : list of str
         When impossible: the synchronizing links on that circuit; turning one
         of them asynchronous (ASYN/ASYN), or adding a clock, breaks it.
+    threads : list of ThreadChange
+        Threads reordered, when no port order alone makes the skeleton live
+        but a thread order does (then ``changes`` are the port orders that
+        change on the reordered threads).
 
     See Also
     --------
@@ -104,6 +119,7 @@ class FixResult:
     deadlocks: list[list[str]] = field(default_factory=list)
     circuit: list[str] = field(default_factory=list)
     links: list[str] = field(default_factory=list)
+    threads: list[ThreadChange] = field(default_factory=list)
 
     @property
     def live(self) -> bool:
@@ -115,7 +131,9 @@ class FixResult:
         return {"status": self.status, "deadlocks": self.deadlocks,
                 "changes": [{"task": c.task, "side": c.side, "before": list(c.before),
                              "after": list(c.after), "reason": c.reason} for c in self.changes],
-                "circuit": self.circuit, "links": [link.document() for link in self.links]}
+                "circuit": self.circuit, "links": [link.document() for link in self.links],
+                "threads": [{"index": t.index, "before": list(t.before), "after": list(t.after),
+                             "reason": t.reason} for t in self.threads]}
 
 
 @dataclass
@@ -189,8 +207,8 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
         return FixResult("already live", skeleton)
     base = reorder_ports(skeleton)
     if not base.possible:
-        return FixResult("impossible", None, deadlocks=deadlocks, circuit=base.circuit,
-                         links=base.links)
+        return _fix_threads(skeleton, deadlocks) or FixResult(
+            "impossible", None, deadlocks=deadlocks, circuit=base.circuit, links=base.links)
     graph = PrecedenceGraph(skeleton)
     sides = _sides(skeleton, graph)
     component = _strong_components(graph, sides)
@@ -220,6 +238,22 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
     if _deadlocks(fixed):
         raise AssertionError("internal error: the reordered skeleton is not live")
     return FixResult("fixed", fixed, changes, deadlocks)
+
+
+def _fix_threads(skeleton: Skeleton, deadlocks: list[list[str]]) -> FixResult | None:
+    """No port order helps: reorder threads (:func:`reorder_threads`), then fix the ports."""
+    repair = reorder_threads(skeleton)
+    if repair is None:
+        return None
+    threads = [repair.threads.get(k, t) for k, t in enumerate(skeleton.threads)]
+    inner = fix_ports(replace(skeleton, threads=threads))
+    if not inner.live:  # pragma: no cover - reorder_threads checked the precedence graph
+        raise AssertionError("internal error: the reordered threads are not live")
+    why = ("as declared, a task of the thread waits for one that runs after it (a token-free "
+           "circuit through the thread); this order is what the links and ports allow")
+    changes = [ThreadChange(k, skeleton.threads[k], order, why)
+               for k, order in sorted(repair.threads.items())]
+    return FixResult("fixed", inner.skeleton, inner.changes, deadlocks, threads=changes)
 
 
 def _deadlocks(sk: Skeleton) -> list[list[str]]:

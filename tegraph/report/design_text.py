@@ -167,7 +167,13 @@ def render_fix(result: FixResult, name: str = "skeleton") -> str:
             lines.append("the circuit passes only through threads and task chains: split "
                          "the thread, or reorder the tasks in it")
         return "\n".join(lines) + "\n"
-    lines.append(f"{name}: a port order makes it live; changed:")
+    if result.threads:
+        lines.append(f"{name}: no port order makes it live, a thread order does; changed:")
+        for t in result.threads:
+            lines.append(f"  threads[{t.index}] [{', '.join(t.before)}] -> "
+                         f"[{', '.join(t.after)}]: {t.reason}")
+    else:
+        lines.append(f"{name}: a port order makes it live; changed:")
     for c in result.changes:
         lines.append(f"  {c.task} {c.side} [{', '.join(c.before)}] -> [{', '.join(c.after)}]: "
                      f"{c.reason}")
@@ -180,6 +186,7 @@ def fix_verdict(result: FixResult) -> str:
     if result.status == "already live":
         return "verdict: already live, nothing to change (exit status 0)"
     if result.live:
-        return (f"verdict: live after reordering {count(len(result.changes), 'port list')} "
-                "(exit status 0)")
+        threads = f"{count(len(result.threads), 'thread')} and " if result.threads else ""
+        return (f"verdict: live after reordering {threads}"
+                f"{count(len(result.changes), 'port list')} (exit status 0)")
     return "verdict: no port order makes it live (exit status 1)"

@@ -246,3 +246,63 @@ def test_cli_fix_without_output_says_nothing_was_written(tmp_path):
     assert lines[-2] == "nothing written (no -o given)"
     assert lines[-1].startswith("verdict: live after reordering")
     assert src.read_bytes() == before and sorted(tmp_path.iterdir()) == [src]
+
+
+# ------------------------------------------------------------------ thread orders
+
+# EST waits (ASYN/SYN) for IMU's message, but the thread runs EST first. By hand (spec §2):
+# thread place EST.compute -> IMU.activate (0 tokens; EST has no output), IMU's chain
+# IMU.activate -> IMU.compute -> IMU.write:m, the link IMU.write:m -> EST.read:m and EST's
+# chain EST.read:m -> EST.compute: a token-free circuit whatever the port orders (each
+# task has one port). Written [IMU, EST], the thread place is IMU.write:m -> EST.read:m and
+# the return EST.compute -> IMU.activate holds the thread's token: live.
+EST_FIRST = {"tasks": {
+    "IMU": {"duration": 1, "period": 10, "outputs": ["m"]},
+    "EST": {"duration": 2, "inputs": ["m"]}},
+    "links": [{"from": "IMU:m", "to": "EST:m", "protocol": "ASYN/SYN"}],
+    "threads": [["EST", "IMU"]]}
+
+
+def test_fix_reorders_a_thread_when_no_port_order_helps():
+    sk = Skeleton.from_dict(EST_FIRST)
+    assert not reorder_ports(sk).possible
+    r = fix_ports(sk)
+    assert r.status == "fixed" and r.changes == []
+    assert [(t.index, t.before, t.after) for t in r.threads] == [
+        (0, ("EST", "IMU"), ("IMU", "EST"))]
+    assert [tuple(t) for t in r.skeleton.threads] == [("IMU", "EST")]
+    assert analyze(r.skeleton, design=False).live
+    assert "threads[0] [EST, IMU] -> [IMU, EST]" in render_fix(r, "est")
+    # analyze offers the same repair in the deadlock's advice.
+    (dead,) = analyze(sk, design=False).deadlocks
+    assert "write threads[0] as [IMU, EST]" in dead.advice
+
+
+def test_no_thread_order_helps_a_circular_wait_outside_the_thread():
+    # A and B each wait for the other's message: a circuit without the thread, so no
+    # thread (or port) order helps, and fix says so.
+    sk = Skeleton.from_dict({"tasks": {
+        "A": {"duration": 1, "period": 10, "inputs": ["x"], "outputs": ["y"]},
+        "B": {"duration": 1, "inputs": ["y"], "outputs": ["x"]}},
+        "links": [{"from": "A:y", "to": "B:y", "protocol": "ASYN/SYN"},
+                  {"from": "B:x", "to": "A:x", "protocol": "ASYN/SYN"}],
+        "threads": [["B", "A"]]})
+    r = fix_ports(sk)
+    assert r.status == "impossible" and r.threads == []
+
+
+def test_cli_fix_writes_the_reordered_thread(tmp_path):
+    from typer.testing import CliRunner
+
+    from tegraph.cli import app
+    from tegraph.io import dump_skeleton
+
+    src, out = tmp_path / "est.yaml", tmp_path / "fixed.yaml"
+    dump_skeleton(Skeleton.from_dict(EST_FIRST), src)
+    done = CliRunner().invoke(app, ["fix", str(src), "-o", str(out)])
+    assert done.exit_code == 0, done.output
+    fixed = load_skeleton(out)
+    assert [tuple(t) for t in fixed.threads] == [("IMU", "EST")]
+    assert analyze(fixed, design=False).live
+    last = done.output.strip().splitlines()[-1]
+    assert last.startswith("verdict: live after reordering 1 thread")
