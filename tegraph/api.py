@@ -239,7 +239,8 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
     if isinstance(source, (str, os.PathLike)):
         path = os.fspath(source)
         t0 = time.perf_counter()
-        source = io.read(path, format, max_bytes=max_bytes or DEFAULT_MAX_BYTES)
+        limit = DEFAULT_MAX_BYTES if max_bytes is None else max_bytes  # 0 is no "default"
+        source = io.read(path, format, max_bytes=limit)
         read_seconds = time.perf_counter() - t0
     result = cycle_time_of(source, verify=verify, default_holding=default_holding,
                            max_states=max_states, max_seconds=max_seconds,

@@ -367,6 +367,7 @@ def timeline(
     or a late job; 2 the input or the output file was refused, or matplotlib
     is missing for -o; 130 interrupted (Ctrl-C).
     """
+    from maxplus.errors import MaxPlusValueError
     from maxplus.scalar import exact_time
 
     from .design.timeline import simulate_timeline
@@ -376,11 +377,12 @@ def timeline(
 
     end = None
     if horizon is not None:
-        try:
+        try:  # the one number parser: 1e999999999 is refused by its size, not expanded
             end = exact_time(horizon)
-        except (ValueError, ArithmeticError):
-            end = None
-        if end is None or end <= 0:
+        except MaxPlusValueError as exc:
+            _fail(f"--horizon: expected a time > 0 such as 12 or 7/3; "
+                  f"{str(exc).removeprefix('value: ')}")
+        if end <= 0:
             _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, got {horizon!r}")
     if output is not None:
         _output_file(output, force)
@@ -403,7 +405,8 @@ def cycle_time_command(
                                   "(docs/report.schema.json)."),
     fmt: str | None = typer.Option(None, "--format", help="Force the input format "
                                       "(pnml, sdf3, edges, tpne-json, tpne-teg, skeleton)."),
-    max_size: str = typer.Option("256M", "--max-size", help="Refuse larger files (e.g. 1G)."),
+    max_size: str = typer.Option("256M", "--max-size", help="Refuse larger files (e.g. 1G; at "
+                                  "least 1 byte: 0 is refused, there is no \"no limit\")."),
     default_holding: str | None = typer.Option(
         None, "--default-holding", help="Holding time of every place of a net that carries "
         "no timing (default 0)."),
@@ -446,7 +449,8 @@ def convert(
                                          "sdf3, edges, tpne-json, tpne-teg, dot, teg-dot, "
                                          "skeleton)."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing output file."),
-    max_size: str = typer.Option("256M", "--max-size", help="Refuse larger input files."),
+    max_size: str = typer.Option("256M", "--max-size", help="Refuse larger input files (e.g. 1G; "
+                                  "at least 1 byte: 0 is refused)."),
 ) -> None:
     """Convert between formats where the target can hold the content.
 
@@ -657,10 +661,14 @@ def _size(text: str, option: str) -> int:
     >>> _size("300M", "--max-memory"), _size("2G", "--max-memory"), _size("1000", "--max-size")
     (314572800, 2147483648, 1000)
     """
-    m = re.fullmatch(r"\s*(\d+)\s*([kKmMgG]?)[iI]?[bB]?\s*", text)
+    m = re.fullmatch(r"\s*(\d{1,30})\s*([kKmMgG]?)[iI]?[bB]?\s*", text)
+    shown = repr(text) if len(text) <= 40 else f"{text[:40]!r}... ({len(text):,} characters)"
     if not m:
-        _fail(f"{option}: expected a size such as 300M or 2G, got {text!r}")
-    return int(m.group(1)) * {"": 1, "k": 2**10, "m": 2**20, "g": 2**30}[m.group(2).lower()]
+        _fail(f"{option}: expected a size such as 300M or 2G, got {shown}")
+    size = int(m.group(1)) * {"": 1, "k": 2**10, "m": 2**20, "g": 2**30}[m.group(2).lower()]
+    if size < 1:  # 0 is no "no limit": it would refuse every file, or stop every search at once
+        _fail(f"{option}: expected a size of at least 1 byte such as 300M or 2G, got {shown}")
+    return size
 
 
 class _ProgressBar:

@@ -322,6 +322,8 @@ def _as_graph(obj: Any, default_holding: Any,
     model = next((k for cls, k in kinds if isinstance(obj, cls)), None)
     if model is None:
         raise InputError(f"cannot compute the cycle time of a {type(obj).__name__}")
+    # Checked even when no net of the file uses it: a wrong value is refused, not ignored.
+    default = _holding(default_holding)
     notes = []
     if isinstance(obj, PetriNet):
         why = obj.marked_graph_violation()
@@ -336,7 +338,7 @@ def _as_graph(obj: Any, default_holding: Any,
                              "`tegraph reach`); no structural cross-check applies")
             return None, res
         if not obj.holding:
-            h = _holding(default_holding)
+            h = default
             obj = PetriNet(obj.name, obj.places, obj.transitions, obj.pre, obj.post, obj.marking,
                            [h] * len(obj.places), [], dict(obj.attrs))
             notes.append(f"the net carries no timing: every place holds {exact_text(h)}")
@@ -352,10 +354,11 @@ def _as_graph(obj: Any, default_holding: Any,
 def _holding(value: Any) -> Fraction:
     if value is None:
         return Fraction(0)
-    try:
-        h = exact_time(value, "default holding")
-    except MaxPlusValueError:
-        raise InputError(f"expected an exact time such as 1, 0.5 or 7/3, got {value!r}",
+    try:  # the one number parser: refused by its size beyond 4,300 digits, never expanded
+        h = exact_time(value, "default_holding")
+    except MaxPlusValueError as exc:
+        raise InputError(f"expected an exact time such as 1, 0.5 or 7/3; "
+                         f"{str(exc).removeprefix('default_holding: ')}",
                          "default_holding") from None
     if h < 0:
         raise InputError(f"a holding time must be >= 0, got {h}", "default_holding")

@@ -346,6 +346,8 @@ def skeleton_reachability(teg: TimedEventGraph, *, max_states: int = 1_000_000,
     (True, 1, [], [['A', 'B']])
     """
     start = time.perf_counter()
+    if max_memory < 1:  # the rule of reachability_graph: no budget is no search
+        raise InputError(f"expected a number of bytes >= 1, got {max_memory}", "max_memory")
     deadline = None if max_seconds is None else start + max_seconds
     net = PetriNet.from_teg(teg)
     a = teg.arrays()

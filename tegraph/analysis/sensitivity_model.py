@@ -35,7 +35,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from maxplus.errors import MaxPlusValueError
-from maxplus.scalar import exact_time
+from maxplus.scalar import exact_time, size_problem
 
 from ..errors import InputError
 from ..model.build import build_teg, last_event
@@ -219,6 +219,9 @@ def _value(text: Any, name: str, end: str, where: str) -> Fraction:
     try:
         return exact_time(text, where)
     except (MaxPlusValueError, ValueError, ArithmeticError):
+        too_big = size_problem(text)  # a number, refused by its size: not "not a number"
+        if too_big is not None:
+            raise InputError(f"the {end} end of the range of {name}: {too_big}", where) from None
         raise InputError(f"the {end} end of the range of {name} is not an exact number: "
                          f"{text!r} (expected e.g. 2, 0.5 or 5/2)", where) from None
 
