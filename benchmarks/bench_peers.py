@@ -28,8 +28,13 @@ Usage::
 
     python benchmarks/bench_peers.py                 # all families, 5 runs each
     python benchmarks/bench_peers.py --quick         # small smoke run
-    python benchmarks/bench_peers.py --families sprand-1e5-s1 ring --runs 3
+    python benchmarks/bench_peers.py --families sprand-1e5-s1-canon ring --runs 3
     python benchmarks/bench_peers.py --maxplus before=../main --families ring
+
+SPRAND families come in both layouts of the Hamiltonian cycle, side by side:
+``-canon`` is SPRAND's own ``0 -> 1 -> ... -> n-1 -> 0`` and ``-permu`` the
+cycle along a random permutation (same random arcs, weights and tokens; see
+``sprand.py``). The *layout* column of every row says which one it used.
 
 Writes ``benchmarks/results/peers.table.md`` and ``benchmarks/results/peers.json``
 (``--out`` to change; ``--no-write`` to only print); ``peers.md`` is the reading.
@@ -56,25 +61,46 @@ REPO = HERE.parent
 PEERS = HERE / "peers"
 sys.path.insert(0, str(HERE))
 
-from sprand import equal_weights, ring_with_chords, sprand, torus_grid  # noqa: E402
+from sprand import LAYOUTS, equal_weights, ring_with_chords, sprand, torus_grid  # noqa: E402
 
+
+def _sprand_families() -> dict:
+    """SPRAND n = 10^4..10^6, seeds 1 and 2, in both layouts of the Hamiltonian cycle."""
+    out = {}
+    for exp in (4, 5, 6):
+        for seed in (1, 2):
+            for layout in LAYOUTS:
+                out[f"sprand-1e{exp}-s{seed}-{layout[:5]}"] = (
+                    lambda exp=exp, seed=seed, layout=layout: sprand(10**exp, seed=seed,
+                                                                     layout=layout),
+                    f"SPRAND n=10^{exp}, seed {seed}", layout)
+    return out
+
+
+# name -> (generator, description, layout of the Hamiltonian cycle); "canon" is
+# SPRAND's own 0 -> 1 -> ... -> n-1 -> 0, "permu" a random permutation (sprand.py).
 FAMILIES = {
-    "sprand-1e4-s1": (lambda: sprand(10**4, seed=1), "SPRAND n=10^4, seed 1"),
-    "sprand-1e4-s2": (lambda: sprand(10**4, seed=2), "SPRAND n=10^4, seed 2"),
-    "sprand-1e5-s1": (lambda: sprand(10**5, seed=1), "SPRAND n=10^5, seed 1"),
-    "sprand-1e5-s2": (lambda: sprand(10**5, seed=2), "SPRAND n=10^5, seed 2"),
-    "sprand-1e6-s1": (lambda: sprand(10**6, seed=1), "SPRAND n=10^6, seed 1"),
-    "sprand-1e6-s2": (lambda: sprand(10**6, seed=2), "SPRAND n=10^6, seed 2"),
-    "ring": (lambda: ring_with_chords(10**5), "ring 10^5 + chords i->i+5"),
-    "torus": (lambda: torus_grid(316), "torus grid 316x316"),
-    "equal": (lambda: equal_weights(10**5), "SPRAND 10^5, all w=7, t=3"),
-    "sprand-1e5-t1": (lambda: sprand(10**5, max_tokens=1, seed=1), "SPRAND n=10^5, tokens 1"),
+    **_sprand_families(),
+    "ring": (lambda: ring_with_chords(10**5), "ring 10^5 + chords i->i+5", "canonical"),
+    "torus": (lambda: torus_grid(316), "torus grid 316x316", "canonical"),
+    "equal-canon": (lambda: equal_weights(10**5, layout="canonical"),
+                    "SPRAND 10^5, all w=7, t=3", "canonical"),
+    "equal-permu": (lambda: equal_weights(10**5), "SPRAND 10^5, all w=7, t=3", "permuted"),
+    "sprand-1e5-t1-canon": (lambda: sprand(10**5, max_tokens=1, seed=1, layout="canonical"),
+                            "SPRAND n=10^5, tokens 1", "canonical"),
+    "sprand-1e5-t1-permu": (lambda: sprand(10**5, max_tokens=1, seed=1),
+                            "SPRAND n=10^5, tokens 1", "permuted"),
 }
-QUICK = ["sprand-1e4-s1", "equal-small", "ring-small"]
+QUICK = ["sprand-1e4-s1-canon", "sprand-1e4-s1-permu", "equal-small", "ring-small"]
 SMALL = {
-    "equal-small": (lambda: equal_weights(2000), "SPRAND 2000, all w=7, t=3"),
-    "ring-small": (lambda: ring_with_chords(5000), "ring 5000 + chords"),
+    "equal-small": (lambda: equal_weights(2000), "SPRAND 2000, all w=7, t=3", "permuted"),
+    "ring-small": (lambda: ring_with_chords(5000), "ring 5000 + chords", "canonical"),
 }
+
+
+def layout_of(name: str) -> str:
+    """The Hamiltonian-cycle layout a family was generated with (ring and torus: node order)."""
+    return {**FAMILIES, **SMALL}[name][2]
 
 
 # --------------------------------------------------------------------------- files
@@ -239,9 +265,9 @@ def agrees(exact: str, peer: dict) -> str:
 
 def table(summary: list[dict], labels: list[str]) -> str:
     lines = [
-        ("| family | solver | median solve (s) | spread (s) | process (s) | iterations | "
+        ("| family | layout | solver | median solve (s) | spread (s) | process (s) | iterations | "
          "peak (MiB) | verify (% of solve) | time / Boost | agrees |"),
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for s in summary:
         exact = next((s[x]["ratio"] for x in labels if x.startswith("maxplus") and x in s
@@ -252,7 +278,8 @@ def table(summary: list[dict], labels: list[str]) -> str:
             if e is None:
                 continue
             if "error" in e:
-                lines.append(f"| {s['family']} | {label} | - | - | - | - | - | - | - | "
+                lines.append(f"| {s['family']} | {layout_of(s['family'])} | {label} "
+                             "| - | - | - | - | - | - | - | "
                              f"skipped: {e['error'][:60]} |")
                 continue
             rel = (f"{e['median_s'] / boost['median_s']:.2f}"
@@ -265,7 +292,7 @@ def table(summary: list[dict], labels: list[str]) -> str:
             agree = agrees(exact, e) if "float_ratio" in e and exact else (
                 f"exact {e['ratio']}" if label.startswith("maxplus") else "")
             lines.append(
-                f"| {s['family']} | {label} | {e['median_s']:.3f} "
+                f"| {s['family']} | {layout_of(s['family'])} | {label} | {e['median_s']:.3f} "
                 f"| {e['min_s']:.3f}-{e['max_s']:.3f} "
                 f"| {e['process_median_s']:.2f} | {its} | {e['peak_mib']:.0f} | {verify} | {rel} "
                 f"| {agree} |")
@@ -290,6 +317,10 @@ def main() -> None:
         child_maxplus(args.child, args.checkout)
         return
     names = args.families or (QUICK if args.quick else list(FAMILIES))
+    unknown = [x for x in names if x not in FAMILIES and x not in SMALL]
+    if unknown:
+        parser.error(f"--families: unknown {', '.join(unknown)}; expected some of "
+                     f"{', '.join([*FAMILIES, *SMALL])}")
     runs = 2 if args.quick else args.runs
     checkouts = {"maxplus": str(REPO)}
     for spec in args.maxplus:
@@ -311,7 +342,8 @@ def main() -> None:
                     row["label"] = label
                     rows.append(row)
             summary.append(summarize(name, rows))
-            print(table(summary[-1:], labels).splitlines()[-len(labels):], file=sys.stderr)
+            print("\n".join(table(summary[-1:], labels).splitlines()[2:]), file=sys.stderr,
+                  flush=True)
     text = table(summary, labels)
     print(text)
     if not args.no_write:
