@@ -405,8 +405,18 @@ def longest_paths(blocks: Sequence[tuple]) -> list[tuple[list[int | None], list[
     blocks = list(blocks)
     if not blocks:
         return []
-    wide = not all(_fits(b[4]) and _fits([v for v in b[5] if v is not None]) for b in blocks)
+    # "Unreached" is a sentinel below every value the relaxation can produce. A
+    # value is the weight of a walk of at most (rounds) arcs from a start, so it
+    # lies within ±bound, bound = the largest |start| + (n + 2) × the largest
+    # |weight|; -4·bound is out of reach (and int64 holds 4·bound below 2**62).
+    # A fixed -2**62 was not out of reach: with a period of 1e30 (scaled) real
+    # values fell below it and were taken for "unreached" (issue 21).
+    n_max = max(b[0] for b in blocks)
+    bound = 1 + max((abs(v) for b in blocks for v in b[5] if v is not None), default=0) + (
+        n_max + 2) * max((abs(w) for b in blocks for w in b[4]), default=0)
+    wide = -4 * bound <= _NEG
     dtype = object if wide else np.int64
+    neg = -4 * bound if wide else _NEG
     sizes = [b[0] for b in blocks]
     offset = np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)
     src = np.concatenate([np.asarray(b[1], dtype=np.int64) + offset[i]
@@ -415,7 +425,7 @@ def longest_paths(blocks: Sequence[tuple]) -> list[tuple[list[int | None], list[
                           for i, b in enumerate(blocks)])
     label = np.concatenate([np.asarray(b[3], dtype=np.int64) for b in blocks])
     weight = np.array([w for b in blocks for w in b[4]], dtype=dtype)
-    value = np.array([_NEG if v is None else v for b in blocks for v in b[5]], dtype=dtype)
+    value = np.array([neg if v is None else v for b in blocks for v in b[5]], dtype=dtype)
     pred = np.array([v for b in blocks for v in b[6]], dtype=np.int64)
     order = np.argsort(dst, kind="stable")
     src, dst, weight, label = src[order], dst[order], weight[order], label[order]
@@ -425,12 +435,12 @@ def longest_paths(blocks: Sequence[tuple]) -> list[tuple[list[int | None], list[
         counts = np.diff(np.append(starts, len(dst)))
         position = np.arange(len(dst))
         for _ in range(max(sizes) + 2):
-            reach = value[src] > _NEG // 2
-            candidate = np.where(reach, value[src] + weight, _NEG)
+            reach = value[src] > neg // 2
+            candidate = np.where(reach, value[src] + weight, neg)
             if candidate.dtype != dtype:
                 candidate = candidate.astype(dtype)
             best = np.maximum.reduceat(candidate, starts)
-            better = (best > value[targets]) & (best > _NEG // 2)
+            better = (best > value[targets]) & (best > neg // 2)
             if not better.any():
                 break
             # The first arc attaining each improved maximum becomes the predecessor.
@@ -445,6 +455,6 @@ def longest_paths(blocks: Sequence[tuple]) -> list[tuple[list[int | None], list[
     out = []
     for i in range(len(blocks)):
         lo, hi = int(offset[i]), int(offset[i + 1])
-        out.append(([None if v <= _NEG // 2 else int(v) for v in value[lo:hi].tolist()],
+        out.append(([None if v <= neg // 2 else int(v) for v in value[lo:hi].tolist()],
                     pred[lo:hi].tolist()))
     return out

@@ -382,3 +382,34 @@ def test_analyze_margins_follow_the_report_schema():
             doc = json.loads(to_json(analyze(example(name), design=False,
                                              margins_max_tasks=limit)))
             jsonschema.validate(doc, schema)
+
+
+# ------------------------------------------------------------------ past int64 (issue 21)
+
+
+@pytest.mark.parametrize("exponent", [17, 18, 30])
+def test_times_past_int64(exponent):
+    # A alone: duration d = 10^e on its clock of period P = 4·10^e. Its circuits are the
+    # clock's self-loop (P) and its chain (d), so it keeps pace iff d <= P: the durations
+    # can grow 4 times together (factor P/d = 4) and d alone by P - d = 3·10^e.
+    # 4·10^18 and 4·10^30 are past int64 (9.2·10^18): the oracle's "unreached" sentinel
+    # -2**62 lay above real values there, "an event no marked place reaches" (issue 21).
+    d, p = 10**exponent, 4 * 10**exponent
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": d, "period": p}}})
+    r = sensitivity(sk)
+    assert r.consistent
+    assert r.scaling.factor == 4 and r.scaling.intervals == [(0, 4)]
+    m = r.margins["A.duration"]
+    assert (m.low, m.high) == (0, p) and m.high - d == 3 * 10**exponent
+    assert duration_margins(sk) == {"A": 3 * 10**exponent}
+
+
+@pytest.mark.parametrize("high", ["1e19", "1e30"])
+def test_a_period_range_past_int64(high):
+    # Duration 1 on a clock of period P in [10, high]: it keeps pace for every P >= 1, so
+    # the whole range is consistent, without a finite end.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 10}}})
+    r = sensitivity(sk, [f"A.clock.period=10..{high}"])
+    m = r.margins["A.clock.period"]
+    assert m.intervals == [(10, 10 ** int(high[2:]))]
+    assert r.consistent
