@@ -278,6 +278,7 @@ class PrecedenceGraph:
     def __init__(self, sk: Skeleton) -> None:
         self.names: list[str] = []
         self.priority: list[int] = []
+        self.keys: list[str] = []  # names without the file's positions, for ties
         self.succ: list[list[int]] = []
         self.link_edges: dict[tuple[int, int], list[str]] = {}
         self.read: dict[tuple[str, str], int] = {}
@@ -340,8 +341,8 @@ class PrecedenceGraph:
         """The obligations of thread ``k`` run in the order ``thread``: all of each
         task before all of the next (its 0-token thread places)."""
         for a, b in zip(thread, thread[1:]):
-            end = self._node(f"thread[{k}]:{a}.end", 0)
-            start = self._node(f"thread[{k}]:{b}.start", 0)
+            end = self._node(f"thread[{k}]:{a}.end", 0, f"thread:{a}.end")
+            start = self._node(f"thread[{k}]:{b}.start", 0, f"thread:{b}.start")
             for e in self.events_of[a]:
                 self._edge(e, end)
             self._edge(end, start)
@@ -359,8 +360,9 @@ class PrecedenceGraph:
                     stack.append(b)
         return seen
 
-    def _node(self, name: str, priority: int) -> int:
+    def _node(self, name: str, priority: int, key: str | None = None) -> int:
         self.names.append(name)
+        self.keys.append(name if key is None else key)
         self.priority.append(priority)
         self.succ.append([])
         return len(self.names) - 1
@@ -388,16 +390,17 @@ class PrecedenceGraph:
         for outs in self.succ:
             for b in outs:
                 indegree[b] += 1
-        heap = [(self.priority[v], v) for v in range(n) if indegree[v] == 0]
+        # Ties by name, not by index: the order does not depend on the file's order.
+        heap = [(self.priority[v], self.keys[v], v) for v in range(n) if indegree[v] == 0]
         heapq.heapify(heap)
         order = []
         while heap:
-            _, v = heapq.heappop(heap)
+            _, _, v = heapq.heappop(heap)
             order.append(v)
             for b in self.succ[v]:
                 indegree[b] -= 1
                 if indegree[b] == 0:
-                    heapq.heappush(heap, (self.priority[b], b))
+                    heapq.heappush(heap, (self.priority[b], self.keys[b], b))
         return order if len(order) == n else None
 
     def find_circuit(self) -> list[int]:

@@ -12,18 +12,28 @@ orders. :func:`fix_ports` builds on it and chooses *which* order:
    circuit of the timed event graph — keeps its order. Those sides together
    never close a circuit (a circuit among them would lie in one strongly
    connected part, whose declared edges all belong to the other sides), so
-   they are added to the graph as hard edges. The other sides are then tried
-   again one by one, in file order, and kept when they close no circuit.
-2. **Prefer short latency on the sides that must change** (footnote 6 of the
-   ORCCAD paper [1]_: "the synchronizing port will be either the first reading or the
-   last posting one so that the MT computes with the last available data").
-   On a side that must change, the synchronizing inputs (read ASYN/SYN or
-   SYN/SYN) are placed before the other inputs, and the blocking outputs
+   they are added to the graph as hard edges.
+2. **Prefer short latency on the sides on a token-free circuit** (footnote 6
+   of the ORCCAD paper [1]_: "the synchronizing port will be either the first
+   reading or the last posting one so that the MT computes with the last
+   available data"). On such a side the synchronizing inputs (read ASYN/SYN
+   or SYN/SYN) are placed before the other inputs, and the blocking outputs
    (posted SYN/ASYN or SYN/SYN) after the others, as far as these preference
-   edges close no circuit.
+   edges close no circuit. Then each such side keeps its declared order when
+   that still closes no circuit. Footnote 6 comes first so that a side
+   declared as it advises is not the one sacrificed: a task posting its
+   blocking output first is reordered, not its reader that reads its
+   synchronizing input first.
 3. One topological order of the result (Kahn's algorithm [2]_, declared
-   positions as priorities) gives every port order; the reordered skeleton is rebuilt and
-   checked for token-free circuits before it is returned.
+   positions as priorities, ties by event name) gives every port order; the
+   reordered skeleton is rebuilt and checked for token-free circuits before
+   it is returned.
+
+The sides are taken by task name and the ties broken by event name, never by
+the position of a task or link in the file: the same skeleton in any file
+order gets the same repair. When no port order helps, the threads may be
+reordered (:func:`tegraph.analysis.reorder.reorder_threads`) and the ports then
+repaired as above.
 
 Nothing here prints or writes files: the command line does.
 
@@ -188,8 +198,10 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
 
     Examples
     --------
-    Figure 7b: MT2 reads ``c`` (from MT3) before meeting MT1 on ``a``; MT1's
-    outputs and MT3's ports are fine and stay; MT2 reads ``a`` first.
+    Figure 7b: MT2 reads ``c`` (from MT3) before meeting MT1 on ``a``, and MT1
+    posts ``a`` (where it blocks) before ``d``: both sides lie on the circuit.
+    Footnote 6 has MT1 post its blocking output last; MT2's inputs, both
+    synchronizing, stay.
 
     >>> sk = Skeleton.from_dict({"tasks": {
     ...     "MT1": {"duration": 2, "period": 10, "inputs": ["q"], "outputs": ["a", "d"]},
@@ -200,7 +212,7 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
     ...             {"from": "MT3:c", "to": "MT2:c", "protocol": "ASYN/SYN"}]})
     >>> r = fix_ports(sk)
     >>> r.status, [(c.task, c.side, c.before, c.after) for c in r.changes]
-    ('fixed', [('MT2', 'inputs', ('c', 'a'), ('a', 'c'))])
+    ('fixed', [('MT1', 'outputs', ('a', 'd'), ('d', 'a'))])
     """
     deadlocks = _deadlocks(skeleton)
     if not deadlocks:
@@ -210,25 +222,29 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
         return _fix_threads(skeleton, deadlocks) or FixResult(
             "impossible", None, deadlocks=deadlocks, circuit=base.circuit, links=base.links)
     graph = PrecedenceGraph(skeleton)
-    sides = _sides(skeleton, graph)
+    # Sides by task name, not by the file's order: the same skeleton in any file
+    # order gets the same repair.
+    sides = sorted(_sides(skeleton, graph), key=lambda s: (s.task, s.side))
     component = _strong_components(graph, sides)
     on_circuit = [any(component[u] == component[v] for u, v in itertools.pairwise(s.nodes))
                   for s in sides]
     for side, dead in zip(sides, on_circuit):
         if not dead:
             _add(graph, list(itertools.pairwise(side.nodes)))
-    freed: list[_Side] = []
-    for side, dead in zip(sides, on_circuit):
-        if dead and not _try_add(graph, list(itertools.pairwise(side.nodes)), component):
-            freed.append(side)
-    reasons = {(s.task, s.side): _prefer_latency(graph, s) for s in freed}
+    dead_sides = [side for side, dead in zip(sides, on_circuit) if dead]
+    # Footnote 6 first on the sides that lie on a token-free circuit, then their
+    # declared orders where they still fit (the preference edges are not in the
+    # graph of `component`: the checks search the whole graph).
+    reasons = {(s.task, s.side): _prefer_latency(graph, s) for s in dead_sides}
+    freed = [s for s in dead_sides if not _try_add(graph, list(itertools.pairwise(s.nodes)))]
     order = graph.topological_order()
     if order is None:  # pragma: no cover - every added edge was checked
         raise AssertionError("internal error: the kept port orders close a circuit")
     position = {v: i for i, v in enumerate(order)}
     tasks = dict(skeleton.tasks)
     changes = []
-    for side in freed:
+    index = {t: i for i, t in enumerate(skeleton.tasks)}
+    for side in sorted(freed, key=lambda s: (index[s.task], s.side)):  # as the file lists them
         after = tuple(p for _, p in sorted(zip((position[v] for v in side.nodes), side.ports)))
         if after != side.ports:
             changes.append(PortChange(side.task, side.side, side.ports, after,
@@ -334,7 +350,7 @@ def _prefer_latency(g: PrecedenceGraph, side: _Side) -> str:
     """Footnote 6 on a side that must change: synchronizing reads first, blocking writes last."""
     first = [v for v, b in zip(side.nodes, side.blocking) if b == (side.side == "inputs")]
     last = [v for v, b in zip(side.nodes, side.blocking) if b != (side.side == "inputs")]
-    why = "its declared order closes a token-free circuit"
+    why = "its declared order lies on a token-free circuit"
     if not first or not last:
         return why
     what = ("synchronizing inputs read first" if side.side == "inputs"
