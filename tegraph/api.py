@@ -420,7 +420,8 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
             output: str | os.PathLike[str] | None = None, resume: bool = False,
             overwrite: bool = False, max_variants: int = 10_000,
             batch_size: int | None = None, progress: Any = None,
-            timeout: float = 10.0) -> Exploration:
+            timeout: float = 10.0, requires: Sequence[Any] = (),
+            max_latency: Sequence[Any] = (), forbid: Sequence[Any] = ()) -> Exploration:
     """Search protocol and clock choices for the best live, consistent, schedulable designs.
 
     Each variant (one protocol per chosen link, one period per chosen clock) is
@@ -462,7 +463,15 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     progress : callable, optional
         Called with a :class:`tegraph.design.explore_run.Progress` after each batch.
     timeout : float
-        Seconds to wait for the scheduler.
+        Seconds to wait for the scheduler (finite, at most a day).
+    requires : sequence
+        ``"TASK.period=P"`` or ``"TASK.period<=P"``: kept designs run the task at
+        that period.
+    max_latency : sequence
+        ``"A,B,C=L"``: kept designs have the chain's latency (exact, or the bound
+        guaranteed) at most L.
+    forbid : sequence of protocols
+        Protocols no link may use (taken out of the choices).
 
     Returns
     -------
@@ -508,13 +517,17 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     >>> found = explore(sk, ["A:x -> B:x"], chains=[["A", "B"]], workers=0)
     >>> [(f["links"]["A:x -> B:x"], f["objectives"]["latency:A,B"]) for f in
     ...  (found.entry(r) for r in found.front)]
-    [('ASYN/SYN', '3'), ('SYN/SYN', '3')]
+    [('ASYN/SYN', '3')]
+
+    SYN/SYN ties with ASYN/SYN on every objective; the tie goes to the design with
+    fewer Rule 2 findings (a SYN/SYN rendezvous is one).
     """
     from .design.explore import explore_design
     from .design.explore_space import design_space
     from .report.explore_table import ResultsTable
 
-    space = design_space(skeleton, links, all_links, clocks, chains, objectives)
+    space = design_space(skeleton, links, all_links, clocks, chains, objectives,
+                         requires=requires, max_latency=max_latency, forbid=forbid)
     if output is None and resume:
         raise InputError("nothing to resume without an `output` file", "resume")
     table = None if output is None else ResultsTable(output, space, resume, overwrite)

@@ -60,6 +60,8 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
           "max_variants": "--max-variants", "batch_size": "--batch-size",
           "max_memory": "--max-memory", "max_firings": "--max-firings", "timed": "--timed",
           "max_jobs": "--max-jobs", "horizon": "--horizon"}
+_FLAGS.update({"requires": "--require", "max_latency": "--max-latency", "forbid": "--forbid",
+               "timeout": "--timeout"})
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -494,8 +496,25 @@ def explore(
         None, "--clock", help="NAME=5,10,20: choose this clock's period among these "
                               "(a task's own clock is TASK.clock; repeatable)."),
     objective: list[str] | None = typer.Option(
-        None, "--objective", help="latency, period or load (repeatable or comma-separated; "
-                                  "default all that apply), all minimized."),
+        None, "--objective",
+        help="latency (of each chain, in the file's unit), period (the period ratio: the "
+             "largest task period over the task's designed period, its own clock's or its "
+             "input group's fastest), load (the busiest processor's utilization) or "
+             "utilization (the sum over the processors); repeatable or comma-separated; "
+             "default all that apply (utilization with two processors or more), all "
+             "minimized; ties are broken by fewer Rule 2 findings."),
+    require: list[str] | None = typer.Option(
+        None, "--require", metavar="TASK.period=P",
+        help="Keep only designs that run TASK at period P (or TASK.period<=P), in the "
+             "file's unit (repeatable)."),
+    max_latency: list[str] | None = typer.Option(
+        None, "--max-latency", metavar="A,B,C=L",
+        help="Keep only designs whose latency of chain A,B,C (exact, or the bound "
+             "guaranteed across asynchronous hops) is at most L (repeatable)."),
+    forbid: list[str] | None = typer.Option(
+        None, "--forbid", metavar="PROTOCOL",
+        help="No link may use this protocol, e.g. SYN/SYN: it is taken out of every "
+             "chosen link's choices (repeatable)."),
     scheduler: str | None = typer.Option(
         None, "--scheduler", help="Run on this Dask scheduler, e.g. tcp://HOST:8786."),
     workers: int | None = typer.Option(
@@ -516,8 +535,9 @@ def explore(
                                              "this many."),
     batch_size: int | None = typer.Option(None, "--batch-size", min=1,
                                           help="Variants per batch (default adaptive)."),
-    timeout: float = typer.Option(10.0, "--timeout", min=0.1,
-                                  help="Seconds to wait for the scheduler to answer."),
+    timeout: float = typer.Option(10.0, "--timeout", min=0.1, max=86_400.0,
+                                  help="Seconds to wait for the scheduler to answer "
+                                       "(finite, at most 86400)."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report."),
 ) -> None:
     """Search link protocols and clock periods for the Pareto front of live, consistent,
@@ -528,7 +548,6 @@ def explore(
     what was judged: --resume goes on).
     """
     from .api import explore as run_exploration
-    from .design.explore_space import parse_clock_choice, parse_link_choice
     from .design.latency import parse_chain
     from .io import load_skeleton
     from .report import render_text, to_json
@@ -543,11 +562,10 @@ def explore(
         if not matplotlib_available():
             _fail("--plot: drawing the front needs matplotlib, which is not installed; "
                   "install it with: pip install 'tegraph[plot]'")
-    links = {}
-    for text in link or []:
-        label, protocols = parse_link_choice(text)
-        links[label] = protocols
-    clocks = dict(parse_clock_choice(text) for text in clock or [])
+    # Lists, not dicts: a link or clock given twice is refused by the library, naming
+    # both occurrences, instead of the second silently replacing the first.
+    links = list(link or [])
+    clocks = list(clock or [])
     objectives = None if not objective else [
         o for text in objective for o in text.split(",") if o.strip()]
     bar = _ProgressBar()
@@ -564,7 +582,8 @@ def explore(
             chains=[parse_chain(c) for c in chain or []], objectives=objectives,
             scheduler=scheduler, workers=workers, output=output, resume=resume,
             overwrite=force, max_variants=max_variants, batch_size=batch_size,
-            progress=progress, timeout=timeout)
+            progress=progress, timeout=timeout, requires=require or [],
+            max_latency=max_latency or [], forbid=forbid or [])
     except InputError as exc:
         _fail(_located(exc))
     except OSError as exc:

@@ -26,6 +26,8 @@ References
 
 from __future__ import annotations
 
+import math
+import re
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -34,7 +36,7 @@ from typing import Any
 from maxplus.scalar import exact_text
 
 from ..errors import InputError
-from .explore_eval import ANALYZED, FAILED, PRUNED, VariantResult
+from .explore_eval import ANALYZED, FAILED, PRUNED, REJECTIONS, VariantResult, rejection
 from .explore_prune import DeadlockOracle
 from .explore_run import Progress, RunLog, run_search
 from .explore_search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
@@ -120,14 +122,35 @@ class Exploration:
         return sum(1 for r in self.results.values() if r.kept)
 
     @property
+    def rejected(self) -> dict[str, int]:
+        """Judged variants not kept, counted by why (:data:`~.explore_eval.REJECTIONS`,
+        in that order; reasons that no variant had are left out)."""
+        counts = dict.fromkeys(REJECTIONS, 0)
+        for r in self.results.values():
+            why = rejection(r)
+            if why is not None:
+                counts[why] += 1
+        return {why: n for why, n in counts.items() if n}
+
+    @property
     def verdict(self) -> str:
         """One sentence: the front found and how it was obtained."""
+        wanted = "live, consistent and schedulable" + (
+            " and meets the constraints" if self.space.constraints else "")
         if not self.front:
-            what = "no variant is live, consistent and schedulable"
+            what = f"no variant is {wanted}"
         else:
             what = f"{len(self.front)} design(s) on the Pareto front of {self.kept} kept"
-        how = ("exhaustive: the exact front of all variants" if self.exhaustive else
-               f"{self.method}, not exhaustive: the best front found")
+        failed = self.count(FAILED)
+        if self.exhaustive:
+            how = "exhaustive: the exact front of all variants"
+        elif self.method == "exhaustive":
+            # Every variant was proposed, but some could not be judged (or are missing):
+            # the front is exact only over the variants judged.
+            how = (f"every variant proposed, {failed:,} failed to be judged: the exact "
+                   "front of the variants judged, not of the space")
+        else:
+            how = f"{self.method}, not exhaustive: the best front found"
         return f"{what} ({how})"
 
     def entry(self, r: VariantResult) -> dict[str, Any]:
@@ -135,10 +158,11 @@ class Exploration:
         links, clocks = self.space.describe(r.variant)
         return {"variant": r.variant, "links": links, "clocks": clocks,
                 "objectives": {k: exact_text(v) for k, v in r.objectives.items()},
-                "kinds": dict(r.kinds), "repaired": r.repaired, "orders": r.orders}
+                "kinds": dict(r.kinds), "repaired": r.repaired, "orders": r.orders,
+                "rule2": r.rule2}
 
     def to_dict(self) -> dict[str, Any]:
-        """The body of the JSON report (``docs/explore.schema.json``)."""
+        """The body of the JSON report (``docs/report.schema.json``, ``$defs/explore``)."""
         sk = self.space.skeleton
         return {
             "name": sk.name, "unit": sk.unit,
@@ -148,6 +172,7 @@ class Exploration:
             "failed": self.count(FAILED),
             "consistent": self.consistent,
             "kept": self.kept,
+            "rejected": self.rejected,
             "exhaustive": self.exhaustive,
             "search": {"method": self.method, "description": _METHODS[self.method],
                        "max_variants": self.max_variants, "stopped": self.stopped,
@@ -159,6 +184,7 @@ class Exploration:
                 "clocks": {c.name: [exact_text(t) for t in c.periods]
                            for c in self.space.clocks}},
             "chains": [list(c) for c in self.space.chains],
+            "constraints": self.space.constraints.to_dict(),
             "front": [self.entry(r) for r in self.front],
             "engine": {"kind": self.log.engine, "workers": self.log.workers,
                        "address": self.log.address, "batches": self.log.batches,
@@ -170,6 +196,47 @@ class Exploration:
             "notes": list(self.notes),
             "verdict": self.verdict,
         }
+
+
+MAX_TIMEOUT = 86_400.0
+"""Longest wait for a scheduler, in seconds (a day): Dask takes a finite duration."""
+
+_ADDRESS = re.compile(r"(?:(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*)://)?(?P<host>\[[0-9A-Fa-f:.]+\]|"
+                      r"[A-Za-z0-9_.-]+):(?P<port>[0-9]{1,5})/?")
+
+
+def scheduler_address(address: str) -> str:
+    """Check a Dask scheduler address before any connection: ``tcp://HOST:PORT``
+    (``HOST:PORT`` means tcp, as in Dask).
+
+    A malformed address is refused here rather than handed to Dask, whose client,
+    once half-built, waits 20 s at garbage collection before failing with a
+    traceback; ``tls://`` is refused too, since it needs certificates this
+    command does not take.
+
+    >>> scheduler_address("127.0.0.1:8786")
+    'tcp://127.0.0.1:8786'
+    >>> scheduler_address("tcp://127.0.0.1:abc")
+    Traceback (most recent call last):
+    ...
+    tegraph.errors.InputError: scheduler: cannot read 'tcp://127.0.0.1:abc' as a Dask \
+scheduler address; expected tcp://HOST:PORT with a port from 1 to 65535, such as \
+tcp://127.0.0.1:8786
+    """
+    text = str(address).strip()
+    found = _ADDRESS.fullmatch(text)
+    scheme = (found["scheme"] or "tcp").lower() if found else None
+    if scheme is not None and scheme != "tcp":
+        why = ("a TLS scheduler needs certificates (a security configuration), which "
+               "explore does not take" if scheme == "tls" else
+               f"the {scheme}:// transport is not supported")
+        raise InputError(f"cannot use {text!r}: {why}; expected tcp://HOST:PORT, such as "
+                         "tcp://127.0.0.1:8786", "scheduler")
+    if found is None or not 1 <= int(found["port"]) <= 65535:
+        raise InputError(f"cannot read {text!r} as a Dask scheduler address; expected "
+                         "tcp://HOST:PORT with a port from 1 to 65535, such as "
+                         "tcp://127.0.0.1:8786", "scheduler")
+    return f"tcp://{found['host']}:{int(found['port'])}"
 
 
 def explore_design(space: DesignSpace, *, scheduler: str | None = None,
@@ -229,6 +296,12 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
     """
     if scheduler is not None and workers is not None:
         raise InputError("give either `scheduler` or `workers`, not both", "workers")
+    if scheduler is not None:
+        scheduler = scheduler_address(scheduler)
+    if isinstance(timeout, bool) or not isinstance(timeout, int | float) \
+            or not math.isfinite(timeout) or not 0 < timeout <= MAX_TIMEOUT:
+        raise InputError(f"expected a number of seconds > 0 and at most {MAX_TIMEOUT:g} (a "
+                         f"day), got {timeout!r}", "timeout")
     if workers is not None and workers < 0:
         raise InputError(f"expected a number of workers >= 0, got {workers}", "workers")
     if max_variants < 1:

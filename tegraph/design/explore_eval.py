@@ -15,18 +15,27 @@ One variant is judged as ``tegraph analyze`` would judge it:
      :func:`~tegraph.design.latency.chain_latency`, exact inside one
      synchronized group, the smallest published bound across asynchronous hops
      (its kind, ``exact`` or ``bound``, is kept beside it);
-   - ``period``: the largest, over the tasks, of the task's period over its
-     designed period, the period in the *input* skeleton of the fastest clock of
-     its group there (:attr:`DesignSpace.reference_periods`): 1, every task runs
-     at its designed rate; 1/2, twice as fast (a faster clock); 3, some task runs
-     three times slower (it joined a slower group). Tasks whose input group has
-     no clock have no reference and are not counted;
-   - ``load``: the largest processor utilization ``Σ C/T`` of the
-     schedulability units (``demand / hyperperiod``).
+   - ``period`` (the *period ratio*): the largest, over the tasks, of the
+     task's period over its designed period (:attr:`DesignSpace.reference_periods`):
+     the period, in the *input* skeleton, of the task's own clock, or for a
+     task without a clock of the fastest clock of its input group. 1: every
+     task runs at its designed rate; 1/2, twice as fast (a faster clock); 3,
+     some task three times slower (a task pulled into a slower group). A task
+     that leaves a fast group to run on its own slower clock is judged against
+     its own clock, at 1. Tasks with no reference are not counted;
+   - ``load``: the busiest processor's utilization ``Σ C/T`` (``demand /
+     hyperperiod`` of the schedulability test);
+   - ``utilization``: the sum of every processor's utilization (what a faster
+     loop costs on the processors that are not the busiest).
+
+Besides the objectives: the number of Rule 2 findings of section 6 (SYN/SYN
+links, and ASYN/ASYN links between groups of one rate: :func:`rule2_findings`),
+which breaks ties between designs of equal objectives, and the constraints of
+the space (:class:`~.explore_space.Constraints`), which a kept design meets.
 
 A variant is *kept* when it is live (perhaps after the repair), consistent
-(spec §4: no unbounded place, no overrun) and schedulable (every unit meets its
-period). Everything is exact: Fractions, no tolerance.
+(spec §4: no unbounded place, no overrun), schedulable (every unit meets its
+period) and meets the constraints. Everything is exact: Fractions, no tolerance.
 """
 
 from __future__ import annotations
@@ -37,15 +46,19 @@ from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Any
 
+from maxplus.scalar import exact_text
+
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.reorder import reorder_ports
 from ..analysis.results import Report
-from ..model.skeleton import Skeleton
+from ..model.skeleton import Protocol, Skeleton
 from .explore_space import DesignSpace, latency_name
 from .latency import chain_latency
 from .schedulability import Schedulability, schedulability
+from .synchronization import group_period, synchronized_groups
 
-__all__ = ["VariantResult", "evaluate_batch", "evaluate_variant"]
+__all__ = ["VariantResult", "evaluate_batch", "evaluate_variant", "rejection",
+           "rule2_findings"]
 
 ANALYZED, PRUNED, FAILED = "analyzed", "pruned", "failed"
 
@@ -75,6 +88,11 @@ class VariantResult:
         Why it is not kept (empty when kept).
     seconds : float
         Time spent judging it.
+    rule2 : int or None
+        Rule 2 findings of section 6 in the judged skeleton (None when not analyzed):
+        the tie-breaker of the front.
+    meets : bool or None
+        Meets the constraints of the space (None when not reached, or none).
     """
 
     variant: int
@@ -88,11 +106,65 @@ class VariantResult:
     orders: dict[str, dict[str, list[str]]] = field(default_factory=dict)
     reason: str = ""
     seconds: float = 0.0
+    rule2: int | None = None
+    meets: bool | None = None
 
     @property
     def kept(self) -> bool:
-        """Live, consistent and schedulable."""
-        return bool(self.live and self.consistent and self.schedulable)
+        """Live, consistent, schedulable and not against a constraint."""
+        return bool(self.live and self.consistent and self.schedulable
+                    and self.meets is not False)
+
+
+REJECTIONS = ("failed to be judged", "dead whatever the port order",
+              "an unbounded place", "an overrun", "not schedulable", "against a constraint")
+"""Why a variant is not kept, in the order the judgement meets them."""
+
+
+def rejection(result: VariantResult) -> str | None:
+    """Why ``result`` is not kept, as one of :data:`REJECTIONS` (None when kept).
+
+    >>> rejection(VariantResult(3, PRUNED, live=False))
+    'dead whatever the port order'
+    """
+    if result.judged == FAILED:
+        return REJECTIONS[0]
+    if not result.live:
+        return REJECTIONS[1]
+    if not result.consistent:
+        return REJECTIONS[3] if result.reason.startswith("overrun") else REJECTIONS[2]
+    if not result.schedulable:
+        return REJECTIONS[4]
+    if result.meets is False:
+        return REJECTIONS[5]
+    return None
+
+
+def rule2_findings(skeleton: Skeleton) -> int:
+    """Departures from Rule 2 of section 6 in ``skeleton``, counted as
+    :func:`tegraph.design.rules.check_rules` reports them: each SYN/SYN link (a
+    rendezvous blocks both sides), and each ASYN/ASYN link between two groups of
+    one design period (Figure 4: the data may wait a period at each hop).
+
+    >>> sk = Skeleton.from_dict({"clocks": {"rtc": {"period": 10}}, "tasks": {
+    ...     "A": {"duration": 1, "clock": "rtc", "outputs": ["x"]},
+    ...     "B": {"duration": 2, "inputs": ["x"]}},
+    ...     "links": [{"from": "A:x", "to": "B:x", "protocol": "SYN/SYN"}]})
+    >>> rule2_findings(sk)
+    1
+    """
+    groups = synchronized_groups(skeleton)
+    group_of = {t: i for i, g in enumerate(groups) for t in g}
+    periods = [group_period(skeleton, g) for g in groups]
+    count = 0
+    for link in skeleton.links:
+        w, r = group_of[link.writer[0]], group_of[link.reader[0]]
+        if link.protocol is Protocol.SYN_SYN:
+            count += 1
+        elif link.protocol is Protocol.ASYN_ASYN and w != r \
+                and periods[w] is not None and periods[w] == periods[r]:
+            count += 1
+    return count
 
 
 def evaluate_batch(space: DesignSpace, variants: Sequence[int]) -> list[VariantResult]:
@@ -140,7 +212,8 @@ def evaluate_variant(space: DesignSpace, variant: int,
     repairs = {} if repairs is None else repairs
     skeleton = space.build(variant)
     report = analyze_skeleton(skeleton)
-    result = VariantResult(variant, ANALYZED, live=report.live)
+    result = VariantResult(variant, ANALYZED, live=report.live,
+                           rule2=rule2_findings(skeleton))
     if not report.live:
         protocol_index = space.split(variant)[0]
         if protocol_index not in repairs:
@@ -165,7 +238,33 @@ def evaluate_variant(space: DesignSpace, variant: int,
     if not result.schedulable:
         result.reason = _unschedulable(sched, skeleton.unit)
     _objectives(space, skeleton, report, sched, result)
+    if space.constraints:
+        broken = _broken(space, skeleton, report, sched)
+        result.meets = not broken
+        if broken and not result.reason:
+            result.reason = "against a constraint: " + "; ".join(broken)
     return result
+
+
+def _broken(space: DesignSpace, skeleton: Skeleton, report: Report,
+            sched: Schedulability) -> list[str]:
+    """The constraints the variant does not meet, each in words with its unit."""
+    unit = skeleton.unit
+    out = []
+    for task, op, bound in space.constraints.periods:
+        period = report.tasks[task].period
+        if period is None:
+            out.append(f"{task} has no period, required {op} {exact_text(bound)} {unit}")
+        elif not (period == bound if op == "=" else period <= bound):
+            out.append(f"{task}.period is {exact_text(period)} {unit}, required {op} "
+                       f"{exact_text(bound)} {unit}")
+    for chain, bound in space.constraints.latencies:
+        value = chain_latency(skeleton, chain, report, sched).value
+        if value is None or value > bound:
+            shown = "undefined" if value is None else f"{exact_text(value)} {unit}"
+            out.append(f"latency {','.join(chain)} is {shown}, required <= "
+                       f"{exact_text(bound)} {unit}")
+    return out
 
 
 def _reordered(skeleton: Skeleton, orders: dict[str, dict[str, list[str]]]) -> Skeleton:
@@ -190,10 +289,12 @@ def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: S
         ratios = [t.period / reference[name] for name, t in report.tasks.items()
                   if t.period is not None and reference.get(name)]
         result.objectives["period"] = max(ratios, default=None)
+    loads = [p.demand / p.hyperperiod for p in sched.processors
+             if p.demand is not None and p.hyperperiod]
     if "load" in wanted:
-        loads = [p.demand / p.hyperperiod for p in sched.processors
-                 if p.demand is not None and p.hyperperiod]
         result.objectives["load"] = max(loads, default=None)
+    if "utilization" in wanted:
+        result.objectives["utilization"] = sum(loads, Fraction(0)) if loads else None
     result.objectives = {name: result.objectives.get(name) for name in space.objectives}
 
 

@@ -62,10 +62,21 @@ def dominates(a: dict[str, Fraction | None], b: dict[str, Fraction | None],
     return better
 
 
+def _beats(a: VariantResult, b: VariantResult, names: Sequence[str]) -> bool:
+    """``a`` dominates ``b``, or ties with it on every objective and has fewer Rule 2
+    findings (section 6: SYN/SYN rendezvous, unsynchronized cooperating tasks)."""
+    if dominates(a.objectives, b.objectives, names):
+        return True
+    return (all(a.objectives.get(n) == b.objectives.get(n) for n in names)
+            and (a.rule2 or 0) < (b.rule2 or 0))
+
+
 class ParetoFront:
     """The kept variants that no other kept variant dominates (exact comparisons).
 
-    Variants with equal objective vectors are all on the front.
+    Between variants of equal objective vectors, the fewest Rule 2 findings of
+    section 6 win (:func:`~.explore_eval.rule2_findings`); variants equal on both
+    are all on the front.
 
     >>> F = Fraction
     >>> front = ParetoFront(["load"])
@@ -84,10 +95,10 @@ class ParetoFront:
         if not result.kept:
             return False
         for other in self.members.values():
-            if dominates(other.objectives, result.objectives, self.names):
+            if _beats(other, result, self.names):
                 return False
         for v in [v for v, other in self.members.items()
-                  if dominates(result.objectives, other.objectives, self.names)]:
+                  if _beats(result, other, self.names)]:
             del self.members[v]
         self.members[result.variant] = result
         return True

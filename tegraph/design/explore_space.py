@@ -19,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from fractions import Fraction
@@ -34,13 +35,16 @@ from .synchronization import group_period, synchronized_groups
 
 __all__ = [
     "ClockChoice",
+    "Constraints",
     "DesignSpace",
     "LinkChoice",
     "design_space",
     "latency_name",
     "link_text",
     "parse_clock_choice",
+    "parse_latency_bound",
     "parse_link_choice",
+    "parse_period_requirement",
     "parse_protocol",
 ]
 
@@ -117,6 +121,53 @@ class ClockChoice:
 
 
 @dataclass(frozen=True)
+class Constraints:
+    """What every kept design must meet, besides liveness, consistency and schedulability.
+
+    Attributes
+    ----------
+    periods : tuple of (task, op, period)
+        The task's period (its group's, in the variant) ``=`` or ``<=`` the period.
+    latencies : tuple of (chain, latency)
+        The chain's latency (:func:`~tegraph.design.latency.chain_latency`: exact in
+        one group, else the smallest published bound) at most this value.
+    forbidden : tuple of Protocol
+        Protocols taken out of every chosen link's choices (a link not chosen may
+        not use one either).
+    """
+
+    periods: tuple[tuple[str, str, Fraction], ...] = ()
+    latencies: tuple[tuple[tuple[str, ...], Fraction], ...] = ()
+    forbidden: tuple[Protocol, ...] = ()
+
+    def __bool__(self) -> bool:
+        """True when a variant can fail them (forbidden protocols restrict the space
+        instead)."""
+        return bool(self.periods or self.latencies)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for the report and the fingerprint."""
+        return {"periods": [{"task": t, "op": op, "period": exact_text(v)}
+                            for t, op, v in self.periods],
+                "latencies": [{"chain": list(c), "at_most": exact_text(v)}
+                              for c, v in self.latencies],
+                "forbidden": [p.value for p in self.forbidden]}
+
+    def texts(self, unit: str) -> list[str]:
+        """Each constraint in words."""
+        return ([f"{t}.period {op} {exact_text(v)} {unit}" for t, op, v in self.periods]
+                + [f"latency {','.join(c)} <= {exact_text(v)} {unit}"
+                   for c, v in self.latencies]
+                + [f"no {p.value} link" for p in self.forbidden])
+
+
+DEFINITIONS = 2
+"""The version of the objectives' definitions, part of the fingerprint: a results file
+judged under other definitions (version 1: the period ratio against the input group's
+fastest clock, no utilization, no Rule 2 count) is not resumed."""
+
+
+@dataclass(frozen=True)
 class DesignSpace:
     """The skeleton, the chosen links and clocks, the chains and the objectives.
 
@@ -131,7 +182,8 @@ class DesignSpace:
         Chains whose latency is an objective (the skeleton's own, then the given ones).
     objectives : tuple of str
         Names of the objectives, all minimized: ``latency:A,B,C`` per chain,
-        ``period``, ``load``.
+        ``period``, ``load``, ``utilization``.
+    constraints : Constraints
     """
 
     skeleton: Skeleton
@@ -139,6 +191,7 @@ class DesignSpace:
     clocks: tuple[ClockChoice, ...]
     chains: tuple[tuple[str, ...], ...]
     objectives: tuple[str, ...]
+    constraints: Constraints = Constraints()
 
     @property
     def n_protocol_variants(self) -> int:
@@ -218,12 +271,20 @@ class DesignSpace:
 
     @cached_property
     def reference_periods(self) -> dict[str, Fraction | None]:
-        """Each task's designed period: the period, in the input skeleton, of the fastest
-        clock of its group (spec §4 groups: tasks joined by synchronizing links,
-        threads and shared clocks); None for a task whose group has no clock."""
+        """Each task's designed period, in the input skeleton: its own clock's period;
+        for a task without a clock, the period of the fastest clock of its group (spec
+        §4 groups: tasks joined by synchronizing links, threads and shared clocks);
+        None for a task whose group has no clock.
+
+        A task's own clock states the rate it is designed for: a variant where it
+        leaves a faster group to run on that clock runs it at its designed rate."""
         sk = self.skeleton
-        return {name: period for tasks in synchronized_groups(sk)
-                for period in [group_period(sk, tasks)] for name in tasks}
+        out = {name: period for tasks in synchronized_groups(sk)
+               for period in [group_period(sk, tasks)] for name in tasks}
+        for name, task in sk.tasks.items():
+            if task.clock:
+                out[name] = sk.clocks[task.clock].period
+        return out
 
     @cached_property
     def fingerprint(self) -> str:
@@ -235,6 +296,8 @@ class DesignSpace:
             "clocks": [[c.name, [exact_text(t) for t in c.periods]] for c in self.clocks],
             "chains": [list(c) for c in self.chains],
             "objectives": list(self.objectives),
+            "constraints": self.constraints.to_dict(),
+            "definitions": DEFINITIONS,
         }, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -247,13 +310,56 @@ def _digits(index: int, radices: Sequence[int]) -> tuple[int, ...]:
     return tuple(reversed(out))
 
 
-OBJECTIVES = ("latency", "period", "load")
+OBJECTIVES = ("latency", "period", "load", "utilization")
+
+_REQUIREMENT = re.compile(r"\s*(?P<task>[^=<>]+?)\.period\s*(?P<op><=|=)\s*(?P<value>\S.*?)\s*$")
+
+
+def parse_period_requirement(text: str, where: str) -> tuple[str, str, str]:
+    """``"CTRL.period=2"`` or ``"CTRL.period<=5/2"`` -> (task, ``=`` or ``<=``, period text).
+
+    >>> parse_period_requirement("CTRL.period = 2", "requires[0]")
+    ('CTRL', '=', '2')
+    """
+    found = _REQUIREMENT.fullmatch(str(text))
+    if not found:
+        raise InputError(f"cannot read {str(text)!r}; expected TASK.period=P or "
+                         "TASK.period<=P, such as CTRL.period=2", where)
+    return found["task"].strip(), found["op"], found["value"]
+
+
+def parse_latency_bound(text: str, where: str) -> tuple[tuple[str, ...], str]:
+    """``"A,B,C=12"`` -> (chain, latency text).
+
+    >>> parse_latency_bound("A, B,C = 25/2", "max_latency[0]")
+    (('A', 'B', 'C'), '25/2')
+    """
+    chain, equals, value = str(text).rpartition("=")
+    names = tuple(n.strip() for n in chain.split(","))
+    if not equals or not value.strip() or len(names) < 2 or not all(names):
+        raise InputError(f"cannot read {str(text)!r}; expected A,B,C=LATENCY (a chain of "
+                         "two tasks or more), such as MT1,MT2,MT3=12", where)
+    return names, value.strip()
+
+
+def _time(text: Any, where: str, what: str) -> Fraction:
+    """A time > 0 read by the one exact-number parser of the files (digit bound included)."""
+    try:
+        value = exact_time(text if isinstance(text, str | int | Fraction) else str(text), where)
+    except (ValueError, ArithmeticError, TypeError) as exc:
+        said = str(exc).removeprefix(f"{where}: ")
+        raise InputError(f"expected {what} > 0 such as 10, 2.5 or 7/3; {said}", where) from None
+    if value <= 0:
+        raise InputError(f"expected {what} > 0 such as 10, 2.5 or 7/3, got {text!r}", where)
+    return value
 
 
 def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] | Sequence[str] = (),
-                 all_links: bool = False, clocks: Mapping[str, Sequence[Any]] | None = None,
-                 chains: Sequence[Sequence[str]] = (), objectives: Sequence[str] | None = None
-                 ) -> DesignSpace:
+                 all_links: bool = False,
+                 clocks: Mapping[str, Sequence[Any]] | Sequence[Any] | None = None,
+                 chains: Sequence[Sequence[str]] = (), objectives: Sequence[str] | None = None,
+                 *, requires: Sequence[Any] = (), max_latency: Sequence[Any] = (),
+                 forbid: Sequence[Any] = ()) -> DesignSpace:
     """Check the choices against the skeleton and build the design space.
 
     Parameters
@@ -261,16 +367,29 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     skeleton : Skeleton
     links : mapping of str to protocols, or sequence of str
         ``"W:p -> R:q"`` -> the protocols allowed (texts or :class:`Protocol`;
-        None: all four). A plain sequence of link names allows all four on each.
+        None: all four). A plain sequence holds ``"W:p -> R:q"`` (all four) or
+        ``"W:p -> R:q=ASYN/SYN,SYN/SYN"`` texts.
     all_links : bool
         Choose every link of the skeleton (with all four protocols), besides ``links``.
-    clocks : mapping of str to sequence of times
-        Clock name (``TASK.clock`` for a task's ``period:``) -> candidate periods.
+    clocks : mapping of str to sequence of times, or sequence of pairs or texts
+        Clock name (``TASK.clock`` for a task's ``period:``) -> candidate periods;
+        as a sequence, ``(name, periods)`` pairs or ``"NAME=5,10"`` texts.
     chains : sequence of task-name sequences
         Chains whose latency is an objective, besides the skeleton's ``chains``.
     objectives : sequence of str, optional
-        Among ``latency``, ``period``, ``load``; default all three (``latency``
-        only when there is a chain).
+        Among ``latency``, ``period``, ``load``, ``utilization``; default:
+        ``latency`` when there is a chain, ``period``, ``load``, and
+        ``utilization`` when the tasks are on more than one processor (on one,
+        it equals ``load``).
+    requires : sequence
+        ``"TASK.period=P"`` or ``"TASK.period<=P"`` texts, or ``(task, op, period)``:
+        a kept design runs the task at that period (its group's period).
+    max_latency : sequence
+        ``"A,B,C=L"`` texts or ``(chain, latency)`` pairs: a kept design's chain
+        latency (exact, or the bound :func:`~tegraph.design.latency.chain_latency`
+        guarantees) is at most L.
+    forbid : sequence of protocols
+        Protocols no link may use: taken out of every chosen link's choices.
 
     Returns
     -------
@@ -279,9 +398,12 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     Raises
     ------
     InputError
-        An unknown link, clock, task or protocol; a choice named twice; an empty
-        choice; a period that is not a time > 0; nothing chosen; an unknown
-        objective, or ``latency`` without a chain.
+        An unknown link, clock, task or protocol; a link or clock chosen twice
+        (both occurrences named); an empty choice; a period that is not a time
+        > 0; nothing chosen; an unknown objective, or ``latency`` without a
+        chain; a constraint that cannot be read or names an unknown task or
+        chain; a forbidden protocol on a link not chosen, or that empties a
+        link's choice.
 
     Examples
     --------
@@ -294,19 +416,27 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     (4, ({'A:x -> B:x': 'SYN/SYN'}, {'rtc': '10'}))
     """
     by_label = {link_text(k.writer, k.reader): i for i, k in enumerate(skeleton.links)}
-    items = list(links.items()) if isinstance(links, Mapping) else [(t, None) for t in links]
+    forbidden = tuple(dict.fromkeys(parse_protocol(p, f"forbid[{k}]")
+                                    for k, p in enumerate(forbid)))
+    if isinstance(links, Mapping):
+        items = [(str(label), protocols) for label, protocols in links.items()]
+    else:  # "W:p -> R:q" or "W:p -> R:q=P1,P2" texts
+        items = [parse_link_choice(str(text)) for text in links]
     chosen: dict[int, LinkChoice] = {}
+    first: dict[int, str] = {}
     for k, (label, protocols) in enumerate(items):
         where = f"links[{k}]"
-        name, _ = parse_link_choice(str(label))
+        name, _ = parse_link_choice(label)
         if name not in by_label:
             known = ", ".join(list(by_label)[:8]) + (", ..." if len(by_label) > 8 else "")
             raise InputError(f"no link {name!r} in the skeleton; expected \"WRITER:PORT -> "
                              f"READER:PORT\" of one of its links ({known or 'none'})", where)
         index = by_label[name]
         if index in chosen:
-            raise InputError(f"the link {name!r} is chosen twice; expected each link once",
-                             where)
+            raise InputError(f"the link {name!r} is chosen twice, by `links`{first[index][5:]} "
+                             f"and `links`{where[5:]}; expected each link once (the second "
+                             "would silently replace the first)", where)
+        first[index] = where
         if protocols is None:
             allowed = _ALL
         else:
@@ -316,13 +446,38 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
             if not allowed:
                 raise InputError(f"no protocol allowed for {name!r}; expected at least one "
                                  f"of {_PROTOCOLS}", where)
-        chosen[index] = LinkChoice(index, name, allowed)
+        kept = tuple(p for p in allowed if p not in forbidden)
+        if not kept:
+            raise InputError(f"every protocol allowed for {name!r} is forbidden by `forbid`; "
+                             "expected a choice with a protocol left", where)
+        chosen[index] = LinkChoice(index, name, kept)
     if all_links:
+        left = tuple(p for p in _ALL if p not in forbidden)
+        if not left:
+            raise InputError("every protocol is forbidden; expected at least one left",
+                             "forbid")
         for i, link in enumerate(skeleton.links):
-            chosen.setdefault(i, LinkChoice(i, link_text(link.writer, link.reader), _ALL))
+            chosen.setdefault(i, LinkChoice(i, link_text(link.writer, link.reader), left))
+    for i, link in enumerate(skeleton.links):
+        if i not in chosen and link.protocol in forbidden:
+            raise InputError(f"the link {link_text(link.writer, link.reader)!r} is "
+                             f"{link.protocol.value} in the skeleton and not chosen, so every "
+                             "design would use the forbidden protocol; expected the link "
+                             "chosen (`links`, or all_links)", "forbid")
     clock_choices = []
-    for name, periods in (clocks or {}).items():
+    clock_first: dict[str, str] = {}
+    if isinstance(clocks, Mapping):
+        clock_items = [(str(n), p) for n, p in clocks.items()]
+    else:  # (name, periods) pairs or "NAME=P1,P2" texts
+        clock_items = [parse_clock_choice(item) if isinstance(item, str) else
+                       (str(item[0]), item[1]) for item in clocks or ()]
+    for k, (name, periods) in enumerate(clock_items):
         where = f"clocks.{name}"
+        if name in clock_first:
+            raise InputError(f"the clock {name!r} is chosen twice, by `clocks`[{clock_first[name]}]"
+                             f" and `clocks`[{k}]; expected each clock once (the second would "
+                             "silently replace the first)", where)
+        clock_first[name] = str(k)
         if name not in skeleton.clocks:
             hint = (f" (the clock of task {name!r} is {name + '.clock'!r})"
                     if name in skeleton.tasks and name + ".clock" in skeleton.clocks else "")
@@ -332,16 +487,9 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         if not any(t.clock == name for t in skeleton.tasks.values()):
             raise InputError(f"the clock {name!r} activates no task: its period changes no "
                              "figure; expected a clock that activates a task", where)
-        values = []
-        for j, text in enumerate([periods] if isinstance(periods, str | int) else periods):
-            try:
-                value = exact_time(text)
-            except (ValueError, ArithmeticError, TypeError):
-                value = None
-            if value is None or value <= 0:
-                raise InputError(f"expected a period > 0 such as 10, 2.5 or 7/3, got {text!r}",
-                                 f"{where}[{j}]")
-            values.append(value)
+        values = [_time(text, f"{where}[{j}]", "a period")
+                  for j, text in enumerate([periods] if isinstance(periods, str | int)
+                                           else periods)]
         if not values:
             raise InputError(f"no period given for {name!r}; expected {name}=P1,P2,...", where)
         clock_choices.append(ClockChoice(name, tuple(dict.fromkeys(values))))
@@ -351,15 +499,53 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     all_chains = [tuple(c) for c in skeleton.chains]
     for j, chain in enumerate(chains):
         all_chains.append(check_chain(skeleton, list(chain), ("chain", j), Locator()))
-    names = _objective_names(objectives, all_chains)
+    names = _objective_names(objectives, all_chains, skeleton)
+    constraints = Constraints(_requirements(skeleton, requires),
+                              _latency_bounds(skeleton, max_latency), forbidden)
     return DesignSpace(skeleton, tuple(chosen[i] for i in chosen), tuple(clock_choices),
-                       tuple(dict.fromkeys(all_chains)), names)
+                       tuple(dict.fromkeys(all_chains)), names, constraints)
 
 
-def _objective_names(objectives: Sequence[str] | None,
-                     chains: Sequence[tuple[str, ...]]) -> tuple[str, ...]:
+def _requirements(skeleton: Skeleton, requires: Sequence[Any]
+                  ) -> tuple[tuple[str, str, Fraction], ...]:
+    out: dict[str, tuple[str, str, Fraction]] = {}
+    for k, item in enumerate(requires):
+        where = f"requires[{k}]"
+        task, op, text = (parse_period_requirement(item, where) if isinstance(item, str)
+                          else item)
+        if task not in skeleton.tasks:
+            raise InputError(f"no task {task!r} in the skeleton; expected TASK.period=P with "
+                             "one of its tasks", where)
+        if op not in ("=", "<="):
+            raise InputError(f"expected '=' or '<=', got {op!r}", where)
+        if task in out:
+            raise InputError(f"the period of {task!r} is required twice; expected each task "
+                             "once (the second would silently replace the first)", where)
+        out[task] = (task, op, _time(text, where, "a period"))
+    return tuple(out.values())
+
+
+def _latency_bounds(skeleton: Skeleton, bounds: Sequence[Any]
+                    ) -> tuple[tuple[tuple[str, ...], Fraction], ...]:
+    out: dict[tuple[str, ...], tuple[tuple[str, ...], Fraction]] = {}
+    for k, item in enumerate(bounds):
+        where = f"max_latency[{k}]"
+        chain, text = parse_latency_bound(item, where) if isinstance(item, str) else item
+        chain = check_chain(skeleton, list(chain), ("max_latency", k), Locator())
+        if chain in out:
+            raise InputError(f"the latency of {','.join(chain)} is bounded twice; expected "
+                             "each chain once (the second would silently replace the first)",
+                             where)
+        out[chain] = (chain, _time(text, where, "a latency"))
+    return tuple(out.values())
+
+
+def _objective_names(objectives: Sequence[str] | None, chains: Sequence[tuple[str, ...]],
+                     skeleton: Skeleton) -> tuple[str, ...]:
     if objectives is None:
-        wanted = [o for o in OBJECTIVES if o != "latency" or chains]
+        processors = {t.processor for t in skeleton.tasks.values()}
+        wanted = [o for o in OBJECTIVES if (o != "latency" or chains)
+                  and (o != "utilization" or len(processors) > 1)]
     else:
         wanted = []
         for k, name in enumerate(objectives):

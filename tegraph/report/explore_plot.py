@@ -121,5 +121,6 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
 def _label(name: str, unit: str) -> str:
     if name.startswith("latency:"):
         return f"latency of {name[len('latency:'):]} ({unit})"
-    return {"period": "period / designed period", "load": "largest processor load"}.get(name,
-                                                                                        name)
+    return {"period": "period ratio (task period / designed period)",
+            "load": "busiest processor's utilization",
+            "utilization": "utilization, all processors"}.get(name, name)

@@ -6,17 +6,20 @@ One row per variant, in the order verdicts arrive. Columns:
 skeleton, choices and objectives), ``link:W:p -> R:q`` (the protocol, one
 column per chosen link), ``clock:NAME`` (the period, exact), ``judged``
 (analyzed, pruned, failed), ``live``, ``repaired``, ``consistent``,
-``schedulable``, ``kept`` (true, false or empty when not reached), one column
-per objective (exact, such as ``7/3``; empty where undefined), ``kind:`` and
-the objective for each latency (``exact`` or ``bound``), ``orders`` (the port
+``schedulable``, ``meets_constraints``, ``kept`` (true, false or empty when not
+reached), one column per objective (exact, such as ``7/3``; empty where
+undefined), ``kind:`` and the objective for each latency (``exact`` or
+``bound``), ``rule2`` (Rule 2 findings, the tie-breaker), ``orders`` (the port
 orders of a repair, JSON), ``reason`` (why not kept), ``seconds``.
 
 **CSV** rows are written and flushed one batch at a time, so a killed run
 loses only the batches in flight; a last line cut by the kill is dropped when
-the file is resumed. **Parquet** (the ``[parquet]`` extra, pyarrow) cannot be
-appended to safely: rows go to a CSV journal beside it, ``FILE.parquet.journal.csv``,
-and the Parquet file is written (to a temporary name, then renamed) when the
-run ends; ``resume`` reads both.
+the file is resumed, once every other row has been checked (a file that is
+not this exploration's is refused and never changed). **Parquet** (the
+``[parquet]`` extra, pyarrow) cannot be appended to safely: rows go to a CSV
+journal beside it, ``FILE.parquet.journal.csv``, and the Parquet file is
+written (to a temporary name, then renamed) when the run ends; ``resume``
+reads both.
 """
 
 from __future__ import annotations
@@ -24,15 +27,16 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import os
 from collections.abc import Sequence
 from fractions import Fraction
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import exact_text, exact_time
 
-from ..design.explore_eval import VariantResult
+from ..design.explore_eval import ANALYZED, FAILED, PRUNED, VariantResult
 from ..design.explore_space import DesignSpace
 from ..errors import InputError
 
@@ -40,7 +44,11 @@ __all__ = ["INSTALL_PARQUET", "ResultsTable", "columns"]
 
 INSTALL_PARQUET = "pip install 'tegraph[parquet]'"
 _SUFFIXES = (".csv", ".parquet")
-_FLAGS = ("live", "repaired", "consistent", "schedulable", "kept")
+_FLAGS = ("live", "repaired", "consistent", "schedulable", "meets_constraints", "kept")
+_JUDGED = (ANALYZED, PRUNED, FAILED)
+_KINDS = ("exact", "bound")
+_NOT_OURS = ("; expected a results file written by `tegraph explore` for this skeleton and "
+             "these choices (the file is left as it was: pass `overwrite` to replace it)")
 
 
 def columns(space: DesignSpace) -> list[str]:
@@ -49,11 +57,20 @@ def columns(space: DesignSpace) -> list[str]:
     return (["variant", "space"] + [f"link:{c.label}" for c in space.links]
             + [f"clock:{c.name}" for c in space.clocks] + ["judged", *_FLAGS]
             + list(space.objectives) + [f"kind:{n}" for n in latency]
-            + ["orders", "reason", "seconds"])
+            + ["rule2", "orders", "reason", "seconds"])
 
 
 class ResultsTable:
     """A results file: checked at opening, appended to, read back for ``resume``.
+
+    On ``resume`` every row is checked before anything is written: the header,
+    the fingerprint of the space, each cell (the variant number, its choices as
+    the number implies them, the verdicts, the exact objectives). A file that
+    is not this exploration's is refused and left byte for byte as it was. Only
+    then is a last row cut by a kill (no end of line, and the beginning of one
+    of this exploration's rows) dropped, so that the rows appended after it
+    start on a line of their own. An empty file is taken as a table with no
+    row (a run killed before its header): it holds nothing to lose.
 
     Parameters
     ----------
@@ -69,8 +86,9 @@ class ResultsTable:
     ------
     InputError
         (``where="output"``) another suffix, a directory that does not exist, a
-        file that exists without ``resume`` or ``overwrite``, a file of another
-        exploration, or Parquet without pyarrow.
+        file that exists without ``resume`` or ``overwrite``, or Parquet without
+        pyarrow; (``file`` and ``line`` set) a file that is not a results file
+        of this exploration, naming the row and the column refused.
     """
 
     def __init__(self, path: str | os.PathLike[str], space: DesignSpace, resume: bool = False,
@@ -90,24 +108,33 @@ class ResultsTable:
             _pyarrow()
         self.journal = self.path.with_name(self.path.name + ".journal.csv") if self.parquet \
             else self.path
-        existing = [p for p in {self.path, self.journal} if p.exists()]
+        existing = [p for p in dict.fromkeys([self.path, self.journal]) if p.exists()]
+        for p in existing:
+            if not p.is_file():
+                raise InputError(f"{p} is not a file; expected a results file", "output")
         if existing and not resume and not overwrite:
             raise InputError(f"{existing[0]} exists already; expected `resume` to continue it "
                              "or `overwrite` to start it anew", "output")
         self.known: dict[int, VariantResult] = {}
+        self._tail: tuple[Path, int, str] | None = None
+        cut: int | None = None
         if existing and resume:
+            # Everything is read and checked before the first byte is written or cut.
             if self.parquet and self.path.exists():
-                names, rows = _read_parquet(self.path)
-                if names != self.columns:
-                    raise InputError(f"{self.path} holds the results of another exploration "
-                                     "(other links, clocks or objectives); expected a file "
-                                     "written by this one, or `overwrite`", "output")
-                self._load(rows, self.path)
+                self._load(_read_parquet(self.path, self.columns), self.path)
             if self.journal.exists():
-                self._load(self._read_csv(self.journal), self.journal)
+                rows, cut = self._read_csv(self.journal)
+                self._load(rows, self.journal)
+                if self._tail is not None:
+                    self._check_tail(*self._tail)
         elif existing and overwrite:
             for p in existing:
                 p.unlink()
+        if cut is not None:
+            # The file is this exploration's: drop the last row a kill cut (its variant
+            # is judged again).
+            with open(self.journal, "r+b") as f:
+                f.truncate(cut)
         fresh = not self.journal.exists() or self.journal.stat().st_size == 0
         self._file = open(self.journal, "a", newline="", encoding="utf-8")
         self._writer = csv.writer(self._file)
@@ -128,65 +155,227 @@ class ResultsTable:
         self._file.close()
         if not self.parquet:
             return
-        table = self._read_csv(self.journal)
-        done = {int(row["variant"]) for row in table}
+        table, _ = self._read_csv(self.journal)
+        done = {int(row["variant"]) for _, row in table}
         previous = [self.row(r) for v, r in sorted(self.known.items()) if v not in done]
-        records = [[row[c] for c in self.columns] for row in table] + previous
+        records = [[row[c] for c in self.columns] for _, row in table] + previous
         _write_parquet(self.path, self.columns, records)
         self.journal.unlink()
 
     def row(self, r: VariantResult) -> list[str]:
         """One result as the cells of its row."""
         links, clocks = self.space.describe(r.variant)
-        flags = [r.live, r.repaired, r.consistent, r.schedulable, r.kept]
+        flags = [r.live, r.repaired, r.consistent, r.schedulable, r.meets, r.kept]
         latency = [n for n in self.space.objectives if n.startswith("latency:")]
         return ([str(r.variant), self.space.fingerprint] + list(links.values())
                 + list(clocks.values()) + [r.judged]
                 + ["" if f is None else str(bool(f)).lower() for f in flags]
                 + [exact_text(r.objectives.get(n)) or "" for n in self.space.objectives]
                 + [r.kinds.get(n, "") for n in latency]
+                + ["" if r.rule2 is None else str(r.rule2)]
                 + [json.dumps(r.orders) if r.orders else "", r.reason, f"{r.seconds:.6f}"])
 
-    def _read_csv(self, path: Path) -> list[dict[str, str]]:
-        text = path.read_text(encoding="utf-8")
-        if text and not text.endswith("\n"):
-            # The last row was cut by a kill: drop it (its variant is judged again).
-            text = text[:text.rfind("\n") + 1]
-            with open(path, "r+", encoding="utf-8") as f:
-                f.truncate(len(text.encode("utf-8")))
-        reader = csv.DictReader(io.StringIO(text))
+    def _refuse(self, path: Path, line: int | None, what: str) -> NoReturn:
+        raise InputError(what + _NOT_OURS, "", str(path), line)
+
+    def _read_csv(self, path: Path) -> tuple[list[tuple[int | None, dict[str, str]]], int | None]:
+        """The rows of a CSV table with their line numbers, and where to cut a last row
+        cut by a kill (None: nothing to cut). Refuses, writing nothing, a file whose
+        bytes, header or cut tail are not this exploration's."""
+        data = path.read_bytes()
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            line = data[:exc.start].count(b"\n") + 1
+            self._refuse(path, line, f"byte {exc.start:,} ({data[exc.start:exc.start + 1]!r}) "
+                         "is not UTF-8 text")
         if not text:
-            return []
-        if reader.fieldnames != self.columns:
-            raise InputError(f"{path} holds the results of another exploration (other links, "
-                             "clocks or objectives); expected a file written by this one, or "
-                             "`overwrite`", "output")
-        return list(reader)
+            return [], None
+        cut = None
+        if not text.endswith("\n"):
+            keep = text.rfind("\n") + 1
+            tail = text[keep:]
+            if keep == 0:
+                # No whole line: the beginning of the header, cut when it was written.
+                if not _header_text(self.columns).startswith(tail):
+                    self._refuse(path, 1, "the first line is not the header of this "
+                                 "exploration's results")
+            else:  # checked once the whole rows are (`check_tail`)
+                self._tail = (path, text.count("\n") + 1, tail)
+            cut = len(text[:keep].encode("utf-8"))
+            text = text[:keep]
+            if not text:
+                return [], cut
+        reader = csv.reader(io.StringIO(text, newline=""))
+        try:
+            header = next(reader)
+            if header != self.columns:
+                self._refuse(path, 1, "the header is not that of this exploration's results "
+                             "(another exploration, or not a results file: expected "
+                             f"{len(self.columns)} columns, from 'variant' to 'seconds', for "
+                             "these links, clocks and objectives)")
+            rows = []
+            for k, cells in enumerate(reader, start=1):
+                if len(cells) != len(self.columns):
+                    self._refuse(path, reader.line_num, f"row {k} has {len(cells)} cells; "
+                                 f"expected {len(self.columns)}")
+                rows.append((reader.line_num, dict(zip(self.columns, cells))))
+        except csv.Error as exc:
+            self._refuse(path, reader.line_num, f"cannot read it as CSV ({exc})")
+        return rows, cut
 
-    def _load(self, rows: list[dict[str, str]], path: Path) -> None:
-        for row in rows:
-            if row["space"] != self.space.fingerprint:
-                raise InputError(f"{path} holds the results of another exploration (another "
-                                 "skeleton, choices or objectives); expected a file written "
-                                 "by this one, or `overwrite`", "output")
-            r = self.parse(row)
-            self.known.setdefault(r.variant, r)
+    def _check_tail(self, path: Path, line: int, tail: str) -> None:
+        """Refuse a last line without an end of line unless it is the beginning of a row
+        of this exploration (digits, then its fingerprint, or a beginning of them): the
+        row a kill cut, and only that, is dropped."""
+        number, comma, rest = tail.partition(",")
+        fingerprint, comma2, _ = rest.partition(",")
+        ours = number.isascii() and number.isdigit() and (
+            not comma or (fingerprint == self.space.fingerprint if comma2
+                          else self.space.fingerprint.startswith(fingerprint)))
+        if not ours:
+            self._refuse(path, line, "the last line has no end of line and is not the "
+                         "beginning of one of this exploration's rows (a row cut by a kill)")
 
-    def parse(self, row: dict[str, str]) -> VariantResult:
-        """A row read back as a :class:`VariantResult`."""
-        def flag(text: str) -> bool | None:
+    def _load(self, rows: list[tuple[int | None, dict[str, str]]], path: Path) -> None:
+        known: dict[int, VariantResult] = {}
+        for k, (line, row) in enumerate(rows, start=1):
+            r = self.parse(row, path, line, k)
+            known.setdefault(r.variant, r)
+        for v, r in known.items():
+            self.known.setdefault(v, r)
+
+    def parse(self, row: dict[str, str], path: Path | str = "", line: int | None = None,
+              k: int = 0) -> VariantResult:
+        """A row read back as a :class:`VariantResult`, every cell checked.
+
+        Raises
+        ------
+        InputError
+            Naming ``path``, the line, the row ``k`` and the column of the first cell
+            refused.
+        """
+        space = self.space
+
+        def refuse(column: str, what: str) -> NoReturn:
+            self._refuse(Path(path), line, f"row {k}, column {column!r}: {what}, got "
+                         f"{_shown(row.get(column))}")
+
+        def flag(column: str) -> bool | None:
+            text = row[column]
+            if text not in ("", "true", "false"):
+                refuse(column, "expected true, false or empty")
             return None if text == "" else text == "true"
 
-        variant = int(row["variant"])
-        objectives: dict[str, Fraction | None] = {
-            n: Fraction(row[n]) if row[n] else None for n in self.space.objectives}
-        kinds = {n[len("kind:"):]: row[n] for n in self.columns
-                 if n.startswith("kind:") and row[n]}
-        return VariantResult(variant, row["judged"], flag(row["live"]),
-                             bool(flag(row["repaired"])), flag(row["consistent"]),
-                             flag(row["schedulable"]), objectives, kinds,
-                             json.loads(row["orders"]) if row["orders"] else {},
-                             row["reason"], float(row["seconds"] or 0))
+        if row["space"] != space.fingerprint:
+            refuse("space", f"another exploration (another skeleton, choices, objectives or "
+                   f"constraints); expected {space.fingerprint}")
+        text = row["variant"]
+        if not (text.isascii() and text.isdigit() and len(text) <= len(str(space.size))
+                and int(text) < space.size):
+            refuse("variant", f"expected a variant number from 0 to {space.size - 1:,}")
+        variant = int(text)
+        links, clocks = space.describe(variant)
+        for name, value in [*links.items(), *clocks.items()]:
+            column = f"link:{name}" if name in links else f"clock:{name}"
+            if row[column] != value:
+                refuse(column, f"variant {variant} has {value!r}")
+        judged = row["judged"]
+        if judged not in _JUDGED:
+            refuse("judged", f"expected one of {', '.join(_JUDGED)}")
+        live, repaired, consistent, schedulable, meets, kept = (flag(c) for c in _FLAGS)
+        objectives: dict[str, Fraction | None] = {}
+        for n in space.objectives:
+            objectives[n] = None
+            if row[n]:
+                try:
+                    value = exact_time(row[n], n)
+                except (ValueError, ArithmeticError) as exc:
+                    refuse(n, f"expected an exact number such as 7/3 or empty ({exc})")
+                if value < 0 or (n == "period" and value == 0):
+                    refuse(n, f"expected a number {'> 0' if n == 'period' else '>= 0'}")
+                objectives[n] = value
+        kinds = {}
+        for n in space.objectives:
+            if n.startswith("latency:"):
+                column = f"kind:{n}"
+                if row[column] not in ("", *_KINDS):
+                    refuse(column, "expected exact, bound or empty")
+                if row[column]:
+                    kinds[n] = row[column]
+        rule2 = None
+        if row["rule2"]:
+            if not (row["rule2"].isascii() and row["rule2"].isdigit()
+                    and len(row["rule2"]) <= 9):
+                refuse("rule2", "expected a number of findings (an integer >= 0) or empty")
+            rule2 = int(row["rule2"])
+        orders: dict[str, Any] = {}
+        if row["orders"]:
+            try:
+                orders = json.loads(row["orders"])
+            except ValueError:
+                orders = None  # type: ignore[assignment]
+            if not _orders_ok(orders, space):
+                refuse("orders", "expected the port orders of a repair, as JSON "
+                       '{"TASK": {"inputs": [...], "outputs": [...]}}, or empty')
+        seconds = _seconds(row["seconds"])
+        if seconds is None:
+            refuse("seconds", "expected a number of seconds >= 0 or empty")
+        result = VariantResult(variant, judged, live, bool(repaired), consistent,
+                               schedulable, objectives, kinds, orders, row["reason"], seconds,
+                               rule2, meets)
+        if kept is not result.kept:
+            refuse("kept", f"live, consistent, schedulable and the constraints say "
+                   f"{str(result.kept).lower()}")
+        if judged == PRUNED and (live is not False or consistent is not None):
+            refuse("live", "a pruned variant is dead (live false, nothing after)")
+        if judged == ANALYZED and live is None:
+            refuse("live", "an analyzed variant is live or not")
+        if (consistent is not None and not live) or (schedulable is not None
+                                                    and not consistent):
+            refuse("consistent" if schedulable is None else "schedulable",
+                   "a verdict past one that failed")
+        return result
+
+
+def _header_text(names: list[str]) -> str:
+    out = io.StringIO()
+    csv.writer(out).writerow(names)
+    return out.getvalue()
+
+
+def _shown(text: Any) -> str:
+    if text is None:
+        return "nothing"
+    text = str(text)
+    if len(text) <= 40:
+        return repr(text)
+    return repr(text[:40])[:-1] + f"...' ({len(text):,} characters)"
+
+
+def _seconds(text: str) -> float | None:
+    if text == "":
+        return 0.0
+    if len(text) > 40:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) and value >= 0 else None
+
+
+def _orders_ok(orders: Any, space: DesignSpace) -> bool:
+    if not isinstance(orders, dict):
+        return False
+    for task, order in orders.items():
+        if task not in space.skeleton.tasks or not isinstance(order, dict) \
+                or set(order) != {"inputs", "outputs"}:
+            return False
+        if not all(isinstance(ports, list) and all(isinstance(p, str) for p in ports)
+                   for ports in order.values()):
+            return False
+    return True
 
 
 def _pyarrow() -> Any:
@@ -211,9 +400,24 @@ def _write_parquet(path: Path, names: list[str], records: list[list[str]]) -> No
     os.replace(temporary, path)
 
 
-def _read_parquet(path: Path) -> tuple[list[str], list[dict[str, str]]]:
+def _read_parquet(path: Path, names: list[str]) -> list[tuple[int | None, dict[str, str]]]:
+    """The rows of a Parquet results file; refused, untouched, when it is not one of
+    this exploration's (not Parquet, other columns, cells that are not text)."""
     _pyarrow()
     import pyarrow.parquet as pq
 
-    table = pq.read_table(path)
-    return list(table.column_names), table.to_pylist()
+    def refuse(what: str) -> NoReturn:
+        raise InputError(what + _NOT_OURS, "", str(path))
+
+    try:
+        table = pq.read_table(path)
+    except Exception as exc:  # pyarrow's errors (ArrowInvalid, OSError, ...): not ours
+        refuse(f"cannot read it as Parquet ({type(exc).__name__})")
+    if list(table.column_names) != names:
+        refuse("its columns are not those of this exploration's results")
+    rows = table.to_pylist()
+    for k, row in enumerate(rows, start=1):
+        for name in names:
+            if not isinstance(row[name], str):
+                refuse(f"row {k}, column {name!r}: expected text, got {type(row[name]).__name__}")
+    return [(None, row) for row in rows]

@@ -13,17 +13,31 @@ from tabulate import tabulate
 from maxplus.scalar import exact_text
 
 from ..design.explore import PRUNING_RULES, Exploration
-from ..design.explore_eval import ANALYZED, FAILED, PRUNED
+from ..design.explore_eval import ANALYZED, FAILED, PRUNED, rejection
 
-__all__ = ["FRONT_ROWS_SHOWN", "render_exploration"]
+__all__ = ["FRONT_ROWS_SHOWN", "column_name", "render_exploration"]
 
 FRONT_ROWS_SHOWN = 40
 
 
-def _unit_of(name: str, unit: str) -> str:
+def column_name(name: str, unit: str) -> str:
+    """What an objective's column holds, with its unit: the text report's header.
+
+    >>> column_name("latency:A,B", "ms"), column_name("period", "ms")
+    ('latency A,B (ms)', 'period ratio')
+    """
     if name.startswith("latency:"):
-        return unit
-    return "ratio to the designed period" if name == "period" else "utilization"
+        return f"latency {name[len('latency:'):]} ({unit})"
+    return _COLUMNS[name]
+
+
+_COLUMNS = {"period": "period ratio", "load": "busiest load", "utilization": "utilization"}
+_MEANING = {
+    "period": "largest task period over the task's designed period (its own clock's, or "
+              "its input group's fastest): 1 designed rate, 2 twice slower",
+    "load": "the busiest processor's utilization, sum of C/T",
+    "utilization": "sum of C/T over all processors (what a faster loop costs anywhere)",
+}
 
 
 def render_exploration(result: Exploration) -> str:
@@ -42,8 +56,14 @@ def render_exploration(result: Exploration) -> str:
     for c in space.clocks:
         lines.append(f"  clock {c.name}: " + ", ".join(f"{exact_text(t)}" for t in c.periods)
                      + f" {sk.unit}")
-    lines.append("objectives, all minimized: " + "; ".join(
-        f"{n} ({_unit_of(n, sk.unit)})" for n in space.objectives))
+    lines.append("objectives, all minimized (ties broken by fewer Rule 2 findings):")
+    for n in space.objectives:
+        meaning = (f"chain latency in {sk.unit}, exact in one group, else the smallest "
+                   "published bound" if n.startswith("latency:") else _MEANING[n])
+        lines.append(f"  {column_name(n, sk.unit)}: {meaning}")
+    constraints = space.constraints.texts(sk.unit)
+    if constraints:
+        lines.append("constraints: " + "; ".join(constraints))
     d = result.to_dict()
     optimum = ("" if result.local_optimum_at is None else
                f"; first Pareto local optimum after {result.local_optimum_at:,} analyses")
@@ -53,7 +73,14 @@ def render_exploration(result: Exploration) -> str:
                  f"(analyze, port repair, response-time test), {result.count(PRUNED):,} pruned "
                  f"by rules A and B, {result.count(FAILED):,} failed; "
                  f"{result.consistent:,} live and consistent, {result.kept:,} also "
-                 "schedulable (kept)")
+                 "schedulable" + (" and meeting the constraints" if space.constraints else "")
+                 + " (kept)")
+    rejected = result.rejected
+    if rejected:
+        examples = _examples(result)
+        lines.append("rejected: " + "; ".join(
+            f"{n:,} {why}" + (f" (e.g. variant {examples[why]})" if why in examples else "")
+            for why, n in rejected.items()))
     per = result.log.seconds_per_variant
     lines.append(f"engine: {result.log.engine}"
                  + (f" at {result.log.address}" if result.log.address else "")
@@ -91,15 +118,29 @@ def _front(result: Exploration) -> list[str]:
             if n in e["kinds"]:
                 value += f" {e['kinds'][n]}"
             cells.append(value)
+        cells.append("" if r.rule2 is None else r.rule2)
         cells.append("yes" if r.repaired else "")
         rows.append(cells)
-    headers = ["variant", *names.values(), *(c.name for c in space.clocks),
-               *space.objectives, "repaired"]
+    headers = ["variant", *names.values(), *(f"{c.name} ({space.skeleton.unit})"
+                                             for c in space.clocks),
+               *(column_name(n, space.skeleton.unit) for n in space.objectives),
+               "Rule 2", "repaired"]
     lines.extend("  " + row for row in tabulate(rows, headers=headers).splitlines())
     if len(result.front) > FRONT_ROWS_SHOWN:
         lines.append(f"  ... and {len(result.front) - FRONT_ROWS_SHOWN} more (the JSON "
                      "report and the results file hold them all)")
     return lines
+
+
+def _examples(result: Exploration) -> dict[str, str]:
+    """For each reason of rejection, the first variant rejected for it and its reason."""
+    out: dict[str, str] = {}
+    for v in sorted(result.results):
+        r = result.results[v]
+        why = rejection(r)
+        if why is not None and why not in out:
+            out[why] = f"{v}: {r.reason}" if r.reason else str(v)
+    return out
 
 
 def _ties(result: Exploration) -> bool:

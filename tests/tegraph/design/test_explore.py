@@ -49,6 +49,12 @@ def reference(skeleton, links, clocks, chains):
         fastest = min((skeleton.clocks[c].period for c in g.clocks), default=None)
         for t in g.tasks:
             designed[t] = fastest
+    # A task's own clock is its designed rate (issue 21: a task that leaves a faster
+    # group for its own slower clock is not charged against the group it left).
+    for name, task in skeleton.tasks.items():
+        if task.clock:
+            designed[name] = skeleton.clocks[task.clock].period
+    processors = {task.processor for task in skeleton.tasks.values()}
     link_ids, clock_names = list(links), list(clocks)
     judged = {}
     for protocols in itertools.product(*(links[i] for i in link_ids)):
@@ -78,14 +84,23 @@ def reference(skeleton, links, clocks, chains):
                 ratios = [t.period / designed[n] for n, t in report.tasks.items()
                           if designed[n] is not None]
                 objectives.append(max(ratios, default=None))
-                objectives.append(max(p.demand / p.hyperperiod for p in sched.processors
-                                      if p.demand is not None))
-            judged[(*protocols, *(F(t) for t in periods))] = (kept, objectives, repaired)
-    kept = {k: v[1] for k, v in judged.items() if v[0]}
+                loads = [p.demand / p.hyperperiod for p in sched.processors
+                         if p.demand is not None]
+                objectives.append(max(loads))
+                if len(processors) > 1:
+                    objectives.append(sum(loads))
+            # Ties are broken by the Rule 2 findings analyze's own rule check reports.
+            rule2 = sum(1 for f in report.design["rules"] if f.rule == 2)
+            judged[(*protocols, *(F(t) for t in periods))] = (kept, objectives, repaired,
+                                                              rule2)
+    kept = {k: (v[1], v[3]) for k, v in judged.items() if v[0]}
 
-    def worse(a, b):  # a dominated by b (None worst)
+    def worse(a, b):  # a dominated by b (None worst), or tied with fewer Rule 2 findings
+        (va, ra), (vb, rb) = a, b
         pairs = [(x if x is not None else F(10**9), y if y is not None else F(10**9))
-                 for x, y in zip(a, b)]
+                 for x, y in zip(va, vb)]
+        if all(y == x for x, y in pairs):
+            return rb < ra
         return all(y <= x for x, y in pairs) and any(y < x for x, y in pairs)
 
     front = {k for k, v in kept.items() if not any(worse(v, w) for w in kept.values())}
@@ -111,11 +126,12 @@ def check_against_reference(skeleton, links, clocks, chains, **kw):
     assert found.exhaustive and len(found.results) == space.size
     for r in found.results.values():
         key = (*space.protocols(r.variant), *space.periods(r.variant))
-        kept, objectives, repaired = judged[key]
+        kept, objectives, repaired, rule2 = judged[key]
         assert r.kept == kept, (key, r)
         if kept:
             assert [r.objectives[n] for n in space.objectives] == objectives, key
             assert r.repaired == repaired
+            assert r.rule2 == rule2, key
     assert found_front(found) == front
     return found
 
