@@ -50,6 +50,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from collections.abc import Iterator
 from fractions import Fraction
@@ -449,7 +450,8 @@ class Advisor:
         if first is None:
             return Choice(None, "", set())
         brought = self.brings(key, first) or set()
-        return Choice(None, self.describe(self.change_of(first)), brought)
+        return Choice(None, self.describe(self.change_of(first)), brought,
+                      periods=self.periods_text(first))
 
     # ------------------------------------------------------------ rates and liveness
     def _groups_after(self, edits: _Edits) -> tuple[list[int], dict, Any]:
@@ -479,16 +481,53 @@ class Advisor:
         return out
 
     def makes_live(self, edits: _Edits) -> bool | None:
-        """Whether the skeleton with ``edits`` made is live; None when it is live already."""
+        """Whether the skeleton with ``edits`` made is live; None when it is live already.
+
+        Only the groups the edits touch can change: when a token-free circuit lies
+        in another group, the answer is no at once; else the touched groups alone
+        are rebuilt, edited, and searched for token-free circuits.
+        """
         if self._dead is None:
-            self._dead = bool(_token_free(self.sk))
+            self._dead = self._dead_groups()
         if not self._dead:
             return None
+        groups, _, _ = self._groups_after(edits)
+        if not self._dead <= set(groups):
+            return False
         change = self.change_of(edits)
         if change not in self._live:
-            edited = apply_change(self.sk, change, self.fresh if change.add_clock else None)
+            part = {t for g in groups for t in self.groups[g]}
+            sub = dataclasses.replace(
+                self.sk, tasks={t: k for t, k in self.sk.tasks.items() if t in part},
+                links=[x for x in self.sk.links if x.writer[0] in part and x.reader[0] in part],
+                threads=[th for th in self.sk.threads if th[0] in part], chains=[])
+            edited = apply_change(sub, change, self.fresh if change.add_clock else None)
             self._live[change] = not _token_free(edited)
         return self._live[change]
+
+    def _dead_groups(self) -> set[int]:
+        """The groups that hold a token-free circuit (spec §4 deadlocks)."""
+        teg = build_teg(self.sk)
+        a = teg.arrays()
+        names = teg.transition_names
+        dead = set()
+        for circuit in token_free_circuits(a.src, a.dst, a.tokens, teg.n_transitions):
+            event = names[int(a.src[circuit[0]])]
+            dead.add(self.group_of[self._task_of_event(event)])
+        return dead
+
+    def _task_of_event(self, event: str) -> str:
+        # Events are "TASK.activate", "TASK.read:p", "TASK.compute", "TASK.write:p" or
+        # "CLOCK.tick"; task names may hold dots, so the known suffixes are cut.
+        for suffix in (".activate", ".compute"):
+            if event.endswith(suffix) and event[: -len(suffix)] in self.sk.tasks:
+                return event[: -len(suffix)]
+        for mark in (".read:", ".write:"):
+            head = event.rsplit(mark, 1)[0]
+            if mark in event and head in self.sk.tasks:
+                return head
+        clock = event[: -len(".tick")]
+        return next(t for t, k in self.sk.tasks.items() if k.clock == clock)
 
     def periods_text(self, edits: _Edits) -> str:
         """What ``edits`` do to the period of each group they touch, before -> after."""

@@ -228,7 +228,8 @@ def _advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
             advice = (f"none of the changes examined (the smallest of their kind, at most "
                       f"{CANDIDATE_LIMIT}) removes this without another finding of Rules 1-3: "
                       f"{said} would bring "
-                      + "; ".join(_key_text(k) for k in sorted(choice.brought)))
+                      + "; ".join(_key_text(k) for k in sorted(choice.brought))
+                      + f" [{choice.periods}]")
         else:
             advice = (f"none of the changes examined (the smallest of their kind, at most "
                       f"{CANDIDATE_LIMIT}) removes this")

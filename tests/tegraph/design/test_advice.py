@@ -420,3 +420,16 @@ def test_advice_under_a_deadlock_makes_it_live_or_says_it_does_not():
         said[f.tasks] = live
     # C's findings are far from the circuit of MT1, MT2, MT3: no change for them helps.
     assert said[("C",)] is False and said[("MT2",)] is True
+
+
+def test_every_structural_advice_states_the_periods():
+    # Issue 21: every advice of Rules 1-3, with a change or without one (then of the first
+    # candidate), says what it does to each group's design period; an advice that names
+    # no change at all (no candidate) has nothing to state.
+    cases = [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]
+    cases += [Skeleton.from_dict(random_skeleton(random.Random(seed))) for seed in range(80)]
+    advices = [f for sk in cases for f in check_rules(sk)
+               if f.rule < 4 and not f.advice.endswith("removes this")]
+    assert any(f.change is None for f in advices) and any(f.change for f in advices)
+    for f in advices:
+        assert "design periods (each group's fastest clock), before -> after: " in f.advice, f
