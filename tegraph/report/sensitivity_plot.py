@@ -26,10 +26,14 @@ from ..analysis.sensitivity_results import GroupFormulaReport, SensitivityResult
 from ..errors import InputError
 from .plot import INSTALL_HINT, PlotUnavailableError, matplotlib_available, save_figure
 
-__all__ = ["draw_sensitivity", "plot_parameters"]
+__all__ = ["draw_sensitivity", "plot_parameters", "sensitivity_figure"]
 
 _FORMATS = (".svg", ".png")
 _SHADE, _CURVE, _PACE = "#c7e9c0", "#4878a8", "#d62728"
+_CLOCK_COLOURS = ["#d62728", "#1f77b4", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"]
+"""One colour per clock's boundary (two clocks never share one)."""
+_CELL_GREYS = ["#f2f2f2", "#e0e0e0", "#cccccc", "#ebebeb", "#d6d6d6", "#c2c2c2"]
+"""The cells of the period formula in greys: colour is kept for what the legend names."""
 
 
 def plot_parameters(result: SensitivityResult) -> int:
@@ -80,6 +84,31 @@ def draw_sensitivity(result: SensitivityResult, path: str | os.PathLike[str],
         raise PlotUnavailableError(
             f"drawing needs matplotlib, which is not installed; install it with: "
             f"{INSTALL_HINT}  (or: pip install matplotlib); the text report needs nothing")
+    return save_figure(sensitivity_figure(result), target, overwrite)
+
+
+def sensitivity_figure(result: SensitivityResult):
+    """The matplotlib Figure that :func:`draw_sensitivity` saves (one or two parameters).
+
+    Parameters
+    ----------
+    result : SensitivityResult
+        With one or two parameters and its formulas (else :class:`InputError`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Its artists carry the labels of the legend: a test (or a notebook) can
+        read what is drawn without pixels.
+    """
+    n = plot_parameters(result)
+    if n not in (1, 2) or result.formulas is None:
+        raise InputError("a drawing needs one or two parameters and their formulas",
+                         where="plot")
+    if not matplotlib_available():
+        raise PlotUnavailableError(
+            f"drawing needs matplotlib, which is not installed; install it with: "
+            f"{INSTALL_HINT}  (or: pip install matplotlib); the text report needs nothing")
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 5.0), layout="constrained")
@@ -87,7 +116,7 @@ def draw_sensitivity(result: SensitivityResult, path: str | os.PathLike[str],
         _one(fig, result)
     else:
         _two(fig, result)
-    return save_figure(fig, target, overwrite)
+    return fig
 
 
 def _one(fig, result: SensitivityResult) -> None:
@@ -138,36 +167,60 @@ def _at_zero(term, name: str, result: SensitivityResult) -> Fraction:
 
 
 def _two(fig, result: SensitivityResult) -> None:
+    """Per group: the formula's cells (greys, each annotated with its critical term),
+    the region where the group keeps pace with every clock shaded and labelled, and
+    each clock's own boundary in a colour of its own."""
+    from matplotlib.lines import Line2D
+
     px, py = result.parameters
     (x0, x1), (y0, y1) = _window(result, 0), _window(result, 1)
+    window = (x0, x1, y0, y1)
     groups = [f for f in result.formulas or () if px.name in f.parameters
               or py.name in f.parameters]
-    colours = ["#fde0c5", "#c6dbef", "#d9f0d3", "#e7d4e8", "#fff2ae", "#f4cae4", "#e5e5e5"]
+    nominal = _nominal(result)
     for k, f in enumerate(groups[:4]):
         ax = fig.add_subplot(1, min(len(groups), 4), k + 1)
-        nominal = _nominal(result)
         for i, t in enumerate(f.terms):  # the cell where term t is the largest
-            cell = _cell(f, i, px.name, py.name, (x0, x1, y0, y1), nominal)
+            cell = _cell(f, i, px.name, py.name, window, nominal)
             if cell:
                 ax.fill([float(a) for a, _ in cell], [float(b) for _, b in cell],
-                        color=colours[i % len(colours)], edgecolor="grey", linewidth=0.5)
+                        facecolor=_CELL_GREYS[i % len(_CELL_GREYS)], edgecolor="grey",
+                        linewidth=0.5, zorder=0)
                 cx = sum(float(a) for a, _ in cell) / len(cell)
                 cy = sum(float(b) for _, b in cell) / len(cell)
                 ax.annotate(_term_text(t), (cx, cy), ha="center", fontsize="x-small")
-        for region in f.pace:
-            shape = _pace_polygon(region, px.name, py.name, (x0, x1, y0, y1), nominal)
+        if f.pace:
+            # Where the group keeps pace with all its clocks at once (overruns are not
+            # drawn in the plane: the margins give them exactly along lines).
+            every = _pace_polygon(f.pace, px.name, py.name, window, nominal)
+            clocks = ", ".join(r.clock for r in f.pace)
+            if every:
+                ax.fill([float(a) for a, _ in every], [float(b) for _, b in every],
+                        facecolor=_SHADE, edgecolor="none", alpha=0.8, zorder=1,
+                        label=f"keeps pace with every clock ({clocks})")
+            else:
+                ax.add_line(Line2D([], [], color=_SHADE, linewidth=6,
+                                   label=f"nowhere here keeps pace with every clock "
+                                         f"({clocks})"))
+        for c, region in enumerate(f.pace):
+            colour = _CLOCK_COLOURS[c % len(_CLOCK_COLOURS)]
+            shape = _pace_polygon([region], px.name, py.name, window, nominal)
             if shape:
                 xs = [float(a) for a, _ in shape] + [float(shape[0][0])]
                 ys = [float(b) for _, b in shape] + [float(shape[0][1])]
-                ax.plot(xs, ys, color=_PACE, linewidth=1.5,
-                        label=f"keeps pace with {region.clock}")
+                ax.plot(xs, ys, color=colour, linewidth=1.5, zorder=2,
+                        linestyle=("-", "--", "-.", ":")[c % 4],
+                        label=f"boundary of keeping pace with {region.clock}")
+            else:
+                ax.add_line(Line2D([], [], color=colour, linestyle=":",
+                                   label=f"{region.clock}: not kept pace with anywhere here"))
         ax.plot([float(px.nominal)], [float(py.nominal)], marker="o", color="black",
-                label="nominal")
+                linestyle="none", zorder=3, label="nominal")
         ax.set_xlim(float(x0), float(x1))
         ax.set_ylim(float(y0), float(y1))
         ax.set_xlabel(f"{px.name} ({result.unit})")
         ax.set_ylabel(f"{py.name} ({result.unit})")
-        ax.set_title(f"group {f.group}: critical circuit by region", fontsize="small")
+        ax.set_title(f"group {f.group}: critical circuit by region (greys)", fontsize="small")
         ax.legend(fontsize="x-small")
 
 
@@ -221,11 +274,12 @@ def _cell(f: GroupFormulaReport, i: int, x: str, y: str, window, nominal):
     return _ordered(P.vertices())
 
 
-def _pace_polygon(region, x: str, y: str, window, nominal):
-    if region.empty:
+def _pace_polygon(regions, x: str, y: str, window, nominal):
+    """The window's part where every region of ``regions`` holds (vertices in order)."""
+    if any(region.empty for region in regions):
         return []
     P = _box(window)
-    for coefficients, bound, _ in region.inequalities:
+    for coefficients, bound, _ in (q for region in regions for q in region.inequalities):
         a = coefficients.get(x, Fraction(0))
         b = coefficients.get(y, Fraction(0))
         rest = sum((c * nominal[n] for n, c in coefficients.items() if n not in (x, y)),

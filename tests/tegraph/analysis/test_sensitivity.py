@@ -413,3 +413,52 @@ def test_a_period_range_past_int64(high):
     m = r.margins["A.clock.period"]
     assert m.intervals == [(10, 10 ** int(high[2:]))]
     assert r.consistent
+
+
+# ------------------------------------------------------------------ the map of two (issue 21)
+
+
+def _two_clock_map(mt2_period):
+    pytest.importorskip("matplotlib")
+    from tegraph.report.sensitivity_plot import sensitivity_figure
+
+    data = example("fig12_double_sync.yaml").to_dict()
+    data["tasks"]["MT2"]["period"] = mt2_period
+    r = sensitivity(Skeleton.from_dict(data), ["MT1.duration=0..20", "MT2.duration=0..20"])
+    (ax,) = sensitivity_figure(r).axes
+    legend = ax.get_legend()
+    labels = [t.get_text() for t in legend.get_texts()]
+    handles = legend.legend_handles
+    return ax, dict(zip(labels, handles))
+
+
+def test_two_parameter_map_shades_where_every_clock_is_kept():
+    # Figure 12 with MT2's clock at 10 like rtc: the group {MT1, MT2} has the circuits
+    # rtc (10), MT2.clock (10), MT1's chain (d1) and MT2's chain (d2): its cycle time is
+    # max(10, d1, d2), and it keeps pace with both clocks exactly on d1 <= 10, d2 <= 10:
+    # the square [0, 10]² of the window [0, 20]².
+    from matplotlib.colors import to_hex
+
+    ax, legend = _two_clock_map(10)
+    shade = "keeps pace with every clock (rtc, MT2.clock)"
+    assert shade in legend
+    (patch,) = [p for p in ax.patches if p.get_label() == shade]
+    corners = {(float(a), float(b)) for a, b in patch.get_path().vertices}
+    assert corners == {(0, 0), (10, 0), (10, 10), (0, 10)}
+    # One legend entry per clock boundary, each in its own colour (they shared red).
+    rtc, mt2 = (legend[f"boundary of keeping pace with {c}"] for c in ("rtc", "MT2.clock"))
+    assert to_hex(rtc.get_color()) != to_hex(mt2.get_color())
+    colours = [to_hex(h.get_facecolor() if hasattr(h, "get_facecolor") else h.get_color())
+               for h in legend.values()]
+    assert len(set(colours)) == len(colours), legend.keys()
+
+
+def test_two_parameter_map_says_when_no_region_keeps_every_clock():
+    # As drawn by the paper: MT2.clock at 4 while rtc is 10. The cycle time is at least
+    # 10 (rtc's self-loop) > 4: MT2.clock is never kept, nothing is shaded, and the
+    # legend says so instead of drawing nothing.
+    ax, legend = _two_clock_map(4)
+    assert "nowhere here keeps pace with every clock (rtc, MT2.clock)" in legend
+    assert "MT2.clock: not kept pace with anywhere here" in legend
+    assert "boundary of keeping pace with rtc" in legend
+    assert not [p for p in ax.patches if str(p.get_label()).startswith("keeps pace")]
