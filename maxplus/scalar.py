@@ -70,7 +70,9 @@ __all__ = [
     "MAX_DIGITS",
     "TOP",
     "Scalar",
+    "DISPLAY_DIGITS",
     "common_denominator",
+    "display_text",
     "exact",
     "exact_matrix",
     "exact_text",
@@ -405,6 +407,67 @@ def exact_text(value: Fraction | int | None) -> str | None:
     if value.denominator == 1:
         return str(value.numerator)
     return f"{value.numerator}/{value.denominator}"
+
+DISPLAY_DIGITS = 30
+"""Most significant digits of a decimal that text reports print instead of a fraction."""
+
+
+def display_text(value: Fraction | int | None) -> str | None:
+    """An exact number as text reports print it: its decimal when it terminates.
+
+    Inputs are written in decimal (``5.43``, ``1038412611.331``); a report
+    prints them back the same way, exactly, and a fraction only when the
+    decimal does not terminate (``7/3``) or would need more than
+    :data:`DISPLAY_DIGITS` significant digits (``1/2**50``). Far from 1 the
+    exact decimal is written in scientific notation (``3e-17``). JSON keeps
+    :func:`exact_text` (``"543/100"``), its documented format.
+
+    Parameters
+    ----------
+    value : Fraction, int or None
+
+    Returns
+    -------
+    str or None
+
+    See Also
+    --------
+    exact_text : the exact text of files and JSON.
+
+    Examples
+    --------
+    >>> display_text(Fraction(543, 100)), display_text(Fraction(1038412611331, 1000))
+    ('5.43', '1038412611.331')
+    >>> display_text(Fraction(7, 3)), display_text(Fraction(-4)), display_text(Fraction(3, 10**17))
+    ('7/3', '-4', '3e-17')
+    >>> display_text(10 - Fraction(1, 10**18)), display_text(Fraction(1, 2**50))
+    ('9.999999999999999999', '1/1125899906842624')
+    """
+    if value is None:
+        return None
+    value = Fraction(value)
+    if value.denominator == 1:
+        return str(value.numerator)
+    d, places = value.denominator, 0
+    for p in (2, 5):  # p/q terminates iff q = 2^a 5^b; it has max(a, b) places
+        count = 0
+        while d % p == 0:
+            d //= p
+            count += 1
+        places = max(places, count)
+    if d != 1 or places > DISPLAY_DIGITS + 4 * MAX_DIGITS:
+        return exact_text(value)
+    scaled = abs(value.numerator) * 10**places // value.denominator
+    while places and scaled % 10 == 0:  # 2.50 -> 2.5
+        scaled, places = scaled // 10, places - 1
+    digits = str(scaled)
+    if len(digits) > DISPLAY_DIGITS:
+        return exact_text(value)
+    # Built from its digits: no decimal context, so nothing is rounded.
+    exact = Decimal((int(value < 0), tuple(map(int, digits)), -places))
+    # Positional while that stays short (0.000123, 1234.5); scientific far from 1.
+    return format(exact, "f" if -7 <= exact.adjusted() < DISPLAY_DIGITS else "e")
+
 
 def exact_vector(values: Any, name: str = "x", allow_eps: bool = True) -> list[Scalar]:
     """Validate a vector of (max,+) scalars.

@@ -44,7 +44,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from maxplus import CycleRatioResult, max_cycle_ratio
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..model.build import build_teg, last_event, task_chain
 from ..model.elements import flow_list
@@ -260,7 +260,7 @@ def _unbounded_places(g: _EventGraph, periods: _Periods) -> list[UnboundedPlace]
 def _unbounded_advice(g: _EventGraph, ct: list[Fraction | None], kind: str, a: int,
                       b: int) -> str:
     u = g.sk.unit
-    fast, slow = exact_text(ct[a]), exact_text(ct[b])
+    fast, slow = display_text(ct[a]), display_text(ct[b])
     writer = ", ".join(g.event_tasks(a))
     reader = ", ".join(g.event_tasks(b))
     if kind == "clock-overrun":

@@ -55,7 +55,7 @@ from scipy.sparse.csgraph import connected_components
 from maxplus import max_cycle_ratio
 from maxplus.cycle_ratio import argmax_ratio, find_circuit
 from maxplus.errors import MaxPlusValueError
-from maxplus.scalar import exact_text, exact_time
+from maxplus.scalar import display_text, exact_text, exact_time
 
 from ..errors import InputError
 from ..model.arcs import ArcList
@@ -341,7 +341,7 @@ def _as_graph(obj: Any, default_holding: Any,
             h = default
             obj = PetriNet(obj.name, obj.places, obj.transitions, obj.pre, obj.post, obj.marking,
                            [h] * len(obj.places), [], dict(obj.attrs))
-            notes.append(f"the net carries no timing: every place holds {exact_text(h)}")
+            notes.append(f"the net carries no timing: every place holds {display_text(h)}")
     graph = as_teg_like(obj, max_firings)
     if model == "SDF graph":
         notes.append("transitions are the firings actor_i of one iteration (the homogeneous "

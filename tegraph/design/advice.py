@@ -56,7 +56,7 @@ from collections.abc import Iterator
 from fractions import Fraction
 from typing import Any
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..analysis.liveness import token_free_circuits
 from ..model.build import build_teg
@@ -546,7 +546,7 @@ class Advisor:
         moved = self.resampled(edits)
         if moved:
             text += "; " + "; ".join(
-                f"{t} is sampled every {self._period(a, u)} instead of {exact_text(b)} {u} "
+                f"{t} is sampled every {self._period(a, u)} instead of {display_text(b)} {u} "
                 "(its clock goes)" for t, b, a in moved)
         elif any(self.sk.tasks[t].clock for g, _ in before for t in g):
             text += "; every clocked task keeps its clock's period"
@@ -557,7 +557,7 @@ class Advisor:
             return "no clock"
         if period == self.fresh:
             return "a period of your choice"
-        return f"{exact_text(period)} {unit}"
+        return f"{display_text(period)} {unit}"
 
     def brings(self, key: Key, edits: _Edits, whole: bool = True) -> set[Key] | None:
         """None when ``edits`` remove the finding ``key`` and bring none; else what is new.
@@ -721,7 +721,7 @@ class Advisor:
         for t in change.add_clock:
             # The check assumed a period that no group has (Rule 2 compares periods).
             parts.append(f"give {t} a clock of its own (a period of your choice that no "
-                         f"other group has, e.g. {exact_text(self.fresh)} {self.sk.unit})")
+                         f"other group has, e.g. {display_text(self.fresh)} {self.sk.unit})")
         return "; ".join(parts)
 
 

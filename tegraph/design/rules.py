@@ -39,7 +39,7 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..model.skeleton import Protocol, Skeleton
 from .advice import CANDIDATE_LIMIT, SPLIT, Advisor
@@ -307,7 +307,7 @@ def _rule2(sk: Skeleton, groups: list[tuple[str, ...]], group_of: dict[str, int]
             if pw is not None and pw == pr:
                 out.append(RuleFinding(
                     2, "warning", (w, r), (f"{w}:{p}", f"{r}:{q}"), (link.label,),
-                    f"{w} and {r} cooperate at one rate (period {exact_text(pw)} {sk.unit}) but "
+                    f"{w} and {r} cooperate at one rate (period {display_text(pw)} {sk.unit}) but "
                     f"{link.label} does not synchronize them: the scheduler may run {r} before "
                     f"{w}, and the data then waits a period at each hop (Figure 4)", ""))
     return out
@@ -406,8 +406,8 @@ def _rule4(sk: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
                     out.append(RuleFinding(
                         4, "warning", a + b, (), (),
                         f"not rate-monotonic{on}: {{{', '.join(a)}}} (period "
-                        f"{exact_text(per_a)} {sk.unit}) has a lower priority than "
-                        f"{{{', '.join(b)}}} (period {exact_text(per_b)} {sk.unit})",
+                        f"{display_text(per_a)} {sk.unit}) has a lower priority than "
+                        f"{{{', '.join(b)}}} (period {display_text(per_b)} {sk.unit})",
                         "give the group with the shorter period the higher priority: "
                         + propose(a + b)))
             for per_b, pb, b in timed[i:j]:

@@ -1,13 +1,16 @@
-"""Number formatting shared by every text rendering: exact first, a decimal beside it.
+"""Number formatting shared by every text rendering: exact, as the input said it.
 
-A time prints as its exact value, its unit, and, when the exact text is not
-already a short integer, a decimal: ``7/3 ms (≈2.33333)``, ``2399/20 ms
-(119.95)``. A decimal that terminates within 15 significant digits is printed
-exactly; any other is rounded, marked ``≈``, and given as many significant
-digits as it takes not to look like an integer (``≈119.99999999``, never
-``120``), so that a slack of 2399/20 ms can never be read as a period of
-120 ms. The decimals are computed with :mod:`decimal`, exact for numbers of
-any size (no float overflow).
+A time prints as the input would write it, exactly: its decimal when it
+terminates (``5.43 ms``, ``1038412611.331 ms``, ``119.95 ms``), and its fraction
+only when the decimal does not terminate, with a rounded decimal beside it:
+``7/3 ms (≈2.33333)``. The rounded decimal is marked ``≈`` and given as many
+significant digits as it takes not to look like an integer (``≈119.99999999``,
+never ``120``), so that a slack of 11999999999/100000001 ms can never be read as
+120 ms. The exact text is :func:`maxplus.scalar.display_text`, the one formatter
+that messages of lower floors (design advice, analysis notes) use too; JSON keeps
+its documented exact strings (``"543/100"``, :func:`maxplus.scalar.exact_text`).
+The rounded decimals are computed with :mod:`decimal`, exact for numbers of any
+size (no float overflow).
 """
 
 from __future__ import annotations
@@ -15,34 +18,20 @@ from __future__ import annotations
 from decimal import Context, Decimal
 from fractions import Fraction
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
-__all__ = ["count", "decimal_text", "human", "number"]
+__all__ = ["count", "decimal_text", "human", "number", "time_text"]
 
 _EXACT_DIGITS = 15
 """A terminating decimal with at most this many significant digits is printed exactly."""
-_MAX_PLACES = 4_000
-"""An exact decimal is computed up to this many places after the point (cost: its digits)."""
 _ROUNDED_DIGITS = 6
 """Significant digits of a rounded decimal (more when that would look like an integer)."""
 _LONG_INTEGER = 16
 """Integers with more digits than this get a rounded decimal beside them (10^400 ≈ 1e+400)."""
 
 
-def _decimal_places(value: Fraction) -> int | None:
-    """Places after the point of the exact decimal of ``value``; None if it has none."""
-    d, places = value.denominator, 0
-    for p in (2, 5):
-        count = 0
-        while d % p == 0:
-            d //= p
-            count += 1
-        places = max(places, count)
-    return places if d == 1 else None
-
-
 def decimal_text(value: Fraction) -> str | None:
-    """The decimal shown beside an exact value, or None when the exact text says it all.
+    """The rounded decimal shown beside an exact value, or None when the exact text says it all.
 
     Parameters
     ----------
@@ -51,11 +40,13 @@ def decimal_text(value: Fraction) -> str | None:
     Returns
     -------
     str or None
+        None for a terminating decimal (it is printed exactly) and for a short
+        integer; ``≈`` and a rounded decimal beside a fraction or a long integer.
 
     Examples
     --------
     >>> decimal_text(Fraction(2399, 20)), decimal_text(Fraction(7, 3)), decimal_text(Fraction(4))
-    ('119.95', '≈2.33333', None)
+    (None, '≈2.33333', None)
     >>> decimal_text(Fraction(11999999999, 100000001))
     '≈119.999999'
     >>> decimal_text(Fraction(10**400 + 1, 1))
@@ -65,14 +56,8 @@ def decimal_text(value: Fraction) -> str | None:
         if len(str(abs(value.numerator))) <= _LONG_INTEGER:
             return None
         return "≈" + format(Context(prec=_ROUNDED_DIGITS).create_decimal(value.numerator), ".5e")
-    places = _decimal_places(value)
-    if places is not None and places <= _MAX_PLACES:
-        # p/q with q = 2^a 5^b is (p * 10^n / q) / 10^n for n = max(a, b), exactly.
-        scaled = value.numerator * 10**places // value.denominator
-        exact = Decimal(scaled).scaleb(-places).normalize()
-        if len(exact.as_tuple().digits) <= _EXACT_DIGITS:
-            # Few significant digits but far from 1 (3/10^17): exact scientific notation.
-            return format(exact, "f" if places <= _EXACT_DIGITS else "e")
+    if "/" not in str(display_text(value)):
+        return None  # a terminating decimal, printed exactly
     digits = _ROUNDED_DIGITS
     rounded = Context(prec=digits).divide(Decimal(value.numerator), Decimal(value.denominator))
     if abs(rounded.adjusted()) >= _EXACT_DIGITS:  # far from 1: scientific notation says it
@@ -84,29 +69,42 @@ def decimal_text(value: Fraction) -> str | None:
 
 
 def number(value: Fraction | int | None) -> str:
-    """An exact number with its decimal beside it: ``7/3 (≈2.33333)``; ``-`` for None.
+    """An exact number as the input said it, a rounded decimal beside a fraction; ``-`` for None.
 
-    >>> number(Fraction(7, 3)), number(Fraction(6)), number(None)
-    ('7/3 (≈2.33333)', '6', '-')
+    >>> number(Fraction(7, 3)), number(Fraction(6)), number(Fraction(543, 100)), number(None)
+    ('7/3 (≈2.33333)', '6', '5.43', '-')
     """
     if value is None:
         return "-"
     value = Fraction(value)
-    text = str(exact_text(value))
+    text = str(display_text(value))
     dec = decimal_text(value)
     return text if dec is None else f"{text} ({dec})"
 
 
+def time_text(value: Fraction | int | None, unit: str) -> str:
+    """A time, exact as the input said it, with its unit and nothing beside: ``5.43 ms``.
+
+    For tables and sentences where a rounded decimal beside would be noise.
+
+    >>> time_text(Fraction(543, 100), "ms"), time_text(Fraction(7, 3), "ms"), time_text(None, "ms")
+    ('5.43 ms', '7/3 ms', '-')
+    """
+    return "-" if value is None else f"{display_text(Fraction(value))} {unit}"
+
+
 def human(value: Fraction | int | None, unit: str) -> str:
-    """A time: exact, its unit, and a decimal beside it when useful; ``-`` for None.
+    """A time: exact as the input said it, its unit, a rounded decimal beside a fraction.
 
     >>> human(Fraction(7, 3), "ms"), human(Fraction(2399, 20), "ms"), human(Fraction(3), "ms")
-    ('7/3 ms (≈2.33333)', '2399/20 ms (119.95)', '3 ms')
+    ('7/3 ms (≈2.33333)', '119.95 ms', '3 ms')
+    >>> human(Fraction(1038412611331, 1000), "ms")
+    '1038412611.331 ms'
     """
     if value is None:
         return "-"
     value = Fraction(value)
-    text = f"{exact_text(value)} {unit}"
+    text = f"{display_text(value)} {unit}"
     dec = decimal_text(value)
     return text if dec is None else f"{text} ({dec})"
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from tabulate import tabulate
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..design.fix import FixResult
 from ..design.latency import ChainLatency
@@ -80,20 +80,21 @@ def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
             if t.fits is None:
                 verdict = "not live"
             else:
-                pace = "free-running" if t.pace is None else f"paced at {exact_text(t.pace)} {unit}"
+                pace = ("free-running" if t.pace is None
+                        else f"paced at {display_text(t.pace)} {unit}")
                 verdict = (f"{'fits' if t.fits else 'DOES NOT FIT'} ({pace}, margin "
-                           f"{exact_text(t.margin)} {unit})")
-            lines.append(f"  thread {t.index} [{', '.join(t.tasks)}]: load {exact_text(t.load)} "
-                         f"{unit}, period {exact_text(t.period) or '-'} {unit}: {verdict}")
+                           f"{display_text(t.margin)} {unit})")
+            lines.append(f"  thread {t.index} [{', '.join(t.tasks)}]: load {display_text(t.load)} "
+                         f"{unit}, period {display_text(t.period) or '-'} {unit}: {verdict}")
     for p in result.processors:
         name = "default processor" if p.processor is None else f"processor {p.processor}"
         lines.append(f"schedulability on the {name} (preemptive fixed priorities, "
                      f"{p.priority_source} priorities; larger is more urgent):")
         if p.hyperperiod is not None:
             holds = "holds" if p.condition_holds else "FAILS"
-            lines.append(f"  {PAPER_TEST}: T = {exact_text(p.hyperperiod)} {unit}, "
-                         f"sum = {exact_text(p.demand)} {unit}: {holds} (margin "
-                         f"{exact_text(p.condition_margin)} {unit})")
+            lines.append(f"  {PAPER_TEST}: T = {display_text(p.hyperperiod)} {unit}, "
+                         f"sum = {display_text(p.demand)} {unit}: {holds} (margin "
+                         f"{display_text(p.condition_margin)} {unit})")
         rows = []
         for u in p.units:
             verdict = "-" if u.schedulable is None else ("yes" if u.schedulable else "NO")
@@ -122,23 +123,23 @@ def render_latency(result: ChainLatency, unit: str = "ms") -> str:
         if i:
             h = result.hops[i - 1]
             lines.append(f"  asynchronous hop {h.writer} -> {h.reader} ({'; '.join(h.links)})")
-        value = (f"{exact_text(s.latency)} {unit}, exact (steady-state daters)"
+        value = (f"{display_text(s.latency)} {unit}, exact (steady-state daters)"
                  if s.latency is not None else f"unknown ({s.note})")
-        period = f"period {exact_text(s.period)} {unit}" if s.period is not None else "no period"
+        period = f"period {display_text(s.period)} {unit}" if s.period is not None else "no period"
         lines.append(f"  segment [{', '.join(s.tasks)}] (group {s.group}, {period}): "
                      f"{s.start} -> {s.end}: {value}")
     for b in result.bounds:
-        value = f"{exact_text(b.value)} {unit}" if b.value is not None else "not applicable"
+        value = f"{display_text(b.value)} {unit}" if b.value is not None else "not applicable"
         lines.append(f"  bound ({b.name}): {value} [{b.formula}; {b.note}]")
     if result.value is None:
         lines.append("  latency: unknown")
     else:
         periods = result.in_periods
         extra = "" if periods is None else (
-            f" = {exact_text(periods)} sampling period(s) of "
-            f"{exact_text(result.segments[0].period)} {unit}")
+            f" = {display_text(periods)} sampling period(s) of "
+            f"{display_text(result.segments[0].period)} {unit}")
         what = "exactly" if result.kind == "exact" else "at most"
-        lines.append(f"  latency: {what} {exact_text(result.value)} {unit}{extra}")
+        lines.append(f"  latency: {what} {display_text(result.value)} {unit}{extra}")
     return "\n".join(lines) + "\n"
 
 

@@ -6,7 +6,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..analysis.cycle_time import CycleTimeResult
 from ..analysis.reachability import Reachability
@@ -92,8 +92,8 @@ def ratio_text(holdings: list[Fraction], tokens: int | None, unit: str) -> str:
     if not tokens:
         return "-"
     terms = [h for h in holdings if h] or [Fraction(0)]
-    held = (str(exact_text(terms[0])) if len(terms) == 1
-            else "(" + " + ".join(str(exact_text(h)) for h in terms) + ")")
+    held = (str(display_text(terms[0])) if len(terms) == 1
+            else "(" + " + ".join(str(display_text(h)) for h in terms) + ")")
     return f"{held} {unit} over {count(tokens, 'token')} = {human(sum(terms) / tokens, unit)}"
 
 
@@ -137,9 +137,9 @@ def render_timed_exploration(result: TimedExploration) -> str:
     """The timed exploration (ORCCAD §5): how it ended, each group's figures, overruns."""
     u = result.unit
     if result.ended_by == "repeat":
-        head = f"complete: the whole state repeated at time {exact_text(result.time_reached)} {u}"
+        head = f"complete: the whole state repeated at time {display_text(result.time_reached)} {u}"
     elif result.complete:
-        head = f"complete: nothing fires after time {exact_text(result.time_reached)} {u}"
+        head = f"complete: nothing fires after time {display_text(result.time_reached)} {u}"
     else:
         why = {"states": f"budget {result.max_states:,} states reached",
                "time": "time budget reached", "interrupted": "interrupted"}
@@ -150,16 +150,16 @@ def render_timed_exploration(result: TimedExploration) -> str:
     for g in result.groups:
         if g.stalled_at is not None:
             lines.append(f"  group {g.index} ({', '.join(g.tasks)}): fires without end at "
-                         f"time {exact_text(g.stalled_at)} {u} (zero-duration tasks)")
+                         f"time {display_text(g.stalled_at)} {u} (zero-duration tasks)")
         elif g.stuck_after is not None:
             lines.append(f"  group {g.index} ({', '.join(g.tasks)}): deadlock, nothing "
-                         f"fires after time {exact_text(g.stuck_after)} {u}")
+                         f"fires after time {display_text(g.stuck_after)} {u}")
         elif g.period is None:
             lines.append(f"  group {g.index} ({', '.join(g.tasks)}): no repeated state")
         else:
             k, c = g.transient  # type: ignore[misc]
             lines.append(f"  group {g.index} ({', '.join(g.tasks)}): period "
-                         f"{exact_text(g.period)} {u}, transient k={k}, cyclicity {c}")
+                         f"{display_text(g.period)} {u}, transient k={k}, cyclicity {c}")
     for t in result.tasks.values():
         if t.overrun_at is not None:
             lines.append(f"  {t.name} overruns at activation {t.overrun_at}")
@@ -178,7 +178,7 @@ def render_timed_exploration(result: TimedExploration) -> str:
                            + (f" and {len(late) - 1:,} more" if len(late) > 1 else ""))
     if stalled:
         found_parts.append(f"group {stalled[0].index} fires without end at time "
-                           f"{exact_text(stalled[0].stalled_at)} {u} (zero-duration tasks)"
+                           f"{display_text(stalled[0].stalled_at)} {u} (zero-duration tasks)"
                            + (f" and {count(len(stalled) - 1, 'more group')}"
                               if len(stalled) > 1 else ""))
     if found_parts:

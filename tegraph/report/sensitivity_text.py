@@ -12,7 +12,7 @@ from fractions import Fraction
 
 from tabulate import tabulate
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..analysis.sensitivity_results import Limit, SensitivityResult
 from ._format import number
@@ -24,10 +24,10 @@ def _interval(a: Fraction, b: Fraction | None, unit: str = "", open_low: bool = 
     u = f" {unit}" if unit else ""
     left = "(" if open_low and a == 0 else "["
     if b is None:
-        return f"{left}{exact_text(a)}, ∞)" + u
+        return f"{left}{display_text(a)}, ∞)" + u
     if a == b:
-        return f"{{{exact_text(a)}}}" + u
-    return f"{left}{exact_text(a)}, {exact_text(b)}]" + u
+        return f"{{{display_text(a)}}}" + u
+    return f"{left}{display_text(a)}, {display_text(b)}]" + u
 
 
 def _intervals(intervals, unit: str = "", open_low: bool = False) -> str:
@@ -166,7 +166,7 @@ def _formula_lines(result: SensitivityResult) -> list[str]:
         moving = {p: d for p, d in f.derivatives.items() if d != (0, 0)}
         if moving:
             lines.append("    at nominal, d(period)/d(parameter) (left, right): "
-                         + ", ".join(f"{p} ({exact_text(a)}, {exact_text(b)})"
+                         + ", ".join(f"{p} ({display_text(a)}, {display_text(b)})"
                                      for p, (a, b) in moving.items()))
         for region in f.pace:
             if region.empty:
@@ -197,10 +197,10 @@ def _inequality(coefficients: dict[str, Fraction], bound: Fraction) -> str:
     ('d_A <= P_c', '1/2·d_A <= 3')
     """
     def side(terms: list[tuple[str, Fraction]], constant: Fraction) -> str:
-        parts = [name if c == 1 else f"{exact_text(c)}·{name}" for name, c in terms]
+        parts = [name if c == 1 else f"{display_text(c)}·{name}" for name, c in terms]
         if constant or not parts:
-            parts.append(exact_text(constant) if constant >= 0 or not parts
-                         else f"- {exact_text(-constant)}")
+            parts.append(display_text(constant) if constant >= 0 or not parts
+                         else f"- {display_text(-constant)}")
         return " + ".join(parts).replace("+ - ", "- ")
 
     left = [(n, c) for n, c in coefficients.items() if c > 0]

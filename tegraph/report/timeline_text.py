@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..design.timeline import Timeline
 from ._format import count
@@ -53,8 +53,8 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
     col = H / columns
     shown = [c for c in timeline.ticks if any(timeline.clocks[t] == c for t in timeline.tasks)]
     label = max(len(t) for t in [*timeline.tasks, *shown])
-    lines = [f"timeline {timeline.name}: 0 to {exact_text(H)} {u}, one column = "
-             f"{exact_text(col)} {u}" + ("" if exact else " (approximate drawing)")]
+    lines = [f"timeline {timeline.name}: 0 to {display_text(H)} {u}, one column = "
+             f"{display_text(col)} {u}" + ("" if exact else " (approximate drawing)")]
     for t in timeline.tasks:
         row = [" "] * columns
         for j in (j for j in timeline.jobs if j.task == t):
@@ -76,7 +76,7 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
         if len(processors) > 1:
             lines.append(f"  processor {p or '(default)'}:")
         for task, a, b in timeline.order_of_execution(p):
-            lines.append(f"  {exact_text(a):>8} - {exact_text(b):<8} {task}")
+            lines.append(f"  {display_text(a):>8} - {display_text(b):<8} {task}")
     lines.append("")
     for d in timeline.deadlocks:
         lines.append("DEADLOCK: token-free circuit " + " -> ".join([*d.events, d.events[0]])
@@ -89,10 +89,10 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
         clock = timeline.pacing.get(j.task)
         whose = (f"its clock {clock}" if timeline.clocks[j.task] == clock
                  else f"its group's clock {clock}")
-        end = (f"has not ended by the end of the simulation ({exact_text(H)} {u})"
-               if j.finish is None else f"runs until {exact_text(j.finish)} {u}")
+        end = (f"has not ended by the end of the simulation ({display_text(H)} {u})"
+               if j.finish is None else f"runs until {display_text(j.finish)} {u}")
         lines.append(f"OVERRUN: {j.task} overruns at activation {j.overrun_at}: {whose} ticks "
-                     f"at {exact_text(j.deadline)} {u} while activation {j.index} {end}")
+                     f"at {display_text(j.deadline)} {u} while activation {j.index} {end}")
     lines.append(_verdict(timeline))
     return "\n".join(lines) + "\n"
 
@@ -105,7 +105,7 @@ _LEGEND = ("legend: # runs, - released and waiting (for its processor or a messa
 
 def _verdict(timeline: Timeline) -> str:
     """The last line: what the simulation found, within its horizon, and the exit status."""
-    u, H = timeline.unit, exact_text(timeline.horizon)
+    u, H = timeline.unit, display_text(timeline.horizon)
     status = f" (exit status {timeline.exit_status})"
     if timeline.deadlocks:
         late = len(timeline.late_jobs)
@@ -123,7 +123,7 @@ def _verdict(timeline: Timeline) -> str:
         # A cut simulation proves nothing past its end: say so on the verdict line.
         return (f"verdict: every job ends by the next tick of its pacing clock up to {H} {u} "
                 f"only (the horizon cut the simulation; the default horizon is "
-                f"{exact_text(timeline.full_horizon)} {u}: a later overrun is not "
+                f"{display_text(timeline.full_horizon)} {u}: a later overrun is not "
                 f"excluded){status}")
     return (f"verdict: every job ends by the next tick of its pacing clock (simulated up to "
             f"{H} {u}){status}")

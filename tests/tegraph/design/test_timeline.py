@@ -170,13 +170,13 @@ def test_text_rendering_is_exact():
     text = render_timeline(tl)
     lines = text.splitlines()
     # 60 columns of 1/10 ms: OBS.JL computes in columns 0, 10, 20, 30, 40, 50.
-    assert lines[0] == "timeline computed-torque: 0 to 6 ms, one column = 1/10 ms"
+    assert lines[0] == "timeline computed-torque: 0 to 6 ms, one column = 0.1 ms"  # as a decimal
     obs = lines[1].split("|")[1]
     assert len(obs) == 60 and [i for i, c in enumerate(obs) if c == "#"] == [0, 10, 20, 30, 40, 50]
     mod = lines[5].split("|")[1]
     assert mod[:20] == "-------###-#########"
     assert lines[6].split("|")[1].count("^") == 6  # clock obs
-    assert "     11/10 - 2        MOD.DYN" in text
+    assert "     1.1 - 2        MOD.DYN" in text  # 11/10 ms, as the file writes it
     assert text.endswith("verdict: every job ends by the next tick of its pacing clock "
                          "(simulated up to 6 ms) (exit status 0)\n")
 

@@ -25,23 +25,24 @@ def test_two_different_values_never_print_alike(a, b):
 
 @given(fractions)
 def test_a_fraction_never_looks_whole(value):
-    shown = decimal_text(value)
+    # Printed as the input said it (issue 21): an exact decimal when it terminates,
+    # else the fraction with a rounded decimal beside that never looks whole.
+    exact, _, beside = human(value, "ms").partition(" ms")
+    assert Fraction(exact) == value
     if value.denominator == 1:
-        assert shown is None or shown.startswith("≈")
+        assert beside == "" and exact == str(value)
+    elif "/" in exact:
+        digits = beside.strip(" ()").lstrip("≈")
+        assert beside.startswith(" (≈") and Fraction(digits) != int(Fraction(digits))
     else:
-        assert shown is not None
-        digits = shown.lstrip("≈")
-        # Whatever is shown is not an integer, and an exact decimal is exact.
-        assert Fraction(digits) != int(Fraction(digits)) or "e" in digits
-        if not shown.startswith("≈"):
-            assert Fraction(digits) == value
+        assert beside == "" and decimal_text(value) is None
 
 
 def test_the_issue_example_slack_against_a_period():
-    # 2399/20 = 119.95 exactly: printed whole, never rounded to "120".
-    assert human(Fraction(2399, 20), "ms") == "2399/20 ms (119.95)"
+    # 2399/20 = 119.95 exactly: printed as a decimal, exact, never rounded to "120".
+    assert human(Fraction(2399, 20), "ms") == "119.95 ms"
     assert human(Fraction(120), "ms") == "120 ms"
-    # 1/3 does not terminate: rounded and marked.
+    # 1/3 does not terminate: the fraction, and beside it a rounded decimal, marked.
     assert human(Fraction(1, 3), "ms") == "1/3 ms (≈0.333333)"
 
 
@@ -114,9 +115,11 @@ def test_cycle_time_of_several_groups_names_each_period():
 
 
 def test_a_short_exact_decimal_far_from_one_is_exact_not_approximate():
-    # 3/10^17 terminates with one significant digit: 3e-17 exactly, no "≈".
-    assert human(Fraction(3, 10**17), "ms") == "3/100000000000000000 ms (3e-17)"
-    assert decimal_text(Fraction(1, 256)) == "0.00390625"
+    # 3/10^17 terminates with one significant digit: 3e-17 exactly, no "≈" (issue 21:
+    # the decimal alone, as the input would write it).
+    assert human(Fraction(3, 10**17), "ms") == "3e-17 ms"
+    assert human(Fraction(1, 256), "ms") == "0.00390625 ms"
+    assert decimal_text(Fraction(1, 256)) is None
 
 
 def test_json_text_is_the_standard_library_text_for_every_example(monkeypatch):
