@@ -194,7 +194,7 @@ def _inequality(coefficients: dict[str, Fraction], bound: Fraction) -> str:
 
     >>> F = Fraction
     >>> _inequality({"d_A": F(1), "P_c": F(-1)}, F(0)), _inequality({"d_A": F(1, 2)}, F(3))
-    ('d_A <= P_c', '1/2·d_A <= 3')
+    ('d_A <= P_c', '0.5·d_A <= 3')
     """
     def side(terms: list[tuple[str, Fraction]], constant: Fraction) -> str:
         parts = [name if c == 1 else f"{display_text(c)}·{name}" for name, c in terms]
