@@ -36,6 +36,7 @@ def test_the_grammar_s_numbers_are_read_exactly(tmp_path, written, value):
     ('"1/' + "9" * 4301 + '"', "4,301 digits"),
     ("1e4300", "4,301 digits"),
     ('"1' + "0" * 5000 + '"', "5,001 digits"),
+    ("1" + "0" * 5000, "5,001 digits"),  # plain: YAML's own int() refused it, in its words
 ])
 def test_a_duration_beyond_the_bound_is_refused_by_its_size(tmp_path, written, size):
     start = time.perf_counter()
