@@ -416,6 +416,9 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
     for name, watch in zip(watched, watches):
         tasks[name].overrun_at = watch.overrun_at
         tasks[name].overrun_decided = watch.decided
+        if watch.method == "max-plus powers":
+            notes.append(f"overrun of {name} located exactly by (max,+) matrix powers, not "
+                         "simulated: it is slower than its clock (docs/analysis.md)")
         if not watch.decided:
             notes.append(
                 f"overrun of {name} undecided after {steps} activations: tasks upstream "

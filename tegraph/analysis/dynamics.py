@@ -33,7 +33,7 @@ import numpy as np
 
 from ..errors import ModelError
 
-__all__ = ["DaterSimulation", "Regime", "OverrunWatch", "explore"]
+__all__ = ["DaterSimulation", "Regime", "OverrunWatch", "certain_overrun", "explore"]
 
 _NONE = np.iinfo(np.int64).min // 4
 _BIG_NONE = -(2**256)
@@ -74,6 +74,8 @@ class DaterSimulation:
         # the scaled inputs are already huge) the same code runs on Python ints.
         self.dtype: type = object if object in (holding.dtype, initial.dtype) else np.int64
         self.none = _BIG_NONE if self.dtype is object else _NONE
+        # The graph as given, for the exact overrun of a task slower than its clock.
+        self.graph = (src, dst, tokens, holding, initial)
         holding, initial = holding.astype(self.dtype), initial.astype(self.dtype)
         keep = active[src] & active[dst]
         self.n_events = n_events
@@ -296,6 +298,9 @@ class OverrunWatch:
     end_offset: int = 0
     overrun_at: int | None = None
     decided: bool = False
+    method: str = "simulation"
+    """How it was decided: ``"simulation"`` (seen, or excluded by a proven regime) or
+    ``"max-plus powers"`` (a certain overrun located exactly, see :func:`certain_overrun`)."""
 
 
 def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: list[OverrunWatch],
@@ -321,6 +326,15 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
     """
     pending_regimes = set(range(len(regimes)))
     pending_watches = set(range(len(watches)))
+    for w, watch in enumerate(watches):
+        # A task slower than its clock overruns for certain: where, exactly, without
+        # simulating up to it (its lag may take millions of activations to build).
+        if watch.certain:
+            found = certain_overrun(sim.graph, sim.active, watch.last_event, watch.tick_event,
+                                    watch.end_offset)
+            if found is not None:
+                watch.overrun_at, watch.decided, watch.method = found, True, "max-plus powers"
+                pending_watches.discard(w)
     depth = max(sim.depth, 1)
     window: list[np.ndarray] = []
     previous: np.ndarray | None = None
@@ -389,3 +403,200 @@ def _normalized_state(window: list[np.ndarray], events: np.ndarray, k: int, num:
     state = np.concatenate(parts)
     # Object arrays hold pointers, so they are keyed by value, not by bytes.
     return tuple(state.tolist()) if wide else state.tobytes()
+
+
+_POWER_EVENTS = 96
+"""Largest upstream closure (events × token depth) located by matrix powers; a larger
+one is left to the simulation (a product costs the cube of this size)."""
+
+_MAX_DOUBLINGS = 256
+"""The powers stop past 2**256 activations (then the simulation's budget answers)."""
+
+
+def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
+                    end_offset: int = 0) -> int | None:
+    """The first activation ``k >= 2`` with ``end(k-1) > x_tick(k)``, by (max,+) powers.
+
+    For a clocked task whose last event is slower than its clock (cycle time
+    ``χ > P``): the overrun is certain, and this locates it exactly in
+    ``O(n³ log k)`` (``n`` the events upstream of ``last``), however late it
+    comes. The proof is in ``docs/analysis.md`` ("A certain overrun, located
+    exactly"): with ``x'(k) = x(k) - kP`` the recurrence stays (max,+) linear
+    (holdings ``h - mP``), the overrun condition reads ``x'_last(k-1) > φ - δ``
+    (``φ`` the clock's phase, ``δ`` = ``end_offset``), and the running maximum
+    ``z(i) = max_{j<=i} x'_last(j)`` is (max,+) linear and non-decreasing, so
+    the first ``i`` with ``z(i) > φ - δ`` is found by doubling then halving
+    powers of the one-step matrix.
+
+    Parameters
+    ----------
+    graph : tuple of numpy.ndarray
+        ``(src, dst, tokens, holding, initial)``, times scaled to integers.
+    active : numpy.ndarray of bool
+        The live events.
+    last, tick : int
+        The task's last event and its clock's tick.
+    end_offset : int
+        ``δ``: 0, or the (scaled) duration of a task without outputs.
+
+    Returns
+    -------
+    int or None
+        ``overrun_at``; None when the closure is too large for powers, or no
+        overrun comes within 2**256 activations (the caller simulates instead).
+
+    Examples
+    --------
+    Duration 11 on a clock of 10 (tick 0, task ``1``, places: clock self-loop,
+    tick -> compute, compute's return): activation 1 ends at 11 > tick 2 at 10.
+
+    >>> g = (np.array([0, 0, 1]), np.array([0, 1, 1]), np.array([1, 0, 1]),
+    ...      np.array([10, 0, 11]), np.array([0, 0, 0]))
+    >>> certain_overrun(g, np.ones(2, dtype=bool), last=1, tick=0, end_offset=11)
+    2
+    """
+    src, dst, tokens, holding, initial = (np.asarray(a) for a in graph)
+    loop = np.flatnonzero((src == tick) & (dst == tick))
+    if len(loop) != 1 or int(tokens[loop[0]]) != 1:
+        return None
+    period, phase = int(holding[loop[0]]), int(initial[loop[0]])
+    into: dict[int, list[int]] = {}
+    for p in np.flatnonzero(active[src] & active[dst]).tolist():
+        into.setdefault(int(dst[p]), []).append(p)
+    closure, stack = {last}, [last]
+    while stack:
+        for p in into.get(stack.pop(), []):
+            if int(src[p]) not in closure:
+                closure.add(int(src[p]))
+                stack.append(int(src[p]))
+    if any(e not in into for e in closure):
+        return None  # an event without input place: not a skeleton's graph
+    places = [p for e in closure for p in into[e]]
+    depth = max(1, max(int(tokens[p]) for p in places))
+    events = sorted(closure)
+    n = len(events) * depth + 1
+    if n > _POWER_EVENTS:
+        return None
+    order = _topological(events, places, src, dst, tokens)
+    col = {(e, lag): i for i, (e, lag) in enumerate((e, lag) for lag in range(depth)
+                                                      for e in events)}
+    zi = n - 1
+    # One step, X(k-1) -> X(k), as (max,+) rows over X(k-1) (dicts: column -> weight).
+    rows: dict[int, dict[int, int]] = {}
+    for e in order:
+        row: dict[int, int] = {}
+        for p in into[e]:
+            m, h = int(tokens[p]), int(holding[p]) - int(tokens[p]) * period
+            terms = rows[int(src[p])] if m == 0 else {col[int(src[p]), m - 1]: 0}
+            for c, v in terms.items():
+                if c not in row or v + h > row[c]:
+                    row[c] = v + h
+        rows[e] = row
+    step = [dict() for _ in range(n)]
+    for (e, lag), i in col.items():
+        step[i] = dict(rows[e]) if lag == 0 else {col[e, lag - 1]: 0}
+    step[zi] = dict(rows[last])
+    step[zi][zi] = max(step[zi].get(zi, 0), 0)
+    threshold = phase - end_offset
+    # The first `depth` firings, with the initial tokens' availability times.
+    history: list[dict[int, int]] = []
+    best = None
+    for k in range(1, depth + 1):
+        x: dict[int, int] = {}
+        for e in order:
+            value = None
+            for p in into[e]:
+                m = int(tokens[p])
+                v = (int(initial[p]) if k <= m
+                     else (x[int(src[p])] if m == 0 else history[-m][int(src[p])])
+                     + int(holding[p]))
+                value = v if value is None or v > value else value
+            x[e] = value  # type: ignore[assignment]
+        history.append(x)
+        norm = x[last] - k * period
+        if norm > threshold:
+            return k + 1
+        best = norm if best is None else max(best, norm)
+    state = np.zeros(n, dtype=object)
+    for (e, lag), i in col.items():
+        state[i] = history[depth - 1 - lag][e] - (depth - lag) * period
+    state[zi] = best
+    finite = np.ones(n, dtype=bool)
+    matrix = _dense(step, n)
+    powers = [matrix]
+    index = depth
+    # Doubling: z(index + 2^t) > threshold for the first time at some t.
+    for t in range(_MAX_DOUBLINGS):
+        ahead, ahead_f = _apply(powers[t], state, finite)
+        if ahead_f[zi] and ahead[zi] > threshold:
+            break
+        state, finite, index = ahead, ahead_f, index + 2**t
+        powers.append(_square(powers[t]))
+    else:
+        return None
+    for s in range(t - 1, -1, -1):  # halving: the largest index with z <= threshold
+        ahead, ahead_f = _apply(powers[s], state, finite)
+        if not (ahead_f[zi] and ahead[zi] > threshold):
+            state, finite, index = ahead, ahead_f, index + 2**s
+    # z(index) <= threshold < z(index + 1): x'_last first exceeds at index + 1, and
+    # activation index + 2 finds activation index + 1 unfinished.
+    return index + 2
+
+
+def _topological(events, places, src, dst, tokens) -> list[int]:
+    """The events in an order where each 0-token place goes forward (Kahn)."""
+    free = [p for p in places if int(tokens[p]) == 0]
+    waiting = {e: 0 for e in events}
+    after: dict[int, list[int]] = {}
+    for p in free:
+        waiting[int(dst[p])] += 1
+        after.setdefault(int(src[p]), []).append(int(dst[p]))
+    ready = [e for e in events if waiting[e] == 0]
+    out = []
+    while ready:
+        e = ready.pop()
+        out.append(e)
+        for d in after.get(e, []):
+            waiting[d] -= 1
+            if waiting[d] == 0:
+                ready.append(d)
+    if len(out) != len(events):
+        raise ModelError("the 0-token places of the simulated events contain a circuit; "
+                         "simulate live events only", "active")
+    return out
+
+
+def _dense(rows: list[dict[int, int]], n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(values, finite) of a (max,+) matrix given by sparse rows."""
+    values = np.zeros((n, n), dtype=object)
+    finite = np.zeros((n, n), dtype=bool)
+    for i, row in enumerate(rows):
+        for j, v in row.items():
+            values[i, j], finite[i, j] = v, True
+    return values, finite
+
+
+def _square(a: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """A ⊗ A in the (max,+) semiring, exact (Python ints; ε where ``finite`` is False)."""
+    values, finite = a
+    sums = values[:, :, None] + values[None, :, :]
+    both = finite[:, :, None] & finite[None, :, :]
+    return _max_over(sums, both, axis=1)
+
+
+def _apply(a: tuple[np.ndarray, np.ndarray], x: np.ndarray, xf: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """A ⊗ x in the (max,+) semiring, exact."""
+    values, finite = a
+    return _max_over(values + x[None, :], finite & xf[None, :], axis=1)
+
+
+def _max_over(sums: np.ndarray, ok: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
+    """The maximum over ``axis`` of the entries where ``ok``; (values, any ok)."""
+    any_ok = ok.any(axis=axis)
+    if not ok.any():
+        return np.zeros(any_ok.shape, dtype=object), any_ok
+    low = min(sums[ok].tolist()) - 1  # below every entry that counts
+    out = np.where(ok, sums, low).max(axis=axis)
+    out = np.where(any_ok, out, 0).astype(object)
+    return out, any_ok

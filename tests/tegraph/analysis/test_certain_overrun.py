@@ -1,0 +1,53 @@
+"""A task slower than its clock overruns for certain: located exactly (issue 21).
+
+Expected activations are derived by hand from spec §3-§4 (end of activation
+k-1 against tick k), next to each assertion; docs/analysis.md has the proof
+of the method ("A certain overrun, located exactly").
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from tegraph import Skeleton, analyze
+
+
+def test_duration_past_the_period_overruns_at_activation_2():
+    # Duration 11 on a clock of 10: activation 1 runs 0-11, tick 2 comes at 10 < 11.
+    r = analyze(Skeleton.from_dict({"tasks": {"A": {"duration": 11, "period": 10}}}))
+    assert r.tasks["A"].overrun_at == 2 and r.tasks["A"].overrun_decided
+
+
+def _late(writer_period, max_steps=100_000):
+    # W (duration 1, clock P_W > 10) feeds A (duration 1, clock 10, no output) ASYN/SYN.
+    # While A keeps up, it starts at its tick 10(k-1), waits for W's write k at
+    # (k-1)·P_W + 1, and ends 1 later: end_A(k-1) = (k-2)·P_W + 2. Tick k is at 10(k-1),
+    # so A overruns at the first k with (k-2)·(P_W - 10) > 8 (strictly).
+    sk = Skeleton.from_dict({
+        "tasks": {"W": {"duration": 1, "period": writer_period, "outputs": ["m"]},
+                  "A": {"duration": 1, "period": 10, "inputs": ["m"]}},
+        "links": [{"from": "W:m", "to": "A:m", "protocol": "ASYN/SYN"}]})
+    return analyze(sk, max_steps=max_steps)
+
+
+@pytest.mark.parametrize(("writer_period", "expected"), [
+    ("10001/1000", 8003),         # (k-2)/1000 > 8: k - 2 = 8001
+    ("10000001/1000000", 8000003),  # (k-2)/10^6 > 8: k - 2 = 8000001, far past the budget
+    ("11", 11),                   # (k-2)·1 > 8: k - 2 = 9
+    ("12", 7),                    # (k-2)·2 > 8: k - 2 = 5 (4·2 = 8 is not > 8)
+])
+def test_a_slow_writer_makes_the_overrun_come_late(writer_period, expected):
+    r = _late(writer_period)
+    assert r.tasks["A"].overrun_at == expected and r.tasks["A"].overrun_decided
+    assert r.tasks["W"].overrun_at is None
+
+
+def test_a_late_overrun_is_not_left_to_the_budget():
+    # It used to read "overrun undecided (budget)" when the budget ended first.
+    r = _late("10001/1000", max_steps=100)
+    assert r.tasks["A"].overrun_at == 8003 and r.tasks["A"].overrun_decided
+
+
+def test_the_report_says_how_the_overrun_was_found():
+    r = _late("10001/1000")
+    assert any("overrun of A located exactly by (max,+) matrix powers" in n for n in r.notes)
