@@ -176,6 +176,7 @@ _NUMBER = re.compile(
 _NAN_WORDS = {"nan", "+nan", "-nan", "snan"}
 _INF_WORDS = {"inf", "+inf", "infinity", "+infinity"}
 _TEN_TO_LIMIT = 10**MAX_DIGITS
+_SAFE_BITS = 14_000  # 2**14000 has 4,215 digits: fewer bits are always within the bound
 _SHOWN = 40
 
 
@@ -314,6 +315,9 @@ def _parse(value: Any, where: str) -> Scalar:
         raise MaxPlusValueError(f"expected a number, got the boolean {value!r}", where)
     if isinstance(value, str):
         return _text_value(value, where, value)
+    if type(value) is Fraction and (value.numerator.bit_length() < _SAFE_BITS
+                                    and value.denominator.bit_length() < _SAFE_BITS):
+        return value  # the common case, within the bound for sure: no copy, no count
     if isinstance(value, (Integral, Rational)):
         result = (Fraction(int(value)) if isinstance(value, Integral)
                   else Fraction(value.numerator, value.denominator))
