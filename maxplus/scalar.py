@@ -143,7 +143,9 @@ def exact(value: Any, where: str = "value", allow_eps: bool = True) -> Scalar:
     Raises
     ------
     MaxPlusValueError
-        NaN, +inf, booleans, text that is not a number, a zero denominator.
+        NaN, +inf, booleans, complex numbers, text outside the grammar of the
+        module docstring (``"5/2/3"``), a zero denominator, or a number beyond
+        :data:`MAX_DIGITS` digits (refused by its size, never expanded).
 
     See Also
     --------
