@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order, connected_components
+from scipy.sparse.csgraph import breadth_first_order, connected_components, depth_first_order
 
 from ._arrays import (
     INT64_SAFE,
@@ -440,7 +440,9 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
             f"expected {m} weights (one per arc), got shape {np.shape(arr)}", "weight"
         )
     if arr.dtype.kind in "iu":
-        return exact_ints(arr), 1
+        # Contiguous: every pass of the solver and of verify() gathers from it (a
+        # column of an (m, 4) table gathered 2.5x slower than its copy).
+        return np.ascontiguousarray(exact_ints(arr)), 1
     if arr.dtype.kind == "f":
         bad = ~np.isfinite(arr)
         if bad.any():
@@ -471,7 +473,7 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
             f"expected {m} token counts (one per arc), got shape {np.shape(arr)}", "tokens"
         )
     if arr.dtype.kind in "iu":
-        arr = exact_ints(arr)
+        arr = np.ascontiguousarray(exact_ints(arr))
     else:
         counts = []
         for k, v in enumerate(arr.tolist()):
@@ -589,14 +591,20 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
 
     Each node has one policy predecessor: the walk ``start, pred(start), ...``
     runs until a node repeats (or has no policy arc), and closes on the
-    predecessor of its last node. The walk is followed node by node: it is as
-    long as the circuit and the path to it, whereas a graph of all n nodes per
-    call cost O(n) each time (one call per group of a skeleton: quadratic).
+    predecessor of its last node. The walk is followed node by node while it
+    is short: it is as long as the circuit and the path to it, whereas a
+    graph of all n nodes per call cost O(n) each time (one call per group of
+    a skeleton: quadratic). A walk longer than ``WALK_IN_PYTHON`` steps (a
+    critical circuit through most of the graph: 10^5 steps cost 40 ms in
+    Python) is finished in C by a depth-first search of the policy graph, a
+    cost proportional to n that only a walk of that length pays.
     """
     seen: set[int] = set()
     walk_list: list[int] = []
     node = int(start)
     while node not in seen:
+        if len(walk_list) == WALK_IN_PYTHON:
+            return _policy_circuit_in_c(start, policy, src)
         seen.add(node)
         walk_list.append(node)
         arc = int(policy[node])
@@ -607,3 +615,24 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     entry = int(src[policy[walk[-1]]])
     cycle_nodes = walk[int(np.flatnonzero(walk == entry)[0]):]
     return policy[cycle_nodes][::-1].copy()
+
+
+WALK_IN_PYTHON = 4096
+"""Steps of a policy walk taken in Python before :func:`_policy_circuit_in_c` takes over."""
+
+
+def _policy_circuit_in_c(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarray:
+    """:func:`_policy_circuit` by one depth-first search of the policy graph (node -> pred).
+
+    Every node has at most one successor there, so the search from ``start``
+    visits exactly the walk, in order, and stops where it would repeat.
+    """
+    n = len(policy)
+    has = policy >= 0
+    pred = np.where(has, src[np.where(has, policy, 0)], 0)
+    graph = sp.csr_matrix((np.ones(int(has.sum()), dtype=np.int8),
+                           (np.flatnonzero(has), pred[has])), shape=(n, n))
+    walk = depth_first_order(graph, int(start), directed=True, return_predecessors=False)
+    entry = int(pred[walk[-1]])
+    cycle_nodes = walk[int(np.flatnonzero(walk == entry)[0]):]
+    return policy[cycle_nodes][::-1].astype(np.int64)

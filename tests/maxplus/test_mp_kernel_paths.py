@@ -1,0 +1,58 @@
+"""The kernel's alternative paths give the answers of its main ones (issue 20).
+
+Speed work added paths taken only on large inputs (a policy walk finished in
+C past ``WALK_IN_PYTHON`` steps, ...). Each is forced here on a small graph
+whose answer is derived by hand, so the path is tested without a large input.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import maxplus
+import maxplus.cycle_ratio as cr
+
+
+def ring(n: int, chord_weight: int = 1):
+    """Ring 0 -> 1 -> ... -> n-1 -> 0 of weight 3 per arc (arcs 0..n-1), plus chords i -> i+2.
+
+    A chord (arc n + i) skips one node for ``chord_weight``; with weight 1
+    (against 3 + 3 = 6 along the ring) every chord is worse, so the critical
+    circuit is the whole ring: ratio 3n / n = 3, arcs 0..n-1.
+    """
+    nodes = np.arange(n)
+    src = np.concatenate([nodes, nodes])
+    dst = np.concatenate([(nodes + 1) % n, (nodes + 2) % n])
+    w = np.concatenate([np.full(n, 3), np.full(n, chord_weight)])
+    return src, dst, w
+
+
+@pytest.mark.parametrize("walk_in_python", [2, 5, 4096])
+def test_a_long_policy_circuit_is_walked_in_c(monkeypatch, walk_in_python):
+    monkeypatch.setattr(cr, "WALK_IN_PYTHON", walk_in_python)
+    n = 40
+    src, dst, w = ring(n)
+    r = maxplus.max_cycle_ratio(src, dst, w)
+    assert r.ratio == 3
+    # The circuit starts wherever the solver's best node is; as a rotation of
+    # the ring's arcs it is 0, 1, ..., n-1 read from some arc k.
+    k = int(r.circuit[0])
+    assert r.circuit.tolist() == [(k + i) % n for i in range(n)]
+    # policy_circuit(v): the walk v, v-1, ... closes on v, so the circuit
+    # read forward starts with v's out-arc on the ring, arc v (by hand above).
+    for v in (0, 7, n - 1):
+        assert r.policy_circuit(v).tolist() == [(v + i) % n for i in range(n)]
+    assert r.verify()
+
+
+def test_a_walk_in_c_from_a_node_below_the_circuit(monkeypatch):
+    """Node 3 hangs below the 2-circuit 0 <-> 1 by the path 1 -> 2 -> 3."""
+    monkeypatch.setattr(cr, "WALK_IN_PYTHON", 1)
+    # arcs: 0: 0->1 (w 5), 1: 1->0 (w 3), 2: 1->2, 3: 2->3; ratio (5 + 3) / 2 = 4
+    r = maxplus.max_cycle_ratio([0, 1, 1, 2], [1, 0, 2, 3], [5, 3, 1, 1])
+    assert r.ratio == Fraction(4)
+    # The walk 3, 2, 1, 0 closes on 1 (pred of 0): circuit nodes 1, 0, forward arcs 1->0, 0->1.
+    assert r.policy_circuit(3).tolist() == [1, 0]
+    assert r.policy_circuit(0).tolist() == [0, 1]
