@@ -56,9 +56,14 @@ from collections.abc import Iterator
 from fractions import Fraction
 from typing import Any
 
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
 from maxplus.scalar import display_text
 
 from ..analysis.liveness import token_free_circuits
+from ..analysis.reorder import PrecedenceGraph
 from ..model.build import build_teg
 from ..model.elements import LinkLabel
 from ..model.skeleton import Link, Protocol, Skeleton
@@ -496,38 +501,43 @@ class Advisor:
             return False
         change = self.change_of(edits)
         if change not in self._live:
-            part = {t for g in groups for t in self.groups[g]}
-            sub = dataclasses.replace(
-                self.sk, tasks={t: k for t, k in self.sk.tasks.items() if t in part},
-                links=[x for x in self.sk.links if x.writer[0] in part and x.reader[0] in part],
-                threads=[th for th in self.sk.threads if th[0] in part], chains=[])
-            edited = apply_change(sub, change, self.fresh if change.add_clock else None)
+            edited = apply_change(self._within(groups), change,
+                                  self.fresh if change.add_clock else None)
             self._live[change] = not _token_free(edited)
         return self._live[change]
 
-    def _dead_groups(self) -> set[int]:
-        """The groups that hold a token-free circuit (spec §4 deadlocks)."""
-        teg = build_teg(self.sk)
-        a = teg.arrays()
-        names = teg.transition_names
-        dead = set()
-        for circuit in token_free_circuits(a.src, a.dst, a.tokens, teg.n_transitions):
-            event = names[int(a.src[circuit[0]])]
-            dead.add(self.group_of[self._task_of_event(event)])
-        return dead
+    def _within(self, groups: list[int] | set[int]) -> Skeleton:
+        """The skeleton cut down to the tasks of ``groups`` (their links, clocks, threads)."""
+        part = {t for g in groups for t in self.groups[g]}
+        return dataclasses.replace(
+            self.sk, tasks={t: k for t, k in self.sk.tasks.items() if t in part},
+            links=[x for x in self.sk.links if x.writer[0] in part and x.reader[0] in part],
+            threads=[th for th in self.sk.threads if th[0] in part], chains=[])
 
-    def _task_of_event(self, event: str) -> str:
-        # Events are "TASK.activate", "TASK.read:p", "TASK.compute", "TASK.write:p" or
-        # "CLOCK.tick"; task names may hold dots, so the known suffixes are cut.
-        for suffix in (".activate", ".compute"):
-            if event.endswith(suffix) and event[: -len(suffix)] in self.sk.tasks:
-                return event[: -len(suffix)]
-        for mark in (".read:", ".write:"):
-            head = event.rsplit(mark, 1)[0]
-            if mark in event and head in self.sk.tasks:
-                return head
-        clock = event[: -len(".tick")]
-        return next(t for t, k in self.sk.tasks.items() if k.clock == clock)
+    def _dead_groups(self) -> set[int]:
+        """The groups that hold a token-free circuit (spec §4 deadlocks).
+
+        The 0-token places of the timed event graph are, up to transitivity, the
+        precedence graph of :mod:`tegraph.analysis.reorder` (chains, links,
+        clocks, threads) plus each task's declared read and write orders: its
+        strong components with more than one event, or a self-loop, are the
+        token-free circuits (as :mod:`.fix` reads them). This costs no time
+        values, where building the timed event graph checks every one.
+        """
+        g = PrecedenceGraph(self.sk)
+        for name, task in self.sk.tasks.items():
+            for nodes in ([g.read[name, p] for p in task.inputs],
+                          [g.write[name, p] for p in task.outputs]):
+                for u, v in itertools.pairwise(nodes):
+                    g.succ[u].append(v)
+        n = len(g.names)
+        edges = [(u, v) for u, outs in enumerate(g.succ) for v in outs]
+        rows, cols = (list(x) for x in zip(*edges)) if edges else ([], [])
+        matrix = sp.csr_matrix((np.ones(len(edges), dtype=np.int8), (rows, cols)), shape=(n, n))
+        _, label = connected_components(matrix, directed=True, connection="strong")
+        sizes = np.bincount(label, minlength=n)
+        dead = {int(x) for x in np.flatnonzero(sizes[label] > 1)} | {u for u, v in edges if u == v}
+        return {self.group_of[t] for t, events in g.events_of.items() if dead.intersection(events)}
 
     def periods_text(self, edits: _Edits) -> str:
         """What ``edits`` do to the period of each group they touch, before -> after."""

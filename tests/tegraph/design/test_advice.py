@@ -433,3 +433,18 @@ def test_every_structural_advice_states_the_periods():
     assert any(f.change is None for f in advices) and any(f.change for f in advices)
     for f in advices:
         assert "design periods (each group's fastest clock), before -> after: " in f.advice, f
+
+
+def test_the_dead_groups_of_the_advisor_are_those_analyze_finds():
+    # The advisor reads token-free circuits off the precedence graph plus declared port
+    # orders; analyze builds the timed event graph (a different construction).
+    cases = [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]
+    cases += [Skeleton.from_dict(random_skeleton(random.Random(seed))) for seed in range(300)]
+    dead_seen = 0
+    for sk in cases:
+        advisor = Advisor(sk, [])
+        report = analyze(sk, design=False)
+        expected = {advisor.group_of[t] for d in report.deadlocks for t in d.tasks}
+        assert advisor._dead_groups() == expected, sk.to_dict()
+        dead_seen += bool(expected)
+    assert dead_seen > 10
