@@ -61,6 +61,7 @@ from typing import Any
 import numpy as np
 
 from ._arrays import INT64_SAFE, int_array
+from ._params import unmasked
 from .errors import MaxPlusValueError
 
 __all__ = [
@@ -506,6 +507,7 @@ def exact_vector(values: Any, name: str = "x", allow_eps: bool = True) -> list[S
     >>> exact_vector([1, None, "1/2"])
     [Fraction(1, 1), -inf, Fraction(1, 2)]
     """
+    values = unmasked(values, name)  # a masked entry would be read as what lies under it
     if isinstance(values, np.ndarray):
         if values.ndim != 1:
             raise MaxPlusValueError(f"expected a vector, got an array of shape {values.shape}",
@@ -553,6 +555,7 @@ def exact_matrix(values: Any, name: str = "A", square: bool = True) -> np.ndarra
     >>> exact_matrix([[1, None], ["1/2", 0.25]]).tolist()
     [[Fraction(1, 1), -inf], [Fraction(1, 2), Fraction(1, 4)]]
     """
+    values = unmasked(values, name)
     if isinstance(values, np.ndarray):
         if values.ndim != 2:
             raise MaxPlusValueError(

@@ -7,6 +7,7 @@ a MemoryError, IndexError, TypeError or a silently truncated value.
 from __future__ import annotations
 
 import math
+import re
 from fractions import Fraction
 
 import numpy as np
@@ -16,6 +17,7 @@ from hypothesis import strategies as st
 
 import maxplus
 from maxplus import MaxPlusError, MaxPlusValueError
+from maxplus.scalar import exact_matrix, exact_vector
 
 # --------------------------------------------------------------------------- max_cycle_ratio
 
@@ -166,3 +168,13 @@ def test_junk_meets_only_the_documented_errors(name, a, b):
         ENTRY_POINTS[name](a, b)
     except MaxPlusError:
         pass
+
+
+@pytest.mark.parametrize("convert, values, where", [
+    (exact_vector, np.ma.masked_array([1, 2], mask=[False, True]), "x[1]"),
+    (exact_matrix, np.ma.masked_array([[1, 2], [3, 4]], mask=[[0, 0], [1, 0]]), "A[1][0]"),
+])
+def test_exact_conversions_refuse_a_masked_entry_by_index(convert, values, where):
+    # .tolist() of a masked array gives None for a masked entry, which read as ε.
+    with pytest.raises(MaxPlusValueError, match=re.escape(where) + ": the entry is masked"):
+        convert(values)
