@@ -1,0 +1,161 @@
+"""Each task's processor and priority (``docs/skeleton.md`` v1.2 §4b, *Platform*).
+
+Tasks without ``processor`` share the processor ``"default"``. On a processor
+where every task declares ``priority``, those priorities are used; otherwise
+every task of that processor gets the rate-monotonic proposal of §4b:
+
+- take the groups (§4: whole groups, wherever their other tasks run) that
+  have a task on the processor; a group's *design period* is the smallest
+  period among its clocks;
+- the shortest design period is the most urgent; equal design periods: the
+  group whose first task comes earlier in the file is the more urgent;
+  groups without a clock are the least urgent, in file order;
+- numbers run from 1 (least urgent) upward, every task of a group gets its
+  group's number, and the Robot-task automaton (a task named ``RTA`` or
+  ``automaton``, or ending in ``.RTA`` or ``.automaton``, any case) gets one
+  more than the largest number on its processor.
+
+The groups are not recomputed here: they are a parameter, the ``groups`` of
+the :class:`~tegraph.analysis.results.Report` that
+:func:`~tegraph.analysis.analyze.analyze_skeleton` returns (one definition of
+groups for every command).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Protocol as _Protocol
+
+from ...model.skeleton import Skeleton
+
+__all__ = ["DEFAULT_PROCESSOR", "Platform", "ProcessorInfo", "is_automaton", "platform_of"]
+
+DEFAULT_PROCESSOR = "default"
+"""The processor of every task that declares none (§4b)."""
+
+_AUTOMATON = re.compile(r"(?:^|\.)(?:rta|automaton)$", re.IGNORECASE)
+
+
+class _Group(_Protocol):
+    """What is read of a group: a ``GroupReport`` has both attributes."""
+
+    tasks: list[str]
+    clocks: list[str]
+
+
+def is_automaton(name: str) -> bool:
+    """Whether ``name`` names the Robot-task automaton (§4b).
+
+    Examples
+    --------
+    >>> is_automaton("RTA"), is_automaton("arm.Automaton"), is_automaton("PARTA")
+    (True, True, False)
+    """
+    return bool(_AUTOMATON.search(name))
+
+
+@dataclass(frozen=True)
+class ProcessorInfo:
+    """One processor: its tasks in file order, their priorities and where those come from."""
+
+    name: str
+    tasks: tuple[str, ...]
+    priorities: dict[str, int]
+    priority_source: str
+    """``"declared"`` or ``"rate-monotonic"``."""
+
+
+@dataclass(frozen=True)
+class Platform:
+    """Where and how urgently each task runs.
+
+    Attributes
+    ----------
+    processors : tuple of ProcessorInfo
+        In the order of each processor's first task in the file.
+    processor_of : dict of str to str
+        Task -> processor name.
+    priority : dict of str to int
+        Task -> priority (larger is more urgent), in file order.
+    """
+
+    processors: tuple[ProcessorInfo, ...]
+    processor_of: dict[str, str]
+    priority: dict[str, int]
+
+
+def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
+    """The processors and priorities of ``skeleton`` (§4b).
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    groups : sequence of GroupReport
+        The groups of :func:`~tegraph.analysis.analyze.analyze_skeleton`
+        (``report.groups``), in the order of their first task in the file;
+        only ``tasks`` and ``clocks`` are read.
+
+    Returns
+    -------
+    Platform
+
+    Examples
+    --------
+    The example of §4b: A and B with period 10, C with period 5, D without a
+    clock, in this file order, on one processor:
+
+    >>> from tegraph.analysis.analyze import analyze_skeleton
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "A": {"duration": 1, "period": 10}, "B": {"duration": 1, "period": 10},
+    ...     "C": {"duration": 1, "period": 5}, "D": {"duration": 1}}})
+    >>> platform_of(sk, analyze_skeleton(sk).groups).priority
+    {'A': 3, 'B': 2, 'C': 4, 'D': 1}
+    """
+    processor_of = {name: task.processor or DEFAULT_PROCESSOR
+                    for name, task in skeleton.tasks.items()}
+    on: dict[str, list[str]] = {}
+    for name, proc in processor_of.items():
+        on.setdefault(proc, []).append(name)
+    priority: dict[str, int] = {}
+    infos = []
+    for proc, tasks in on.items():
+        declared = [skeleton.tasks[t].priority for t in tasks]
+        if all(p is not None for p in declared):
+            chosen = {t: int(p) for t, p in zip(tasks, declared)}  # type: ignore[arg-type]
+            source = "declared"
+        else:
+            chosen = _rate_monotonic(skeleton, groups, set(tasks))
+            source = "rate-monotonic"
+        priority.update(chosen)
+        infos.append(ProcessorInfo(proc, tuple(tasks), {t: chosen[t] for t in tasks}, source))
+    return Platform(tuple(infos), processor_of, {t: priority[t] for t in skeleton.tasks})
+
+
+def _rate_monotonic(skeleton: Skeleton, groups: Sequence[_Group],
+                    here: set[str]) -> dict[str, int]:
+    """The §4b proposal for the tasks ``here`` (one processor)."""
+    index = {t: i for i, t in enumerate(skeleton.tasks)}
+    ranked: list[tuple[tuple, list[str]]] = []
+    for group in groups:
+        tasks = [t for t in group.tasks if t in here]
+        if not tasks:
+            continue
+        periods = [skeleton.clocks[c].period for c in group.clocks]
+        design: Fraction | None = min(periods) if periods else None
+        first = min(index[t] for t in group.tasks)
+        # Most urgent first: clocked before clockless, shorter design period, file order.
+        key = (design is None, design if design is not None else 0, first)
+        ranked.append((key, tasks))
+    ranked.sort(key=lambda r: r[0])
+    out: dict[str, int] = {}
+    for rank, (_, tasks) in enumerate(ranked):
+        for t in tasks:
+            out[t] = len(ranked) - rank
+    top = max(out.values(), default=0)
+    for t in out:
+        if is_automaton(t):
+            out[t] = top + 1
+    return out

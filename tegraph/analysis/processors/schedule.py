@@ -1,0 +1,482 @@
+"""The skeleton on its processors (``docs/skeleton.md`` v1.2 §4b), decided exactly.
+
+:func:`schedule_on_processors` runs the §4b dynamics: the events of the timed
+event graph fire as early as their places allow (§3), a compute event
+releases a job that its processor runs under preemptive fixed priorities
+(priority descending, release ascending, file order), and the places leaving
+``T.compute`` receive their token when the job has received ``duration(T)``.
+
+The simulation is event-driven and exact (integers on the graph's common
+scale); each *part* (tasks joined by a group or a processor) is simulated on
+its own until a proof:
+
+- **periodic regime**: the whole state of the part (tokens of every place,
+  with the availability of those not yet available, each job's remaining
+  work, the order of the pending jobs) repeats at two ticks of its slowest
+  clock, up to places that only gained tokens and whose tokens were never
+  the last input of their output event: then the part is periodic for ever
+  and those places grow by as many tokens per regime (proof in
+  ``docs/analysis.md``). Periods, responses, starved tasks, growing places
+  and the overruns still to come follow from one regime;
+- **nothing more happens** (a dead part);
+- otherwise, after ``max_events`` firings, the figures left are null and the
+  verdict is null with the reason, unless an overrun was already seen (then
+  the skeleton is not schedulable, proven by the overrun itself).
+
+Events that fire infinitely often at time 0 (an upstream closure of tasks of
+duration 0 without a clock: a circuit of zero durations) are not simulated:
+their tasks have period 0 and response 0, and the places from them to the
+rest of the graph are unbounded (tokens pile up at once).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from ...errors import InputError, ModelError
+from ...model.build import last_event
+from ...model.skeleton import Skeleton
+from ...model.teg import TimedEventGraph
+from ._engine import PartData, PartResult, simulate_part
+from .platform import Platform, platform_of
+
+__all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
+           "schedule_on_processors"]
+
+MAX_EVENTS = 2_000_000
+"""Default budget of :func:`schedule_on_processors`: event firings simulated per
+part (tasks joined by a group or a processor) before the verdict is left null."""
+
+_KIND_REPORTED = {"activation": "clock-overrun", "asyn-syn": "messages-overwritten",
+                  "syn-asyn": "requests-overwritten", "thread": "thread",
+                  "thread-return": "thread"}
+
+
+@dataclass(frozen=True)
+class JobInterval:
+    """A stretch of processor time given to activation ``k`` of ``task``."""
+
+    processor: str
+    start: Fraction
+    end: Fraction
+    task: str
+    k: int
+
+
+@dataclass
+class TaskOnProcessors:
+    """The §4b figures of one task (None where undefined or undecided)."""
+
+    period: Fraction | None = None
+    overrun_at: int | None = None
+    response: Fraction | None = None
+    starved: bool = False
+    """Proven: a job of the task never receives its duration."""
+    decided: bool = False
+    """The figures are proven (a regime, or nothing more happens); False: budget."""
+
+
+@dataclass(frozen=True)
+class GrowingPlace:
+    """An unbounded place on processors."""
+
+    place: int
+    src: str
+    dst: str
+    kind: str
+    group: int
+    per_regime: int | None
+    """Tokens gained per regime of its part; None: infinitely many at time 0."""
+
+
+@dataclass
+class ProcessorSchedule:
+    """The result of :func:`schedule_on_processors` (times in the skeleton's unit)."""
+
+    platform: Platform
+    schedulable: bool | None
+    exact: bool
+    method: str
+    why_undecided: str | None
+    tasks: dict[str, TaskOnProcessors]
+    group_periods: list[Fraction | None]
+    """``period_on_processors`` of each group, in the order of ``groups``."""
+    unbounded: list[GrowingPlace]
+    intervals: list[JobInterval]
+    """Processor time given to each job, up to the proof, by processor then start."""
+    regimes: list[dict[str, Any]] = field(default_factory=list)
+    """Per part: its tasks, ``start`` and ``length`` of the regime proven (None: not
+    found; ``length`` None: nothing happens after ``start``)."""
+    events: int = 0
+    """Event firings simulated in all."""
+
+    @property
+    def starved(self) -> list[str]:
+        """The starved tasks, in file order."""
+        return [t for t, r in self.tasks.items() if r.starved]
+
+
+def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any], *,
+                           platform: Platform | None = None,
+                           max_events: int = MAX_EVENTS) -> ProcessorSchedule:
+    """Decide the skeleton on its processors (§4b), exactly.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    teg : TimedEventGraph
+        ``build_teg(skeleton)``.
+    groups : sequence of GroupReport
+        ``analyze_skeleton(skeleton).groups`` (``tasks``, ``clocks``, ``live``
+        are read): the groups are computed once, by the caller.
+    platform : Platform, optional
+        Default :func:`~tegraph.analysis.processors.platform.platform_of`.
+    max_events : int
+        Budget of event firings per part (:data:`MAX_EVENTS`).
+
+    Returns
+    -------
+    ProcessorSchedule
+
+    Raises
+    ------
+    InputError
+        ``max_events`` is not an integer >= 1.
+
+    Examples
+    --------
+    B (period 4) is preempted at 2 by the more urgent A (period 2):
+
+    >>> from tegraph.analysis.analyze import analyze_skeleton
+    >>> from tegraph.model.build import build_teg
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
+    ...                                    "B": {"duration": 2, "period": 4}}})
+    >>> s = schedule_on_processors(sk, build_teg(sk), analyze_skeleton(sk).groups)
+    >>> s.schedulable, str(s.tasks["B"].response), str(s.tasks["B"].period)
+    (True, '4', '4')
+    >>> [(i.task, str(i.start), str(i.end)) for i in s.intervals]
+    [('A', '0', '1'), ('B', '1', '2'), ('A', '2', '3'), ('B', '3', '4')]
+    """
+    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
+        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+    if "compute" not in teg.attrs:
+        raise ModelError("not built from a skeleton (no 'compute' in attrs)", "teg")
+    if platform is None:
+        platform = platform_of(skeleton, groups)
+    net = _Net(skeleton, teg, groups, platform)
+    out = _Outcome(net, max_events)
+    for part in net.parts():
+        data, local_tasks, local_events, local_places = part
+        result = simulate_part(data, max_events)
+        out.add(result, data, local_tasks, local_events, local_places)
+    return out.finish()
+
+
+class _Net:
+    """The graph as Python lists, the zero-period events and the parts."""
+
+    def __init__(self, sk: Skeleton, teg: TimedEventGraph, groups: Sequence[Any],
+                 platform: Platform) -> None:
+        a = teg.arrays()
+        self.sk, self.teg, self.groups, self.platform = sk, teg, groups, platform
+        self.scale = a.scale
+        self.src, self.dst = a.src.tolist(), a.dst.tolist()
+        self.tokens = a.tokens.tolist()
+        self.hold = [int(v) for v in a.holding.tolist()]
+        self.init = [int(v) for v in a.initial.tolist()]
+        self.n = teg.n_transitions
+        self.tasks = list(sk.tasks)
+        self.compute = teg.attrs["compute"]
+        self.compute_of = {self.compute[t]: i for i, t in enumerate(self.tasks)}
+        self.group_of = {t: g for g, group in enumerate(groups) for t in group.tasks}
+        self.zero = self._zero_period()
+        graph = sp.csr_matrix((np.ones(len(self.src), dtype=np.int8), (a.src, a.dst)),
+                              shape=(self.n, self.n))
+        self.scc = connected_components(graph, directed=True, connection="strong")[1].tolist()
+
+    def _zero_period(self) -> set[int]:
+        """Events that fire infinitely often at time 0 (see the module docstring)."""
+        out: list[list[int]] = [[] for _ in range(self.n)]
+        for s, d in zip(self.src, self.dst):
+            out[s].append(d)
+        timed = _reach(out, {d for d, h, a in zip(self.dst, self.hold, self.init) if h or a})
+        zero = set(range(self.n)) - timed
+        # Without any time upstream, every firing is at 0; finitely many when a
+        # circuit without token lies upstream (it stops them), else infinitely many.
+        z_src = [p for p, (s, d) in enumerate(zip(self.src, self.dst))
+                 if s in zero and d in zero and not self.tokens[p]]
+        if not z_src:
+            return zero
+        rows = [self.src[p] for p in z_src]
+        cols = [self.dst[p] for p in z_src]
+        g = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(self.n, self.n))
+        _, label = connected_components(g, directed=True, connection="strong")
+        sizes = np.bincount(label)
+        stuck = {e for e in zero if sizes[label[e]] > 1} | {r for r, c in zip(rows, cols) if r == c}
+        return zero - _reach(out, stuck)
+
+    def _union_parts(self) -> list[int]:
+        """Part label of each task: tasks joined by a group or a processor."""
+        parent = list(range(len(self.tasks)))
+
+        def find(i: int) -> int:
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        first: dict[Any, int] = {}
+        for i, t in enumerate(self.tasks):
+            for key in (("g", self.group_of.get(t, -1 - i)), ("p", self.platform.processor_of[t])):
+                if key in first:
+                    parent[find(i)] = find(first[key])
+                else:
+                    first[key] = i
+        return [find(i) for i in range(len(self.tasks))]
+
+    def parts(self):
+        """For each part: its :class:`PartData` and its global tasks, events and places."""
+        label = self._union_parts()
+        index = {t: i for i, t in enumerate(self.tasks)}
+        part_of_event: dict[int, int] = {}
+        for e, attrs in enumerate(self.teg.transition_attrs):
+            if attrs.get("tasks"):
+                part_of_event[e] = label[index[attrs["tasks"][0]]]
+        for t, task in self.sk.tasks.items():
+            if task.clock is not None:
+                part_of_event[self.teg.attrs["clocks"][task.clock]] = label[index[t]]
+        members: dict[int, list[int]] = {}
+        for e, lab in sorted(part_of_event.items()):
+            if e not in self.zero:
+                members.setdefault(lab, []).append(e)
+        places: dict[int, list[int]] = {}
+        for p, (s, d) in enumerate(zip(self.src, self.dst)):
+            if s in part_of_event and s not in self.zero and d not in self.zero:
+                places.setdefault(part_of_event[s], []).append(p)
+        for lab in sorted(members, key=lambda lab: min(members[lab])):
+            tasks = [i for i, t in enumerate(self.tasks)
+                     if label[i] == lab and self.compute[t] not in self.zero]
+            yield self._part_data(tasks, members[lab], places.get(lab, []))
+
+    def _part_data(self, tasks: list[int], events: list[int], places: list[int]):
+        local = {e: i for i, e in enumerate(events)}
+        local_task = {i: j for j, i in enumerate(tasks)}
+        names = [self.tasks[i] for i in tasks]
+        procs: dict[str, int] = {}
+        for t in names:
+            procs.setdefault(self.platform.processor_of[t], len(procs))
+        compute_task = [-1] * len(events)
+        for e, i in self.compute_of.items():
+            if e in local and i in local_task:
+                compute_task[local[e]] = local_task[i]
+        watched: dict[int, list[int]] = {}
+        slowest: tuple[Fraction, int] | None = None
+        for j, t in enumerate(names):
+            clock = self.sk.tasks[t].clock
+            if clock is not None:
+                tick = local[self.teg.attrs["clocks"][clock]]
+                watched.setdefault(tick, []).append(j)
+                period = self.sk.clocks[clock].period
+                if slowest is None or period > slowest[0]:
+                    slowest = (period, tick)
+        snapshot_place = None
+        if slowest is not None:
+            snapshot_place = next(i for i, p in enumerate(places)
+                                  if self.src[p] == self.dst[p] == events[slowest[1]])
+        data = PartData(
+            n_events=len(events),
+            p_src=[local[self.src[p]] for p in places], p_dst=[local[self.dst[p]] for p in places],
+            p_tokens=[self.tokens[p] for p in places], p_hold=[self.hold[p] for p in places],
+            p_init=[self.init[p] for p in places],
+            p_job=[self.src[p] in self.compute_of for p in places],
+            p_cap=[None if self.scc[self.src[p]] == self.scc[self.dst[p]] else self.tokens[p] + 2
+                   for p in places],
+            compute_task=compute_task,
+            duration=[int(self.sk.tasks[t].duration * self.scale) for t in names],
+            priority=[self.platform.priority[t] for t in names], file_index=tasks,
+            processor=[procs[self.platform.processor_of[t]] for t in names],
+            n_processors=len(procs),
+            end_event=[local[last_event(self.teg, t)] if self.sk.tasks[t].outputs else None
+                       for t in names],
+            watched=watched, snapshot_place=snapshot_place)
+        return data, names, events, places
+
+
+def _reach(out: list[list[int]], start: set[int]) -> set[int]:
+    """Events reachable from ``start`` (included) along places."""
+    seen = set(start)
+    stack = list(start)
+    while stack:
+        for d in out[stack.pop()]:
+            if d not in seen:
+                seen.add(d)
+                stack.append(d)
+    return seen
+
+
+class _Outcome:
+    """The figures of every part, assembled into a :class:`ProcessorSchedule`."""
+
+    def __init__(self, net: _Net, budget: int) -> None:
+        self.net = net
+        self.budget = budget
+        self.tasks = {t: TaskOnProcessors() for t in net.tasks}
+        self.unbounded: list[GrowingPlace] = []
+        self.intervals: list[JobInterval] = []
+        self.regimes: list[dict[str, Any]] = []
+        self.undecided: list[str] = []
+        self.events = 0
+        self.rate: dict[int, set] = {}
+        """Group -> the cycle times of its events (None: an event that stops)."""
+        self.grows: set[int] = set()
+        for t in net.tasks:
+            if net.compute[t] in net.zero:
+                self.tasks[t] = TaskOnProcessors(Fraction(0), None, Fraction(0), False, True)
+        for p, (s, d) in enumerate(zip(net.src, net.dst)):
+            if s in net.zero and d not in net.zero:
+                self._grow(p, None)
+
+    def _fraction(self, v: int) -> Fraction:
+        return Fraction(v, self.net.scale)
+
+    def _grow(self, p: int, per: int | None) -> None:
+        net = self.net
+        place = net.teg.places[p]
+        owner = net.teg.transition_attrs[net.dst[p]].get("tasks") or \
+            net.teg.transition_attrs[net.src[p]].get("tasks")
+        group = net.group_of[owner[0]]
+        self.grows.add(group)
+        self.unbounded.append(GrowingPlace(
+            p, net.teg.transition_names[net.src[p]], net.teg.transition_names[net.dst[p]],
+            _KIND_REPORTED.get(place.kind, "chain"), group, per))
+
+    def add(self, r: PartResult, d: PartData, names: list[str], events: list[int],
+            places: list[int]) -> None:
+        self.events += r.fired
+        procs = sorted({self.net.platform.processor_of[t] for t in names},
+                       key=lambda p: [self.net.platform.processor_of[t] for t in names].index(p))
+        for proc, start, end, task, k in r.intervals:
+            self.intervals.append(JobInterval(procs[proc], self._fraction(start),
+                                              self._fraction(end), names[task], k))
+        for task, k in r.overrun_at.items():
+            self.tasks[names[task]].overrun_at = k
+        if r.regime is None:
+            self.regimes.append({"tasks": names, "start": None, "length": None})
+            self.undecided.append(", ".join(names[:3]) + (" ..." if len(names) > 3 else ""))
+            return
+        if r.regime[0] == "stop":
+            self.regimes.append({"tasks": names, "start": self._fraction(r.regime[1]),
+                                 "length": None})
+            for t in names:
+                self.tasks[t].decided = True
+            for e in events:
+                self._rate(e, None)
+            return
+        self._regime(r, d, names, events, places)
+
+    def _rate(self, event: int, value: Fraction | None) -> None:
+        tasks = self.net.teg.transition_attrs[event].get("tasks")
+        if tasks:
+            self.rate.setdefault(self.net.group_of[tasks[0]], set()).add(value)
+
+    def _regime(self, r: PartResult, d: PartData, names: list[str], events: list[int],
+                places: list[int]) -> None:
+        t1, t2, old, new, growing = r.regime  # type: ignore[misc]
+        length = t2 - t1
+        self.regimes.append({"tasks": names, "start": self._fraction(t1),
+                             "length": self._fraction(length)})
+        fired = [b - a for a, b in zip(old.fired, new.fired)]
+        for e, n in enumerate(fired):
+            self._rate(events[e], self._fraction(length) / n if n else None)
+        for p, per in growing.items():
+            self._grow(places[p], per)
+        for j, t in enumerate(names):
+            fig = self.tasks[t]
+            fig.decided = True
+            compute = next(e for e in range(d.n_events) if d.compute_task[e] == j)
+            n = fired[compute]
+            fig.starved = n == 0 and new.pending[j] >= 0
+            if n:
+                fig.period = self._fraction(length) / n
+                fig.response = self._fraction(_response(r.jobs[j], old.fired[compute],
+                                                        new.fired[compute], length))
+            if fig.overrun_at is None and j in r.tick_log:
+                tick = next(e for e, ts in d.watched.items() if j in ts)
+                last = d.end_event[j]
+                ends = (new.finished[j] - old.finished[j] if last is None
+                        else fired[last])
+                fig.overrun_at = _overrun_to_come(r.tick_log[j], t1, t2, fired[tick], ends)
+
+    def finish(self) -> ProcessorSchedule:
+        net = self.net
+        group_periods: list[Fraction | None] = []
+        live = all(g.live for g in net.groups)
+        for g, group in enumerate(net.groups):
+            rates = self.rate.get(g, set())
+            if all(net.compute[t] in net.zero for t in group.tasks):
+                rates = {Fraction(0)}
+            ok = group.live and g not in self.grows and len(rates) == 1 and None not in rates
+            group_periods.append(next(iter(rates)) if ok else None)
+            if not group.live:
+                for t in group.tasks:
+                    self.tasks[t] = TaskOnProcessors(decided=self.tasks[t].decided)
+        unbounded = [u for u in self.unbounded if net.groups[u.group].live]
+        verdict, why = self._verdict(live, unbounded)
+        parts = len(self.regimes)
+        method = (f"exact event-driven simulation of the schedule on processors (§4b), "
+                  f"{self.events} event firings in {parts} independent part(s); each part's "
+                  "periodic regime proven by a repeated state (up to places that only gain "
+                  "tokens, never taken last)")
+        return ProcessorSchedule(net.platform, verdict, verdict is not None, method, why,
+                                 self.tasks, group_periods, unbounded,
+                                 sorted(self.intervals, key=lambda i: (
+                                     i.processor, i.start)), self.regimes, self.events)
+
+    def _verdict(self, live: bool, unbounded: list[GrowingPlace]) -> tuple[bool | None, str | None]:
+        found = (not live or unbounded or any(
+            f.overrun_at is not None or f.starved for f in self.tasks.values()))
+        if found:
+            return False, None
+        if self.undecided:
+            return None, (f"no periodic regime within the budget of {self.budget:,} event "
+                          f"firings per part, for the part(s) of {'; '.join(self.undecided)}: "
+                          "raise `max_events`")
+        return True, None
+
+
+def _response(jobs: list[list], c1: int, c2: int, length: int) -> int:
+    """Largest finish - release over the jobs released in the regime (numbers c1+1..c2).
+
+    A job still running when the regime closes ends as the job running when it
+    opened (job c1, which ended within the regime), one regime later.
+    """
+    best = 0
+    for k in range(c1 + 1, c2 + 1):
+        release, finish = jobs[k - 1]
+        if finish is None:
+            finish = jobs[c1 - 1][1] + length
+        best = max(best, finish - release)
+    return best
+
+
+def _overrun_to_come(log: list[tuple[int, int, int]], t1: int, t2: int, ticks: int,
+                     ends: int) -> int | None:
+    """The first overrun after a proven regime [t1, t2), from the slack at its ticks.
+
+    In the regime a task's clock ticks ``ticks`` times and its activations end
+    ``ends`` times per regime, so the slack ``ends - (k - 1)`` at each tick of
+    the regime falls by ``ticks - ends`` per regime: never below 0 when that
+    is 0 (every tick of one regime was checked), else first after
+    ``slack // fall + 1`` more regimes, at tick ``k + that * ticks``.
+    """
+    fall = ticks - ends
+    if fall <= 0:
+        return None
+    return min((k + (s // fall + 1) * ticks for t, k, s in log if t1 <= t < t2), default=None)
