@@ -36,7 +36,7 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..model.skeleton import Skeleton
 from .sensitivity_formulas import GroupFormula, period_formulas
@@ -183,7 +183,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     disagree = [c for c in result.checks if not c.agrees]
     if disagree:
         result.notes.append(f"{len(disagree)} cross-check(s) with the analysis DISAGREE, e.g. "
-                            f"{disagree[0].what} at {exact_text(disagree[0].value)}")
+                            f"{disagree[0].what} at {display_text(disagree[0].value)}")
     return result
 
 

@@ -49,7 +49,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text, exact_text
 
 from ..analysis.deadlocks import skeleton_deadlocks
 from ..analysis.results import Deadlock
@@ -396,7 +396,7 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
                    Fraction(1))
     horizon = full if horizon is None else Fraction(horizon)
     if horizon <= 0:
-        raise ModelError(f"the horizon must be > 0, got {horizon}", "timeline")
+        raise ModelError(f"the horizon must be > 0, got {display_text(horizon)}", "timeline")
     _check_jobs(skeleton, horizon, horizon == full and bool(clocks), max_jobs)
     ticks = {c: [k.phase + n * k.period for n in range(_count(k.phase, k.period, horizon))]
              for c, k in clocks.items()}
@@ -523,14 +523,14 @@ def _check_jobs(sk: Skeleton, horizon: Fraction, default: bool, max_jobs: int) -
     if sk.clocks:
         hyper = hyperperiod(c.period for c in sk.clocks.values())
         why = (f"the default horizon, the largest clock phase plus the hyperperiod "
-               f"{exact_text(hyper)} {u} of the clock periods" if default
-               else f"the hyperperiod of the clock periods is {exact_text(hyper)} {u}")
+               f"{display_text(hyper)} {u} of the clock periods" if default
+               else f"the hyperperiod of the clock periods is {display_text(hyper)} {u}")
     else:
         why = "no clock: the default horizon is twice the sum of the durations"
     busiest = sorted((b, t) for t, b in bounds.items() if b is not None)[::-1][:3]
     shown = ", ".join(f"{t} {_amount(b)}" for b, t in busiest)
     raise InputError(
-        f"simulating up to {exact_text(horizon)} {u} ({why}) may take {_amount(total)} jobs "
+        f"simulating up to {display_text(horizon)} {u} ({why}) may take {_amount(total)} jobs "
         f"({shown}), more than `max_jobs` = {max_jobs:,}: give a shorter `horizon`, or raise "
         "`max_jobs` (nothing was simulated)", "max_jobs")
 

@@ -386,3 +386,15 @@ def test_cli_refuses_a_long_simulation_naming_its_options(tmp_path):
     assert f"more than --max-jobs = {MAX_JOBS:,}" in res.output
     res = CliRunner().invoke(app, ["timeline", str(f), "--max-jobs", "1", "--horizon", "1"])
     assert res.exit_code == 2 and "may take 2 jobs" in res.output  # one tick each at 0
+
+
+def test_a_refusal_states_the_hyperperiod_as_the_input_wrote_its_periods():
+    # Periods 2.5 and 1.5 ms: hyperperiod lcm = 7.5 ms (3 x 2.5 = 5 x 1.5), so up
+    # to 7.5 ms A has 3 jobs and B 5: 8 jobs, over a budget of 2. The input wrote
+    # decimals: the message says 7.5 ms, not 15/2 ms.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": "0.1", "period": "2.5"},
+                                       "B": {"duration": "0.1", "period": "1.5"}}})
+    with pytest.raises(InputError) as refused:
+        simulate_timeline(sk, max_jobs=2)
+    assert "hyperperiod 7.5 ms" in str(refused.value) and "8 jobs (B 5, A 3)" in str(refused.value)
+    assert "15/2" not in str(refused.value)
