@@ -161,8 +161,14 @@ def check_three_agree(data: dict) -> int | None:
     Returns how many overruns the timeline confirmed, or None when it could not be
     compared (a link place held two tokens, or a zero-duration loop).
     """
+    # Each task alone on its processor: no interference. A thread is one OS thread,
+    # so its tasks share one processor; its places already serialize them (each
+    # starts once the one before has finished), so they never compete for it.
     for name, spec in data["tasks"].items():
-        spec["processor"] = f"cpu.{name}"  # each task alone on its processor: no interference
+        spec["processor"] = f"cpu.{name}"
+    for thread in data.get("threads", ()):
+        for name in thread:
+            data["tasks"][name]["processor"] = f"cpu.{thread[0]}"
     sk = Skeleton.from_dict(data)
     report = analyze(sk, design=False, max_steps=20_000)
     timed = timed_reachability(sk, max_states=3000)
