@@ -42,7 +42,6 @@ References
 
 from __future__ import annotations
 
-import hashlib
 from functools import cmp_to_key
 from typing import Any, NamedTuple
 
@@ -129,7 +128,7 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     The proof needs every comparison to be exact: all arithmetic is in
     integers, int64 only below bounds computed from the data, Python ints
     otherwise. The proof is also checked while running: a policy seen
-    before (a 128-bit digest of it) means a bug, not a hard graph; the int64
+    before (a 128-bit digest of it, :class:`_PolicyDigest`) means a bug, not a hard graph; the int64
     run then starts again in Python ints, and a repeat there raises
     RuntimeError instead of looping.
 
@@ -296,6 +295,7 @@ class _Bounds:
             self.following = np.empty(n, dtype=np.int64)
         self.rounds_hint, self.circuit_hint = 0, 64  # of the previous value determination
         self.mark = np.zeros(n, dtype=arcs.order.dtype)
+        self.seen = np.zeros(n, dtype=bool)
         self.local = np.zeros(n, dtype=arcs.order.dtype)
 
     def unpack(self, packed: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -317,7 +317,8 @@ def _howard(arcs: _InArcs) -> HowardSolution:
     prev: _Values | None = None
     check_all = True
     terms = _ArcTerms(arcs, bounds)
-    seen = {_digest(pol)}
+    digest = _PolicyDigest(arcs.n)
+    seen = {digest(pol)}
     while True:
         cur = _value_determination(pol, arcs, prev, bounds)
         iterations += 1
@@ -340,17 +341,34 @@ def _howard(arcs: _InArcs) -> HowardSolution:
             step = _improve(pol, cur, None, arcs, terms)  # the last word checks every arc
         if step is None:
             return HowardSolution(*cur.arrays(), cur.X, arcs.order[pol], iterations)
-        digest = _digest(pol)
-        if digest in seen:  # impossible by the proof in howard_arrays: a bug
+        key = digest(pol)
+        if key in seen:  # impossible by the proof in howard_arrays: a bug
             raise _Revisited
-        seen.add(digest)
+        seen.add(key)
         # After a ratio improvement, gains were not examined: check all arcs next.
         check_all = step == "ratio"
 
 
-def _digest(pol: np.ndarray) -> bytes:
-    """128 bits that tell policies apart (a collision: about 2**-128 per pair)."""
-    return hashlib.blake2b(pol.tobytes(), digest_size=16).digest()
+class _PolicyDigest:
+    """128 bits that tell policies apart: two random linear hashes modulo 2**64.
+
+    ``h(p) = Σ R[i] * p[i] mod 2**64`` for random odd ``R``: two different
+    policies differ by a vector ``d != 0`` with ``|d[i]| < 2**63``, and
+    ``Σ R[i] * d[i]`` vanishes modulo 2**64 for at most a ``2**-(64 - v)``
+    share of the ``R`` (``2**v`` the largest power of two dividing some
+    ``d[i]``; ``v < 31`` for int32 indices). Two independent rows make a
+    collision about ``2**-66`` per pair of policies; a collision would only
+    restart the run in Python ints (:func:`howard_arrays`). One matrix-vector
+    product: 0.15 ms for 10^5 nodes, where blake2b of the policy's bytes took
+    0.5 ms (20 ms of a 40-iteration solve).
+    """
+
+    def __init__(self, n: int) -> None:
+        rng = np.random.default_rng(0x6D61_7870)  # fixed: runs are reproducible
+        self.rows = rng.integers(0, 2**64, size=(2, n), dtype=np.uint64) | np.uint64(1)
+
+    def __call__(self, pol: np.ndarray) -> bytes:
+        return (self.rows @ pol.astype(np.uint64)).tobytes()
 
 
 class _ArcTerms:
@@ -376,6 +394,7 @@ class _ArcTerms:
         degrees = np.diff(arcs.starts)
         self.degree_max = int(degrees.max()) if len(degrees) else 1
         self.bits = (self.degree_max - 1).bit_length()
+        self.blocks: list[tuple[int, int, int, int]] | None = None
 
     def _store(self, W: Any, T: Any) -> None:
         if self.ratio == (W, T):
@@ -390,8 +409,62 @@ class _ArcTerms:
             if self.arc_order is None:  # each arc among its head's in-arcs, last first
                 self.arc_order = arcs.starts[arcs.s_dst] - np.arange(len(arcs.s_dst))
                 self.arc_order += self.degree_max - 1
+                self._lay_out_blocks()
             self.stored <<= self.bits
             self.stored += self.arc_order
+            if self.blocks is not None:
+                self.block_keys = self.stored[self.block_arcs]
+
+    def _lay_out_blocks(self) -> None:
+        """Group the nodes by in-degree, for :meth:`block_maxima`.
+
+        The nodes of in-degree ``d`` form a block; the block lists their first
+        in-arcs, then their second ones, ... (a ``d x k`` array, one column per
+        node), so that the maximum over each node's in-arcs is a maximum of
+        ``d`` rows, elementwise and contiguous. ``np.maximum.reduceat`` does
+        the same per node with a per-segment overhead: 1.5 ms against about
+        0.4 ms for 4 * 10^5 arcs. Only when the degrees take few values
+        (each block is one numpy call).
+        """
+        arcs = self.arcs
+        self.blocks = None
+        degrees = np.diff(arcs.starts)
+        distinct = np.flatnonzero(np.bincount(degrees))
+        if len(distinct) > MAX_DEGREE_BLOCKS:
+            return
+        index = arcs.order.dtype
+        block_nodes, block_arcs, blocks = [], [], []
+        arc_at, node_at = 0, 0
+        for d in distinct.tolist():  # a loop over distinct degrees (at most 64)
+            nodes = np.flatnonzero(degrees == d).astype(index, copy=False)
+            k = len(nodes)
+            block_nodes.append(nodes)
+            block_arcs.append((arcs.starts[nodes][None, :]
+                               + np.arange(d, dtype=index)[:, None]).ravel())
+            blocks.append((arc_at, d, node_at, k))
+            arc_at += d * k
+            node_at += k
+        self.block_nodes = np.concatenate(block_nodes)
+        self.block_arcs = np.concatenate(block_arcs)
+        self.block_src = arcs.s_src[self.block_arcs]
+        self.blocks = blocks
+
+    def block_maxima(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Nodes whose best packed value ``X[tail] * 2**bits + key`` beats their potential.
+
+        Returns those nodes and their best packed values: what the segmented
+        maximum over the in-arcs sorted by head gives, by blocks of equal
+        in-degree (:meth:`_lay_out_blocks`).
+        """
+        bits = self.bits
+        value = (X << bits)[self.block_src]
+        value += self.block_keys
+        best = np.empty(len(X), dtype=np.int64)
+        for arc_at, d, node_at, k in self.blocks:
+            np.max(value[arc_at:arc_at + d * k].reshape(d, k), axis=0,
+                   out=best[node_at:node_at + k])
+        hit = np.flatnonzero((best >> bits) > X[self.block_nodes])
+        return self.block_nodes[hit], best[hit]
 
     def keys(self, W: Any, T: Any, x_max: int) -> np.ndarray | None:
         """Packed keys of all arcs, or None unless keys of potentials up to ``x_max`` fit int64."""
@@ -406,6 +479,10 @@ class _ArcTerms:
         stored = self.stored if cand is None else self.stored[cand]
         # An arithmetic shift floors: (term * 2**bits + rank) >> bits == term, signs included.
         return stored >> self.bits if self.packed else stored
+
+
+MAX_DEGREE_BLOCKS = 64
+"""Most distinct in-degrees for which the bias step takes its maxima by blocks."""
 
 
 def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InArcs,
@@ -435,11 +512,15 @@ def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InAr
         if keys is not None:
             # One segmented maximum over all arcs: best value and its arc.
             bits = terms.bits
-            best = np.maximum.reduceat((X << bits)[s_src] + keys, arcs.starts[:-1])
-            nodes = np.flatnonzero((best >> bits) > X)
+            if terms.blocks is not None:
+                nodes, best = terms.block_maxima(X)
+            else:
+                best = np.maximum.reduceat((X << bits)[s_src] + keys, arcs.starts[:-1])
+                nodes = np.flatnonzero((best >> bits) > X)
+                best = best[nodes]
             if len(nodes) == 0:
                 return None
-            offset = (terms.degree_max - 1) - (best[nodes] & ((1 << bits) - 1))
+            offset = (terms.degree_max - 1) - (best & ((1 << bits) - 1))
             pol[nodes] = arcs.starts[nodes] + offset
             return "bias"
         value = X[cs] + terms.terms(W, T, cand)
@@ -475,10 +556,8 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
             if len(level) <= SWEEP_FEW:
                 # A deep chain advances a node or two per round: numpy's
                 # per-call overhead would dominate, so walk it in Python.
-                level = _sweep_few(level, top, pol, rank, done, out_order, out_dst, out_starts,
-                                   out_counts)
-                continue
-            if len(level) > ROWS_MIN_LEVEL:
+                out, heads = _out_few(level, out_order, out_dst, out_starts, out_counts)
+            elif len(level) > ROWS_MIN_LEVEL:
                 selected = rows[level]
                 out, heads = selected.data, selected.indices
             else:
@@ -499,20 +578,17 @@ row selection (one C pass, about twice as fast as numpy's repeat-and-gather,
 which has less overhead on small rounds)."""
 
 
-def _sweep_few(level: np.ndarray, top: Any, pol: np.ndarray, rank: np.ndarray,
-               done: np.ndarray, out_order: np.ndarray, out_dst: np.ndarray,
-               out_starts: np.ndarray, out_counts: np.ndarray) -> np.ndarray:
-    """One round of :func:`_sweep_downstream` from a few nodes."""
-    best: dict[int, int] = {}
+def _out_few(level: np.ndarray, out_order: np.ndarray, out_dst: np.ndarray,
+             out_starts: np.ndarray, out_counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The out-arcs (positions) of a few nodes and their heads, gathered in Python."""
+    out: list[int] = []
+    heads: list[int] = []
     for u in level.tolist():
         start = int(out_starts[u])
         end = start + int(out_counts[u])
-        for k, v in zip(out_order[start:end].tolist(), out_dst[start:end].tolist()):
-            if rank[v] < top:
-                best[v] = k
-    heads = np.fromiter(best, dtype=np.int64, count=len(best))
-    return _raise(pol, rank, done, heads, np.fromiter(best.values(), dtype=np.int64,
-                                                      count=len(best)), top)
+        out += out_order[start:end].tolist()
+        heads += out_dst[start:end].tolist()
+    return (np.array(out, dtype=out_order.dtype), np.array(heads, dtype=out_dst.dtype))
 
 
 def _raise(pol: np.ndarray, rank: np.ndarray, done: np.ndarray, heads: np.ndarray,
@@ -562,8 +638,8 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
     mask = (1 << bounds.land_bits) - 1
     while True:
         if image is None and rounds >= bounds.rounds_hint - 1:
-            image = _distinct(np.bitwise_and(packed, mask, out=bounds.low)
-                              if packed is not None else land, bounds.mark)
+            image = _distinct_of_all(np.bitwise_and(packed, mask, out=bounds.low)
+                                     if packed is not None else land, bounds.seen)
         if image is not None:
             if len(image) <= bounds.circuit_hint and _closed(image, pred, bounds.mark):
                 break
@@ -619,6 +695,19 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
     sum_w -= sum_t
     sum_w += X_c[landing]
     return _Values(W, T, sum_w, rank, n_ranks, x_max)
+
+
+def _distinct_of_all(nodes: np.ndarray, seen: np.ndarray) -> np.ndarray:
+    """The distinct values of ``nodes`` (one per node: a map's image), sorted.
+
+    Marks in a boolean array, one pass over the nodes: three times faster than
+    :func:`_distinct` on all nodes (it writes and reads back positions). The
+    marks are cleared again, so ``seen`` stays all False between calls.
+    """
+    seen[nodes] = True
+    image = np.flatnonzero(seen).astype(nodes.dtype, copy=False)
+    seen[image] = False
+    return image
 
 
 def _distinct(nodes: np.ndarray, scratch: np.ndarray) -> np.ndarray:

@@ -6,13 +6,18 @@ whose answer is derived by hand, so the path is tested without a large input.
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
 
 import maxplus
 import maxplus.cycle_ratio as cr
+import maxplus.policy_iteration as pi
+
+from .test_howard_brute_force import check, circuits_with_chains, small_multigraphs
 
 
 def ring(n: int, chord_weight: int = 1):
@@ -56,3 +61,68 @@ def test_a_walk_in_c_from_a_node_below_the_circuit(monkeypatch):
     # The walk 3, 2, 1, 0 closes on 1 (pred of 0): circuit nodes 1, 0, forward arcs 1->0, 0->1.
     assert r.policy_circuit(3).tolist() == [1, 0]
     assert r.policy_circuit(0).tolist() == [0, 1]
+
+
+# --------------------------------------------------------------------------- fallbacks
+
+@contextmanager
+def fallback_paths():
+    """The paths large or unusual graphs take: the bias step's segmented maximum by
+    ``reduceat`` (many distinct in-degrees), the policy walk in C."""
+    saved = pi.MAX_DEGREE_BLOCKS, cr.WALK_IN_PYTHON
+    pi.MAX_DEGREE_BLOCKS, cr.WALK_IN_PYTHON = 0, 1
+    try:
+        yield
+    finally:
+        pi.MAX_DEGREE_BLOCKS, cr.WALK_IN_PYTHON = saved
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=60)
+@given(small_multigraphs())
+def test_fallbacks_on_small_multigraphs(g):
+    with fallback_paths():
+        check(*g)  # against circuit enumeration (test_howard_brute_force)
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=60)
+@given(circuits_with_chains())
+def test_fallbacks_on_circuits_with_chains(g):
+    n, arcs = g
+    if n > 60:
+        return
+    with fallback_paths():
+        check(n, arcs)
+
+
+def test_block_maxima_equal_the_segmented_maximum():
+    """Nodes of in-degrees 1, 2 and 3 (three blocks): the same gains as reduceat, by hand.
+
+    Arcs into node 0: from 1 (w 5) and 2 (w 1); into 1: from 0 (w 2); into 2:
+    from 0 (w 4), 1 (w 0), 2 (w 3). With X = 0 everywhere and W/T = 0/1, the
+    term of an arc is its weight: node 0's best is 5 (from 1), node 1's 2, node
+    2's 4 (from 0), all beating X = 0.
+    """
+    src = np.array([1, 2, 0, 0, 1, 2])
+    dst = np.array([0, 0, 1, 2, 2, 2])
+    w = np.array([5, 1, 2, 4, 0, 3])
+    t = np.ones(6, dtype=np.int64)
+    arcs = pi._InArcs(src, dst, w, t, 3)
+    terms = pi._ArcTerms(arcs, pi._Bounds(arcs))
+    keys = terms.keys(0, 1, 0)
+    assert keys is not None and len(terms.blocks) == 3
+    nodes, best = terms.block_maxima(np.zeros(3, dtype=np.int64))
+    order = np.argsort(nodes)
+    assert nodes[order].tolist() == [0, 1, 2]
+    assert (best[order] >> terms.bits).tolist() == [5, 2, 4]
+    reference = np.maximum.reduceat(keys, arcs.starts[:-1])
+    assert best[order].tolist() == reference.tolist()
+
+
+def test_policy_digests_tell_policies_apart():
+    digest = pi._PolicyDigest(5)
+    a = np.array([0, 1, 2, 3, 4], dtype=np.int32)
+    b = a.copy()
+    b[3] = 7
+    assert digest(a) == digest(a.copy())
+    assert digest(a) != digest(b)
+    assert len(digest(a)) == 16
