@@ -180,6 +180,25 @@ def test_two_processors_joined_by_a_link():
     assert s.schedulable is True
 
 
+def test_thread_on_one_cpu():
+    # Thread [A, B]: B (no clock, 3) runs once A (10 ms, 2) has finished, A again
+    # once B has. H (4 ms, 1) is more urgent (4 < 10): H 0-1, A 1-3, B 3-4, H 4-5,
+    # B 5-7, H 8-9, A 10-12, H 12-13, B 13-16, H 16-17, H 20-21, A 21-23, B 23-24,
+    # H 24-25, B 25-27: the state of 0 comes back at 20.
+    # Responses: A 0->3, 10->12: 3; B 3->7, 12->16: 4.
+    sk, s = of({"tasks": {"H": {"duration": 1, "period": 4},
+                          "A": {"duration": 2, "period": 10}, "B": {"duration": 3}},
+                "threads": [["A", "B"]]})
+    assert runs(s, until=F(20)) == [
+        ("H", "0", "1"), ("A", "1", "3"), ("B", "3", "4"), ("H", "4", "5"), ("B", "5", "7"),
+        ("H", "8", "9"), ("A", "10", "12"), ("H", "12", "13"), ("B", "13", "16"),
+        ("H", "16", "17")]
+    got = {t: (f.period, f.response) for t, f in s.tasks.items()}
+    assert got == {"H": (4, 1), "A": (10, 3), "B": (10, 4)}
+    assert s.regimes[0]["start"] == 0 and s.regimes[0]["length"] == 20
+    assert s.schedulable is True
+
+
 # ---------------------------------------------------------------- zero durations, starvation
 
 def test_zero_durations():
