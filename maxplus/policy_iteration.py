@@ -293,7 +293,11 @@ class _Bounds:
             self.packed += arcs.s_src
             self.low = np.empty(n, dtype=np.int64)
             self.following = np.empty(n, dtype=np.int64)
-        self.rounds_hint, self.circuit_hint = 0, 64  # of the previous value determination
+        # Of the previous value determination. The first one starts tracking the
+        # landing image from round 4 (walks of 16 arcs): earlier, each round's image
+        # is about as large as the graph and costs more than the doubling. Never
+        # past 2**start <= n - 1, so that a walk stays below 2n arcs (bound above).
+        self.rounds_hint, self.circuit_hint = min(5, (n - 1).bit_length()), 64
         self.mark = np.zeros(n, dtype=arcs.order.dtype)
         self.seen = np.zeros(n, dtype=bool)
         self.local = np.zeros(n, dtype=arcs.order.dtype)
@@ -379,22 +383,30 @@ class _ArcTerms:
     ``(X[tail] * 2**bits + key)`` has its maximum over a node's in-arcs at the
     first arc of largest value, and one segmented maximum finds both the best
     value and its arc. A key is not a term (it is ``2**bits`` times larger):
-    :meth:`keys` gives keys, :meth:`terms` always terms, so that no caller
-    can take one for the other (reading keys as terms made up gains, and the
-    iteration switched between two policies for ever: issue 21).
+    keys never leave this class (:meth:`best_values` uses them), :meth:`terms`
+    always gives terms, so that no caller can take one for the other (reading
+    keys as terms made up gains, and the iteration switched between two
+    policies for ever: issue 21).
     """
 
     def __init__(self, arcs: _InArcs, bounds: _Bounds) -> None:
         self.arcs, self.bounds = arcs, bounds
         self.ratio: tuple | None = None
-        self.stored: np.ndarray | None = None
+        self.stored: np.ndarray | None = None  # keys (packed) or terms, in sorted-arc order
+        self.block_keys: np.ndarray | None = None  # keys in block order (_lay_out_blocks)
         self.packed = False
-        self.arc_order: np.ndarray | None = None
+        self.laid_out = False
         self.term_max = 0
         degrees = np.diff(arcs.starts)
         self.degree_max = int(degrees.max()) if len(degrees) else 1
         self.bits = (self.degree_max - 1).bit_length()
         self.blocks: list[tuple[int, int, int, int]] | None = None
+
+    def _arc_order(self, positions: np.ndarray | slice) -> np.ndarray:
+        """Each arc's place among its head's in-arcs, counted from the last (0)."""
+        arcs = self.arcs
+        where = np.arange(len(arcs.s_dst), dtype=np.int64)[positions]
+        return arcs.starts[arcs.s_dst[positions]] + (self.degree_max - 1) - where
 
     def _store(self, W: Any, T: Any) -> None:
         if self.ratio == (W, T):
@@ -403,17 +415,55 @@ class _ArcTerms:
         self.ratio = (W, T)
         self.term_max = self.bounds.w_max * abs(int(T)) + abs(int(W)) * self.bounds.t_max
         self.packed = not self.bounds.wide and self.term_max << (self.bits + 1) < INT64_SAFE
-        self.stored = arcs.s_w * T
-        self.stored -= W * arcs.s_t
+        self.stored = self.block_keys = None
+        if self.packed and not self.laid_out:
+            self._lay_out_blocks()
+        if self.packed and self.blocks is not None:
+            # Keys in block order only; the terms of a few candidate arcs are
+            # computed when asked (:meth:`terms`).
+            keys = self.block_w * T
+            keys -= W * self.block_t
+            keys <<= self.bits
+            keys += self.block_order
+            self.block_keys = keys
+            return
+        stored = arcs.s_w * T
+        stored -= W * arcs.s_t
         if self.packed:
-            if self.arc_order is None:  # each arc among its head's in-arcs, last first
-                self.arc_order = arcs.starts[arcs.s_dst] - np.arange(len(arcs.s_dst))
-                self.arc_order += self.degree_max - 1
-                self._lay_out_blocks()
-            self.stored <<= self.bits
-            self.stored += self.arc_order
-            if self.blocks is not None:
-                self.block_keys = self.stored[self.block_arcs]
+            stored <<= self.bits
+            stored += self._arc_order(slice(None))
+        self.stored = stored
+
+    def best_values(self, X: np.ndarray, W: Any, T: Any, x_max: int
+                    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """Nodes whose best packed value ``X[tail] * 2**bits + key`` beats their potential.
+
+        Returns those nodes and their best packed values (value ``>> bits``,
+        arc rank ``& (2**bits - 1)``), or None unless packed keys of
+        potentials up to ``x_max`` fit int64.
+        """
+        self._store(W, T)
+        if not (self.packed and (self.term_max + x_max) << (self.bits + 1) < INT64_SAFE):
+            return None
+        if self.blocks is not None:
+            return self.block_maxima(X)
+        bits, arcs = self.bits, self.arcs
+        best = np.maximum.reduceat((X << bits)[arcs.s_src] + self.stored, arcs.starts[:-1])
+        nodes = np.flatnonzero((best >> bits) > X)
+        return nodes, best[nodes]
+
+    def terms(self, W: Any, T: Any, cand: np.ndarray | None) -> np.ndarray:
+        """The terms of the arcs ``cand`` (None: all arcs), never to be written to."""
+        self._store(W, T)
+        if self.stored is None:  # keys are kept in block order only
+            arcs = self.arcs
+            sub = slice(None) if cand is None else cand
+            out = arcs.s_w[sub] * T
+            out -= W * arcs.s_t[sub]
+            return out
+        stored = self.stored if cand is None else self.stored[cand]
+        # An arithmetic shift floors: (term * 2**bits + rank) >> bits == term, signs included.
+        return stored >> self.bits if self.packed else stored
 
     def _lay_out_blocks(self) -> None:
         """Group the nodes by in-degree, for :meth:`block_maxima`.
@@ -427,6 +477,7 @@ class _ArcTerms:
         (each block is one numpy call).
         """
         arcs = self.arcs
+        self.laid_out = True
         self.blocks = None
         degrees = np.diff(arcs.starts)
         distinct = np.flatnonzero(np.bincount(degrees))
@@ -445,8 +496,10 @@ class _ArcTerms:
             arc_at += d * k
             node_at += k
         self.block_nodes = np.concatenate(block_nodes)
-        self.block_arcs = np.concatenate(block_arcs)
-        self.block_src = arcs.s_src[self.block_arcs]
+        block_arcs = np.concatenate(block_arcs)
+        self.block_src = arcs.s_src[block_arcs]
+        self.block_w, self.block_t = arcs.s_w[block_arcs], arcs.s_t[block_arcs]
+        self.block_order = self._arc_order(block_arcs).astype(index, copy=False)
         self.blocks = blocks
 
     def block_maxima(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -465,20 +518,6 @@ class _ArcTerms:
                    out=best[node_at:node_at + k])
         hit = np.flatnonzero((best >> bits) > X[self.block_nodes])
         return self.block_nodes[hit], best[hit]
-
-    def keys(self, W: Any, T: Any, x_max: int) -> np.ndarray | None:
-        """Packed keys of all arcs, or None unless keys of potentials up to ``x_max`` fit int64."""
-        self._store(W, T)
-        if self.packed and (self.term_max + x_max) << (self.bits + 1) < INT64_SAFE:
-            return self.stored
-        return None
-
-    def terms(self, W: Any, T: Any, cand: np.ndarray | None) -> np.ndarray:
-        """The terms of the arcs ``cand`` (None: all arcs), never to be written to."""
-        self._store(W, T)
-        stored = self.stored if cand is None else self.stored[cand]
-        # An arithmetic shift floors: (term * 2**bits + rank) >> bits == term, signs included.
-        return stored >> self.bits if self.packed else stored
 
 
 MAX_DEGREE_BLOCKS = 64
@@ -508,19 +547,13 @@ def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InAr
         value = X[cs] + arcs.s_w[sub] * T[cd] - W[cd] * arcs.s_t[sub]
         gain = np.flatnonzero((rank_src == rank_dst) & (value > X[cd]))
     else:
-        keys = terms.keys(W, T, cur.x_max) if cand is None else None
-        if keys is not None:
+        found = terms.best_values(X, W, T, cur.x_max) if cand is None else None
+        if found is not None:
             # One segmented maximum over all arcs: best value and its arc.
-            bits = terms.bits
-            if terms.blocks is not None:
-                nodes, best = terms.block_maxima(X)
-            else:
-                best = np.maximum.reduceat((X << bits)[s_src] + keys, arcs.starts[:-1])
-                nodes = np.flatnonzero((best >> bits) > X)
-                best = best[nodes]
+            nodes, best = found
             if len(nodes) == 0:
                 return None
-            offset = (terms.degree_max - 1) - (best & ((1 << bits) - 1))
+            offset = (terms.degree_max - 1) - (best & ((1 << terms.bits) - 1))
             pol[nodes] = arcs.starts[nodes] + offset
             return "bias"
         value = X[cs] + terms.terms(W, T, cand)
@@ -748,7 +781,8 @@ def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cy
     # Root of each circuit: its smallest node, i.e. its first position (the
     # circuit nodes are sorted), so that an unchanged circuit keeps its root
     # from one iteration to the next.
-    walks = _walk_circuits if c > WALK_MIN_CIRCUIT_NODES else _jump_circuits
+    walks = (_walk_circuits if c > WALK_MIN_CIRCUIT_NODES else _jump_circuits
+             if c > PYTHON_MAX_CIRCUIT_NODES else _python_circuits)
     roots, circuit_of, sum_w, sum_t = walks(back, w_cyc, t_cyc)
     # The circuit of root r: its own policy arc and the path back to r.
     closing = back[roots]
@@ -780,6 +814,49 @@ WALK_MIN_CIRCUIT_NODES = 2048
 """Above this many circuit nodes, circuits are walked in C (scipy's graph
 traversals and a cumulative sum) rather than by pointer jumping, whose
 ``log2`` rounds of several passes cost more on long circuits."""
+
+
+PYTHON_MAX_CIRCUIT_NODES = 256
+"""Up to this many circuit nodes, circuits are walked in Python: pointer jumping
+costs some 40 numpy calls whatever the size (60-100 us, a third of a value
+determination on 10^4 nodes, against 8 us in Python for 32 circuit nodes and
+45 us for 256)."""
+
+
+def _python_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
+    """:func:`_jump_circuits` for a few circuit nodes, walked in Python."""
+    c = len(back)
+    following = [0] * c
+    for p, b in enumerate(back.tolist()):
+        following[b] = p
+    w_l, t_l = w_cyc.tolist(), t_cyc.tolist()
+    circuit_of = [-1] * c
+    sum_w, sum_t = [0] * c, [0] * c
+    roots: list[int] = []
+    for p in range(c):  # the first position of each circuit is its root
+        if circuit_of[p] >= 0:
+            continue
+        k = len(roots)
+        roots.append(p)
+        circuit_of[p] = k
+        q, acc_w, acc_t = following[p], 0, 0
+        while q != p:
+            acc_w += w_l[q]
+            acc_t += t_l[q]
+            sum_w[q], sum_t[q], circuit_of[q] = acc_w, acc_t, k
+            q = following[q]
+    index = back.dtype
+    return (np.array(roots, dtype=index), np.array(circuit_of, dtype=index),
+            _like(sum_w, w_cyc), _like(sum_t, t_cyc))
+
+
+def _like(values: list, model: np.ndarray) -> np.ndarray:
+    """``values`` as an array of ``model``'s dtype (object arrays hold Python ints)."""
+    if model.dtype != object:
+        return np.array(values, dtype=model.dtype)
+    out = np.empty(len(values), dtype=object)
+    out[:] = values
+    return out
 
 
 def _jump_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):

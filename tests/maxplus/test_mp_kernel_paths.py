@@ -12,6 +12,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import maxplus
 import maxplus.cycle_ratio as cr
@@ -68,13 +69,14 @@ def test_a_walk_in_c_from_a_node_below_the_circuit(monkeypatch):
 @contextmanager
 def fallback_paths():
     """The paths large or unusual graphs take: the bias step's segmented maximum by
-    ``reduceat`` (many distinct in-degrees), the policy walk in C."""
-    saved = pi.MAX_DEGREE_BLOCKS, cr.WALK_IN_PYTHON
-    pi.MAX_DEGREE_BLOCKS, cr.WALK_IN_PYTHON = 0, 1
+    ``reduceat`` (many distinct in-degrees), circuits by pointer jumping (more than
+    256 circuit nodes), the policy walk in C."""
+    saved = pi.MAX_DEGREE_BLOCKS, pi.PYTHON_MAX_CIRCUIT_NODES, cr.WALK_IN_PYTHON
+    pi.MAX_DEGREE_BLOCKS, pi.PYTHON_MAX_CIRCUIT_NODES, cr.WALK_IN_PYTHON = 0, 0, 1
     try:
         yield
     finally:
-        pi.MAX_DEGREE_BLOCKS, cr.WALK_IN_PYTHON = saved
+        pi.MAX_DEGREE_BLOCKS, pi.PYTHON_MAX_CIRCUIT_NODES, cr.WALK_IN_PYTHON = saved
 
 
 @settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=60)
@@ -94,28 +96,30 @@ def test_fallbacks_on_circuits_with_chains(g):
         check(n, arcs)
 
 
-def test_block_maxima_equal_the_segmented_maximum():
-    """Nodes of in-degrees 1, 2 and 3 (three blocks): the same gains as reduceat, by hand.
+def test_block_maxima_find_the_first_best_in_arc():
+    """Nodes of in-degrees 2, 1 and 3 (three blocks), the best in-arcs found by hand.
 
-    Arcs into node 0: from 1 (w 5) and 2 (w 1); into 1: from 0 (w 2); into 2:
-    from 0 (w 4), 1 (w 0), 2 (w 3). With X = 0 everywhere and W/T = 0/1, the
-    term of an arc is its weight: node 0's best is 5 (from 1), node 1's 2, node
-    2's 4 (from 0), all beating X = 0.
+    Arcs into node 0: from 1 (w 1) and 2 (w 5); into 1: from 0 (w 2); into 2:
+    from 0 (w 1), 1 (w 0), 2 (w 3). With X = 0 everywhere and W/T = 0/1, the
+    term of an arc is its weight: node 0's best is 5 (its 2nd in-arc), node 1's
+    2 (its only one), node 2's 3 (its 3rd), all beating X = 0.
     """
     src = np.array([1, 2, 0, 0, 1, 2])
     dst = np.array([0, 0, 1, 2, 2, 2])
-    w = np.array([5, 1, 2, 4, 0, 3])
+    w = np.array([1, 5, 2, 1, 0, 3])
     t = np.ones(6, dtype=np.int64)
     arcs = pi._InArcs(src, dst, w, t, 3)
     terms = pi._ArcTerms(arcs, pi._Bounds(arcs))
-    keys = terms.keys(0, 1, 0)
-    assert keys is not None and len(terms.blocks) == 3
-    nodes, best = terms.block_maxima(np.zeros(3, dtype=np.int64))
+    nodes, best = terms.best_values(np.zeros(3, dtype=np.int64), 0, 1, 0)
+    assert len(terms.blocks) == 3
     order = np.argsort(nodes)
     assert nodes[order].tolist() == [0, 1, 2]
-    assert (best[order] >> terms.bits).tolist() == [5, 2, 4]
-    reference = np.maximum.reduceat(keys, arcs.starts[:-1])
-    assert best[order].tolist() == reference.tolist()
+    assert (best[order] >> terms.bits).tolist() == [5, 2, 3]
+    # The low bits rank the arc from the last possible in-arc: offset = (D - 1) - rank.
+    offset = (terms.degree_max - 1) - (best[order] & ((1 << terms.bits) - 1))
+    assert offset.tolist() == [1, 0, 2]
+    assert terms.terms(0, 1, None).tolist() == [1, 5, 2, 1, 0, 3]  # sorted by head: w
+    assert terms.terms(0, 1, np.array([1, 5])).tolist() == [5, 3]
 
 
 def test_policy_digests_tell_policies_apart():
@@ -126,3 +130,19 @@ def test_policy_digests_tell_policies_apart():
     assert digest(a) == digest(a.copy())
     assert digest(a) != digest(b)
     assert len(digest(a)) == 16
+
+
+@settings(deadline=None, max_examples=60)
+@given(st.permutations(range(12)), st.lists(st.integers(-2**70, 2**70), min_size=12,
+                                            max_size=12))
+def test_circuits_walked_in_python_as_by_pointer_jumping(back, weights):
+    """Roots, circuits and sums from the root: the same by both walks (int64 and Python ints)."""
+    back = np.array(back, dtype=np.int32)
+    tokens = np.arange(1, 13, dtype=np.int64)
+    for w in (np.array([x % 1000 for x in weights], dtype=np.int64),
+              np.array(weights, dtype=object)):
+        jumped = pi._jump_circuits(back, w, tokens)
+        walked = pi._python_circuits(back, w, tokens)
+        for a, b in zip(jumped, walked):
+            assert a.tolist() == b.tolist()
+        assert walked[2].dtype == w.dtype
