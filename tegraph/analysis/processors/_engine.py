@@ -90,7 +90,12 @@ class Snapshot:
 
 
 class _Part:
-    """The state of one part under simulation (rules in the module docstring)."""
+    """The state of one part under simulation (rules in the module docstring).
+
+    A running job's remaining work is kept implicitly: it ends at ``done_at``
+    of its processor unless preempted, so an instant costs only the
+    processors it touches.
+    """
 
     def __init__(self, d: PartData) -> None:
         self.d = d
@@ -112,19 +117,30 @@ class _Part:
         self.fired = [0] * n
         self.finished = [0] * len(d.duration)
         self.remaining = [-1] * len(d.duration)
-        self.heaps: list[list[tuple[int, int, int, int]]] = [[] for _ in range(d.n_processors)]
+        """Work left to a pending job that is not running (-1: no job)."""
+        procs = d.n_processors
+        self.heaps: list[list[tuple[int, int, int, int]]] = [[] for _ in range(procs)]
+        self.running = [-1] * procs
+        self.run_start = [0] * procs
+        self.done_at = [0] * procs
+        self.stamp = [0] * procs
+        self.completions: list[tuple[int, int, int]] = []
+        """(time, processor, stamp): the running job's end, valid while the stamp is."""
+        self.touched: set[int] = set()
         self.result = PartResult(jobs=[[] for _ in d.duration])
         self.ticked: list[int] = []
-        self.segment: list[list[int] | None] = [None] * d.n_processors
         self.count = 0
         self.started = False
 
     # ------------------------------------------------------------ an instant
-    def instant(self, now: int, ending: list[int], budget: int) -> None:
+    def instant(self, now: int, budget: int) -> None:
         work = [] if self.started else list(range(self.d.n_events))
         self.started = True
-        for task in ending:
-            self._end_job(task, now, work)
+        comp = self.completions
+        while comp and comp[0][0] <= now:
+            _, proc, stamp = heapq.heappop(comp)
+            if stamp == self.stamp[proc]:
+                self._job_done(proc, now, work)
         while self.future and self.future[0][0] <= now:
             work.append(heapq.heappop(self.future)[1])
         while work and self.count <= budget:
@@ -132,6 +148,18 @@ class _Part:
             while self._enabled(e, now) and self.count <= budget:
                 self._fire(e, now, work)
         self._check_ticks(now)
+        for proc in self.touched:
+            self._dispatch(proc, now)
+        self.touched.clear()
+
+    def next_instant(self) -> int | None:
+        comp = self.completions
+        while comp and comp[0][2] != self.stamp[comp[0][1]]:
+            heapq.heappop(comp)
+        nxt = self.future[0][0] if self.future else None
+        if comp and (nxt is None or comp[0][0] < nxt):
+            nxt = comp[0][0]
+        return nxt
 
     def _enabled(self, e: int, now: int) -> bool:
         for p in self.inputs[e]:
@@ -154,8 +182,10 @@ class _Part:
                 self._end_job(task, now, work)
             else:
                 self.remaining[task] = d.duration[task]
-                heapq.heappush(self.heaps[d.processor[task]],
+                proc = d.processor[task]
+                heapq.heappush(self.heaps[proc],
                                (-d.priority[task], now, d.file_index[task], task))
+                self.touched.add(proc)
         for p in self.outputs[e]:
             at = now + d.p_hold[p]
             self.queues[p].append(at)
@@ -165,6 +195,14 @@ class _Part:
                 heapq.heappush(self.future, (at, d.p_dst[p]))
         if e in d.watched:
             self.ticked.append(e)
+
+    def _job_done(self, proc: int, now: int, work: list[int]) -> None:
+        task = heapq.heappop(self.heaps[proc])[3]
+        self._record(proc, task, now)
+        self.running[proc] = -1
+        self.stamp[proc] += 1
+        self.touched.add(proc)
+        self._end_job(task, now, work)
 
     def _end_job(self, task: int, now: int, work: list[int]) -> None:
         self.remaining[task] = -1
@@ -190,58 +228,62 @@ class _Part:
         self.ticked = []
 
     # ------------------------------------------------------------ processors
-    def advance(self, now: int) -> tuple[int | None, list[int]]:
-        """Run each processor's most urgent job up to the next instant; return it and the ends."""
-        nxt = self.future[0][0] if self.future else None
-        for heap in self.heaps:
-            if heap:
-                at = now + self.remaining[heap[0][3]]
-                nxt = at if nxt is None or at < nxt else nxt
-        if nxt is None:
-            return None, []
-        ending = []
-        for proc, heap in enumerate(self.heaps):
-            if not heap:
-                continue
-            task = heap[0][3]
-            self._record(proc, task, now, nxt)
-            self.remaining[task] -= nxt - now
-            if self.remaining[task] == 0:
-                heapq.heappop(heap)
-                ending.append(task)
-        return nxt, ending
-
-    def _record(self, proc: int, task: int, start: int, end: int) -> None:
-        k = len(self.result.jobs[task])
-        seg = self.segment[proc]
-        if seg is not None and seg[3] == task and seg[4] == k and seg[2] == start:
-            seg[2] = end
+    def _dispatch(self, proc: int, now: int) -> None:
+        """Give ``proc`` to its most urgent pending job (preempting the running one)."""
+        heap = self.heaps[proc]
+        top = heap[0][3] if heap else -1
+        old = self.running[proc]
+        if top == old:
             return
-        self.flush(proc)
-        self.segment[proc] = [proc, start, end, task, k]
+        if old >= 0:
+            self.remaining[old] = self.done_at[proc] - now
+            self._record(proc, old, now)
+        self.running[proc] = top
+        self.stamp[proc] += 1
+        if top >= 0:
+            self.run_start[proc] = now
+            self.done_at[proc] = now + self.remaining[top]
+            heapq.heappush(self.completions, (self.done_at[proc], proc, self.stamp[proc]))
 
-    def flush(self, proc: int) -> None:
-        seg = self.segment[proc]
-        if seg is not None:
-            self.result.intervals.append(tuple(seg))  # type: ignore[arg-type]
-            self.segment[proc] = None
+    def _record(self, proc: int, task: int, end: int) -> None:
+        start = self.run_start[proc]
+        if end > start:
+            self.result.intervals.append((proc, start, end, task, len(self.result.jobs[task])))
+
+    def flush(self, now: int) -> None:
+        for proc, task in enumerate(self.running):
+            if task >= 0:
+                self._record(proc, task, now)
 
     # ------------------------------------------------------------ snapshots
-    def key(self, now: int) -> tuple:
+    def pending(self, now: int) -> list[int]:
+        rem = list(self.remaining)
+        for proc, task in enumerate(self.running):
+            if task >= 0:
+                rem[task] = self.done_at[proc] - now
+        return rem
+
+    def key(self, now: int, pending: list[int]) -> tuple:
         d = self.d
         counts = tuple(len(q) if cap is None or len(q) < cap else cap
                        for q, cap in zip(self.queues, d.p_cap))
         # Tokens not yet available (clock self-loops), relative to now.
-        ahead = tuple(tuple(max(a - now, 0) for a in q) for q, h, job in zip(
-            self.queues, d.p_hold, d.p_job) if h and not job)
+        ahead = tuple(tuple(max(a - now, 0) for a in self.queues[p]) for p in self.timed)
         # Only the order of the pending jobs matters, not their release times:
         # a job released later comes after every pending one of its priority.
-        order = tuple(tuple(x[3] for x in sorted(heap)) for heap in self.heaps)
-        return counts, ahead, tuple(self.remaining), order
+        order = tuple(tuple(x[3] for x in sorted(heap)) for heap in self.heaps if len(heap) > 1)
+        return counts, ahead, tuple(pending), order
 
-    def snapshot(self, now: int) -> Snapshot:
+    @property
+    def timed(self) -> list[int]:
+        if not hasattr(self, "_timed"):
+            d = self.d
+            self._timed = [p for p, (h, job) in enumerate(zip(d.p_hold, d.p_job)) if h and not job]
+        return self._timed
+
+    def snapshot(self, now: int, pending: list[int]) -> Snapshot:
         return Snapshot(now, tuple(len(q) for q in self.queues), tuple(self.fired),
-                        tuple(self.finished), tuple(self.remaining))
+                        tuple(self.finished), tuple(pending))
 
     def repeats(self, old: Snapshot, new: Snapshot) -> dict[int, int] | None:
         """The growing places when ``new`` repeats ``old`` up to them (proof in docs), else None."""
@@ -262,30 +304,30 @@ def simulate_part(d: PartData, budget: int) -> PartResult:
     """Simulate one part until its state repeats, nothing more happens, or ``budget`` firings."""
     part = _Part(d)
     seen: dict[tuple, list[Snapshot]] = {}
-    now, ending = 0, []
+    now = 0
     while True:
         if d.snapshot_place is None or part.queues[d.snapshot_place][0] == now:
             if _compare(part, seen, now):
                 break
-        part.instant(now, ending, budget)
+        part.instant(now, budget)
         if part.count > budget:
             part.result.budget_spent = True
             break
-        nxt, ending = part.advance(now)
+        nxt = part.next_instant()
         if nxt is None:
             part.result.regime = ("stop", now)
             break
         now = nxt
-    for proc in range(d.n_processors):
-        part.flush(proc)
+    part.flush(now)
     part.result.fired = part.count
     part.result.intervals.sort(key=lambda s: (s[0], s[1]))
     return part.result
 
 
 def _compare(part: _Part, seen: dict[tuple, list[Snapshot]], now: int) -> bool:
-    key = part.key(now)
-    snap = part.snapshot(now)
+    pending = part.pending(now)
+    key = part.key(now, pending)
+    snap = part.snapshot(now, pending)
     earlier = seen.setdefault(key, [])
     for old in reversed(earlier):
         growing = part.repeats(old, snap)

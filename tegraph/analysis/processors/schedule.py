@@ -109,13 +109,25 @@ class ProcessorSchedule:
     group_periods: list[Fraction | None]
     """``period_on_processors`` of each group, in the order of ``groups``."""
     unbounded: list[GrowingPlace]
-    intervals: list[JobInterval]
-    """Processor time given to each job, up to the proof, by processor then start."""
+    raw_intervals: list[tuple[str, int, int, str, int]] = field(repr=False)
+    """(processor, start, end, task, k) with times scaled by ``scale``."""
+    scale: int
     regimes: list[dict[str, Any]] = field(default_factory=list)
     """Per part: its tasks, ``start`` and ``length`` of the regime proven (None: not
     found; ``length`` None: nothing happens after ``start``)."""
     events: int = 0
     """Event firings simulated in all."""
+
+    @property
+    def intervals(self) -> list[JobInterval]:
+        """Processor time given to each job, up to the proof, by processor then start."""
+        if not hasattr(self, "_intervals"):
+            order = {p.name: i for i, p in enumerate(self.platform.processors)}
+            raw = sorted(self.raw_intervals, key=lambda r: (order[r[0]], r[1]))
+            f = self.scale
+            self._intervals = [JobInterval(p, Fraction(a, f), Fraction(b, f), t, k)
+                               for p, a, b, t, k in raw]
+        return self._intervals
 
     @property
     def starved(self) -> list[str]:
@@ -161,8 +173,10 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     >>> s = schedule_on_processors(sk, build_teg(sk), analyze_skeleton(sk).groups)
     >>> s.schedulable, str(s.tasks["B"].response), str(s.tasks["B"].period)
     (True, '4', '4')
-    >>> [(i.task, str(i.start), str(i.end)) for i in s.intervals]
+    >>> [(i.task, str(i.start), str(i.end)) for i in s.intervals[:4]]
     [('A', '0', '1'), ('B', '1', '2'), ('A', '2', '3'), ('B', '3', '4')]
+    >>> s.regimes[0]["start"], s.regimes[0]["length"]  # B's job still ends at 4 there
+    (Fraction(4, 1), Fraction(4, 1))
     """
     if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
         raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
@@ -329,7 +343,7 @@ class _Outcome:
         self.budget = budget
         self.tasks = {t: TaskOnProcessors() for t in net.tasks}
         self.unbounded: list[GrowingPlace] = []
-        self.intervals: list[JobInterval] = []
+        self.intervals: list[tuple[str, int, int, str, int]] = []
         self.regimes: list[dict[str, Any]] = []
         self.undecided: list[str] = []
         self.events = 0
@@ -360,11 +374,9 @@ class _Outcome:
     def add(self, r: PartResult, d: PartData, names: list[str], events: list[int],
             places: list[int]) -> None:
         self.events += r.fired
-        procs = sorted({self.net.platform.processor_of[t] for t in names},
-                       key=lambda p: [self.net.platform.processor_of[t] for t in names].index(p))
-        for proc, start, end, task, k in r.intervals:
-            self.intervals.append(JobInterval(procs[proc], self._fraction(start),
-                                              self._fraction(end), names[task], k))
+        procs = list(dict.fromkeys(self.net.platform.processor_of[t] for t in names))
+        self.intervals += [(procs[proc], start, end, names[task], k)
+                           for proc, start, end, task, k in r.intervals]
         for task, k in r.overrun_at.items():
             self.tasks[names[task]].overrun_at = k
         if r.regime is None:
@@ -435,9 +447,8 @@ class _Outcome:
                   "periodic regime proven by a repeated state (up to places that only gain "
                   "tokens, never taken last)")
         return ProcessorSchedule(net.platform, verdict, verdict is not None, method, why,
-                                 self.tasks, group_periods, unbounded,
-                                 sorted(self.intervals, key=lambda i: (
-                                     i.processor, i.start)), self.regimes, self.events)
+                                 self.tasks, group_periods, unbounded, self.intervals,
+                                 net.scale, self.regimes, self.events)
 
     def _verdict(self, live: bool, unbounded: list[GrowingPlace]) -> tuple[bool | None, str | None]:
         found = (not live or unbounded or any(
