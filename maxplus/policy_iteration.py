@@ -480,26 +480,31 @@ class _ArcTerms:
         self.laid_out = True
         self.blocks = None
         degrees = np.diff(arcs.starts)
-        distinct = np.flatnonzero(np.bincount(degrees))
+        counts = np.bincount(degrees)
+        distinct = np.flatnonzero(counts)
         if len(distinct) > MAX_DEGREE_BLOCKS:
             return
         index = arcs.order.dtype
-        block_nodes, block_arcs, blocks = [], [], []
-        arc_at, node_at = 0, 0
+        # The nodes by increasing degree (a counting sort): each block is a slice.
+        self.block_nodes, node_starts = stable_order(degrees, len(counts))
+        first_arcs = arcs.starts[self.block_nodes]
+        block_arcs = np.empty(len(arcs.s_src), dtype=index)
+        # Row r of a block holds r-th in-arcs: their rank from the last possible
+        # in-arc (see _arc_order) is degree_max - 1 - r, whatever the node.
+        self.block_order = np.empty(len(arcs.s_src), dtype=index)
+        blocks = []
+        arc_at = 0
         for d in distinct.tolist():  # a loop over distinct degrees (at most 64)
-            nodes = np.flatnonzero(degrees == d).astype(index, copy=False)
-            k = len(nodes)
-            block_nodes.append(nodes)
-            block_arcs.append((arcs.starts[nodes][None, :]
-                               + np.arange(d, dtype=index)[:, None]).ravel())
+            node_at, k = int(node_starts[d]), int(counts[d])
+            rows = np.arange(d, dtype=index)[:, None]
+            np.add(first_arcs[node_at:node_at + k][None, :], rows,
+                   out=block_arcs[arc_at:arc_at + d * k].reshape(d, k))
+            np.subtract(self.degree_max - 1, rows,
+                        out=self.block_order[arc_at:arc_at + d * k].reshape(d, k))
             blocks.append((arc_at, d, node_at, k))
             arc_at += d * k
-            node_at += k
-        self.block_nodes = np.concatenate(block_nodes)
-        block_arcs = np.concatenate(block_arcs)
         self.block_src = arcs.s_src[block_arcs]
         self.block_w, self.block_t = arcs.s_w[block_arcs], arcs.s_t[block_arcs]
-        self.block_order = self._arc_order(block_arcs).astype(index, copy=False)
         self.blocks = blocks
 
     def block_maxima(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
