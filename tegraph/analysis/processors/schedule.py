@@ -19,7 +19,8 @@ its own until a proof:
   ``docs/analysis.md``). Periods, responses, starved tasks, growing places
   and the overruns still to come follow from one regime;
 - **nothing more happens** (a dead part);
-- otherwise, after ``max_events`` firings, the figures left are null and the
+- otherwise, once its share of ``max_events`` firings is spent, the figures left are
+  null and the
   verdict is null with the reason, unless an overrun was already seen (then
   the skeleton is not schedulable, proven by the overrun itself).
 
@@ -50,9 +51,11 @@ from .platform import Platform, platform_of
 __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
            "schedule_on_processors"]
 
-MAX_EVENTS = 2_000_000
-"""Default budget of :func:`schedule_on_processors`: event firings simulated per
-part (tasks joined by a group or a processor) before the verdict is left null."""
+MAX_EVENTS = 1_000_000
+"""Default budget of :func:`schedule_on_processors`: event firings simulated in all
+(some 2 to 5 s) before the figures still unproven are left null. Parts (tasks
+joined by a group or a processor) are simulated smallest first, each with an equal
+share of what is left, so what a small part does not use goes to the larger ones."""
 
 _KIND_REPORTED = {"activation": "clock-overrun", "asyn-syn": "messages-overwritten",
                   "syn-asyn": "requests-overwritten", "thread": "thread",
@@ -151,7 +154,7 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     platform : Platform, optional
         Default :func:`~tegraph.analysis.processors.platform.platform_of`.
     max_events : int
-        Budget of event firings per part (:data:`MAX_EVENTS`).
+        Budget of event firings in all (:data:`MAX_EVENTS`), shared among the parts.
 
     Returns
     -------
@@ -186,9 +189,11 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         platform = platform_of(skeleton, groups)
     net = _Net(skeleton, teg, groups, platform)
     out = _Outcome(net, max_events)
-    for part in net.parts():
-        data, local_tasks, local_events, local_places = part
-        result = simulate_part(data, max_events)
+    parts = sorted(net.parts(), key=lambda part: part[0].n_events)
+    left = max_events
+    for i, (data, local_tasks, local_events, local_places) in enumerate(parts):
+        result = simulate_part(data, max(left // (len(parts) - i), 1))
+        left -= result.fired
         out.add(result, data, local_tasks, local_events, local_places)
     return out.finish()
 
@@ -440,6 +445,9 @@ class _Outcome:
                 for t in group.tasks:
                     self.tasks[t] = TaskOnProcessors(decided=self.tasks[t].decided)
         unbounded = [u for u in self.unbounded if net.groups[u.group].live]
+        index = {t: i for i, t in enumerate(net.tasks)}
+        self.regimes.sort(key=lambda r: index[r["tasks"][0]])
+        unbounded.sort(key=lambda u: u.place)
         verdict, why = self._verdict(live, unbounded)
         parts = len(self.regimes)
         method = (f"exact event-driven simulation of the schedule on processors (§4b), "
@@ -457,8 +465,8 @@ class _Outcome:
             return False, None
         if self.undecided:
             return None, (f"no periodic regime within the budget of {self.budget:,} event "
-                          f"firings per part, for the part(s) of {'; '.join(self.undecided)}: "
-                          "raise `max_events`")
+                          f"firings (shared among {len(self.regimes)} independent part(s)), "
+                          f"for the part(s) of {'; '.join(self.undecided)}: raise `max_events`")
         return True, None
 
 
