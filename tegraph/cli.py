@@ -535,9 +535,9 @@ def explore(
                                              "this many."),
     batch_size: int | None = typer.Option(None, "--batch-size", min=1,
                                           help="Variants per batch (default adaptive)."),
-    timeout: float = typer.Option(10.0, "--timeout", min=0.1, max=86_400.0,
+    timeout: float = typer.Option(10.0, "--timeout",
                                   help="Seconds to wait for the scheduler to answer "
-                                       "(finite, at most 86400)."),
+                                       "(> 0 and finite, at most 86400)."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report."),
 ) -> None:
     """Search link protocols and clock periods for the Pareto front of live, consistent,

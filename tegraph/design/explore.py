@@ -225,8 +225,8 @@ tcp://127.0.0.1:8786
     """
     text = str(address).strip()
     found = _ADDRESS.fullmatch(text)
-    scheme = (found["scheme"] or "tcp").lower() if found else None
-    if scheme is not None and scheme != "tcp":
+    scheme = text.partition("://")[0].lower() if "://" in text else "tcp"
+    if scheme != "tcp":
         why = ("a TLS scheduler needs certificates (a security configuration), which "
                "explore does not take" if scheme == "tls" else
                f"the {scheme}:// transport is not supported")

@@ -195,3 +195,23 @@ def test_the_library_refusal_names_the_file_and_line(results):
         explore(load_skeleton(FIG4), **SMALL, workers=0, output=results, resume=True)
     assert err.value.file == str(results) and err.value.line == 3
     assert "row 2, column 'judged'" in err.value.reason
+
+
+def test_a_failed_variant_does_not_make_the_verdict_say_exhaustive_not_exhaustive(
+        monkeypatch):
+    import tegraph.design.explore_eval as explore_eval
+
+    judge = explore_eval.evaluate_variant
+
+    def failing(space, variant, repairs=None):
+        if variant == 1:
+            raise RuntimeError("boom")
+        return judge(space, variant, repairs)
+
+    monkeypatch.setattr(explore_eval, "evaluate_variant", failing)
+    found = explore(load_skeleton(FIG4), **SMALL, workers=0)
+    assert found.count("failed") == 1 and not found.exhaustive
+    assert "exhaustive, not exhaustive" not in found.verdict
+    assert found.verdict.endswith("(every variant proposed, 1 failed to be judged: the exact "
+                                  "front of the variants judged, not of the space)")
+    assert found.rejected["failed to be judged"] == 1
