@@ -121,39 +121,40 @@ def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
         on.setdefault(proc, []).append(name)
     priority: dict[str, int] = {}
     infos = []
+    keys = _group_keys(skeleton, groups)
+    group_of = {t: g for g, group in enumerate(groups) for t in group.tasks}
     for proc, tasks in on.items():
         declared = [skeleton.tasks[t].priority for t in tasks]
         if all(p is not None for p in declared):
             chosen = {t: int(p) for t, p in zip(tasks, declared)}  # type: ignore[arg-type]
             source = "declared"
         else:
-            chosen = _rate_monotonic(skeleton, groups, set(tasks))
+            chosen = _rate_monotonic(tasks, group_of, keys)
             source = "rate-monotonic"
         priority.update(chosen)
         infos.append(ProcessorInfo(proc, tuple(tasks), {t: chosen[t] for t in tasks}, source))
     return Platform(tuple(infos), processor_of, {t: priority[t] for t in skeleton.tasks})
 
 
-def _rate_monotonic(skeleton: Skeleton, groups: Sequence[_Group],
-                    here: set[str]) -> dict[str, int]:
-    """The §4b proposal for the tasks ``here`` (one processor)."""
+def _group_keys(skeleton: Skeleton, groups: Sequence[_Group]) -> list[tuple]:
+    """Each group's rank key, most urgent first: clocked before clockless, shorter
+    design period (its smallest clock period), then its first task in the file."""
     index = {t: i for i, t in enumerate(skeleton.tasks)}
-    ranked: list[tuple[tuple, list[str]]] = []
+    keys = []
     for group in groups:
-        tasks = [t for t in group.tasks if t in here]
-        if not tasks:
-            continue
         periods = [skeleton.clocks[c].period for c in group.clocks]
         design: Fraction | None = min(periods) if periods else None
         first = min(index[t] for t in group.tasks)
-        # Most urgent first: clocked before clockless, shorter design period, file order.
-        key = (design is None, design if design is not None else 0, first)
-        ranked.append((key, tasks))
-    ranked.sort(key=lambda r: r[0])
-    out: dict[str, int] = {}
-    for rank, (_, tasks) in enumerate(ranked):
-        for t in tasks:
-            out[t] = len(ranked) - rank
+        keys.append((design is None, design if design is not None else 0, first))
+    return keys
+
+
+def _rate_monotonic(tasks: list[str], group_of: dict[str, int],
+                    keys: list[tuple]) -> dict[str, int]:
+    """The §4b proposal for the ``tasks`` of one processor."""
+    here = sorted(dict.fromkeys(group_of[t] for t in tasks), key=lambda g: keys[g])
+    number = {g: len(here) - rank for rank, g in enumerate(here)}
+    out = {t: number[group_of[t]] for t in tasks}
     top = max(out.values(), default=0)
     for t in out:
         if is_automaton(t):

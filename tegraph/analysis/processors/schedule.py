@@ -279,10 +279,12 @@ class _Net:
         for p, (s, d) in enumerate(zip(self.src, self.dst)):
             if s in part_of_event and s not in self.zero and d not in self.zero:
                 places.setdefault(part_of_event[s], []).append(p)
+        by_label: dict[int, list[int]] = {}
+        for i, t in enumerate(self.tasks):
+            if self.compute[t] not in self.zero:
+                by_label.setdefault(label[i], []).append(i)
         for lab in sorted(members, key=lambda lab: min(members[lab])):
-            tasks = [i for i, t in enumerate(self.tasks)
-                     if label[i] == lab and self.compute[t] not in self.zero]
-            yield self._part_data(tasks, members[lab], places.get(lab, []))
+            yield self._part_data(by_label.get(lab, []), members[lab], places.get(lab, []))
 
     def _part_data(self, tasks: list[int], events: list[int], places: list[int]):
         local = {e: i for i, e in enumerate(events)}
@@ -292,9 +294,8 @@ class _Net:
         for t in names:
             procs.setdefault(self.platform.processor_of[t], len(procs))
         compute_task = [-1] * len(events)
-        for e, i in self.compute_of.items():
-            if e in local and i in local_task:
-                compute_task[local[e]] = local_task[i]
+        for i, j in local_task.items():
+            compute_task[local[self.compute[self.tasks[i]]]] = j
         watched: dict[int, list[int]] = {}
         slowest: tuple[Fraction, int] | None = None
         for j, t in enumerate(names):
