@@ -78,9 +78,10 @@ def render_exploration(result: Exploration) -> str:
     rejected = result.rejected
     if rejected:
         examples = _examples(result)
-        lines.append("rejected: " + "; ".join(
-            f"{n:,} {why}" + (f" (e.g. variant {examples[why]})" if why in examples else "")
-            for why, n in rejected.items()))
+        lines.append(f"rejected: {sum(rejected.values()):,} variant(s), by the first reason "
+                     "met (every variant's own reason is in the -o file):")
+        lines.extend(f"  {n:,} {why}" + (f", e.g. variant {examples[why]}" if why in examples
+                                          else "") for why, n in rejected.items())
     per = result.log.seconds_per_variant
     lines.append(f"engine: {result.log.engine}"
                  + (f" at {result.log.address}" if result.log.address else "")

@@ -84,8 +84,9 @@ def test_columns_say_what_they_hold_with_units_and_rejections_are_counted():
     # - the other 4 are kept.
     assert found.rejected == {"an unbounded place": 3, "not schedulable": 5}
     assert found.kept == 4
-    assert "rejected: 3 an unbounded place (e.g. variant 6: requests-overwritten" in text
-    assert "; 5 not schedulable (e.g. variant 0: not schedulable" in text
+    assert "rejected: 8 variant(s), by the first reason met" in text
+    assert "\n  3 an unbounded place, e.g. variant 6: requests-overwritten" in text
+    assert "\n  5 not schedulable, e.g. variant 0: not schedulable" in text
 
 
 def test_rule2_findings_break_ties():
@@ -173,5 +174,6 @@ def test_the_command_line_constraints_restrict_the_front():
                                    "MT1.period=20", "--workers", "0"])
     assert out.exit_code == 0, out.stderr
     assert "constraints: MT1.period = 20 ms" in out.stdout
-    assert "rejected: 1 against a constraint" in out.stdout
+    assert "\n  1 against a constraint, e.g. variant 0: against a constraint: MT1.period " \
+        "is 10 ms, required = 20 ms" in out.stdout
     assert out.stdout.strip().splitlines()[-1].startswith("verdict: 1 design(s)")
