@@ -581,7 +581,8 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
     so no node switches twice and the sweep touches each arc about once.
     """
     out_order, out_dst, out_starts, out_counts, rows = arcs.out_arcs()
-    done = np.zeros(len(rank), dtype=bool)
+    n = len(rank)
+    done = np.zeros(n, dtype=bool)
     pending = frontier[np.argsort(-rank[frontier], kind="stable")]  # distinct nodes
     cuts = np.flatnonzero(np.diff(rank[pending])) + 1
     for level in np.split(pending, cuts):
@@ -595,6 +596,15 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
                 # A deep chain advances a node or two per round: numpy's
                 # per-call overhead would dominate, so walk it in Python.
                 out, heads = _out_few(level, out_order, out_dst, out_starts, out_counts)
+            elif len(level) * SCAN_MIN_SHARE > n:
+                # A large share of the nodes: one scan of all arcs in head order
+                # (two gathers from node arrays that stay in cache) beats
+                # gathering this many rows (5 ms against 1.5 ms for 40,000 of
+                # 10^5 nodes); heads with a rank >= top are dropped below.
+                in_level = np.zeros(n, dtype=bool)
+                in_level[level] = True
+                out = np.flatnonzero(in_level[arcs.s_src])
+                heads = arcs.s_dst[out]
             elif len(level) > ROWS_MIN_LEVEL:
                 selected = rows[level]
                 out, heads = selected.data, selected.indices
@@ -609,6 +619,9 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
 
 SWEEP_FEW = 16
 """Sweep rounds from at most this many nodes are walked in Python."""
+
+SCAN_MIN_SHARE = 16
+"""Sweep rounds from more than one node in this many scan all arcs."""
 
 ROWS_MIN_LEVEL = 4096
 """From this many nodes on, a sweep round gathers their out-arcs by scipy's
@@ -663,17 +676,19 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
                          bounds: _Bounds) -> _Values:
     """Ratio, potential and ratio rank of every node under a policy."""
     n = arcs.n
-    pred = arcs.s_src[pol]
     # Pointer doubling: land[v] is 2**rounds policy arcs upstream of v, and
     # (sum_w, sum_t) the sums of those arcs; packed in one int64 while they fit.
+    # The packed arcs carry their tails: one gather through the policy, not two.
     packed = bounds.packed[pol] if bounds.packed is not None else None
+    mask = (1 << bounds.land_bits) - 1
+    pred = ((packed & mask).astype(arcs.s_src.dtype, copy=False) if packed is not None
+            else arcs.s_src[pol])
     land, sum_w, sum_t = pred, None, None
     # The image of land is tracked once it is likely small (from one round
     # before the previous determination stopped): the image of land∘land is
     # land's image of land's image, a pass over that image, not over all nodes.
     image = None
     rounds = 0
-    mask = (1 << bounds.land_bits) - 1
     while True:
         if image is None and rounds >= bounds.rounds_hint - 1:
             image = _distinct_of_all(np.bitwise_and(packed, mask, out=bounds.low)

@@ -67,32 +67,41 @@ def test_a_walk_in_c_from_a_node_below_the_circuit(monkeypatch):
 # --------------------------------------------------------------------------- fallbacks
 
 @contextmanager
-def fallback_paths():
+def fallback_paths(scan: bool):
     """The paths large or unusual graphs take: the bias step's segmented maximum by
     ``reduceat`` (many distinct in-degrees), circuits by pointer jumping (more than
-    256 circuit nodes), the policy walk in C."""
-    saved = pi.MAX_DEGREE_BLOCKS, pi.PYTHON_MAX_CIRCUIT_NODES, cr.WALK_IN_PYTHON
-    pi.MAX_DEGREE_BLOCKS, pi.PYTHON_MAX_CIRCUIT_NODES, cr.WALK_IN_PYTHON = 0, 0, 1
+    256 circuit nodes), the policy walk in C, and every sweep round either by a scan
+    of all arcs (``scan``) or by gathering the out-arcs of its nodes."""
+    names = ["MAX_DEGREE_BLOCKS", "PYTHON_MAX_CIRCUIT_NODES", "SWEEP_FEW", "SCAN_MIN_SHARE",
+             "ROWS_MIN_LEVEL"]
+    saved = [getattr(pi, x) for x in names], cr.WALK_IN_PYTHON
+    for name, value in zip(names, [0, 0, 0, 10**9 if scan else 0, 0]):
+        setattr(pi, name, value)
+    cr.WALK_IN_PYTHON = 1
     try:
         yield
     finally:
-        pi.MAX_DEGREE_BLOCKS, pi.PYTHON_MAX_CIRCUIT_NODES, cr.WALK_IN_PYTHON = saved
+        for name, value in zip(names, saved[0]):
+            setattr(pi, name, value)
+        cr.WALK_IN_PYTHON = saved[1]
 
 
-@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=60)
-@given(small_multigraphs())
-def test_fallbacks_on_small_multigraphs(g):
-    with fallback_paths():
+@pytest.mark.parametrize("scan", [True, False])
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=40)
+@given(g=small_multigraphs())
+def test_fallbacks_on_small_multigraphs(scan, g):
+    with fallback_paths(scan):
         check(*g)  # against circuit enumeration (test_howard_brute_force)
 
 
-@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=60)
-@given(circuits_with_chains())
-def test_fallbacks_on_circuits_with_chains(g):
+@pytest.mark.parametrize("scan", [True, False])
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=40)
+@given(g=circuits_with_chains())
+def test_fallbacks_on_circuits_with_chains(scan, g):
     n, arcs = g
     if n > 60:
         return
-    with fallback_paths():
+    with fallback_paths(scan):
         check(n, arcs)
 
 
