@@ -300,6 +300,7 @@ class _Bounds:
         self.rounds_hint, self.circuit_hint = min(5, (n - 1).bit_length()), 64
         self.mark = np.zeros(n, dtype=arcs.order.dtype)
         self.seen = np.zeros(n, dtype=bool)
+        self.circuits: tuple | None = None  # of the previous value determination
         self.local = np.zeros(n, dtype=arcs.order.dtype)
 
     def unpack(self, packed: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -728,8 +729,20 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
         cycle_nodes = np.flatnonzero(seen).astype(pred.dtype, copy=False)
     else:
         cycle_nodes = np.sort(image)
-    W_c, T_c, X_c, circuit_of, rank_c = _circuits(cycle_nodes, pred, arcs.s_w[pol[cycle_nodes]],
-                                                  arcs.s_t[pol[cycle_nodes]], prev, bounds)
+    cycle_arcs = pol[cycle_nodes]
+    cached = bounds.circuits
+    if (cached is not None and prev is not None and np.array_equal(cached[0], cycle_nodes)
+            and np.array_equal(cached[1], cycle_arcs)):
+        # The previous determination's circuits, unchanged: each keeps its ratio
+        # and its root's potential, and its nodes their potentials (tight around
+        # the circuit), so _circuits would compute what it computed then (a
+        # critical circuit of 12,000 nodes cost half of each determination).
+        W_c, T_c, X_c, circuit_of, rank_c = cached[2]
+    else:
+        found = _circuits(cycle_nodes, pred, arcs.s_w[cycle_arcs], arcs.s_t[cycle_arcs], prev,
+                          bounds)
+        bounds.circuits = (cycle_nodes, cycle_arcs, found)
+        W_c, T_c, X_c, circuit_of, rank_c = found
     walk = 1 << rounds
     T_max, W_max = abs_max(T_c), abs_max(W_c)
     term_max = bounds.w_max * T_max + W_max * bounds.t_max

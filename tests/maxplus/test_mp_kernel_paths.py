@@ -155,3 +155,55 @@ def test_circuits_walked_in_python_as_by_pointer_jumping(back, weights):
         for a, b in zip(jumped, walked):
             assert a.tolist() == b.tolist()
         assert walked[2].dtype == w.dtype
+
+
+def _solve_without_circuit_cache(src, dst, w, t, n):
+    """max_cycle_ratio with every value determination recomputing its circuits."""
+    original = pi._value_determination
+
+    def fresh(pol, arcs, prev, bounds):
+        bounds.circuits = None
+        return original(pol, arcs, prev, bounds)
+
+    pi._value_determination = fresh
+    try:
+        return maxplus.max_cycle_ratio(src, dst, w, t, n_nodes=n)
+    finally:
+        pi._value_determination = original
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=60)
+@given(g=circuits_with_chains())
+def test_unchanged_circuits_reused_give_the_same_run(g):
+    """Reusing the previous circuits is what recomputing them gives: the same
+    policies, potentials and iteration count, on every graph."""
+    n, arcs = g
+    if not arcs:
+        return
+    src, dst, w, t = (list(column) for column in zip(*arcs))
+    try:
+        cached = maxplus.max_cycle_ratio(src, dst, w, t, n_nodes=n)
+    except maxplus.ZeroTokenCircuitError:
+        return
+    fresh = _solve_without_circuit_cache(src, dst, w, t, n)
+    assert cached.iterations == fresh.iterations
+    for a, b in [(cached.certificate.potential, fresh.certificate.potential),
+                 (cached.certificate.policy, fresh.certificate.policy),
+                 (cached.cycle_time_num, fresh.cycle_time_num),
+                 (cached.cycle_time_den, fresh.cycle_time_den)]:
+        assert a.tolist() == b.tolist()
+
+
+def test_a_long_circuit_is_reused_on_the_ring():
+    """A ring of 3,000 nodes plus chords: its long critical circuit survives many
+    iterations; the answer matches the run that recomputes it every time."""
+    n = 3000
+    rng = np.random.default_rng(5)
+    src, dst, _ = ring(n)
+    w = np.concatenate([rng.integers(1, 100, n), rng.integers(1, 250, n)])
+    t = rng.integers(1, 5, 2 * n)
+    cached = maxplus.max_cycle_ratio(src, dst, w, t)
+    fresh = _solve_without_circuit_cache(src, dst, w, t, n)
+    assert cached.ratio == fresh.ratio and cached.iterations == fresh.iterations
+    assert cached.certificate.potential.tolist() == fresh.certificate.potential.tolist()
+    assert cached.verify()
