@@ -16,8 +16,9 @@ and reports the median and the spread (min-max) over the rounds.
    plugin ``explore`` uses) against the space sent with every batch.
 5. **Extrapolation**: the cost of one variant of a 10,000-task skeleton.
 
-Usage::
+Usage (Dask's local process scheduler, compared here, is the ``bench`` extra)::
 
+    pip install '.[bench]'
     python benchmarks/bench_explore.py [--rounds 3] [--skip-10k]
 """
 
