@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from maxplus.errors import MaxPlusValueError
-from maxplus.scalar import exact_text, exact_time
+from maxplus.scalar import exact_text, exact_time, size_problem
 
 from ..errors import InputError, ModelError
 from ..model.arcs import ArcList
@@ -48,7 +48,6 @@ from ..model.limits import (
     count_problem,
     denominator_problem,
     node_count_problem,
-    number_text_problem,
     shown,
 )
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
@@ -267,7 +266,7 @@ def _parse_general(clean: bytes, data: bytes, file: str | None) -> _Parsed:
         decoded = [t.decode("ascii") for t in texts.tolist()]
     except UnicodeDecodeError:
         _diagnose(data, file)
-    if any(number_text_problem(t) for t in decoded):  # 1e999999999 would take hours
+    if any(size_problem(t) for t in decoded):  # 1e999999999 would take hours
         _diagnose(data, file)
     try:
         values = [exact_time(t, "holding") for t in decoded]
@@ -296,7 +295,7 @@ def _diagnose(data: bytes, file: str | None) -> None:
                              "", file, number)
         for field, text in zip(("src", "dst", "holding", "tokens"), parts):
             written = text.decode("utf-8", "replace")
-            why = number_text_problem(written)
+            why = size_problem(written)
             if why is not None:
                 raise InputError(f"expected a number within the limits: {why}", field, file,
                                  number)

@@ -44,7 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from maxplus.errors import MaxPlusValueError
-from maxplus.scalar import exact_text, exact_time
+from maxplus.scalar import exact_text, exact_time, size_problem
 
 from ..errors import InputError
 from ..model.convert import as_petri_net
@@ -52,7 +52,6 @@ from ..model.limits import (
     MAX_COUNT,
     count_problem,
     denominator_problem,
-    number_text_problem,
     shown,
 )
 from ..model.petri import PetriNet
@@ -211,7 +210,7 @@ def _count(text: str | None, what: str, where: str, file: str | None, line: int,
     if not re.fullmatch(r"\+?[0-9]+", text.strip()):
         raise InputError(f"{what} must be an integer >= 0, got {shown(text.strip())}", where,
                          file, line)
-    why = number_text_problem(text.strip()) or count_problem(int(text), what)
+    why = size_problem(text.strip()) or count_problem(int(text), what)
     if why is not None:
         raise InputError(why, where, file, line)
     return int(text)
@@ -256,7 +255,7 @@ def _timing(places: list[str], transitions: list[str], nodes: dict[str, tuple[st
 
 
 def _time(text: str, what: str, where: str, file: str | None, line: int) -> Fraction:
-    why = number_text_problem(text.strip())
+    why = size_problem(text.strip())
     if why is not None:
         raise InputError(f"{what} must be an exact time: {why}", where, file, line)
     try:

@@ -40,9 +40,11 @@ from pathlib import Path
 from typing import Any
 from xml.sax.saxutils import quoteattr
 
+from maxplus.scalar import size_problem
+
 from ..errors import InputError, ModelError
 from ..model.convert import as_teg
-from ..model.limits import count_problem, number_text_problem, shown
+from ..model.limits import count_problem, shown
 from ..model.sdf import SDFChannel, SDFGraph
 from ._files import DEFAULT_MAX_BYTES, read_limited, write_bytes
 from ._xml import XmlNode, parse_xml
@@ -222,7 +224,7 @@ def _required(node: XmlNode, attr: str, file: str | None, where: str | None = No
 def _integer(text: str, what: str, where: str, file: str | None, line: int,
              count: bool = False) -> int:
     """An integer >= 0 as SDF3 writes it; a ``count`` (rate, tokens) also below 2**63."""
-    why = number_text_problem(text)
+    why = size_problem(text)
     if why is not None:
         raise InputError(f"{what} must be an integer within the limits: {why}", where, file,
                          line)

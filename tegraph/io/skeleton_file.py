@@ -21,8 +21,10 @@ from typing import Any
 import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
+from maxplus.scalar import size_problem
+
 from ..errors import SkeletonError
-from ..model.limits import number_text_problem, text_problem
+from ..model.limits import text_problem
 from ..model.skeleton import Skeleton
 from ..model.skeleton_checks import KeyPath, Locator
 from ._detect import FORMAT_NAMES, sniff_format
@@ -120,7 +122,7 @@ class _Builder:
         try:
             value = self.loader.construct_object(node)
         except ValueError as err:  # e.g. an int of more digits than Python converts
-            too_big = number_text_problem(node.value.replace("_", ""))  # the one bound
+            too_big = size_problem(node.value.replace("_", ""))  # the one bound
             if too_big is not None:
                 raise self.loc.error(too_big, path) from None
             raise self.loc.error(f"cannot read this value ({err}); expected a number "

@@ -41,14 +41,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from maxplus.errors import MaxPlusValueError
-from maxplus.scalar import exact_time
+from maxplus.scalar import exact_time, size_problem
 
 from ..errors import InputError, ModelError
 from ..model.convert import as_petri_net, as_teg
 from ..model.limits import (
     count_problem,
     node_count_problem,
-    number_text_problem,
     shown,
     text_problem,
 )
@@ -192,7 +191,7 @@ class _NumberRefused(ValueError):
 
 def _json_decimal(text: str) -> Decimal:
     """A JSON number with a fraction or exponent, exactly; refused beyond the stated limits."""
-    why = number_text_problem(text)
+    why = size_problem(text)
     if why is not None:
         raise _NumberRefused(text, why)
     return Decimal(text)
@@ -200,7 +199,7 @@ def _json_decimal(text: str) -> Decimal:
 
 def _json_int(text: str) -> int:
     """A JSON integer; refused beyond the stated limits before it is converted."""
-    why = number_text_problem(text)
+    why = size_problem(text)
     if why is not None:
         raise _NumberRefused(text, why)
     return int(text)
@@ -408,10 +407,10 @@ def parse_tpne_teg(data: bytes | str, file: str | None = None, orientation: str 
         if not _DIGITS.fullmatch(t):
             raise InputError(f"expected a token count (an integer >= 0), got {shown(t)}",
                              "tokens", file, number)
-        why = number_text_problem(t) or count_problem(int(t), "a token count")
+        why = size_problem(t) or count_problem(int(t), "a token count")
         if why is not None:
             raise InputError(why, "tokens", file, number)
-        why = number_text_problem(d)
+        why = size_problem(d)
         if why is not None:
             raise InputError(f"expected a duration within the limits: {why}", "duration", file,
                              number)

@@ -35,10 +35,10 @@ import math
 from collections.abc import Iterable
 from typing import Any
 
-from maxplus.scalar import MAX_DIGITS, size_problem
+from maxplus.scalar import MAX_DIGITS
 
 __all__ = ["DEFAULT_MAX_FIRINGS", "FREE_NODES", "MAX_COUNT", "MAX_DIGITS",
-           "count_problem", "denominator_problem", "node_count_problem", "number_text_problem",
+           "count_problem", "denominator_problem", "node_count_problem",
            "shown", "text_problem"]
 
 MAX_COUNT = 2**63 - 1
@@ -66,24 +66,6 @@ def shown(text: Any, quote: bool = True) -> str:
         return repr(text) if quote else text
     cut = f"{text[:_SHOWN]!r}"[:-1] + "...'" if quote else text[:_SHOWN] + "..."
     return f"{cut} ({len(text)} characters)"
-
-
-def number_text_problem(text: Any) -> str | None:
-    """Why a number is refused by its size before it is converted, or None.
-
-    The readers ask this first to name the value in their own words; it is
-    :func:`maxplus.scalar.size_problem`, the one bound (:data:`MAX_DIGITS`).
-
-    Examples
-    --------
-    >>> number_text_problem("7/3") is None, number_text_problem("1e1000") is None
-    (True, True)
-    >>> number_text_problem("1e999999999")
-    "'1e999999999' has 1,000,000,000 digits; at most 4,300 are accepted"
-    >>> print(number_text_problem("9" * 5000))  # doctest: +ELLIPSIS
-    '999...' (5,000 characters) has 5,000 digits; at most 4,300 are accepted
-    """
-    return size_problem(text)
 
 
 def count_problem(value: int, what: str = "a token count") -> str | None:

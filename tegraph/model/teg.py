@@ -36,10 +36,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from maxplus.errors import MaxPlusValueError
-from maxplus.scalar import EPS, INT64_SAFE, exact_time, int_array
+from maxplus.scalar import EPS, INT64_SAFE, exact_time, int_array, size_problem
 
 from ..errors import InputError, ModelError, NotLiveError
-from .limits import MAX_COUNT, count_problem, number_text_problem
+from .limits import MAX_COUNT, count_problem
 
 if TYPE_CHECKING:  # networkx costs 0.1 s to import; only the conversions need it
     import networkx as nx
@@ -601,7 +601,7 @@ def _check_time(value: Any, what: str, where: str) -> Fraction:
         if t < 0:
             raise ModelError(f"{what} must be >= 0, got {t}", where)
         return t
-    why = number_text_problem(value)  # "1e999999999" would take hours to expand
+    why = size_problem(value)  # "1e999999999" would take hours to expand
     if why is not None:
         raise ModelError(f"{what} must be a time: {why}", where)
     try:
