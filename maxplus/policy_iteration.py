@@ -18,13 +18,22 @@ everywhere: that is the certificate.
 
 Value determination doubles pointers: after ``k`` rounds every node knows the
 node ``2**k`` policy arcs upstream of it and the weight and token sums of those
-arcs. Once those landing nodes all lie on policy circuits (the image of the
+arcs (the tails ride in the packed sums: one gather through the policy per
+round). Once those landing nodes all lie on policy circuits (the image of the
 landing map is closed under the policy, checked each round), a node's
 potential is its landing node's plus the sums, because the potential terms
 ``w·T - W·t`` add up to zero around a circuit. Only the circuit nodes, usually
 few, need their own pass (their smallest node is the root, of potential 0 or
-of its previous potential). Policy trees are shallow on most graphs, so this
-takes a handful of rounds; a chain of length ``L`` takes ``log2 L``.
+of its previous potential; circuits the policy kept are not walked again).
+Policy trees are shallow on most graphs, so this takes a handful of rounds; a
+chain of length ``L`` takes ``log2 L``.
+
+Policy improvement takes, per node, the maximum of packed keys over its
+in-arcs: by blocks of nodes of equal in-degree (a ``d x k`` array per degree,
+an elementwise maximum of its rows) when the degrees take few values, by
+``np.maximum.reduceat`` otherwise. A ratio step passes the larger ratio
+downstream breadth first; a round reaching many nodes scans all arcs rather
+than gathering rows.
 
 Every quantity is an integer: int64 while bounds computed from the data in
 each iteration keep every sum and product below ``2**62`` (weight and token
@@ -97,7 +106,8 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     1. *Each step strictly improves.* A policy arc ``j -> i`` joins nodes of
        equal ratio (``i`` reaches the circuit that ``j`` reaches). A ratio
        step switches ``i`` to an in-arc whose tail has a strictly larger
-       ratio (the sweep likewise, from nodes it raised): backwards from any
+       ratio (the sweep likewise, from nodes it raised; which such arc it
+       takes, the last one gathered, does not matter here): backwards from any
        node, the old ratios never decrease along the new policy, so a circuit
        of the new policy switched no arc (around a circuit they cannot rise)
        and is an old one; hence ``χ' >= χ`` everywhere, strictly at the
@@ -106,8 +116,13 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
        and tight policy arcs has, summing around it (the ``X`` cancel),
        ``Σ(w·T - W·t) > 0``: a ratio strictly above ``W/T``, so ``χ`` rises.
        Otherwise every circuit is an old one and keeps its root's potential
-       (:func:`_circuits`), and summing along the policy path from it gives
-       ``X' >= X``, strictly at the switched nodes.
+       (:func:`_circuits`; when the circuits are exactly the previous ones,
+       their numbers are reused, which is what :func:`_circuits` would
+       compute again), and summing along the policy path from it gives
+       ``X' >= X``, strictly at the switched nodes. The bias step's
+       maximum, taken by blocks of equal in-degree or by ``reduceat``, is
+       the same maximum of the same packed keys: the arc chosen does not
+       depend on how it is computed.
     2. *No policy comes back.* ``χ`` takes finitely many values and never
        decreases, so it changes finitely often; and a policy fixes ``χ``, so
        a policy of an earlier ``χ`` cannot recur. While ``χ`` stays the
@@ -119,18 +134,25 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
        node lands ``2**k`` policy arcs upstream; once ``2**k`` exceeds the
        height of the policy trees (below ``n``), the landing nodes are the
        circuit nodes, which the landing map permutes, and the loop stops
-       (about ``log2 n`` rounds). In :func:`_circuits`, ``back`` maps every
+       (about ``log2 n`` rounds; the first determination checks from round
+       ``min(4, bit_length(n - 1) - 1)`` on, so it never runs past the round
+       where ``2**k`` first exceeds the height, and walks stay below ``2n``
+       arcs as the int64 bounds assume). In :func:`_circuits`, ``back`` maps every
        circuit node to its predecessor on the circuit (a permutation): the
        minimum propagated over ``bit_length(c)`` doublings covers each whole
        circuit, so every circuit has one root, and pointer jumping doubles
-       each node's distance to its root per round until it reaches it.
+       each node's distance to its root per round until it reaches it (the
+       Python walk of small circuits and the depth-first walk of long ones
+       visit each circuit node once).
 
     The proof needs every comparison to be exact: all arithmetic is in
     integers, int64 only below bounds computed from the data, Python ints
     otherwise. The proof is also checked while running: a policy seen
-    before (a 128-bit digest of it, :class:`_PolicyDigest`) means a bug, not a hard graph; the int64
-    run then starts again in Python ints, and a repeat there raises
-    RuntimeError instead of looping.
+    before (a 128-bit digest of it, :class:`_PolicyDigest`) means a bug, not
+    a hard graph; the int64 run then starts again in Python ints, and a
+    repeat there raises RuntimeError instead of looping. A digest collision
+    (about ``2**-66`` per pair of policies) could only raise a false alarm,
+    never hide a repeat: equal policies have equal digests.
 
     Examples
     --------
