@@ -415,10 +415,12 @@ class _Outcome:
             self._rate(events[e], self._fraction(length) / n if n else None)
         for p, per in growing.items():
             self._grow(places[p], per)
+        compute_of = {j: e for e, j in enumerate(d.compute_task) if j >= 0}
+        tick_of = {j: e for e, ts in d.watched.items() for j in ts}
         for j, t in enumerate(names):
             fig = self.tasks[t]
             fig.decided = True
-            compute = next(e for e in range(d.n_events) if d.compute_task[e] == j)
+            compute = compute_of[j]
             n = fired[compute]
             fig.starved = n == 0 and new.pending[j] >= 0
             if n:
@@ -426,7 +428,7 @@ class _Outcome:
                 fig.response = self._fraction(_response(r.jobs[j], old.fired[compute],
                                                         new.fired[compute], length))
             if fig.overrun_at is None and j in r.tick_log:
-                tick = next(e for e, ts in d.watched.items() if j in ts)
+                tick = tick_of[j]
                 last = d.end_event[j]
                 ends = (new.finished[j] - old.finished[j] if last is None
                         else fired[last])

@@ -13,6 +13,7 @@ were real), the periods and responses measured there, and the first overrun.
 from __future__ import annotations
 
 from collections import deque
+from fractions import Fraction
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -155,7 +156,7 @@ def test_engine_matches_the_oracle_before_and_after_its_proof(data):
             if fig.period is None:
                 assert not released
                 continue
-            assert fig.period == length / len(released)
+            assert fig.period == Fraction(length, len(released))
             assert all(f is not None for _, f in released)
             assert fig.response == max(f - a for a, f in released)
     _check_overruns(sk, s, ticks, ends)
