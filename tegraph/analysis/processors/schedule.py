@@ -32,6 +32,7 @@ rest of the graph are unbounded (tokens pile up at once).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -40,6 +41,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
+
+from maxplus.scalar import display_text
 
 from ...errors import InputError, ModelError
 from ...model.build import last_event
@@ -192,10 +195,45 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     parts = sorted(net.parts(), key=lambda part: part[0].n_events)
     left = max_events
     for i, (data, local_tasks, local_events, local_places) in enumerate(parts):
-        result = simulate_part(data, max(left // (len(parts) - i), 1))
+        share = max(left // (len(parts) - i), 1)
+        hyper, ticks = _hyperperiod(skeleton, local_tasks)
+        # A regime holds a whole number of periods of every clock: it cannot be
+        # proven before each clock has ticked over one hyperperiod. Past the
+        # share, look only for an early overrun, and say why at once.
+        too_long = ticks > share
+        result = simulate_part(data, min(share, QUICK_LOOK) if too_long else share)
         left -= result.fired
         out.add(result, data, local_tasks, local_events, local_places)
+        if result.regime is None:
+            out.undecided.append(_why_part(skeleton, local_tasks, hyper, ticks, too_long))
     return out.finish()
+
+
+QUICK_LOOK = 10_000
+"""Firings simulated, to find an early overrun, in a part whose hyperperiod alone
+exceeds its share of the budget."""
+
+
+def _hyperperiod(sk: Skeleton, tasks: list[str]) -> tuple[Fraction | None, int]:
+    """The least common multiple of the part's clock periods, and its ticks over it."""
+    periods = {sk.clocks[c].period for c in {sk.tasks[t].clock for t in tasks} if c}
+    if not periods:
+        return None, 0
+    num, den = 1, 0
+    for p in periods:
+        num, den = math.lcm(num, p.numerator), math.gcd(den, p.denominator)
+    hyper = Fraction(num, den)
+    return hyper, sum(int(hyper / p) for p in periods)
+
+
+def _why_part(sk: Skeleton, tasks: list[str], hyper: Fraction | None, ticks: int,
+              too_long: bool) -> str:
+    shown = ", ".join(tasks[:3]) + (" ..." if len(tasks) > 3 else "")
+    if too_long:
+        return (f"the part of {shown}: its clocks' hyperperiod is {display_text(hyper)} "
+                f"{sk.unit}, at least {ticks:,} clock ticks before a periodic regime can "
+                "repeat, more than its share of `max_events`")
+    return f"the part of {shown}: no periodic regime within its share of `max_events`"
 
 
 class _Net:
@@ -387,7 +425,6 @@ class _Outcome:
             self.tasks[names[task]].overrun_at = k
         if r.regime is None:
             self.regimes.append({"tasks": names, "start": None, "length": None})
-            self.undecided.append(", ".join(names[:3]) + (" ..." if len(names) > 3 else ""))
             return
         if r.regime[0] == "stop":
             self.regimes.append({"tasks": names, "start": self._fraction(r.regime[1]),
@@ -467,9 +504,9 @@ class _Outcome:
         if found:
             return False, None
         if self.undecided:
-            return None, (f"no periodic regime within the budget of {self.budget:,} event "
-                          f"firings (shared among {len(self.regimes)} independent part(s)), "
-                          f"for the part(s) of {'; '.join(self.undecided)}: raise `max_events`")
+            return None, (f"undecided within the budget of {self.budget:,} event firings "
+                          f"(shared among {len(self.regimes)} independent part(s)): "
+                          + "; ".join(self.undecided))
         return True, None
 
 

@@ -259,6 +259,21 @@ def test_budget_gives_null_with_reason():
     assert small.tasks["A"].period is None and not small.tasks["A"].decided
 
 
+def test_drifting_clocks_are_refused_at_once_naming_the_hyperperiod():
+    # Four sensors of 0.997, 1.009, 1.013 and 1.019 ms (997, 1009, 1013, 1019 are
+    # primes): hyperperiod 997*1009*1013*1019/1000 ms, and a regime cannot repeat
+    # before H/period ticks of each clock: about 4e9 > the budget of 1e6.
+    periods = [997, 1009, 1013, 1019]
+    sk = Skeleton.from_dict({"tasks": {f"S{i}": {"duration": "0.1", "period": f"{p}/1000"}
+                                       for i, p in enumerate(periods)}})
+    s = schedule(sk)
+    ticks = sum(math.prod(periods) // p for p in periods)
+    assert math.prod(periods) == 1038412611331
+    assert s.schedulable is None and s.events <= 10_001  # a quick look for an early overrun
+    assert "hyperperiod is 1038412611.331 ms" in s.why_undecided
+    assert f"at least {ticks:,} clock ticks" in s.why_undecided
+
+
 def test_bad_budget_is_refused():
     sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 7}}})
     with pytest.raises(InputError, match="max_events"):
