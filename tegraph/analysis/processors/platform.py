@@ -29,9 +29,11 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Protocol as _Protocol
 
+from ...errors import InputError
 from ...model.skeleton import Skeleton
 
-__all__ = ["DEFAULT_PROCESSOR", "Platform", "ProcessorInfo", "is_automaton", "platform_of"]
+__all__ = ["DEFAULT_PROCESSOR", "Platform", "ProcessorInfo", "check_groups", "is_automaton",
+           "platform_of"]
 
 DEFAULT_PROCESSOR = "default"
 """The processor of every task that declares none (§4b)."""
@@ -114,6 +116,7 @@ def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
     >>> platform_of(sk, analyze_skeleton(sk).groups).priority
     {'A': 3, 'B': 2, 'C': 4, 'D': 1}
     """
+    check_groups(skeleton, groups)
     processor_of = {name: task.processor or DEFAULT_PROCESSOR
                     for name, task in skeleton.tasks.items()}
     on: dict[str, list[str]] = {}
@@ -134,6 +137,28 @@ def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
         priority.update(chosen)
         infos.append(ProcessorInfo(proc, tuple(tasks), {t: chosen[t] for t in tasks}, source))
     return Platform(tuple(infos), processor_of, {t: priority[t] for t in skeleton.tasks})
+
+
+def check_groups(skeleton: Skeleton, groups: Sequence[_Group]) -> None:
+    """Refuse groups that do not hold every task of ``skeleton`` exactly once.
+
+    Raises
+    ------
+    InputError
+        Naming ``groups`` and the first task missing, repeated or unknown.
+    """
+    seen: set[str] = set()
+    for group in groups:
+        for t in group.tasks:
+            if t in seen or t not in skeleton.tasks:
+                why = "twice" if t in seen else "but the skeleton has no such task"
+                raise InputError(f"task {t!r} is in the groups {why}; expected the groups "
+                                 "of analyze_skeleton(skeleton)", "groups")
+            seen.add(t)
+    missing = [t for t in skeleton.tasks if t not in seen]
+    if missing:
+        raise InputError(f"task {missing[0]!r} is in no group; expected the groups of "
+                         "analyze_skeleton(skeleton)", "groups")
 
 
 def _group_keys(skeleton: Skeleton, groups: Sequence[_Group]) -> list[tuple]:

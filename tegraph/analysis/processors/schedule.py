@@ -49,7 +49,7 @@ from ...model.build import last_event
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
 from ._engine import PartData, PartResult, simulate_part
-from .platform import Platform, platform_of
+from .platform import Platform, check_groups, platform_of
 
 __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
            "schedule_on_processors"]
@@ -188,6 +188,7 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
     if "compute" not in teg.attrs:
         raise ModelError("not built from a skeleton (no 'compute' in attrs)", "teg")
+    check_groups(skeleton, groups)
     if platform is None:
         platform = platform_of(skeleton, groups)
     net = _Net(skeleton, teg, groups, platform)

@@ -274,6 +274,14 @@ def test_drifting_clocks_are_refused_at_once_naming_the_hyperperiod():
     assert f"at least {ticks:,} clock ticks" in s.why_undecided
 
 
+def test_groups_of_another_skeleton_are_refused():
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 7},
+                                       "B": {"duration": 1, "period": 7}}})
+    other = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 7}}})
+    with pytest.raises(InputError, match=r"groups: task 'B' is in no group"):
+        schedule_on_processors(sk, build_teg(sk), analyze_skeleton(other).groups)
+
+
 def test_bad_budget_is_refused():
     sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 7}}})
     with pytest.raises(InputError, match="max_events"):
