@@ -58,5 +58,12 @@ def highlights(result: CycleTimeResult | None) -> Highlights:
                    "each part's critical circuit in red")
         places = frozenset(p for part in result.parts for p in part.critical_places)
         return Highlights(critical=places, caption=caption)
-    caption = f"period {exact_text(result.period)} (critical circuit in red)"
+    if result.cycle_times:
+        # Transitions run at different rates (a group that is not rate-consistent):
+        # there is no period of the graph, only the slowest rate and its circuit.
+        rates = sorted({t for t in result.cycle_times.values() if t is not None})
+        caption = (f"no common period: cycle times {', '.join(map(exact_text, rates))}; "
+                   f"the critical circuit of the slowest ({exact_text(result.period)}) in red")
+    else:
+        caption = f"period {exact_text(result.period)} (critical circuit in red)"
     return Highlights(critical=frozenset(result.critical_places), caption=caption)

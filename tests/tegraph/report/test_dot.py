@@ -103,3 +103,11 @@ def test_a_multi_rate_skeleton_marks_each_groups_own_critical_circuit():
     red = {k for k, v in edges(dot).items() if 'color="red"' in v}
     assert red == {("obs.tick", "obs.tick"), ("ctl.tick", "ctl.tick"), ("dyn.tick", "dyn.tick")}
     assert "3 parts, each at its own period (1, 2, 6)" in dot
+
+
+def test_a_group_that_is_not_rate_consistent_gets_no_period_in_its_caption():
+    # examples/fig12_double_sync.yaml, by hand in its header: one group bound by
+    # two clocks whose parts run at 10 ms and 4 ms: it is not rate-consistent,
+    # so the drawing must not call 10 "the period" of the graph.
+    dot = to_dot(tegraph.load_skeleton(EXAMPLES / "fig12_double_sync.yaml"), view="teg")
+    assert "no common period: cycle times 4, 10" in dot and "period 10 (" not in dot
