@@ -30,7 +30,7 @@ from maxplus.scalar import exact_text, exact_time
 
 from ..errors import InputError
 from ..model.skeleton import Protocol, Skeleton
-from ..model.skeleton_checks import Locator, check_chain
+from ..model.skeleton.checks import Locator, check_chain
 from .synchronization import group_period, synchronized_groups
 
 __all__ = [

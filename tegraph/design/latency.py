@@ -67,7 +67,7 @@ from ..analysis.analyze import analyze_skeleton
 from ..analysis.results import Report
 from ..model.build import build_teg
 from ..model.skeleton import Protocol, Skeleton
-from ..model.skeleton_checks import KeyPath, Locator, check_chain
+from ..model.skeleton.checks import KeyPath, Locator, check_chain
 from .schedulability import Schedulability, schedulability
 
 __all__ = ["Bound", "ChainLatency", "Hop", "Segment", "chain_latency", "parse_chain"]

@@ -5,8 +5,8 @@ PyYAML's constructor, for three reasons: duplicate keys are refused (YAML
 would silently keep the last one), every key and list item gets its 1-based
 line for the messages, and names and numbers are taken from the text the
 user wrote (YAML 1.1 reads the port ``on`` as true and ``010`` as eight).
-The checks themselves live in the model (:mod:`tegraph.model.skeleton_schema`
-and :mod:`tegraph.model.skeleton_checks`), shared with skeletons built in code.
+The checks themselves live in the model (:mod:`tegraph.model.skeleton.schema`
+and :mod:`tegraph.model.skeleton.checks`), shared with skeletons built in code.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from maxplus.scalar import size_problem
 from ..errors import SkeletonError
 from ..model.limits import text_problem
 from ..model.skeleton import Skeleton
-from ..model.skeleton_checks import KeyPath, Locator
+from ..model.skeleton.checks import KeyPath, Locator
 from ._detect import FORMAT_NAMES, sniff_format
 
 __all__ = ["SKELETON_EXTENSIONS", "dump_skeleton", "load_skeleton"]

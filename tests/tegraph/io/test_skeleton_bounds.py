@@ -18,7 +18,7 @@ from tegraph import Skeleton
 from tegraph.cli import app
 from tegraph.errors import InputError, SkeletonError
 from tegraph.io import dump_skeleton, load_skeleton
-from tegraph.model.skeleton_checks import Locator
+from tegraph.model.skeleton.checks import Locator
 from tests.paths import ANCHORS, REPO
 
 # ------------------------------------------------------------------ item 9: aliases

@@ -1,7 +1,7 @@
 """The dictionary form of a skeleton (spec §1): read it with every check, write it.
 
 :func:`skeleton_fields` turns the dictionary a skeleton file holds into the
-fields of a :class:`~tegraph.model.skeleton.Skeleton`, refusing what the
+fields of a :class:`~tegraph.model.skeleton.core.Skeleton`, refusing what the
 format refuses; :func:`skeleton_to_data` is its inverse. Reading the file itself (YAML, JSON,
 line numbers) is :mod:`tegraph.io.skeleton_file`'s job.
 """
@@ -14,16 +14,14 @@ import re
 from collections.abc import Mapping, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time, size_problem
 
-from .elements import Clock, Link, Protocol, Task
-from .skeleton_checks import KeyPath, Locator, check_name, check_skeleton
-
-if TYPE_CHECKING:  # the skeleton is built from these fields by Skeleton.from_dict
-    from .skeleton import Skeleton
+from ..elements import Clock, Link, Protocol, Task
+from .checks import KeyPath, Locator, check_name, check_skeleton
+from .shape import SkeletonShape
 
 __all__ = ["skeleton_fields", "skeleton_to_data"]
 
@@ -257,7 +255,7 @@ def skeleton_fields(data: Any, default_name: str = "skeleton", source: str | Non
 
     Each value is checked on its own here; the cross references (a link names
     an existing port...) are checked on the built skeleton by
-    :func:`~tegraph.model.skeleton_checks.check_skeleton`, which
+    :func:`~tegraph.model.skeleton.checks.check_skeleton`, which
     :meth:`Skeleton.from_dict <tegraph.model.skeleton.Skeleton.from_dict>` runs.
 
     Parameters
@@ -339,7 +337,7 @@ def skeleton_fields(data: Any, default_name: str = "skeleton", source: str | Non
                 chains=chains)
 
 
-def skeleton_to_data(sk: Skeleton) -> dict[str, Any]:
+def skeleton_to_data(sk: SkeletonShape) -> dict[str, Any]:
     """The dictionary form of a skeleton, as a skeleton file holds it.
 
     Exact times are written as ints or ``"7/3"`` strings; private clocks go

@@ -4,7 +4,9 @@ The rules that relate one part of a skeleton to another (a link names an
 existing output port, an input port has one writer, a task is in at most one
 thread...) are checked here, on the dataclasses of :mod:`tegraph.model.skeleton`, so
 that a skeleton read from a file and one built in code obey the same rules
-and get the same messages. Every refusal is a
+and get the same messages. The checks read a skeleton through
+:class:`~tegraph.model.skeleton.shape.SkeletonShape`: the class that calls them
+is built above this module, which never imports it. Every refusal is a
 :class:`~tegraph.errors.SkeletonError` whose key path points into the
 dictionary form of the skeleton (``tasks.MT2.inputs[1]``, ``links[0].to``).
 """
@@ -15,14 +17,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from numbers import Integral
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from ..errors import SkeletonError
-from .elements import Clock, Link, Protocol, Task
-from .limits import text_problem
-
-if TYPE_CHECKING:  # checks read a skeleton's fields; the class is built above this module
-    from .skeleton import Skeleton
+from ...errors import SkeletonError
+from ..elements import Clock, Link, Protocol, Task
+from ..limits import text_problem
+from .shape import SkeletonShape
 
 __all__ = ["KeyPath", "Locator", "check_chain", "check_skeleton", "format_path"]
 
@@ -127,12 +127,13 @@ def _check_time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locat
         raise loc.error(f"expected {what} {bound}, got {Fraction(value)}", path)
 
 
-def check_skeleton(sk: Skeleton, loc: Locator) -> None:
+def check_skeleton(sk: SkeletonShape, loc: Locator) -> None:
     """Check every rule of spec §1 on a skeleton, raising at the first broken one.
 
     Parameters
     ----------
-    sk : Skeleton
+    sk : SkeletonShape
+        A :class:`~tegraph.model.skeleton.core.Skeleton`, or anything with its attributes.
     loc : Locator
         Maps key paths to file lines for the messages.
 
@@ -163,7 +164,7 @@ def check_skeleton(sk: Skeleton, loc: Locator) -> None:
         check_chain(sk, chain, ("chains", i), loc)
 
 
-def _check_clock(key: Any, clock: Clock, sk: Skeleton, loc: Locator) -> None:
+def _check_clock(key: Any, clock: Clock, sk: SkeletonShape, loc: Locator) -> None:
     path: KeyPath = ("clocks", str(key))
     check_name(key, path, "clock name", loc)
     if not isinstance(clock, Clock):
@@ -184,7 +185,7 @@ def _check_clock(key: Any, clock: Clock, sk: Skeleton, loc: Locator) -> None:
             )
 
 
-def _check_task(key: Any, task: Task, sk: Skeleton, loc: Locator) -> tuple[set[str], set[str]]:
+def _check_task(key: Any, task: Task, sk: SkeletonShape, loc: Locator) -> tuple[set[str], set[str]]:
     path: KeyPath = ("tasks", str(key))
     check_name(key, path, "task name", loc)
     if not isinstance(task, Task):
@@ -264,7 +265,8 @@ def _endpoint(
     return task, port
 
 
-def _check_links(sk: Skeleton, ports: dict[str, tuple[set[str], set[str]]], loc: Locator) -> None:
+def _check_links(sk: SkeletonShape, ports: dict[str, tuple[set[str], set[str]]],
+                 loc: Locator) -> None:
     writers: dict[tuple[str, str], int] = {}
     for i, link in enumerate(sk.links):
         if not isinstance(link, Link):
@@ -294,7 +296,7 @@ def _check_links(sk: Skeleton, ports: dict[str, tuple[set[str], set[str]]], loc:
         writers[reader] = i
 
 
-def _check_threads(sk: Skeleton, loc: Locator) -> None:
+def _check_threads(sk: SkeletonShape, loc: Locator) -> None:
     placed: dict[str, KeyPath] = {}
     for i, thread in enumerate(sk.threads):
         if isinstance(thread, str) or not isinstance(thread, Sequence):
@@ -319,7 +321,7 @@ def _check_threads(sk: Skeleton, loc: Locator) -> None:
         _check_thread_processor(sk, thread, i, loc)
 
 
-def _check_thread_processor(sk: Skeleton, thread: Sequence[str], i: int, loc: Locator) -> None:
+def _check_thread_processor(sk: SkeletonShape, thread: Sequence[str], i: int, loc: Locator) -> None:
     # A thread is one OS thread: it runs on one processor (tasks without a
     # `processor` share the default one), or the thread places of spec §2 would
     # serialize tasks that the schedulability analysis puts on two processors.
@@ -338,7 +340,7 @@ def _on(processor: str | None) -> str:
     return "the default processor" if processor is None else f"processor {processor!r}"
 
 
-def check_chain(sk: Skeleton, chain: Any, path: KeyPath, loc: Locator) -> tuple[str, ...]:
+def check_chain(sk: SkeletonShape, chain: Any, path: KeyPath, loc: Locator) -> tuple[str, ...]:
     """Refuse a latency chain (spec §6) that does not follow the skeleton's links.
 
     A chain names at least one task, each at most once, and every task after
@@ -346,7 +348,8 @@ def check_chain(sk: Skeleton, chain: Any, path: KeyPath, loc: Locator) -> tuple[
 
     Parameters
     ----------
-    sk : Skeleton
+    sk : SkeletonShape
+        Its ``tasks`` and ``links`` are read.
     chain : sequence of str
     path : KeyPath
         Where the chain is (``("chains", 0)``, or ``("chain",)`` for a chain given as a parameter).

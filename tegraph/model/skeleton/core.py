@@ -1,4 +1,4 @@
-"""The synchronization skeleton: module tasks, clocks, links and threads.
+"""The synchronization skeleton: module tasks, clocks, links and threads (the class).
 
 This is the in-memory form of a skeleton file (``docs/skeleton.md`` §1). A
 design tool builds one in code with :meth:`Skeleton.from_dict` (the same
@@ -15,11 +15,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from .elements import Clock, Link, Protocol, Task
-from .skeleton_checks import Locator, check_skeleton
-from .skeleton_schema import skeleton_fields, skeleton_to_data
+from ..elements import Clock, Link, Task
+from .checks import Locator, check_skeleton
+from .schema import skeleton_fields, skeleton_to_data
 
-__all__ = ["Clock", "Link", "Protocol", "Skeleton", "Task"]
+__all__ = ["Skeleton"]
 
 
 @dataclass
