@@ -12,7 +12,8 @@ results out.
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .cycle_ratio import CycleRatioCertificate, CycleRatioResult, max_cycle_ratio
+from .certificate import CycleRatioCertificate
+from .cycle_ratio import CycleRatioResult, max_cycle_ratio
 from .dense import (
     identity,
     left_residual,

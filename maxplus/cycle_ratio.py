@@ -53,6 +53,7 @@ from ._arrays import (
     int_array,
 )
 from ._params import unmasked, whole_number
+from .certificate import CycleRatioCertificate, CycleRatioClaim, verify_cycle_ratio
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
 from .policy_iteration import howard_arrays
 from .scalar import exact
@@ -64,60 +65,6 @@ __all__ = [
     "find_circuit",
     "max_cycle_ratio",
 ]
-
-
-@dataclass(frozen=True)
-class CycleRatioCertificate:
-    """Exact proof of the cycle times of a graph.
-
-    All numbers are integers. For a node ``i`` with a cycle time,
-    ``χ_i = ratio_num[i] / (scale * ratio_den[i])`` and its potential is
-    ``potential[i] / (scale * ratio_den[i])``.
-
-    The proof (checked by :meth:`CycleRatioResult.verify`):
-
-    1. along every arc ``j -> i`` between nodes with cycle times, ``χ_i >= χ_j``,
-       and when ``χ_i == χ_j``, ``potential_i >= potential_j + w·T - W·t``
-       (``W/T`` the reduced ratio): so every circuit has ratio at most the
-       common cycle time of its nodes;
-    2. every node's ``policy`` arc attains that inequality with equality and
-       comes from a node of the same cycle time, so following the policy
-       backwards reaches a circuit of ratio exactly ``χ_i``;
-    3. no arc leads from a node with a cycle time to one without, and the
-       nodes without a cycle time span no circuit.
-
-    Attributes
-    ----------
-    scale : int
-        Common denominator by which the weights were scaled to integers.
-    ratio_num, ratio_den : numpy.ndarray of int
-        Per node, the reduced cycle time times ``scale``; ``ratio_den == 0``
-        for a node without cycle time.
-    potential : numpy.ndarray of int
-        Per node, the potential scaled by ``scale * ratio_den``.
-    policy : numpy.ndarray of int
-        Per node, its chosen in-arc (-1 for a node without cycle time).
-    circuit : numpy.ndarray of int
-        Arcs of one critical circuit, in order.
-
-    See Also
-    --------
-    CycleRatioResult.verify : checks it.
-    maxplus.certificate.verify_cycle_ratio : the checker.
-
-    Examples
-    --------
-    >>> c = max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3]).certificate
-    >>> c.scale, c.ratio_num.tolist(), c.ratio_den.tolist(), c.potential.tolist()
-    (1, [4, 4], [1, 1], [0, 1])
-    """
-
-    scale: int
-    ratio_num: np.ndarray
-    ratio_den: np.ndarray
-    potential: np.ndarray
-    policy: np.ndarray
-    circuit: np.ndarray
 
 
 @dataclass
@@ -256,9 +203,9 @@ class CycleRatioResult:
         >>> max_cycle_ratio([0, 1], [1, 0], [3, 4], [1, 1]).verify()
         True
         """
-        from .certificate import verify_cycle_ratio
-
-        verify_cycle_ratio(self)
+        claim = CycleRatioClaim(self.ratio, self.circuit, self.cycle_time_num,
+                                self.cycle_time_den, self.certificate)
+        verify_cycle_ratio(self.src, self.dst, self.weight, self.tokens, claim)
         return True
 
 
