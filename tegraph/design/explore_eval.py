@@ -54,8 +54,8 @@ from ..analysis.results import Report
 from ..model.skeleton import Protocol, Skeleton
 from .explore_space import DesignSpace, latency_name
 from .latency import chain_latency
+from .rules import group_period, synchronized_groups
 from .schedulability import Schedulability, schedulability
-from .synchronization import group_period, synchronized_groups
 
 __all__ = ["VariantResult", "evaluate_batch", "evaluate_variant", "rejection",
            "rule2_findings"]

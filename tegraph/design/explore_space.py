@@ -31,7 +31,7 @@ from maxplus.scalar import exact_text, exact_time
 from ..errors import InputError
 from ..model.skeleton import Protocol, Skeleton
 from ..model.skeleton.checks import Locator, check_chain
-from .synchronization import group_period, synchronized_groups
+from .rules import group_period, synchronized_groups
 
 __all__ = [
     "ClockChoice",

@@ -16,8 +16,8 @@ from fractions import Fraction as F
 import pytest
 
 from tegraph import SkeletonError, analyze, load_skeleton
-from tegraph.design.change import Change
 from tegraph.design.rules import (
+    Change,
     check_rules,
     is_automaton,
     proposed_priorities,

@@ -14,7 +14,7 @@ import itertools
 from dataclasses import dataclass
 from fractions import Fraction
 
-from ..model.skeleton import Link, Protocol, Skeleton
+from ...model.skeleton import Link, Protocol, Skeleton
 
 __all__ = ["READER_BLOCKS", "WRITER_BLOCKS", "Synchronization", "group_period", "link_index",
            "synchronizations", "synchronized_groups"]

@@ -3,7 +3,7 @@
 Each finding of Rules 1-3 carries a structured ``change`` (links that get
 another protocol, clocks removed or added). The applier below turns it into
 an edit of the skeleton's dictionary form, written here from the spec alone
-(not with :func:`tegraph.design.advice.apply_change`), and the loop applies
+(not with :func:`tegraph.design.rules.apply_change`), and the loop applies
 the advice of the first finding that has some, re-checks the rules, and
 asserts that the fixed finding is gone, that every finding left was there
 before, and that no finding ever comes back; it ends when no error is left or
@@ -23,9 +23,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from tegraph import analyze, load_skeleton
-from tegraph.design.advice import Advisor
-from tegraph.design.change import Change, apply_change, finding_key
-from tegraph.design.rules import check_rules, proposed_priorities
+from tegraph.design.rules import Change, apply_change, check_rules, proposed_priorities
+from tegraph.design.rules.advice import Advisor
 from tegraph.model.skeleton import Skeleton
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton
@@ -78,12 +77,12 @@ def follow_advice(data: dict, limit: int = 200) -> tuple[list, int]:
             if not structural and not sk.threads:
                 assert analyze(sk, design=False).live, sk.to_dict()
             return findings, step
-        before = {finding_key(f) for f in structural}
+        before = {f.identity for f in structural}
         data = applied(sk.to_dict(), todo.change.to_dict())
         sk = Skeleton.from_dict(data)
         findings = check_rules(sk)
-        after = {finding_key(f) for f in findings if f.rule < 4}
-        assert finding_key(todo) not in after, todo
+        after = {f.identity for f in findings if f.rule < 4}
+        assert todo.identity not in after, todo
         assert after <= before, (todo.advice, after - before)
         gone |= before - after
         assert not (after & gone), after & gone  # nothing comes back
@@ -219,8 +218,8 @@ def test_following_the_advice_on_the_corpus():
 
 def full_recheck(sk: Skeleton, key: tuple, change: Change, period) -> set | None:
     """What a change brings, by checking the whole edited skeleton again (another algorithm)."""
-    before = {finding_key(f) for f in check_rules(sk) if f.rule < 4}
-    after = {finding_key(f) for f in check_rules(apply_change(sk, change, period)) if f.rule < 4}
+    before = {f.identity for f in check_rules(sk) if f.rule < 4}
+    after = {f.identity for f in check_rules(apply_change(sk, change, period)) if f.rule < 4}
     new = after - before
     if key in after:
         new.add(key)
@@ -233,7 +232,7 @@ def check_the_check(sk: Skeleton, per_finding: int = 6) -> int:
     advisor = Advisor(sk, findings)
     compared = 0
     for f in findings:
-        key = finding_key(f)
+        key = f.identity
         for edits in itertools.islice(advisor.candidates(f), per_finding):
             change = advisor.change_of(edits)
             assert advisor.brings(key, edits) == full_recheck(sk, key, change, advisor.fresh), (
@@ -448,3 +447,42 @@ def test_the_dead_groups_of_the_advisor_are_those_analyze_finds():
         assert advisor._dead_groups() == expected, sk.to_dict()
         dead_seen += bool(expected)
     assert dead_seen > 10
+
+
+# ------------------------------------------------------------ words are for people
+
+def test_rewording_the_messages_changes_no_advice(monkeypatch):
+    # The advisor tells findings apart by kind and key. Were it to read a message (as
+    # `"has no clock" in finding.message` did), rewording that message would change which
+    # candidate it takes for new findings, and so the advice: here every message of Rules
+    # 1-3 is reversed, and kinds, keys, changes and advice must stay the same.
+    from tegraph.design.rules import FindingKind, RuleFinding, check
+
+    # MT1 reads two inputs ASYN/SYN in a group with no clock (Rules 1 and 3 at once): a
+    # change for its Rule 1 error leaves the group without a clock, which is no new finding.
+    double = Skeleton.from_dict({"tasks": {
+        "MT1": {"duration": 1, "inputs": ["b", "c"], "outputs": ["a"]},
+        "MT2": {"duration": 1, "inputs": ["a"], "outputs": ["b"]},
+        "MT3": {"duration": 1, "outputs": ["c"]}},
+        "links": [{"from": "MT2:b", "to": "MT1:b", "protocol": "ASYN/SYN"},
+                  {"from": "MT3:c", "to": "MT1:c", "protocol": "ASYN/SYN"},
+                  {"from": "MT1:a", "to": "MT2:a", "protocol": "ASYN/SYN"}]})
+    cases = [double] + [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]
+    cases += [Skeleton.from_dict(random_skeleton(random.Random(seed))) for seed in range(60)]
+
+    def decisions() -> list:
+        return [[(f.kind, f.key, f.change, f.advice) for f in check_rules(sk)] for sk in cases]
+
+    def messages() -> list:
+        return [[f.message for f in check_rules(sk)] for sk in cases]
+
+    plain, plain_words = decisions(), messages()
+
+    def reworded(kind, key, tasks, ports, links, message, advice, change=None):
+        return RuleFinding(kind, key, tasks, ports, links, message[::-1], advice, change)
+
+    monkeypatch.setattr(check, "RuleFinding", reworded)
+    assert messages() != plain_words  # the words did change
+    assert decisions() == plain
+    (mt1,) = [f for f in check_rules(double) if f.kind is FindingKind.RULE1_SEVERAL_SYNCS]
+    assert mt1.change is not None, mt1.advice

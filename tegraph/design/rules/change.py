@@ -1,8 +1,8 @@
 """A machine-applicable edit of a skeleton: what a design-rule finding says to change.
 
 :class:`Change` is the structured form of a finding's advice (links that get
-another protocol, clocks removed, clocks added); :func:`apply_change` makes it;
-:func:`finding_key` says when two findings of two checks are the same one.
+another protocol, clocks removed, clocks added); :func:`apply_change` makes it. (What identifies a
+finding is its kind and key: :attr:`~.findings.RuleFinding.identity`.)
 """
 
 from __future__ import annotations
@@ -12,13 +12,10 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-from ..errors import InputError
-from ..model.skeleton import Clock, Link, Protocol, Skeleton
+from ...errors import InputError
+from ...model.skeleton import Clock, Link, Protocol, Skeleton
 
-__all__ = ["Change", "Key", "apply_change", "finding_key"]
-
-Key = tuple
-"""What identifies a finding: see :func:`finding_key`."""
+__all__ = ["Change", "apply_change"]
 
 
 @dataclass(frozen=True)
@@ -104,24 +101,3 @@ def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | No
     # A private clock belongs to its task's `period:`: it goes with it.
     clocks = {c: k for c, k in clocks.items() if c in used or not k.private}
     return dataclasses.replace(skeleton, tasks=tasks, clocks=clocks, links=links)
-
-
-def finding_key(finding: Any) -> Key:
-    """What identifies a finding across two checks of two versions of a skeleton.
-
-    Rule 1: the task (whatever it waits for, it is the one problem of that
-    task); Rule 2: the link as it stands (protocol included); Rule 3: the group
-    and whether it has no clock or too many. Rule 4: all its fields.
-
-    Examples
-    --------
-    >>> from tegraph.design.rules import RuleFinding
-    >>> finding_key(RuleFinding(1, "error", ("T",), ("T:a",), ("W:a -> T:a (ASYN/SYN)",), "", ""))
-    (1, 'error', ('T',))
-    """
-    if finding.rule == 1:
-        return (1, finding.severity, tuple(finding.tasks))
-    if finding.rule == 3:
-        return (3, finding.severity, tuple(finding.tasks), "has no clock" in finding.message)
-    return (finding.rule, finding.severity, tuple(finding.tasks), tuple(finding.ports),
-            tuple(finding.links))

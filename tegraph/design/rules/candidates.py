@@ -1,0 +1,341 @@
+"""The candidate edits for a finding of design rules 1-3, best first (unchecked).
+
+The candidates move synchronizations along links rather than only cutting
+them. A task that must lose an input it reads ASYN/SYN can cut the link
+(ASYN/ASYN), or *pull*: the link becomes SYN/ASYN, the writer now waits for the
+task's request, and the writer gives up its own other synchronizations the
+same way (its clock goes). A task that must lose its clock and has nothing else
+*pushes*: it posts an output SYN/ASYN, whose reader, having lost its
+synchronization, does the same. Per kind of finding (:class:`~.findings.FindingKind`):
+
+- Rule 1, two or more synchronizations: keep one (the first input read, else
+  the clock, else the last output posted: the paper's footnote 6 [1]_; then the
+  others); the clock goes; an input read ASYN/SYN is cut or pulled; an output
+  posted SYN/ASYN is cut or pushed (ASYN/SYN); a rendezvous keeps its other
+  side blocking, or is cut;
+- Rule 1, none: read a linked input ASYN/SYN, or get a clock of its own, or
+  post a linked output SYN/ASYN;
+- Rule 2, a rendezvous: ASYN/SYN or SYN/ASYN;
+- Rule 2, ASYN/ASYN between groups of one rate: ASYN/SYN with the reader
+  keeping only that synchronization, or SYN/ASYN with the writer keeping only
+  that one;
+- Rule 3, several clocks: split the group (cut links between tasks on
+  different clocks), or keep one clock; every other clocked task loses its
+  clock, and pushes if that was all it had;
+- Rule 3, no clock: a clock to one task (first those that read no
+  synchronizing input), which keeps only that synchronization.
+
+Which of them to advise is :mod:`.advice`'s choice.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterator
+
+from ...model.skeleton import Link, Protocol, Skeleton
+from .findings import FindingKind, RuleFinding
+from .synchronization import READER_BLOCKS, WRITER_BLOCKS, link_index, synchronized_groups
+
+__all__ = ["CANDIDATE_LIMIT", "SPLIT", "Candidates", "Edits", "Sync", "sync_label"]
+
+CANDIDATE_LIMIT = 64
+"""Candidates examined per finding (the smallest of them first)."""
+
+SPLIT = "split"
+"""What a Rule 3 change keeps when it splits the group rather than drop clocks."""
+
+_SPLIT_LIMIT = 8
+"""Links cut one at a time to split a group of several clocks (Rule 3)."""
+
+
+# ------------------------------------------------------------------ candidates
+
+class Edits:
+    """Candidate edits, keyed by the original links and task names (immutable).
+
+    ``kept`` is what the task of a Rule 1 finding keeps, or the clock a group of
+    Rule 3 keeps, for the advice's words. (A plain class: candidates are made by
+    the thousand, and ``dataclasses.replace`` would cost more than the check.)
+    """
+
+    __slots__ = ("protocol", "drop", "add", "kept")
+
+    def __init__(self, protocol: tuple[tuple[Link, Protocol], ...] = (),
+                 drop: frozenset[str] = frozenset(), add: frozenset[str] = frozenset(),
+                 kept: str = "") -> None:
+        self.protocol, self.drop, self.add, self.kept = protocol, drop, add, kept
+
+    def set(self, link: Link, protocol: Protocol) -> Edits:
+        return Edits(self.protocol + ((link, protocol),), self.drop, self.add, self.kept)
+
+    def with_clock(self, task: str, present: bool) -> Edits:
+        """``task`` keeps no clock (``present`` False) or gets one of its own."""
+        if present:
+            return Edits(self.protocol, self.drop, self.add | {task}, self.kept)
+        return Edits(self.protocol, self.drop | {task}, self.add - {task}, self.kept)
+
+    def saying(self, kept: str) -> Edits:
+        return Edits(self.protocol, self.drop, self.add, kept)
+
+    def get(self, link: Link) -> Protocol:
+        for known, protocol in reversed(self.protocol):
+            if known is link:
+                return protocol
+        return link.protocol
+
+
+Sync = tuple[str, Link | None]
+"""``("clock", None)``, ``("input", link)`` or ``("output", link)``."""
+
+
+
+class Candidates:
+    """The candidate edits for each finding of Rules 1-3 on one skeleton.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    groups : list of tuple of str, optional
+        :func:`~.synchronization.synchronized_groups` of ``skeleton``, if known.
+    """
+
+    def __init__(self, skeleton: Skeleton, groups: list[tuple[str, ...]] | None = None) -> None:
+        self.sk = skeleton
+        self.groups = synchronized_groups(skeleton) if groups is None else groups
+        self.group_of = {t: g for g, ts in enumerate(self.groups) for t in ts}
+        self.by_reader, self.by_writer = link_index(skeleton)
+        self.threaded = {t for thread in skeleton.threads for t in thread}
+        self._inputs: dict[str, list[Link]] = {}
+        self._outputs: dict[str, list[Link]] = {}
+
+    # ------------------------------------------------------------ synchronizations
+    def inputs(self, task: str) -> list[Link]:
+        """The links into ``task``, in the order of its inputs."""
+        if task not in self._inputs:
+            self._inputs[task] = [link for q in self.sk.tasks[task].inputs
+                                  for link in self.by_reader.get((task, q), ())]
+        return self._inputs[task]
+
+    def outputs(self, task: str) -> list[Link]:
+        """The links out of ``task``, in the order of its outputs."""
+        if task not in self._outputs:
+            self._outputs[task] = [link for p in self.sk.tasks[task].outputs
+                                   for link in self.by_writer.get((task, p), ())]
+        return self._outputs[task]
+
+    def syncs(self, task: str, edits: Edits) -> list[Sync]:
+        """What ``task`` waits for once ``edits`` are made, in chain order."""
+        has_clock = (self.sk.tasks[task].clock is not None and task not in edits.drop
+                     or task in edits.add)
+        out: list[Sync] = [("clock", None)] if has_clock else []
+        out += [("input", link) for link in self.inputs(task) if edits.get(link) in READER_BLOCKS]
+        out += [("output", link) for link in self.outputs(task)
+                if edits.get(link) in WRITER_BLOCKS]
+        return out
+
+    def needs_one(self, task: str, edits: Edits) -> bool:
+        """Rule 1 would warn: no synchronization and no thread."""
+        return task not in self.threaded and not self.syncs(task, edits)
+
+    def _free(self, task: str, keep: Sync, seen: frozenset[str], edits: Edits
+              ) -> Iterator[Edits]:
+        """Variants of ``edits`` in which ``task`` keeps ``keep`` and nothing else."""
+        variants: Iterator[Edits] = iter([edits])
+        for sync in self.syncs(task, edits):
+            if sync != keep:
+                variants = self._each(variants, task, sync, seen)
+        return variants
+
+    def _each(self, variants: Iterator[Edits], task: str, sync: Sync, seen: frozenset[str]
+              ) -> Iterator[Edits]:
+        for edits in variants:
+            yield from self._remove(task, sync, seen, edits)
+
+    def _remove(self, task: str, sync: Sync, seen: frozenset[str], edits: Edits
+                ) -> Iterator[Edits]:
+        """Ways for ``task`` to stop waiting for ``sync``, best first."""
+        kind, link = sync
+        if kind == "clock":
+            yield edits.with_clock(task, False)
+            return
+        assert link is not None
+        now = edits.get(link)
+        if now is Protocol.SYN_SYN:  # the other side keeps blocking, or neither does
+            yield edits.set(link, Protocol.SYN_ASYN if kind == "input" else Protocol.ASYN_SYN)
+            yield edits.set(link, Protocol.ASYN_ASYN)
+            return
+        yield edits.set(link, Protocol.ASYN_ASYN)
+        other = link.writer[0] if kind == "input" else link.reader[0]
+        if other in seen:
+            return
+        # Pull (the writer waits for the task's request) or push (the reader waits).
+        turned = edits.set(link, Protocol.SYN_ASYN if kind == "input" else Protocol.ASYN_SYN)
+        yield from self._free(other, ("output" if kind == "input" else "input", link),
+                              seen | {other}, turned)
+
+    def _gain(self, task: str, seen: frozenset[str], edits: Edits, inputs: bool = True,
+              outputs: bool = True) -> Iterator[Edits]:
+        """Variants of ``edits`` giving ``task`` (which waits for nothing) one synchronization:
+        it reads an input ASYN/SYN, or posts an output SYN/ASYN; the other side, if it
+        loses its one synchronization so, takes another the same way."""
+        for link in self.inputs(task) if inputs else ():
+            now = edits.get(link)
+            if now is Protocol.ASYN_ASYN:
+                yield edits.set(link, Protocol.ASYN_SYN)
+            elif now is Protocol.SYN_ASYN:
+                yield from self._handed_over(link.writer[0], seen,
+                                             edits.set(link, Protocol.ASYN_SYN))
+        for link in self.outputs(task) if outputs else ():
+            now = edits.get(link)
+            if now is Protocol.ASYN_ASYN:
+                yield edits.set(link, Protocol.SYN_ASYN)
+            elif now is Protocol.ASYN_SYN:
+                yield from self._handed_over(link.reader[0], seen,
+                                             edits.set(link, Protocol.SYN_ASYN))
+
+    def _handed_over(self, other: str, seen: frozenset[str], edits: Edits) -> Iterator[Edits]:
+        """``other`` may have lost its one synchronization to the task: it takes another."""
+        if not self.needs_one(other, edits):
+            yield edits
+        elif other not in seen:
+            yield from self._gain(other, seen | {other}, edits)
+
+    def candidates(self, finding: RuleFinding) -> Iterator[Edits]:
+        """The changes that would remove ``finding`` (of Rules 1-3), best first (unchecked)."""
+        yield from self._by_kind[finding.kind](self, finding.key)
+
+    def _several_syncs(self, task: str) -> Iterator[Edits]:
+        """Rule 1, several synchronizations: keep one, each in turn, footnote 6's first."""
+        empty = Edits()
+        syncs = self.syncs(task, empty)
+        inputs = [s for s in syncs if s[0] == "input"]
+        outputs = [s for s in syncs if s[0] == "output"]
+        first = ([inputs[0]] if inputs else []) + [s for s in syncs if s[0] == "clock"] \
+            + ([outputs[-1]] if outputs else [])
+        for keep in first + [s for s in syncs if s not in first]:
+            label = sync_label(keep)
+            for edits in self._free(task, keep, frozenset({task}), empty):
+                yield edits.saying(label)
+
+    def _no_sync(self, task: str) -> Iterator[Edits]:
+        """Rule 1, no synchronization: read an input, get a clock, or post an output."""
+        empty, seen = Edits(), frozenset({task})
+        yield from self._gain(task, seen, empty, outputs=False)
+        yield empty.with_clock(task, True)
+        yield from self._gain(task, seen, empty, inputs=False)
+
+    def _rendezvous(self, key: tuple[tuple[str, str], tuple[str, str]]) -> Iterator[Edits]:
+        """Rule 2, SYN/SYN: one side stops blocking; if that was all it had, it takes another."""
+        link = self._link(*key)
+        w, r = link.writer[0], link.reader[0]
+        for side, other, protocol in ((w, r, Protocol.ASYN_SYN), (r, w, Protocol.SYN_ASYN)):
+            yield from self._handed_over(side, frozenset({other}), Edits().set(link, protocol))
+
+    def _unsynchronized(self, key: tuple[tuple[str, str], tuple[str, str]]) -> Iterator[Edits]:
+        """Rule 2, ASYN/ASYN at one rate: the reader, or the writer, waits on it and only on it."""
+        link = self._link(*key)
+        w, r = link.writer[0], link.reader[0]
+        yield from self._free(r, ("input", link), frozenset({w, r}),
+                              Edits().set(link, Protocol.ASYN_SYN))
+        yield from self._free(w, ("output", link), frozenset({w, r}),
+                              Edits().set(link, Protocol.SYN_ASYN))
+
+    def _no_clock(self, tasks: tuple[str, ...]) -> Iterator[Edits]:
+        """Rule 3, no clock: a clock to one task, which keeps only that synchronization."""
+        empty = Edits()
+        quiet = [t for t in tasks if not any(k == "input" for k, _ in self.syncs(t, empty))]
+        for t in quiet + [t for t in tasks if t not in quiet]:
+            yield from self._free(t, ("clock", None), frozenset({t}), empty.with_clock(t, True))
+
+    def _several_clocks(self, tasks: tuple[str, ...]) -> Iterator[Edits]:
+        """Rule 3, several clocks: split the group, or keep one clock."""
+        clocks: dict[str, list[str]] = {}
+        for t in tasks:
+            clock = self.sk.tasks[t].clock
+            if clock:
+                clocks.setdefault(clock, []).append(t)
+        yield from self._split(tasks)
+        for keep in clocks:
+            # One task at a time, breadth first: a group bound by thousands of clocks
+            # would nest a generator per task (Python's recursion limit). Only the first
+            # CANDIDATE_LIMIT variants (in the order of the choices) are ever examined, and the
+            # first CANDIDATE_LIMIT complete ones extend the first CANDIDATE_LIMIT partial ones.
+            others = [t for clock, users in clocks.items() if clock != keep for t in users]
+            # A task's links do not change when other tasks lose their clocks: when none
+            # is left without a synchronization, the one candidate is every drop at once
+            # (what the loop below gives, without a copy of the drops per task).
+            at_once = Edits(drop=frozenset(others), kept=keep)
+            needy = [t for t in others if self.needs_one(t, at_once)]
+            if not needy:
+                yield at_once
+                continue
+            # The others are dropped at once; those left without a synchronization
+            # gain one, one task at a time, breadth first.
+            variants = [Edits(drop=frozenset(others).difference(needy), kept=keep)]
+            for t in needy:
+                variants = list(itertools.islice(self._unclock(variants, t), CANDIDATE_LIMIT))
+            yield from variants
+
+    def _split(self, tasks: tuple[str, ...]) -> Iterator[Edits]:
+        """Rule 3, several clocks: cut links between tasks on different clocks.
+
+        Each clocked task keeps its clock, and so its sampling period (a 2 ms loop
+        that reads 5 ms gains ASYN/SYN reads them ASYN/ASYN); each cut alone, then
+        all of them at once. Only links whose both ends keep a clock are cut, so no
+        task is left without a synchronization.
+        """
+        empty = Edits()
+        cuts = []
+        for t in tasks:
+            clock = self.sk.tasks[t].clock
+            for link in self.outputs(t):
+                other = self.sk.tasks[link.reader[0]].clock
+                if link.protocol.synchronizing and clock and other and other != clock:
+                    cuts.append(link)
+        empty = empty.saying(SPLIT)
+        for link in cuts[:_SPLIT_LIMIT]:
+            yield empty.set(link, Protocol.ASYN_ASYN)
+        if 1 < len(cuts) <= _SPLIT_LIMIT:
+            every = empty
+            for link in cuts:
+                every = every.set(link, Protocol.ASYN_ASYN)
+            yield every
+
+    def _unclock(self, variants: list[Edits], task: str) -> Iterator[Edits]:
+        for edits in variants:
+            dropped = edits.with_clock(task, False)
+            if self.needs_one(task, dropped):
+                yield from self._gain(task, frozenset({task}), dropped)
+            else:
+                yield dropped
+
+    def _link(self, writer: tuple[str, str], reader: tuple[str, str]) -> Link:
+        # A Rule 2 finding's key is its link's two ports: no text is parsed.
+        return next(link for link in self.by_writer[writer] if link.reader == reader)
+
+    _by_kind = {
+        FindingKind.RULE1_SEVERAL_SYNCS: _several_syncs,
+        FindingKind.RULE1_NO_SYNC: _no_sync,
+        FindingKind.RULE2_RENDEZVOUS: _rendezvous,
+        FindingKind.RULE2_UNSYNCHRONIZED: _unsynchronized,
+        FindingKind.RULE3_NO_CLOCK: _no_clock,
+        FindingKind.RULE3_SEVERAL_CLOCKS: _several_clocks,
+    }
+    """The candidates of each kind of finding of Rules 1-3, from its key."""
+
+
+def sync_label(sync: Sync) -> str:
+    kind, link = sync
+    if kind == "clock" or link is None:
+        return "clock"
+    port = link.reader if kind == "input" else link.writer
+    return f"{kind} {port[0]}:{port[1]}"
+
+

@@ -1,0 +1,198 @@
+"""Rules 1-3 on a skeleton, each finding with its advice; :func:`check_rules`, all four rules.
+
+Rules 1-3 state what is wrong (:func:`rule1`, :func:`rule2`, :func:`rule3`);
+what to change is chosen by the advisor (:mod:`.advice`) and said here in
+words (:func:`advised`). Rule 4 is :mod:`.priorities`.
+
+References
+----------
+.. [1] D. Simon et al., "Design and analysis of synchronization for
+   real-time closed-loop control in robotics", IEEE Transactions on Control
+   Systems Technology, 1998.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from maxplus.scalar import display_text
+
+from ...model.skeleton import Protocol, Skeleton
+from .advice import CANDIDATE_LIMIT, SPLIT, Advisor
+from .findings import FindingKind, RuleFinding, key_text, link_key, naming_order
+from .priorities import rule4
+from .synchronization import group_period, link_index, synchronizations, synchronized_groups
+
+__all__ = ["check_rules"]
+
+_ORDER = {"error": 0, "warning": 1, "info": 2}
+
+
+def check_rules(skeleton: Skeleton) -> list[RuleFinding]:
+    """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+        The design to check (file order decides the order of findings).
+
+    Returns
+    -------
+    list of RuleFinding
+        By rule, then errors before warnings before proposals, then file order.
+        No ``error`` or ``warning``: the design follows the rules (which
+        suffice for a live, consistent skeleton, spec §4).
+
+    See Also
+    --------
+    tegraph.fix_ports : repairs a dead skeleton by reordering ports.
+    tegraph.design.schedulability.schedulability : the Rule 4 priorities checked
+        by response times.
+    tegraph.analyze : the report that carries these findings.
+
+    References
+    ----------
+    .. [1] D. Simon et al., "Design and analysis of synchronization for
+       real-time closed-loop control in robotics", IEEE Transactions on Control
+       Systems Technology, 1998.
+    .. [2] C. L. Liu, J. W. Layland, "Scheduling algorithms for
+       multiprogramming in a hard-real-time environment", Journal of the ACM
+       20(1), 46–61, 1973.
+
+    Examples
+    --------
+    Figure 7a: three tasks wait for each other, no clock anywhere (Rule 3).
+
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "MT1": {"duration": 1, "inputs": ["b"], "outputs": ["a"]},
+    ...     "MT2": {"duration": 1, "inputs": ["c"], "outputs": ["b"]},
+    ...     "MT3": {"duration": 1, "inputs": ["a"], "outputs": ["c"]}},
+    ...   "links": [{"from": "MT2:b", "to": "MT1:b", "protocol": "ASYN/SYN"},
+    ...             {"from": "MT3:c", "to": "MT2:c", "protocol": "ASYN/SYN"},
+    ...             {"from": "MT1:a", "to": "MT3:a", "protocol": "ASYN/SYN"}]})
+    >>> [(f.kind.name, f.key) for f in check_rules(sk) if f.severity != "info"]
+    [('RULE3_NO_CLOCK', ('MT1', 'MT2', 'MT3'))]
+    """
+    groups = synchronized_groups(skeleton)
+    structural = structural_findings(skeleton, groups)
+    advisor = Advisor(skeleton, structural, groups)
+    findings = [advised(f, advisor) for f in structural]
+    findings += rule4(skeleton, groups)
+    index = {t: i for i, t in enumerate(skeleton.tasks)}
+    findings.sort(key=lambda f: (f.rule, _ORDER[f.severity],
+                                 min((index[t] for t in f.tasks), default=0)))
+    return findings
+
+
+def structural_findings(skeleton: Skeleton, groups: list[tuple[str, ...]]
+                        ) -> list[RuleFinding]:
+    """The findings of Rules 1-3, their advice still to be chosen."""
+    group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
+    return (rule1(skeleton, link_index(skeleton)) + rule2(skeleton, groups, group_of)
+            + rule3(skeleton, groups))
+
+
+def advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
+    """The finding with the best change that brings no other finding, in words."""
+    choice = advisor.choose(finding)
+    change, said = choice.change, choice.kept
+    if change is None:
+        # Only a bounded set of candidate changes is examined: say so, claim no more.
+        advice = (f"none of the changes examined (the smallest of their kind, at most "
+                  f"{CANDIDATE_LIMIT}) removes this")
+        if said:
+            advice += (f" without another finding of Rules 1-3: {said} would bring "
+                       + "; ".join(key_text(k) for k in sorted(choice.brought, key=naming_order))
+                       + f" [{choice.periods}]")
+        return dataclasses.replace(finding, advice=advice)
+    words = advisor.describe(change)
+    if finding.kind is FindingKind.RULE1_SEVERAL_SYNCS:
+        words = (f"keep only its {said}" + (" (footnote 6: the synchronizing port is best the "
+                 "first input read, or the last output posted)" if said != "clock" else "")
+                 + f": {words}")
+    elif finding.rule == 3 and said == SPLIT:
+        words = f"split the group, each clocked task keeping its clock: {words}"
+    elif finding.rule == 3 and said:
+        words = f"keep one clock ({said}): {words}"
+    elif finding.rule == 3:
+        words += " (one clock for the whole group)"
+    words += f" [{choice.periods}]"
+    if choice.live is False:
+        # Under a deadlock, advice that leaves it is said to leave it (spec §4 deadlocks).
+        words += (" This alone leaves the skeleton dead: none of the changes examined for this "
+                  "finding makes it live (see the deadlock's own advice).")
+    elif choice.live:
+        words += " This also makes the skeleton live."
+    return dataclasses.replace(finding, advice=words, change=change)
+
+
+def rule1(sk: Skeleton, index: tuple[dict, dict]) -> list[RuleFinding]:
+    """Rule 1: tasks with several synchronizations, and tasks outside threads with none."""
+    threaded = {t for thread in sk.threads for t in thread}
+    out = []
+    for name in sk.tasks:
+        syncs = synchronizations(sk, name, index)
+        if len(syncs) > 1:
+            out.append(RuleFinding(
+                FindingKind.RULE1_SEVERAL_SYNCS, name, (name,),
+                tuple(s.port for s in syncs if s.port),
+                tuple(s.link.label for s in syncs if s.link),
+                f"{name} has {len(syncs)} synchronizations ({'; '.join(s.label for s in syncs)}): "
+                "its activations are bound to two rates, which can overrun or deadlock "
+                "(Figures 7b, 12)", ""))
+        elif not syncs and name not in threaded:
+            out.append(RuleFinding(
+                FindingKind.RULE1_NO_SYNC, name, (name,), (), (),
+                f"{name} has no synchronization (no clock, no input read ASYN/SYN or SYN/SYN, "
+                "no output posted SYN/ASYN or SYN/SYN): it runs freely, as often as the "
+                "processor lets it", ""))
+    return out
+
+
+def rule2(sk: Skeleton, groups: list[tuple[str, ...]], group_of: dict[str, int]
+          ) -> list[RuleFinding]:
+    """Rule 2: rendezvous, and ASYN/ASYN links between two groups of one design period."""
+    periods = [group_period(sk, g) for g in groups]
+    out = []
+    for link in sk.links:
+        (w, p), (r, q) = link.writer, link.reader
+        key = link_key(link.writer, link.reader)
+        if link.protocol is Protocol.SYN_SYN:
+            out.append(RuleFinding(
+                FindingKind.RULE2_RENDEZVOUS, key, (w, r), (f"{w}:{p}", f"{r}:{q}"),
+                (link.label,),
+                f"{link.label} is a rendezvous: {w} and {r} both block on it, which the paper "
+                "advises to avoid (it adds circuits to the skeleton)", ""))
+        elif link.protocol is Protocol.ASYN_ASYN and group_of[w] != group_of[r]:
+            pw, pr = periods[group_of[w]], periods[group_of[r]]
+            if pw is not None and pw == pr:
+                out.append(RuleFinding(
+                    FindingKind.RULE2_UNSYNCHRONIZED, key, (w, r), (f"{w}:{p}", f"{r}:{q}"),
+                    (link.label,),
+                    f"{w} and {r} cooperate at one rate (period {display_text(pw)} {sk.unit}) "
+                    f"but {link.label} does not synchronize them: the scheduler may run {r} "
+                    f"before {w}, and the data then waits a period at each hop (Figure 4)", ""))
+    return out
+
+
+def rule3(sk: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
+    """Rule 3: groups without a clock, and groups with several."""
+    out = []
+    for tasks in groups:
+        clocks: dict[str, list[str]] = {}
+        for t in tasks:
+            if sk.tasks[t].clock:
+                clocks.setdefault(sk.tasks[t].clock, []).append(t)  # type: ignore[arg-type]
+        if not clocks:
+            out.append(RuleFinding(
+                FindingKind.RULE3_NO_CLOCK, tasks, tasks, (), (),
+                f"the group {{{', '.join(tasks)}}} has no clock: nothing sets its rate (it "
+                "runs as fast as its tasks allow), and nothing breaks a circular wait such as "
+                "Figure 7a", ""))
+        elif len(clocks) > 1:
+            out.append(RuleFinding(
+                FindingKind.RULE3_SEVERAL_CLOCKS, tasks, tasks, (), (),
+                f"the group {{{', '.join(tasks)}}} has {len(clocks)} clocks ("
+                + ", ".join(f"{c} on {', '.join(ts)}" for c, ts in clocks.items())
+                + "): its tasks are bound to several rates, which can overrun (Figure 12)", ""))
+    return out
