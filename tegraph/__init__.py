@@ -43,6 +43,7 @@ _WHERE = {
     "cycle_time": "tegraph.api",
     "explore": "tegraph.api",
     "reach": "tegraph.api",
+    "rules": "tegraph.api",
     "SensitivityResult": "tegraph.analysis.sensitivity_results",
     "duration_margins": "tegraph.analysis.sensitivity",
     "sensitivity": "tegraph.analysis.sensitivity",
@@ -85,7 +86,7 @@ if TYPE_CHECKING:  # static tools see the names where they are defined
     from .analysis.results import Report
     from .analysis.sensitivity import duration_margins, sensitivity
     from .analysis.sensitivity_results import SensitivityResult
-    from .api import analyze, cycle_time, explore, reach, to_dot, write
+    from .api import analyze, cycle_time, explore, reach, rules, to_dot, write
     from .design.fix import FixResult, fix_ports
     from .design.rules import RuleFinding, check_rules
     from .design.timeline import Timeline, simulate_timeline

@@ -25,7 +25,7 @@ from .analysis.cycle_time import cycle_time as cycle_time_of
 from .analysis.reachability import DEFAULT_MAX_MEMORY
 from .analysis.results import Report
 from .analysis.sensitivity_margins import duration_margins
-from .design.section import design_section
+from .design.section import DesignSection, design_section
 from .errors import InputError, TegraphError
 from .io._files import DEFAULT_MAX_BYTES
 from .io.dot import dot_text
@@ -36,7 +36,7 @@ from .report.dot import highlights
 if TYPE_CHECKING:  # the exploration is imported when called: `analyze` need not load it
     from .design.explore import Exploration
 
-__all__ = ["analyze", "cycle_time", "explore", "reach", "to_dot", "write"]
+__all__ = ["analyze", "cycle_time", "explore", "reach", "rules", "to_dot", "write"]
 
 #: Above this many tasks ``analyze`` leaves the duration margins to ``sensitivity``:
 #: measured (benchmarks/results/sensitivity.md), they cost about as much as
@@ -130,16 +130,66 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
     >>> r.live, r.consistent, r.tasks["A"].period, r.tasks["A"].slack
     (True, True, Fraction(10, 1), Fraction(8, 1))
     """
-    if isinstance(skeleton, (str, os.PathLike)):
-        skeleton = io.load_skeleton(skeleton)
-    elif not isinstance(skeleton, Skeleton):
-        raise TypeError(f"skeleton: expected a Skeleton (tegraph.load_skeleton reads one from "
-                        f"a file) or a path, got {type(skeleton).__name__}")
+    skeleton = _skeleton(skeleton)
     report = analyze_skeleton(skeleton, max_steps, semiflow_budget, semiflow_max_places)
     _add_duration_margins(skeleton, report, margins_max_tasks)
     if design:
         report.design = design_section(skeleton, report, chains)
     return report
+
+
+def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence[str]] = ()
+          ) -> DesignSection:
+    """The design rules of ORCCAD §6, schedulability and chain latencies (``tegraph rules``).
+
+    Parameters
+    ----------
+    skeleton : Skeleton or path
+        From :func:`tegraph.load_skeleton` or built in code; a path is read first.
+    chains : sequence of task-name sequences
+        Sensor-to-actuator chains whose latency to report, besides the
+        skeleton's own ``chains``.
+
+    Returns
+    -------
+    DesignSection
+        Its ``exit_status`` is the command's; :func:`tegraph.report.to_json`
+        gives its JSON document, :func:`tegraph.report.render_text` its text.
+
+    Raises
+    ------
+    SkeletonError
+        A chain of ``chains`` names an unknown task, a task twice, or two
+        consecutive tasks with no link between them.
+    InputError
+        ``skeleton`` is a path whose file is refused (it names the file and key path).
+    TypeError
+        ``skeleton`` is neither a :class:`Skeleton` nor a path.
+
+    See Also
+    --------
+    analyze : the same section inside the whole analysis.
+    tegraph.check_rules : the rules alone.
+
+    Examples
+    --------
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}})
+    >>> section = rules(sk)
+    >>> [(f.rule, f.severity) for f in section.rules], section.exit_status
+    ([(4, 'info')], 0)
+    """
+    skeleton = _skeleton(skeleton)
+    return design_section(skeleton, analyze_skeleton(skeleton), chains)
+
+
+def _skeleton(skeleton: Any) -> Skeleton:
+    """``skeleton`` itself, or the skeleton its path names."""
+    if isinstance(skeleton, (str, os.PathLike)):
+        return io.load_skeleton(skeleton)
+    if not isinstance(skeleton, Skeleton):
+        raise TypeError(f"skeleton: expected a Skeleton (tegraph.load_skeleton reads one from "
+                        f"a file) or a path, got {type(skeleton).__name__}")
+    return skeleton
 
 
 def _add_duration_margins(skeleton: Skeleton, report: Report, max_tasks: int) -> None:

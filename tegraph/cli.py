@@ -317,34 +317,17 @@ def rules(
     processor is schedulable; 1 otherwise; 2 the input was refused; 130 interrupted
     (Ctrl-C).
     """
-    import json
-
-    from .analysis.analyze import analyze_skeleton
-    from .design.latency import chain_latency, parse_chain
-    from .design.rules import check_rules
-    from .design.schedulability import schedulability
+    from .api import rules as check_design
+    from .design.latency import parse_chain
     from .io import load_skeleton
-    from .report import json_report
-    from .report.design_text import render_design
+    from .report import render_text, to_json
 
     with _refusals(file):
         skeleton = load_skeleton(file)
-        findings = check_rules(skeleton)
-        report = analyze_skeleton(skeleton)
-        sched = schedulability(skeleton, report)
-        chains = [(c, ("chains", i)) for i, c in enumerate(skeleton.chains)]
-        chains += [(parse_chain(c), ("chain", i)) for i, c in enumerate(chain or [])]
-        latencies = [chain_latency(skeleton, c, report, sched, path) for c, path in chains]
-    violated = any(f.severity != "info" for f in findings) or sched.schedulable is False
-    if json_out:
-        typer.echo(json.dumps(json_report("rules", {
-            "name": skeleton.name, "unit": skeleton.unit,
-            "rules": [f.to_dict() for f in findings], "schedulability": sched.to_dict(),
-            "latency": [r.to_dict() for r in latencies]}), indent=2, ensure_ascii=False))
-    else:
-        text = render_design(findings, sched, latencies, skeleton.unit)
-        typer.echo(_cli_words(text), nl=False)
-    raise typer.Exit(1 if violated else 0)
+        chains = [parse_chain(c) for c in chain or []]
+        section = check_design(skeleton, chains=chains)
+    typer.echo(to_json(section) if json_out else _cli_words(render_text(section)), nl=json_out)
+    raise typer.Exit(section.exit_status)
 
 
 @app.command()

@@ -56,7 +56,15 @@ from .invariants import minimal_semiflows
 from .liveness import token_free_circuits
 from .regime_bounds import autonomous_from
 from .reorder import reorder_ports, thread_advice
-from .results import Deadlock, GroupReport, InvariantCheck, Report, TaskReport, UnboundedPlace
+from .results import (
+    Deadlock,
+    GroupReport,
+    InvariantCheck,
+    Reorder,
+    Report,
+    TaskReport,
+    UnboundedPlace,
+)
 from .slack import shortest_circuits_through
 
 __all__ = ["analyze_skeleton"]
@@ -205,7 +213,7 @@ def _deadlocks(g: _EventGraph) -> tuple[list[Deadlock], set[int]]:
     return out, dead_groups
 
 
-def _reorder(skeleton: Skeleton, deadlocks: list[Deadlock]) -> dict:
+def _reorder(skeleton: Skeleton, deadlocks: list[Deadlock]) -> Reorder:
     result = reorder_ports(skeleton)
     if result.possible and result.skeleton is not None:
         # The argument of reorder.py is re-checked on the rebuilt graph.
@@ -224,8 +232,9 @@ def _reorder(skeleton: Skeleton, deadlocks: list[Deadlock]) -> dict:
             + "; ".join(result.links or ["(the circuit passes only through threads)"]))
     for d in deadlocks:
         d.advice = advice
-    return {"possible": result.possible, "orders": result.orders,
-            **({} if result.possible else {"circuit": result.circuit, "links": result.links})}
+    if result.possible:
+        return Reorder(True, result.orders)
+    return Reorder(False, result.orders, result.circuit, result.links)
 
 
 # ---------------------------------------------------------------------- periods

@@ -10,11 +10,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any
+from typing import Any, Protocol
 
 from maxplus.scalar import exact_text
 
-__all__ = ["Deadlock", "GroupReport", "InvariantCheck", "Report", "TaskReport", "UnboundedPlace"]
+__all__ = ["Deadlock", "DesignPart", "GroupReport", "InvariantCheck", "Reorder", "Report",
+           "TaskReport", "UnboundedPlace"]
 
 
 @dataclass
@@ -105,6 +106,52 @@ class GroupReport:
 
 
 @dataclass
+class Reorder:
+    """Whether some port order makes a dead skeleton live (spec §4 deadlocks).
+
+    Attributes
+    ----------
+    possible : bool
+    orders : dict
+        ``task -> {"inputs": [...], "outputs": [...]}`` for every task whose
+        order changes (empty when ``possible`` is False).
+    circuit : list of str or None
+        When impossible: a circuit of the precedence graph, as event names, a
+        deadlock whatever the port orders; None when possible.
+    links : list of LinkLabel or None
+        When impossible: the synchronizing links on that circuit; None when possible.
+    """
+
+    possible: bool
+    orders: dict[str, dict[str, list[str]]]
+    circuit: list[str] | None = None
+    links: list[Any] | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for the JSON report (``circuit`` and ``links`` only when impossible)."""
+        out: dict[str, Any] = {"possible": self.possible, "orders": self.orders}
+        if not self.possible:
+            out["circuit"] = self.circuit
+            out["links"] = [link.document() for link in self.links or ()]
+        return out
+
+
+class DesignPart(Protocol):
+    """What :attr:`Report.design` holds: the design section of ORCCAD §6.
+
+    It is :class:`tegraph.design.section.DesignSection`, a floor above the
+    analysis: the report carries it without importing it.
+    """
+
+    rules: list[Any]
+    schedulability: Any
+    latency: list[Any]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for the JSON report."""
+
+
+@dataclass
 class InvariantCheck:
     """The p-semiflow cross-check of the liveness verdict."""
 
@@ -138,7 +185,7 @@ class Report:
     live: bool
     consistent: bool
     deadlocks: list[Deadlock]
-    reorder: dict[str, Any] | None
+    reorder: Reorder | None
     groups: list[GroupReport]
     tasks: dict[str, TaskReport]
     unbounded_places: list[UnboundedPlace]
@@ -147,7 +194,7 @@ class Report:
     """How each verdict was obtained (theorem or algorithm, cross-check)."""
     notes: list[str] = field(default_factory=list)
     source: str | None = None
-    design: dict[str, Any] | None = None
+    design: DesignPart | None = None
     """Rules 1-4, schedulability and chain latencies (docs/skeleton.md §6)."""
 
     @property
@@ -170,9 +217,7 @@ class Report:
                  "links": [link.document() for link in d.links], "advice": d.advice}
                 for d in self.deadlocks
             ],
-            "reorder": None if self.reorder is None else {
-                key: [link.document() for link in value] if key == "links" else value
-                for key, value in self.reorder.items()},
+            "reorder": None if self.reorder is None else self.reorder.to_dict(),
             "groups": [
                 {
                     "tasks": g.tasks,
@@ -214,9 +259,5 @@ class Report:
             },
             "methods": self.methods,
             "notes": self.notes,
-            "design": None if self.design is None else {
-                "rules": [f.to_dict() for f in self.design["rules"]],
-                "schedulability": self.design["schedulability"].to_dict(),
-                "latency": [c.to_dict() for c in self.design["latency"]],
-            },
+            "design": None if self.design is None else self.design.to_dict(),
         }

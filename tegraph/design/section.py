@@ -1,21 +1,67 @@
-"""The design section of a report (ORCCAD §6): rules, schedulability, chain latencies."""
+"""The design section of a report (ORCCAD §6): rules, schedulability, chain latencies.
+
+It stands beside the :mod:`.rules` sub-package, not in it: it also reads the
+schedulability (:mod:`.schedulability`), which itself reads the rate-monotonic
+proposal of Rule 4.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from ..analysis.results import Report
 from ..model.skeleton import Skeleton
-from .latency import chain_latency
-from .rules import check_rules
-from .schedulability import schedulability
+from .latency import ChainLatency, chain_latency
+from .rules import RuleFinding, check_rules
+from .schedulability import Schedulability, schedulability
 
-__all__ = ["design_section"]
+__all__ = ["DesignSection", "design_section"]
+
+
+@dataclass
+class DesignSection:
+    """Rules 1-4, schedulability and chain latencies of one skeleton.
+
+    It is the ``design`` of a :class:`~tegraph.analysis.results.Report`, and
+    the whole result of ``tegraph rules`` (:func:`tegraph.api.rules`).
+
+    Attributes
+    ----------
+    name, unit : str
+        The skeleton's name and time unit.
+    rules : list of RuleFinding
+    schedulability : Schedulability
+    latency : list of ChainLatency
+        The skeleton's own chains, then those asked for.
+    """
+
+    name: str
+    unit: str
+    rules: list[RuleFinding]
+    schedulability: Schedulability
+    latency: list[ChainLatency]
+
+    @property
+    def exit_status(self) -> int:
+        """Of ``tegraph rules``: 1 when a rule is not followed (an error or a warning) or a
+        processor fails its schedulability test, else 0."""
+        violated = (any(f.severity != "info" for f in self.rules)
+                    or self.schedulability.schedulable is False)
+        return 1 if violated else 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``design`` of the JSON report (``rules``, ``schedulability``, ``latency``)."""
+        return {
+            "rules": [f.to_dict() for f in self.rules],
+            "schedulability": self.schedulability.to_dict(),
+            "latency": [c.to_dict() for c in self.latency],
+        }
 
 
 def design_section(skeleton: Skeleton, report: Report,
-                   chains: Sequence[Sequence[str]] = ()) -> dict[str, Any]:
+                   chains: Sequence[Sequence[str]] = ()) -> DesignSection:
     """Rules 1-4, schedulability and the latency of each chain, for one analyzed skeleton.
 
     Parameters
@@ -30,9 +76,8 @@ def design_section(skeleton: Skeleton, report: Report,
 
     Returns
     -------
-    dict
-        ``rules`` (list of RuleFinding), ``schedulability`` (Schedulability),
-        ``latency`` (list of ChainLatency): the ``design`` of a :class:`Report`.
+    DesignSection
+        The ``design`` of a :class:`Report`.
 
     Raises
     ------
@@ -42,8 +87,7 @@ def design_section(skeleton: Skeleton, report: Report,
     sched = schedulability(skeleton, report)
     named = [(tuple(c), ("chains", i)) for i, c in enumerate(skeleton.chains)]
     named += [(tuple(c), ("chain", i)) for i, c in enumerate(chains)]
-    return {
-        "rules": check_rules(skeleton),
-        "schedulability": sched,
-        "latency": [chain_latency(skeleton, c, report, sched, path) for c, path in named],
-    }
+    return DesignSection(
+        name=skeleton.name, unit=skeleton.unit, rules=check_rules(skeleton),
+        schedulability=sched,
+        latency=[chain_latency(skeleton, c, report, sched, path) for c, path in named])

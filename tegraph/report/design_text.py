@@ -10,6 +10,7 @@ from ..design.fix import FixResult
 from ..design.latency import ChainLatency
 from ..design.rules import RuleFinding
 from ..design.schedulability import PAPER_TEST, RTA_TEST, Schedulability
+from ..design.section import DesignSection
 from ._format import count, number
 
 __all__ = [
@@ -42,15 +43,16 @@ def render_rules(findings: list[RuleFinding]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def render_design(findings: list[RuleFinding], sched: Schedulability,
-                  latencies: list[ChainLatency], unit: str = "ms") -> str:
+def render_design(section: DesignSection) -> str:
     """What ``tegraph rules`` prints: rules, schedulability, latencies, and the verdict last.
 
-    The exit status it names is the command's: 1 when a rule is not followed
-    (an error or a warning) or a processor fails its schedulability test.
+    The exit status it names is the command's (:attr:`DesignSection.exit_status`): 1
+    when a rule is not followed (an error or a warning) or a processor fails its
+    schedulability test.
     """
+    findings, sched, unit = section.rules, section.schedulability, section.unit
     text = render_rules(findings) + "\n" + render_schedulability(sched, unit)
-    for r in latencies:
+    for r in section.latency:
         text += "\n" + render_latency(r, unit)
     counts = [(s, sum(f.severity == s for f in findings)) for s in ("error", "warning")]
     broken = ", ".join(count(n, f"design-rule {s}") for s, n in counts if n)

@@ -20,6 +20,7 @@ from ..analysis.results import Report
 from ..analysis.sensitivity_results import SensitivityResult
 from ..analysis.timed_reachability import TimedExploration
 from ..design.explore import Exploration
+from ..design.section import DesignSection
 
 __all__ = ["SCHEMA_VERSION", "json_report", "to_document", "to_json"]
 
@@ -43,7 +44,8 @@ def to_document(result: Any) -> dict[str, Any]:
 
     Parameters
     ----------
-    result : Report, CycleTimeResult, Reachability, TimedExploration or Exploration
+    result : Report, DesignSection, CycleTimeResult, Reachability, TimedExploration or
+        Exploration
         A result of this project.
 
     Returns
@@ -74,6 +76,11 @@ def to_document(result: Any) -> dict[str, Any]:
 @to_document.register
 def _(result: Report) -> dict[str, Any]:
     return json_report("analyze", result.to_dict())
+
+
+@to_document.register
+def _(result: DesignSection) -> dict[str, Any]:
+    return json_report("rules", {"name": result.name, "unit": result.unit, **result.to_dict()})
 
 
 @to_document.register

@@ -22,10 +22,17 @@ from ..design.explore import Exploration
 from ..design.fix import FixResult
 from ..design.latency import ChainLatency
 from ..design.schedulability import Schedulability
+from ..design.section import DesignSection
 from ..design.timeline import Timeline
 from ..model.elements import flow_list
 from ._format import count, human
-from .design_text import render_fix, render_latency, render_rules, render_schedulability
+from .design_text import (
+    render_design,
+    render_fix,
+    render_latency,
+    render_rules,
+    render_schedulability,
+)
 from .explore_text import render_exploration
 from .graph_text import (
     ratio_text,
@@ -69,9 +76,9 @@ def render_report(report: Report) -> str:
         lines.append(f"  what to change: {d.advice}")
     if report.reorder is not None:
         lines.append("")
-        if report.reorder["possible"]:
+        if report.reorder.possible:
             lines.append("reorder: a port order makes the skeleton live:")
-            for task, order in report.reorder["orders"].items():
+            for task, order in report.reorder.orders.items():
                 lines.append(f"  {task}: inputs {flow_list(order['inputs'])}, "
                              f"outputs {flow_list(order['outputs'])}")
         else:
@@ -122,9 +129,9 @@ def render_report(report: Report) -> str:
     else:
         lines.append(f"invariants: not computed ({inv.reason})")
     if report.design is not None:
-        lines += ["", render_rules(report.design["rules"]).rstrip("\n"),
-                  render_schedulability(report.design["schedulability"], u).rstrip("\n")]
-        lines += [render_latency(c, u).rstrip("\n") for c in report.design["latency"]]
+        lines += ["", render_rules(report.design.rules).rstrip("\n"),
+                  render_schedulability(report.design.schedulability, u).rstrip("\n")]
+        lines += [render_latency(c, u).rstrip("\n") for c in report.design.latency]
     for note in report.notes:
         lines.append(f"note: {note}")
     lines.append("")
@@ -175,8 +182,8 @@ def _verdict(report: Report) -> str:
         text = "verdict: " + "; ".join(problems) + " (exit status 1)"
     design = report.design
     if design is not None and report.exit_status == 0:
-        errors = sum(f.severity == "error" for f in design["rules"])
-        fails = design["schedulability"].schedulable is False
+        errors = sum(f.severity == "error" for f in design.rules)
+        fails = design.schedulability.schedulable is False
         if errors or fails:
             listed = [count(errors, "design-rule error")] if errors else []
             if fails:
@@ -193,7 +200,8 @@ def render_text(result: Any, **options: Any) -> str:
     Parameters
     ----------
     result : Report, CycleTimeResult, Reachability, TimedExploration, Schedulability,
-        ChainLatency, FixResult, Timeline, Exploration, or a list of RuleFinding
+        ChainLatency, FixResult, Timeline, Exploration, DesignSection, or a list of
+        RuleFinding
     **options
         Passed to the renderer of that result (``unit`` for schedulability and
         latency, ``limit`` for reachability, ``width`` for a timeline, ``name``
@@ -234,5 +242,6 @@ render_text.register(ChainLatency, lambda result, unit="ms", **_: render_latency
 render_text.register(FixResult, lambda result, name="skeleton", **_: render_fix(result, name))
 render_text.register(Timeline, lambda result, width=96, **_: render_timeline(result, width))
 render_text.register(list, lambda result, **_: render_rules(result))
+render_text.register(DesignSection, lambda result, **_: render_design(result))
 render_text.register(Exploration, lambda result, **_: render_exploration(result))
 render_text.register(SensitivityResult, lambda result, **_: render_sensitivity(result))

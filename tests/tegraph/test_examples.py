@@ -185,7 +185,7 @@ def test_fig7a_circular_wait():
 
 def test_fig7a_reorder_names_the_three_links():
     r = _report("fig7a_circular_wait.yaml")
-    assert sorted(r.reorder["links"]) == sorted([
+    assert sorted(r.reorder.links) == sorted([
         "MT2:b -> MT1:b (ASYN/SYN)", "MT3:c -> MT2:c (ASYN/SYN)", "MT1:a -> MT3:a (ASYN/SYN)"])
 
 
@@ -223,7 +223,7 @@ def test_fig7b_wrong_order():
 
 def test_fig7b_reorder_is_one_of_the_hand_derived_fixes():
     sk = _load("fig7b_wrong_order.yaml")
-    orders = _report("fig7b_wrong_order.yaml").reorder["orders"]
+    orders = _report("fig7b_wrong_order.yaml").reorder.orders
     full = {}
     for task, o in orders.items():
         # a task listed with an unchanged side keeps its declared order there

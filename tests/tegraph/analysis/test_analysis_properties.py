@@ -513,8 +513,8 @@ def test_reorder(data):
             if RefTEG(with_orders(sk, orders)).live:
                 any_live = True
                 break
-    if r.reorder["possible"]:
-        fixed = with_orders(sk, r.reorder["orders"])
+    if r.reorder.possible:
+        fixed = with_orders(sk, r.reorder.orders)
         # links, clocks and threads unchanged
         assert fixed.links == sk.links and fixed.clocks == sk.clocks
         assert fixed.threads == sk.threads
@@ -522,7 +522,7 @@ def test_reorder(data):
         assert analyze(fixed).live is True
         assert any_live in (True, None)
     else:
-        assert r.reorder["orders"] == {}
+        assert r.reorder.orders == {}
         assert any_live in (False, None)
 
 
@@ -543,7 +543,7 @@ def test_double_rendezvous_with_one_write():
     r = analyze(sk)  # today: AssertionError "the reordered skeleton is not live"
     assert r.live is False
     assert [d.events for d in r.deadlocks] == [["W.write:o"]]
-    assert r.reorder["possible"] is False and r.reorder["orders"] == {}
+    assert r.reorder.possible is False and r.reorder.orders == {}
 
 
 def test_rendezvous_with_a_write_that_precedes_in_the_other_order():
@@ -554,8 +554,8 @@ def test_rendezvous_with_a_write_that_precedes_in_the_other_order():
                "links": [{"from": "W:o1", "to": "R:a", "protocol": "SYN/SYN"},
                          {"from": "W:o2", "to": "R:b", "protocol": "SYN/SYN"}]})
     r = analyze(sk)
-    assert r.live is False and r.reorder["possible"] is True
-    assert analyze(with_orders(sk, r.reorder["orders"])).live is True
+    assert r.live is False and r.reorder.possible is True
+    assert analyze(with_orders(sk, r.reorder.orders)).live is True
 
 
 # CI (HYPOTHESIS_PROFILE=ci) runs the sweep at the size of the other tests.
@@ -574,5 +574,5 @@ def test_big_sweep(data):
     if r.live:
         check_regime(r, ref)
         check_overruns(r, sk, ref)
-    elif r.reorder["possible"]:
-        assert RefTEG(with_orders(sk, r.reorder["orders"])).live
+    elif r.reorder.possible:
+        assert RefTEG(with_orders(sk, r.reorder.orders)).live

@@ -68,19 +68,19 @@ def reference(skeleton, links, clocks, chains):
             variant = replace(skeleton, links=sk_links, clocks=sk_clocks)
             report = tegraph.analyze(variant, chains=chains)
             repaired = False
-            if not report.live and report.reorder["possible"]:
+            if not report.live and report.reorder.possible:
                 tasks = dict(variant.tasks)
-                for name, order in report.reorder["orders"].items():
+                for name, order in report.reorder.orders.items():
                     tasks[name] = replace(tasks[name], inputs=tuple(order["inputs"]),
                                           outputs=tuple(order["outputs"]))
                 variant = replace(variant, tasks=tasks)
                 report = tegraph.analyze(variant, chains=chains)
                 repaired = True
-            sched = report.design["schedulability"]
+            sched = report.design.schedulability
             kept = report.live and report.consistent and sched.schedulable is True
             objectives = None
             if kept:
-                objectives = [c.value for c in report.design["latency"]]
+                objectives = [c.value for c in report.design.latency]
                 ratios = [t.period / designed[n] for n, t in report.tasks.items()
                           if designed[n] is not None]
                 objectives.append(max(ratios, default=None))
@@ -90,7 +90,7 @@ def reference(skeleton, links, clocks, chains):
                 if len(processors) > 1:
                     objectives.append(sum(loads))
             # Ties are broken by the Rule 2 findings analyze's own rule check reports.
-            rule2 = sum(1 for f in report.design["rules"] if f.rule == 2)
+            rule2 = sum(1 for f in report.design.rules if f.rule == 2)
             judged[(*protocols, *(F(t) for t in periods))] = (kept, objectives, repaired,
                                                               rule2)
     kept = {k: (v[1], v[3]) for k, v in judged.items() if v[0]}

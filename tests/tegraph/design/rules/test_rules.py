@@ -350,6 +350,27 @@ def test_cli_rules_exit_statuses(tmp_path):
     assert refused.stderr.count("\n") == 1
 
 
+def test_the_rules_command_prints_what_the_library_call_returns():
+    # `tegraph rules` parses, calls tegraph.rules and prints its document and status; the
+    # section is the same one that `analyze` carries as its design.
+    import tegraph
+    from tegraph.report import to_document
+
+    path = EXAMPLES / "fig4_pipeline_unsynchronized.yaml"
+    section = tegraph.rules(str(path), chains=[["MT1", "MT2"]])
+    out = run("rules", str(path), "--json", "--chain", "MT1,MT2")
+    assert json.loads(out.stdout) == to_document(section)
+    assert out.returncode == section.exit_status == 1  # three Rule 2 warnings
+    doc = to_document(section)
+    assert list(doc) == ["schema_version", "report", "name", "unit", "rules", "schedulability",
+                         "latency"]
+    design = to_document(analyze(str(path), chains=[["MT1", "MT2"]]))["design"]
+    assert design == {k: doc[k] for k in ("rules", "schedulability", "latency")}
+    assert run("rules", str(path)).stdout.endswith("(exit status 1)\n")
+    with pytest.raises(TypeError, match="skeleton: expected a Skeleton"):
+        tegraph.rules(3)
+
+
 # ------------------------------------------------------------------ threads and processors
 
 def test_a_thread_across_two_processors_is_refused(tmp_path):
