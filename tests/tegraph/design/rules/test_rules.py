@@ -18,6 +18,7 @@ import pytest
 from tegraph import SkeletonError, analyze, load_skeleton
 from tegraph.design.rules import (
     Change,
+    FindingKind,
     check_rules,
     is_automaton,
     proposed_priorities,
@@ -348,6 +349,25 @@ def test_cli_rules_exit_statuses(tmp_path):
     assert refused.returncode == 2 and refused.stdout == ""
     assert "--chain[0][1]: no link from TG.JS to CO.JS" in refused.stderr
     assert refused.stderr.count("\n") == 1
+
+
+def test_findings_carry_their_kind_and_key():
+    # Figure 12: MT2 waits for its clock MT2.clock and for MT1's message (Rule 1, key the
+    # task); the group {MT1, MT2} has clocks rtc and MT2.clock (Rule 3, key the group).
+    fig12 = check_rules(load_skeleton(EXAMPLES / "fig12_double_sync.yaml"))
+    assert [(f.kind, f.key) for f in fig12 if f.rule < 4] == [
+        (FindingKind.RULE1_SEVERAL_SYNCS, "MT2"),
+        (FindingKind.RULE3_SEVERAL_CLOCKS, ("MT1", "MT2"))]
+    # Figure 4, unsynchronized: three ASYN/ASYN links between groups of one period (Rule 2,
+    # key the link's two ports); nothing declares a priority (Rule 4, key every task).
+    fig4 = check_rules(load_skeleton(EXAMPLES / "fig4_pipeline_unsynchronized.yaml"))
+    assert [(f.kind, f.key) for f in fig4] == [
+        (FindingKind.RULE2_UNSYNCHRONIZED, (("MT1", "x1"), ("MT2", "x1"))),
+        (FindingKind.RULE2_UNSYNCHRONIZED, (("MT2", "x2"), ("MT3", "x2"))),
+        (FindingKind.RULE2_UNSYNCHRONIZED, (("MT3", "x3"), ("MT4", "x3"))),
+        (FindingKind.RULE4_NONE_DECLARED, ("MT1", "MT2", "MT3", "MT4"))]
+    # The rule and severity are the kind's.
+    assert all((f.rule, f.severity) == f.kind.value[:2] for f in fig12 + fig4)
 
 
 def test_the_rules_command_prints_what_the_library_call_returns():
