@@ -10,10 +10,11 @@ from typing import Any
 
 from tabulate import tabulate
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text
 
 from ..design.explore import PRUNING_RULES, Exploration
 from ..design.explore_eval import ANALYZED, FAILED, PRUNED, rejection
+from ..design.explore_space import Constraints
 
 __all__ = ["FRONT_ROWS_SHOWN", "column_name", "render_exploration"]
 
@@ -54,14 +55,16 @@ def render_exploration(result: Exploration) -> str:
     for c in space.links:
         lines.append(f"  link {c.label}: {', '.join(p.value for p in c.protocols)}")
     for c in space.clocks:
-        lines.append(f"  clock {c.name}: " + ", ".join(f"{exact_text(t)}" for t in c.periods)
+        # Decimals as the user wrote them (5.43, 2.715), a fraction only when one does not
+        # terminate; the JSON report keeps its exact strings.
+        lines.append(f"  clock {c.name}: " + ", ".join(f"{display_text(t)}" for t in c.periods)
                      + f" {sk.unit}")
     lines.append("objectives, all minimized (ties broken by fewer Rule 2 findings):")
     for n in space.objectives:
         meaning = (f"chain latency in {sk.unit}, exact in one group, else the smallest "
                    "published bound" if n.startswith("latency:") else _MEANING[n])
         lines.append(f"  {column_name(n, sk.unit)}: {meaning}")
-    constraints = space.constraints.texts(sk.unit)
+    constraints = _constraint_texts(space.constraints, sk.unit)
     if constraints:
         lines.append("constraints: " + "; ".join(constraints))
     d = result.to_dict()
@@ -113,9 +116,11 @@ def _front(result: Exploration) -> list[str]:
     rows = []
     for r in result.front[:FRONT_ROWS_SHOWN]:
         e = result.entry(r)
-        cells: list[Any] = [r.variant, *e["links"].values(), *e["clocks"].values()]
+        # The clocks and objectives from their exact values, not the entry's JSON texts.
+        cells: list[Any] = [r.variant, *e["links"].values(),
+                            *(display_text(t) for t in space.periods(r.variant))]
         for n in space.objectives:
-            value = e["objectives"][n] or "-"
+            value = display_text(r.objectives.get(n)) or "-"
             if n in e["kinds"]:
                 value += f" {e['kinds'][n]}"
             cells.append(value)
@@ -126,11 +131,21 @@ def _front(result: Exploration) -> list[str]:
                                              for c in space.clocks),
                *(column_name(n, space.skeleton.unit) for n in space.objectives),
                "Rule 2", "repaired"]
-    lines.extend("  " + row for row in tabulate(rows, headers=headers).splitlines())
+    # No number parsing: tabulate would print 1038412611.331 as a rounded float (1.03841e+09).
+    lines.extend("  " + row for row in tabulate(rows, headers=headers,
+                                                disable_numparse=True).splitlines())
     if len(result.front) > FRONT_ROWS_SHOWN:
         lines.append(f"  ... and {len(result.front) - FRONT_ROWS_SHOWN} more (the JSON "
                      "report and the results file hold them all)")
     return lines
+
+
+def _constraint_texts(constraints: Constraints, unit: str) -> list[str]:
+    """Each constraint in words, its numbers as the user wrote them (``<= 9.2 ms``)."""
+    return ([f"{t}.period {op} {display_text(v)} {unit}" for t, op, v in constraints.periods]
+            + [f"latency {','.join(c)} <= {display_text(v)} {unit}"
+               for c, v in constraints.latencies]
+            + [f"no {p.value} link" for p in constraints.forbidden])
 
 
 def _examples(result: Exploration) -> dict[str, str]:
