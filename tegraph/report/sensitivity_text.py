@@ -9,6 +9,8 @@ a decimal beside them; every time carries its unit; the verdict is last.
 from __future__ import annotations
 
 from fractions import Fraction
+from functools import cache
+from typing import Any
 
 from tabulate import tabulate
 
@@ -17,7 +19,37 @@ from maxplus.scalar import display_text
 from ..analysis.sensitivity_results import Limit, SensitivityResult
 from ._format import number
 
-__all__ = ["render_sensitivity"]
+__all__ = ["formula_text", "render_sensitivity"]
+
+
+def formula_text(expression: Any) -> str:
+    """A sympy formula as text, its numbers as the input wrote them.
+
+    A rational prints as its exact decimal when that terminates
+    (:func:`maxplus.scalar.display_text`), else as its fraction; the expression
+    itself and the JSON report (``str`` of it) stay sympy-exact.
+
+    >>> import sympy
+    >>> d = sympy.Symbol("d_A", nonnegative=True)
+    >>> formula_text(sympy.Max(sympy.Rational(1037, 100), d + sympy.Rational(1, 3)))
+    'Max(10.37, d_A + 1/3)'
+    >>> formula_text((d + sympy.Rational(1037, 100)) / 2)
+    'd_A/2 + 5.185'
+    """
+    return _decimal_printer().doprint(expression)
+
+
+@cache
+def _decimal_printer() -> Any:
+    # sympy is imported on first use only, as in SensitivityResult.expression: importing
+    # it takes about a second that commands without formulas should not pay.
+    from sympy.printing.str import StrPrinter
+
+    class DecimalPrinter(StrPrinter):
+        def _print_Rational(self, expr: Any) -> str:
+            return str(display_text(Fraction(int(expr.p), int(expr.q))))
+
+    return DecimalPrinter()
 
 
 def _interval(a: Fraction, b: Fraction | None, unit: str = "", open_low: bool = False) -> str:
@@ -157,12 +189,12 @@ def _formula_lines(result: SensitivityResult) -> list[str]:
         clocks = f", clocks {', '.join(f.clocks)}" if f.clocks else ", no clock"
         head = f"  group {f.group} ({', '.join(f.tasks)}{clocks}): "
         if f.exact:
-            lines.append(head + f"{f.expression()} (exact over the whole range)")
+            lines.append(head + f"{formula_text(f.expression())} (exact over the whole range)")
         else:
             lines.append(head + f"{number(f.cycle_time)} at nominal, {len(f.parameters)} "
                          "parameters: only the terms critical there and the exact one-sided "
                          "derivatives")
-            lines.append(f"    critical terms: {f.expression()}")
+            lines.append(f"    critical terms: {formula_text(f.expression())}")
         moving = {p: d for p, d in f.derivatives.items() if d != (0, 0)}
         if moving:
             lines.append("    at nominal, d(period)/d(parameter) (left, right): "
