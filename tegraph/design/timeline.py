@@ -55,6 +55,7 @@ from ..analysis.deadlocks import skeleton_deadlocks
 from ..analysis.results import Deadlock
 from ..errors import InputError, ModelError
 from ..model.build import build_teg
+from ..model.limits import shown
 from ..model.skeleton import Protocol, Skeleton
 from .rules import synchronized_groups
 from .schedulability import effective_priorities, hyperperiod
@@ -385,7 +386,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     [('A', '0', '1'), ('B', '1', '2'), ('A', '2', '3'), ('B', '3', '4')]
     """
     if isinstance(max_jobs, bool) or not isinstance(max_jobs, int) or max_jobs < 1:
-        raise InputError(f"expected an integer >= 1, got {max_jobs!r}", "max_jobs")
+        raise InputError(f"expected an integer >= 1, got {shown(repr(max_jobs), quote=False)}",
+                         "max_jobs")
     priorities, source = effective_priorities(skeleton)
     clocks = skeleton.clocks
     if clocks:
@@ -396,7 +398,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
                    Fraction(1))
     horizon = full if horizon is None else Fraction(horizon)
     if horizon <= 0:
-        raise ModelError(f"the horizon must be > 0, got {display_text(horizon)}", "timeline")
+        raise ModelError(f"the horizon must be > 0, got {_time(horizon, skeleton.unit)}",
+                         "timeline")
     _check_jobs(skeleton, horizon, horizon == full and bool(clocks), max_jobs)
     ticks = {c: [k.phase + n * k.period for n in range(_count(k.phase, k.period, horizon))]
              for c, k in clocks.items()}
@@ -523,16 +526,29 @@ def _check_jobs(sk: Skeleton, horizon: Fraction, default: bool, max_jobs: int) -
     if sk.clocks:
         hyper = hyperperiod(c.period for c in sk.clocks.values())
         why = (f"the default horizon, the largest clock phase plus the hyperperiod "
-               f"{display_text(hyper)} {u} of the clock periods" if default
-               else f"the hyperperiod of the clock periods is {display_text(hyper)} {u}")
+               f"{_time(hyper, u)} of the clock periods" if default
+               else f"the hyperperiod of the clock periods is {_time(hyper, u)}")
     else:
         why = "no clock: the default horizon is twice the sum of the durations"
     busiest = sorted((b, t) for t, b in bounds.items() if b is not None)[::-1][:3]
-    shown = ", ".join(f"{t} {_amount(b)}" for b, t in busiest)
+    counts = ", ".join(f"{t} {_amount(b)}" for b, t in busiest)
     raise InputError(
-        f"simulating up to {display_text(horizon)} {u} ({why}) may take {_amount(total)} jobs "
-        f"({shown}), more than `max_jobs` = {max_jobs:,}: give a shorter `horizon`, or raise "
+        f"simulating up to {_time(horizon, u)} ({why}) may take {_amount(total)} jobs "
+        f"({counts}), more than `max_jobs` = {max_jobs:,}: give a shorter `horizon`, or raise "
         "`max_jobs` (nothing was simulated)", "max_jobs")
+
+
+def _time(value: Fraction, unit: str) -> str:
+    """A time for a message: as the input wrote it, cut with its length when too long to read.
+
+    A horizon of 2 + 2e-400 ms is a fraction of 802 characters: the message shows its
+    first 40 and its length (:func:`~tegraph.model.limits.shown`, the one way messages
+    shorten a value), never the whole number.
+
+    >>> _time(Fraction(5, 2), "ms"), _time(2 + Fraction(2, 10**400), "ms")[-24:]
+    ('2.5 ms', '... (802 characters) ms')
+    """
+    return f"{shown(display_text(value), quote=False)} {unit}"
 
 
 def _amount(n: int) -> str:
@@ -586,7 +602,8 @@ def _dispatch(sim: _Sim, by_processor: dict[str | None, list[str]],
             fired += 1
             if fired > budget:
                 raise ModelError(
-                    f"{top} runs its chain again and again at {now} without time passing "
+                    f"{top} runs its chain again and again at {_time(now, sim.sk.unit)} "
+                    "without time passing "
                     "(a task of duration 0 with nothing to wait for)", "timeline")
             break
         if not progress:

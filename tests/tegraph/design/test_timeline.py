@@ -398,3 +398,26 @@ def test_a_refusal_states_the_hyperperiod_as_the_input_wrote_its_periods():
         simulate_timeline(sk, max_jobs=2)
     assert "hyperperiod 7.5 ms" in str(refused.value) and "8 jobs (B 5, A 3)" in str(refused.value)
     assert "15/2" not in str(refused.value)
+
+
+@pytest.mark.parametrize("duration, characters", [
+    # No clock: the horizon is 2 * (1 + duration). 2 + 2e-400 = (10^400 + 1)/(5 * 10^399):
+    # 401 + 1 + 400 = 802 characters; 2 + 2/(10^4000 - 1) = 2 * 10^4000/(10^4000 - 1):
+    # 4001 + 1 + 4000 = 8002 characters. Both terminate or not, but past 30 digits: fractions.
+    ("1e-400", 802), ("1/" + "9" * 4000, 8002)])
+def test_a_refusal_shortens_a_horizon_too_long_to_read(tmp_path, duration, characters):
+    # Issue 21 review: the message printed the ~800-digit horizon (8.3 KB for 4000 nines).
+    f = tmp_path / "w.yaml"
+    f.write_text(f'tasks:\n  W: {{duration: "{duration}", outputs: [x]}}\n'
+                 '  R: {duration: 1, inputs: [x]}\n'
+                 'links:\n  - {from: "W:x", to: "R:x", protocol: ASYN/SYN}\n')
+    res = CliRunner().invoke(app, ["timeline", str(f)])
+    assert res.exit_code == 2 and "Traceback" not in res.output
+    assert f"... ({characters} characters) ms (no clock" in res.output
+    assert len(res.output) < 500, len(res.output)
+
+
+def test_a_short_horizon_is_refused_with_its_unit():
+    sk = Skeleton.from_dict({"unit": "us", "tasks": {"A": {"duration": 1, "period": 10}}})
+    with pytest.raises(ModelError, match=r"the horizon must be > 0, got -2.5 us"):
+        simulate_timeline(sk, horizon="-2.5")
