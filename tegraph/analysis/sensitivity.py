@@ -158,6 +158,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     result = SensitivityResult(skeleton.name, skeleton.unit, params, all(g.live for g in groups),
                                all(fine.values()), [list(g.tasks) for g in groups], None, {},
                                None, source=skeleton.source)
+    result.models = {g.index: g for g in live}
     result.effort["setup"] = {"rounds": 1, "points": len(live), "analyses": 0,
                               "seconds": time.perf_counter() - started}
     context = _Context(skeleton, params, nominal, groups, fine, at_nominal)

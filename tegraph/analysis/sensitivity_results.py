@@ -13,7 +13,7 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
-from .sensitivity_model import Parameter
+from .sensitivity_model import Parameter, ParametricGroup
 
 __all__ = ["Check", "GroupFormulaReport", "Limit", "Margin", "PaceReport", "Scaling",
            "SensitivityResult", "Term"]
@@ -253,6 +253,10 @@ class SensitivityResult:
     effort: dict[str, dict[str, int | float]] = field(default_factory=dict)
     """Per part: oracle rounds (batched calls), points asked, analyses run, seconds."""
     source: str | None = None
+    models: dict[int, ParametricGroup] = field(default_factory=dict, repr=False, compare=False)
+    """The live groups' parametric event graphs by group index
+    (:class:`~.sensitivity_model.ParametricGroup`), for drawings that ask the oracle
+    again (:func:`~.sensitivity_region.consistent_region`); not part of the JSON."""
 
     @property
     def checks(self) -> list[Check]:

@@ -10,9 +10,11 @@ only the drawing coordinates are floats.
 - One parameter: each group's period (cycle time) against the parameter, the
   values where the group is consistent shaded, the nominal value marked.
 - Two parameters: for each group that depends on them, the cells of its
-  period formula (which circuit is critical where), the region where it
-  keeps pace with its clock outlined, the nominal point marked. Overruns are
-  not drawn in the plane (they are exact along lines: see the margins).
+  period formula (which circuit is critical where), where it keeps pace with
+  every clock (pale yellow, each clock's boundary outlined), inside it where
+  it is consistent, with no overrun either (green, exact:
+  :mod:`tegraph.analysis.sensitivity_region`), the edges beyond which an
+  overrun begins, and the nominal point with its verdict.
 """
 
 from __future__ import annotations
@@ -21,7 +23,10 @@ import os
 from fractions import Fraction
 from pathlib import Path
 
+from maxplus.scalar import display_text
+
 from ..analysis.sensitivity_polyhedra import Polyhedron
+from ..analysis.sensitivity_region import ConsistentRegion, consistent_region
 from ..analysis.sensitivity_results import GroupFormulaReport, SensitivityResult
 from ..errors import InputError
 from .plot import INSTALL_HINT, PlotUnavailableError, matplotlib_available, save_figure
@@ -30,6 +35,10 @@ __all__ = ["draw_sensitivity", "plot_parameters", "sensitivity_figure"]
 
 _FORMATS = (".svg", ".png")
 _SHADE, _CURVE, _PACE = "#c7e9c0", "#4878a8", "#d62728"
+_PACE_ONLY = "#fdf1b8"
+"""Keeps pace with every clock but overruns: pale yellow, under the consistent green."""
+_NOT_CONSISTENT, _CONSISTENT_POINT, _OVERRUN = "#7f0000", "#006d2c", "black"
+_CONSISTENT_LINE = "#41ab5d"
 _CLOCK_COLOURS = ["#d62728", "#1f77b4", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"]
 """One colour per clock's boundary (two clocks never share one)."""
 _CELL_GREYS = ["#f2f2f2", "#e0e0e0", "#cccccc", "#ebebeb", "#d6d6d6", "#c2c2c2"]
@@ -190,18 +199,28 @@ def _two(fig, result: SensitivityResult) -> None:
                 cy = sum(float(b) for _, b in cell) / len(cell)
                 ax.annotate(_term_text(t), (cx, cy), ha="center", fontsize="x-small")
         if f.pace:
-            # Where the group keeps pace with all its clocks at once (overruns are not
-            # drawn in the plane: the margins give them exactly along lines).
+            # Where the group keeps pace with all its clocks at once, and inside it, where
+            # it is consistent (no overrun either): computed exactly by the oracle.
             every = _pace_polygon(f.pace, px.name, py.name, window, nominal)
             clocks = ", ".join(r.clock for r in f.pace)
-            if every:
+            if len(every) >= 3:
                 ax.fill([float(a) for a, _ in every], [float(b) for _, b in every],
-                        facecolor=_SHADE, edgecolor="none", alpha=0.8, zorder=1,
+                        facecolor=_PACE_ONLY, edgecolor="none", zorder=1,
                         label=f"keeps pace with every clock ({clocks})")
+            elif every:  # periods equal only on a line: a segment (or a point)
+                ax.plot([float(a) for a, _ in every], [float(b) for _, b in every],
+                        color=_PACE_ONLY, linewidth=9, solid_capstyle="butt", zorder=1,
+                        label=f"keeps pace with every clock ({clocks}) only on this "
+                              f"{'segment' if len(every) == 2 else 'point'}")
             else:
-                ax.add_line(Line2D([], [], color=_SHADE, linewidth=6,
+                ax.add_line(Line2D([], [], color=_PACE_ONLY, linewidth=6,
                                    label=f"nowhere here keeps pace with every clock "
                                          f"({clocks})"))
+            found = _consistent(result, f, px.name, py.name, window, nominal)
+        else:
+            found = None
+        if found is not None:
+            _draw_consistent(ax, found)
         for c, region in enumerate(f.pace):
             colour = _CLOCK_COLOURS[c % len(_CLOCK_COLOURS)]
             shape = _pace_polygon([region], px.name, py.name, window, nominal)
@@ -214,14 +233,68 @@ def _two(fig, result: SensitivityResult) -> None:
             else:
                 ax.add_line(Line2D([], [], color=colour, linestyle=":",
                                    label=f"{region.clock}: not kept pace with anywhere here"))
-        ax.plot([float(px.nominal)], [float(py.nominal)], marker="o", color="black",
-                linestyle="none", zorder=3, label="nominal")
+        verdict = ("" if found is None or found.why_not is not None else
+                   ": consistent" if found.nominal_consistent else ": NOT CONSISTENT")
+        ax.plot([float(px.nominal)], [float(py.nominal)],
+                marker="x" if verdict == ": NOT CONSISTENT" else "o", markersize=8,
+                color=_NOT_CONSISTENT if verdict == ": NOT CONSISTENT" else (
+                    _CONSISTENT_POINT if verdict else "black"),
+                linestyle="none", zorder=4,
+                label=f"nominal ({display_text(px.nominal)}, {display_text(py.nominal)})"
+                      f"{verdict}")
         ax.set_xlim(float(x0), float(x1))
         ax.set_ylim(float(y0), float(y1))
         ax.set_xlabel(f"{px.name} ({result.unit})")
         ax.set_ylabel(f"{py.name} ({result.unit})")
-        ax.set_title(f"group {f.group}: critical circuit by region (greys)", fontsize="small")
+        ax.set_title(f"group {f.group}: where it is consistent; critical circuit by region "
+                     "(greys)", fontsize="small")
         ax.legend(fontsize="x-small")
+
+
+def _consistent(result: SensitivityResult, f: GroupFormulaReport, x: str, y: str, window,
+                nominal) -> ConsistentRegion | None:
+    """Where group ``f`` is consistent in the window (None: the result holds no model)."""
+    model = result.models.get(f.group)
+    if model is None:
+        return None
+    index = {p.name: i for i, p in enumerate(result.parameters)}
+    pace = []
+    for coefficients, bound, _ in (q for r in f.pace for q in r.inequalities):
+        rest = sum((c * nominal[n] for n, c in coefficients.items() if n not in (x, y)),
+                   Fraction(0))
+        pace.append((coefficients.get(x, Fraction(0)), coefficients.get(y, Fraction(0)),
+                     bound - rest))
+    if any(r.empty for r in f.pace):
+        pace.append((Fraction(0), Fraction(0), Fraction(-1)))  # 0 <= -1: nowhere
+    values = [p.nominal for p in result.parameters]
+    return consistent_region(model, index[x], index[y], window, pace, values)
+
+
+def _draw_consistent(ax, region: ConsistentRegion) -> None:
+    """The consistent polygon (green), where an overrun begins (its edges), or why not."""
+    from matplotlib.lines import Line2D
+
+    if region.why_not is not None:
+        ax.add_line(Line2D([], [], color="grey", linestyle="none", marker="",
+                           label=region.why_not))
+        return
+    label = "consistent: keeps pace with every clock and no overrun (exact)"
+    shape = region.vertices
+    if len(shape) >= 3:
+        ax.fill([float(a) for a, _ in shape], [float(b) for _, b in shape],
+                facecolor=_SHADE, edgecolor="none", zorder=1.5, label=label)
+    elif shape:  # a point or a segment: drawn darker, it has no area to show
+        ax.plot([float(a) for a, _ in shape], [float(b) for _, b in shape],
+                color=_CONSISTENT_LINE, linewidth=4, marker="|", markersize=12, zorder=1.5,
+                label=label + f" only on this {'segment' if len(shape) == 2 else 'point'}")
+    else:
+        ax.add_line(Line2D([], [], color=_SHADE, linewidth=6,
+                           label="consistent nowhere here (exact)"))
+    tasks = sorted({task for _, _, task in region.overrun_edges})
+    for k, (u, v, _) in enumerate(region.overrun_edges):
+        ax.plot([float(u[0]), float(v[0])], [float(u[1]), float(v[1])],
+                color=_OVERRUN, linewidth=2.5, zorder=2.5,
+                label=f"an overrun begins beyond ({', '.join(tasks)})" if k == 0 else None)
 
 
 def _term_text(term) -> str:
@@ -258,7 +331,7 @@ def _ordered(points) -> list[tuple[Fraction, Fraction]]:
     import math
 
     if len(points) < 3:
-        return []
+        return sorted(points)  # a point or a segment (a period equal to another clock's)
     cx = sum(float(a) for a, _ in points) / len(points)
     cy = sum(float(b) for _, b in points) / len(points)
     return sorted(points, key=lambda q: math.atan2(float(q[1]) - cy, float(q[0]) - cx))
@@ -271,7 +344,8 @@ def _cell(f: GroupFormulaReport, i: int, x: str, y: str, window, nominal):
         if k != i:  # t_k <= t_i
             ck, ak, bk = _affine_2d(t, x, y, nominal)
             P.add(((ak - ai, bk - bi), ci - ck))
-    return _ordered(P.vertices())
+    cell = _ordered(P.vertices())
+    return cell if len(cell) >= 3 else []  # a cell of no area is not drawn
 
 
 def _pace_polygon(regions, x: str, y: str, window, nominal):
