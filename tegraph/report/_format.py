@@ -62,9 +62,23 @@ def decimal_text(value: Fraction) -> str | None:
     rounded = Context(prec=digits).divide(Decimal(value.numerator), Decimal(value.denominator))
     if abs(rounded.adjusted()) >= _EXACT_DIGITS:  # far from 1: scientific notation says it
         return "≈" + format(rounded, f".{_ROUNDED_DIGITS - 1}e")
-    while rounded == rounded.to_integral_value():  # never let a fraction look whole
-        digits += 1
-        rounded = Context(prec=digits).divide(Decimal(value.numerator), Decimal(value.denominator))
+    if rounded == rounded.to_integral_value():  # never let a fraction look whole
+        # The fewest digits that do not look whole, found by doubling then bisecting:
+        # 10 - 1e-4299 needs 4,301, and one division per digit took seconds. Looking
+        # whole is monotone in the digits (a rounding to p digits is whole when p is at
+        # most the integer digits, or the value is within half a unit of the p-th digit
+        # of an integer; both hold for every smaller p), so the bisection is exact.
+        def whole(p: int) -> bool:
+            r = Context(prec=p).divide(Decimal(value.numerator), Decimal(value.denominator))
+            return r == r.to_integral_value()
+
+        low, high = digits, 2 * digits
+        while whole(high):
+            low, high = high, 2 * high
+        while high - low > 1:
+            middle = (low + high) // 2
+            low, high = (middle, high) if whole(middle) else (low, middle)
+        rounded = Context(prec=high).divide(Decimal(value.numerator), Decimal(value.denominator))
     return "≈" + format(rounded, "f")
 
 
