@@ -80,6 +80,9 @@ class VariantResult:
         The port orders were changed to make it live (``orders`` says how).
     consistent : bool or None
     schedulable : bool or None
+        None once consistent: the response-time test ran out of its budget
+        (:data:`~tegraph.design.schedulability.RTA_BUDGET`) undecided, and the
+        variant is kept (an undecided test rejects nothing).
     objectives : dict of str to Fraction or None
         Every objective of the space (None where undefined).
     kinds : dict of str to str
@@ -111,8 +114,9 @@ class VariantResult:
 
     @property
     def kept(self) -> bool:
-        """Live, consistent, schedulable and not against a constraint."""
-        return bool(self.live and self.consistent and self.schedulable
+        """Live, consistent, schedulable (or its test undecided by its budget: None after
+        a consistent verdict) and not against a constraint."""
+        return bool(self.live and self.consistent and self.schedulable is not False
                     and self.meets is not False)
 
 
@@ -133,7 +137,7 @@ def rejection(result: VariantResult) -> str | None:
         return REJECTIONS[1]
     if not result.consistent:
         return REJECTIONS[3] if result.reason.startswith("overrun") else REJECTIONS[2]
-    if not result.schedulable:
+    if result.schedulable is False:
         return REJECTIONS[4]
     if result.meets is False:
         return REJECTIONS[5]
@@ -234,8 +238,11 @@ def evaluate_variant(space: DesignSpace, variant: int,
         result.reason = _inconsistency(report)
         return result
     sched = schedulability(skeleton, report)
-    result.schedulable = sched.schedulable is True
-    if not result.schedulable:
+    # A test the budget left undecided rejects nothing: the variant stays, its
+    # schedulable cell empty (None), never read as "not schedulable".
+    result.schedulable = None if sched.undecided and sched.schedulable is None else (
+        sched.schedulable is True)
+    if result.schedulable is False:
         result.reason = _unschedulable(sched, skeleton.unit)
     _objectives(space, skeleton, report, sched, result)
     if space.constraints:

@@ -410,8 +410,9 @@ def _bounds(segments: list[Segment], sched: Schedulability, unit: str) -> list[B
             why.append(f"group {s.group} has no steady period")
         if u is None:
             why.append(f"the tasks {', '.join(s.tasks)} are not one scheduling unit")
-        elif not u.schedulable:
-            why.append(f"group {s.group} does not meet its period")
+        elif not u.schedulable or u.response_time is None:
+            why.append(f"group {s.group} does not meet its period" if u.bounds is None
+                       else f"group {s.group}'s response time is only bounded (budget)")
         terms.append((s.period, None if u is None or not u.schedulable else u.response_time,
                       None if u is None else (u.processor, u.priority)))
     formula_davare = "sum over segments of (T + R)"

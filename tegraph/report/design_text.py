@@ -62,7 +62,9 @@ def render_design(section: DesignSection) -> str:
     if problems:
         verdict = "; ".join(problems) + " (exit status 1)"
     else:
+        undecided = ", ".join(", ".join(u.tasks) for u in sched.undecided)
         sched_text = ("schedulable" if sched.schedulable
+                      else f"schedulability undecided (budget) for {undecided}" if undecided
                       else "schedulability not decided (a group is not live)")
         verdict = f"design rules followed, {sched_text} (exit status 0)"
     return text + f"\nverdict: {verdict}\n"
@@ -99,7 +101,8 @@ def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
                          f"{display_text(p.condition_margin)} {unit})")
         rows = []
         for u in p.units:
-            verdict = "-" if u.schedulable is None else ("yes" if u.schedulable else "NO")
+            verdict = ("undecided" if u.undecided else "-" if u.schedulable is None
+                       else ("yes" if u.schedulable else "NO"))
             rows.append([u.group, ", ".join(u.tasks), u.priority, number(u.period),
                          number(u.cost), number(u.response_time), number(u.margin), verdict,
                          u.note])

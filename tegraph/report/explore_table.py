@@ -7,10 +7,12 @@ skeleton, choices and objectives), ``link:W:p -> R:q`` (the protocol, one
 column per chosen link), ``clock:NAME`` (the period, exact), ``judged``
 (analyzed, pruned, failed), ``live``, ``repaired``, ``consistent``,
 ``schedulable``, ``meets_constraints``, ``kept`` (true, false or empty when not
-reached), one column per objective (exact, such as ``7/3``; empty where
-undefined), ``kind:`` and the objective for each latency (``exact`` or
-``bound``), ``rule2`` (Rule 2 findings, the tie-breaker), ``orders`` (the port
-orders of a repair, JSON), ``reason`` (why not kept), ``seconds``.
+reached; ``schedulable`` empty after ``consistent`` true: the response-time test
+was undecided within its budget, and the variant is kept), one column per
+objective (exact, such as ``7/3``; empty where undefined), ``kind:`` and the
+objective for each latency (``exact`` or ``bound``), ``rule2`` (Rule 2
+findings, the tie-breaker), ``orders`` (the port orders of a repair, JSON),
+``reason`` (why not kept), ``seconds``.
 
 **CSV** rows are written and flushed one batch at a time, so a killed run
 loses only the batches in flight; a last line cut by the kill is dropped when

@@ -9,16 +9,25 @@ instant when every task is released at 0.
 
 from __future__ import annotations
 
+import time
 from fractions import Fraction as F
 
+import pytest
+import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from typer.testing import CliRunner
 
-from tegraph import load_skeleton
+import tegraph
+from tegraph import InputError, load_skeleton
+from tegraph.cli import app
+from tegraph.design import schedulability as sched_module
 from tegraph.design.schedulability import (
+    UndecidedError,
     effective_priorities,
     hyperperiod,
     response_time,
+    response_time_bounds,
     schedulability,
 )
 from tegraph.design.timeline import simulate_timeline
@@ -165,3 +174,142 @@ def test_response_times_match_the_simulation(tasks):
         u = s.unit_of(name)
         if u.schedulable:
             assert first[name].finish == u.response_time, (name, data)
+
+
+# --- issue 21 review, item 1: a nearly full processor, the start and the budget ---------
+
+NEARLY_FULL = {"tasks": {"H": {"duration": 9999999, "period": 10000000},
+                         "L": {"duration": 10000000, "period": 10**16}}}
+
+
+def plain_iteration(cost, pairs):
+    """Joseph and Pandya as published: from C, until the fixed point (None: no time)."""
+    if cost == 0:
+        return F(0)
+    if pairs and sum(c / t for c, t in pairs) >= 1:
+        return None
+    r = F(cost)
+    while True:
+        nxt = cost + sum(-(-r // t) * c for c, t in pairs)  # ceil(r/t) of Fractions
+        if nxt == r:
+            return r
+        r = nxt
+
+
+def test_a_unit_under_a_nearly_full_processor_is_schedulable():
+    # U_H = 9999999/10^7 = 1 - 10^-7 < 1. R_L = 10^7 + ceil(R/10^7)*9999999: at
+    # R = 10^14, ceil = 10^7 and 10^7 + 10^7*9999999 = 10^7*10^7 = 10^14: a fixed point,
+    # and the least (any fixed point is >= C/(1-U) = 10^7/10^-7 = 10^14). 10^14 <= 10^16.
+    s = schedulability(Skeleton.from_dict(NEARLY_FULL))
+    u = s.unit_of("L")
+    assert (u.response_time, u.schedulable, u.margin) == (10**14, True, 10**16 - 10**14)
+    assert "no time" not in u.note and s.schedulable is True
+    # The start C/(1-U) is the fixed point: one evaluation of one term.
+    r = response_time_bounds(F(10**7), [(F(9999999), F(10**7))])
+    assert (r.status, r.value, r.terms) == ("exact", 10**14, 1)
+
+
+def test_rules_and_analyze_answer_at_once_on_nearly_full_processors(tmp_path):
+    path = tmp_path / "full.yaml"
+    path.write_text(yaml.safe_dump(NEARLY_FULL))
+    start = time.monotonic()
+    out = CliRunner().invoke(app, ["rules", str(path)])
+    assert out.exit_code == 0, out.output
+    assert "no time" not in out.output and "design rules followed, schedulable" in out.output
+    # H and 8 units of 125000 every 10^14 + i (rate-monotonic: L0 first).
+    # L0 under H: C/(1-U) = 125000/10^-6 = 1.25*10^11, and 125000 +
+    # ceil(1.25*10^11/10^6)*999999 = 125000*(1 + 999999) = 1.25*10^11: R = 1.25*10^11.
+    many = {"tasks": {"H": {"duration": 999999, "period": 10**6},
+                      **{f"L{i}": {"duration": 125000, "period": 10**14 + i} for i in range(8)}}}
+    path.write_text(yaml.safe_dump(many))
+    for command in (["rules", str(path)], ["analyze", str(path), "--design"]):
+        out = CliRunner().invoke(app, command)
+        assert out.exit_code == 0, (command, out.output)
+        assert "no time" not in out.output
+    assert time.monotonic() - start < 30
+    s = schedulability(Skeleton.from_dict(many))
+    assert s.unit_of("L0").response_time == F(125 * 10**9) and s.schedulable is True
+
+
+def test_three_tasks_start_from_the_proven_lower_bound():
+    # H1 (1 every 2), H2 (2 every 10): U = 1/2 + 1/5 = 7/10. L: C = 3000.
+    # Lower bounds: C + 1 + 2 = 3003 and C/(1 - U) = 3000/(3/10) = 10000: start 10000.
+    # W(10000) = 3000 + ceil(10000/2)*1 + ceil(10000/10)*2 = 3000 + 5000 + 2000 = 10000:
+    # the fixed point, in one iteration (two terms); upper bound (3003)/(3/10) = 10010.
+    pairs = [(F(1), F(2)), (F(2), F(10))]
+    r = response_time_bounds(F(3000), pairs)
+    assert (r.status, r.value, r.lower, r.upper, r.terms) == ("exact", 10000, 10000, 10000, 2)
+    assert plain_iteration(F(3000), pairs) == 10000
+    s = schedulability(Skeleton.from_dict({"tasks": {
+        "H1": {"duration": 1, "period": 2}, "H2": {"duration": 2, "period": 10},
+        "L": {"duration": 3000, "period": 20000}}}))
+    assert (s.unit_of("L").response_time, s.unit_of("L").schedulable) == (10000, True)
+
+
+def textbook(period_c):
+    return Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 4},
+                                         "B": {"duration": 2, "period": 6},
+                                         "C": {"duration": 3, "period": period_c}}})
+
+
+def test_a_budget_that_runs_out_is_undecided_never_no_time():
+    # C = 3 under (1, 4), (2, 6): U = 7/12; start max(3+1+2, 3/(5/12)) = 36/5;
+    # W(36/5) = 3 + 2*1 + 2*2 = 9, then 10, then 10 (R = 10, three iterations of two
+    # terms). Upper bound (3 + 1 + 2)/(5/12) = 72/5. A budget of 2 terms stops at 9.
+    r = response_time_bounds(F(3), [(F(1), F(4)), (F(2), F(6))], budget=2)
+    assert (r.status, r.value, r.lower, r.upper, r.terms) == ("budget", None, 9, F(72, 5), 2)
+    with pytest.raises(UndecidedError):
+        response_time(F(3), [(F(1), F(4)), (F(2), F(6))], budget=2)
+    assert response_time_bounds(F(3), [(F(1), F(4)), (F(2), F(6))], budget=6).value == 10
+    # Period 12: 9 <= 12 < 72/5, undecided. B under A: start max(3, 8/3) = 3 = W(3), exact.
+    s = schedulability(textbook(12), budget=2)
+    c = s.unit_of("C")
+    assert (c.response_time, c.bounds, c.schedulable, c.undecided) == (None, (9, F(72, 5)),
+                                                                      None, True)
+    assert c.note.startswith("undecided (budget)") and "no time" not in c.note
+    assert s.unit_of("B").response_time == 3
+    assert s.processors[0].schedulable is None and s.schedulable is None
+    assert s.undecided == [c]
+    assert s.to_dict()["processors"][0]["units"][2]["response_time_bounds"] == ["9", "72/5"]
+    # The bounds settle it when they can: period 8 < 9 (no), period 15 >= 72/5 (yes).
+    assert schedulability(textbook(8), budget=2).unit_of("C").schedulable is False
+    assert schedulability(textbook(15), budget=2).unit_of("C").schedulable is True
+    with pytest.raises(InputError, match="budget"):
+        schedulability(textbook(12), budget=0)
+
+
+def test_rules_say_undecided_when_the_budget_runs_out(tmp_path, monkeypatch):
+    monkeypatch.setattr(sched_module, "RTA_BUDGET", 2)
+    path = tmp_path / "textbook.yaml"
+    path.write_text(yaml.safe_dump({"tasks": {"A": {"duration": 1, "period": 4},
+                                              "B": {"duration": 2, "period": 6},
+                                              "C": {"duration": 3, "period": 12}}}))
+    out = CliRunner().invoke(app, ["rules", str(path)])
+    assert "undecided (budget)" in out.output and "no time" not in out.output
+    assert "NO" not in out.output and "not schedulable" not in out.output
+    assert "verdict:" in out.output and "undecided" in out.output.split("verdict:")[1]
+
+
+def test_explore_keeps_a_variant_whose_test_is_undecided(monkeypatch):
+    monkeypatch.setattr(sched_module, "RTA_BUDGET", 2)
+    found = tegraph.explore(textbook(12), clocks={"C.clock": [12]}, workers=0)
+    (result,) = found.results.values()
+    assert result.kept and result.schedulable is None and found.front == [result]
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 30), st.lists(st.tuples(st.integers(1, 12), st.integers(1, 12),
+                                               st.integers(1, 3)), max_size=4),
+       st.integers(1, 3))
+def test_the_lower_bound_start_reaches_the_plain_fixed_point(c, interferers, den):
+    # Random small task sets (costs and periods in quarters, halves...): the accelerated
+    # recurrence equals Joseph and Pandya's plain iteration from C.
+    cost = F(c, den)
+    pairs = [(F(ci, d), F(ti, d)) for ci, ti, d in interferers]
+    expected = plain_iteration(cost, pairs)
+    r = response_time_bounds(cost, pairs)
+    if expected is None:
+        assert r.status == "no time"
+    else:
+        assert (r.status, r.value) == ("exact", expected)
+        assert r.lower == r.upper == expected
