@@ -412,8 +412,32 @@ def exact_text(value: Fraction | int | None) -> str | None:
         return None
     value = Fraction(value)
     if value.denominator == 1:
-        return str(value.numerator)
-    return f"{value.numerator}/{value.denominator}"
+        return _int_text(value.numerator)
+    return f"{_int_text(value.numerator)}/{_int_text(value.denominator)}"
+
+
+_CHUNK_DIGITS = 1000
+_CHUNK = 10**_CHUNK_DIGITS
+
+
+def _int_text(n: int) -> str:
+    """``str(n)`` for an int of any size.
+
+    Inputs are bounded (:data:`MAX_DIGITS`), but what is computed from them is not:
+    the demand of a task of duration 1e-4299 over a hyperperiod has a denominator of
+    4,301 digits, and ``str`` refuses more than 4,300 (Python's default guard).
+
+    >>> _int_text(-(10**5000))[:4], len(_int_text(10**5000))
+    ('-100', 5001)
+    """
+    if n.bit_length() < _SAFE_BITS:
+        return str(n)
+    sign, n = "-" if n < 0 else "", abs(n)
+    chunks = []
+    while n:
+        n, r = divmod(n, _CHUNK)
+        chunks.append(r)
+    return sign + str(chunks[-1]) + "".join(f"{c:0{_CHUNK_DIGITS}d}" for c in chunks[-2::-1])
 
 DISPLAY_DIGITS = 30
 """Most significant digits of a decimal that text reports print instead of a fraction."""
@@ -454,7 +478,7 @@ def display_text(value: Fraction | int | None) -> str | None:
         return None
     value = Fraction(value)
     if value.denominator == 1:
-        return str(value.numerator)
+        return _int_text(value.numerator)
     d, places = value.denominator, 0
     for p in (2, 5):  # p/q terminates iff q = 2^a 5^b; it has max(a, b) places
         count = 0
@@ -467,6 +491,8 @@ def display_text(value: Fraction | int | None) -> str | None:
     scaled = abs(value.numerator) * 10**places // value.denominator
     while places and scaled % 10 == 0:  # 2.50 -> 2.5
         scaled, places = scaled // 10, places - 1
+    if scaled >= 10**DISPLAY_DIGITS:  # more digits than shown (and maybe than str takes)
+        return exact_text(value)
     digits = str(scaled)
     if len(digits) > DISPLAY_DIGITS:
         return exact_text(value)

@@ -53,7 +53,7 @@ def decimal_text(value: Fraction) -> str | None:
     '≈1.00000e+400'
     """
     if value.denominator == 1:
-        if len(str(abs(value.numerator))) <= _LONG_INTEGER:
+        if abs(value.numerator) < 10**_LONG_INTEGER:  # no str(): it refuses 4,301 digits
             return None
         return "≈" + format(Context(prec=_ROUNDED_DIGITS).create_decimal(value.numerator), ".5e")
     if "/" not in str(display_text(value)):
