@@ -334,7 +334,8 @@ def reach(model: Any, *, timed: bool = False, max_states: int = 1_000_000,
     Raises
     ------
     InputError
-        ``timed`` for a model that is not a skeleton.
+        ``timed`` for a model that is not a skeleton; ``max_states`` not an
+        integer >= 1.
     TegraphError
         A model that has no P/T net within ``max_firings``.
 
@@ -355,6 +356,9 @@ def reach(model: Any, *, timed: bool = False, max_states: int = 1_000_000,
     from .model.build import build_teg
     from .model.convert import as_petri_net
 
+    # A search of no state decides nothing: refused, like a memory budget of 0 bytes.
+    if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
+        raise InputError(f"expected an integer >= 1, got {max_states!r}", "max_states")
     budgets = {"max_states": max_states, "max_seconds": max_seconds, "progress": progress,
                "stop": stop}
     if timed:

@@ -203,8 +203,9 @@ def reach(
     timed: bool = typer.Option(False, "--timed",
                                help="Timed exploration (ORCCAD §5): periods, transients and "
                                     "overruns from the first repeated state (skeletons only)."),
-    max_states: int = typer.Option(1_000_000, "--max-states", min=0,
-                                   help="State budget; beyond it the answer is inconclusive."),
+    max_states: int = typer.Option(1_000_000, "--max-states",
+                                   help="State budget (>= 1); beyond it the answer is "
+                                        "inconclusive."),
     max_seconds: float | None = typer.Option(None, "--max-seconds", min=0,
                                                 help="Time budget in seconds."),
     max_memory: str = typer.Option("2G", "--max-memory", help="Memory budget of the stored "
@@ -342,7 +343,7 @@ def timeline(
     width: int = typer.Option(96, "--width", min=10, help="Columns of the text diagram."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
     max_jobs: int = typer.Option(
-        100_000, "--max-jobs", min=1,
+        100_000, "--max-jobs",  # no typer min: the library refuses in one line
         help="Refuse at once (exit 2) a simulation that may take more jobs than this "
              "(bounded before simulating: ticks, horizon over duration, waits)."),
 ) -> None:

@@ -1,0 +1,52 @@
+"""A budget of nothing is refused in one line naming its option (issue 21 review, item 2).
+
+``reach --max-states 0`` answered "inconclusive, budget 0 states" with exit 0, and
+``timeline --max-jobs 0`` printed typer's multi-line usage error: both now give the
+library's one-line refusal, exit status 2, like ``--max-memory 0``.
+"""
+
+from __future__ import annotations
+
+import pytest
+from typer.testing import CliRunner
+
+from tegraph import InputError, Skeleton
+from tegraph.api import reach
+from tegraph.cli import app
+
+ONE_TASK = "tasks:\n  A: {duration: 1, period: 10}\n"
+
+
+def refused_in_one_line(out, option: str) -> str:
+    assert out.exit_code == 2, out.output
+    lines = out.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("tegraph: error: "), out.output
+    assert option in lines[0] and "Traceback" not in out.output and "Usage" not in out.output
+    return lines[0]
+
+
+@pytest.mark.parametrize("value", ["0", "-1"])
+@pytest.mark.parametrize("timed", [[], ["--timed"]])
+def test_reach_refuses_a_state_budget_of_nothing(tmp_path, value, timed):
+    path = tmp_path / "a.yaml"
+    path.write_text(ONE_TASK)
+    out = CliRunner().invoke(app, ["reach", str(path), "--max-states", value, *timed])
+    line = refused_in_one_line(out, "--max-states")
+    assert "expected an integer >= 1" in line and "inconclusive" not in line
+
+
+def test_reach_refuses_a_state_budget_of_nothing_in_the_library():
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 10}}})
+    with pytest.raises(InputError) as caught:
+        reach(sk, max_states=0)
+    assert caught.value.where == "max_states"
+    assert reach(sk, max_states=1).exit_status == 0
+
+
+@pytest.mark.parametrize("value", ["0", "-3"])
+def test_timeline_refuses_a_job_budget_of_nothing_in_one_line(tmp_path, value):
+    path = tmp_path / "a.yaml"
+    path.write_text(ONE_TASK)
+    out = CliRunner().invoke(app, ["timeline", str(path), "--max-jobs", value])
+    line = refused_in_one_line(out, "--max-jobs")
+    assert "expected an integer >= 1" in line
