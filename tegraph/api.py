@@ -474,7 +474,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
             output: str | os.PathLike[str] | None = None, resume: bool = False,
             overwrite: bool = False, max_variants: int = 10_000,
             batch_size: int | None = None, progress: Any = None,
-            timeout: float = 10.0, requires: Sequence[Any] = (),
+            timeout: float | str = 10.0, requires: Sequence[Any] = (),
             max_latency: Sequence[Any] = (), forbid: Sequence[Any] = ()) -> Exploration:
     """Search protocol and clock choices for the best live, consistent, schedulable designs.
 
@@ -516,8 +516,9 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
         Variants per batch (default adaptive).
     progress : callable, optional
         Called with a :class:`tegraph.design.explore_run.Progress` after each batch.
-    timeout : float
-        Seconds to wait for the scheduler (finite, at most a day).
+    timeout : float, Fraction or str
+        Seconds to wait for the scheduler (> 0, at most a day), read exactly as
+        every number is (``"5/2"``; ``"1e999999999"`` refused by its size).
     requires : sequence
         ``"TASK.period=P"`` or ``"TASK.period<=P"``: kept designs run the task at
         that period.

@@ -61,7 +61,7 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
           "max_memory": "--max-memory", "max_firings": "--max-firings", "timed": "--timed",
           "max_jobs": "--max-jobs", "horizon": "--horizon"}
 _FLAGS.update({"requires": "--require", "max_latency": "--max-latency", "forbid": "--forbid",
-               "timeout": "--timeout"})
+               "timeout": "--timeout", "all_links": "--all-links"})
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -475,7 +475,9 @@ def explore(
         None, "--link", help="'W:p -> R:q=ASYN/SYN,SYN/SYN': choose this link's protocol "
                              "among these (all four without '='; repeatable)."),
     all_links: bool = typer.Option(False, "--all-links",
-                                   help="Choose every link's protocol among all four."),
+                                   help="Choose every link's protocol among all four; a link "
+                                        "also given by --link keeps the protocols --link "
+                                        "gives it (the report says so)."),
     clock: list[str] | None = typer.Option(
         None, "--clock", help="NAME=5,10,20: choose this clock's period among these "
                               "(a task's own clock is TASK.clock; repeatable)."),
@@ -519,9 +521,9 @@ def explore(
                                              "this many."),
     batch_size: int | None = typer.Option(None, "--batch-size", min=1,
                                           help="Variants per batch (default adaptive)."),
-    timeout: float = typer.Option(10.0, "--timeout",
-                                  help="Seconds to wait for the scheduler to answer "
-                                       "(> 0 and finite, at most 86400)."),
+    timeout: str = typer.Option("10", "--timeout",  # text: the library's exact parser reads it
+                                help="Seconds to wait for the scheduler to answer, e.g. 30 "
+                                     "or 5/2 (> 0, at most 86400)."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report."),
 ) -> None:
     """Search link protocols and clock periods for the Pareto front of live, consistent,

@@ -26,16 +26,17 @@ References
 
 from __future__ import annotations
 
-import math
 import re
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from maxplus.scalar import exact_text
+from maxplus.errors import MaxPlusValueError
+from maxplus.scalar import exact_text, exact_time
 
 from ..errors import InputError
+from ..model.limits import shown
 from .explore_eval import ANALYZED, FAILED, PRUNED, REJECTIONS, VariantResult, rejection
 from .explore_prune import DeadlockOracle
 from .explore_run import Progress, RunLog, run_search
@@ -201,6 +202,38 @@ class Exploration:
 MAX_TIMEOUT = 86_400.0
 """Longest wait for a scheduler, in seconds (a day): Dask takes a finite duration."""
 
+def wait_seconds(timeout: Any) -> float:
+    """A scheduler timeout read by the one number parser, as the seconds Dask takes.
+
+    Numbers, exact fractions and texts (``"1/2"``, ``"2.5"``) alike go through
+    :func:`maxplus.scalar.exact_time`, whose digit bound refuses ``1e999999999``
+    by its size (never expanded, never read as infinity); a refusal shows the
+    value as given.
+
+    >>> wait_seconds("1/2"), wait_seconds(30)
+    (0.5, 30.0)
+    >>> wait_seconds("0")
+    Traceback (most recent call last):
+    ...
+    tegraph.errors.InputError: timeout: expected a number of seconds > 0 and at most 86400 \
+(a day), got '0'
+    """
+    expected = f"expected a number of seconds > 0 and at most {MAX_TIMEOUT:g} (a day)"
+    given = shown(timeout) if isinstance(timeout, str) else shown(repr(timeout), quote=False)
+    try:
+        value = exact_time(timeout, "timeout")
+    except MaxPlusValueError as exc:
+        reason = str(exc).removeprefix("timeout: ")
+        # The parser's own words when they are about the text given (its size, a zero
+        # denominator); its (max,+) words about infinity mean nothing for a wait.
+        if "(max,+)" in reason or reason.startswith("expected"):
+            raise InputError(f"{expected}, got {given}", "timeout") from None
+        raise InputError(f"{expected}; {reason}", "timeout") from None
+    if not 0 < value <= MAX_TIMEOUT:
+        raise InputError(f"{expected}, got {given}", "timeout")
+    return float(value)
+
+
 _ADDRESS = re.compile(r"(?:(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*)://)?(?P<host>\[[0-9A-Fa-f:.]+\]|"
                       r"[A-Za-z0-9_.-]+):(?P<port>[0-9]{1,5})/?")
 
@@ -245,7 +278,7 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
                    known: dict[int, VariantResult] | None = None,
                    record: Callable[[Sequence[VariantResult]], None] | None = None,
                    progress: Callable[[Progress], None] | None = None,
-                   timeout: float = 10.0) -> Exploration:
+                   timeout: float | str = 10.0) -> Exploration:
     """Search ``space`` for the Pareto front of live, consistent, schedulable designs.
 
     Parameters
@@ -269,8 +302,8 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
         Receives each list of new verdicts as it arrives (to append to a file).
     progress : callable, optional
         Receives a :class:`~tegraph.design.explore_run.Progress` after each batch.
-    timeout : float
-        Seconds to wait for the scheduler to answer.
+    timeout : float, Fraction or str
+        Seconds to wait for the scheduler to answer (:func:`wait_seconds`).
 
     Returns
     -------
@@ -298,10 +331,7 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
         raise InputError("give either `scheduler` or `workers`, not both", "workers")
     if scheduler is not None:
         scheduler = scheduler_address(scheduler)
-    if isinstance(timeout, bool) or not isinstance(timeout, int | float) \
-            or not math.isfinite(timeout) or not 0 < timeout <= MAX_TIMEOUT:
-        raise InputError(f"expected a number of seconds > 0 and at most {MAX_TIMEOUT:g} (a "
-                         f"day), got {timeout!r}", "timeout")
+    timeout = wait_seconds(timeout)
     if workers is not None and workers < 0:
         raise InputError(f"expected a number of workers >= 0, got {workers}", "workers")
     if max_variants < 1:
@@ -324,6 +354,11 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
                         max_variants, log, time.perf_counter() - start,
                         resumed=sum(1 for v in results if v in known))
     found.local_optimum_at = getattr(search, "optimum_at", None)
+    for c in space.links:
+        if c.narrowed:
+            found.notes.append(f"`links` narrows `all_links` for {c.label}: only "
+                               f"{', '.join(p.value for p in c.protocols)} there (name the "
+                               "link without '=' to choose it among all)")
     failed = found.count(FAILED)
     if failed:
         found.notes.append(f"{failed} variant(s) failed to be judged (see their rows)")

@@ -21,7 +21,7 @@ import json
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
 from typing import Any
@@ -110,6 +110,9 @@ class LinkChoice:
     index: int
     label: str
     protocols: tuple[Protocol, ...]
+    narrowed: bool = field(default=False, compare=False)
+    """Given by ``links`` with fewer protocols than ``all_links`` gives the other links
+    (the report says so; not part of the fingerprint)."""
 
 
 @dataclass(frozen=True)
@@ -370,7 +373,9 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         None: all four). A plain sequence holds ``"W:p -> R:q"`` (all four) or
         ``"W:p -> R:q=ASYN/SYN,SYN/SYN"`` texts.
     all_links : bool
-        Choose every link of the skeleton (with all four protocols), besides ``links``.
+        Choose every link of the skeleton (with all four protocols, less ``forbid``);
+        a link also in ``links`` keeps the protocols ``links`` gives it (marked
+        ``narrowed``, and said in the report).
     clocks : mapping of str to sequence of times, or sequence of pairs or texts
         Clock name (``TASK.clock`` for a task's ``period:``) -> candidate periods;
         as a sequence, ``(name, periods)`` pairs or ``"NAME=5,10"`` texts.
@@ -456,6 +461,11 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         if not left:
             raise InputError("every protocol is forbidden; expected at least one left",
                              "forbid")
+        # `links` narrows `all_links` for the links it names (the one way to vary every
+        # link but restrict some): kept, and marked so that the report says it.
+        for i, c in chosen.items():
+            if set(c.protocols) < set(left):
+                chosen[i] = replace(c, narrowed=True)
         for i, link in enumerate(skeleton.links):
             chosen.setdefault(i, LinkChoice(i, link_text(link.writer, link.reader), left))
     for i, link in enumerate(skeleton.links):

@@ -51,6 +51,11 @@ _JUDGED = (ANALYZED, PRUNED, FAILED)
 _KINDS = ("exact", "bound")
 _NOT_OURS = ("; expected a results file written by `tegraph explore` for this skeleton and "
              "these choices (the file is left as it was: pass `overwrite` to replace it)")
+# With `resume`, `overwrite` replaces nothing (resuming reads the file): say what does.
+_NOT_OURS_RESUMED = ("; expected a results file written by `tegraph explore` for this "
+                     "skeleton and these choices (the file is left as it was: `overwrite` "
+                     "does not replace a file being resumed; write to a new `output` file, "
+                     "or drop `resume` and keep `overwrite` to start this one anew)")
 
 
 def columns(space: DesignSpace) -> list[str]:
@@ -97,6 +102,7 @@ class ResultsTable:
                  overwrite: bool = False) -> None:
         self.path = Path(os.fspath(path))
         self.space = space
+        self.overwrite = overwrite
         self.columns = columns(space)
         self.parquet = self.path.suffix.lower() == ".parquet"
         if self.path.suffix.lower() not in _SUFFIXES:
@@ -123,7 +129,7 @@ class ResultsTable:
         if existing and resume:
             # Everything is read and checked before the first byte is written or cut.
             if self.parquet and self.path.exists():
-                self._load(_read_parquet(self.path, self.columns), self.path)
+                self._load(_read_parquet(self.path, self.columns, overwrite), self.path)
             if self.journal.exists():
                 rows, cut = self._read_csv(self.journal)
                 self._load(rows, self.journal)
@@ -178,7 +184,8 @@ class ResultsTable:
                 + [json.dumps(r.orders) if r.orders else "", r.reason, f"{r.seconds:.6f}"])
 
     def _refuse(self, path: Path, line: int | None, what: str) -> NoReturn:
-        raise InputError(what + _NOT_OURS, "", str(path), line)
+        raise InputError(what + (_NOT_OURS_RESUMED if self.overwrite else _NOT_OURS), "",
+                         str(path), line)
 
     def _read_csv(self, path: Path) -> tuple[list[tuple[int | None, dict[str, str]]], int | None]:
         """The rows of a CSV table with their line numbers, and where to cut a last row
@@ -402,14 +409,16 @@ def _write_parquet(path: Path, names: list[str], records: list[list[str]]) -> No
     os.replace(temporary, path)
 
 
-def _read_parquet(path: Path, names: list[str]) -> list[tuple[int | None, dict[str, str]]]:
+def _read_parquet(path: Path, names: list[str], overwrite: bool = False
+                  ) -> list[tuple[int | None, dict[str, str]]]:
     """The rows of a Parquet results file; refused, untouched, when it is not one of
     this exploration's (not Parquet, other columns, cells that are not text)."""
     _pyarrow()
     import pyarrow.parquet as pq
 
     def refuse(what: str) -> NoReturn:
-        raise InputError(what + _NOT_OURS, "", str(path))
+        raise InputError(what + (_NOT_OURS_RESUMED if overwrite else _NOT_OURS), "",
+                         str(path))
 
     try:
         table = pq.read_table(path)

@@ -53,7 +53,9 @@ def render_exploration(result: Exploration) -> str:
     lines = [f"explore {sk.name}: {result.space.size:,} variant(s) "
              f"({len(space.links)} link(s), {len(space.clocks)} clock(s) chosen)"]
     for c in space.links:
-        lines.append(f"  link {c.label}: {', '.join(p.value for p in c.protocols)}")
+        lines.append(f"  link {c.label}: {', '.join(p.value for p in c.protocols)}"
+                     + (" (narrowed by `links`; `all_links` gives the other links every "
+                        "protocol not forbidden)" if c.narrowed else ""))
     for c in space.clocks:
         # Decimals as the user wrote them (5.43, 2.715), a fraction only when one does not
         # terminate; the JSON report keeps its exact strings.
