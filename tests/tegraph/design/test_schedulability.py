@@ -9,9 +9,11 @@ instant when every task is released at 0.
 
 from __future__ import annotations
 
+import json
 import time
 from fractions import Fraction as F
 
+import jsonschema
 import pytest
 import yaml
 from hypothesis import given, settings
@@ -313,3 +315,11 @@ def test_the_lower_bound_start_reaches_the_plain_fixed_point(c, interferers, den
     else:
         assert (r.status, r.value) == ("exact", expected)
         assert r.lower == r.upper == expected
+
+
+def test_the_bounds_of_an_undecided_unit_follow_the_report_schema():
+    schema = json.loads((REPO / "docs" / "report.schema.json").read_text())
+    check = {"$ref": "#/$defs/schedulability", "$defs": schema["$defs"]}
+    for period in (8, 12, 15):  # decided no, undecided, decided yes by the bounds
+        jsonschema.validate(schedulability(textbook(period), budget=2).to_dict(), check)
+    jsonschema.validate(schedulability(textbook(12)).to_dict(), check)
