@@ -18,7 +18,11 @@ The exact test is the response-time analysis of Joseph and Pandya [2]_:
 the worst response time of a unit released with all more urgent units
 (critical instant) is the least fixed point of
 ``R = C + Σ_{j more urgent} ceil(R/T_j)·C_j``; it meets its implicit deadline
-(its period) iff ``R <= T``. Everything is computed in exact Fractions.
+(its period) iff ``R <= T``. Everything is computed exactly. The iteration
+starts from a proven lower bound of the fixed point and runs within a stated
+budget (:data:`RTA_BUDGET` terms per unit); a unit whose budget runs out gets
+proven bounds on its response time and is "undecided (budget)" unless they
+settle its test (see :func:`response_time_bounds`).
 
 A *unit* is what the scheduler sees: the tasks of one group on one processor
 with one priority and one rate (one unit per group and processor when Rule 4
@@ -199,22 +203,23 @@ def response_time_bounds(cost: Fraction, interferers: Iterable[tuple[Fraction, F
     ``n_j <= ceil(t*/T_j)``, finitely many: the iterates stop at a fixed point
     ``<= t*``, which is ``t*`` because ``t*`` is the least. The plain start
     ``C`` (Joseph and Pandya) obeys the same argument: both reach the same
-    ``t*``, from here in no more steps: one for the example below, where the
-    plain start needs 10^7 (a step of the plain iteration adds about ``C_j/T_j``
-    of the gap).
+    ``t*``, and from here in no more steps (``W`` is monotone, so the higher
+    start stays ahead: ``W^k(C) <= W^k(L) <= t*``): one step for the example
+    below, where the plain start needs 10^7.
 
     **Upper bound.** ``ceil(x) < x + 1`` gives ``W(t) <= C + Σ C_j + U t``, so
-    ``W(u) <= u`` at ``u = (C + Σ C_j)/(1 - U)`` and the iterates (all ``<= t*``)
-    stay below ``u``: ``t* <= u``.
+    ``W(u) <= u`` at ``u = (C + Σ C_j)/(1 - U) >= L``; for ``t <= u``,
+    ``W(t) <= W(u) <= u``, so the iterates from ``L`` never pass ``u``, and
+    their limit ``t*`` is ``<= u``.
 
-    **Budget.** Each step that is not the last rises by at least
-    ``min C_j``, so the steps are at most ``(u - L)/min C_j + 1 <= Σ C_j /
-    ((1-U) min C_j) + 1``: few in practice, but many interferers against a
-    processor loaded to ``1 - 10^-7`` can need millions (the gaps shrink like
-    ``U^k``). The budget bounds the work; when it runs out the result holds
-    the proven bounds ``[t_k, u]`` (status ``"budget"``), never "no time".
-    The arithmetic runs on integers (every time scaled by the least common
-    denominator), exactly.
+    **Budget.** After the first step, each step that is not the last rises by
+    at least ``min C_j`` (some ``ceil`` grew by one), so the steps are at most
+    ``(u - L)/min C_j + 2 <= Σ C_j/((1-U) min C_j) + 2``: few in practice, but
+    many interferers against a processor loaded to ``1 - 10^-7`` can need
+    millions (the gaps shrink like ``U^k``). The budget bounds the work; when
+    it runs out the result holds the proven bounds ``[t_k, u]`` (status
+    ``"budget"``), never "no time". The arithmetic runs on integers (every
+    time scaled by the least common denominator), exactly.
 
     References
     ----------
