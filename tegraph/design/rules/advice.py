@@ -37,6 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from maxplus import max_cycle_ratio
 from maxplus.scalar import display_text
 
 from ...analysis.liveness import token_free_circuits
@@ -121,6 +122,7 @@ class Advisor(Candidates):
         self.keys = {f.identity for f in findings}
         self._dead: bool | None = None  # token-free circuits in the skeleton (on demand)
         self._live: dict[Change, bool] = {}
+        self._real: dict[tuple, _Rates] = {}
         self.clock_users: dict[str, int] = {}
         for task in skeleton.tasks.values():
             if task.clock:
@@ -140,10 +142,12 @@ class Advisor(Candidates):
 
         Among the candidates that bring no new finding, the first (smallest, then
         in the order of preference) that is best by, in turn: making the skeleton
-        live when it is dead (token-free circuits of the edited skeleton), and
-        changing the sampling period of the fewest clocked tasks (a task that loses
-        its clock takes its new group's design period). The scan stops at the
-        first candidate that is live and changes no sampling period.
+        live when it is dead (token-free circuits of the edited skeleton), keeping
+        the designed rates: the fewest clocked tasks of the touched groups that do
+        not run at their clock's period afterwards (the periods the edited groups
+        run at, :meth:`real_periods`), then the fewest groups left not
+        rate-consistent. The scan stops at the first candidate that is live, keeps
+        every clock's period and leaves every touched group rate-consistent.
 
         Returns
         -------
@@ -151,17 +155,18 @@ class Advisor(Candidates):
         """
         key = finding.identity
         first: Edits | None = None
-        best: tuple[tuple[int, int], Edits] | None = None
+        best: tuple[tuple[int, int, int], Edits] | None = None
         # The smallest edits first; among equals, the order of preference.
         ranked = sorted(itertools.islice(self.candidates(finding), CANDIDATE_LIMIT), key=_size)
         for edits in ranked:
             if self.brings(key, edits, whole=False) is not None:
                 first = first or edits
                 continue
-            rank = (0 if self.makes_live(edits) is not False else 1, len(self.resampled(edits)))
+            rank = (0 if self.makes_live(edits) is not False else 1,
+                    len(self.resampled(edits)), self.inconsistent(edits))
             if best is None or rank < best[0]:
                 best = (rank, edits)
-            if rank == (0, 0):
+            if rank == (0, 0, 0):
                 break
         if best is not None:
             edits = best[1]
@@ -183,22 +188,63 @@ class Advisor(Candidates):
         return groups, part, root_of
 
     def resampled(self, edits: Edits) -> list[tuple[str, Fraction, Fraction | None]]:
-        """The clocked tasks whose sampling period ``edits`` change: (task, before, after).
+        """The clocked tasks of the touched groups that do not run at their clock's
+        period once ``edits`` are made: (task, its clock's period, its period after).
 
-        A task keeps its clock's period as long as it keeps its clock; a task that
-        loses it runs at the design period of the group it is in afterwards (its
-        fastest clock; None: no clock is left to pace it).
+        The period after is the task's cycle time in the edited skeleton
+        (:meth:`real_periods`), None where its group is dead. A task that loses its
+        clock counts against its clock's period too: the designed rate is the clock's.
         """
-        if not edits.drop:
-            return []
-        _, part, root_of = self._groups_after(edits)
+        groups, _, _ = self._groups_after(edits)
+        real = self.real_periods(groups, self.change_of(edits))
         out = []
-        for t in sorted(edits.drop, key=self.order.__getitem__):
-            own = self.sk.clocks[self.sk.tasks[t].clock].period  # type: ignore[index]
-            after = part[root_of[t]][2]
-            if after != own:
-                out.append((t, own, after))
+        for g in groups:
+            for t in self.groups[g]:
+                clock = self.sk.tasks[t].clock
+                if clock is None:
+                    continue
+                own = self.sk.clocks[clock].period
+                if real.period[t] != own:
+                    out.append((t, own, real.period[t]))
         return out
+
+    def inconsistent(self, edits: Edits) -> int:
+        """How many groups touched by ``edits`` are not rate-consistent afterwards."""
+        groups, part, _ = self._groups_after(edits)
+        real = self.real_periods(groups, self.change_of(edits))
+        return sum(members[0] in real.mixed for members, _, _ in part.values())
+
+    def real_periods(self, groups: list[int], change: Change) -> _Rates:
+        """The period of each task of ``groups`` once ``change`` is made (None: dead).
+
+        Only the touched groups are rebuilt, edited and solved: the cycle time of
+        each task's compute event is the max cycle ratio of the timed event graph
+        of those groups (:func:`maxplus.max_cycle_ratio`, exact), as
+        :func:`tegraph.analysis.analyze` computes it; the tasks of a weak part
+        with a token-free circuit have none. Cached by change.
+        """
+        key = (tuple(groups), change)
+        known = self._real.get(key)
+        if known is None:
+            edited = apply_change(self._within(groups), change,
+                                  self.fresh if change.add_clock else None)
+            known = self._real[key] = _cycle_times(edited)
+        return known
+
+    def _groups_text(self, members: list[tuple[str, ...]], real: _Rates) -> str:
+        u = self.sk.unit
+        parts = []
+        for tasks in members:
+            periods = {real.period[t] for t in tasks}
+            if DEAD in periods:
+                words = "dead"
+            elif tasks[0] in real.mixed:
+                words = "not rate-consistent (" + ", ".join(
+                    f"{who} {self._period(r, u)}" for who, r in real.mixed[tasks[0]]) + ")"
+            else:
+                words = self._period(periods.pop(), u)
+            parts.append(f"{_group_text(tasks)} {words}")
+        return ", ".join(parts)
 
     def makes_live(self, edits: Edits) -> bool | None:
         """Whether the skeleton with ``edits`` made is live; None when it is live already.
@@ -255,31 +301,41 @@ class Advisor(Candidates):
         return {self.group_of[t] for t, events in g.events_of.items() if dead.intersection(events)}
 
     def periods_text(self, edits: Edits) -> str:
-        """What ``edits`` do to the period of each group they touch, before -> after."""
+        """What ``edits`` do to the period of each group they touch, before -> after.
+
+        The periods are those the skeleton runs at (:meth:`real_periods`, before
+        and after the change), not the design periods: a group whose tasks run at
+        different rates is "not rate-consistent", a group with a token-free
+        circuit "dead". Each clocked task that does not run at its clock's period
+        afterwards is named.
+        """
         u = self.sk.unit
         groups, part, _ = self._groups_after(edits)
-        before = [(self.groups[g], self.periods[g]) for g in groups]
-        after = [(tuple(members), period) for members, _, period in part.values()]
-        text = "design periods (each group's fastest clock), before -> after: "
-        if set(before) == set(after):
-            text += ", ".join(f"{_group_text(g)} {self._period(p, u)}" for g, p in before)
-            text += ", unchanged"
+        now = self.real_periods(groups, Change())
+        real = self.real_periods(groups, self.change_of(edits))
+        before = [self.groups[g] for g in groups]
+        after = [tuple(members) for members, _, _ in part.values()]
+        text = "periods (max cycle ratio), before -> after: "
+        if set(before) == set(after) and all(
+                now.period[t] == real.period[t] and (t in now.mixed) == (t in real.mixed)
+                for g in before for t in g):
+            text += self._groups_text(before, now) + ", unchanged"
         else:
-            text += (", ".join(f"{_group_text(g)} {self._period(p, u)}" for g, p in before)
-                     + " -> " + ", ".join(f"{_group_text(g)} {self._period(p, u)}"
-                                          for g, p in after))
+            text += (self._groups_text(before, now) + " -> " + self._groups_text(after, real))
         moved = self.resampled(edits)
         if moved:
             text += "; " + "; ".join(
-                f"{t} is sampled every {self._period(a, u)} instead of {display_text(b)} {u} "
-                "(its clock goes)" for t, b, a in moved)
-        elif any(self.sk.tasks[t].clock for g, _ in before for t in g):
+                f"{t} runs {'every ' + self._period(a, u) if a is not DEAD else 'never (dead)'}"
+                f", not every {display_text(b)} {u} (its clock's period"
+                + (", and its clock goes)" if t in edits.drop else ")")
+                for t, b, a in moved)
+        elif any(self.sk.tasks[t].clock for g in before for t in g):
             text += "; every clocked task keeps its clock's period"
         return text
 
     def _period(self, period: Fraction | None, unit: str) -> str:
         if period is None:
-            return "no clock"
+            return "no period"
         if period == self.fresh:
             return "a period of your choice"
         return f"{display_text(period)} {unit}"
@@ -471,6 +527,59 @@ def _group_text(tasks: tuple[str, ...] | list[str]) -> str:
     if len(tasks) <= 4:
         return "{" + ", ".join(tasks) + "}"
     return "{" + ", ".join(tasks[:3]) + f", ... ({len(tasks)} tasks)}}"
+
+
+DEAD = "dead"  # the period of a task on a dead part (a token-free circuit)
+
+
+class _Rates:
+    """The periods of a skeleton's tasks: ``period[task]`` (a Fraction, or DEAD), and
+    ``mixed[task]``, for a task whose weak part runs at several rates, those rates
+    (one event of each, in words: ``[(who, rate)]``)."""
+
+    __slots__ = ("period", "mixed")
+
+    def __init__(self, period: dict[str, Any], mixed: dict[str, list[tuple[str, Fraction]]]
+                 ) -> None:
+        self.period, self.mixed = period, mixed
+
+
+def _cycle_times(sk: Skeleton) -> _Rates:
+    """Each task's period in ``sk``: the cycle time of its compute event (DEAD: dead).
+
+    As :func:`tegraph.analysis.analyze` does: the weak parts with a token-free
+    circuit are left out, the max cycle ratio of the rest is solved exactly; a
+    part whose events do not all share one cycle time is not rate-consistent
+    (some place between them fills up, as analyze's unbounded places).
+    """
+    teg = build_teg(sk)
+    a = teg.arrays()
+    n = teg.n_transitions
+    graph = sp.csr_matrix((np.ones(len(a.src), dtype=np.int8), (a.src, a.dst)), shape=(n, n))
+    _, label = connected_components(graph, directed=True, connection="weak")
+    dead = {int(label[a.src[c[0]]]) for c in token_free_circuits(a.src, a.dst, a.tokens, n)}
+    live = ~np.isin(label, sorted(dead))
+    lp = np.flatnonzero(live[a.src] & live[a.dst])
+    mcr = max_cycle_ratio(a.src[lp], a.dst[lp], a.holding[lp], a.tokens[lp], n_nodes=n)
+    ct = [None if c is None else c / a.scale for c in mcr.cycle_times]
+    rates: dict[int, dict[Fraction, str]] = {}
+    for e in np.flatnonzero(live).tolist():
+        attrs = teg.transition_attrs[e]
+        if attrs.get("role") == "tick":
+            who = f"clock {attrs['clock']}"
+        else:  # a task's event: named by its task (a rendezvous by both)
+            who = ", ".join(attrs.get("tasks", ())) or teg.transition_names[e]
+        rates.setdefault(int(label[e]), {}).setdefault(ct[e], who)
+    compute = teg.attrs["compute"]
+    period: dict[str, Any] = {}
+    mixed: dict[str, list[tuple[str, Fraction]]] = {}
+    for t in sk.tasks:
+        e = compute[t]
+        period[t] = ct[e] if live[e] else DEAD
+        seen = rates.get(int(label[e]), {})
+        if len(seen) > 1:
+            mixed[t] = [(who, r) for r, who in seen.items()]
+    return _Rates(period, mixed)
 
 
 def _token_free(sk: Skeleton) -> list:

@@ -73,7 +73,11 @@ def test_rule1_double_synchronization_of_figure_12():
     # and read y ASYN/ASYN, which keeps both sampling periods (issue 21): preferred.
     assert f.advice.startswith("keep only its clock")
     assert "make MT1:y -> MT2:y ASYN/ASYN" in f.advice
-    assert "{MT1, MT2} 4 ms -> {MT1} 10 ms, {MT2} 4 ms" in f.advice
+    # Before, MT2 waits for MT1's 10 ms message: it runs every 10 ms while its 4 ms clock
+    # ticks on (the ticks queue): the group runs at two rates (issue 21 review: the
+    # advice states the periods the skeleton runs at, not the fastest clock's).
+    assert ("{MT1, MT2} not rate-consistent (clock rtc 10 ms, clock MT2.clock 4 ms) -> "
+            "{MT1} 10 ms, {MT2} 4 ms") in f.advice
     assert f.change == Change((("MT1:y", "MT2:y", "ASYN/ASYN"),))
 
 
@@ -90,11 +94,13 @@ def test_rule1_counts_blocking_outputs_and_rendezvous():
     # leave R alone in a group without a clock (a new Rule 3 error); ASYN/SYN hands the
     # wait over to R, which then has its one synchronization (R's warning goes too).
     assert errors[0].change == Change((("W:a", "R:a", "ASYN/SYN"),))
-    # W and R stay one group on c (5 ms), W keeps its clock.
+    # Before, R waits for nothing (it reads SYN/ASYN, no clock): it runs every 1 ms (its
+    # duration) beside W's 5 ms. After, R waits for W's message: {W, R} runs at 5 ms.
     assert errors[0].advice == ("keep only its clock: make W:a -> R:a ASYN/SYN (R waits for "
-                                "W's message) [design periods (each group's fastest clock), "
-                                "before -> after: {W, R} 5 ms, unchanged; every clocked task "
-                                "keeps its clock's period]")
+                                "W's message) [periods (max cycle ratio), "
+                                "before -> after: {W, R} not rate-consistent (clock c 5 ms, "
+                                "R 1 ms) -> {W, R} 5 ms; every clocked task keeps its "
+                                "clock's period]")
     warnings = of_rule(check_rules(s), 1, "warning")
     assert [f.tasks for f in warnings] == [("R",)]
     assert "no synchronization" in warnings[0].message
@@ -132,7 +138,7 @@ def test_rule2_unsynchronized_pipeline_of_figure_4():
                                            ("MT3:x3 -> MT4:x3 (ASYN/ASYN)",)]
     # MT1 and MT2 join one group paced by MT1's 10 ms clock; MT2's own clock was 10 ms too.
     assert ("make MT1:x1 -> MT2:x1 ASYN/SYN (MT2 waits for MT1's message); remove the clock "
-            "MT2.clock of MT2 [design periods (each group's fastest clock), before -> after: "
+            "MT2.clock of MT2 [periods (max cycle ratio), before -> after: "
             "{MT1} 10 ms, {MT2} 10 ms -> {MT1, MT2} 10 ms; every clocked task keeps its "
             "clock's period]") == findings[0].advice
     assert findings[0].change == Change((("MT1:x1", "MT2:x1", "ASYN/SYN"),), ("MT2",))
@@ -155,8 +161,8 @@ def test_rule3_group_without_clock_figure_7a():
     # through MT2:b -> MT1:b is cut, so the skeleton (dead, Figure 7a) becomes live.
     assert f.advice == ("make MT2:b -> MT1:b ASYN/ASYN (neither side waits); give MT1 a clock "
                         "of its own (a period of your choice that no other group has, e.g. "
-                        "1 ms) (one clock for the whole group) [design periods (each group's "
-                        "fastest clock), before -> after: {MT1, MT2, MT3} no clock -> "
+                        "1 ms) (one clock for the whole group) [periods (max cycle ratio), "
+                        "before -> after: {MT1, MT2, MT3} dead -> "
                         "{MT1, MT2, MT3} a period of your choice] This also makes the "
                         "skeleton live.")
 
@@ -175,7 +181,7 @@ def test_rule3_two_clocks_in_one_group():
     assert "2 clocks (MT1.clock on MT1, MT2.clock on MT2)" in f.message
     # Both clocks are 10 ms: MT2 keeps its sampling period on MT1's clock.
     assert f.advice == ("keep one clock (MT1.clock): remove the clock MT2.clock of MT2 "
-                        "[design periods (each group's fastest clock), before -> after: "
+                        "[periods (max cycle ratio), before -> after: "
                         "{MT1, MT2} 10 ms, unchanged; every clocked task keeps its clock's "
                         "period]")
 
