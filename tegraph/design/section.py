@@ -46,9 +46,11 @@ class DesignSection:
     @property
     def exit_status(self) -> int:
         """Of ``tegraph rules``: 1 when a rule is not followed (an error or a warning) or a
-        processor fails its schedulability test, else 0."""
+        processor is not proven schedulable (its test fails, or its budget ran out
+        first: undecided is no proof), else 0."""
         violated = (any(f.severity != "info" for f in self.rules)
-                    or self.schedulability.schedulable is False)
+                    or self.schedulability.schedulable is False
+                    or bool(self.schedulability.undecided))
         return 1 if violated else 0
 
     def to_dict(self) -> dict[str, Any]:

@@ -48,7 +48,7 @@ def render_design(section: DesignSection) -> str:
 
     The exit status it names is the command's (:attr:`DesignSection.exit_status`): 1
     when a rule is not followed (an error or a warning) or a processor fails its
-    schedulability test.
+    schedulability test or has a test its budget left undecided.
     """
     findings, sched, unit = section.rules, section.schedulability, section.unit
     text = render_rules(findings) + "\n" + render_schedulability(sched, unit)
@@ -59,15 +59,16 @@ def render_design(section: DesignSection) -> str:
     fails = [("default processor" if p.processor is None else f"processor {p.processor}")
              for p in sched.processors if p.schedulable is False]
     problems = ([broken] if broken else []) + [f"{name} not schedulable" for name in fails]
+    undecided = ", ".join(", ".join(u.tasks) for u in sched.undecided)
+    if undecided:  # no proof either way: it counts against the design, as a failure would
+        problems.append(f"schedulability undecided (budget) for {undecided}")
     if problems:
-        verdict = "; ".join(problems) + " (exit status 1)"
+        verdict = "; ".join(problems)
     else:
-        undecided = ", ".join(", ".join(u.tasks) for u in sched.undecided)
         sched_text = ("schedulable" if sched.schedulable
-                      else f"schedulability undecided (budget) for {undecided}" if undecided
                       else "schedulability not decided (a group is not live)")
-        verdict = f"design rules followed, {sched_text} (exit status 0)"
-    return text + f"\nverdict: {verdict}\n"
+        verdict = f"design rules followed, {sched_text}"
+    return text + f"\nverdict: {verdict} (exit status {section.exit_status})\n"
 
 
 def render_schedulability(result: Schedulability, unit: str = "ms") -> str:

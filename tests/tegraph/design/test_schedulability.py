@@ -290,6 +290,9 @@ def test_rules_say_undecided_when_the_budget_runs_out(tmp_path, monkeypatch):
     assert "undecided (budget)" in out.output and "no time" not in out.output
     assert "NO" not in out.output and "not schedulable" not in out.output
     assert "verdict:" in out.output and "undecided" in out.output.split("verdict:")[1]
+    assert out.output.splitlines()[-1].endswith("(exit status 1)")
+    # Undecided is no proof of schedulability: `rules` exits 1, as for a failed test.
+    assert out.exit_code == 1
 
 
 def test_explore_keeps_a_variant_whose_test_is_undecided(monkeypatch):
