@@ -48,11 +48,11 @@ _WHERE = {
     "duration_margins": "tegraph.analysis.sensitivity",
     "sensitivity": "tegraph.analysis.sensitivity",
     # design
-    "FixResult": "tegraph.design.fix",
+    "FixResult": "tegraph.analysis.repair",
     "RuleFinding": "tegraph.design.rules",
     "Timeline": "tegraph.design.timeline",
     "check_rules": "tegraph.design.rules",
-    "fix_ports": "tegraph.design.fix",
+    "fix_ports": "tegraph.analysis.repair",
     "simulate_timeline": "tegraph.design.timeline",
     # output
     "render_text": "tegraph.report",
@@ -83,11 +83,11 @@ def __dir__() -> list[str]:
 
 if TYPE_CHECKING:  # static tools see the names where they are defined
     from .analysis.cycle_time import CycleTimeResult
+    from .analysis.repair import FixResult, fix_ports
     from .analysis.results import Report
     from .analysis.sensitivity import duration_margins, sensitivity
     from .analysis.sensitivity_results import SensitivityResult
     from .api import analyze, cycle_time, explore, reach, rules, to_dot, write
-    from .design.fix import FixResult, fix_ports
     from .design.rules import RuleFinding, check_rules
     from .design.timeline import Timeline, simulate_timeline
     from .errors import InputError, ModelError, NotLiveError, SkeletonError, TegraphError

@@ -273,7 +273,7 @@ def fix(
     Exit status: 0 live (or already live); 1 no port or thread order helps (nothing
     is written); 2 the input or the output file was refused; 130 interrupted (Ctrl-C).
     """
-    from .design.fix import fix_ports
+    from .analysis.repair import fix_ports
     from .io import dump_skeleton, load_skeleton
     from .report.design_text import fix_verdict, render_fix
 

@@ -36,6 +36,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -55,7 +56,8 @@ from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import minimal_semiflows
 from .liveness import token_free_circuits
 from .regime_bounds import autonomous_from
-from .reorder import reorder_ports, thread_advice
+from .reorder import reorder_ports
+from .repair import fix_ports
 from .results import (
     Deadlock,
     GroupReport,
@@ -118,7 +120,7 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
     graph = _EventGraph.of(skeleton)
     deadlocks, dead_groups = _deadlocks(graph)
     live = not deadlocks
-    reorder = None if live else _reorder(skeleton, deadlocks)
+    reorder = None if live else _reorder(skeleton, deadlocks, graph)
     periods = _cycle_times(graph, dead_groups)
     unbounded = _unbounded_places(graph, periods)
     groups = _group_reports(graph, periods, dead_groups, unbounded)
@@ -213,7 +215,15 @@ def _deadlocks(g: _EventGraph) -> tuple[list[Deadlock], set[int]]:
     return out, dead_groups
 
 
-def _reorder(skeleton: Skeleton, deadlocks: list[Deadlock]) -> Reorder:
+def _reorder(skeleton: Skeleton, deadlocks: list[Deadlock], g: _EventGraph) -> Reorder:
+    """Spec §4's reorder of the whole skeleton, and each deadlock's own advice.
+
+    The reorder is spec §4's decision with one live order; a deadlock's advice is
+    the repair :func:`~tegraph.analysis.repair.fix_ports` makes (fewest changes,
+    footnote 6 preferred), the one ``tegraph fix`` writes, found on the deadlock's
+    own group: with two dead groups, one repairable by a port order and one not,
+    each is told what repairs it.
+    """
     result = reorder_ports(skeleton)
     if result.possible and result.skeleton is not None:
         # The argument of reorder.py is re-checked on the rebuilt graph.
@@ -222,19 +232,39 @@ def _reorder(skeleton: Skeleton, deadlocks: list[Deadlock]) -> Reorder:
                                    int(max(rebuilt.src.max(), rebuilt.dst.max())) + 1)
         if left:
             raise AssertionError("internal error: the reordered skeleton is not live")
-        advice = "reorder ports: " + "; ".join(
-            f"{t} inputs {flow_list(o['inputs'])} outputs {flow_list(o['outputs'])}"
-            for t, o in result.orders.items())
-    else:
-        advice = thread_advice(skeleton) or (
-            "no port order helps: make one of these links asynchronous "
-            "(ASYN/ASYN), or break the circular wait with a clock: "
-            + "; ".join(result.links or ["(the circuit passes only through threads)"]))
+    group_of = {id(d): int(g.group_of_event[g.teg.index(d.events[0])]) for d in deadlocks}
+    advice = {k: _repair_advice(skeleton, g.group_tasks[k]) for k in sorted(set(group_of.values()))}
     for d in deadlocks:
-        d.advice = advice
+        d.advice = advice[group_of[id(d)]]
     if result.possible:
         return Reorder(True, result.orders)
     return Reorder(False, result.orders, result.circuit, result.links)
+
+
+def _repair_advice(skeleton: Skeleton, tasks: list[str]) -> str:
+    """What to change in the group of ``tasks``: a port order, else a thread order, else links."""
+    part = set(tasks)
+    # The group cut out with its links, clocks and threads (a thread lies in one group:
+    # its places join its tasks); threads keep their index in the file.
+    numbers = [k for k, th in enumerate(skeleton.threads) if th[0] in part]
+    repair = fix_ports(dataclasses.replace(
+        skeleton, tasks={t: v for t, v in skeleton.tasks.items() if t in part},
+        links=[x for x in skeleton.links if x.writer[0] in part and x.reader[0] in part],
+        threads=[skeleton.threads[k] for k in numbers], chains=[]))
+    ports = "; ".join(f"{c.task} {c.side} {flow_list(list(c.before))} -> {flow_list(list(c.after))}"
+                      for c in repair.changes)
+    if repair.threads:
+        words = "; ".join(f"write threads[{numbers[t.index]}] as {flow_list(list(t.after))}"
+                          for t in repair.threads)
+        return (f"no port order helps, a thread order does: {words}"
+                + (f"; then reorder ports: {ports}" if ports else "")
+                + " (a thread runs its tasks one after the other: as declared, a task waits "
+                "for one that runs after it)")
+    if repair.live:
+        return f"reorder ports (as tegraph fix does): {ports}"
+    return ("no port order helps: make one of these links asynchronous "
+            "(ASYN/ASYN), or break the circular wait with a clock: "
+            + "; ".join(repair.links or ["(the circuit passes only through threads)"]))
 
 
 # ---------------------------------------------------------------------- periods

@@ -6,7 +6,7 @@ from tabulate import tabulate
 
 from maxplus.scalar import display_text
 
-from ..design.fix import FixResult
+from ..analysis.repair import FixResult
 from ..design.latency import ChainLatency
 from ..design.rules import RuleFinding
 from ..design.schedulability import PAPER_TEST, RTA_TEST, Schedulability

@@ -56,12 +56,12 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from ..analysis.liveness import token_free_circuits
-
-# The precedence graph is reorder.py's; fix.py only adds edges to it.
-from ..analysis.reorder import PrecedenceGraph, reorder_ports, reorder_threads
 from ..model.build import build_teg
 from ..model.skeleton import Protocol, Skeleton
+from .liveness import token_free_circuits
+
+# The precedence graph is reorder.py's; this module only adds edges to it.
+from .reorder import PrecedenceGraph, reorder_ports, reorder_threads
 
 __all__ = ["FixResult", "PortChange", "ThreadChange", "fix_ports"]
 

@@ -6,7 +6,7 @@ event graph of the *input* (built by :mod:`tegraph.build`), a side of a task
 (its inputs or its outputs) may change only if one of its chain places
 between two reads (or two writes) lies in a strongly connected part of the
 0-token places, i.e. on a token-free circuit (networkx, not the precedence
-graph that fix.py uses).
+graph that tegraph.analysis.repair uses).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 
 from tegraph import analyze, build_teg, load_skeleton
 from tegraph.analysis.reorder import reorder_ports
-from tegraph.design.fix import fix_ports
+from tegraph.analysis.repair import fix_ports
 from tegraph.model.skeleton import Skeleton
 from tegraph.report.design_text import render_fix
 from tests.paths import REPO
@@ -131,6 +131,61 @@ def test_every_example(name):
     else:
         assert r.status == "fixed" and analyze(r.skeleton).live
 
+
+
+def _port_words(r) -> list[str]:
+    return [f"{c.task} {c.side} [{', '.join(c.before)}] -> [{', '.join(c.after)}]"
+            for c in r.changes]
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.yaml")))
+def test_analyze_advises_the_repair_fix_writes(name):
+    # One definition of the preferred repair: each deadlock's advice in analyze names
+    # exactly the port changes tegraph fix makes (fig7b: MT1 outputs [a, d] -> [d, a],
+    # not the MT2 inputs of spec §4's witness order).
+    sk = load_skeleton(EXAMPLES / name)
+    report = analyze(sk, design=False)
+    r = fix_ports(sk)
+    for d in report.deadlocks:
+        if r.status == "fixed":
+            assert d.advice.endswith("reorder ports (as tegraph fix does): "
+                                     + "; ".join(_port_words(r)))
+        else:
+            assert d.advice.startswith("no port order helps")
+
+
+# Figure 7b's group (a port order repairs it) beside Figure 7a's circular wait (no order
+# does) in one file: each deadlock is told what repairs its own group.
+TWO_DEAD_GROUPS = {"tasks": {**FIG7B["tasks"],
+                             "X1": {"duration": 1, "inputs": ["b"], "outputs": ["a"]},
+                             "X2": {"duration": 1, "inputs": ["c"], "outputs": ["b"]},
+                             "X3": {"duration": 1, "inputs": ["a"], "outputs": ["c"]}},
+                   "links": [*FIG7B["links"],
+                             {"from": "X2:b", "to": "X1:b", "protocol": "ASYN/SYN"},
+                             {"from": "X3:c", "to": "X2:c", "protocol": "ASYN/SYN"},
+                             {"from": "X1:a", "to": "X3:a", "protocol": "ASYN/SYN"}]}
+
+
+def test_each_deadlock_gets_the_advice_of_its_own_group():
+    report = analyze(Skeleton.from_dict(TWO_DEAD_GROUPS), design=False)
+    advice = {d.tasks[0][0]: d.advice for d in report.deadlocks}
+    # MT1 posts its blocking a last (footnote 6), as test_figure_7b_posts_... derives.
+    assert advice["M"] == "reorder ports (as tegraph fix does): MT1 outputs [a, d] -> [d, a]"
+    # X1, X2, X3 have one port a side: no order, only the three links, none of MT's.
+    assert advice["X"].startswith("no port order helps")
+    assert "X2:b -> X1:b (ASYN/SYN)" in advice["X"] and "MT" not in advice["X"]
+    # The whole skeleton has no live port order (the X circuit holds in any order).
+    assert not report.reorder.possible
+
+
+def test_a_thread_repair_keeps_the_thread_number_of_the_file():
+    # An unrelated live thread first: EST_FIRST's thread is threads[1] of the file, and
+    # its group, cut out on its own, must still be advised as threads[1].
+    data = {"tasks": {**EST_FIRST["tasks"],
+                      "P": {"duration": 1, "period": 5}, "Q": {"duration": 1, "period": 5}},
+            "links": EST_FIRST["links"], "threads": [["P", "Q"], *EST_FIRST["threads"]]}
+    (dead,) = analyze(Skeleton.from_dict(data), design=False).deadlocks
+    assert "write threads[1] as [IMU, EST]" in dead.advice
 
 def random_skeleton(rng: random.Random) -> Skeleton:
     n = rng.randint(2, 5)
