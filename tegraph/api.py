@@ -22,6 +22,7 @@ from . import io
 from .analysis.analyze import analyze_skeleton
 from .analysis.cycle_time import CycleTimeResult
 from .analysis.cycle_time import cycle_time as cycle_time_of
+from .analysis.processors import MAX_EVENTS
 from .analysis.reachability import DEFAULT_MAX_MEMORY
 from .analysis.results import Report
 from .analysis.sensitivity_margins import duration_margins
@@ -48,7 +49,8 @@ MARGINS_MAX_TASKS = 2_000
 def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_000,
             semiflow_budget: int = 2000,
             semiflow_max_places: int = 2_000_000, chains: Sequence[Sequence[str]] = (),
-            design: bool = True, margins_max_tasks: int = MARGINS_MAX_TASKS) -> Report:
+            design: bool = True, margins_max_tasks: int = MARGINS_MAX_TASKS,
+            processors: bool = True, max_events: int = MAX_EVENTS) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack, design.
 
     Parameters
@@ -77,6 +79,14 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
         :func:`~tegraph.analysis.sensitivity_margins.duration_margins`) is
         computed; above it, ``methods["duration_margins"]`` says it was not
         (it costs about one more analysis; ``tegraph.sensitivity`` computes them).
+    processors : bool
+        Decide the skeleton on its processors (``docs/skeleton.md`` §4b:
+        preemptive fixed priorities, declared or rate-monotonic), which the
+        verdict and :attr:`Report.exit_status` include; False: every task on a
+        processor of its own, the v1.1 verdict.
+    max_events : int
+        Budget of event firings of the schedule on processors; past it,
+        ``report.schedulable`` is None and ``report.schedule.why_undecided`` says why.
 
     Returns
     -------
@@ -131,7 +141,8 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
     (True, True, Fraction(10, 1), Fraction(8, 1))
     """
     skeleton = _skeleton(skeleton)
-    report = analyze_skeleton(skeleton, max_steps, semiflow_budget, semiflow_max_places)
+    report = analyze_skeleton(skeleton, max_steps, semiflow_budget, semiflow_max_places,
+                              processors=processors, max_events=max_events)
     _add_duration_margins(skeleton, report, margins_max_tasks)
     if design:
         report.design = design_section(skeleton, report, chains)

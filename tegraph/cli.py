@@ -61,7 +61,11 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
           "max_memory": "--max-memory", "max_firings": "--max-firings", "timed": "--timed",
           "max_jobs": "--max-jobs", "horizon": "--horizon"}
 _FLAGS.update({"requires": "--require", "max_latency": "--max-latency", "forbid": "--forbid",
-               "timeout": "--timeout", "all_links": "--all-links"})
+               "timeout": "--timeout", "all_links": "--all-links",
+               "max_events": "--max-events", "processors": "--no-processors"})
+# Defaults written here as literals (importing the library for them would load numpy
+# and scipy before --help); tests/tegraph/test_cli.py checks they equal the constants.
+MAX_EVENTS = 1_000_000
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -158,11 +162,22 @@ def analyze(
         help="Report the latency of this chain of tasks, sensor first (repeatable)."),
     design: bool = typer.Option(True, "--design/--no-design",
                                 help="Include design rules, schedulability and latencies."),
+    processors: bool = typer.Option(
+        True, "--processors/--no-processors",
+        help="Decide the skeleton on its processors (preemptive fixed priorities, "
+             "docs/skeleton.md §4b); --no-processors: every task on a processor of its "
+             "own, the v1.1 verdict."),
+    max_events: int = typer.Option(
+        MAX_EVENTS, "--max-events", min=1,
+        help="Budget of event firings of the schedule on processors; past it, "
+             "schedulability is undecided (exit 1) and the report says why."),
 ) -> None:
-    """Analyze a synchronization skeleton: liveness, periods, overruns, slack.
+    """Analyze a synchronization skeleton: liveness, periods, overruns, slack, schedule.
 
-    Exit status: 0 live and consistent; 1 a deadlock, an unbounded place or an
-    overrun; 2 the input was refused (one line on stderr); 130 interrupted (Ctrl-C).
+    Exit status: 0 live, consistent and schedulable on its processors; 1 a deadlock,
+    an unbounded place or an overrun (with a processor per task or on the processors),
+    or schedulability undecided within --max-events; 2 the input was refused (one line
+    on stderr); 130 interrupted (Ctrl-C).
     """
     # One analysis per process: it builds hundreds of thousands of long-lived
     # objects (places, Fractions, report entries) and leaves almost no cyclic
@@ -180,7 +195,8 @@ def analyze(
     with _refusals(file):
         skeleton = load_skeleton(file)
         chains = [parse_chain(c) for c in chain or []]
-        report = run_analysis(skeleton, max_steps=max_steps, chains=chains, design=design)
+        report = run_analysis(skeleton, max_steps=max_steps, chains=chains, design=design,
+                              processors=processors, max_events=max_events)
     if csv_dir is not None:
         try:
             write_csv(report, csv_dir, overwrite=force)

@@ -55,6 +55,7 @@ from .deadlocks import skeleton_deadlocks
 from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import minimal_semiflows
 from .liveness import token_free_circuits
+from .processors import MAX_EVENTS, schedule_on_processors
 from .regime_bounds import autonomous_from
 from .reorder import reorder_ports
 from .repair import fix_ports
@@ -82,7 +83,8 @@ _KIND_REPORTED = {
 
 
 def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
-                     semiflow_max_places: int = 2_000_000) -> Report:
+                     semiflow_max_places: int = 2_000_000, *, processors: bool = False,
+                     max_events: int = MAX_EVENTS) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack (spec §4).
 
     Parameters
@@ -98,6 +100,12 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
     semiflow_max_places : int
         Above this many places in all, the semiflow cross-check is skipped
         (the report says so).
+    processors : bool
+        Also decide the skeleton on its processors (spec §4b,
+        :func:`~tegraph.analysis.processors.schedule_on_processors`), in
+        ``report.schedule``; False: every task on a processor of its own (§3).
+    max_events : int
+        Budget of event firings of the schedule on processors.
 
     Returns
     -------
@@ -131,11 +139,15 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
     overrun = any(t.overrun_at is not None for t in tasks.values())
     consistent = live and not unbounded and not overrun
     methods = _methods(deadlocks, groups, periods, invariants, tasks, steps)
+    schedule = None
+    if processors:  # on the groups and the event graph computed above, not again
+        schedule = schedule_on_processors(skeleton, graph.teg, groups, max_events=max_events)
+        methods["schedule"] = schedule.method
     return Report(
         name=skeleton.name, unit=skeleton.unit, live=live, consistent=consistent,
         deadlocks=deadlocks, reorder=reorder, groups=groups, tasks=tasks,
         unbounded_places=unbounded, invariants=invariants, methods=methods,
-        notes=notes, source=skeleton.source,
+        notes=notes, source=skeleton.source, schedule=schedule,
     )
 
 
@@ -356,7 +368,8 @@ def _task_reports(g: _EventGraph, groups: list[GroupReport]) -> dict[str, TaskRe
     for name, task in g.sk.tasks.items():
         index = g.task_group[name]
         period = groups[index].cycle_times.get(name) if groups[index].live else None
-        out[name] = TaskReport(name, index, period, None, None, None, task.clock)
+        out[name] = TaskReport(name, index, period, None, None, None, task.clock,
+                               duration=task.duration)
     return out
 
 

@@ -14,6 +14,8 @@ from typing import Any, Protocol
 
 from maxplus.scalar import exact_text
 
+from .processors.schedule import ProcessorSchedule
+
 __all__ = ["Deadlock", "DesignPart", "GroupReport", "InvariantCheck", "Reorder", "Report",
            "TaskReport", "UnboundedPlace"]
 
@@ -58,6 +60,8 @@ class TaskReport:
     duration_margin_state: str = "not computed"
     """``"exact"`` (``duration_margin``), ``"unbounded"``, ``"not consistent"`` or
     ``"not computed"`` (``tegraph.analyze`` above its ``margins_max_tasks``)."""
+    duration: Fraction = Fraction(0)
+    """Its duration (the skeleton's), which a job needs of its processor."""
 
     @property
     def overrun(self) -> str:
@@ -196,11 +200,73 @@ class Report:
     source: str | None = None
     design: DesignPart | None = None
     """Rules 1-4, schedulability and chain latencies (docs/skeleton.md §6)."""
+    schedule: ProcessorSchedule | None = None
+    """The skeleton on its processors (spec §4b); None: every task on a processor
+    of its own (``processors=False``), where the figures of §4 decide."""
+
+    @property
+    def schedulable(self) -> bool | None:
+        """Spec §4b's verdict: live, every job ends, no unbounded place, no overrun.
+
+        On its processors when :attr:`schedule` is set (None: undecided within the
+        budget, :attr:`schedule` says why). Without it, every task has a processor
+        of its own, which is §3 exactly: live and consistent, None where an
+        overrun is undecided.
+        """
+        if self.schedule is not None:
+            return self.schedule.schedulable
+        if not (self.live and self.consistent):
+            return False
+        return None if any(not t.overrun_decided for t in self.tasks.values()) else True
 
     @property
     def exit_status(self) -> int:
-        """0 live and consistent; 1 a deadlock, an unbounded place or an overrun."""
-        return 0 if self.live and self.consistent else 1
+        """0 live, consistent and schedulable; 1 otherwise (undecided included), spec §5.
+
+        Without :attr:`schedule` (``processors=False``) the v1.1 status: 0 live and
+        consistent.
+        """
+        if self.schedule is None:
+            return 0 if self.live and self.consistent else 1
+        return 0 if self.live and self.consistent and self.schedulable else 1
+
+    def on_processors(self, task: str) -> dict[str, Any]:
+        """Task ``task``'s figures on processors (spec §5 ``on_processors``), exact strings."""
+        if self.schedule is not None:
+            f = self.schedule.tasks[task]
+            return {"period": exact_text(f.period), "overrun_at": f.overrun_at,
+                    "response": exact_text(f.response), "starved": f.starved,
+                    "decided": f.decided}
+        t = self.tasks[task]  # a processor of its own: a job runs from its release
+        return {"period": exact_text(t.period), "overrun_at": t.overrun_at,
+                "response": None if t.period is None else exact_text(t.duration),
+                "starved": False, "decided": t.overrun_decided}
+
+    def _schedule_dict(self) -> dict[str, Any]:
+        if self.schedule is None:
+            return {"exact": self.schedulable is not None,
+                    "method": "every task on a processor of its own (processors=False): "
+                              "spec §3, decided by the figures of §4",
+                    "why_undecided": None if self.schedulable is not None
+                    else "an overrun is undecided within the dater simulation's budget",
+                    "unbounded_places": []}
+        s = self.schedule
+        return {"exact": s.exact, "method": s.method, "why_undecided": s.why_undecided,
+                "unbounded_places": [{"from": u.src, "to": u.dst, "kind": u.kind,
+                                      "group": u.group, "tokens_per_regime": u.per_regime}
+                                     for u in s.unbounded]}
+
+    def _processors_list(self) -> list[dict[str, Any]]:
+        if self.schedule is None:
+            return []
+        return [{"name": p.name, "tasks": list(p.tasks), "priorities": dict(p.priorities),
+                 "priority_source": p.priority_source}
+                for p in self.schedule.platform.processors]
+
+    def _group_period_on_processors(self, index: int) -> str | None:
+        if self.schedule is not None:
+            return exact_text(self.schedule.group_periods[index])
+        return exact_text(self.groups[index].period)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON document of ``docs/skeleton.md`` §5 as Python data.
@@ -230,6 +296,7 @@ class Report:
                     "critical_circuit": g.critical_circuit,
                     "critical_holding": exact_text(g.critical_holding),
                     "critical_tokens": g.critical_tokens,
+                    "period_on_processors": self._group_period_on_processors(g.index),
                 }
                 for g in self.groups
             ],
@@ -243,6 +310,7 @@ class Report:
                     "overrun_decided": t.overrun_decided,
                     "duration_margin": exact_text(t.duration_margin),
                     "duration_margin_state": t.duration_margin_state,
+                    "on_processors": self.on_processors(t.name),
                 }
                 for t in self.tasks.values()
             },
@@ -257,6 +325,9 @@ class Report:
                 "count": self.invariants.count,
                 "liveness_agrees": self.invariants.liveness_agrees,
             },
+            "schedulable": self.schedulable,
+            "processors": self._processors_list(),
+            "schedule": self._schedule_dict(),
             "methods": self.methods,
             "notes": self.notes,
             "design": None if self.design is None else self.design.to_dict(),

@@ -40,6 +40,7 @@ from .graph_text import (
     render_reachability,
     render_timed_exploration,
 )
+from .processors_text import processors_headline, processors_problem, render_processors
 from .sensitivity_text import render_sensitivity
 from .timeline_text import render_timeline
 
@@ -67,6 +68,7 @@ def render_report(report: Report) -> str:
     consistent = "consistent" if report.consistent else "NOT CONSISTENT"
     lines.append(f"timing:      {consistent} — {report.methods.get('timing', '')}")
     lines.append(f"periods:     {report.methods.get('periods', '')}")
+    lines.append(processors_headline(report))
     for d in report.deadlocks:
         lines.append("")
         lines.append("deadlock: token-free circuit " + " -> ".join([*d.events, d.events[0]]))
@@ -106,6 +108,8 @@ def render_report(report: Report) -> str:
                      _grow(t, u),
                      "-" if t.critical is None else ("yes" if t.critical else "no")])
     lines.append("")
+    if report.schedule is not None:
+        lines.append("with a processor per task (spec §4, (max,+); on its processors: below):")
     lines.append(tabulate(rows, headers=["task", "group", "period", "overrun",
                                          "slack (period margin)", "can grow by", "critical"]))
     if any(t.slack is not None for t in report.tasks.values()):
@@ -118,6 +122,7 @@ def render_report(report: Report) -> str:
                      "(exact; \"-\": the group is not consistent as it is)")
     elif "duration_margins" in report.methods:
         lines.append(f"can grow by: {report.methods['duration_margins']}")
+    lines += render_processors(report)
     if report.unbounded_places:
         lines.append("")
         lines.append("unbounded places (tokens pile up):")
@@ -175,18 +180,26 @@ def _verdict(report: Report) -> str:
         inconsistent.append(f"{first.name} overruns at activation {first.overrun_at}{more}")
     if inconsistent:
         problems.append("NOT CONSISTENT: " + ", ".join(inconsistent))
+    on_processors = processors_problem(report)
+    if on_processors:
+        problems.append(on_processors)
     undecided = [t.name for t in report.tasks.values() if not t.overrun_decided]
     if not problems:
-        text = "verdict: live and consistent (exit status 0)"
+        text = ("verdict: live and consistent (exit status 0)" if report.schedule is None else
+                "verdict: live, consistent and schedulable on its processors (exit status 0)")
         if undecided:
             text += (f"; {count(len(undecided), 'overrun')} undecided within the budget "
                      f"({', '.join(undecided[:3])}{' ...' if len(undecided) > 3 else ''})")
     else:
-        text = "verdict: " + "; ".join(problems) + " (exit status 1)"
+        if report.live and report.consistent and report.schedule is not None:
+            problems.insert(0, "live and consistent with a processor per task, but")
+        text = "verdict: " + "; ".join(problems).replace("but; ", "but ") + " (exit status 1)"
     design = report.design
     if design is not None and report.exit_status == 0:
         errors = sum(f.severity == "error" for f in design.rules)
-        fails = design.schedulability.schedulable is False
+        # With the schedule on processors deciding, the response-time test is only
+        # a cross-check (its disagreements are listed above the verdict).
+        fails = report.schedule is None and design.schedulability.schedulable is False
         if errors or fails:
             listed = [count(errors, "design-rule error")] if errors else []
             if fails:

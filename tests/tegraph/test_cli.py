@@ -74,7 +74,8 @@ def test_human_report_names_verdicts_and_methods(live_file):
     assert liveness.split(None, 2)[1] == "live" and "Commoner's theorem" in liveness
     # 23/3 = 7.666...: a non-terminating decimal, rounded and marked.
     assert "23/3 ms (≈7.66667)" in out.stdout
-    assert out.stdout.splitlines()[-1] == "verdict: live and consistent (exit status 0)"
+    assert out.stdout.splitlines()[-1] == (
+        "verdict: live, consistent and schedulable on its processors (exit status 0)")
 
 
 def test_deadlock_exits_1_and_names_the_circuit(tmp_path):

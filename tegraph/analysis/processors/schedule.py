@@ -49,6 +49,7 @@ from ...model.build import last_event
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
 from ._engine import PartData, PartResult, simulate_part
+from .critical_instant import IndependentVerdict, independent_tasks
 from .platform import Platform, check_groups, platform_of
 
 __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
@@ -202,6 +203,11 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         # proven before each clock has ticked over one hyperperiod. Past the
         # share, look only for an early overrun, and say why at once.
         too_long = ticks > share
+        if too_long:  # a theorem may cross the hyperperiod where a simulation cannot
+            verdict = independent_tasks(skeleton, local_tasks, platform)
+            if verdict is not None:
+                out.add_independent(verdict, local_tasks, local_events, hyper)
+                continue
         result = simulate_part(data, min(share, QUICK_LOOK) if too_long else share)
         left -= result.fired
         out.add(result, data, local_tasks, local_events, local_places)
@@ -391,6 +397,8 @@ class _Outcome:
         self.intervals: list[tuple[str, int, int, str, int]] = []
         self.regimes: list[dict[str, Any]] = []
         self.undecided: list[str] = []
+        self.by_theorem = 0
+        """Parts decided by the critical instant (``critical_instant.py``)."""
         self.events = 0
         self.rate: dict[int, set] = {}
         """Group -> the cycle times of its events (None: an event that stops)."""
@@ -436,6 +444,24 @@ class _Outcome:
                 self._rate(e, None)
             return
         self._regime(r, d, names, events, places)
+
+    def add_independent(self, v: IndependentVerdict, names: list[str], events: list[int],
+                        hyper: Fraction | None) -> None:
+        """A part decided by the critical instant: its figures, no simulated interval."""
+        self.by_theorem += 1
+        for t, r in v.response.items():
+            fig = self.tasks[t]
+            if t == v.late:
+                fig.overrun_at, fig.decided = 2, True
+            else:
+                fig.period, fig.response, fig.decided = v.period[t], r, True
+        met = {t for t in v.period}
+        self.regimes.append({"tasks": names, "start": None if v.late else Fraction(0),
+                             "length": None if v.late else hyper})
+        for e in events:  # _rate reads the task events (a clock's has no task)
+            owner = self.net.teg.transition_attrs[e].get("tasks")
+            if owner and owner[0] in met:
+                self._rate(e, v.period[owner[0]])
 
     def _rate(self, event: int, value: Fraction | None) -> None:
         tasks = self.net.teg.transition_attrs[event].get("tasks")
@@ -491,10 +517,17 @@ class _Outcome:
         unbounded.sort(key=lambda u: u.place)
         verdict, why = self._verdict(live, unbounded)
         parts = len(self.regimes)
+        simulated = parts - self.by_theorem
         method = (f"exact event-driven simulation of the schedule on processors (§4b), "
-                  f"{self.events} event firings in {parts} independent part(s); each part's "
-                  "periodic regime proven by a repeated state (up to places that only gain "
-                  "tokens, never taken last)")
+                  f"{self.events} event firings in {simulated} independent part(s); each "
+                  "part's periodic regime proven by a repeated state (up to places that "
+                  "only gain tokens, never taken last)") if simulated or not parts else ""
+        if self.by_theorem:
+            method += ("; " if method else "exact schedule on processors (§4b): ") + (
+                       f"{self.by_theorem} part(s) of independent periodic tasks released "
+                       "together on one processor, whose hyperperiod is too long to "
+                       "simulate, decided by the critical instant (Liu and Layland 1973) "
+                       "and the exact response-time test (Lehoczky, Sha and Ding 1989)")
         return ProcessorSchedule(net.platform, verdict, verdict is not None, method, why,
                                  self.tasks, group_periods, unbounded, self.intervals,
                                  net.scale, self.regimes, self.events)

@@ -82,7 +82,8 @@ def test_a_computed_number_past_python_str_limit_is_written_exactly(tmp_path):
                     '  - {from: "B:y", to: "C:y", protocol: ASYN/ASYN}\n')
     result = CliRunner().invoke(app, ["analyze", str(path)])
     assert result.exit_code == 0, result.output[-500:]
-    assert result.output.rstrip().endswith("verdict: live and consistent (exit status 0)")
+    assert result.output.rstrip().endswith(
+        "verdict: live, consistent and schedulable on its processors (exit status 0)")
 
 
 def test_a_long_integer_gets_its_rounded_decimal_without_str():

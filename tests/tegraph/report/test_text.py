@@ -66,7 +66,8 @@ def test_every_text_report_ends_with_its_verdict():
     assert dead.splitlines()[-1] == ("verdict: NOT LIVE: 1 token-free circuit (group 0) "
                                      "(exit status 1)")
     fine = render_text(analyze(load_skeleton(EXAMPLES / "computed_torque.yaml")))
-    assert fine.splitlines()[-1] == "verdict: live and consistent (exit status 0)"
+    assert fine.splitlines()[-1] == ("verdict: live, consistent and schedulable on its processors "
+        "(exit status 0)")
 
 
 def test_design_errors_with_a_clean_verdict_say_why_the_status_is_0(tmp_path):
@@ -82,7 +83,8 @@ def test_design_errors_with_a_clean_verdict_say_why_the_status_is_0(tmp_path):
     report = analyze(load_skeleton(path))
     assert report.exit_status == 0
     last = render_text(report).splitlines()[-1]
-    assert last.startswith("verdict: live and consistent (exit status 0); the design section "
+    assert last.startswith("verdict: live, consistent and schedulable on its processors "
+                           "(exit status 0); the design section "
                            "lists 2 design-rule errors")
     assert "does not change the verdict of spec §5" in last
 

@@ -259,13 +259,51 @@ def test_budget_gives_null_with_reason():
     assert small.tasks["A"].period is None and not small.tasks["A"].decided
 
 
-def test_drifting_clocks_are_refused_at_once_naming_the_hyperperiod():
+def test_drifting_independent_sensors_are_decided_by_the_critical_instant():
     # Four sensors of 0.997, 1.009, 1.013 and 1.019 ms (997, 1009, 1013, 1019 are
-    # primes): hyperperiod 997*1009*1013*1019/1000 ms, and a regime cannot repeat
-    # before H/period ticks of each clock: about 4e9 > the budget of 1e6.
+    # primes): hyperperiod 997*1009*1013*1019/1000 ms, about 4e9 ticks: no simulation
+    # crosses it. They are independent, released together at 0, on one processor:
+    # rate-monotonic S0 > S1 > S2 > S3 and the critical instant gives each response
+    # by Joseph-Pandya: R0 = 0.1; R1 = 0.1 + ceil(R/0.997)*0.1 = 0.2 (one S0 job
+    # within 0.2); R2 = 0.3; R3 = 0.4, each below its period: schedulable.
     periods = [997, 1009, 1013, 1019]
     sk = Skeleton.from_dict({"tasks": {f"S{i}": {"duration": "0.1", "period": f"{p}/1000"}
                                        for i, p in enumerate(periods)}})
+    s = schedule(sk)
+    assert s.schedulable is True and s.events == 0
+    assert [s.tasks[f"S{i}"].response for i in range(4)] == [
+        F(k, 10) for k in (1, 2, 3, 4)]
+    assert [s.tasks[f"S{i}"].period for i in range(4)] == [F(p, 1000) for p in periods]
+    assert s.group_periods == [F(p, 1000) for p in periods]
+    assert "critical instant" in s.method
+    assert s.regimes[0]["length"] == F(math.prod(periods), 1000)
+
+
+def test_drifting_independent_sensors_that_miss_overrun_at_activation_2():
+    # S3 (least urgent, 1.019 ms) needs 0.8 ms: R3 = 0.8 + ceil(R/0.997)*0.1 +
+    # ceil(R/1.009)*0.1 + ceil(R/1.013)*0.1: from 0.8, 1.1 (one job of each), then with
+    # R = 1.1 two jobs of each more urgent sensor: 1.4 > 1.019: job 1 still runs at
+    # tick 2 (1.019): overrun at activation 2, proven; the others meet their periods.
+    periods = [997, 1009, 1013, 1019]
+    sk = Skeleton.from_dict({"tasks": {
+        f"S{i}": {"duration": "0.8" if i == 3 else "0.1", "period": f"{p}/1000"}
+        for i, p in enumerate(periods)}})
+    s = schedule(sk)
+    assert s.schedulable is False
+    assert s.tasks["S3"].overrun_at == 2
+    assert [s.tasks[f"S{i}"].overrun_at for i in range(3)] == [None] * 3
+
+
+def test_drifting_clocks_bound_together_are_refused_at_once_naming_the_hyperperiod():
+    # The same four clocks, but S1 also waits for S0's message (ASYN/SYN): not
+    # independent, no theorem applies; a regime cannot repeat before H/period ticks of
+    # each clock, about 4e9 > the budget of 1e6.
+    periods = [997, 1009, 1013, 1019]
+    sk = Skeleton.from_dict({
+        "tasks": {f"S{i}": {"duration": "0.1", "period": f"{p}/1000",
+                            "inputs": ["m"] if i == 1 else [], "outputs": ["m"] if i == 0 else []}
+                  for i, p in enumerate(periods)},
+        "links": [{"from": "S0:m", "to": "S1:m", "protocol": "ASYN/SYN"}]})
     s = schedule(sk)
     ticks = sum(math.prod(periods) // p for p in periods)
     assert math.prod(periods) == 1038412611331
