@@ -354,20 +354,23 @@ def timeline(
         None, "-o", "--output", help="Also draw the diagram into this .svg or .png file "
                                      "(needs matplotlib: pip install 'tegraph[plot]')."),
     horizon: str | None = typer.Option(
-        None, "--horizon", help="End of the simulation, e.g. 12 or 7/3 (default: the "
-                                "largest clock phase plus the hyperperiod of the clocks)."),
+        None, "--horizon", help="End of the DRAWING, e.g. 12 or 7/3 (default: until the "
+                                "proof: the periodic regime, or the first overrun). The "
+                                "verdict never depends on it."),
     width: int = typer.Option(96, "--width", min=10, help="Columns of the text diagram."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
-    max_jobs: int = typer.Option(
-        100_000, "--max-jobs",  # no typer min: the library refuses in one line
-        help="Refuse at once (exit 2) a simulation that may take more jobs than this "
-             "(bounded before simulating: ticks, horizon over duration, waits)."),
+    max_events: int = typer.Option(
+        MAX_EVENTS, "--max-events",  # no typer min: the library refuses in one line
+        help="Budget of event firings of the exact schedule (as for analyze); past it "
+             "the verdict is undecided, with the reason (exit status 1)."),
 ) -> None:
-    """Preemptive fixed-priority timing diagram (ORCCAD Figure 17), exact.
+    """The schedule on its processors (spec §4b), a lane per processor, until its proof.
 
-    Exit status: 0 every job ends by the next tick of its pacing clock; 1 a deadlock
-    or a late job; 2 the input or the output file was refused, or matplotlib
-    is missing for -o; 130 interrupted (Ctrl-C).
+    The one semantics of analyze: preemptive fixed priorities, exact, drawn until the
+    periodic regime is reached or the first overrun. Exit status: 0 schedulable
+    (proven); 1 not schedulable (deadlock, overrun, starved job, growing place) or
+    undecided within --max-events; 2 the input or the output file was refused, or
+    matplotlib is missing for -o; 130 interrupted (Ctrl-C).
     """
     from maxplus.errors import MaxPlusValueError
     from maxplus.scalar import exact_time
@@ -390,10 +393,10 @@ def timeline(
         _output_file(output, force)
     with _refusals(file):
         skeleton = load_skeleton(file)
-        result = simulate_timeline(skeleton, end, max_jobs=max_jobs)
+        result = simulate_timeline(skeleton, end, max_events=max_events)
     if output is not None:
         _draw(draw_timeline, result, output, force)
-    typer.echo(render_timeline(result, width), nl=False)
+    typer.echo(_cli_words(render_timeline(result, width)), nl=False)
     if output is not None:  # on stderr: the verdict stays the last line of the report
         typer.echo(f"wrote {output}", err=True)
     raise typer.Exit(result.exit_status)

@@ -6,10 +6,9 @@ picture is drawn, and its absence is reported by
 figures themselves are exact in the :class:`~tegraph.design.timeline.Timeline`;
 only the drawing coordinates are floats.
 
-One row per task (most urgent on top), its jobs' processor time as bars (a
-preempted job shows as several bars), a thin line from a job's release to
-its end (waiting for the processor or for data), an arrow under the row at
-each tick of the task's clock, late jobs in red.
+One lane per processor, its jobs' processor time as bars in their task's
+colour (a preempted job shows as several bars), one row per clock with its
+ticks, the late activation of an overrun in red.
 """
 
 from __future__ import annotations
@@ -27,7 +26,7 @@ __all__ = [
 
 INSTALL_HINT = "pip install 'tegraph[plot]'"
 _FORMATS = (".svg", ".png")
-_RUN, _LATE, _WAIT = "#4878a8", "#d62728", "#9a9a9a"
+_LATE, _WAIT = "#d62728", "#9a9a9a"
 
 
 class PlotUnavailableError(TegraphError):
@@ -61,7 +60,12 @@ def _matplotlib() -> Any:
 
 def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: bool = False
                   ) -> Path:
-    """Draw ``timeline`` into an SVG or PNG file.
+    """Draw ``timeline`` into an SVG or PNG file: one lane per processor.
+
+    Each job's processor time is a bar in its task's colour, labelled ``T#k``
+    where it fits (a preempted job shows as several bars); the late activation
+    of the first overrun is hatched in red; one row per clock marks its ticks
+    (red: a tick at which a task overruns); dotted lines bound each proven regime.
 
     Parameters
     ----------
@@ -104,49 +108,71 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
         raise InputError(f"cannot draw to {target.name!r}; expected a file name ending in "
                          ".svg or .png", where="path")
     Figure = _matplotlib()
+    from matplotlib import colormaps
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    rows = timeline.tasks
-    H = float(timeline.horizon)
-    fig = Figure(figsize=(10.0, 1.6 + 0.55 * len(rows)), layout="constrained")
+    tl = timeline
+    lanes = tl.processors
+    clocks = [c for c in tl.ticks if any(tl.clocks[t] == c for t in tl.tasks)]
+    rows = len(lanes) + len(clocks)
+    H = float(tl.horizon)
+    fig = Figure(figsize=(10.0, 1.8 + 0.5 * rows), layout="constrained")
     ax = fig.add_subplot()
-    y_of = {t: len(rows) - 1 - i for i, t in enumerate(rows)}
-    for job in timeline.jobs:
-        y = y_of[job.task]
-        end = float(job.finish) if job.finish is not None else H
-        ax.hlines(y, float(job.release), end, colors=_WAIT, linewidth=1, zorder=1)
-        bars = [(float(a), float(b - a)) for a, b in job.segments]
-        if bars:
-            ax.broken_barh(bars, (y - 0.3, 0.6), facecolors=_LATE if job.late else _RUN,
-                           edgecolors="black", linewidth=0.5, zorder=2)
-    for t in rows:
-        clock = timeline.clocks[t]
-        ticks = [float(x) for x in timeline.ticks.get(clock, [])] if clock else []
-        if ticks:
-            ax.plot(ticks, [y_of[t] - 0.42] * len(ticks), linestyle="none", marker="^",
-                    markersize=6, color="black", zorder=3)
-    ax.set_yticks([y_of[t] for t in rows])
-    ax.set_ylim(-0.8, len(rows) - 0.4)
+    y_lane = {p: rows - 1 - i for i, p in enumerate(lanes)}
+    y_clock = {c: len(clocks) - 1 - i for i, c in enumerate(clocks)}
+    palette = colormaps["tab20"]
+    colour = {t: palette(i % 20) for i, t in enumerate(tl.tasks)}
+    late = {(j.task, j.index) for j in tl.late_jobs}
+    fits = 9.0 * 72 / H  # points per time unit, for an axis some 9 inches wide
+    for i in tl.intervals:
+        y, a, w = y_lane[i.processor], float(i.start), float(i.end - i.start)
+        bad = (i.task, i.k) in late
+        ax.broken_barh([(a, w)], (y - 0.35, 0.7), facecolors=colour[i.task],
+                       edgecolors=_LATE if bad else "black", linewidth=1.2 if bad else 0.5,
+                       hatch="//" if bad else None, zorder=2)
+        label = f"{i.task}#{i.k}"
+        if w * fits >= 4.2 * len(label) + 2:  # some 4.2 points a character at size 7
+            ax.text(a + w / 2, y, label, ha="center", va="center", fontsize=7, zorder=3)
+    overrun = {}
+    for t, k in tl.overrun_at.items():
+        if k is not None:
+            overrun.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])
+    for c in clocks:
+        xs = [x for x in tl.ticks[c] if x not in overrun.get(c, ())]
+        ax.plot([float(x) for x in xs], [y_clock[c]] * len(xs), linestyle="none", marker="^",
+                markersize=6, color="black", zorder=3)
+        red = [float(x) for x in overrun.get(c, ()) if x <= tl.horizon]
+        ax.plot(red, [y_clock[c]] * len(red), linestyle="none", marker="^", markersize=8,
+                color=_LATE, zorder=3)
+    for r in tl.schedule.regimes:  # the proven regime: its start and its end
+        if r["start"] is not None and r["length"] and r["tasks"][0] not in tl.unsimulated:
+            for x in (r["start"], r["start"] + r["length"]):
+                if 0 < x <= tl.horizon:
+                    ax.axvline(float(x), color=_WAIT, linestyle=":", linewidth=1, zorder=1)
+    ax.set_yticks([y_lane[p] for p in lanes] + [y_clock[c] for c in clocks])
+    ax.set_yticklabels([f"processor {p}" for p in lanes] + [f"clock {c}" for c in clocks])
+    ax.set_ylim(-0.8, rows - 0.4)
     ax.set_xlim(0, H)
-    ax.set_xlabel(f"time ({timeline.unit})")
+    ax.set_xlabel(f"time ({tl.unit})")
     ax.grid(axis="x", linestyle=":", linewidth=0.5)
-    title = f"{timeline.name}: preemptive fixed priorities over 0-{H:g} {timeline.unit}"
-    if timeline.deadlocks:
-        # The picture of a dead design must not look like a quiet one.
-        on = sorted({t for d in timeline.deadlocks for t in d.tasks}, key=rows.index)
-        title += f"\nDEADLOCK: a token-free circuit through {', '.join(on)}"
-    ax.set_title(title)
-    dead = set(timeline.dead_tasks)
-    ax.set_yticklabels([f"{t}  (prio {timeline.priorities[t]})" + ("  DEADLOCK" if t in dead
-                                                                    else "") for t in rows])
-    fig.legend(handles=[Patch(facecolor=_RUN, edgecolor="black", label="computing"),
-                        Patch(facecolor=_LATE, edgecolor="black", label="late job"),
-                        Line2D([], [], color=_WAIT, label="released, waiting"),
-                        Line2D([], [], color="black", marker="^", linestyle="none",
-                               label="clock tick")],
-               loc="outside lower center", ncol=4, fontsize="small", frameon=False)
+    verdict = {True: "schedulable (proven)", False: "NOT schedulable",
+               None: "undecided within the budget"}[tl.schedulable]
+    ax.set_title(f"{tl.name} on its processors (preemptive fixed priorities), 0-{H:g} "
+                 f"{tl.unit}: {verdict}")
+    handles = [Patch(facecolor=colour[t], edgecolor="black", label=f"{t} (prio "
+                     f"{tl.priorities[t]})") for t in tl.tasks[:_KEYED]]
+    handles += [Patch(facecolor="white", edgecolor=_LATE, hatch="//", label="late activation"),
+                Line2D([], [], color="black", marker="^", linestyle="none", label="clock tick"),
+                Line2D([], [], color=_LATE, marker="^", linestyle="none", label="overrun tick"),
+                Line2D([], [], color=_WAIT, linestyle=":", label="proven regime")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize="small",
+               frameon=False)
     return save_figure(fig, target, overwrite)
+
+
+_KEYED = 20
+"""Tasks given a legend entry (the bars' labels name the others)."""
 
 
 def save_figure(fig: Any, target: Path, overwrite: bool = False) -> Path:

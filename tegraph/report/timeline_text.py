@@ -1,4 +1,4 @@
-"""Text timing diagram of a fixed-priority simulation (ORCCAD Figure 17)."""
+"""Text timing diagram of the schedule on processors (ORCCAD Figure 17), lane per processor."""
 
 from __future__ import annotations
 
@@ -12,15 +12,19 @@ from ._format import count
 
 __all__ = ["render_timeline"]
 
+_SYMBOLS = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789"
+_LISTED = 200
+"""Intervals listed exactly (the lanes and the -o drawing show them all)."""
+
 
 def render_timeline(timeline: Timeline, width: int = 96) -> str:
-    """The timing diagram as text: one row per task, then the exact order of execution.
+    """The timing diagram as text: a lane per processor, the exact order of execution,
+    the proof and the verdict (its last line).
 
-    ``#`` the task computes, ``X`` a late job computes, ``-`` released and
-    waiting (for the processor or for data); one row per clock marks its
-    ticks with ``^``.
-    Columns are exact when every time is a multiple of a step that fits
-    ``width`` columns; otherwise each column stands for an interval.
+    In a lane each task's letter marks when its jobs run, ``.`` idle; a row per
+    clock marks its ticks ``^`` (``!`` a tick at which a task overruns). Columns
+    are exact when every time is a multiple of a step that fits ``width``
+    columns; otherwise each column stands for an interval (``+``: several jobs).
 
     Returns
     -------
@@ -31,116 +35,184 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
     >>> from tegraph import Skeleton, simulate_timeline
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
     ...                                    "B": {"duration": 2, "period": 4}}})
-    >>> print("\\n".join(render_timeline(simulate_timeline(sk)).splitlines()[1:5]))
-    A       |# # | prio 2
-    B       |-#-#| prio 1
-    A.clock |^ ^ |
-    B.clock |^   |
+    >>> print("\\n".join(render_timeline(simulate_timeline(sk)).splitlines()[1:4]))
+    default |ABABABAB| A = A (prio 2), B = B (prio 1)
+    A.clock |^ ^ ^ ^ |
+    B.clock |^   ^   |
     """
-    u = timeline.unit
-    H = timeline.horizon
-    times = {Fraction(0), H}
-    for j in timeline.jobs:
-        times.add(j.release)
-        times.update(x for seg in j.segments for x in seg)
-        if j.finish is not None:
-            times.add(j.finish)
-    for ts in timeline.ticks.values():
-        times.update(ts)
+    tl, u, H = timeline, timeline.unit, timeline.horizon
+    times = {Fraction(0), H} | {x for i in tl.intervals for x in (i.start, i.end)}
+    times |= {x for ts in tl.ticks.values() for x in ts}
     step = _gcd_all(times)
     exact = H / step <= width
     columns = int(H / step) if exact else width
     col = H / columns
-    shown = [c for c in timeline.ticks if any(timeline.clocks[t] == c for t in timeline.tasks)]
-    label = max(len(t) for t in [*timeline.tasks, *shown])
-    lines = [f"timeline {timeline.name}: 0 to {display_text(H)} {u}, one column = "
+    used = [c for c in tl.ticks if any(tl.clocks[t] == c for t in tl.tasks)]
+    label = max(len(x) for x in [*tl.processors, *used])
+    lines = [f"timeline {tl.name} on its processors: 0 to {display_text(H)} {u}, one column = "
              f"{display_text(col)} {u}" + ("" if exact else " (approximate drawing)")]
-    for t in timeline.tasks:
+    priorities = tl.priorities
+    # One letter per task, the same in every lane.
+    symbol = {t: _SYMBOLS[n] if n < len(_SYMBOLS) else "*" for n, t in enumerate(tl.tasks)}
+    lanes = _by_processor(tl)
+    for proc in tl.schedule.platform.processors:
+        order = sorted(proc.tasks, key=lambda t: -priorities[t])
+        row = ["."] * columns
+        for i in lanes[proc.name]:
+            _paint(row, i.start, i.end, col, symbol[i.task])
+        named = [t for t in order if symbol[t] != "*"]
+        key = ", ".join(f"{symbol[t]} = {t} (prio {priorities[t]})" for t in named)
+        if len(named) < len(order):
+            key += f", * = the {len(order) - len(named):,} others"
+        lines.append(f"{proc.name:<{label}} |{''.join(row)}| {key}")
+    late = {}
+    for t, k in tl.overrun_at.items():
+        if k is not None:
+            late.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])
+    for c in used:
         row = [" "] * columns
-        for j in (j for j in timeline.jobs if j.task == t):
-            _paint(row, j.release, j.finish if j.finish is not None else H, col, "-", keep="#X^")
-            for a, b in j.segments:
-                _paint(row, a, b, col, "X" if j.late else "#")
-        lines.append(f"{t:<{label}} |{''.join(row)}| prio {timeline.priorities[t]}")
-    for c in shown:
-        row = [" "] * columns
-        for x in timeline.ticks[c]:
-            row[min(int(x / col), columns - 1)] = "^"
+        for x in tl.ticks[c]:  # a tick at the end is drawn when it is an overrun's
+            if x < H or x in late.get(c, ()):
+                row[min(int(x / col), columns - 1)] = "!" if x in late.get(c, ()) else "^"
         lines.append(f"{c:<{label}} |{''.join(row)}|")
-    lines.append(_LEGEND + ("" if exact else " (a column shows # or X when the task runs at some "
-                                              "time within it)"))
+    lines.append("legend: a letter: that task's job runs (key after each lane); . idle; "
+                 "^ clock tick; ! a tick at which a task overruns"
+                 + ("" if exact else "; + several jobs within the column"))
     lines.append("")
-    lines.append("order of execution (exact):")
-    processors = list(dict.fromkeys(timeline.processors[t] for t in timeline.tasks))
-    for p in processors:
-        if len(processors) > 1:
-            lines.append(f"  processor {p or '(default)'}:")
-        for task, a, b in timeline.order_of_execution(p):
-            lines.append(f"  {display_text(a):>8} - {display_text(b):<8} {task}")
+    lines += _order_of_execution(tl)
     lines.append("")
-    for d in timeline.deadlocks:
-        lines.append("DEADLOCK: token-free circuit " + " -> ".join([*d.events, d.events[0]])
-                     + f" (tasks {', '.join(d.tasks)}): these events wait for each other and "
-                     "never fire")
-    if timeline.dead_tasks:
-        lines.append(f"  not live: {', '.join(timeline.dead_tasks)} (a clock ticking at a task "
-                     "blocked there is this deadlock, not an overrun)")
-    for j in timeline.late_jobs:
-        clock = timeline.pacing.get(j.task)
-        whose = (f"its clock {clock}" if timeline.clocks[j.task] == clock
-                 else f"its group's clock {clock}")
-        end = (f"has not ended by the end of the simulation ({display_text(H)} {u})"
-               if j.finish is None else f"runs until {display_text(j.finish)} {u}")
-        lines.append(f"OVERRUN: {j.task} overruns at activation {j.overrun_at}: {whose} ticks "
-                     f"at {display_text(j.deadline)} {u} while activation {j.index} {end}")
-    lines.append(_verdict(timeline))
+    lines += _findings(tl)
+    lines.append(f"method: {tl.schedule.method}")
+    lines.append(_verdict(tl))
     return "\n".join(lines) + "\n"
 
 
-_LEGEND = ("legend: # runs, - released and waiting (for its processor or a message), "
-           "X runs late (it ends after the next tick of its pacing clock: its own, else its "
-           "group's), ^ clock tick, "
-           "blank idle")
+def _order_of_execution(tl: Timeline) -> list[str]:
+    lines = ["order of execution (exact; T#k: activation k of T):"]
+    done: dict[tuple[str, int], Fraction] = {}
+    listed = 0
+    lanes = _by_processor(tl)
+    for proc in tl.processors:
+        mine = lanes[proc]
+        if len(tl.processors) > 1:
+            lines.append(f"  processor {proc}:")
+        for i in mine:
+            key = (i.task, i.k)
+            before = done.get(key, Fraction(0))
+            done[key] = before + (i.end - i.start)
+            if listed >= _LISTED:
+                continue
+            listed += 1
+            how = "resumes; " if before else ""
+            if done[key] == tl.durations[i.task]:
+                how += "ends"
+            else:
+                how += "preempted" if i.end < tl.horizon else "still running"
+            lines.append(f"  {display_text(i.start):>8} - {display_text(i.end):<8} "
+                         f"{i.task}#{i.k}  {how}")
+    if listed < len(tl.intervals):
+        lines.append(f"  ... and {len(tl.intervals) - listed:,} more intervals up to "
+                     f"{display_text(tl.horizon)} {tl.unit} (in the lanes and the -o drawing)")
+    return lines
 
 
-def _verdict(timeline: Timeline) -> str:
-    """The last line: what the simulation found, within its horizon, and the exit status."""
-    u, H = timeline.unit, display_text(timeline.horizon)
-    status = f" (exit status {timeline.exit_status})"
-    if timeline.deadlocks:
-        late = len(timeline.late_jobs)
-        also = f", and {count(late, 'overrun')} elsewhere" if late else ""
-        return (f"verdict: DEADLOCK ({count(len(timeline.deadlocks), 'token-free circuit')}; "
-                f"{count(len(timeline.dead_tasks), 'task')} in groups that are not live)"
-                f"{also}{status}")
-    if timeline.late_jobs:
-        tasks = list(dict.fromkeys(j.task for j in timeline.late_jobs))
-        shown = ", ".join(tasks[:_NAMED]) + (
-            f" and {len(tasks) - _NAMED:,} more" if len(tasks) > _NAMED else "")
-        return (f"verdict: {count(len(timeline.late_jobs), 'overrun')} before {H} {u}, by "
-                f"{shown}{status}")
-    if timeline.full_horizon is not None:
-        # A cut simulation proves nothing past its end: say so on the verdict line.
-        return (f"verdict: every job ends by the next tick of its pacing clock up to {H} {u} "
-                f"only (the horizon cut the simulation; the default horizon is "
-                f"{display_text(timeline.full_horizon)} {u}: a later overrun is not "
-                f"excluded){status}")
-    return (f"verdict: every job ends by the next tick of its pacing clock (simulated up to "
-            f"{H} {u}){status}")
+def _by_processor(tl: Timeline) -> dict[str, list]:
+    lanes: dict[str, list] = {p: [] for p in tl.processors}
+    for i in tl.intervals:
+        lanes[i.processor].append(i)
+    return lanes
 
 
-_NAMED = 5
-"""Late tasks named on the verdict line (the OVERRUN lines above name them all)."""
+def _findings(tl: Timeline) -> list[str]:
+    """The proof: each part's regime, then what makes the skeleton not schedulable."""
+    u, s = tl.unit, tl.schedule
+    lines = []
+    for r in s.regimes:
+        on = ", ".join(r["tasks"][:4]) + (" ..." if len(r["tasks"]) > 4 else "")
+        if r["start"] is None:
+            hyper = tl.hyperperiods.get(r["tasks"][0])
+            lines.append(f"{on}: no periodic regime within the budget"
+                         + (f" (their clocks' hyperperiod is {display_text(hyper)} {u})"
+                            if hyper is not None else ""))
+        elif r["length"] is None:
+            lines.append(f"{on}: nothing happens after {display_text(r['start'])} {u}")
+        else:
+            how = ("decided by a theorem without simulating it (see the method): nothing to "
+                   "draw" if r["tasks"][0] in tl.unsimulated else "proven: the whole state "
+                   "repeats")
+            lines.append(f"{on}: periodic from {display_text(r['start'])} {u}, one regime every "
+                         f"{display_text(r['length'])} {u} ({how})")
+    for d in tl.deadlocks:
+        lines.append("DEADLOCK: token-free circuit " + " -> ".join([*d.events, d.events[0]])
+                     + f" (tasks {', '.join(d.tasks)}): these events wait for each other and "
+                     "never fire")
+    jobs = {(j.task, j.index): j for j in tl.jobs}
+    for t, k in tl.overrun_at.items():
+        if k is None:
+            continue
+        at = tl.overrun_ticks[t]
+        job = jobs.get((t, k - 1))
+        if job is None or job.finish is None:
+            end = f"activation {k - 1} has not ended"
+            end += (" (past the end of the drawing)" if at > tl.horizon else "")
+        elif not tl.has_outputs[t]:
+            end = f"activation {k - 1} runs until {display_text(job.finish)} {u}"
+        elif job.finish > at:
+            end = f"activation {k - 1} computes until {display_text(job.finish)} {u}"
+        else:
+            end = (f"activation {k - 1} has not ended (computed by {display_text(job.finish)} "
+                   f"{u}; a write still waits)")
+        lines.append(f"OVERRUN: {t} overruns at activation {k}: its clock {tl.clocks[t]} ticks "
+                     f"at {display_text(at)} {u} while {end}")
+    for t in s.starved:
+        lines.append(f"STARVED: a job of {t} never receives its duration on processor "
+                     f"{s.platform.processor_of[t]}")
+    for g in s.unbounded:
+        per = ("infinitely many at once" if g.per_regime is None
+               else f"+{g.per_regime} per regime")
+        lines.append(f"GROWING: place {g.src} -> {g.dst} ({g.kind}): {per}")
+    lines += [f"note: {n}" for n in tl.notes]
+    return lines
 
 
-def _paint(row: list[str], a: Fraction, b: Fraction, col: Fraction, ch: str,
-           keep: str = "") -> None:
-    """Fill the columns that meet [a, b) (at least the one holding a)."""
+def _verdict(tl: Timeline) -> str:
+    """The last line: the proof's verdict and the exit status."""
+    s, u = tl.schedule, tl.unit
+    status = f" (exit status {tl.exit_status})"
+    if s.schedulable is True:
+        return ("verdict: schedulable on its processors (proven): no overrun, no starved "
+                f"job, no growing place{status}")
+    if s.schedulable is None:
+        why = s.why_undecided or ""
+        hyper = [h for h in tl.hyperperiods.values() if h is not None]
+        if hyper and "hyperperiod" not in why:
+            why += "; the clocks' hyperperiod is " + " and ".join(
+                f"{display_text(h)} {u}" for h in hyper)
+        why = why.removeprefix("undecided ")  # the engine's reason begins "undecided within"
+        return f"verdict: UNDECIDED {why} (raise `max_events` to look further){status}"
+    found = []
+    if tl.deadlocks:
+        found.append(f"DEADLOCK ({count(len(tl.deadlocks), 'token-free circuit')}; "
+                     f"{count(len(tl.dead_tasks), 'task')} in groups that are not live)")
+    first = sorted((x, t) for t, x in tl.overrun_ticks.items())
+    if first:
+        x, t = first[0]
+        found.append(f"{t} overruns first, at activation {tl.overrun_at[t]} "
+                     f"({display_text(x)} {u})" + (f", {len(first) - 1} more task(s) overrun"
+                                                    if len(first) > 1 else ""))
+    if s.starved:
+        found.append(f"{count(len(s.starved), 'starved task')}")
+    if s.unbounded:
+        found.append(f"{count(len(s.unbounded), 'growing place')}")
+    return f"verdict: NOT schedulable on its processors: {'; '.join(found)}{status}"
+
+
+def _paint(row: list[str], a: Fraction, b: Fraction, col: Fraction, ch: str) -> None:
+    """Fill the columns that meet [a, b) (at least the one holding a); ``+`` where shared."""
     start = int(a / col)
     stop = max(math.ceil(b / col), start + 1)
     for k in range(start, min(stop, len(row))):
-        if row[k] not in keep:
-            row[k] = ch
+        row[k] = ch if row[k] in (".", ch) else "+"
 
 
 def _gcd_all(values: set[Fraction]) -> Fraction:

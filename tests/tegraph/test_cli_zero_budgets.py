@@ -44,9 +44,10 @@ def test_reach_refuses_a_state_budget_of_nothing_in_the_library():
 
 
 @pytest.mark.parametrize("value", ["0", "-3"])
-def test_timeline_refuses_a_job_budget_of_nothing_in_one_line(tmp_path, value):
+def test_timeline_refuses_a_budget_of_nothing_in_one_line(tmp_path, value):
+    # timeline's budget is --max-events now (issue 19: the engine of analyze), not --max-jobs.
     path = tmp_path / "a.yaml"
     path.write_text(ONE_TASK)
-    out = CliRunner().invoke(app, ["timeline", str(path), "--max-jobs", value])
-    line = refused_in_one_line(out, "--max-jobs")
+    out = CliRunner().invoke(app, ["timeline", str(path), "--max-events", value])
+    line = refused_in_one_line(out, "--max-events")
     assert "expected an integer >= 1" in line

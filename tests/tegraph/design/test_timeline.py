@@ -1,24 +1,29 @@
-"""The exact preemptive fixed-priority timeline, its text rendering and its drawing.
+"""`tegraph timeline`: the §4b schedule on processors (one semantics with analyze), drawn
+until its proof, its text rendering and its drawing.
 
-The computed-torque timeline is compared with the order of execution that
-section 6 of the ORCCAD paper describes for Figure 17 (times from the
-durations in examples/computed_torque.yaml); other expectations are the
-daters derived by hand in the examples' comments, or hand schedules.
+Expected schedules are derived by hand in the comments (from the durations, periods
+and priorities of the files); the drawing past a proven regime is checked against
+the tick-by-tick oracle of tests/tegraph/analysis/processors/test_schedule_oracle.py,
+written apart from the engine.
 """
 
 from __future__ import annotations
 
 import subprocess
 import sys
+import time
 from fractions import Fraction as F
 
 import pytest
+from hypothesis import HealthCheck, given, settings
 from typer.testing import CliRunner
 
 from tegraph import analyze, load_skeleton
+from tegraph.analysis.analyze import analyze_skeleton
+from tegraph.analysis.processors import platform_of
 from tegraph.cli import app
 from tegraph.design.timeline import simulate_timeline
-from tegraph.errors import InputError, ModelError
+from tegraph.errors import InputError
 from tegraph.model.skeleton import Skeleton
 from tegraph.report.plot import (
     INSTALL_HINT,
@@ -28,174 +33,329 @@ from tegraph.report.plot import (
 )
 from tegraph.report.timeline_text import render_timeline
 from tests.paths import REPO
+from tests.tegraph.analysis.processors.test_schedule_oracle import oracle, skeletons
 
 EXAMPLES = REPO / "examples"
 
 
-def order(timeline, processor=None) -> list[tuple[str, F, F]]:
-    return timeline.order_of_execution(processor)
+def runs(tl, processor="default"):
+    """(task#k, start, end) of every drawn interval on ``processor``, times as text."""
+    return [(f"{i.task}#{i.k}", str(i.start), str(i.end)) for i in tl.intervals
+            if i.processor == processor]
 
 
-def test_computed_torque_follows_figure_17():
-    # Section 6: OBS.JL (high) runs at the first tick, then TG.JS, TF.TT.JS, CO.JS
-    # (medium) in sequence, then MOD.DYN (low), "temporarily suspended by the next
-    # execution of the higher priority OBS.JL" at 1, finishing in the second basic cycle.
-    # Durations 0.1, 0.1, 0.2, 0.3, 1.2; clocks 1, 2, 6 ms.
+def run(*args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+# ------------------------------------------------------------------ (1) Figure 17
+
+def test_computed_torque_on_one_cpu_is_figure_17():
+    # examples/computed_torque.yaml, one processor, rate-monotonic (§4b): groups
+    # [OBS.JL] (1 ms), [TG.JS, TF.TT.JS, CO.JS] (2 ms), [MOD.DYN] (6 ms) -> priorities
+    # 3, 2, 1. Durations 0.1, 0.1, 0.2, 0.3, 1.2. Every clock ticks at 0; q is an
+    # unlinked input, so OBS.JL, TG.JS and MOD.DYN are released at 0; TF.TT.JS waits
+    # for qd (TG.JS's write), CO.JS for e (TF.TT.JS's write):
+    #   OBS.JL#1 0-0.1; TG.JS#1 0.1-0.2; TF.TT.JS#1 0.2-0.4; CO.JS#1 0.4-0.7;
+    #   MOD.DYN#1 0.7-1 (0.3 of 1.2), preempted by OBS.JL#2 at its tick 1: 1-1.1;
+    #   MOD.DYN#1 resumes 1.1-2 (0.9 more): it ends in the second basic cycle, at 2.
+    #   Tick 2: OBS.JL#3 2-2.1, then the chain 2.1-2.2, 2.2-2.4, 2.4-2.7; OBS.JL#4 3-3.1;
+    #   tick 4: OBS.JL#5 4-4.1, chain 4.1-4.7; OBS.JL#6 5-5.1.
+    # Every job has ended by 5.1 and the three clocks tick together at 6 as at 0: the
+    # state at 6 is the state at 0, the regime is [0, 6): the drawing ends at 6.
     tl = simulate_timeline(load_skeleton(EXAMPLES / "computed_torque.yaml"))
-    d = F(1, 10)
+    assert tl.priorities == {"OBS.JL": 3, "TG.JS": 2, "TF.TT.JS": 2, "CO.JS": 2, "MOD.DYN": 1}
 
-    def chain(t0):
-        return [("TG.JS", t0 + d, t0 + 2 * d), ("TF.TT.JS", t0 + 2 * d, t0 + 4 * d),
-                ("CO.JS", t0 + 4 * d, t0 + 7 * d)]
-
-    assert order(tl) == [
-        ("OBS.JL", 0, d), *chain(0), ("MOD.DYN", 7 * d, 1), ("OBS.JL", 1, 1 + d),
-        ("MOD.DYN", 1 + d, 2), ("OBS.JL", 2, 2 + d), *chain(2), ("OBS.JL", 3, 3 + d),
-        ("OBS.JL", 4, 4 + d), *chain(4), ("OBS.JL", 5, 5 + d)]
-    assert tl.horizon == 6 and tl.late_jobs == []
+    assert runs(tl) == [
+        ("OBS.JL#1", "0", "1/10"), ("TG.JS#1", "1/10", "1/5"), ("TF.TT.JS#1", "1/5", "2/5"),
+        ("CO.JS#1", "2/5", "7/10"), ("MOD.DYN#1", "7/10", "1"), ("OBS.JL#2", "1", "11/10"),
+        ("MOD.DYN#1", "11/10", "2"), ("OBS.JL#3", "2", "21/10"),
+        ("TG.JS#2", "21/10", "11/5"), ("TF.TT.JS#2", "11/5", "12/5"), ("CO.JS#2", "12/5", "27/10"),
+        ("OBS.JL#4", "3", "31/10"), ("OBS.JL#5", "4", "41/10"),
+        ("TG.JS#3", "41/10", "21/5"), ("TF.TT.JS#3", "21/5", "22/5"), ("CO.JS#3", "22/5", "47/10"),
+        ("OBS.JL#6", "5", "51/10")]
+    assert tl.horizon == 6 and tl.proof_end == 6 and tl.schedulable is True
     (mod,) = [j for j in tl.jobs if j.task == "MOD.DYN"]
-    assert (mod.release, mod.finish, mod.preemptions, mod.deadline) == (0, 2, 1, 6)
-    assert tl.ticks["obs"] == [0, 1, 2, 3, 4, 5] and tl.ticks["dyn"] == [0]
-    assert tl.tasks == ["OBS.JL", "TG.JS", "TF.TT.JS", "CO.JS", "MOD.DYN"]
-
-
-def test_reversed_pipeline_of_figure_4():
-    # Figure 4 (bottom): the same four 10 ms tasks with the last stage most urgent run
-    # in reverse: MT4 0-1, MT3 1-3, MT2 3-5, MT1 5-6.
-    data = load_skeleton(EXAMPLES / "fig4_pipeline_unsynchronized.yaml").to_dict()
-    for i, name in enumerate(["MT1", "MT2", "MT3", "MT4"]):
-        data["tasks"][name]["priority"] = i + 1
-    tl = simulate_timeline(Skeleton.from_dict(data))
-    assert order(tl) == [("MT4", 0, 1), ("MT3", 1, 3), ("MT2", 3, 5), ("MT1", 5, 6)]
-    # Synchronized (examples/fig4_pipeline_synchronized.yaml): the data order.
-    tl = simulate_timeline(load_skeleton(EXAMPLES / "fig4_pipeline_synchronized.yaml"))
-    assert order(tl) == [("MT1", 0, 1), ("MT2", 1, 3), ("MT3", 3, 5), ("MT4", 5, 6)]
-
-
-def test_overrun_of_figure_12_matches_the_analysis():
-    # MT2 (clock 4) waits for MT1's message (every 10): activation 2, released at 4,
-    # reads y at 11 and ends (writes u) at 13 > tick 3 at 8. Spec §4 (v1.1): MT2 has an
-    # output, so end(k) = x_write:u(k) = 3, 13, 23 and the ticks are 0, 4, 8, 12:
-    # k = 2: 3 > 4 no; k = 3: 13 > 8 yes => overrun_at = 3 (the example file's derivation).
-    # The timeline used to say "activation 2 ends at 13 ms, after the next tick at 8 ms",
-    # the late job's number: one fact, two numberings. The one numbering is the spec's:
-    # MT2 overruns at activation 3, tick 3 finding activation 2 unfinished.
-    sk = load_skeleton(EXAMPLES / "fig12_double_sync.yaml")
-    tl = simulate_timeline(sk)
-    late = [(j.task, j.index, j.finish, j.deadline, j.overrun_at) for j in tl.late_jobs]
-    assert late[0] == ("MT2", 2, 13, 8, 3)
-    assert analyze(sk).tasks["MT2"].overrun_at == tl.overrun_at["MT2"] == 3
-    assert tl.overrun_at["MT1"] is None
-    assert ("OVERRUN: MT2 overruns at activation 3: its clock MT2.clock ticks at 8 ms while "
-            "activation 2 runs until 13 ms") in render_timeline(tl)
-
-
-@pytest.mark.parametrize("example", ["fig7a_circular_wait.yaml", "fig7b_wrong_order.yaml"])
-def test_a_dead_design_reports_its_deadlock(example):
-    # Figure 7a: nobody can read first, no job ever starts. Figure 7b: MT1 computes 0-2 and
-    # then waits for ever at its rendezvous with MT2, which waits for MT3, which waits for
-    # MT1's second write (the circuits derived by hand in the examples). The diagram used
-    # to say "every job ends by the next tick of its clock" and exit 0.
-    sk = load_skeleton(EXAMPLES / example)
-    tl = simulate_timeline(sk)
-    assert [d.events for d in tl.deadlocks] == [d.events for d in analyze(sk).deadlocks]
-    assert tl.dead_tasks == ["MT1", "MT2", "MT3"] and tl.late_jobs == [] and tl.exit_status == 1
-    ran = [(t, a, b) for t, a, b in order(tl)]
-    assert ran == ([] if example.startswith("fig7a") else [("MT1", 0, 2)])
+    assert (mod.finish, mod.preemptions, mod.segments) == (2, 1, [(F(7, 10), 1), (F(11, 10), 2)])
+    assert tl.schedule.tasks["MOD.DYN"].response == 2
     text = render_timeline(tl)
-    assert "DEADLOCK: token-free circuit " + " -> ".join(
-        [*tl.deadlocks[0].events, tl.deadlocks[0].events[0]]) in text
-    assert "every job ends" not in text and text.rstrip().endswith(
-        "verdict: DEADLOCK (1 token-free circuit; 3 tasks in groups that are not live) "
-        "(exit status 1)")
-    out = run("timeline", str(EXAMPLES / example))
-    assert out.returncode == 1 and "DEADLOCK" in out.stdout
+    lines = text.splitlines()
+    assert lines[0] == "timeline computed-torque on its processors: 0 to 6 ms, one column = 0.1 ms"
+    lane = lines[1].split("|")[1]  # A OBS.JL, B TG.JS, C TF.TT.JS, D CO.JS, E MOD.DYN
+    assert lane[:20] == "ABCCDDDEEEAEEEEEEEEE" and len(lane) == 60
+    assert "     1.1 - 2        MOD.DYN#1  resumes; ends" in text
+    assert "       0.7 - 1        MOD.DYN#1  preempted" in text
+    assert "method: exact event-driven simulation" in text
+    assert lines[-1] == ("verdict: schedulable on its processors (proven): no overrun, no "
+                         "starved job, no growing place (exit status 0)")
 
 
-def test_overrun_in_step_on_one_processor():
-    # MT1 0-6 posts y; MT2 (same priority, later in the file) reads it at 6, runs 6-12,
-    # past its next tick at 10 (spec example: overrun_at(MT2) = 2).
-    tl = simulate_timeline(load_skeleton(EXAMPLES / "overrun_in_step.yaml"), horizon=10)
-    assert order(tl) == [("MT1", 0, 6), ("MT2", 6, 10)]
-    (late,) = tl.late_jobs
-    assert (late.task, late.index, late.finish, late.deadline) == ("MT2", 1, None, 10)
-
-
-def test_rendezvous_waits_for_the_partner():
-    # Example daters: P computes 0-1 then waits at the rendezvous until Q's tick at 5/2;
-    # Q computes 5/2-9/2; P's second activation at 5 computes 5-6.
-    tl = simulate_timeline(load_skeleton(EXAMPLES / "rendezvous_two_clocks.yaml"))
-    assert order(tl) == [("P", 0, 1), ("Q", F(5, 2), F(9, 2)), ("P", 5, 6)]
-    p1 = next(j for j in tl.jobs if j.task == "P")
-    assert (p1.release, p1.finish) == (0, F(5, 2))
-
-
-def test_thread_runs_its_tasks_in_turn():
-    # threads.yaml group 0 (clock 2): TG.JS 0-3/10, TF.TT.JS 3/10-7/10, CO.JS 7/10-6/5
-    # (the example's daters); [LOG, DIAG] free-running below them: LOG 6/5-23/15,
-    # DIAG from 23/15 (still running at the horizon 2).
-    tl = simulate_timeline(load_skeleton(EXAMPLES / "threads.yaml"))
-    assert order(tl) == [("TG.JS", 0, F(3, 10)), ("TF.TT.JS", F(3, 10), F(7, 10)),
-                         ("CO.JS", F(7, 10), F(6, 5)), ("LOG", F(6, 5), F(23, 15)),
-                         ("DIAG", F(23, 15), 2)]
-
-
-def test_syn_asyn_writer_waits_for_the_request():
-    # W (priority 2, clock 10) computes 0-1 then must post x SYN/ASYN: it waits for R's
-    # request; R (priority 1, clock 10, phase 3) reads at 3 (request), so W posts at 3
-    # and ends; R computes 3-5. Horizon: largest phase 3 + hyperperiod 10 = 13, so W's
-    # second activation (10-11) is in it, waiting at the end for R's request at 13.
-    sk = Skeleton.from_dict({
-        "clocks": {"cw": {"period": 10}, "cr": {"period": 10, "phase": 3}},
-        "tasks": {"W": {"duration": 1, "clock": "cw", "outputs": ["x"], "priority": 2},
-                  "R": {"duration": 2, "clock": "cr", "inputs": ["x"], "priority": 1}},
-        "links": [{"from": "W:x", "to": "R:x", "protocol": "SYN/ASYN"}]})
+def test_doubled_durations_overrun_on_one_cpu_as_analyze_says():
+    # Issue 19: every duration x2 (0.2, 0.2, 0.4, 0.6, 2.4): analyze (one processor per
+    # task) said "consistent", the old timeline "MOD.DYN overruns at activation 2".
+    # By hand, one CPU, the same priorities: OBS.JL#1 0-0.2, TG.JS 0.2-0.4, TF.TT.JS
+    # 0.4-0.8, CO.JS 0.8-1 (0.2 of 0.6), preempted by OBS.JL#2 1-1.2, CO.JS 1.2-1.6,
+    # MOD.DYN 1.6-2 (0.4 of 2.4). Each 2 ms cycle repeats this: MOD.DYN also gets
+    # 3.6-4 and 5.6-6, so at dyn's tick 2 (6 ms) activation 1 has had 1.2 of its 2.4:
+    # MOD.DYN overruns at activation 2 (a utilization of 1.2 > 1).
+    data = load_skeleton(EXAMPLES / "computed_torque.yaml").to_dict()
+    for spec in data["tasks"].values():
+        spec["duration"] = 2 * F(str(spec["duration"]))
+    sk = Skeleton.from_dict(data)
     tl = simulate_timeline(sk)
-    assert tl.horizon == 13
-    assert order(tl) == [("W", 0, 1), ("R", 3, 5), ("W", 10, 11)]
-    assert [(j.task, j.index, j.finish) for j in tl.jobs] == [
-        ("W", 1, 3), ("R", 1, 5), ("W", 2, None)]
+    assert tl.overrun_at["MOD.DYN"] == 2 and tl.overrun_ticks["MOD.DYN"] == 6
+    assert [(s, e) for t, s, e in runs(tl) if t == "MOD.DYN#1"][:3] == [
+        ("8/5", "2"), ("18/5", "4"), ("28/5", "6")]
+    assert tl.exit_status == 1
 
 
-def test_processors_run_in_parallel():
+# ------------------------------------------------------------------ (2) SYN/SYN 4 / 6
+
+SYN_PAIR = {"tasks": {"A": {"duration": 1, "period": 4, "outputs": ["x"]},
+                      "B": {"duration": 1, "period": 6, "inputs": ["x"]}},
+            "links": [{"from": "A:x", "to": "B:x", "protocol": "SYN/SYN"}]}
+
+
+def test_syn_syn_pair_overruns_at_activation_5_as_analyze_proves():
+    # A (clock 4, duration 1) writes x, B (clock 6, duration 1) reads it SYN/SYN: the
+    # write W = A.write:x = B.read:x is one event. One group (design period 4): both
+    # priority 1, one processor; at equal priority and release, file order (A first).
+    #   A.activate(k) = max(4(k-1), W(k-1)); B.activate(k) = max(6(k-1), f_B(k-1));
+    #   W(k) = max(f_A(k), B.activate(k)); B's job is released at W(k).
+    #   k=1: A#1 0-1, W = max(1, 0) = 1, B#1 1-2.
+    #   k=2: A.act = 4, A#2 4-5; B.act = max(6, 2) = 6; W = 6; B#2 6-7.
+    #   k=3: A.act = max(8, 6) = 8, A#3 8-9; B.act = 12; W = 12; B#3 released at 12.
+    #   k=4: A.act = max(12, W(3) = 12) = 12, released with B#3: A#4 12-13 (file order),
+    #        B#3 13-14; B.act(4) = max(18, 14) = 18; W(4) = max(13, 18) = 18.
+    #   end_A(4) = W(4) = 18 > tick 5 of A at 16: A overruns at activation 5.
+    # (With a processor per task, §4 gives the same end_A: 1, 6, 12, 18, hence 5.)
+    sk = Skeleton.from_dict(SYN_PAIR)
+    tl = simulate_timeline(sk)
+    assert runs(tl) == [("A#1", "0", "1"), ("B#1", "1", "2"), ("A#2", "4", "5"),
+                        ("B#2", "6", "7"), ("A#3", "8", "9"), ("A#4", "12", "13"),
+                        ("B#3", "13", "14")]
+    assert tl.overrun_at == {"A": 5, "B": None} and tl.overrun_ticks["A"] == 16
+    assert tl.horizon == 16  # drawn until the proof: the overrun's tick
+    report = analyze(sk, design=False)
+    assert report.tasks["A"].overrun_at == tl.overrun_at["A"] == 5
+    assert report.exit_status == tl.exit_status == 1
+    text = render_timeline(tl)
+    assert ("OVERRUN: A overruns at activation 5: its clock A.clock ticks at 16 ms while "
+            "activation 4 has not ended (computed by 13 ms; a write still waits)") in text
+    assert text.splitlines()[-1] == (
+        "verdict: NOT schedulable on its processors: A overruns first, at activation 5 "
+        "(16 ms); 1 growing place (exit status 1)")
+
+
+def test_a_short_horizon_limits_the_drawing_never_the_verdict(tmp_path):
+    # The old timeline stopped at the hyperperiod 12 and exited 0 on this pair.
+    f = tmp_path / "pair.yaml"
+    f.write_text("tasks:\n  A: {duration: 1, period: 4, outputs: [x]}\n"
+                 "  B: {duration: 1, period: 6, inputs: [x]}\n"
+                 "links:\n  - {from: 'A:x', to: 'B:x', protocol: SYN/SYN}\n")
+    out = CliRunner().invoke(app, ["timeline", str(f), "--horizon", "12"])
+    assert out.exit_code == 1, out.output
+    assert "0 to 12 ms" in out.output.splitlines()[0]
+    assert "A overruns at activation 5" in out.output
+
+
+# ------------------------------------------------------------------ (3) drifting clocks
+
+DRIFT = [997, 1009, 1013, 1019]  # primes: the hyperperiod is their product / 1000 ms
+
+
+def test_drifting_clocks_end_at_once_naming_the_hyperperiod(tmp_path):
+    # Four sensors of 0.997, 1.009, 1.013 and 1.019 ms (duration 0.1), phases 0, 0.1,
+    # 0.2, 0.3 (not released together): a regime holds a whole number of each period,
+    # so it cannot repeat before lcm = 997*1009*1013*1019/1000 = 1038412611.331 ms,
+    # billions of ticks: undecided within --max-events, at once, naming both. The old
+    # timeline printed nothing and grew to 2.8 GB.
+    assert 997 * 1009 * 1013 * 1019 == 1038412611331
+    f = tmp_path / "sensors.yaml"
+    f.write_text("tasks:\n" + "".join(
+        f"  S{i}: {{duration: 0.1, period: {p / 1000}, phase: {i / 10}}}\n"
+        for i, p in enumerate(DRIFT)))
+    start = time.monotonic()
+    out = run("timeline", str(f), timeout=60)
+    assert time.monotonic() - start < 30
+    assert out.returncode == 1, out.stderr
+    last = out.stdout.splitlines()[-1]
+    assert last.startswith("verdict: UNDECIDED within the budget of 1,000,000 ")
+    assert last.endswith("(exit status 1)")
+    assert "hyperperiod is 1038412611.331 ms" in last and "--max-events" in last
+    assert "`" not in last  # the CLI names its option, not the library's parameter
+
+
+def test_drifting_clocks_released_together_end_at_once(tmp_path):
+    # The same four sensors in phase (issue 19's file): whatever decides them (the
+    # exact simulation's budget, or a theorem), the answer comes in seconds, its
+    # verdict line carries the exit status and the report says how it was obtained.
+    f = tmp_path / "sensors.yaml"
+    f.write_text("tasks:\n" + "".join(f"  S{i}: {{duration: 0.1, period: {p / 1000}}}\n"
+                                      for i, p in enumerate(DRIFT)))
+    start = time.monotonic()
+    out = run("timeline", str(f), timeout=60)
+    assert time.monotonic() - start < 30
+    lines = out.stdout.splitlines()
+    assert lines[-1].endswith(f"(exit status {out.returncode})")
+    assert any(line.startswith("method: ") for line in lines)
+    if out.returncode:
+        assert "hyperperiod is 1038412611.331 ms" in lines[-1]
+
+
+def test_a_small_budget_is_undecided_with_its_reason():
+    # Clocks 7 and 11 ms: the state cannot repeat before 77 ms; 20 firings do not get
+    # there. Exit 1, and the budget is named.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 7},
+                                       "B": {"duration": 1, "period": 11}}})
+    tl = simulate_timeline(sk, max_events=20)
+    assert tl.schedulable is None and tl.exit_status == 1 and tl.proof_end is None
+    last = render_timeline(tl).splitlines()[-1]
+    assert "`max_events`" in last and "hyperperiod is 77 ms" in last
+    assert simulate_timeline(sk).schedulable is True
+
+
+# ------------------------------------------------------------------ (4) starvation / overrun
+
+def test_two_tasks_over_full_load_on_one_processor():
+    # A {6, period 10, priority 2} and B {6, period 10, priority 1}: load 12/10.
+    #   A#1 0-6; B#1 6-10 (4 of 6), preempted by A#2 at 10: 10-16; B#1 resumes 16-18.
+    #   Tick 2 of B at 10 finds activation 1 unfinished: B overruns at activation 2.
+    # The old analyze exited 0 here ("a processor fails its schedulability test ...
+    # which does not change the verdict").
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10, "priority": 2},
+                                       "B": {"duration": 6, "period": 10, "priority": 1}}})
+    tl = simulate_timeline(sk)
+    assert runs(tl) == [("A#1", "0", "6"), ("B#1", "6", "10"), ("A#2", "10", "16"),
+                        ("B#1", "16", "18")]
+    assert tl.overrun_at == {"A": None, "B": 2} and tl.exit_status == 1
+    assert tl.horizon == 18  # the overrun's tick 10, and the late job's end 18
+    assert [(j.task, j.index) for j in tl.late_jobs] == [("B", 1)]
+    assert ("OVERRUN: B overruns at activation 2: its clock B.clock ticks at 10 ms while "
+            "activation 1 runs until 18 ms") in render_timeline(tl)
+
+
+def test_a_starved_task_is_not_schedulable():
+    # H (no clock, 1, priority 2) is released again as soon as it ends: it holds the
+    # processor for ever; L (10 ms, priority 1) never runs: starved, overrun at 2.
+    sk = Skeleton.from_dict({"tasks": {"H": {"duration": 1, "priority": 2},
+                                       "L": {"duration": 1, "period": 10, "priority": 1}}})
+    tl = simulate_timeline(sk)
+    assert tl.overrun_at["L"] == 2 and tl.exit_status == 1
+    assert all(i.task == "H" for i in tl.intervals)
+    text = render_timeline(tl)
+    assert "STARVED: a job of L never receives its duration on processor default" in text
+    assert "1 starved task" in text.splitlines()[-1]
+
+
+# ------------------------------------------------------------------ (5) processors
+
+def test_two_processors_give_two_lanes(tmp_path):
+    # A on p0, B on p1, each 3 of 4 ms: both run 0-3 in parallel; the regime is [0, 4).
     sk = Skeleton.from_dict({"tasks": {"A": {"duration": 3, "period": 4, "processor": "p0"},
                                        "B": {"duration": 3, "period": 4, "processor": "p1"}}})
     tl = simulate_timeline(sk)
-    assert order(tl, "p0") == [("A", 0, 3)] and order(tl, "p1") == [("B", 0, 3)]
-    assert "processor p1:" in render_timeline(tl)
+    assert tl.processors == ["p0", "p1"]
+    assert runs(tl, "p0") == [("A#1", "0", "3")] and runs(tl, "p1") == [("B#1", "0", "3")]
+    lines = render_timeline(tl).splitlines()
+    assert lines[1].startswith("p0      |AAA.|") and lines[2].startswith("p1      |BBB.|")
+    if matplotlib_available():
+        svg = draw_timeline(tl, tmp_path / "two.svg").read_text()
+        assert "processor p0" in svg and "processor p1" in svg and "A#1" in svg
 
 
-def test_text_rendering_is_exact():
-    tl = simulate_timeline(load_skeleton(EXAMPLES / "computed_torque.yaml"))
+def test_a_longer_horizon_repeats_the_proven_regime():
+    # Figure 17 again, drawn to 18 ms: three regimes of 6 ms; activation numbers go on
+    # (OBS.JL +6, the chain +3, MOD.DYN +1 per regime).
+    tl = simulate_timeline(load_skeleton(EXAMPLES / "computed_torque.yaml"), horizon=18)
+    first = runs(tl)[:17]
+    for m in (1, 2):
+        shifted = [(t, str(F(a) - 6 * m), str(F(b) - 6 * m))
+                   for t, a, b in runs(tl) if 6 * m <= F(a) < 6 * m + 6]
+        per = {"OBS.JL": 6, "TG.JS": 3, "TF.TT.JS": 3, "CO.JS": 3, "MOD.DYN": 1}
+        back = [(f"{t.split('#')[0]}#{int(t.split('#')[1]) - m * per[t.split('#')[0]]}", a, b)
+                for t, a, b in shifted]
+        assert back == first
+    assert tl.schedulable is True
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(skeletons())
+def test_the_drawing_past_the_proof_is_what_a_tick_by_tick_oracle_sees(data):
+    # The oracle (written apart from the engine) gives each unit [t, t+1) of each
+    # processor to a job; the timeline drawn to 3 regimes past each proof (the regime
+    # repeated, activations renumbered) must give the same job to every unit.
+    sk = Skeleton.from_dict(data)
+    report = analyze_skeleton(sk)
+    tl = simulate_timeline(sk)
+    regimes = [r for r in tl.schedule.regimes if r["length"] is not None]
+    end = max([int(r["start"] + 4 * r["length"]) for r in regimes] + [30])
+    tl = simulate_timeline(sk, horizon=end)
+    plat = platform_of(sk, report.groups)
+    units = oracle(sk, end, plat.priority, plat.processor_of)[0]
+    for r in tl.schedule.regimes:
+        if r["start"] is None:
+            continue  # undecided: drawn only as far as simulated
+        part = set(r["tasks"])
+        mine = {(t, i.processor): (i.task, i.k) for i in tl.intervals if i.task in part
+                for t in range(int(i.start), int(i.end))}
+        assert mine == {key: v for key, v in units.items() if v[0] in part}
+
+
+# ------------------------------------------------------------------ dead designs
+
+@pytest.mark.parametrize("example", ["fig7a_circular_wait.yaml", "fig7b_wrong_order.yaml"])
+def test_a_dead_design_reports_its_deadlock(example):
+    # Figure 7a: nobody can read first, no job ever starts. Figure 7b: MT1 computes 0-2
+    # and then waits for ever at its rendezvous (the circuits derived in the examples).
+    sk = load_skeleton(EXAMPLES / example)
+    tl = simulate_timeline(sk)
+    assert [d.events for d in tl.deadlocks] == [d.events for d in analyze(sk).deadlocks]
+    assert tl.dead_tasks == ["MT1", "MT2", "MT3"] and tl.exit_status == 1
+    assert runs(tl) == ([] if example.startswith("fig7a") else [("MT1#1", "0", "2")])
     text = render_timeline(tl)
-    lines = text.splitlines()
-    # 60 columns of 1/10 ms: OBS.JL computes in columns 0, 10, 20, 30, 40, 50.
-    assert lines[0] == "timeline computed-torque: 0 to 6 ms, one column = 0.1 ms"  # as a decimal
-    obs = lines[1].split("|")[1]
-    assert len(obs) == 60 and [i for i, c in enumerate(obs) if c == "#"] == [0, 10, 20, 30, 40, 50]
-    mod = lines[5].split("|")[1]
-    assert mod[:20] == "-------###-#########"
-    assert lines[6].split("|")[1].count("^") == 6  # clock obs
-    assert "     1.1 - 2        MOD.DYN" in text  # 11/10 ms, as the file writes it
-    assert text.endswith("verdict: every job ends by the next tick of its pacing clock "
-                         "(simulated up to 6 ms) (exit status 0)\n")
+    assert "DEADLOCK: token-free circuit " + " -> ".join(
+        [*tl.deadlocks[0].events, tl.deadlocks[0].events[0]]) in text
+    assert text.rstrip().endswith(
+        "DEADLOCK (1 token-free circuit; 3 tasks in groups that are not live) (exit status 1)")
 
 
-def test_long_horizons_are_drawn_approximately():
-    sk = Skeleton.from_dict({"tasks": {"A": {"duration": "1/7", "period": 1}}})
-    text = render_timeline(simulate_timeline(sk, horizon=50), width=40)
-    assert "(approximate drawing)" in text.splitlines()[0]
+def test_figure_12_overrun_in_every_command_alike():
+    # fig12_double_sync.yaml, one CPU: MT1#1 0-1, MT2#1 1-3; MT2's activation 2 waits for
+    # MT1's message of 10: MT1#2 10-11, MT2#2 11-13, after its tick 3 at 8: overrun at
+    # activation 3, as analyze says (the example's derivation, §4).
+    sk = load_skeleton(EXAMPLES / "fig12_double_sync.yaml")
+    tl = simulate_timeline(sk)
+    assert runs(tl) == [("MT1#1", "0", "1"), ("MT2#1", "1", "3"), ("MT1#2", "10", "11"),
+                        ("MT2#2", "11", "13")]
+    assert analyze(sk).tasks["MT2"].overrun_at == tl.overrun_at["MT2"] == 3
+    assert ("OVERRUN: MT2 overruns at activation 3: its clock MT2.clock ticks at 8 ms while "
+            "activation 2 computes until 13 ms") in render_timeline(tl)
 
+
+# ------------------------------------------------------------------ refusals and drawing
 
 def test_refusals():
-    sk = Skeleton.from_dict({"tasks": {"Z": {"duration": 0}}})
-    with pytest.raises(ModelError, match="without time passing"):
-        simulate_timeline(sk)
-    with pytest.raises(ModelError, match="horizon must be > 0"):
-        simulate_timeline(Skeleton.from_dict({"tasks": {"A": {"duration": 1}}}), horizon=0)
+    sk = Skeleton.from_dict({"unit": "us", "tasks": {"A": {"duration": 1, "period": 10}}})
+    with pytest.raises(InputError, match=r"expected a time > 0, got -2.5 us") as info:
+        simulate_timeline(sk, horizon="-2.5")
+    assert info.value.where == "horizon"
+    for bad in (0, -1, True, 1.5):
+        with pytest.raises(InputError, match="expected an integer >= 1") as info:
+            simulate_timeline(sk, max_events=bad)
+        assert info.value.where == "max_events"
 
 
-# ------------------------------------------------------------------ drawing
+@pytest.mark.parametrize("value", ["0", "-3"])
+def test_cli_refuses_a_budget_of_nothing_in_one_line(tmp_path, value):
+    path = tmp_path / "a.yaml"
+    path.write_text("tasks:\n  A: {duration: 1, period: 10}\n")
+    out = CliRunner().invoke(app, ["timeline", str(path), "--max-events", value])
+    assert out.exit_code == 2
+    (line,) = out.output.strip().splitlines()
+    assert line.startswith("tegraph: error: --max-events") and "expected an integer >= 1" in line
+
 
 def test_drawing_or_how_to_install(tmp_path):
     tl = simulate_timeline(load_skeleton(EXAMPLES / "computed_torque.yaml"))
@@ -204,9 +364,9 @@ def test_drawing_or_how_to_install(tmp_path):
         assert draw_timeline(tl, out) == out
         svg = out.read_text()
         assert svg.startswith("<?xml") and "<svg" in svg
+        assert "processor default" in svg and "MOD.DYN#1" in svg
         for task in tl.tasks:
             assert task in svg
-        # Same timeline, same bytes; an existing file is never replaced silently.
         again = tmp_path / "again.svg"
         draw_timeline(tl, again)
         assert again.read_bytes() == out.read_bytes()
@@ -223,7 +383,6 @@ def test_drawing_or_how_to_install(tmp_path):
 
 
 def test_without_matplotlib_the_message_says_how_to_install(tmp_path, monkeypatch):
-    # Whatever is installed here: a None entry makes `import matplotlib` fail.
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     assert matplotlib_available() is False
     tl = simulate_timeline(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}}))
@@ -238,18 +397,10 @@ def test_without_matplotlib_the_message_says_how_to_install(tmp_path, monkeypatc
     assert not (tmp_path / "a.svg").exists()
 
 
-def run(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "tegraph.cli", *args], check=False,
-                          capture_output=True,
-                          text=True, timeout=120)
-
-
 def test_cli_timeline(tmp_path):
     ok = run("timeline", str(EXAMPLES / "computed_torque.yaml"))
     assert ok.returncode == 0, ok.stderr
-    assert "order of execution (exact):" in ok.stdout
-    late = run("timeline", str(EXAMPLES / "fig12_double_sync.yaml"), "--horizon", "14")
-    assert late.returncode == 1 and "MT2 overruns at activation 3" in late.stdout
+    assert "order of execution (exact; T#k: activation k of T):" in ok.stdout
     bad = run("timeline", str(EXAMPLES / "fig12_double_sync.yaml"), "--horizon", "-1")
     assert bad.returncode == 2 and "--horizon: expected a time > 0" in bad.stderr
     out = tmp_path / "d.svg"
@@ -261,163 +412,3 @@ def test_cli_timeline(tmp_path):
         assert exists.returncode == 2 and "--force" in exists.stderr
     else:
         assert drawn.returncode == 2 and INSTALL_HINT in drawn.stderr and not out.exists()
-
-
-def test_text_diagram_explains_its_symbols():
-    # Figure 12: MT2's late activation is drawn X; every symbol drawn is in the legend.
-    from tegraph.report.timeline_text import render_timeline
-
-    text = render_timeline(simulate_timeline(load_skeleton(EXAMPLES / "fig12_double_sync.yaml")))
-    rows = text.splitlines()[1:5]
-    legend = next(line for line in text.splitlines() if line.startswith("legend: "))
-    drawn = {ch for row in rows for ch in row.split("|")[1]} - {" "}
-    assert drawn == {"#", "-", "X", "^"}
-    assert all(f"{ch} " in legend for ch in drawn)
-
-
-def test_verdict_names_a_few_late_tasks_and_counts_the_rest():
-    # A chain T0 -> ... -> T7 read ASYN/SYN; T0 on a 10 ms clock, each other task also
-    # on its own 7 ms clock: T1..T7 are bound to two rates, so all 7 run late (Figure 12).
-    n = 8
-    tasks = {f"T{i}": {"duration": 1, "period": 7 if i else 10,
-                       "inputs": ["i"] if i else [], "outputs": ["o"] if i < n - 1 else []}
-             for i in range(n)}
-    links = [{"from": f"T{i}:o", "to": f"T{i + 1}:i", "protocol": "ASYN/SYN"}
-             for i in range(n - 1)]
-    from tegraph import Skeleton
-    from tegraph.report.timeline_text import render_timeline
-
-    tl = simulate_timeline(Skeleton.from_dict({"tasks": tasks, "links": links}))
-    late = list(dict.fromkeys(j.task for j in tl.late_jobs))
-    assert sorted(late) == [f"T{i}" for i in range(1, n)]
-    verdict = render_timeline(tl).splitlines()[-1]
-    assert verdict.startswith(f"verdict: {len(tl.late_jobs)} overruns before ")
-    assert verdict.endswith(f"by {', '.join(late[:5])} and 2 more (exit status 1)")
-
-
-def test_overrun_at_is_an_attribute_as_in_the_analysis_report():
-    # Issue 21: Timeline.overrun_at was a method where Report.tasks[T].overrun_at is an
-    # attribute. Duration 11 on a clock of 10: activation 1 runs 0-11, tick 2 comes at 10
-    # while it runs, so the overrun is at activation 2 (spec §4); B (2 on 10) never overruns.
-    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 11, "period": 10},
-                                       "B": {"duration": 2, "period": 10, "processor": "p2"}}})
-    tl = simulate_timeline(sk, horizon=30)
-    assert tl.overrun_at == {"A": 2, "B": None}
-    assert tl.overrun_at["A"] == analyze(sk).tasks["A"].overrun_at == 2
-    with pytest.warns(DeprecationWarning, match=r"overrun_at\[task\]"):
-        assert tl.overrun_at("A") == 2  # the 0.x call still answers
-
-
-def _writer_feeding(duration):
-    # A clockless writer of the given duration runs freely; the clocked reader (period 1)
-    # waits ASYN/SYN for its messages: up to 1/duration + 1 writer jobs in the hyperperiod 1.
-    return Skeleton.from_dict({
-        "tasks": {"W": {"duration": duration, "outputs": ["m"]},
-                  "R": {"duration": 1, "period": 1, "inputs": ["m"]}},
-        "links": [{"from": "W:m", "to": "R:m", "protocol": "ASYN/SYN"}]})
-
-
-def _refused_at_once(call):
-    """``call()`` raises InputError within 10 s (it used to run for ever: a hang is a failure)."""
-    import signal
-    import time
-
-    def too_long(*_):
-        raise AssertionError("still simulating after 10 s")
-
-    old = signal.signal(signal.SIGALRM, too_long)
-    signal.alarm(10)
-    start = time.monotonic()
-    try:
-        with pytest.raises(InputError) as info:
-            call()
-    finally:
-        signal.alarm(0)
-        signal.signal(signal.SIGALRM, old)
-    assert time.monotonic() - start < 5
-    return info.value
-
-
-@pytest.mark.parametrize("duration", ["1e-400", "1/" + "9" * 4000])
-def test_a_tiny_duration_is_refused_before_simulating(duration):
-    # Issue 21 (items 5 and 7): both ran past 60 s. Hyperperiod 1 ms; W may run
-    # 1/duration + 1 > 10^399 jobs, R one per tick (1): far past the default max_jobs.
-    err = _refused_at_once(lambda: simulate_timeline(_writer_feeding(duration)))
-    assert err.where == "max_jobs"
-    assert "hyperperiod 1 ms" in err.reason and "`horizon`" in err.reason
-    assert "W more than 10^399" in err.reason
-
-
-def test_a_long_hyperperiod_is_refused_naming_it():
-    # 999983 and 999979 are primes: hyperperiod = their product 999962000357 ms, with
-    # 999979 ticks of A and 999983 of B before it: 1,999,962 jobs > 100,000.
-    from tegraph.design.timeline import MAX_JOBS
-
-    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 999983},
-                                       "B": {"duration": 1, "period": 999979}}})
-    err = _refused_at_once(lambda: simulate_timeline(sk))
-    assert 999983 * 999979 == 999962000357
-    assert "hyperperiod 999962000357 ms" in err.reason and "1,999,962 jobs" in err.reason
-    assert f"`max_jobs` = {MAX_JOBS:,}" in err.reason
-    with pytest.raises(InputError, match="expected an integer >= 1"):
-        simulate_timeline(sk, max_jobs=0)
-    # A horizon that cuts the simulation: it runs, and the verdict says up to when.
-    tl = simulate_timeline(sk, horizon=2_000_000)
-    # Ticks before 2000000: A at 0, 999983, 1999966; B at 0, 999979, 1999958.
-    assert tl.full_horizon == 999962000357 and len(tl.jobs) == 6
-    assert ("up to 2000000 ms only (the horizon cut the simulation; the default horizon is "
-            "999962000357 ms: a later overrun is not excluded)") in render_timeline(tl)
-    assert simulate_timeline(sk, horizon=2_000_000, max_jobs=6).full_horizon is not None
-    with pytest.raises(InputError, match="may take 6 jobs"):
-        simulate_timeline(sk, horizon=2_000_000, max_jobs=5)
-
-
-def test_cli_refuses_a_long_simulation_naming_its_options(tmp_path):
-    from tegraph.design.timeline import MAX_JOBS
-
-    f = tmp_path / "p.yaml"
-    f.write_text("tasks:\n  A: {duration: 1, period: 999983}\n  B: {duration: 1, period: 999979}\n")
-    res = CliRunner().invoke(app, ["timeline", str(f)])
-    assert res.exit_code == 2, res.output
-    assert res.output.startswith("tegraph: error: --max-jobs: simulating up to 999962000357 ms")
-    assert "give a shorter --horizon, or raise --max-jobs" in res.output
-    assert "Traceback" not in res.output
-    # The option's default is the library's constant.
-    assert f"more than --max-jobs = {MAX_JOBS:,}" in res.output
-    res = CliRunner().invoke(app, ["timeline", str(f), "--max-jobs", "1", "--horizon", "1"])
-    assert res.exit_code == 2 and "may take 2 jobs" in res.output  # one tick each at 0
-
-
-def test_a_refusal_states_the_hyperperiod_as_the_input_wrote_its_periods():
-    # Periods 2.5 and 1.5 ms: hyperperiod lcm = 7.5 ms (3 x 2.5 = 5 x 1.5), so up
-    # to 7.5 ms A has 3 jobs and B 5: 8 jobs, over a budget of 2. The input wrote
-    # decimals: the message says 7.5 ms, not 15/2 ms.
-    sk = Skeleton.from_dict({"tasks": {"A": {"duration": "0.1", "period": "2.5"},
-                                       "B": {"duration": "0.1", "period": "1.5"}}})
-    with pytest.raises(InputError) as refused:
-        simulate_timeline(sk, max_jobs=2)
-    assert "hyperperiod 7.5 ms" in str(refused.value) and "8 jobs (B 5, A 3)" in str(refused.value)
-    assert "15/2" not in str(refused.value)
-
-
-@pytest.mark.parametrize("duration, characters", [
-    # No clock: the horizon is 2 * (1 + duration). 2 + 2e-400 = (10^400 + 1)/(5 * 10^399):
-    # 401 + 1 + 400 = 802 characters; 2 + 2/(10^4000 - 1) = 2 * 10^4000/(10^4000 - 1):
-    # 4001 + 1 + 4000 = 8002 characters. Both terminate or not, but past 30 digits: fractions.
-    ("1e-400", 802), ("1/" + "9" * 4000, 8002)])
-def test_a_refusal_shortens_a_horizon_too_long_to_read(tmp_path, duration, characters):
-    # Issue 21 review: the message printed the ~800-digit horizon (8.3 KB for 4000 nines).
-    f = tmp_path / "w.yaml"
-    f.write_text(f'tasks:\n  W: {{duration: "{duration}", outputs: [x]}}\n'
-                 '  R: {duration: 1, inputs: [x]}\n'
-                 'links:\n  - {from: "W:x", to: "R:x", protocol: ASYN/SYN}\n')
-    res = CliRunner().invoke(app, ["timeline", str(f)])
-    assert res.exit_code == 2 and "Traceback" not in res.output
-    assert f"... ({characters} characters) ms (no clock" in res.output
-    assert len(res.output) < 500, len(res.output)
-
-
-def test_a_short_horizon_is_refused_with_its_unit():
-    sk = Skeleton.from_dict({"unit": "us", "tasks": {"A": {"duration": 1, "period": 10}}})
-    with pytest.raises(ModelError, match=r"the horizon must be > 0, got -2.5 us"):
-        simulate_timeline(sk, horizon="-2.5")
