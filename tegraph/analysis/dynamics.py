@@ -326,12 +326,15 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
     """
     pending_regimes = set(range(len(regimes)))
     pending_watches = set(range(len(watches)))
+    into: dict[int, list[int]] | None = None  # shared by every certain overrun below
     for w, watch in enumerate(watches):
         # A task slower than its clock overruns for certain: where, exactly, without
         # simulating up to it (its lag may take millions of activations to build).
         if watch.certain:
+            if into is None:
+                into = input_places(sim.graph, sim.active)
             found = certain_overrun(sim.graph, sim.active, watch.last_event, watch.tick_event,
-                                    watch.end_offset)
+                                    watch.end_offset, into=into)
             if found is not None:
                 watch.overrun_at, watch.decided, watch.method = found, True, "max-plus powers"
                 pending_watches.discard(w)
@@ -413,8 +416,18 @@ _MAX_DOUBLINGS = 256
 """The powers stop past 2**256 activations (then the simulation's budget answers)."""
 
 
+def input_places(graph: tuple, active: np.ndarray) -> dict[int, list[int]]:
+    """Each live event's input places (between live events), for :func:`certain_overrun`."""
+    src, dst = np.asarray(graph[0]), np.asarray(graph[1])
+    into: dict[int, list[int]] = {}
+    for p in np.flatnonzero(active[src] & active[dst]).tolist():
+        into.setdefault(int(dst[p]), []).append(p)
+    return into
+
+
 def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
-                    end_offset: int = 0) -> int | None:
+                    end_offset: int = 0, *,
+                    into: dict[int, list[int]] | None = None) -> int | None:
     """The first activation ``k >= 2`` with ``end(k-1) > x_tick(k)``, by (max,+) powers.
 
     For a clocked task whose last event is slower than its clock (cycle time
@@ -438,6 +451,9 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
         The task's last event and its clock's tick.
     end_offset : int
         ``δ``: 0, or the (scaled) duration of a task without outputs.
+    into : dict, optional
+        :func:`input_places` of ``graph``, computed once when many tasks are located
+        (else each call would cost the whole graph).
 
     Returns
     -------
@@ -460,15 +476,16 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
     if len(loop) != 1 or int(tokens[loop[0]]) != 1:
         return None
     period, phase = int(holding[loop[0]]), int(initial[loop[0]])
-    into: dict[int, list[int]] = {}
-    for p in np.flatnonzero(active[src] & active[dst]).tolist():
-        into.setdefault(int(dst[p]), []).append(p)
+    if into is None:
+        into = input_places(graph, active)
     closure, stack = {last}, [last]
     while stack:
         for p in into.get(stack.pop(), []):
             if int(src[p]) not in closure:
                 closure.add(int(src[p]))
                 stack.append(int(src[p]))
+        if len(closure) >= _POWER_EVENTS:  # too large for powers: stop searching at once
+            return None
     if any(e not in into for e in closure):
         return None  # an event without input place: not a skeleton's graph
     places = [p for e in closure for p in into[e]]
