@@ -127,6 +127,11 @@ class Advisor(Candidates):
         for task in skeleton.tasks.values():
             if task.clock:
                 self.clock_users[task.clock] = self.clock_users.get(task.clock, 0) + 1
+        # Each link under its writer's group, so that cutting out a few groups costs
+        # their own links, not the whole skeleton's (_within, once per candidate).
+        self.links_from: list[list[Link]] = [[] for _ in self.groups]
+        for link in skeleton.links:
+            self.links_from[self.group_of[link.writer[0]]].append(link)
         # The ASYN/ASYN links each group has: Rule 2 re-reads them when the group changes.
         self.asyn: list[list[Link]] = [[] for _ in self.groups]
         for link in skeleton.links:
@@ -269,11 +274,14 @@ class Advisor(Candidates):
 
     def _within(self, groups: list[int] | set[int]) -> Skeleton:
         """The skeleton cut down to the tasks of ``groups`` (their links, clocks, threads)."""
-        part = {t for g in groups for t in self.groups[g]}
-        return dataclasses.replace(
-            self.sk, tasks={t: k for t, k in self.sk.tasks.items() if t in part},
-            links=[x for x in self.sk.links if x.writer[0] in part and x.reader[0] in part],
-            threads=[th for th in self.sk.threads if th[0] in part], chains=[])
+        chosen = set(groups)
+        tasks = sorted((t for g in chosen for t in self.groups[g]), key=self.order.__getitem__)
+        links = sorted((x for g in chosen for x in self.links_from[g]
+                        if self.group_of[x.reader[0]] in chosen),
+                       key=lambda x: self.link_order[id(x)])
+        threads = [th for g in sorted(chosen) for th in self.threads_of.get(g, [])]
+        return dataclasses.replace(self.sk, tasks={t: self.sk.tasks[t] for t in tasks},
+                                   links=links, threads=threads, chains=[])
 
     def _dead_groups(self) -> set[int]:
         """The groups that hold a token-free circuit (spec §4 deadlocks).
