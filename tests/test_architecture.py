@@ -42,3 +42,24 @@ def test_ruff_clean(tree):
     """ruff, with the rule set chosen in pyproject.toml."""
     done = _run(sys.executable, "-m", "ruff", "check", "--no-cache", tree)
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_analyze_command_loads_no_other_command_code():
+    """Renderers resolve on first use: analyze imports no explore, timeline or baseline code.
+
+    (``sensitivity_margins`` is analyze's own "can grow by" column, so it stays.)
+    """
+    done = _run(sys.executable, "-c",
+                "import sys; sys.path.insert(0, '.')\n"
+                "from tegraph.api import analyze\n"
+                "from tegraph.report import render_text, to_json, write_csv\n"
+                "from tegraph import Skeleton\n"
+                "r = analyze(Skeleton.from_dict({'tasks': {'A': {'duration': 1, 'period': 3}}}))\n"
+                "render_text(r); to_json(r)\n"
+                "print(sorted(m for m in sys.modules if m.startswith('tegraph')))")
+    assert done.returncode == 0, done.stderr
+    loaded = done.stdout
+    for family in ("tegraph.design.explore", "tegraph.design.timeline", "timed_reachability",
+                   "tegraph.report.explore", "tegraph.report.timeline",
+                   "tegraph.report.sensitivity", "tegraph.analysis.sensitivity_results"):
+        assert family not in loaded, family

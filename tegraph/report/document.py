@@ -9,18 +9,11 @@ one of ``docs/skeleton.md`` §5 with these two keys first.
 from __future__ import annotations
 
 import json
-from functools import singledispatch
 from typing import Any
 
 import orjson
 
-from ..analysis.cycle_time import CycleTimeResult
-from ..analysis.reachability import Reachability
-from ..analysis.results import Report
-from ..analysis.sensitivity_results import SensitivityResult
-from ..analysis.timed_reachability import TimedExploration
-from ..design.explore import Exploration
-from ..design.section import DesignSection
+from .registry import Renderers
 
 __all__ = ["SCHEMA_VERSION", "json_report", "to_document", "to_json"]
 
@@ -38,7 +31,6 @@ def json_report(command: str, body: dict[str, Any]) -> dict[str, Any]:
     return {"schema_version": SCHEMA_VERSION, "report": command, **body}
 
 
-@singledispatch
 def to_document(result: Any) -> dict[str, Any]:
     """The JSON document of a result, as Python data.
 
@@ -70,26 +62,35 @@ def to_document(result: Any) -> dict[str, Any]:
     >>> to_document(r)["schema_version"], to_document(r)["report"], to_document(r)["live"]
     (2, 'analyze', True)
     """
-    raise TypeError(f"no JSON document for a {type(result).__name__}")
+    return _DOCUMENTS.find(result)(result)
 
 
-@to_document.register
-def _(result: Report) -> dict[str, Any]:
+# Each result type by its dotted name (imported only when such a result is written).
+_DOCUMENTS = Renderers("JSON document", {
+    "tegraph.analysis.results.Report": "tegraph.report.document:_analyze",
+    "tegraph.design.section.DesignSection": "tegraph.report.document:_rules",
+    "tegraph.analysis.cycle_time.CycleTimeResult": "tegraph.report.document:_cycle_time",
+    "tegraph.design.explore.Exploration": "tegraph.report.document:_explore",
+    "tegraph.analysis.sensitivity_results.SensitivityResult":
+        "tegraph.report.document:_sensitivity",
+    "tegraph.analysis.reachability.Reachability": "tegraph.report.document:_reach",
+    "tegraph.analysis.timed_reachability.TimedExploration": "tegraph.report.document:_reach",
+})
+
+
+def _analyze(result: Any) -> dict[str, Any]:
     return json_report("analyze", result.to_dict())
 
 
-@to_document.register
-def _(result: DesignSection) -> dict[str, Any]:
+def _rules(result: Any) -> dict[str, Any]:
     return json_report("rules", {"name": result.name, "unit": result.unit, **result.to_dict()})
 
 
-@to_document.register
-def _(result: CycleTimeResult) -> dict[str, Any]:
+def _cycle_time(result: Any) -> dict[str, Any]:
     return json_report("cycle-time", result.to_dict())
 
 
-@to_document.register
-def _(result: Exploration) -> dict[str, Any]:
+def _explore(result: Any) -> dict[str, Any]:
     """The exploration's document.
 
     >>> from tegraph import load_skeleton
@@ -104,14 +105,11 @@ def _(result: Exploration) -> dict[str, Any]:
     return json_report("explore", result.to_dict())
 
 
-@to_document.register
-def _(result: SensitivityResult) -> dict[str, Any]:
+def _sensitivity(result: Any) -> dict[str, Any]:
     return json_report("sensitivity", result.to_dict())
 
 
-@to_document.register(Reachability)
-@to_document.register(TimedExploration)
-def _(result: Reachability | TimedExploration) -> dict[str, Any]:
+def _reach(result: Any) -> dict[str, Any]:
     return json_report("reach", result.to_dict())
 
 

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from maxplus.scalar import display_text
 
-from ..analysis.cycle_time import CycleTimeResult
-from ..analysis.reachability import Reachability
-from ..analysis.timed_reachability import TimedExploration
+if TYPE_CHECKING:  # annotations only: the analyze report imports ratio_text, not the baselines
+    from ..analysis.cycle_time import CycleTimeResult
+    from ..analysis.reachability import Reachability
+    from ..analysis.timed_reachability import TimedExploration
 from ._format import count, human, number
 
 __all__ = ["render_cycle_time", "render_reachability", "render_timed_exploration"]

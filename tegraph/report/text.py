@@ -3,46 +3,24 @@
 Everything here returns strings; nothing prints. The command line decides
 where the strings go. One function renders each kind of result
 (``render_report``, ``render_cycle_time``, ``render_rules``...);
-:func:`render_text` picks it from the result's type.
+:func:`render_text` picks it from the result's type, registered by its dotted
+name and imported on first use (:mod:`.registry`): rendering an analysis loads
+no explore, timeline, sensitivity or reachability code.
 """
 
 from __future__ import annotations
 
-from functools import singledispatch
 from typing import Any
 
 from tabulate import tabulate
 
-from ..analysis.cycle_time import CycleTimeResult
-from ..analysis.reachability import Reachability
-from ..analysis.repair import FixResult
 from ..analysis.results import GroupReport, Report, TaskReport
-from ..analysis.sensitivity_results import SensitivityResult
-from ..analysis.timed_reachability import TimedExploration
-from ..design.explore import Exploration
-from ..design.latency import ChainLatency
-from ..design.schedulability import Schedulability
-from ..design.section import DesignSection
-from ..design.timeline import Timeline
 from ..model.elements import flow_list
 from ._format import count, human
-from .design_text import (
-    render_design,
-    render_fix,
-    render_latency,
-    render_rules,
-    render_schedulability,
-)
-from .explore_text import render_exploration
-from .graph_text import (
-    ratio_text,
-    render_cycle_time,
-    render_reachability,
-    render_timed_exploration,
-)
+from .design_text import render_latency, render_rules, render_schedulability
+from .graph_text import ratio_text
 from .processors_text import processors_headline, processors_problem, render_processors
-from .sensitivity_text import render_sensitivity
-from .timeline_text import render_timeline
+from .registry import Renderers
 
 __all__ = ["render_report", "render_text"]
 
@@ -209,7 +187,6 @@ def _verdict(report: Report) -> str:
     return text
 
 
-@singledispatch
 def render_text(result: Any, **options: Any) -> str:
     """The human report of any result: an analysis, a cycle time, a baseline, a design result.
 
@@ -245,19 +222,80 @@ def render_text(result: Any, **options: Any) -> str:
     >>> render_text(r).splitlines()[0]
     'skeleton skeleton'
     """
-    raise TypeError(f"no text rendering for a {type(result).__name__}")
+    return _RENDERERS.find(result)(result, **options)
 
 
-render_text.register(Report, lambda result, **_: render_report(result))
-render_text.register(CycleTimeResult, lambda result, **_: render_cycle_time(result))
-render_text.register(Reachability, lambda result, limit=10, **_: render_reachability(result, limit))
-render_text.register(TimedExploration, lambda result, **_: render_timed_exploration(result))
-render_text.register(Schedulability,
-                     lambda result, unit="ms", **_: render_schedulability(result, unit))
-render_text.register(ChainLatency, lambda result, unit="ms", **_: render_latency(result, unit))
-render_text.register(FixResult, lambda result, name="skeleton", **_: render_fix(result, name))
-render_text.register(Timeline, lambda result, width=96, **_: render_timeline(result, width))
-render_text.register(list, lambda result, **_: render_rules(result))
-render_text.register(DesignSection, lambda result, **_: render_design(result))
-render_text.register(Exploration, lambda result, **_: render_exploration(result))
-render_text.register(SensitivityResult, lambda result, **_: render_sensitivity(result))
+# Each result type by its dotted name -> "module:function(result, **options)"; the
+# module is imported the first time such a result is rendered.
+_RENDERERS = Renderers("text rendering", {
+    "tegraph.analysis.results.Report": "tegraph.report.text:_report",
+    "tegraph.analysis.cycle_time.CycleTimeResult": "tegraph.report.text:_cycle_time",
+    "tegraph.analysis.reachability.Reachability": "tegraph.report.text:_reachability",
+    "tegraph.analysis.timed_reachability.TimedExploration":
+        "tegraph.report.text:_timed_exploration",
+    "tegraph.design.schedulability.Schedulability": "tegraph.report.text:_schedulability",
+    "tegraph.design.latency.ChainLatency": "tegraph.report.text:_latency",
+    "tegraph.analysis.repair.FixResult": "tegraph.report.text:_fix",
+    "tegraph.design.timeline.Timeline": "tegraph.report.text:_timeline",
+    "builtins.list": "tegraph.report.text:_rules",
+    "tegraph.design.section.DesignSection": "tegraph.report.text:_design",
+    "tegraph.design.explore.Exploration": "tegraph.report.text:_exploration",
+    "tegraph.analysis.sensitivity_results.SensitivityResult": "tegraph.report.text:_sensitivity",
+})
+
+
+# The adapters: each imports its renderer when first called.
+def _report(result: Report, **_: Any) -> str:
+    return render_report(result)
+
+
+def _cycle_time(result: Any, **_: Any) -> str:
+    from .graph_text import render_cycle_time
+    return render_cycle_time(result)
+
+
+def _reachability(result: Any, limit: int = 10, **_: Any) -> str:
+    from .graph_text import render_reachability
+    return render_reachability(result, limit)
+
+
+def _timed_exploration(result: Any, **_: Any) -> str:
+    from .graph_text import render_timed_exploration
+    return render_timed_exploration(result)
+
+
+def _schedulability(result: Any, unit: str = "ms", **_: Any) -> str:
+    return render_schedulability(result, unit)
+
+
+def _latency(result: Any, unit: str = "ms", **_: Any) -> str:
+    return render_latency(result, unit)
+
+
+def _fix(result: Any, name: str = "skeleton", **_: Any) -> str:
+    from .design_text import render_fix
+    return render_fix(result, name)
+
+
+def _timeline(result: Any, width: int = 96, **_: Any) -> str:
+    from .timeline_text import render_timeline
+    return render_timeline(result, width)
+
+
+def _rules(result: list, **_: Any) -> str:
+    return render_rules(result)
+
+
+def _design(result: Any, **_: Any) -> str:
+    from .design_text import render_design
+    return render_design(result)
+
+
+def _exploration(result: Any, **_: Any) -> str:
+    from .explore_text import render_exploration
+    return render_exploration(result)
+
+
+def _sensitivity(result: Any, **_: Any) -> str:
+    from .sensitivity_text import render_sensitivity
+    return render_sensitivity(result)
