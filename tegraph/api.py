@@ -486,7 +486,8 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
             overwrite: bool = False, max_variants: int = 10_000,
             batch_size: int | None = None, progress: Any = None,
             timeout: float | str = 10.0, requires: Sequence[Any] = (),
-            max_latency: Sequence[Any] = (), forbid: Sequence[Any] = ()) -> Exploration:
+            max_latency: Sequence[Any] = (), forbid: Sequence[Any] = (),
+            max_events: int = MAX_EVENTS) -> Exploration:
     """Search protocol and clock choices for the best live, consistent, schedulable designs.
 
     Each variant (one protocol per chosen link, one period per chosen clock) is
@@ -538,6 +539,9 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
         guaranteed) at most L.
     forbid : sequence of protocols
         Protocols no link may use (taken out of the choices).
+    max_events : int
+        Budget of event firings of each variant's schedule on processors (spec
+        §4b); a variant undecided within it is rejected as undecided.
 
     Returns
     -------
@@ -561,8 +565,9 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     Notes
     -----
     This automates the synthesis of section 6 of the ORCCAD paper [1]_: a
-    variant is live when it has no token-free circuit [2]_, schedulable by
-    Joseph-Pandya response times [3]_.
+    variant is live when it has no token-free circuit [2]_, schedulable when the
+    exact preemptive fixed-priority schedule on its processors (spec §4b) says so
+    (Joseph-Pandya response times [3]_ only as a cross-check).
 
     References
     ----------
@@ -593,7 +598,8 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     from .report.explore_table import ResultsTable
 
     space = design_space(skeleton, links, all_links, clocks, chains, objectives,
-                         requires=requires, max_latency=max_latency, forbid=forbid)
+                         requires=requires, max_latency=max_latency, forbid=forbid,
+                         max_events=max_events)
     if output is None and resume:
         raise InputError("nothing to resume without an `output` file", "resume")
     table = None if output is None else ResultsTable(output, space, resume, overwrite)

@@ -543,10 +543,16 @@ def explore(
     timeout: str = typer.Option("10", "--timeout",  # text: the library's exact parser reads it
                                 help="Seconds to wait for the scheduler to answer, e.g. 30 "
                                      "or 5/2 (> 0, at most 86400)."),
+    max_events: int = typer.Option(
+        MAX_EVENTS, "--max-events", min=1,
+        help="Budget of event firings of each variant's schedule on processors "
+             "(docs/skeleton.md §4b); a variant undecided within it is rejected as "
+             "undecided. A decided variant stops at its proof (a few hundred firings "
+             "for a small pipe-line)."),
     json_out: bool = typer.Option(False, "--json", help="Print the JSON report."),
 ) -> None:
     """Search link protocols and clock periods for the Pareto front of live, consistent,
-    schedulable designs, locally or on a Dask cluster.
+    schedulable designs (on their processors), locally or on a Dask cluster.
 
     Exit status: 0 some design kept; 1 none is live, consistent and
     schedulable; 2 the input was refused; 130 interrupted (the -o file keeps
@@ -588,7 +594,7 @@ def explore(
             scheduler=scheduler, workers=workers, output=output, resume=resume,
             overwrite=force, max_variants=max_variants, batch_size=batch_size,
             progress=progress, timeout=timeout, requires=require or [],
-            max_latency=max_latency or [], forbid=forbid or [])
+            max_latency=max_latency or [], forbid=forbid or [], max_events=max_events)
     except InputError as exc:
         _fail(_located(exc))
     except OSError as exc:

@@ -43,7 +43,7 @@ from .explore_run import Progress, RunLog, run_search
 from .explore_search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
 from .explore_space import DesignSpace
 
-__all__ = ["PRUNING_RULES", "Exploration", "explore_design"]
+__all__ = ["PRUNING_RULES", "Exploration", "cross_check", "explore_design"]
 
 PRUNING_RULES = (
     "A: liveness and the port repair depend on the protocols only, not on periods: a "
@@ -51,6 +51,10 @@ PRUNING_RULES = (
     "B: replacing a synchronizing protocol by ASYN/ASYN removes an obligation, never adds "
     "one, so a prefix of links already dead for every port order (the rest ASYN/ASYN) "
     "settles every completion",
+    "C: a processor whose groups with a clock need more than all its time (sum of "
+    "duration / clock period > 1) cannot run them at their clocks' periods: the variant "
+    "is not schedulable on processors, decided without the schedule (the response-time "
+    "test prunes nothing: its verdict is no proof on processors)",
 )
 
 _METHODS = {
@@ -119,7 +123,8 @@ class Exploration:
 
     @property
     def kept(self) -> int:
-        """Variants live, consistent and schedulable."""
+        """Variants live, consistent, schedulable on their processors and meeting the
+        constraints."""
         return sum(1 for r in self.results.values() if r.kept)
 
     @property
@@ -136,7 +141,7 @@ class Exploration:
     @property
     def verdict(self) -> str:
         """One sentence: the front found and how it was obtained."""
-        wanted = "live, consistent and schedulable" + (
+        wanted = "live, consistent and schedulable on its processors" + (
             " and meets the constraints" if self.space.constraints else "")
         if not self.front:
             what = f"no variant is {wanted}"
@@ -362,4 +367,33 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
     failed = found.count(FAILED)
     if failed:
         found.notes.append(f"{failed} variant(s) failed to be judged (see their rows)")
+    cross = cross_check(found.results)
+    if cross:
+        found.notes.append(cross)
     return found
+
+
+def cross_check(results: dict[int, VariantResult]) -> str | None:
+    """Where the response-time test and the schedule on processors disagree, in words.
+
+    The test decides nothing (``docs/explore.md``, *Judging a variant*): its "no" is
+    no proof of an overrun on processors, nor its "yes" of a schedule. Only the
+    variants judged in this run carry its verdict (a results file does not keep it).
+    """
+    pessimistic = [v for v, r in sorted(results.items())
+                   if r.rta is False and r.schedulable is True]
+    optimistic = [v for v, r in sorted(results.items())
+                  if r.rta is True and r.schedulable is False]
+    if not pessimistic and not optimistic:
+        return None
+    parts = []
+    if pessimistic:
+        parts.append(f"{len(pessimistic):,} variant(s) it calls not schedulable are "
+                     f"schedulable on processors (e.g. variant {pessimistic[0]})")
+    if optimistic:
+        parts.append(f"{len(optimistic):,} variant(s) it calls schedulable are not (e.g. "
+                     f"variant {optimistic[0]})")
+    n = len(pessimistic) + len(optimistic)
+    return (f"the response-time test (Joseph and Pandya, a cross-check that decides "
+            f"nothing here) disagrees with the exact schedule on processors on {n:,} "
+            f"variant{'s' if n > 1 else ''}: " + "; ".join(parts))

@@ -1,32 +1,48 @@
-"""Judge variants of a design space: analyze, repair the port order, test, measure.
+"""Judge variants of a design space: analyze, repair the port order, schedule, measure.
 
-One variant is judged as ``tegraph analyze`` would judge it:
+One variant is judged as ``tegraph analyze`` would judge it, on its processors
+(spec v1.2 §4b):
 
-1. :func:`~tegraph.analysis.analyze.analyze_skeleton` on the variant's skeleton;
+1. :func:`~tegraph.analysis.analyze.analyze_skeleton` on the variant's skeleton
+   (spec §4, every task on a processor of its own);
 2. when it is not live but some port order makes it live
    (:func:`~tegraph.analysis.reorder.reorder_ports`), the reordered skeleton is
    analyzed instead and the variant is marked ``repaired`` (the orders depend
    only on the protocols, Rule A of :mod:`.explore_prune`, so they are found
    once per protocol assignment in a batch);
-3. when live and consistent, the response-time test
-   (:func:`~tegraph.design.schedulability.schedulability`) and the objectives:
+3. when live and consistent, on its processors: rule C of :mod:`.explore_prune`
+   (:func:`~.explore_prune.overloaded`: a processor whose groups with a clock need
+   more than all its time; proven not schedulable, without the schedule), else the
+   exact schedule (:func:`~tegraph.analysis.processors.schedule_on_processors`,
+   within the space's ``max_events``): ``schedulable`` True, False (an overrun, a
+   starved task or a growing place, named in the reason) or None (undecided within
+   the budget: rejected as undecided, never kept). The response-time test
+   (:func:`~tegraph.design.schedulability.schedulability`) decides nothing: it is
+   kept as a cross-check (``rta``) and for the latency bounds;
+4. the objectives:
 
    - ``latency:A,B,C``: :attr:`ChainLatency.value` of
      :func:`~tegraph.design.latency.chain_latency`, exact inside one
      synchronized group, the smallest published bound across asynchronous hops
-     (its kind, ``exact`` or ``bound``, is kept beside it);
-   - ``period`` (the *period ratio*): the largest, over the tasks, of the
-     task's period over its designed period (:attr:`DesignSpace.reference_periods`):
-     the period, in the *input* skeleton, of the task's own clock, or for a
-     task without a clock of the fastest clock of its input group. 1: every
-     task runs at its designed rate; 1/2, twice as fast (a faster clock); 3,
-     some task three times slower (a task pulled into a slower group). A task
-     that leaves a fast group to run on its own slower clock is judged against
-     its own clock, at 1. Tasks with no reference are not counted;
-   - ``load``: the busiest processor's utilization ``Σ C/T`` (``demand /
-     hyperperiod`` of the schedulability test);
-   - ``utilization``: the sum of every processor's utilization (what a faster
-     loop costs on the processors that are not the busiest).
+     (its kind, ``exact`` or ``bound``, is kept beside it). It is the timed
+     event graph's latency, **with a processor per task** (the schedule on
+     processors gives no per-message daters to trace a chain through);
+   - ``period`` (the *period ratio*, on processors): the largest, over the tasks,
+     of the task's period on processors over its designed period
+     (:attr:`DesignSpace.reference_periods`): the period, in the *input* skeleton,
+     of the task's own clock, or for a task without a clock of the fastest clock
+     of its input group. 1: every task runs at its designed rate; 1/2, twice as
+     fast (a faster clock); 3, some task three times slower (a task pulled into a
+     slower group, or a free-running task slowed down by its processor). Tasks
+     with no reference are not counted;
+   - ``load``: the busiest processor's utilization on processors, ``Σ C/T`` with
+     T each task's period on processors (what the processor really gives per unit
+     of time once the schedule is periodic);
+   - ``utilization``: the sum of every processor's load (what a faster loop costs
+     on the processors that are not the busiest).
+
+   These three are None (undefined) where a task of the count has no period on
+   processors (undecided, starved, or the schedule not run: rule C).
 
 Besides the objectives: the number of Rule 2 findings of section 6 (SYN/SYN
 links, and ASYN/ASYN links between groups of one rate: :func:`rule2_findings`),
@@ -34,8 +50,9 @@ which breaks ties between designs of equal objectives, and the constraints of
 the space (:class:`~.explore_space.Constraints`), which a kept design meets.
 
 A variant is *kept* when it is live (perhaps after the repair), consistent
-(spec §4: no unbounded place, no overrun), schedulable (every unit meets its
-period) and meets the constraints. Everything is exact: Fractions, no tolerance.
+(spec §4: no unbounded place, no overrun), schedulable on its processors (§4b,
+decided True) and meets the constraints. Everything is exact: Fractions, no
+tolerance.
 """
 
 from __future__ import annotations
@@ -49,9 +66,12 @@ from typing import Any
 from maxplus.scalar import exact_text
 
 from ..analysis.analyze import analyze_skeleton
+from ..analysis.processors import ProcessorSchedule, schedule_on_processors
 from ..analysis.reorder import reorder_ports
 from ..analysis.results import Report
+from ..model.build import build_teg
 from ..model.skeleton import Protocol, Skeleton
+from .explore_prune import overloaded
 from .explore_space import DesignSpace, latency_name
 from .latency import chain_latency
 from .rules import group_period, synchronized_groups
@@ -80,9 +100,9 @@ class VariantResult:
         The port orders were changed to make it live (``orders`` says how).
     consistent : bool or None
     schedulable : bool or None
-        None once consistent: the response-time test ran out of its budget
-        (:data:`~tegraph.design.schedulability.RTA_BUDGET`) undecided, and the
-        variant is kept (an undecided test rejects nothing).
+        On its processors (spec §4b), once consistent: True or False, proven (by
+        the exact schedule, or by rule C), or None: undecided within the space's
+        ``max_events`` (the variant is not kept; its reason says why).
     objectives : dict of str to Fraction or None
         Every objective of the space (None where undefined).
     kinds : dict of str to str
@@ -96,6 +116,9 @@ class VariantResult:
         the tie-breaker of the front.
     meets : bool or None
         Meets the constraints of the space (None when not reached, or none).
+    rta : bool or None
+        The response-time test's verdict (a cross-check, never the verdict; None
+        when not run or undecided). Not written to the results file.
     """
 
     variant: int
@@ -111,18 +134,21 @@ class VariantResult:
     seconds: float = 0.0
     rule2: int | None = None
     meets: bool | None = None
+    rta: bool | None = field(default=None, compare=False)
 
     @property
     def kept(self) -> bool:
-        """Live, consistent, schedulable (or its test undecided by its budget: None after
-        a consistent verdict) and not against a constraint."""
-        return bool(self.live and self.consistent and self.schedulable is not False
+        """Live, consistent, schedulable on its processors (decided: an undecided
+        schedule keeps nothing) and not against a constraint."""
+        return bool(self.live and self.consistent and self.schedulable is True
                     and self.meets is not False)
 
 
 REJECTIONS = ("failed to be judged", "dead whatever the port order",
-              "an unbounded place", "an overrun", "not schedulable", "against a constraint")
-"""Why a variant is not kept, in the order the judgement meets them."""
+              "an unbounded place", "an overrun", "not schedulable on processors",
+              "undecided within max_events", "against a constraint")
+"""Why a variant is not kept, in the order the judgement meets them (the unbounded
+place and the overrun of spec §4, with a processor per task; then §4b)."""
 
 
 def rejection(result: VariantResult) -> str | None:
@@ -139,8 +165,10 @@ def rejection(result: VariantResult) -> str | None:
         return REJECTIONS[3] if result.reason.startswith("overrun") else REJECTIONS[2]
     if result.schedulable is False:
         return REJECTIONS[4]
-    if result.meets is False:
+    if result.schedulable is None:
         return REJECTIONS[5]
+    if result.meets is False:
+        return REJECTIONS[6]
     return None
 
 
@@ -183,7 +211,10 @@ def evaluate_batch(space: DesignSpace, variants: Sequence[int]) -> list[VariantR
     >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
     ...                      clocks={"rtc": [5, 10]}, chains=[["MT1", "MT2", "MT3", "MT4"]])
     >>> [(r.kept, r.objectives["load"]) for r in evaluate_batch(space, [0, 1])]
-    [(False, Fraction(6, 5)), (True, Fraction(3, 5))]
+    [(False, None), (True, Fraction(3, 5))]
+
+    At 5 the pipe-line needs 6/5 of its processor: rule C rejects it without a
+    schedule, so no load on processors is measured (None).
     """
     repairs: dict[int, dict[str, dict[str, list[str]]] | None] = {}
     out = []
@@ -238,33 +269,46 @@ def evaluate_variant(space: DesignSpace, variant: int,
         result.reason = _inconsistency(report)
         return result
     sched = schedulability(skeleton, report)
-    # A test the budget left undecided rejects nothing: the variant stays, its
-    # schedulable cell empty (None), never read as "not schedulable".
-    result.schedulable = None if sched.undecided and sched.schedulable is None else (
-        sched.schedulable is True)
-    if result.schedulable is False:
-        result.reason = _unschedulable(sched, skeleton.unit)
-    _objectives(space, skeleton, report, sched, result)
-    if space.constraints:
-        broken = _broken(space, skeleton, report, sched)
+    # The response-time test decides nothing on processors (docs/explore.md): it is a
+    # cross-check, and the chain latency's bounds read its response times.
+    result.rta = sched.schedulable
+    schedule = None
+    too_much = overloaded(skeleton, report)
+    if too_much is not None:  # rule C: proven not schedulable, no schedule needed
+        result.schedulable, result.reason = False, too_much
+    else:
+        schedule = schedule_on_processors(skeleton, build_teg(skeleton), report.groups,
+                                          max_events=space.max_events)
+        result.schedulable = schedule.schedulable
+        if schedule.schedulable is False:
+            result.reason = _unschedulable(skeleton, schedule)
+        elif schedule.schedulable is None:
+            why = schedule.why_undecided or ""
+            why = why.partition("): ")[2] or why  # the budget is said once, here
+            result.reason = (f"undecided within max_events ({space.max_events:,} event "
+                             f"firings): {why}")
+    _objectives(space, skeleton, report, sched, schedule, result)
+    if space.constraints and schedule is not None:
+        broken = _broken(space, skeleton, report, sched, schedule)
         result.meets = not broken
         if broken and not result.reason:
             result.reason = "against a constraint: " + "; ".join(broken)
     return result
 
 
-def _broken(space: DesignSpace, skeleton: Skeleton, report: Report,
-            sched: Schedulability) -> list[str]:
+def _broken(space: DesignSpace, skeleton: Skeleton, report: Report, sched: Schedulability,
+            schedule: ProcessorSchedule) -> list[str]:
     """The constraints the variant does not meet, each in words with its unit."""
     unit = skeleton.unit
     out = []
     for task, op, bound in space.constraints.periods:
-        period = report.tasks[task].period
+        period = schedule.tasks[task].period
         if period is None:
-            out.append(f"{task} has no period, required {op} {exact_text(bound)} {unit}")
-        elif not (period == bound if op == "=" else period <= bound):
-            out.append(f"{task}.period is {exact_text(period)} {unit}, required {op} "
+            out.append(f"{task} has no period on processors, required {op} "
                        f"{exact_text(bound)} {unit}")
+        elif not (period == bound if op == "=" else period <= bound):
+            out.append(f"{task}.period on processors is {exact_text(period)} {unit}, "
+                       f"required {op} {exact_text(bound)} {unit}")
     for chain, bound in space.constraints.latencies:
         value = chain_latency(skeleton, chain, report, sched).value
         if value is None or value > bound:
@@ -283,7 +327,7 @@ def _reordered(skeleton: Skeleton, orders: dict[str, dict[str, list[str]]]) -> S
 
 
 def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: Schedulability,
-                result: VariantResult) -> None:
+                schedule: ProcessorSchedule | None, result: VariantResult) -> None:
     wanted = set(space.objectives)
     for chain in space.chains:
         name = latency_name(chain)
@@ -291,17 +335,27 @@ def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: S
             found = chain_latency(skeleton, chain, report, sched)
             result.objectives[name] = found.value
             result.kinds[name] = found.kind
-    if "period" in wanted:
+    periods = {} if schedule is None else {t: f.period for t, f in schedule.tasks.items()}
+    if "period" in wanted and schedule is not None:
         reference = space.reference_periods
-        ratios = [t.period / reference[name] for name, t in report.tasks.items()
-                  if t.period is not None and reference.get(name)]
-        result.objectives["period"] = max(ratios, default=None)
-    loads = [p.demand / p.hyperperiod for p in sched.processors
-             if p.demand is not None and p.hyperperiod]
-    if "load" in wanted:
-        result.objectives["load"] = max(loads, default=None)
-    if "utilization" in wanted:
-        result.objectives["utilization"] = sum(loads, Fraction(0)) if loads else None
+        counted = [name for name in skeleton.tasks if reference.get(name)]
+        if all(periods[name] is not None for name in counted):
+            result.objectives["period"] = max(
+                (periods[name] / reference[name] for name in counted), default=None)
+    if schedule is not None and wanted & {"load", "utilization"}:
+        loads: dict[str, Fraction] | None = {}
+        for name, task in skeleton.tasks.items():
+            period = periods[name]
+            if period is None:  # this task's share of its processor is not known
+                loads = None
+                break
+            where = schedule.platform.processor_of[name]
+            # A period of 0 is a circuit of zero durations: it takes no time.
+            share = task.duration / period if period else Fraction(0)
+            loads[where] = loads.get(where, Fraction(0)) + share
+        if loads:
+            result.objectives["load"] = max(loads.values())
+            result.objectives["utilization"] = sum(loads.values(), Fraction(0))
     result.objectives = {name: result.objectives.get(name) for name in space.objectives}
 
 
@@ -316,13 +370,25 @@ def _inconsistency(report: Report) -> str:
     return "not consistent"
 
 
-def _unschedulable(sched: Schedulability, unit: str) -> str:
-    for p in sched.processors:
-        for u in p.units:
-            if u.schedulable is False:
-                where = f" on {p.processor}" if p.processor else ""
-                if u.response_time is None:
-                    return f"not schedulable{where}: {', '.join(u.tasks)} is left no time"
-                return (f"not schedulable{where}: {', '.join(u.tasks)} responds in "
-                        f"{u.response_time} {unit} > period {u.period} {unit}")
-    return "no unit could be analyzed"
+def _unschedulable(skeleton: Skeleton, schedule: ProcessorSchedule) -> str:
+    """Why the schedule on processors is not schedulable: the first overrun in time,
+    else a starved task, else a growing place (the §4b verdict's own evidence)."""
+    where = schedule.platform.processor_of
+    late = []
+    for name, fig in schedule.tasks.items():
+        clock = skeleton.tasks[name].clock
+        if fig.overrun_at is not None and clock is not None:
+            c = skeleton.clocks[clock]
+            late.append((c.phase + (fig.overrun_at - 1) * c.period, name, fig.overrun_at))
+    if late:
+        _, name, k = min(late, key=lambda x: x[0])  # min keeps the file order on ties
+        return f"overrun on processors: {name} at activation {k} (on {where[name]})"
+    if schedule.starved:
+        name = schedule.starved[0]
+        return f"starved on processors: {name} never gets its duration on {where[name]}"
+    if schedule.unbounded:
+        u = schedule.unbounded[0]
+        more = len(schedule.unbounded) - 1
+        return (f"a place grows on processors: {u.kind} at {u.src} -> {u.dst}"
+                + (f" (and {more} more)" if more else ""))
+    return "not schedulable on processors: a group is not live"  # pragma: no cover

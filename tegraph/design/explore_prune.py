@@ -1,8 +1,11 @@
-"""Exact pruning of the design space: protocol assignments that deadlock whatever the port order.
+"""Exact pruning of the design space: protocol assignments that deadlock whatever the port
+order (rules A and B), and processors loaded beyond their time (rule C).
 
 ``explore`` judges a variant without analyzing it when a theorem settles its
-verdict. Two rules, both proven here and cross-checked against
-:func:`tegraph.analysis.reorder.reorder_ports` by the tests:
+verdict. Rules A and B, proven here and cross-checked against
+:func:`tegraph.analysis.reorder.reorder_ports` by the tests, settle it without any
+analysis; rule C settles a live and consistent variant as not schedulable on its
+processors (spec §4b) without running the schedule:
 
 **Rule A (time does not matter).** Whether a skeleton is live, and whether
 some port order makes it live, depends only on its token-free places and
@@ -37,6 +40,43 @@ chain (a task reading two SYN/SYN inputs of one writer port sees one event
 twice, reorder's self-loop), and a class whose members are joined by a path of
 ``G`` (the path closes on the merged event).
 
+**Rule C (more work than time).** Let P be a processor, and for each group g
+(spec §4) with a clock let ``p_g`` be its clocks' period (in a consistent
+variant every clock of a group has one period: the ticks are events of the
+group, and a rate-consistent group has one cycle time). If
+
+    U_P = Σ over the tasks T on P whose group has a clock of duration(T) / p_g(T) > 1,
+
+the variant is not schedulable on its processors. Proof: suppose it is. Then
+(§4b) every group is live and has no unbounded place on processors, so (§4,
+applied to the daters on processors) all the events of a group share one cycle
+time, and a group with a clock runs at its clock's period ``p_g`` (the tick's
+self-loop fires every ``p_g``); the schedule reached a periodic regime, of some
+length L, in which each task T of such a group on P releases ``L/p_g`` jobs and
+every job ends (no task is starved). So P gives those tasks
+``Σ duration(T) L/p_g = U_P L`` of its time in each regime, which is at most L:
+``U_P <= 1``, a contradiction. When the tasks *with a clock* alone already need
+more than P (``Σ duration(T)/period(clock(T)) > 1``), a task with a clock
+overruns: otherwise each activation k-1 of each such T ends by its tick k
+(``end_T(k-1) <= x_tick(k)``), so by time t the processor has given them at
+least ``Σ duration(T) floor((t - phase)/period)`` > t for t large enough,
+more than the t units of time it had. Rule C says which of the two it proved.
+``U_P = 1`` proves nothing (harmonic periods fill a processor exactly), and
+tasks in groups without a clock are left out (they slow down to the time left).
+
+What is **not** a proof, and is not used to prune: the response-time test of
+:mod:`tegraph.design.schedulability` saying "not schedulable". It assumes the
+critical instant (every unit released together) and one release per period of
+each group; on processors a job is released when its reads are done, clocks
+may have phases that never line up, and synchronization spreads a group's jobs
+over its period. Example (``tests/tegraph/design/test_explore_processors.py``):
+A, 3 every 6, and B, 4 every 9 with phase 3/2, on one processor: the test says
+R_B = 10 > 9, the exact schedule is periodic with B's response at most 17/2.
+Nor is its "schedulable" a proof of §4b (it does not model the blocking of a
+read on a slower writer on another processor, nor a group whose tasks run at
+different rates), so every variant that rule C does not settle runs the exact
+schedule.
+
 References
 ----------
 .. [1] F. Commoner, A. W. Holt, S. Even, A. Pnueli, "Marked directed
@@ -47,16 +87,21 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from dataclasses import replace
+from fractions import Fraction
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order
 
+from maxplus.scalar import exact_text
+
+from ..analysis.processors import DEFAULT_PROCESSOR
 from ..analysis.reorder import PrecedenceGraph
-from ..model.skeleton import Protocol
+from ..analysis.results import Report
+from ..model.skeleton import Protocol, Skeleton
 from .explore_space import DesignSpace
 
-__all__ = ["DeadlockOracle", "protocol_ranges"]
+__all__ = ["DeadlockOracle", "overloaded", "protocol_ranges"]
 
 DEAD_REASON = ("dead whatever the port order: its synchronizations close a circuit of "
                "obligations (pruned without analysis)")
@@ -246,3 +291,64 @@ def protocol_ranges(space: DesignSpace, oracle: DeadlockOracle
         pending = run
     if pending is not None:
         yield pending
+
+
+def overloaded(skeleton: Skeleton, report: Report) -> str | None:
+    """Rule C (module docstring): why the variant is proven not schedulable on its
+    processors by their load, or None when the load proves nothing.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    report : Report
+        ``analyze_skeleton(skeleton)``, live and consistent (its groups are read).
+
+    Returns
+    -------
+    str or None
+        The reason, naming the processor, its load and the tasks counted.
+
+    Examples
+    --------
+    Two tasks of 6 ms every 10 ms on one processor (6/5 of it), then 5 every 10:
+
+    >>> from tegraph.analysis.analyze import analyze_skeleton
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10},
+    ...                                    "B": {"duration": 6, "period": 10}}})
+    >>> print(overloaded(sk, analyze_skeleton(sk)))
+    overrun on processors: default runs tasks with a clock needing 6/5 of its time (A 6 every \
+10, B 6 every 10), more than all of it, so one of them overruns (proven by the load, rule C)
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 5, "period": 10},
+    ...                                    "B": {"duration": 5, "period": 10}}})
+    >>> overloaded(sk, analyze_skeleton(sk)) is None
+    True
+    """
+    # processor -> (task, duration, period of its group's clock, has a clock of its own)
+    grouped: dict[str, list[tuple[str, Fraction, Fraction, bool]]] = {}
+    for g in report.groups:
+        periods = {skeleton.clocks[c].period for c in g.clocks}
+        if len(periods) != 1:  # no clock (or, not in a consistent variant, clocks that differ)
+            continue
+        (period,) = periods
+        for name in g.tasks:
+            task = skeleton.tasks[name]
+            grouped.setdefault(task.processor or DEFAULT_PROCESSOR, []).append(
+                (name, task.duration, period, task.clock is not None))
+    for where, tasks in grouped.items():
+        load = sum((d / p for _, d, p, _ in tasks), Fraction(0))
+        if load <= 1:
+            continue
+        own = [t for t in tasks if t[3]]
+        clocked = sum((d / p for _, d, p, _ in own), Fraction(0))
+        counted = own if clocked > 1 else tasks
+        shown = ", ".join(f"{name} {exact_text(d)} every {exact_text(p)}"
+                          for name, d, p, _ in counted[:6] if d)
+        shown += ", ..." if len(counted) > 6 else ""
+        if clocked > 1:
+            return (f"overrun on processors: {where} runs tasks with a clock needing "
+                    f"{exact_text(clocked)} of its time ({shown}), more than all of it, so "
+                    "one of them overruns (proven by the load, rule C)")
+        return (f"not schedulable on processors: {where} runs groups with a clock needing "
+                f"{exact_text(load)} of its time ({shown}), more than all of it, so a task "
+                "overruns or a place grows (proven by the load, rule C)")
+    return None

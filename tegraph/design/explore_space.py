@@ -28,6 +28,7 @@ from typing import Any
 
 from maxplus.scalar import exact_text, exact_time
 
+from ..analysis.processors.schedule import MAX_EVENTS
 from ..errors import InputError
 from ..model.skeleton import Protocol, Skeleton
 from ..model.skeleton.checks import Locator, check_chain
@@ -164,10 +165,20 @@ class Constraints:
                 + [f"no {p.value} link" for p in self.forbidden])
 
 
-DEFINITIONS = 2
-"""The version of the objectives' definitions, part of the fingerprint: a results file
-judged under other definitions (version 1: the period ratio against the input group's
-fastest clock, no utilization, no Rule 2 count) is not resumed."""
+DEFINITIONS = 3
+"""The version of the definitions of a verdict and of the objectives, part of the
+fingerprint: a results file judged under other definitions is not resumed. Version 1:
+the period ratio against the input group's fastest clock, no utilization, no Rule 2
+count; version 2: every variant judged with a processor per task (spec §4) and the
+response-time test; version 3: judged on its processors (spec v1.2 §4b, the exact
+schedule within ``max_events``), the period ratio, load and utilization read on
+processors."""
+
+OLDER_DEFINITIONS = {1: "the period ratio against the input group's fastest clock",
+                     2: "every variant judged with a processor per task and the "
+                        "response-time test, before the schedule on processors (§4b)"}
+"""What each older version of :data:`DEFINITIONS` judged differently (said when a
+results file of that version is refused)."""
 
 
 @dataclass(frozen=True)
@@ -195,6 +206,8 @@ class DesignSpace:
     chains: tuple[tuple[str, ...], ...]
     objectives: tuple[str, ...]
     constraints: Constraints = Constraints()
+    max_events: int = MAX_EVENTS
+    """Budget of event firings of each variant's schedule on processors (§4b)."""
 
     @property
     def n_protocol_variants(self) -> int:
@@ -291,17 +304,28 @@ class DesignSpace:
 
     @cached_property
     def fingerprint(self) -> str:
-        """A short hash of the skeleton, the choices and the objectives (ties a results
-        file to one exploration)."""
-        text = json.dumps({
+        """A short hash of the skeleton, the choices, the objectives, the constraints,
+        the budget of each schedule (``max_events``: a variant undecided within one
+        budget may be decided within another) and the version of the definitions
+        (ties a results file to one exploration)."""
+        return self.fingerprint_of(DEFINITIONS)
+
+    def fingerprint_of(self, definitions: int) -> str:
+        """The fingerprint this space had under version ``definitions`` of the
+        definitions (:data:`DEFINITIONS`; the older ones, to say why a file of theirs
+        is refused)."""
+        data: dict[str, Any] = {
             "skeleton": self.skeleton.to_dict(),
             "links": [[c.label, [p.value for p in c.protocols]] for c in self.links],
             "clocks": [[c.name, [exact_text(t) for t in c.periods]] for c in self.clocks],
             "chains": [list(c) for c in self.chains],
             "objectives": list(self.objectives),
             "constraints": self.constraints.to_dict(),
-            "definitions": DEFINITIONS,
-        }, sort_keys=True, default=str)
+            "definitions": definitions,
+        }
+        if definitions >= 3:  # no budget before the schedule on processors
+            data["max_events"] = self.max_events
+        text = json.dumps(data, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -362,7 +386,7 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
                  clocks: Mapping[str, Sequence[Any]] | Sequence[Any] | None = None,
                  chains: Sequence[Sequence[str]] = (), objectives: Sequence[str] | None = None,
                  *, requires: Sequence[Any] = (), max_latency: Sequence[Any] = (),
-                 forbid: Sequence[Any] = ()) -> DesignSpace:
+                 forbid: Sequence[Any] = (), max_events: int = MAX_EVENTS) -> DesignSpace:
     """Check the choices against the skeleton and build the design space.
 
     Parameters
@@ -395,6 +419,12 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         guarantees) is at most L.
     forbid : sequence of protocols
         Protocols no link may use: taken out of every chosen link's choices.
+    max_events : int
+        Budget of event firings of each variant's schedule on processors (spec
+        §4b; :data:`~tegraph.analysis.processors.MAX_EVENTS` by default): a variant
+        whose schedule is not decided within it is rejected as undecided. A decided
+        variant stops at its proof (a few hundred firings for a small pipe-line), so
+        the budget is spent in full only by a variant that would be undecided.
 
     Returns
     -------
@@ -408,7 +438,7 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         > 0; nothing chosen; an unknown objective, or ``latency`` without a
         chain; a constraint that cannot be read or names an unknown task or
         chain; a forbidden protocol on a link not chosen, or that empties a
-        link's choice.
+        link's choice; ``max_events`` not an integer >= 1.
 
     Examples
     --------
@@ -420,6 +450,9 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     >>> space.size, space.describe(3)
     (4, ({'A:x -> B:x': 'SYN/SYN'}, {'rtc': '10'}))
     """
+    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
+        raise InputError(f"expected a number of event firings, an integer >= 1, got "
+                         f"{max_events!r}", "max_events")
     by_label = {link_text(k.writer, k.reader): i for i, k in enumerate(skeleton.links)}
     forbidden = tuple(dict.fromkeys(parse_protocol(p, f"forbid[{k}]")
                                     for k, p in enumerate(forbid)))
@@ -513,7 +546,7 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     constraints = Constraints(_requirements(skeleton, requires),
                               _latency_bounds(skeleton, max_latency), forbidden)
     return DesignSpace(skeleton, tuple(chosen[i] for i in chosen), tuple(clock_choices),
-                       tuple(dict.fromkeys(all_chains)), names, constraints)
+                       tuple(dict.fromkeys(all_chains)), names, constraints, max_events)
 
 
 def _requirements(skeleton: Skeleton, requires: Sequence[Any]

@@ -1,7 +1,8 @@
 """Draw the Pareto front of an exploration, to SVG or PNG (matplotlib, the ``[plot]`` extra).
 
 One panel per pair of objectives (a strip for a single objective): every
-live and consistent variant in grey, the kept ones (also schedulable) in blue,
+live and consistent variant in grey, the kept ones (also schedulable on their
+processors) in blue,
 the front in red. Values are exact in the result; only the drawing
 coordinates are floats. A missing matplotlib is reported by
 :class:`~tegraph.report.plot.PlotUnavailableError`, whose message says how to
@@ -88,7 +89,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
     for k, (x_name, y_name) in enumerate(pairs):
         ax = fig.add_subplot(rows, columns, k + 1)
         for colour, chosen, label in (
-                (_OTHER, [r for r in measured if not r.kept], "live, consistent, not schedulable"),
+                (_OTHER, [r for r in measured if not r.kept], "live, consistent, not kept"),
                 (_KEPT, [r for r in measured if r.kept and r.variant not in front], "kept"),
                 (_FRONT, [r for r in measured if r.variant in front], "Pareto front")):
             points = [(r.objectives.get(x_name), r.objectives.get(y_name) if y_name else 0)
@@ -120,7 +121,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
 
 def _label(name: str, unit: str) -> str:
     if name.startswith("latency:"):
-        return f"latency of {name[len('latency:'):]} ({unit})"
-    return {"period": "period ratio (task period / designed period)",
-            "load": "busiest processor's utilization",
-            "utilization": "utilization, all processors"}.get(name, name)
+        return f"latency of {name[len('latency:'):]} ({unit}, processor per task)"
+    return {"period": "period ratio on processors (task period / designed period)",
+            "load": "busiest processor's utilization on processors",
+            "utilization": "utilization on processors, all processors"}.get(name, name)

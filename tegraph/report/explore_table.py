@@ -6,9 +6,10 @@ One row per variant, in the order verdicts arrive. Columns:
 skeleton, choices and objectives), ``link:W:p -> R:q`` (the protocol, one
 column per chosen link), ``clock:NAME`` (the period, exact), ``judged``
 (analyzed, pruned, failed), ``live``, ``repaired``, ``consistent``,
-``schedulable``, ``meets_constraints``, ``kept`` (true, false or empty when not
-reached; ``schedulable`` empty after ``consistent`` true: the response-time test
-was undecided within its budget, and the variant is kept), one column per
+``schedulable`` (on its processors, spec §4b), ``meets_constraints``, ``kept``
+(true, false or empty when not reached; ``schedulable`` empty after ``consistent``
+true: the schedule on processors was undecided within ``max_events``, and the
+variant is not kept), one column per
 objective (exact, such as ``7/3``; empty where undefined), ``kind:`` and the
 objective for each latency (``exact`` or ``bound``), ``rule2`` (Rule 2
 findings, the tie-breaker), ``orders`` (the port orders of a repair, JSON),
@@ -39,7 +40,7 @@ from typing import Any, NoReturn
 from maxplus.scalar import exact_text, exact_time
 
 from ..design.explore_eval import ANALYZED, FAILED, PRUNED, VariantResult
-from ..design.explore_space import DesignSpace
+from ..design.explore_space import DEFINITIONS, OLDER_DEFINITIONS, DesignSpace
 from ..errors import InputError
 
 __all__ = ["INSTALL_PARQUET", "ResultsTable", "columns"]
@@ -277,8 +278,16 @@ class ResultsTable:
             return None if text == "" else text == "true"
 
         if row["space"] != space.fingerprint:
-            refuse("space", f"another exploration (another skeleton, choices, objectives or "
-                   f"constraints); expected {space.fingerprint}")
+            older = [v for v in OLDER_DEFINITIONS if row["space"] == space.fingerprint_of(v)]
+            if older:  # this exploration, judged by the definitions of an older version
+                refuse("space", f"this exploration judged under version {older[0]} of the "
+                       f"definitions ({OLDER_DEFINITIONS[older[0]]}); its verdicts are not "
+                       f"those of version {DEFINITIONS} (each variant judged on its "
+                       "processors, spec §4b), so they are not resumed; expected "
+                       f"{space.fingerprint}")
+            refuse("space", f"another exploration (another skeleton, choices, objectives, "
+                   f"constraints or budget `max_events` of each schedule); expected "
+                   f"{space.fingerprint}")
         text = row["variant"]
         if not (text.isascii() and text.isdigit() and len(text) <= len(str(space.size))
                 and int(text) < space.size):

@@ -24,20 +24,26 @@ FRONT_ROWS_SHOWN = 40
 def column_name(name: str, unit: str) -> str:
     """What an objective's column holds, with its unit: the text report's header.
 
+    The period ratio, load and utilization are read on processors (spec §4b); the
+    latency is the timed event graph's, with a processor per task: each name says so.
+
     >>> column_name("latency:A,B", "ms"), column_name("period", "ms")
-    ('latency A,B (ms)', 'period ratio')
+    ('latency A,B (ms, processor per task)', 'period ratio on processors')
     """
     if name.startswith("latency:"):
-        return f"latency {name[len('latency:'):]} ({unit})"
+        return f"latency {name[len('latency:'):]} ({unit}, processor per task)"
     return _COLUMNS[name]
 
 
-_COLUMNS = {"period": "period ratio", "load": "busiest load", "utilization": "utilization"}
+_COLUMNS = {"period": "period ratio on processors", "load": "busiest load on processors",
+            "utilization": "utilization on processors"}
 _MEANING = {
-    "period": "largest task period over the task's designed period (its own clock's, or "
-              "its input group's fastest): 1 designed rate, 2 twice slower",
-    "load": "the busiest processor's utilization, sum of C/T",
-    "utilization": "sum of C/T over all processors (what a faster loop costs anywhere)",
+    "period": "largest task period on processors over the task's designed period (its own "
+              "clock's, or its input group's fastest): 1 designed rate, 2 twice slower",
+    "load": "the busiest processor's utilization, sum of C/T with T each task's period on "
+            "processors",
+    "utilization": "sum of C/T over all processors, T on processors (what a faster loop "
+                   "costs anywhere)",
 }
 
 
@@ -63,8 +69,10 @@ def render_exploration(result: Exploration) -> str:
                      + f" {sk.unit}")
     lines.append("objectives, all minimized (ties broken by fewer Rule 2 findings):")
     for n in space.objectives:
-        meaning = (f"chain latency in {sk.unit}, exact in one group, else the smallest "
-                   "published bound" if n.startswith("latency:") else _MEANING[n])
+        meaning = (f"chain latency in {sk.unit} with a processor per task (the timed event "
+                   "graph's daters, not the schedule on processors), exact in one group, "
+                   "else the smallest published bound" if n.startswith("latency:")
+                   else _MEANING[n])
         lines.append(f"  {column_name(n, sk.unit)}: {meaning}")
     constraints = _constraint_texts(space.constraints, sk.unit)
     if constraints:
@@ -75,11 +83,12 @@ def render_exploration(result: Exploration) -> str:
     lines.append(f"search: {d['search']['description']}; stopped: {result.stopped}{optimum}")
     lines.append(f"judged {len(result.results):,} of {space.size:,}: "
                  f"{result.count(ANALYZED):,} analyzed "
-                 f"(analyze, port repair, response-time test), {result.count(PRUNED):,} pruned "
-                 f"by rules A and B, {result.count(FAILED):,} failed; "
-                 f"{result.consistent:,} live and consistent, {result.kept:,} also "
-                 "schedulable" + (" and meeting the constraints" if space.constraints else "")
-                 + " (kept)")
+                 f"(analyze, port repair, rule C or the schedule on processors within "
+                 f"`max_events` = {space.max_events:,} event firings), "
+                 f"{result.count(PRUNED):,} pruned by rules A and B, "
+                 f"{result.count(FAILED):,} failed; {result.consistent:,} live and consistent "
+                 f"with a processor per task, {result.kept:,} also schedulable on processors"
+                 + (" and meeting the constraints" if space.constraints else "") + " (kept)")
     rejected = result.rejected
     if rejected:
         examples = _examples(result)
@@ -100,7 +109,8 @@ def render_exploration(result: Exploration) -> str:
     lines.append("")
     lines.extend(_front(result))
     lines.append("")
-    lines.append("pruning rules (proofs in tegraph/design/explore_prune.py):")
+    lines.append("pruning rules (proofs in tegraph/design/explore_prune.py and "
+                 "docs/explore.md):")
     lines.extend(f"  {rule}" for rule in PRUNING_RULES)
     lines.extend(f"note: {n}" for n in result.notes)
     lines.append(f"verdict: {result.verdict}")
@@ -110,7 +120,8 @@ def render_exploration(result: Exploration) -> str:
 def _front(result: Exploration) -> list[str]:
     space = result.space
     if not result.front:
-        return ["Pareto front: empty (no variant is live, consistent and schedulable)"]
+        return ["Pareto front: empty (no variant is live, consistent and schedulable on its "
+                "processors)"]
     names = {c.label: f"L{i + 1}" for i, c in enumerate(space.links)}
     lines = [f"Pareto front: {len(result.front)} design(s)"
              + (" (equal objectives: ties are all listed)" if _ties(result) else "")]

@@ -4,8 +4,10 @@ designs section 6 of the ORCCAD paper recommends, the pruning rules, the local s
 The reference front is rebuilt here from the public :func:`tegraph.analyze` alone:
 each variant is made with ``dataclasses.replace``, analyzed (and, when only its port
 order deadlocks, reordered as the report's ``reorder`` says and analyzed again), kept
-when live, consistent and schedulable; its objectives come from the report's design
-section, and the front from an O(n²) dominance loop.
+when live, consistent and schedulable on its processors (the report's §4b verdict,
+issue 19: before it, the design section's response-time test decided, with a processor
+per task); its latency comes from the report's design section, its period ratio and
+loads from the figures on processors, and the front from an O(n²) dominance loop.
 """
 
 from __future__ import annotations
@@ -76,19 +78,24 @@ def reference(skeleton, links, clocks, chains):
                 variant = replace(variant, tasks=tasks)
                 report = tegraph.analyze(variant, chains=chains)
                 repaired = True
-            sched = report.design.schedulability
-            kept = report.live and report.consistent and sched.schedulable is True
+            kept = report.live and report.consistent and report.schedulable is True
             objectives = None
             if kept:
                 objectives = [c.value for c in report.design.latency]
-                ratios = [t.period / designed[n] for n, t in report.tasks.items()
+                # On processors (spec §4b): each task's period in the schedule, and each
+                # processor's load sum of C / (that period).
+                on = {n: report.schedule.tasks[n].period for n in variant.tasks}
+                ratios = [on[n] / designed[n] for n in variant.tasks
                           if designed[n] is not None]
                 objectives.append(max(ratios, default=None))
-                loads = [p.demand / p.hyperperiod for p in sched.processors
-                         if p.demand is not None]
-                objectives.append(max(loads))
+                by_processor = {}
+                for n, task in variant.tasks.items():
+                    where = task.processor or "default"
+                    share = task.duration / on[n] if on[n] else F(0)
+                    by_processor[where] = by_processor.get(where, F(0)) + share
+                objectives.append(max(by_processor.values()))
                 if len(processors) > 1:
-                    objectives.append(sum(loads))
+                    objectives.append(sum(by_processor.values()))
             # Ties are broken by the Rule 2 findings analyze's own rule check reports.
             rule2 = sum(1 for f in report.design.rules if f.rule == 2)
             judged[(*protocols, *(F(t) for t in periods))] = (kept, objectives, repaired,

@@ -13,6 +13,7 @@ from __future__ import annotations
 import csv
 import json
 import logging
+import math
 import os
 import signal
 import socket
@@ -70,8 +71,11 @@ def rows_of(path):
 
 def front_of_rows(rows, objectives):
     """The Pareto front of a results file, from its cells alone: not dominated, and
-    among equal objective vectors the fewest Rule 2 findings (the `rule2` column)."""
-    kept = {int(r["variant"]): ([Fraction(r[n]) for n in objectives], int(r["rule2"]))
+    among equal objective vectors the fewest Rule 2 findings (the `rule2` column).
+    An empty cell is an undefined objective, ranked worst (since issue 19 a kept
+    design can have one: a free-running group whose latency no response time bounds)."""
+    kept = {int(r["variant"]): ([Fraction(r[n]) if r[n] else math.inf for n in objectives],
+                                int(r["rule2"]))
             for r in rows if r["kept"] == "true"}
 
     def beaten(a, b):
