@@ -49,7 +49,18 @@ from .change import Change, apply_change
 from .findings import FindingKey, FindingKind, RuleFinding, link_key
 from .synchronization import group_period
 
-__all__ = ["CANDIDATE_LIMIT", "SPLIT", "Advisor", "Choice"]
+__all__ = ["CANDIDATE_LIMIT", "PERIODS_BUDGET", "SPLIT", "Advisor", "Choice"]
+
+PERIODS_BUDGET = 10_000
+"""Tasks the advice may rebuild and solve, in all, to state real periods (each
+solve counts at least ``_SOLVE_COST``): a change to a group of n tasks rebuilds
+and solves those n tasks, so one finding per task of a 10,000-task chain would
+cost 10^8 (hours); 10,000 is about a second of solving. Past it, the advice
+states no period before -> after and says so; the choice then falls back to the
+smallest change bringing no finding."""
+
+_SOLVE_COST = 30
+"""What one solve costs at least, in tasks: the fixed cost of a build and a solve."""
 
 
 class _Roots:
@@ -123,6 +134,8 @@ class Advisor(Candidates):
         self._dead: bool | None = None  # token-free circuits in the skeleton (on demand)
         self._live: dict[Change, bool] = {}
         self._real: dict[tuple, _Rates] = {}
+        self.periods_spent = 0
+        """Tasks rebuilt and solved so far for real periods (:data:`PERIODS_BUDGET`)."""
         self.clock_users: dict[str, int] = {}
         for task in skeleton.tasks.values():
             if task.clock:
@@ -202,6 +215,8 @@ class Advisor(Candidates):
         """
         groups, _, _ = self._groups_after(edits)
         real = self.real_periods(groups, self.change_of(edits))
+        if real is None:
+            return []
         out = []
         for g in groups:
             for t in self.groups[g]:
@@ -217,20 +232,27 @@ class Advisor(Candidates):
         """How many groups touched by ``edits`` are not rate-consistent afterwards."""
         groups, part, _ = self._groups_after(edits)
         real = self.real_periods(groups, self.change_of(edits))
+        if real is None:
+            return 0
         return sum(members[0] in real.mixed for members, _, _ in part.values())
 
-    def real_periods(self, groups: list[int], change: Change) -> _Rates:
+    def real_periods(self, groups: list[int], change: Change) -> _Rates | None:
         """The period of each task of ``groups`` once ``change`` is made (None: dead).
 
         Only the touched groups are rebuilt, edited and solved: the cycle time of
         each task's compute event is the max cycle ratio of the timed event graph
         of those groups (:func:`maxplus.max_cycle_ratio`, exact), as
         :func:`tegraph.analysis.analyze` computes it; the tasks of a weak part
-        with a token-free circuit have none. Cached by change.
+        with a token-free circuit have none. Cached by change. None once
+        :data:`PERIODS_BUDGET` is spent.
         """
         key = (tuple(groups), change)
         known = self._real.get(key)
         if known is None:
+            cost = max(_SOLVE_COST, sum(len(self.groups[g]) for g in groups))
+            if self.periods_spent + cost > PERIODS_BUDGET:
+                return None
+            self.periods_spent += cost
             edited = apply_change(self._within(groups), change,
                                   self.fresh if change.add_clock else None)
             known = self._real[key] = _cycle_times(edited)
@@ -321,6 +343,10 @@ class Advisor(Candidates):
         groups, part, _ = self._groups_after(edits)
         now = self.real_periods(groups, Change())
         real = self.real_periods(groups, self.change_of(edits))
+        if now is None or real is None:
+            return (f"periods before -> after not computed: the advice's budget of "
+                    f"{PERIODS_BUDGET:,} tasks rebuilt is spent (tegraph analyze on the "
+                    "changed file gives them)")
         before = [self.groups[g] for g in groups]
         after = [tuple(members) for members, _, _ in part.values()]
         text = "periods (max cycle ratio), before -> after: "

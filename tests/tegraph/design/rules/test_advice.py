@@ -362,6 +362,22 @@ def test_a_clocked_control_loop_keeps_its_period():
         assert stated_after(f.advice) == analysed(report)
 
 
+def test_past_the_periods_budget_the_advice_says_it_stated_none(monkeypatch):
+    # The same finding with a budget smaller than one solve (CTRL_GAINS' group has 2
+    # tasks, a solve counts at least 30): no period is stated, and the text says why;
+    # the change still brings no new finding (the smallest such change is kept).
+    import tegraph.design.rules.advice as advice
+
+    monkeypatch.setattr(advice, "PERIODS_BUDGET", 10)
+    findings = check_rules(Skeleton.from_dict(CTRL_GAINS))
+    stated = [f for f in findings if f.rule in (1, 3)]
+    assert stated
+    for f in stated:
+        assert "periods before -> after not computed: the advice's budget of 10 tasks" in f.advice
+        after = Skeleton.from_dict(applied(CTRL_GAINS, f.change.to_dict()))
+        assert [x for x in check_rules(after) if x.rule < 4] == []
+
+
 def test_dropping_a_clock_says_the_new_sampling_period():
     # The candidate that keeps CTRL's input and drops its clock is not chosen (the cut
     # is), but its words must say what it does to CTRL's rate.
