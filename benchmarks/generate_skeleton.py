@@ -15,10 +15,15 @@ phase grows with the size of a group rather than with the number of groups:
 ``chain-clocks`` is the same chain where every task also has its own 7 ms
 clock (one group bound by as many clocks as tasks).
 
+``--processors N`` spreads the tasks over N processors ``cpu0`` ... (spec v1.2
+§4b), round robin in file order, the tasks of one thread together (a thread is one
+OS thread: it cannot cross processors); without it every task is on the one
+processor ``default``.
+
 Usage::
 
     python benchmarks/generate_skeleton.py 10000 -o /tmp/sk10k.yaml [--seed 0]
-        [--shape groups|chain|chain-clocks]
+        [--shape groups|chain|chain-clocks] [--processors N]
 """
 
 from __future__ import annotations
@@ -117,14 +122,33 @@ SHAPES = {"groups": generate,
           "chain-clocks": lambda n, seed=0: generate_chain(n, True, seed)}
 
 
+def spread(doc: dict, processors: int) -> dict:
+    """``doc`` with its tasks on ``processors`` processors, round robin, threads kept whole."""
+    home: dict[str, str] = {}
+    for thread in doc.get("threads", []):
+        owner = next((home[t] for t in thread if t in home), thread[0])
+        for t in thread:
+            home.setdefault(t, owner)
+    slot: dict[str, int] = {}
+    for name, task in doc["tasks"].items():
+        owner = home.get(name, name)
+        slot.setdefault(owner, len(slot) % processors)
+        task["processor"] = f"cpu{slot[owner]}"
+    return doc
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("n_tasks", type=int)
     parser.add_argument("-o", "--output", type=Path, required=True)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--shape", choices=sorted(SHAPES), default="groups")
+    parser.add_argument("--processors", type=int, default=0,
+                        help="spread the tasks over this many processors (default: one)")
     args = parser.parse_args()
     doc = SHAPES[args.shape](args.n_tasks, seed=args.seed)
+    if args.processors > 0:
+        doc = spread(doc, args.processors)
     # JSON is a subset of YAML and loads much faster for large files.
     args.output.write_text(json.dumps(doc, indent=1))
 
