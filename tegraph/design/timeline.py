@@ -103,7 +103,8 @@ class Timeline:
     hyperperiods: dict[str, Fraction | None] = field(default_factory=dict)
     """First task of each undecided part -> its clocks' hyperperiod."""
     unsimulated: list[str] = field(default_factory=list)
-    """First task of each part decided by a theorem, without a schedule to draw."""
+    """First task of each part decided by a theorem: only the start of its schedule
+    (a quick look) is drawn."""
     notes: list[str] = field(default_factory=list)
     """What the drawing leaves out."""
 
@@ -224,12 +225,13 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     ends, hyper, unsimulated = {}, {}, []
     for r in s.regimes:
         first = r["tasks"][0]
-        if first not in by_part and any(
-                tasks[t].duration and (s.tasks[t].period or s.tasks[t].overrun_at)
-                for t in r["tasks"]):
-            # Jobs ran, yet none was simulated: the part was decided by a theorem
-            # (the critical instant), which gives no schedule to draw.
-            ends[first] = Fraction(0)
+        if r.get("by") == "critical instant":
+            # Decided by the theorem: its regime (a hyperperiod) is not simulated, only
+            # a quick look at its start; four periods of its slowest clock are drawn
+            # (the critical instant at 0 and what follows), or less if the look stopped.
+            slowest = max(clocks[tasks[t].clock].period for t in r["tasks"])  # type: ignore[index]
+            looked = max((i.end for i in by_part.get(first, [])), default=Fraction(0))
+            ends[first] = min(looked, 4 * slowest)
             unsimulated.append(first)
         elif r["start"] is None:  # undecided: drawn as far as it was simulated
             ends[first] = max((i.end for i in by_part.get(first, [])), default=Fraction(0))
@@ -238,7 +240,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
         else:
             ends[first] = r["start"] + (r["length"] or 0)
     proof_end = None if any(r["start"] is None for r in s.regimes) else max(
-        (r["start"] + (r["length"] or 0) for r in s.regimes), default=Fraction(0))
+        (r["start"] + (r["length"] or 0) for r in s.regimes if "by" not in r),
+        default=Fraction(0))
 
     def tick(task: str, k: int) -> Fraction:
         c = clocks[tasks[task].clock]  # type: ignore[index]

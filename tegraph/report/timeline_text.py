@@ -137,9 +137,9 @@ def _findings(tl: Timeline) -> list[str]:
         elif r["length"] is None:
             lines.append(f"{on}: nothing happens after {display_text(r['start'])} {u}")
         else:
-            how = ("decided by a theorem without simulating it (see the method): nothing to "
-                   "draw" if r["tasks"][0] in tl.unsimulated else "proven: the whole state "
-                   "repeats")
+            how = ("decided by a theorem, the critical instant (see the method): only the "
+                   "start of the schedule is drawn" if r["tasks"][0] in tl.unsimulated
+                   else "proven: the whole state repeats")
             lines.append(f"{on}: periodic from {display_text(r['start'])} {u}, one regime every "
                          f"{display_text(r['length'])} {u} ({how})")
     for d in tl.deadlocks:

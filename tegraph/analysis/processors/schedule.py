@@ -121,7 +121,9 @@ class ProcessorSchedule:
     scale: int
     regimes: list[dict[str, Any]] = field(default_factory=list)
     """Per part: its tasks, ``start`` and ``length`` of the regime proven (None: not
-    found; ``length`` None: nothing happens after ``start``)."""
+    found; ``length`` None: nothing happens after ``start``); ``"by": "critical
+    instant"`` for a part decided by that theorem, whose ``intervals`` are only a
+    quick look at its start."""
     events: int = 0
     """Event firings simulated in all."""
 
@@ -206,7 +208,11 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         if too_long:  # a theorem may cross the hyperperiod where a simulation cannot
             verdict = independent_tasks(skeleton, local_tasks, platform)
             if verdict is not None:
-                out.add_independent(verdict, local_tasks, local_events, hyper)
+                # The theorem decides; a quick look gives the start of the schedule
+                # to draw (its intervals only: it decides nothing).
+                look = simulate_part(data, min(share, QUICK_LOOK))
+                left -= look.fired
+                out.add_independent(verdict, local_tasks, local_events, hyper, look)
                 continue
         result = simulate_part(data, min(share, QUICK_LOOK) if too_long else share)
         left -= result.fired
@@ -446,9 +452,14 @@ class _Outcome:
         self._regime(r, d, names, events, places)
 
     def add_independent(self, v: IndependentVerdict, names: list[str], events: list[int],
-                        hyper: Fraction | None) -> None:
-        """A part decided by the critical instant: its figures, no simulated interval."""
+                        hyper: Fraction | None, look: PartResult) -> None:
+        """A part decided by the critical instant: its figures, and the intervals of a
+        quick look at its start (``regimes`` says ``"by": "critical instant"``)."""
         self.by_theorem += 1
+        self.events += look.fired
+        procs = list(dict.fromkeys(self.net.platform.processor_of[t] for t in names))
+        self.intervals += [(procs[proc], start, end, names[task], k)
+                           for proc, start, end, task, k in look.intervals]
         for t, r in v.response.items():
             fig = self.tasks[t]
             if t == v.late:
@@ -457,7 +468,7 @@ class _Outcome:
                 fig.period, fig.response, fig.decided = v.period[t], r, True
         met = {t for t in v.period}
         self.regimes.append({"tasks": names, "start": None if v.late else Fraction(0),
-                             "length": None if v.late else hyper})
+                             "length": None if v.late else hyper, "by": "critical instant"})
         for e in events:  # _rate reads the task events (a clock's has no task)
             owner = self.net.teg.transition_attrs[e].get("tasks")
             if owner and owner[0] in met:

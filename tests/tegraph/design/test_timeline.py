@@ -412,3 +412,16 @@ def test_cli_timeline(tmp_path):
         assert exists.returncode == 2 and "--force" in exists.stderr
     else:
         assert drawn.returncode == 2 and INSTALL_HINT in drawn.stderr and not out.exists()
+
+
+def test_a_part_decided_by_the_critical_instant_draws_the_start_of_its_schedule():
+    # The drifting sensors, independent: the theorem decides (hyperperiod ~10^9 ms);
+    # the start is drawn from a quick look: four periods of the slowest clock
+    # (4 * 1.019 = 4.076 ms), job 1 of each in priority order from the common release.
+    sk = Skeleton.from_dict({"tasks": {f"S{i}": {"duration": "0.1", "period": f"{p}/1000"}
+                                       for i, p in enumerate(DRIFT)}})
+    tl = simulate_timeline(sk)
+    assert tl.schedulable is True and tl.horizon == F("4.076")
+    assert runs(tl)[:4] == [("S0#1", "0", "1/10"), ("S1#1", "1/10", "1/5"),
+                            ("S2#1", "1/5", "3/10"), ("S3#1", "3/10", "2/5")]
+    assert "only the start of the schedule is drawn" in render_timeline(tl)
