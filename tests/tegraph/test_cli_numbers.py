@@ -74,7 +74,7 @@ def test_the_library_conversion_of_cycle_time_is_bounded(tmp_path):
         tegraph.cycle_time(_file(tmp_path, "0 0 1 1\n", "g.edges"), default_holding=HUGE)
 
 
-# ------------------------------------------------------------------ item 3: 1e-18
+# ------------------------------------------------------ a tiny duration past int64 scaling
 
 def test_a_duration_of_1e_18_gets_its_exact_margin(tmp_path):
     # before: TypeError "both arguments should be Rational instances" in the duration
@@ -90,7 +90,7 @@ def test_a_duration_of_1e_18_gets_its_exact_margin(tmp_path):
     assert result.exit_code == 0 and "Traceback" not in result.output
 
 
-# ------------------------------------------------------------------ item 4: options
+# ------------------------------------------------- options checked even when unused
 
 @pytest.mark.parametrize("holding", ["abc", "-1", "5/2/3"])
 def test_default_holding_is_checked_even_when_unused(tmp_path, holding):

@@ -44,7 +44,7 @@ def one_line_refusal(out, words: str) -> None:
     assert words in out.stderr, out.stderr
 
 
-# ------------------------------------------------------------- item 3: Dask options
+# ------------------------------------------------------------- Dask addresses and timeouts
 
 @pytest.mark.parametrize("address, words", [
     ("tls://127.0.0.1:1", "--scheduler: cannot use 'tls://127.0.0.1:1': a TLS scheduler "
@@ -94,7 +94,7 @@ def test_the_library_checks_the_address_and_timeout_before_connecting():
     assert scheduler_address("tcp://[::1]:8786") == "tcp://[::1]:8786"
 
 
-# ---------------------------------------- item 4: options that overruled each other
+# ---------------------------------------- options that overruled each other
 
 def test_a_link_chosen_twice_is_refused_naming_both():
     # Before: the second --link replaced the first (one dict key), silently.
@@ -120,7 +120,7 @@ def test_a_period_on_the_command_line_goes_through_the_bounded_parser():
     assert "digits" in out.stderr and time.monotonic() - start < 5
 
 
-# -------------------------------------------------------- item 6: the dask dependency
+# -------------------------------------------------------- the dask dependency
 
 def test_dask_is_a_benchmark_extra_not_a_runtime_dependency():
     tomllib = pytest.importorskip("tomllib", reason="tomllib is in Python 3.11 and later")
@@ -137,7 +137,7 @@ def test_dask_is_a_benchmark_extra_not_a_runtime_dependency():
                 assert node.module.split(".")[0] != "dask", path
 
 
-# ------------------------------------------------------------- item 7: the schema
+# ------------------------------------------------------------- the schema
 
 def test_every_schema_the_sources_and_docs_name_exists():
     # docs/explore.md and Exploration.to_dict named docs/explore.schema.json, which did

@@ -60,7 +60,7 @@ def rewrite(target: Path, row: int, column: str, value: str) -> None:
         csv.writer(f).writerows(table)
 
 
-# ----------------------------------------------------------------- item 1: data loss
+# ----------------------------------------------------------------- no data loss on resume
 
 def test_a_users_own_csv_is_refused_and_left_whole(tmp_path):
     # Before: the last line had no end of line, so it was "cut by a kill" and the file
@@ -138,7 +138,7 @@ def test_a_parquet_file_not_written_by_explore_is_refused_and_left_whole(tmp_pat
     refused(target, "cannot read it as Parquet")
 
 
-# ------------------------------------------------------- item 2: every cell checked
+# ------------------------------------------------------- every cell checked
 
 @pytest.mark.parametrize("column, value, words", [
     ("variant", "x7", "row 3, column 'variant': expected a variant number from 0 to 11, "

@@ -180,7 +180,7 @@ def test_response_times_match_the_simulation(tasks):
             assert first[name].finish == u.response_time, (name, data)
 
 
-# --- issue 21 review, item 1: a nearly full processor, the start and the budget ---------
+# --- a nearly full processor: the start and the budget ---------
 
 NEARLY_FULL = {"tasks": {"H": {"duration": 9999999, "period": 10000000},
                          "L": {"duration": 10000000, "period": 10**16}}}

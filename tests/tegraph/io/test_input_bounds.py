@@ -72,7 +72,7 @@ def refused(path: Path, *expected: str) -> InputError:
     return info.value
 
 
-# ------------------------------------------------------------------ item 1: big counts
+# ------------------------------------------------------------------ big counts
 
 @pytest.mark.parametrize("name, text, where", [
     ("big.teg", teg_file("1", str(BIG)), "tokens"),
@@ -116,7 +116,7 @@ def test_parallel_pnml_arcs_adding_past_64_bits_are_refused(tmp_path):
     refused(write(tmp_path, "w.pnml", text), "weigh", "2**63 - 1", "arc[x1]")
 
 
-# ------------------------------------------------------------------ item 2: lone surrogates
+# ------------------------------------------------------------------ lone surrogates
 
 @pytest.mark.parametrize("field, where", [
     ("caption", "nets[0].places[0].caption"), ("name", "nets[0].name")])

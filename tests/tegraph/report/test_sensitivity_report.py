@@ -54,7 +54,7 @@ def test_formula_text_keeps_fractions_that_do_not_terminate():
     assert formula_text(d + sympy.Rational(1, 2**110)) == f"d + 1/{2**110}"
 
 
-# ------------------------------------------------- the map of two parameters (item 3)
+# ------------------------------------------------- the map of two parameters
 
 def _map(skeleton, vary):
     pytest.importorskip("matplotlib")
