@@ -141,7 +141,8 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
     methods = _methods(deadlocks, groups, periods, invariants, tasks, steps)
     schedule = None
     if processors:  # on the groups and the event graph computed above, not again
-        schedule = schedule_on_processors(skeleton, graph.teg, groups, max_events=max_events)
+        schedule = schedule_on_processors(skeleton, graph.teg, groups, max_events=max_events,
+                                          intervals=False)  # the timeline draws its own
         methods["schedule"] = schedule.method
     return Report(
         name=skeleton.name, unit=skeleton.unit, live=live, consistent=consistent,

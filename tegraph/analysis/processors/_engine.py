@@ -99,6 +99,7 @@ class _Part:
 
     def __init__(self, d: PartData) -> None:
         self.d = d
+        self.keep_intervals = True
         n = d.n_events
         self.inputs: list[list[int]] = [[] for _ in range(n)]
         self.outputs: list[list[int]] = [[] for _ in range(n)]
@@ -247,7 +248,7 @@ class _Part:
 
     def _record(self, proc: int, task: int, end: int) -> None:
         start = self.run_start[proc]
-        if end > start:
+        if end > start and self.keep_intervals:
             self.result.intervals.append((proc, start, end, task, len(self.result.jobs[task])))
 
     def flush(self, now: int) -> None:
@@ -300,9 +301,14 @@ class _Part:
         return growing
 
 
-def simulate_part(d: PartData, budget: int) -> PartResult:
-    """Simulate one part until its state repeats, nothing more happens, or ``budget`` firings."""
+def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> PartResult:
+    """Simulate one part until its state repeats, nothing more happens, or ``budget`` firings.
+
+    ``keep_intervals``: record the processor time of each job (for drawing); an
+    analysis that only reads the figures leaves them out (a tuple per preemption).
+    """
     part = _Part(d)
+    part.keep_intervals = keep_intervals
     seen: dict[tuple, list[Snapshot]] = {}
     now = 0
     while True:

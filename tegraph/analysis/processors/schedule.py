@@ -146,7 +146,8 @@ class ProcessorSchedule:
 
 def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any], *,
                            platform: Platform | None = None,
-                           max_events: int = MAX_EVENTS) -> ProcessorSchedule:
+                           max_events: int = MAX_EVENTS,
+                           intervals: bool = True) -> ProcessorSchedule:
     """Decide the skeleton on its processors (§4b), exactly.
 
     Parameters
@@ -161,6 +162,10 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         Default :func:`~tegraph.analysis.processors.platform.platform_of`.
     max_events : int
         Budget of event firings in all (:data:`MAX_EVENTS`), shared among the parts.
+    intervals : bool
+        Keep each job's processor time (``intervals``, for drawing a timeline);
+        False leaves them out (the figures and the verdict are the same), which
+        ``analyze`` does: at 10^6 firings they take hundreds of MiB.
 
     Returns
     -------
@@ -210,11 +215,11 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
             if verdict is not None:
                 # The theorem decides; a quick look gives the start of the schedule
                 # to draw (its intervals only: it decides nothing).
-                look = simulate_part(data, min(share, QUICK_LOOK))
+                look = simulate_part(data, min(share, QUICK_LOOK), intervals)
                 left -= look.fired
                 out.add_independent(verdict, local_tasks, local_events, hyper, look)
                 continue
-        result = simulate_part(data, min(share, QUICK_LOOK) if too_long else share)
+        result = simulate_part(data, min(share, QUICK_LOOK) if too_long else share, intervals)
         left -= result.fired
         out.add(result, data, local_tasks, local_events, local_places)
         if result.regime is None:
