@@ -13,7 +13,10 @@ from typer.testing import CliRunner
 
 from tegraph.cli import app
 
-# c1 is chosen; A reads nothing, B and C follow A's group, D is alone.
+# c1 is chosen; A reads nothing, B follows A's group, C reads B's last value on its own
+# clock and processor. On one processor with A and B, C's clock c2 (10.37 ms) and c1 =
+# 1038412611.331 ms would have a hyperperiod of about 10^13 ms, too long for the exact
+# schedule's budget (the variant would be rejected as undecided, spec v1.2 §4b).
 SKELETON = """\
 clocks:
   c1: {period: 5.43}
@@ -21,7 +24,7 @@ clocks:
 tasks:
   A: {duration: 1.21, clock: c1, outputs: [x]}
   B: {duration: 2.5, inputs: [x], outputs: [y]}
-  C: {duration: 0.333, clock: c2, inputs: [y]}
+  C: {duration: 0.333, clock: c2, inputs: [y], processor: cpu2}
 links:
   - {from: "A:x", to: "B:x", protocol: ASYN/SYN}
   - {from: "B:y", to: "C:y", protocol: ASYN/ASYN}
