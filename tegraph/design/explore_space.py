@@ -453,9 +453,28 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
         raise InputError(f"expected a number of event firings, an integer >= 1, got "
                          f"{max_events!r}", "max_events")
-    by_label = {link_text(k.writer, k.reader): i for i, k in enumerate(skeleton.links)}
     forbidden = tuple(dict.fromkeys(parse_protocol(p, f"forbid[{k}]")
                                     for k, p in enumerate(forbid)))
+    chosen = _link_choices(skeleton, links, all_links, forbidden)
+    clock_choices = _clock_choices(skeleton, clocks)
+    if not chosen and not clock_choices:
+        raise InputError("nothing to explore; expected at least one link or clock to choose",
+                         "links")
+    all_chains = [tuple(c) for c in skeleton.chains]
+    for j, chain in enumerate(chains):
+        all_chains.append(check_chain(skeleton, list(chain), ("chain", j), Locator()))
+    names = _objective_names(objectives, all_chains, skeleton)
+    constraints = Constraints(_requirements(skeleton, requires),
+                              _latency_bounds(skeleton, max_latency), forbidden)
+    return DesignSpace(skeleton, tuple(chosen[i] for i in chosen), tuple(clock_choices),
+                       tuple(dict.fromkeys(all_chains)), names, constraints, max_events)
+
+
+def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] | Sequence[str],
+                  all_links: bool, forbidden: tuple[Protocol, ...]) -> dict[int, LinkChoice]:
+    """The chosen links by index, each with its allowed protocols less ``forbidden``
+    (see :func:`design_space` for the forms of ``links`` and the errors)."""
+    by_label = {link_text(k.writer, k.reader): i for i, k in enumerate(skeleton.links)}
     if isinstance(links, Mapping):
         items = [(str(label), protocols) for label, protocols in links.items()]
     else:  # "W:p -> R:q" or "W:p -> R:q=P1,P2" texts
@@ -475,20 +494,7 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
                              f"and `links`{where[5:]}; expected each link once (the second "
                              "would silently replace the first)", where)
         first[index] = where
-        if protocols is None:
-            allowed = _ALL
-        else:
-            if isinstance(protocols, str | Protocol):
-                protocols = [protocols]
-            allowed = tuple(dict.fromkeys(parse_protocol(p, where) for p in protocols))
-            if not allowed:
-                raise InputError(f"no protocol allowed for {name!r}; expected at least one "
-                                 f"of {_PROTOCOLS}", where)
-        kept = tuple(p for p in allowed if p not in forbidden)
-        if not kept:
-            raise InputError(f"every protocol allowed for {name!r} is forbidden by `forbid`; "
-                             "expected a choice with a protocol left", where)
-        chosen[index] = LinkChoice(index, name, kept)
+        chosen[index] = LinkChoice(index, name, _allowed(name, protocols, forbidden, where))
     if all_links:
         left = tuple(p for p in _ALL if p not in forbidden)
         if not left:
@@ -507,6 +513,32 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
                              f"{link.protocol.value} in the skeleton and not chosen, so every "
                              "design would use the forbidden protocol; expected the link "
                              "chosen (`links`, or all_links)", "forbid")
+    return chosen
+
+
+def _allowed(name: str, protocols: Any, forbidden: tuple[Protocol, ...], where: str
+             ) -> tuple[Protocol, ...]:
+    """The protocols one link may take: those given (all four for None), less ``forbidden``."""
+    if protocols is None:
+        allowed = _ALL
+    else:
+        if isinstance(protocols, str | Protocol):
+            protocols = [protocols]
+        allowed = tuple(dict.fromkeys(parse_protocol(p, where) for p in protocols))
+        if not allowed:
+            raise InputError(f"no protocol allowed for {name!r}; expected at least one "
+                             f"of {_PROTOCOLS}", where)
+    kept = tuple(p for p in allowed if p not in forbidden)
+    if not kept:
+        raise InputError(f"every protocol allowed for {name!r} is forbidden by `forbid`; "
+                         "expected a choice with a protocol left", where)
+    return kept
+
+
+def _clock_choices(skeleton: Skeleton, clocks: Mapping[str, Sequence[Any]] | Sequence[Any] | None
+                   ) -> list[ClockChoice]:
+    """The chosen clocks with their candidate periods, each read exactly, in the order
+    given (see :func:`design_space` for the forms of ``clocks`` and the errors)."""
     clock_choices = []
     clock_first: dict[str, str] = {}
     if isinstance(clocks, Mapping):
@@ -536,17 +568,7 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         if not values:
             raise InputError(f"no period given for {name!r}; expected {name}=P1,P2,...", where)
         clock_choices.append(ClockChoice(name, tuple(dict.fromkeys(values))))
-    if not chosen and not clock_choices:
-        raise InputError("nothing to explore; expected at least one link or clock to choose",
-                         "links")
-    all_chains = [tuple(c) for c in skeleton.chains]
-    for j, chain in enumerate(chains):
-        all_chains.append(check_chain(skeleton, list(chain), ("chain", j), Locator()))
-    names = _objective_names(objectives, all_chains, skeleton)
-    constraints = Constraints(_requirements(skeleton, requires),
-                              _latency_bounds(skeleton, max_latency), forbidden)
-    return DesignSpace(skeleton, tuple(chosen[i] for i in chosen), tuple(clock_choices),
-                       tuple(dict.fromkeys(all_chains)), names, constraints, max_events)
+    return clock_choices
 
 
 def _requirements(skeleton: Skeleton, requires: Sequence[Any]
