@@ -205,24 +205,76 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     >>> [(t, str(a), str(b)) for t, a, b in tl.order_of_execution()][:4], tl.horizon
     ([('A', '0', '1'), ('B', '1', '2'), ('A', '2', '3'), ('B', '3', '4')], Fraction(8, 1))
     """
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        # Before the analysis: a budget of nothing is refused at once.
-        raise InputError(f"expected an integer >= 1, got {shown(repr(max_events), quote=False)}",
-                         "max_events")
-    if horizon is not None:
-        horizon = Fraction(horizon)
-        if horizon <= 0:
-            raise InputError(f"expected a time > 0, got {shown(display_text(horizon), quote=False)}"
-                             f" {skeleton.unit}", "horizon")
+    horizon = _checked(skeleton, horizon, max_events)
     report = analyze_skeleton(skeleton, semiflow_max_places=0)
     s = schedule_on_processors(skeleton, build_teg(skeleton), report.groups,
                                max_events=max_events)
     tasks, clocks = skeleton.tasks, skeleton.clocks
-    by_part: dict[str, list[JobInterval]] = {}
+    by_part = _by_part(s)
+    ends, hyper, unsimulated = _part_ends(skeleton, s, by_part)
+    proof_end = None if any(r["start"] is None for r in s.regimes) else max(
+        (r["start"] + (r["length"] or 0) for r in s.regimes if "by" not in r),
+        default=Fraction(0))
+    at = {t: _tick(skeleton, t, f.overrun_at) for t, f in s.tasks.items()
+          if f.overrun_at is not None}
+    if horizon is None:
+        horizon = _until_the_proof(skeleton, s, by_part, ends, at)
+    drawn, notes = _draw(s, by_part, ends, horizon, skeleton.unit)
+    ticks = {name: _ticks_until(c.phase, c.period, horizon) for name, c in clocks.items()}
+    dead = {t for g in report.groups if not g.live for t in g.tasks}
+    return Timeline(
+        skeleton.name, skeleton.unit, s, horizon, proof_end, drawn, ticks,
+        clocks={t: task.clock for t, task in tasks.items()},
+        has_outputs={t: bool(task.outputs) for t, task in tasks.items()},
+        durations={t: task.duration for t, task in tasks.items()}, overrun_ticks=at,
+        deadlocks=list(report.deadlocks), dead_tasks=[t for t in tasks if t in dead],
+        hyperperiods=hyper, unsimulated=unsimulated, notes=notes)
+
+
+def _checked(skeleton: Skeleton, horizon: Fraction | int | str | None, max_events: int
+             ) -> Fraction | None:
+    """The horizon as a Fraction; both parameters refused before the analysis."""
+    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
+        raise InputError(f"expected an integer >= 1, got {shown(repr(max_events), quote=False)}",
+                         "max_events")
+    if horizon is None:
+        return None
+    value = Fraction(horizon)
+    if value <= 0:
+        raise InputError(f"expected a time > 0, got {shown(display_text(value), quote=False)}"
+                         f" {skeleton.unit}", "horizon")
+    return value
+
+
+def _ticks_until(phase: Fraction, period: Fraction, horizon: Fraction) -> list[Fraction]:
+    """A clock's ticks up to ``horizon``, at most :data:`MAX_DRAWN` of them."""
+    n = 0 if phase > horizon else min(int((horizon - phase) / period) + 1, MAX_DRAWN)
+    return [phase + j * period for j in range(n)]
+
+
+def _by_part(s: ProcessorSchedule) -> dict[str, list[JobInterval]]:
+    """The simulated intervals of each part, keyed by the part's first task."""
     part_of = {t: r["tasks"][0] for r in s.regimes for t in r["tasks"]}
+    by_part: dict[str, list[JobInterval]] = {}
     for i in s.intervals:
         by_part.setdefault(part_of[i.task], []).append(i)
-    ends, hyper, unsimulated = {}, {}, []
+    return by_part
+
+
+def _tick(skeleton: Skeleton, task: str, k: int) -> Fraction:
+    """Tick k (from 1) of the clock of ``task``."""
+    c = skeleton.clocks[skeleton.tasks[task].clock]  # type: ignore[index]
+    return c.phase + (k - 1) * c.period
+
+
+def _part_ends(skeleton: Skeleton, s: ProcessorSchedule, by_part: dict[str, list[JobInterval]]
+               ) -> tuple[dict[str, Fraction], dict[str, Fraction], list[str]]:
+    """Where each part's drawing ends by default (keyed by its first task), the
+    hyperperiod of each undecided part, and the parts the critical instant decided."""
+    tasks, clocks = skeleton.tasks, skeleton.clocks
+    ends: dict[str, Fraction] = {}
+    hyper: dict[str, Fraction] = {}
+    unsimulated: list[str] = []
     for r in s.regimes:
         first = r["tasks"][0]
         if r.get("by") == "critical instant":
@@ -239,41 +291,26 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
                                        {tasks[t].clock for t in r["tasks"]} if c)
         else:
             ends[first] = r["start"] + (r["length"] or 0)
-    proof_end = None if any(r["start"] is None for r in s.regimes) else max(
-        (r["start"] + (r["length"] or 0) for r in s.regimes if "by" not in r),
-        default=Fraction(0))
+    return ends, hyper, unsimulated
 
-    def tick(task: str, k: int) -> Fraction:
-        c = clocks[tasks[task].clock]  # type: ignore[index]
-        return c.phase + (k - 1) * c.period
 
-    at = {t: tick(t, f.overrun_at) for t, f in s.tasks.items() if f.overrun_at is not None}
-    overruns = sorted((x, t) for t, x in at.items())
-    length = {t: r["length"] or 0 for r in s.regimes for t in r["tasks"]}
-    if horizon is None and overruns:
-        # The first overrun's tick, and the end of the late computation when it
-        # comes within one more regime (a starved one never does).
-        when, late = overruns[0]
+def _until_the_proof(skeleton: Skeleton, s: ProcessorSchedule,
+                     by_part: dict[str, list[JobInterval]], ends: dict[str, Fraction],
+                     overrun_ticks: dict[str, Fraction]) -> Fraction:
+    """The default end of the drawing: the first overrun's tick (and the end of the late
+    computation when it comes within one more regime; a starved one never does), else
+    the end of every part's proof."""
+    if overrun_ticks:
+        when, late = min((x, t) for t, x in overrun_ticks.items())
+        length = {t: r["length"] or 0 for r in s.regimes for t in r["tasks"]}
         job = (late, s.tasks[late].overrun_at - 1)
         drawn, _ = _draw(s, by_part, ends, when + length[late], skeleton.unit)
-        horizon = max([when] + [i.end for i in drawn if (i.task, i.k) == job])
-    elif horizon is None:
-        horizon = max(ends.values(), default=Fraction(0))
-        if horizon <= 0:  # nothing ever happens: one period, or one unit of time
-            horizon = max((c.phase + c.period for c in clocks.values()), default=Fraction(1))
-    drawn, notes = _draw(s, by_part, ends, horizon, skeleton.unit)
-    ticks = {}
-    for name, c in clocks.items():
-        n = 0 if c.phase > horizon else min(int((horizon - c.phase) / c.period) + 1, MAX_DRAWN)
-        ticks[name] = [c.phase + j * c.period for j in range(n)]
-    dead = {t for g in report.groups if not g.live for t in g.tasks}
-    return Timeline(
-        skeleton.name, skeleton.unit, s, horizon, proof_end, drawn, ticks,
-        clocks={t: task.clock for t, task in tasks.items()},
-        has_outputs={t: bool(task.outputs) for t, task in tasks.items()},
-        durations={t: task.duration for t, task in tasks.items()}, overrun_ticks=at,
-        deadlocks=list(report.deadlocks), dead_tasks=[t for t in tasks if t in dead],
-        hyperperiods=hyper, unsimulated=unsimulated, notes=notes)
+        return max([when] + [i.end for i in drawn if (i.task, i.k) == job])
+    horizon = max(ends.values(), default=Fraction(0))
+    if horizon <= 0:  # nothing ever happens: one period, or one unit of time
+        horizon = max((c.phase + c.period for c in skeleton.clocks.values()),
+                      default=Fraction(1))
+    return horizon
 
 
 def _draw(s: ProcessorSchedule, by_part: dict[str, list[JobInterval]], ends: dict[str, Fraction],
