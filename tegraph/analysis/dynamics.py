@@ -478,16 +478,9 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
     period, phase = int(holding[loop[0]]), int(initial[loop[0]])
     if into is None:
         into = input_places(graph, active)
-    closure, stack = {last}, [last]
-    while stack:
-        for p in into.get(stack.pop(), []):
-            if int(src[p]) not in closure:
-                closure.add(int(src[p]))
-                stack.append(int(src[p]))
-        if len(closure) >= _POWER_EVENTS:  # too large for powers: stop searching at once
-            return None
-    if any(e not in into for e in closure):
-        return None  # an event without input place: not a skeleton's graph
+    closure = _upstream(last, into, src)
+    if closure is None:
+        return None
     places = [p for e in closure for p in into[e]]
     depth = max(1, max(int(tokens[p]) for p in places))
     events = sorted(closure)
@@ -497,8 +490,62 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
     order = _topological(events, places, src, dst, tokens)
     col = {(e, lag): i for i, (e, lag) in enumerate((e, lag) for lag in range(depth)
                                                       for e in events)}
-    zi = n - 1
-    # One step, X(k-1) -> X(k), as (max,+) rows over X(k-1) (dicts: column -> weight).
+    threshold = phase - end_offset
+    # The first `depth` firings, with the initial tokens' availability times.
+    history, best = [], None
+    for k in range(1, depth + 1):
+        history.append(_firing(order, into, graph, history, k))
+        norm = history[-1][last] - k * period
+        if norm > threshold:
+            return k + 1
+        best = norm if best is None else max(best, norm)
+    state = np.zeros(n, dtype=object)
+    for (e, lag), i in col.items():
+        state[i] = history[depth - 1 - lag][e] - (depth - lag) * period
+    state[n - 1] = best
+    step = _step(order, into, graph, col, last, period)
+    index = _last_below(_dense(step, n), state, threshold, n - 1)
+    # z(index) <= threshold < z(index + 1): x'_last first exceeds at index + 1, and
+    # activation index + 2 finds activation index + 1 unfinished.
+    return None if index is None else depth + index + 2
+
+
+def _upstream(last: int, into: dict[int, list[int]], src: np.ndarray) -> set[int] | None:
+    """The events ``last`` depends on (itself included); None when they are too many
+    for powers or one has no input place (not a skeleton's graph)."""
+    closure, stack = {last}, [last]
+    while stack:
+        for p in into.get(stack.pop(), []):
+            if int(src[p]) not in closure:
+                closure.add(int(src[p]))
+                stack.append(int(src[p]))
+        if len(closure) >= _POWER_EVENTS:  # too large for powers: stop searching at once
+            return None
+    return None if any(e not in into for e in closure) else closure
+
+
+def _firing(order: list[int], into: dict[int, list[int]], graph: tuple,
+            history: list[dict[int, int]], k: int) -> dict[int, int]:
+    """Firing k of the events in ``order`` (topological), from the earlier ones."""
+    src, _, tokens, holding, initial = graph
+    x: dict[int, int] = {}
+    for e in order:
+        value = None
+        for p in into[e]:
+            m = int(tokens[p])
+            v = (int(initial[p]) if k <= m
+                 else (x[int(src[p])] if m == 0 else history[-m][int(src[p])])
+                 + int(holding[p]))
+            value = v if value is None or v > value else value
+        x[e] = value  # type: ignore[assignment]
+    return x
+
+
+def _step(order: list[int], into: dict[int, list[int]], graph: tuple,
+          col: dict[tuple[int, int], int], last: int, period: int) -> list[dict[int, int]]:
+    """One step X(k-1) -> X(k) of the normalized state, as (max,+) rows (column -> weight);
+    the last row is the running maximum ``z`` of ``x'_last``."""
+    src, _, tokens, holding, _ = graph
     rows: dict[int, dict[int, int]] = {}
     for e in order:
         row: dict[int, int] = {}
@@ -509,39 +556,22 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
                 if c not in row or v + h > row[c]:
                     row[c] = v + h
         rows[e] = row
-    step = [dict() for _ in range(n)]
+    zi = len(col)
+    step: list[dict[int, int]] = [dict() for _ in range(zi + 1)]
     for (e, lag), i in col.items():
         step[i] = dict(rows[e]) if lag == 0 else {col[e, lag - 1]: 0}
     step[zi] = dict(rows[last])
     step[zi][zi] = max(step[zi].get(zi, 0), 0)
-    threshold = phase - end_offset
-    # The first `depth` firings, with the initial tokens' availability times.
-    history: list[dict[int, int]] = []
-    best = None
-    for k in range(1, depth + 1):
-        x: dict[int, int] = {}
-        for e in order:
-            value = None
-            for p in into[e]:
-                m = int(tokens[p])
-                v = (int(initial[p]) if k <= m
-                     else (x[int(src[p])] if m == 0 else history[-m][int(src[p])])
-                     + int(holding[p]))
-                value = v if value is None or v > value else value
-            x[e] = value  # type: ignore[assignment]
-        history.append(x)
-        norm = x[last] - k * period
-        if norm > threshold:
-            return k + 1
-        best = norm if best is None else max(best, norm)
-    state = np.zeros(n, dtype=object)
-    for (e, lag), i in col.items():
-        state[i] = history[depth - 1 - lag][e] - (depth - lag) * period
-    state[zi] = best
-    finite = np.ones(n, dtype=bool)
-    matrix = _dense(step, n)
+    return step
+
+
+def _last_below(matrix: np.ndarray, state: np.ndarray, threshold: int, zi: int) -> int | None:
+    """The largest number of steps after which ``state[zi]`` is still at most
+    ``threshold`` (it is non-decreasing), by doubling then halving powers of
+    ``matrix``; None when it stays below past 2**_MAX_DOUBLINGS steps."""
+    finite = np.ones(len(state), dtype=bool)
     powers = [matrix]
-    index = depth
+    index = 0
     # Doubling: z(index + 2^t) > threshold for the first time at some t.
     for t in range(_MAX_DOUBLINGS):
         ahead, ahead_f = _apply(powers[t], state, finite)
@@ -555,9 +585,7 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
         ahead, ahead_f = _apply(powers[s], state, finite)
         if not (ahead_f[zi] and ahead[zi] > threshold):
             state, finite, index = ahead, ahead_f, index + 2**s
-    # z(index) <= threshold < z(index + 1): x'_last first exceeds at index + 1, and
-    # activation index + 2 finds activation index + 1 unfinished.
-    return index + 2
+    return index
 
 
 def _topological(events, places, src, dst, tokens) -> list[int]:

@@ -8,8 +8,10 @@ of the method ("A certain overrun, located exactly").
 from __future__ import annotations
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from tegraph import Skeleton, analyze
+from tegraph import Skeleton, analyze, reach
 
 
 def test_duration_past_the_period_overruns_at_activation_2():
@@ -51,3 +53,27 @@ def test_a_late_overrun_is_not_left_to_the_budget():
 def test_the_report_says_how_the_overrun_was_found():
     r = _late("10001/1000")
     assert any("overrun of A located exactly by (max,+) matrix powers" in n for n in r.notes)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(101, 160), st.integers(1, 9), st.integers(1, 9), st.integers(0, 9),
+       st.sampled_from(["ASYN/SYN", "SYN/SYN"]))
+def test_powers_agree_with_the_timed_exploration(writer_tenths, writer_duration,
+                                                 reader_duration, reader_phase, protocol):
+    # A writer slower than the reader's clock drags the reader below its clock, so the
+    # reader's overrun is certain and located by (max,+) powers; the ORCCAD timed
+    # exploration (a different algorithm: earliest firing, one event at a time, until
+    # the timed state repeats or the overrun is seen) must find the same activation.
+    sk = Skeleton.from_dict({
+        "clocks": {"r": {"period": 10, "phase": reader_phase}},
+        "tasks": {"W": {"duration": writer_duration, "period": f"{writer_tenths}/10",
+                        "outputs": ["m"]},
+                  "A": {"duration": reader_duration, "clock": "r", "inputs": ["m"]}},
+        "links": [{"from": "W:m", "to": "A:m", "protocol": protocol}]})
+    report = analyze(sk, max_steps=50)
+    assert any("overrun of A located exactly by (max,+) matrix powers" in n
+               for n in report.notes)
+    found = report.tasks["A"]
+    timed = reach(sk, timed=True, max_states=200_000).tasks["A"]
+    assert timed.decided and found.overrun_decided
+    assert found.overrun_at == timed.overrun_at
