@@ -47,59 +47,9 @@ def render_report(report: Report) -> str:
     lines.append(f"timing:      {consistent} — {report.methods.get('timing', '')}")
     lines.append(f"periods:     {report.methods.get('periods', '')}")
     lines.append(processors_headline(report))
-    for d in report.deadlocks:
-        lines.append("")
-        lines.append("deadlock: token-free circuit " + " -> ".join([*d.events, d.events[0]]))
-        lines.append(f"  tasks on it: {', '.join(d.tasks)}")
-        if d.links:
-            lines.append(f"  links on it: {'; '.join(d.links)}")
-        lines.append(f"  what to change: {d.advice}")
-    if report.reorder is not None:
-        lines.append("")
-        if report.reorder.possible:
-            # Spec §4's witness, whole orders; the advice above is the repair with
-            # the fewest changes, so the two may differ: say which is which.
-            lines.append("reorder: a port order makes the skeleton live; one such order "
-                         "(spec §4; the advice above changes fewest ports, as tegraph fix):")
-            for task, order in report.reorder.orders.items():
-                lines.append(f"  {task}: inputs {flow_list(order['inputs'])}, "
-                             f"outputs {flow_list(order['outputs'])}")
-        else:
-            lines.append("reorder: no port order makes the skeleton live "
-                         "(the precedence graph of reads, computes and writes has a circuit)")
-    rows = []
-    for g in report.groups:
-        transient = ("-" if g.transient is None
-                     else f"k={g.transient[0]}, cyclicity {g.transient[1]}")
-        state = "dead" if not g.live else ("rate-consistent" if g.rate_consistent else "unbounded")
-        rows.append([g.index, ", ".join(g.tasks), ", ".join(g.clocks) or "-", state,
-                     human(g.period, u), transient])
-    lines.append("")
-    lines.append(tabulate(rows, headers=["group", "tasks", "clocks", "state", "period",
-                                         "transient"]))
-    for g in report.groups:
-        if g.critical_circuit:
-            lines.append(critical_circuit_text(g, u))
-    rows = []
-    for t in report.tasks.values():
-        rows.append([t.name, t.group, human(t.period, u), t.overrun, human(t.slack, u),
-                     _grow(t, u),
-                     "-" if t.critical is None else ("yes" if t.critical else "no")])
-    lines.append("")
-    if report.schedule is not None:
-        lines.append("with a processor per task (spec §4, (max,+); on its processors: below):")
-    lines.append(tabulate(rows, headers=["task", "group", "period", "overrun",
-                                         "slack (period margin)", "can grow by", "critical"]))
-    if any(t.slack is not None for t in report.tasks.values()):
-        lines.append("slack: how much the task's duration may grow before its group's period "
-                     "(or its clock's) is exceeded, the other durations unchanged (spec §4); "
-                     "it is no overrun margin")
-    if any(t.duration_margin_state != "not computed" for t in report.tasks.values()):
-        lines.append("can grow by: how much the duration may grow, the others unchanged, "
-                     "with its group still consistent: no overrun and every place bounded "
-                     "(exact; \"-\": the group is not consistent as it is)")
-    elif "duration_margins" in report.methods:
-        lines.append(f"can grow by: {report.methods['duration_margins']}")
+    lines += _deadlocks(report)
+    lines += _groups(report)
+    lines += _tasks(report)
     lines += render_processors(report)
     if report.unbounded_places:
         lines.append("")
@@ -125,6 +75,73 @@ def render_report(report: Report) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _deadlocks(report: Report) -> list[str]:
+    """Each token-free circuit with its tasks, links and advice, then the reorder."""
+    lines = []
+    for d in report.deadlocks:
+        lines.append("")
+        lines.append("deadlock: token-free circuit " + " -> ".join([*d.events, d.events[0]]))
+        lines.append(f"  tasks on it: {', '.join(d.tasks)}")
+        if d.links:
+            lines.append(f"  links on it: {'; '.join(d.links)}")
+        lines.append(f"  what to change: {d.advice}")
+    if report.reorder is None:
+        return lines
+    lines.append("")
+    if report.reorder.possible:
+        # Spec §4's witness, whole orders; the advice above is the repair with
+        # the fewest changes, so the two may differ: say which is which.
+        lines.append("reorder: a port order makes the skeleton live; one such order "
+                     "(spec §4; the advice above changes fewest ports, as tegraph fix):")
+        for task, order in report.reorder.orders.items():
+            lines.append(f"  {task}: inputs {flow_list(order['inputs'])}, "
+                         f"outputs {flow_list(order['outputs'])}")
+    else:
+        lines.append("reorder: no port order makes the skeleton live "
+                     "(the precedence graph of reads, computes and writes has a circuit)")
+    return lines
+
+
+def _groups(report: Report) -> list[str]:
+    """The groups' table (spec §4 order), then each group's critical circuit."""
+    u = report.unit
+    rows = []
+    for g in report.groups:
+        transient = ("-" if g.transient is None
+                     else f"k={g.transient[0]}, cyclicity {g.transient[1]}")
+        state = "dead" if not g.live else ("rate-consistent" if g.rate_consistent else "unbounded")
+        rows.append([g.index, ", ".join(g.tasks), ", ".join(g.clocks) or "-", state,
+                     human(g.period, u), transient])
+    lines = ["", tabulate(rows, headers=["group", "tasks", "clocks", "state", "period",
+                                         "transient"])]
+    lines += [critical_circuit_text(g, u) for g in report.groups if g.critical_circuit]
+    return lines
+
+
+def _tasks(report: Report) -> list[str]:
+    """The tasks' table with a processor per task, and what its margins mean."""
+    u = report.unit
+    rows = [[t.name, t.group, human(t.period, u), t.overrun, human(t.slack, u), _grow(t, u),
+             "-" if t.critical is None else ("yes" if t.critical else "no")]
+            for t in report.tasks.values()]
+    lines = [""]
+    if report.schedule is not None:
+        lines.append("with a processor per task (spec §4, (max,+); on its processors: below):")
+    lines.append(tabulate(rows, headers=["task", "group", "period", "overrun",
+                                         "slack (period margin)", "can grow by", "critical"]))
+    if any(t.slack is not None for t in report.tasks.values()):
+        lines.append("slack: how much the task's duration may grow before its group's period "
+                     "(or its clock's) is exceeded, the other durations unchanged (spec §4); "
+                     "it is no overrun margin")
+    if any(t.duration_margin_state != "not computed" for t in report.tasks.values()):
+        lines.append("can grow by: how much the duration may grow, the others unchanged, "
+                     "with its group still consistent: no overrun and every place bounded "
+                     "(exact; \"-\": the group is not consistent as it is)")
+    elif "duration_margins" in report.methods:
+        lines.append(f"can grow by: {report.methods['duration_margins']}")
+    return lines
+
+
 def critical_circuit_text(group: GroupReport, unit: str) -> str:
     """Why a group's period is what it is: its critical circuit and the ratio it attains.
 
@@ -143,6 +160,23 @@ def critical_circuit_text(group: GroupReport, unit: str) -> str:
 
 def _verdict(report: Report) -> str:
     """The last line: the spec §5 verdict in one line, and why the exit status is what it is."""
+    problems = _problems(report)
+    undecided = [t.name for t in report.tasks.values() if not t.overrun_decided]
+    if not problems:
+        text = ("verdict: live and consistent (exit status 0)" if report.schedule is None else
+                "verdict: live, consistent and schedulable on its processors (exit status 0)")
+        if undecided:
+            text += (f"; {count(len(undecided), 'overrun')} undecided within the budget "
+                     f"({', '.join(undecided[:3])}{' ...' if len(undecided) > 3 else ''})")
+    else:
+        if report.live and report.consistent and report.schedule is not None:
+            problems.insert(0, "live and consistent with a processor per task, but")
+        text = "verdict: " + "; ".join(problems).replace("but; ", "but ") + " (exit status 1)"
+    return text + _design_addendum(report)
+
+
+def _problems(report: Report) -> list[str]:
+    """What makes the exit status 1: the deadlocks, the inconsistencies, the processors."""
     problems = []
     if not report.live:
         dead = sorted({report.tasks[t].group for d in report.deadlocks for t in d.tasks})
@@ -161,30 +195,26 @@ def _verdict(report: Report) -> str:
     on_processors = processors_problem(report)
     if on_processors:
         problems.append(on_processors)
-    undecided = [t.name for t in report.tasks.values() if not t.overrun_decided]
-    if not problems:
-        text = ("verdict: live and consistent (exit status 0)" if report.schedule is None else
-                "verdict: live, consistent and schedulable on its processors (exit status 0)")
-        if undecided:
-            text += (f"; {count(len(undecided), 'overrun')} undecided within the budget "
-                     f"({', '.join(undecided[:3])}{' ...' if len(undecided) > 3 else ''})")
-    else:
-        if report.live and report.consistent and report.schedule is not None:
-            problems.insert(0, "live and consistent with a processor per task, but")
-        text = "verdict: " + "; ".join(problems).replace("but; ", "but ") + " (exit status 1)"
+    return problems
+
+
+def _design_addendum(report: Report) -> str:
+    """Under a verdict of exit status 0, what the design section lists that does not
+    change it (ORCCAD §6 advice), or nothing."""
     design = report.design
-    if design is not None and report.exit_status == 0:
-        errors = sum(f.severity == "error" for f in design.rules)
-        # With the schedule on processors deciding, the response-time test is only
-        # a cross-check (its disagreements are listed above the verdict).
-        fails = report.schedule is None and design.schedulability.schedulable is False
-        if errors or fails:
-            listed = [count(errors, "design-rule error")] if errors else []
-            if fails:
-                listed.append("a processor that fails its schedulability test")
-            text += (f"; the design section lists {' and '.join(listed)}: advice of ORCCAD "
-                     "§6, which does not change the verdict of spec §5")
-    return text
+    if design is None or report.exit_status != 0:
+        return ""
+    errors = sum(f.severity == "error" for f in design.rules)
+    # With the schedule on processors deciding, the response-time test is only
+    # a cross-check (its disagreements are listed above the verdict).
+    fails = report.schedule is None and design.schedulability.schedulable is False
+    if not (errors or fails):
+        return ""
+    listed = [count(errors, "design-rule error")] if errors else []
+    if fails:
+        listed.append("a processor that fails its schedulability test")
+    return (f"; the design section lists {' and '.join(listed)}: advice of ORCCAD "
+            "§6, which does not change the verdict of spec §5")
 
 
 def render_text(result: Any, **options: Any) -> str:
