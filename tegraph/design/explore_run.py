@@ -32,6 +32,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from .explore_eval import ANALYZED, PRUNED, VariantResult, evaluate_batch
 from .explore_prune import DEAD_REASON
@@ -70,6 +71,26 @@ class RunLog:
     batches: int = 0
     batch_sizes: list[int] = field(default_factory=list)
     seconds_per_variant: float | None = None
+
+
+class Engine(Protocol):
+    """What :func:`run_search` asks of an engine (in process, or Dask)."""
+
+    kind: str
+    address: str | None
+    workers: int
+
+    @property
+    def in_flight(self) -> int: ...
+
+    @property
+    def capacity(self) -> int: ...
+
+    def submit(self, variants: list[int]) -> None: ...
+
+    def wait(self) -> list[VariantResult]: ...
+
+    def close(self) -> None: ...
 
 
 class InProcessEngine:
@@ -133,75 +154,102 @@ def run_search(space: DesignSpace, search: ExhaustiveSearch | ParetoLocalSearch,
     timeout : float
         Seconds to wait for a scheduler (and its first worker).
     """
-    known = dict(known or {})
-    judged: dict[int, VariantResult] = {}
-    log = RunLog()
-    costs: deque[float] = deque(maxlen=64)
-    start = time.perf_counter()
-    fresh_count = 0
-    total = space.size if isinstance(search, ExhaustiveSearch) \
-        else min(space.size, search.budget)
+    run = _Run(space, search, front, dict(known or {}), record, batch_size)
     engine = _engine(space, scheduler, workers, timeout)
     automatic = scheduler is None and workers is None
-
-    analyzed = [0]
-
-    def settle(results: Sequence[VariantResult], fresh: bool) -> None:
-        for r in results:
-            analyzed[0] += r.judged == ANALYZED and r.variant not in judged
-            judged[r.variant] = r
-            front.add(r)
-            search.feed(r)
-        if fresh and record is not None and results:
-            record(results)
-
-    def size() -> int:
-        if batch_size:
-            return batch_size
-        if not costs:
-            return 1
-        per = max(statistics.median(costs), 1e-6)
-        left = _left(search, analyzed[0])
-        spread = math.ceil(left / (2 * engine.workers)) if left else 1
-        return max(1, min(int(TARGET_BATCH_SECONDS / per), MAX_BATCH, spread))
-
+    log = RunLog()
     try:
         while True:
-            while engine.in_flight < engine.capacity:
-                analyze, pruned = search.propose(size())
-                if not analyze and not pruned:
-                    break
-                settle([known[v] for v in pruned if v in known], fresh=False)
-                settle([VariantResult(v, PRUNED, live=False, reason=DEAD_REASON)
-                        for v in pruned if v not in known], fresh=True)
-                settle([known[v] for v in analyze if v in known], fresh=False)
-                todo = [v for v in analyze if v not in known]
-                if todo:
-                    engine.submit(todo)
-                    log.batches += 1
-                    log.batch_sizes.append(len(todo))
+            run.fill(engine, log)
             if engine.in_flight == 0:
                 break
-            results = engine.wait()
-            costs.extend(r.seconds for r in results if r.judged == ANALYZED)
-            fresh_count += len(results)
-            settle(results, fresh=True)
-            seconds = time.perf_counter() - start
-            if progress is not None:
-                progress(Progress(len(judged), total, len(front.members), seconds,
-                                  fresh_count / seconds if seconds > 0 else 0.0))
-            if automatic and engine.kind == "in-process" and costs and engine.in_flight == 0 \
-                    and (os.cpu_count() or 1) > 1 \
-                    and statistics.median(costs) * _left(search, analyzed[0], ahead=True) \
-                    > LOCAL_CLUSTER_WORTH_SECONDS:
+            run.receive(engine.wait(), progress)
+            if automatic and run.worth_a_local_cluster(engine):
                 engine.close()
                 engine = _engine(space, None, os.cpu_count() or 1, timeout)
         log.engine, log.address = engine.kind, engine.address
         log.workers = engine.workers
-        log.seconds_per_variant = statistics.median(costs) if costs else None
+        log.seconds_per_variant = statistics.median(run.costs) if run.costs else None
     finally:
         engine.close()
-    return judged, log
+    return run.judged, log
+
+
+class _Run:
+    """The state of one :func:`run_search`: the verdicts, the recent costs, the counts."""
+
+    def __init__(self, space: DesignSpace, search: ExhaustiveSearch | ParetoLocalSearch,
+                 front: ParetoFront, known: dict[int, VariantResult],
+                 record: Callable[[Sequence[VariantResult]], None] | None,
+                 batch_size: int | None) -> None:
+        self.search, self.front, self.known = search, front, known
+        self.record, self.batch_size = record, batch_size
+        self.judged: dict[int, VariantResult] = {}
+        self.costs: deque[float] = deque(maxlen=64)
+        self.analyzed = 0
+        self.fresh = 0
+        self.start = time.perf_counter()
+        self.total = space.size if isinstance(search, ExhaustiveSearch) \
+            else min(space.size, search.budget)
+
+    def settle(self, results: Sequence[VariantResult], fresh: bool) -> None:
+        """Verdicts into the front and the search; the fresh ones recorded."""
+        for r in results:
+            self.analyzed += r.judged == ANALYZED and r.variant not in self.judged
+            self.judged[r.variant] = r
+            self.front.add(r)
+            self.search.feed(r)
+        if fresh and self.record is not None and results:
+            self.record(results)
+
+    def size(self, workers: int) -> int:
+        """The next batch's size: about TARGET_BATCH_SECONDS of work at the median cost,
+        spread over the workers while few variants are left."""
+        if self.batch_size:
+            return self.batch_size
+        if not self.costs:
+            return 1
+        per = max(statistics.median(self.costs), 1e-6)
+        left = _left(self.search, self.analyzed)
+        spread = math.ceil(left / (2 * workers)) if left else 1
+        return max(1, min(int(TARGET_BATCH_SECONDS / per), MAX_BATCH, spread))
+
+    def fill(self, engine: Engine, log: RunLog) -> None:
+        """Proposals until the engine is full or the search has none: the pruned and the
+        known settled at once, the others submitted."""
+        known = self.known
+        while engine.in_flight < engine.capacity:
+            analyze, pruned = self.search.propose(self.size(engine.workers))
+            if not analyze and not pruned:
+                return
+            self.settle([known[v] for v in pruned if v in known], fresh=False)
+            self.settle([VariantResult(v, PRUNED, live=False, reason=DEAD_REASON)
+                         for v in pruned if v not in known], fresh=True)
+            self.settle([known[v] for v in analyze if v in known], fresh=False)
+            todo = [v for v in analyze if v not in known]
+            if todo:
+                engine.submit(todo)
+                log.batches += 1
+                log.batch_sizes.append(len(todo))
+
+    def receive(self, results: list[VariantResult],
+                progress: Callable[[Progress], None] | None) -> None:
+        """A batch's verdicts settled, their costs kept, the progress told."""
+        self.costs.extend(r.seconds for r in results if r.judged == ANALYZED)
+        self.fresh += len(results)
+        self.settle(results, fresh=True)
+        seconds = time.perf_counter() - self.start
+        if progress is not None:
+            progress(Progress(len(self.judged), self.total, len(self.front.members), seconds,
+                              self.fresh / seconds if seconds > 0 else 0.0))
+
+    def worth_a_local_cluster(self, engine: Engine) -> bool:
+        """In process, idle, on a machine of several cores, with more work left than
+        LOCAL_CLUSTER_WORTH_SECONDS at the median cost: a local cluster pays."""
+        return (engine.kind == "in-process" and bool(self.costs) and engine.in_flight == 0
+                and (os.cpu_count() or 1) > 1
+                and statistics.median(self.costs) * _left(self.search, self.analyzed, ahead=True)
+                > LOCAL_CLUSTER_WORTH_SECONDS)
 
 
 def _left(search: ExhaustiveSearch | ParetoLocalSearch, done: int, ahead: bool = False) -> int:
@@ -214,7 +262,8 @@ def _left(search: ExhaustiveSearch | ParetoLocalSearch, done: int, ahead: bool =
     return left if ahead else min(left, search.pending)
 
 
-def _engine(space: DesignSpace, scheduler: str | None, workers: int | None, timeout: float):
+def _engine(space: DesignSpace, scheduler: str | None, workers: int | None, timeout: float
+            ) -> Engine:
     if scheduler is None and not workers:
         return InProcessEngine(space)
     from .explore_dask import DaskEngine  # distributed is imported only when used
