@@ -118,7 +118,29 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
     merged = {link.reader: f"{link.writer[0]}.write:{link.writer[1]}"
               for link in skeleton.links if link.protocol is Protocol.SYN_SYN}
     chains = {name: _chain(t, merged) for name, t in tasks.items()}
-    # Ports an event stands for: the writer's first, then the SYN/SYN readers merged into it.
+    teg = TimedEventGraph(skeleton.name)
+    teg.attrs["unit"] = skeleton.unit
+    _add_events(teg, skeleton, chains, merged)
+    for c, clock in clocks.items():
+        teg.add_place(f"{c}.tick", f"{c}.tick", 1, clock.period, clock.phase, "clock",
+                      origin={"clock": c})
+    for name, chain in chains.items():
+        _add_chain(teg, tasks[name], [ev for ev, _ in chain])
+    _add_links(teg, skeleton)
+    _add_threads(teg, skeleton, chains)
+    idx = teg.index
+    teg.attrs["chains"] = {t: tuple(idx(ev) for ev, _ in chain) for t, chain in chains.items()}
+    teg.attrs["compute"] = {t: idx(f"{t}.compute") for t in tasks}
+    teg.attrs["clocks"] = {c: idx(f"{c}.tick") for c in clocks}
+    return teg
+
+
+def _add_events(teg: TimedEventGraph, skeleton: Skeleton,
+                chains: dict[str, list[tuple[str, str]]], merged: dict[tuple[str, str], str]
+                ) -> None:
+    """The clocks' ticks, then each task's events in chain order, a rendezvous once
+    (with the ports it stands for: the writer's first, then the SYN/SYN readers)."""
+    tasks = skeleton.tasks
     ports: dict[str, list[tuple[str, str]]] = {}
     for t in tasks.values():
         for p in t.outputs:
@@ -131,10 +153,7 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
         for ev, _ in chain:
             if name not in owners.setdefault(ev, []):
                 owners[ev].append(name)
-
-    teg = TimedEventGraph(skeleton.name)
-    teg.attrs["unit"] = skeleton.unit
-    for c in clocks:
+    for c in skeleton.clocks:
         teg.add_transition(f"{c}.tick", role="tick", tasks=(), ports=(), clock=c)
     made: set[str] = set()
     for name, chain in chains.items():
@@ -148,12 +167,9 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
                                ports=tuple(ports.get(ev, ())),
                                clock=tasks[name].clock if role == "activate" else None)
 
-    for c, clock in clocks.items():
-        teg.add_place(f"{c}.tick", f"{c}.tick", 1, clock.period, clock.phase, "clock",
-                      origin={"clock": c})
-    for name, chain in chains.items():
-        _add_chain(teg, tasks[name], [ev for ev, _ in chain])
 
+def _add_links(teg: TimedEventGraph, skeleton: Skeleton) -> None:
+    """The place of each ASYN/SYN and SYN/ASYN link (spec §2)."""
     for i, link in enumerate(skeleton.links):
         w = f"{link.writer[0]}.write:{link.writer[1]}"
         r = f"{link.reader[0]}.read:{link.reader[1]}"
@@ -164,6 +180,12 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
             teg.add_place(r, w, kind="syn-asyn", origin=origin)
         # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
 
+
+def _add_threads(teg: TimedEventGraph, skeleton: Skeleton,
+                 chains: dict[str, list[tuple[str, str]]]) -> None:
+    """Each thread's places: one task's last event to the next one's first, the
+    return to the first task holding the token."""
+    tasks = skeleton.tasks
     ends = {name: (chain[0][0], chain[-1][0]) for name, chain in chains.items()}
     for i, thread in enumerate(skeleton.threads):
         for j, t in enumerate(thread):
@@ -174,12 +196,6 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
             teg.add_place(ends[t][1], ends[nxt][0], tokens=1 if last else 0, holding=holding,
                           kind="thread-return" if last else "thread",
                           origin={"thread": i, "from": t, "to": nxt})
-
-    idx = teg.index
-    teg.attrs["chains"] = {t: tuple(idx(ev) for ev, _ in chain) for t, chain in chains.items()}
-    teg.attrs["compute"] = {t: idx(f"{t}.compute") for t in tasks}
-    teg.attrs["clocks"] = {c: idx(f"{c}.tick") for c in clocks}
-    return teg
 
 
 def _check_references(skeleton: Skeleton) -> None:
