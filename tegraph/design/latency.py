@@ -324,15 +324,7 @@ def _segment(sk: Skeleton, report: Report, tasks: list[str], start: tuple[str, s
 def _steady_latency(sk: Skeleton, group: list[str], tasks: list[str], start, end,
                     transient: tuple[int, int], period) -> Fraction | None:
     """Worst data age over one cyclicity of the regime, from the group's daters."""
-    members = set(group)
-    sub = Skeleton(
-        name=sk.name, unit=sk.unit, tasks={t: sk.tasks[t] for t in group},
-        clocks={c: k for c, k in sk.clocks.items()
-                if any(sk.tasks[t].clock == c for t in group)},
-        links=[link for link in sk.links
-               if link.writer[0] in members and link.reader[0] in members],
-        threads=[th for th in sk.threads if th[0] in members])
-    teg = build_teg(sub)
+    teg = build_teg(_group_skeleton(sk, group))
     port_event = {pt: e for e, attrs in enumerate(teg.transition_attrs)
                   for pt in attrs.get("ports", ())}
     compute = teg.attrs["compute"]
@@ -351,23 +343,44 @@ def _steady_latency(sk: Skeleton, group: list[str], tasks: list[str], start, end
     n = 2 * (K + c) + 4 * len(tasks) + 8
     while n <= _MAX_FIRINGS:
         daters = teg.simulate(n)
-        scale = daters.scale
         col = {e: daters.times[:, e].tolist() for e in
                {start_e, end_e, *(x for hop in hops for w, r, _ in hop for x in (w, r))}}
-        worst, settled = None, True
-        for m in range(n // 2, n // 2 + c):
-            oldest = _oldest(col, hops, len(tasks) - 1, m, start_e, K, n)
-            if oldest is False:
-                settled = False
-                break
-            if oldest is None:
-                continue
-            age = Fraction(col[end_e][m - 1], scale) + end_d - Fraction(oldest, scale) - start_d
-            worst = age if worst is None else max(worst, age)
-        if settled and worst is not None:
+        worst = _worst_age(col, hops, len(tasks), (start_e, start_d), (end_e, end_d),
+                           transient, n, daters.scale)
+        if worst is not None:
             return worst
         n *= 2
     return None  # pragma: no cover
+
+
+def _group_skeleton(sk: Skeleton, group: list[str]) -> Skeleton:
+    """The group's tasks alone, with their clocks, links and threads."""
+    members = set(group)
+    return Skeleton(
+        name=sk.name, unit=sk.unit, tasks={t: sk.tasks[t] for t in group},
+        clocks={c: k for c, k in sk.clocks.items()
+                if any(sk.tasks[t].clock == c for t in group)},
+        links=[link for link in sk.links
+               if link.writer[0] in members and link.reader[0] in members],
+        threads=[th for th in sk.threads if th[0] in members])
+
+
+def _worst_age(col, hops, n_tasks: int, start: tuple[int, Fraction], end: tuple[int, Fraction],
+               transient: tuple[int, int], n: int, scale: int) -> Fraction | None:
+    """The worst data age over one cyclicity in the middle of ``n`` simulated firings;
+    None when the trace leaves the simulated steady state (or no sample reaches the end)."""
+    (start_e, start_d), (end_e, end_d) = start, end
+    K, c = transient
+    worst = None
+    for m in range(n // 2, n // 2 + c):
+        oldest = _oldest(col, hops, n_tasks - 1, m, start_e, K, n)
+        if oldest is False:
+            return None
+        if oldest is None:
+            continue
+        age = Fraction(col[end_e][m - 1], scale) + end_d - Fraction(oldest, scale) - start_d
+        worst = age if worst is None else max(worst, age)
+    return worst
 
 
 def _oldest(col, hops, i: int, k: int, start_e: int, K: int, n: int):

@@ -629,38 +629,46 @@ def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: st
             others = [v for v in active if v is not u and v.priority >= u.priority]
             result = response_time_bounds(u.cost, [(v.cost, v.period) for v in others],  # type: ignore[misc]
                                           budget=budget)
-        if result.status == "no time":
-            u.schedulable = False
-            u.note = (u.note + "; " if u.note else "") + "more urgent units leave it no time"
-        elif result.status == "exact":
-            u.response_time = result.value
-            u.schedulable = u.response_time <= u.period  # type: ignore[operator]
-            u.margin = u.period - u.response_time  # type: ignore[operator]
-        else:
-            # The budget ran out: only the proven bounds speak, and they may not settle it.
-            lo, hi = result.lower, result.upper
-            u.bounds = (lo, hi)  # type: ignore[assignment]
-            span = (f"response time between {display_text(lo)} and {display_text(hi)} "
-                    f"{unit}, the recurrence stopped by its budget of {result.terms:,} terms")
-            if lo > u.period:  # type: ignore[operator]
-                u.schedulable = False
-                why = f"{span}: above the period"
-            elif hi <= u.period:  # type: ignore[operator]
-                u.schedulable = True
-                why = f"{span}: within the period"
-            else:
-                why = f"undecided (budget): {span}"
-            u.note = (u.note + "; " if u.note else "") + why
+        _judge(u, result, unit)
         if tied[u.priority] > 1:
-            u.note = (u.note + "; " if u.note else "") + (
-                f"shares priority {u.priority} with {tied[u.priority] - 1} other unit(s), "
-                "counted as interference")
+            _add_note(u, f"shares priority {u.priority} with {tied[u.priority] - 1} other "
+                         "unit(s), counted as interference")
     units.sort(key=lambda u: (-u.priority, u.group))
     if not active:
         return ProcessorVerdict(name, source, None, None, None, None, units)
     T = hyperperiod(u.period for u in active)  # type: ignore[misc]
     demand = sum((u.cost * (T / u.period) for u in active), Fraction(0))  # type: ignore[operator]
     return ProcessorVerdict(name, source, T, demand, demand <= T, T - demand, units)
+
+
+def _add_note(u: UnitVerdict, text: str) -> None:
+    u.note = (u.note + "; " if u.note else "") + text
+
+
+def _judge(u: UnitVerdict, result: ResponseTime, unit: str) -> None:
+    """The unit's verdict from its response time: exact, no time left, or only the
+    proven bounds when the budget ran out (which may not settle it)."""
+    if result.status == "no time":
+        u.schedulable = False
+        _add_note(u, "more urgent units leave it no time")
+    elif result.status == "exact":
+        u.response_time = result.value
+        u.schedulable = u.response_time <= u.period  # type: ignore[operator]
+        u.margin = u.period - u.response_time  # type: ignore[operator]
+    else:
+        lo, hi = result.lower, result.upper
+        u.bounds = (lo, hi)  # type: ignore[assignment]
+        span = (f"response time between {display_text(lo)} and {display_text(hi)} "
+                f"{unit}, the recurrence stopped by its budget of {result.terms:,} terms")
+        if lo > u.period:  # type: ignore[operator]
+            u.schedulable = False
+            why = f"{span}: above the period"
+        elif hi <= u.period:  # type: ignore[operator]
+            u.schedulable = True
+            why = f"{span}: within the period"
+        else:
+            why = f"undecided (budget): {span}"
+        _add_note(u, why)
 
 
 def _threads(sk: Skeleton, report: Report) -> list[ThreadVerdict]:
