@@ -241,19 +241,7 @@ class ParetoLocalSearch:
         self._waiting.discard(result.variant)
         if self._waiting or self._generation or self.stopped:
             return
-        members = sorted(v for v in self.front.members if v not in self.expanded)
-        if not members:
-            # A Pareto local optimum: every neighbour of the front is judged. The budget
-            # left widens the search, from the kept variants, then the consistent, the
-            # live, and any judged one.
-            if self.front.members and not self.optimum_at:
-                self.optimum_at = self.analyzed
-            for wanted in (lambda r: r.kept, lambda r: r.live and r.consistent,
-                           lambda r: r.live, lambda r: True):
-                members = sorted(v for v, r in self.judged.items()
-                                 if v not in self.expanded and wanted(r))
-                if members:
-                    break
+        members = self._to_expand()
         self.expanded.update(members)
         self._next([n for v in members for n in self._neighbours(v)])
         while not self._generation and members:
@@ -264,6 +252,23 @@ class ParetoLocalSearch:
         if not self._generation:
             self.stopped = ("every variant judged" if len(self.seen) == self.space.size else
                             "every variant reachable from the starting designs judged")
+
+    def _to_expand(self) -> list[int]:
+        """The front's members not yet expanded; at a Pareto local optimum (all of them
+        expanded), the budget left widens the search: from the kept variants, then the
+        consistent, the live, and any judged one."""
+        members = sorted(v for v in self.front.members if v not in self.expanded)
+        if members:
+            return members
+        if self.front.members and not self.optimum_at:
+            self.optimum_at = self.analyzed
+        for wanted in (lambda r: r.kept, lambda r: r.live and r.consistent,
+                       lambda r: r.live, lambda r: True):
+            members = sorted(v for v, r in self.judged.items()
+                             if v not in self.expanded and wanted(r))
+            if members:
+                break
+        return members
 
     def _neighbours(self, variant: int) -> list[int]:
         space = self.space
