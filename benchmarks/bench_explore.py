@@ -40,8 +40,8 @@ from generate_skeleton import generate  # noqa: E402
 
 from tegraph import Skeleton  # noqa: E402
 from tegraph.design.explore import explore_design  # noqa: E402
-from tegraph.design.explore_eval import evaluate_batch, evaluate_variant  # noqa: E402
-from tegraph.design.explore_space import design_space, link_text  # noqa: E402
+from tegraph.design.explore.evaluate import evaluate_batch, evaluate_variant  # noqa: E402
+from tegraph.design.explore.space import design_space, link_text  # noqa: E402
 
 
 def space_of(n_tasks: int, n_links: int):

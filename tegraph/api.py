@@ -527,7 +527,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     batch_size : int, optional
         Variants per batch (default adaptive).
     progress : callable, optional
-        Called with a :class:`tegraph.design.explore_run.Progress` after each batch.
+        Called with a :class:`tegraph.design.explore.run.Progress` after each batch.
     timeout : float, Fraction or str
         Seconds to wait for the scheduler (> 0, at most a day), read exactly as
         every number is (``"5/2"``; ``"1e999999999"`` refused by its size).
@@ -594,8 +594,8 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     fewer Rule 2 findings (a SYN/SYN rendezvous is one).
     """
     from .design.explore import explore_design
-    from .design.explore_space import design_space
-    from .report.explore_table import ResultsTable
+    from .design.explore.results import ResultsTable
+    from .design.explore.space import design_space
 
     space = design_space(skeleton, links, all_links, clocks, chains, objectives,
                          requires=requires, max_latency=max_latency, forbid=forbid,

@@ -70,7 +70,7 @@ _DOCUMENTS = Renderers("JSON document", {
     "tegraph.analysis.results.Report": "tegraph.report.document:_analyze",
     "tegraph.design.section.DesignSection": "tegraph.report.document:_rules",
     "tegraph.analysis.cycle_time.CycleTimeResult": "tegraph.report.document:_cycle_time",
-    "tegraph.design.explore.Exploration": "tegraph.report.document:_explore",
+    "tegraph.design.explore.exploration.Exploration": "tegraph.report.document:_explore",
     "tegraph.analysis.sensitivity_results.SensitivityResult":
         "tegraph.report.document:_sensitivity",
     "tegraph.analysis.reachability.Reachability": "tegraph.report.document:_reach",
@@ -95,7 +95,7 @@ def _explore(result: Any) -> dict[str, Any]:
 
     >>> from tegraph import load_skeleton
     >>> from tegraph.design.explore import explore_design
-    >>> from tegraph.design.explore_space import design_space
+    >>> from tegraph.design.explore.space import design_space
     >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
     ...                      clocks={"rtc": [10, 20]}, objectives=["load"])
     >>> doc = to_document(explore_design(space, workers=0))

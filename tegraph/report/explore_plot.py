@@ -55,7 +55,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
     >>> import pathlib, tempfile
     >>> from tegraph import load_skeleton
     >>> from tegraph.design.explore import explore_design
-    >>> from tegraph.design.explore_space import design_space
+    >>> from tegraph.design.explore.space import design_space
     >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
     ...                      clocks={"rtc": [5, 10, 20]}, objectives=["period", "load"])
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "front.svg"

@@ -13,8 +13,8 @@ from tabulate import tabulate
 from maxplus.scalar import display_text
 
 from ..design.explore import PRUNING_RULES, Exploration
-from ..design.explore_eval import ANALYZED, FAILED, PRUNED, rejection
-from ..design.explore_space import Constraints
+from ..design.explore.evaluate import ANALYZED, FAILED, PRUNED, rejection
+from ..design.explore.space import Constraints
 
 __all__ = ["FRONT_ROWS_SHOWN", "column_name", "render_exploration"]
 
@@ -109,7 +109,7 @@ def render_exploration(result: Exploration) -> str:
     lines.append("")
     lines.extend(_front(result))
     lines.append("")
-    lines.append("pruning rules (proofs in tegraph/design/explore_prune.py and "
+    lines.append("pruning rules (proofs in tegraph/design/explore/prune.py and "
                  "docs/explore.md):")
     lines.extend(f"  {rule}" for rule in PRUNING_RULES)
     lines.extend(f"note: {n}" for n in result.notes)

@@ -269,7 +269,7 @@ _RENDERERS = Renderers("text rendering", {
     "tegraph.design.timeline.Timeline": "tegraph.report.text:_timeline",
     "builtins.list": "tegraph.report.text:_rules",
     "tegraph.design.section.DesignSection": "tegraph.report.text:_design",
-    "tegraph.design.explore.Exploration": "tegraph.report.text:_exploration",
+    "tegraph.design.explore.exploration.Exploration": "tegraph.report.text:_exploration",
     "tegraph.analysis.sensitivity_results.SensitivityResult": "tegraph.report.text:_sensitivity",
 })
 

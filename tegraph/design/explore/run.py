@@ -1,7 +1,7 @@
 """Drive a search over an engine: batches out, verdicts in, the front kept exact.
 
 The driver asks the search for variants, sends them in batches to an engine
-(this process, or Dask workers: :mod:`.explore_dask`), and as each batch
+(this process, or Dask workers: :mod:`.dask_engine`), and as each batch
 comes back records its verdicts (the caller's ``record`` appends them to the
 results file at once), updates the Pareto front and feeds the search.
 Verdicts already known (read back from a results file) are fed without being
@@ -34,10 +34,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from .explore_eval import ANALYZED, PRUNED, VariantResult, evaluate_batch
-from .explore_prune import DEAD_REASON
-from .explore_search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
-from .explore_space import DesignSpace
+from .evaluate import ANALYZED, PRUNED, VariantResult, evaluate_batch
+from .prune import DEAD_REASON
+from .search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
+from .space import DesignSpace
 
 __all__ = ["LOCAL_CLUSTER_WORTH_SECONDS", "TARGET_BATCH_SECONDS", "Progress", "RunLog",
            "run_search"]
@@ -266,6 +266,6 @@ def _engine(space: DesignSpace, scheduler: str | None, workers: int | None, time
             ) -> Engine:
     if scheduler is None and not workers:
         return InProcessEngine(space)
-    from .explore_dask import DaskEngine  # distributed is imported only when used
+    from .dask_engine import DaskEngine  # distributed is imported only when used
 
     return DaskEngine(space, scheduler, workers or 1, timeout)

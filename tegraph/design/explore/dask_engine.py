@@ -24,9 +24,9 @@ from typing import Any
 from distributed import Client, LocalCluster, WorkerPlugin, as_completed, get_worker
 from distributed.scheduler import KilledWorker
 
-from ..errors import InputError, TegraphError
-from .explore_eval import FAILED, VariantResult, evaluate_batch
-from .explore_space import DesignSpace
+from ...errors import InputError, TegraphError
+from .evaluate import FAILED, VariantResult, evaluate_batch
+from .space import DesignSpace
 
 __all__ = ["DaskEngine", "judge_on_worker", "local_cluster"]
 

@@ -28,11 +28,11 @@ from typing import Any
 
 from maxplus.scalar import exact_text, exact_time
 
-from ..analysis.processors.schedule import MAX_EVENTS
-from ..errors import InputError
-from ..model.skeleton import Protocol, Skeleton
-from ..model.skeleton.checks import Locator, check_chain
-from .rules import group_period, synchronized_groups
+from ...analysis.processors.schedule import MAX_EVENTS
+from ...errors import InputError
+from ...model.skeleton import Protocol, Skeleton
+from ...model.skeleton.checks import Locator, check_chain
+from ..rules import group_period, synchronized_groups
 
 __all__ = [
     "ClockChoice",

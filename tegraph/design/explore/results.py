@@ -39,9 +39,9 @@ from typing import Any, NoReturn
 
 from maxplus.scalar import exact_text, exact_time
 
-from ..design.explore_eval import ANALYZED, FAILED, PRUNED, VariantResult
-from ..design.explore_space import DEFINITIONS, OLDER_DEFINITIONS, DesignSpace
-from ..errors import InputError
+from ...errors import InputError
+from .evaluate import ANALYZED, FAILED, PRUNED, VariantResult
+from .space import DEFINITIONS, OLDER_DEFINITIONS, DesignSpace
 
 __all__ = ["INSTALL_PARQUET", "ResultsTable", "columns"]
 

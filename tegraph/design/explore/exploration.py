@@ -4,18 +4,19 @@ consistent, schedulable designs (ORCCAD §6, ``tegraph explore``).
 Section 6 of the ORCCAD paper [1]_ gives rules for *adding* synchronization to a
 multi-rate controller; this module makes the tool choose, link by link,
 between ASYN/ASYN, ASYN/SYN, SYN/ASYN and SYN/SYN, and clock periods among
-candidates, by judging variants exactly (:mod:`.explore_eval`) and keeping the
+candidates, by judging variants exactly (:mod:`.evaluate`) and keeping the
 Pareto front of the objectives (chain latencies, period, processor load).
 
-- The space and its numbering: :mod:`.explore_space`.
-- Variants settled without analysis, with proofs: :mod:`.explore_prune`.
+- The space and its numbering: :mod:`.space`.
+- Variants settled without analysis, with proofs: :mod:`.prune`.
 - The searches (exhaustive up to ``max_variants``, Pareto local search
-  beyond) and the exact front: :mod:`.explore_search`.
-- The execution, in this process or on Dask ``distributed``: :mod:`.explore_run`,
-  :mod:`.explore_dask`.
+  beyond) and the exact front: :mod:`.search`.
+- The execution, in this process or on Dask ``distributed``: :mod:`.run`,
+  :mod:`.dask_engine`.
 
-Writing the results file and rendering are done above this floor
-(:func:`tegraph.explore`, :mod:`tegraph.report.explore_text`).
+The results file is :mod:`.results` (written as verdicts arrive, by
+:func:`tegraph.explore`); rendering is done above this floor
+(:mod:`tegraph.report.explore_text`).
 
 References
 ----------
@@ -35,13 +36,13 @@ from typing import Any
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_text, exact_time
 
-from ..errors import InputError
-from ..model.limits import shown
-from .explore_eval import ANALYZED, FAILED, PRUNED, REJECTIONS, VariantResult, rejection
-from .explore_prune import DeadlockOracle
-from .explore_run import Progress, RunLog, run_search
-from .explore_search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
-from .explore_space import DesignSpace
+from ...errors import InputError
+from ...model.limits import shown
+from .evaluate import ANALYZED, FAILED, PRUNED, REJECTIONS, VariantResult, rejection
+from .prune import DeadlockOracle
+from .run import Progress, RunLog, run_search
+from .search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
+from .space import DesignSpace
 
 __all__ = ["PRUNING_RULES", "Exploration", "cross_check", "explore_design"]
 
@@ -129,7 +130,7 @@ class Exploration:
 
     @property
     def rejected(self) -> dict[str, int]:
-        """Judged variants not kept, counted by why (:data:`~.explore_eval.REJECTIONS`,
+        """Judged variants not kept, counted by why (:data:`~.evaluate.REJECTIONS`,
         in that order; reasons that no variant had are left out)."""
         counts = dict.fromkeys(REJECTIONS, 0)
         for r in self.results.values():
@@ -289,7 +290,7 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
     Parameters
     ----------
     space : DesignSpace
-        From :func:`tegraph.design.explore_space.design_space`.
+        From :func:`tegraph.design.explore.space.design_space`.
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://HOST:8786``).
     workers : int, optional
@@ -306,7 +307,7 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
     record : callable, optional
         Receives each list of new verdicts as it arrives (to append to a file).
     progress : callable, optional
-        Receives a :class:`~tegraph.design.explore_run.Progress` after each batch.
+        Receives a :class:`~tegraph.design.explore.run.Progress` after each batch.
     timeout : float, Fraction or str
         Seconds to wait for the scheduler to answer (:func:`wait_seconds`).
 
@@ -325,7 +326,7 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
     the four tasks (6 ms of work) do not fit; 10 and 20 trade period for load.
 
     >>> from tegraph import load_skeleton
-    >>> from tegraph.design.explore_space import design_space
+    >>> from tegraph.design.explore.space import design_space
     >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
     ...                      clocks={"rtc": [5, 10, 20]}, objectives=["period", "load"])
     >>> found = explore_design(space, workers=0)

@@ -199,7 +199,7 @@ def test_the_library_refusal_names_the_file_and_line(results):
 
 def test_a_failed_variant_does_not_make_the_verdict_say_exhaustive_not_exhaustive(
         monkeypatch):
-    import tegraph.design.explore_eval as explore_eval
+    import tegraph.design.explore.evaluate as explore_eval
 
     judge = explore_eval.evaluate_variant
 

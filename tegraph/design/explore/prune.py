@@ -95,11 +95,11 @@ from scipy.sparse.csgraph import breadth_first_order
 
 from maxplus.scalar import exact_text
 
-from ..analysis.processors import DEFAULT_PROCESSOR
-from ..analysis.reorder import PrecedenceGraph
-from ..analysis.results import Report
-from ..model.skeleton import Protocol, Skeleton
-from .explore_space import DesignSpace
+from ...analysis.processors import DEFAULT_PROCESSOR
+from ...analysis.reorder import PrecedenceGraph
+from ...analysis.results import Report
+from ...model.skeleton import Protocol, Skeleton
+from .space import DesignSpace
 
 __all__ = ["DeadlockOracle", "overloaded", "protocol_ranges"]
 
@@ -121,7 +121,7 @@ class DeadlockOracle:
     ASYN/SYN on all three links closes the circuit; one ASYN/ASYN breaks it.
 
     >>> from tegraph.model.skeleton import Skeleton
-    >>> from tegraph.design.explore_space import design_space
+    >>> from tegraph.design.explore.space import design_space
     >>> sk = Skeleton.from_dict({"tasks": {
     ...     "MT1": {"duration": 1, "inputs": ["c"], "outputs": ["a"]},
     ...     "MT2": {"duration": 1, "inputs": ["a"], "outputs": ["b"]},
@@ -252,7 +252,7 @@ def protocol_ranges(space: DesignSpace, oracle: DeadlockOracle
     the whole run of its completions with one check.
 
     >>> from tegraph.model.skeleton import Skeleton
-    >>> from tegraph.design.explore_space import design_space
+    >>> from tegraph.design.explore.space import design_space
     >>> sk = Skeleton.from_dict({"tasks": {
     ...     "A": {"duration": 1, "inputs": ["y"], "outputs": ["x", "z"]},
     ...     "B": {"duration": 1, "inputs": ["x", "z"], "outputs": ["y"]}}, "links": [

@@ -20,9 +20,9 @@ import tegraph
 from tegraph import InputError, Skeleton, load_skeleton
 from tegraph.analysis.analyze import analyze_skeleton
 from tegraph.design.explore import explore_design
-from tegraph.design.explore_space import design_space
+from tegraph.design.explore.results import columns
+from tegraph.design.explore.space import design_space
 from tegraph.design.schedulability import schedulability
-from tegraph.report.explore_table import columns
 from tegraph.report.explore_text import render_exploration
 from tests.paths import REPO
 

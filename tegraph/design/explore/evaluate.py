@@ -8,10 +8,10 @@ One variant is judged as ``tegraph analyze`` would judge it, on its processors
 2. when it is not live but some port order makes it live
    (:func:`~tegraph.analysis.reorder.reorder_ports`), the reordered skeleton is
    analyzed instead and the variant is marked ``repaired`` (the orders depend
-   only on the protocols, Rule A of :mod:`.explore_prune`, so they are found
+   only on the protocols, Rule A of :mod:`.prune`, so they are found
    once per protocol assignment in a batch);
-3. when live and consistent, on its processors: rule C of :mod:`.explore_prune`
-   (:func:`~.explore_prune.overloaded`: a processor whose groups with a clock need
+3. when live and consistent, on its processors: rule C of :mod:`.prune`
+   (:func:`~.prune.overloaded`: a processor whose groups with a clock need
    more than all its time; proven not schedulable, without the schedule), else the
    exact schedule (:func:`~tegraph.analysis.processors.schedule_on_processors`,
    within the space's ``max_events``): ``schedulable`` True, False (an overrun, a
@@ -47,7 +47,7 @@ One variant is judged as ``tegraph analyze`` would judge it, on its processors
 Besides the objectives: the number of Rule 2 findings of section 6 (SYN/SYN
 links, and ASYN/ASYN links between groups of one rate: :func:`rule2_findings`),
 which breaks ties between designs of equal objectives, and the constraints of
-the space (:class:`~.explore_space.Constraints`), which a kept design meets.
+the space (:class:`~.space.Constraints`), which a kept design meets.
 
 A variant is *kept* when it is live (perhaps after the repair), consistent
 (spec §4: no unbounded place, no overrun), schedulable on its processors (§4b,
@@ -65,17 +65,17 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
-from ..analysis.analyze import analyze_skeleton
-from ..analysis.processors import ProcessorSchedule, schedule_on_processors
-from ..analysis.reorder import reorder_ports
-from ..analysis.results import Report
-from ..model.build import build_teg
-from ..model.skeleton import Protocol, Skeleton
-from .explore_prune import overloaded
-from .explore_space import DesignSpace, latency_name
-from .latency import chain_latency
-from .rules import group_period, synchronized_groups
-from .schedulability import Schedulability, schedulability
+from ...analysis.analyze import analyze_skeleton
+from ...analysis.processors import ProcessorSchedule, schedule_on_processors
+from ...analysis.reorder import reorder_ports
+from ...analysis.results import Report
+from ...model.build import build_teg
+from ...model.skeleton import Protocol, Skeleton
+from ..latency import chain_latency
+from ..rules import group_period, synchronized_groups
+from ..schedulability import Schedulability, schedulability
+from .prune import overloaded
+from .space import DesignSpace, latency_name
 
 __all__ = ["VariantResult", "evaluate_batch", "evaluate_variant", "rejection",
            "rule2_findings"]
@@ -207,7 +207,7 @@ def evaluate_batch(space: DesignSpace, variants: Sequence[int]) -> list[VariantR
     so a batch always returns one result per variant.
 
     >>> from tegraph import load_skeleton
-    >>> from tegraph.design.explore_space import design_space
+    >>> from tegraph.design.explore.space import design_space
     >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
     ...                      clocks={"rtc": [5, 10]}, chains=[["MT1", "MT2", "MT3", "MT4"]])
     >>> [(r.kept, r.objectives["load"]) for r in evaluate_batch(space, [0, 1])]

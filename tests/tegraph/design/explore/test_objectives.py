@@ -16,7 +16,7 @@ from typer.testing import CliRunner
 from tegraph import InputError, Skeleton, load_skeleton
 from tegraph.api import explore
 from tegraph.cli import app
-from tegraph.design.explore_eval import rule2_findings
+from tegraph.design.explore.evaluate import rule2_findings
 from tegraph.design.rules import check_rules
 from tegraph.report.explore_text import render_exploration
 from tests.paths import REPO

@@ -2,10 +2,10 @@
 beyond a threshold, Pareto local search.
 
 Both searches *propose* variants and are *fed* their verdicts, so the same
-searches run in this process or on a Dask cluster (:mod:`.explore_run`).
+searches run in this process or on a Dask cluster (:mod:`.run`).
 
 - :class:`ExhaustiveSearch` proposes every variant in number order, except the
-  protocol assignments that :mod:`.explore_prune` proves dead (Rules A and B):
+  protocol assignments that :mod:`.prune` proves dead (Rules A and B):
   those are returned as pruned, judged without analysis. Its front is the
   exact Pareto front of the space.
 - :class:`ParetoLocalSearch` (Paquete, Chiarandini and Stützle [1]_) starts
@@ -32,10 +32,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from fractions import Fraction
 
-from ..model.skeleton import Protocol
-from .explore_eval import VariantResult
-from .explore_prune import DeadlockOracle, protocol_ranges
-from .explore_space import DesignSpace
+from ...model.skeleton import Protocol
+from .evaluate import VariantResult
+from .prune import DeadlockOracle, protocol_ranges
+from .space import DesignSpace
 
 __all__ = ["ExhaustiveSearch", "ParetoFront", "ParetoLocalSearch", "dominates"]
 
@@ -75,7 +75,7 @@ class ParetoFront:
     """The kept variants that no other kept variant dominates (exact comparisons).
 
     Between variants of equal objective vectors, the fewest Rule 2 findings of
-    section 6 win (:func:`~.explore_eval.rule2_findings`); variants equal on both
+    section 6 win (:func:`~.evaluate.rule2_findings`); variants equal on both
     are all on the front.
 
     >>> F = Fraction

@@ -28,7 +28,7 @@ from tegraph import InputError, load_skeleton
 from tegraph.api import explore
 from tegraph.design.explore import explore_design
 from tests.paths import REPO
-from tests.tegraph.design.test_explore import (
+from tests.tegraph.design.explore.test_exploration import (
     CONTROL,
     EXAMPLES,
     FIG4,
