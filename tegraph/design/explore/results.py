@@ -106,24 +106,9 @@ class ResultsTable:
         self.overwrite = overwrite
         self.columns = columns(space)
         self.parquet = self.path.suffix.lower() == ".parquet"
-        if self.path.suffix.lower() not in _SUFFIXES:
-            raise InputError(f"cannot write results to {self.path.name!r}; expected a file "
-                             "name ending in .csv or .parquet", "output")
-        parent = self.path.parent
-        if not parent.is_dir():
-            raise InputError(f"the directory {str(parent)!r} does not exist; expected an "
-                             "existing directory (none is created)", "output")
-        if self.parquet:
-            _pyarrow()
         self.journal = self.path.with_name(self.path.name + ".journal.csv") if self.parquet \
             else self.path
-        existing = [p for p in dict.fromkeys([self.path, self.journal]) if p.exists()]
-        for p in existing:
-            if not p.is_file():
-                raise InputError(f"{p} is not a file; expected a results file", "output")
-        if existing and not resume and not overwrite:
-            raise InputError(f"{existing[0]} exists already; expected `resume` to continue it "
-                             "or `overwrite` to start it anew", "output")
+        existing = self._existing(resume, overwrite)
         self.known: dict[int, VariantResult] = {}
         self._tail: tuple[Path, int, str] | None = None
         cut: int | None = None
@@ -150,6 +135,27 @@ class ResultsTable:
         if fresh:
             self._writer.writerow(self.columns)
             self._file.flush()
+
+    def _existing(self, resume: bool, overwrite: bool) -> list[Path]:
+        """The results file and its journal that exist already, once the path is
+        known to be writable as asked (refused otherwise, nothing written)."""
+        if self.path.suffix.lower() not in _SUFFIXES:
+            raise InputError(f"cannot write results to {self.path.name!r}; expected a file "
+                             "name ending in .csv or .parquet", "output")
+        parent = self.path.parent
+        if not parent.is_dir():
+            raise InputError(f"the directory {str(parent)!r} does not exist; expected an "
+                             "existing directory (none is created)", "output")
+        if self.parquet:
+            _pyarrow()
+        existing = [p for p in dict.fromkeys([self.path, self.journal]) if p.exists()]
+        for p in existing:
+            if not p.is_file():
+                raise InputError(f"{p} is not a file; expected a results file", "output")
+        if existing and not resume and not overwrite:
+            raise InputError(f"{existing[0]} exists already; expected `resume` to continue it "
+                             "or `overwrite` to start it anew", "output")
+        return existing
 
     def append(self, results: Sequence[VariantResult]) -> None:
         """Write ``results`` and flush them to the disk."""
@@ -265,95 +271,133 @@ class ResultsTable:
             Naming ``path``, the line, the row ``k`` and the column of the first cell
             refused.
         """
-        space = self.space
+        cells = _Cells(self, row, Path(path), line, k)
+        variant = cells.variant()
+        judged = row["judged"]
+        if judged not in _JUDGED:
+            cells.refuse("judged", f"expected one of {', '.join(_JUDGED)}")
+        live, repaired, consistent, schedulable, meets, kept = (cells.flag(c) for c in _FLAGS)
+        # In the order of the columns: the first cell refused is the one named.
+        objectives, kinds, rule2 = cells.objectives(), cells.kinds(), cells.rule2()
+        orders, seconds = cells.orders(), cells.seconds()
+        result = VariantResult(variant, judged, live, bool(repaired), consistent,
+                               schedulable, objectives, kinds, orders, row["reason"], seconds,
+                               rule2, meets)
+        cells.coherent(result, kept)
+        return result
 
-        def refuse(column: str, what: str) -> NoReturn:
-            self._refuse(Path(path), line, f"row {k}, column {column!r}: {what}, got "
-                         f"{_shown(row.get(column))}")
 
-        def flag(column: str) -> bool | None:
-            text = row[column]
-            if text not in ("", "true", "false"):
-                refuse(column, "expected true, false or empty")
-            return None if text == "" else text == "true"
+class _Cells:
+    """The cells of one row of a results file, each read and checked; the first one
+    refused raises, naming the file, the line, the row and the column."""
 
+    def __init__(self, table: ResultsTable, row: dict[str, str], path: Path,
+                 line: int | None, k: int) -> None:
+        self.table, self.space, self.row = table, table.space, row
+        self.path, self.line, self.k = path, line, k
+
+    def refuse(self, column: str, what: str) -> NoReturn:
+        self.table._refuse(self.path, self.line, f"row {self.k}, column {column!r}: {what}, "
+                           f"got {_shown(self.row.get(column))}")
+
+    def flag(self, column: str) -> bool | None:
+        text = self.row[column]
+        if text not in ("", "true", "false"):
+            self.refuse(column, "expected true, false or empty")
+        return None if text == "" else text == "true"
+
+    def variant(self) -> int:
+        """The variant number, once the row is known to be this exploration's, and
+        its link and clock cells checked against the space's numbering."""
+        space, row = self.space, self.row
         if row["space"] != space.fingerprint:
             older = [v for v in OLDER_DEFINITIONS if row["space"] == space.fingerprint_of(v)]
             if older:  # this exploration, judged by the definitions of an older version
-                refuse("space", f"this exploration judged under version {older[0]} of the "
-                       f"definitions ({OLDER_DEFINITIONS[older[0]]}); its verdicts are not "
-                       f"those of version {DEFINITIONS} (each variant judged on its "
-                       "processors, spec §4b), so they are not resumed; expected "
-                       f"{space.fingerprint}")
-            refuse("space", f"another exploration (another skeleton, choices, objectives, "
-                   f"constraints or budget `max_events` of each schedule); expected "
-                   f"{space.fingerprint}")
+                self.refuse("space", f"this exploration judged under version {older[0]} of "
+                            f"the definitions ({OLDER_DEFINITIONS[older[0]]}); its verdicts are "
+                            f"not those of version {DEFINITIONS} (each variant judged on its "
+                            "processors, spec §4b), so they are not resumed; expected "
+                            f"{space.fingerprint}")
+            self.refuse("space", "another exploration (another skeleton, choices, objectives, "
+                        "constraints or budget `max_events` of each schedule); expected "
+                        f"{space.fingerprint}")
         text = row["variant"]
         if not (text.isascii() and text.isdigit() and len(text) <= len(str(space.size))
                 and int(text) < space.size):
-            refuse("variant", f"expected a variant number from 0 to {space.size - 1:,}")
+            self.refuse("variant", f"expected a variant number from 0 to {space.size - 1:,}")
         variant = int(text)
         links, clocks = space.describe(variant)
         for name, value in [*links.items(), *clocks.items()]:
             column = f"link:{name}" if name in links else f"clock:{name}"
             if row[column] != value:
-                refuse(column, f"variant {variant} has {value!r}")
-        judged = row["judged"]
-        if judged not in _JUDGED:
-            refuse("judged", f"expected one of {', '.join(_JUDGED)}")
-        live, repaired, consistent, schedulable, meets, kept = (flag(c) for c in _FLAGS)
+                self.refuse(column, f"variant {variant} has {value!r}")
+        return variant
+
+    def objectives(self) -> dict[str, Fraction | None]:
         objectives: dict[str, Fraction | None] = {}
-        for n in space.objectives:
+        for n in self.space.objectives:
             objectives[n] = None
-            if row[n]:
+            if self.row[n]:
                 try:
-                    value = exact_time(row[n], n)
+                    value = exact_time(self.row[n], n)
                 except (ValueError, ArithmeticError) as exc:
-                    refuse(n, f"expected an exact number such as 7/3 or empty ({exc})")
+                    self.refuse(n, f"expected an exact number such as 7/3 or empty ({exc})")
                 if value < 0 or (n == "period" and value == 0):
-                    refuse(n, f"expected a number {'> 0' if n == 'period' else '>= 0'}")
+                    self.refuse(n, f"expected a number {'> 0' if n == 'period' else '>= 0'}")
                 objectives[n] = value
+        return objectives
+
+    def kinds(self) -> dict[str, str]:
         kinds = {}
-        for n in space.objectives:
+        for n in self.space.objectives:
             if n.startswith("latency:"):
                 column = f"kind:{n}"
-                if row[column] not in ("", *_KINDS):
-                    refuse(column, "expected exact, bound or empty")
-                if row[column]:
-                    kinds[n] = row[column]
-        rule2 = None
-        if row["rule2"]:
-            if not (row["rule2"].isascii() and row["rule2"].isdigit()
-                    and len(row["rule2"]) <= 9):
-                refuse("rule2", "expected a number of findings (an integer >= 0) or empty")
-            rule2 = int(row["rule2"])
-        orders: dict[str, Any] = {}
-        if row["orders"]:
-            try:
-                orders = json.loads(row["orders"])
-            except ValueError:
-                orders = None  # type: ignore[assignment]
-            if not _orders_ok(orders, space):
-                refuse("orders", "expected the port orders of a repair, as JSON "
-                       '{"TASK": {"inputs": [...], "outputs": [...]}}, or empty')
-        seconds = _seconds(row["seconds"])
+                if self.row[column] not in ("", *_KINDS):
+                    self.refuse(column, "expected exact, bound or empty")
+                if self.row[column]:
+                    kinds[n] = self.row[column]
+        return kinds
+
+    def rule2(self) -> int | None:
+        text = self.row["rule2"]
+        if not text:
+            return None
+        if not (text.isascii() and text.isdigit() and len(text) <= 9):
+            self.refuse("rule2", "expected a number of findings (an integer >= 0) or empty")
+        return int(text)
+
+    def orders(self) -> dict[str, Any]:
+        if not self.row["orders"]:
+            return {}
+        try:
+            orders = json.loads(self.row["orders"])
+        except ValueError:
+            orders = None
+        if not _orders_ok(orders, self.space):
+            self.refuse("orders", "expected the port orders of a repair, as JSON "
+                        '{"TASK": {"inputs": [...], "outputs": [...]}}, or empty')
+        return orders  # type: ignore[no-any-return]
+
+    def seconds(self) -> float:
+        seconds = _seconds(self.row["seconds"])
         if seconds is None:
-            refuse("seconds", "expected a number of seconds >= 0 or empty")
-        result = VariantResult(variant, judged, live, bool(repaired), consistent,
-                               schedulable, objectives, kinds, orders, row["reason"], seconds,
-                               rule2, meets)
+            self.refuse("seconds", "expected a number of seconds >= 0 or empty")
+        return seconds
+
+    def coherent(self, result: VariantResult, kept: bool | None) -> None:
+        """The verdicts follow one another as a judgement makes them."""
+        live, consistent, schedulable = result.live, result.consistent, result.schedulable
         if kept is not result.kept:
-            refuse("kept", f"live, consistent, schedulable and the constraints say "
-                   f"{str(result.kept).lower()}")
-        if judged == PRUNED and (live is not False or consistent is not None):
-            refuse("live", "a pruned variant is dead (live false, nothing after)")
-        if judged == ANALYZED and live is None:
-            refuse("live", "an analyzed variant is live or not")
+            self.refuse("kept", f"live, consistent, schedulable and the constraints say "
+                        f"{str(result.kept).lower()}")
+        if result.judged == PRUNED and (live is not False or consistent is not None):
+            self.refuse("live", "a pruned variant is dead (live false, nothing after)")
+        if result.judged == ANALYZED and live is None:
+            self.refuse("live", "an analyzed variant is live or not")
         if (consistent is not None and not live) or (schedulable is not None
                                                     and not consistent):
-            refuse("consistent" if schedulable is None else "schedulable",
-                   "a verdict past one that failed")
-        return result
+            self.refuse("consistent" if schedulable is None else "schedulable",
+                        "a verdict past one that failed")
 
 
 def _header_text(names: list[str]) -> str:
