@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
+from networkx.utils import UnionFind
 from scipy.sparse.csgraph import connected_components
 
 from maxplus import max_cycle_ratio
@@ -446,14 +447,7 @@ class Advisor(Candidates):
                         for t in edits.drop)):
             return self._same_groups(groups, edits)
         tasks = [t for g in groups for t in self.groups[g]]
-        parent = {t: t for t in tasks}
-
-        def find(t: str) -> str:
-            while parent[t] != t:
-                parent[t] = parent[parent[t]]
-                t = parent[t]
-            return t
-
+        joined = UnionFind(tasks)
         first_of: dict[str, str] = {}
         clock_of: dict[str, str | None] = {}
         for t in tasks:
@@ -462,27 +456,32 @@ class Advisor(Candidates):
                 clock = f"{t}\0new"  # a clock of its own: it joins nothing
             clock_of[t] = clock
             if clock:
-                parent[find(t)] = find(first_of.setdefault(clock, t))
-            for link in self.inputs(t):
-                if edits.get(link).synchronizing:
-                    parent[find(t)] = find(link.writer[0])
+                joined.union(t, first_of.setdefault(clock, t))
+            joined.union(t, *(link.writer[0] for link in self.inputs(t)
+                              if edits.get(link).synchronizing))
         for g in groups:
             for thread in self.threads_of.get(g, ()):
-                for a, b in itertools.pairwise(thread):
-                    parent[find(a)] = find(b)
-        part: dict[str, tuple[list[str], set[str], Fraction | None]] = {}
-        root_of = {t: find(t) for t in tasks}
+                joined.union(*thread)
+        root_of = {t: joined[t] for t in tasks}
+        return self._counted(tasks, root_of, clock_of), root_of
+
+    def _counted(self, tasks: list[str], root_of: dict[str, str],
+                 clock_of: dict[str, str | None]
+                 ) -> dict[str, tuple[list[str], int, Fraction | None]]:
+        """Each re-formed group by its root: its tasks in file order, how many clocks,
+        and its design period (the fastest of its clocks, a new clock's included)."""
+        part: dict[str, tuple[list[str], set[str]]] = {}
         for t in sorted(tasks, key=self.order.__getitem__):
-            entry = part.setdefault(root_of[t], ([], set(), None))
+            entry = part.setdefault(root_of[t], ([], set()))
             entry[0].append(t)
-            if clock_of[t]:
-                entry[1].add(clock_of[t])  # type: ignore[arg-type]
+            if clock := clock_of[t]:
+                entry[1].add(clock)
         counted: dict[str, tuple[list[str], int, Fraction | None]] = {}
-        for root, (members, clocks, _) in part.items():
+        for root, (members, clocks) in part.items():
             period = min((self.fresh if c.endswith("\0new") else self.sk.clocks[c].period
                           for c in clocks), default=None)
             counted[root] = (members, len(clocks), period)
-        return counted, root_of
+        return counted
 
     def _same_groups(self, groups: list[int], edits: Edits) -> tuple[dict, _Roots]:
         """:meth:`_regroup` when no link starts or stops synchronizing and no shared
