@@ -325,19 +325,7 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
         The number of steps simulated.
     """
     pending_regimes = set(range(len(regimes)))
-    pending_watches = set(range(len(watches)))
-    into: dict[int, list[int]] | None = None  # shared by every certain overrun below
-    for w, watch in enumerate(watches):
-        # A task slower than its clock overruns for certain: where, exactly, without
-        # simulating up to it (its lag may take millions of activations to build).
-        if watch.certain:
-            if into is None:
-                into = input_places(sim.graph, sim.active)
-            found = certain_overrun(sim.graph, sim.active, watch.last_event, watch.tick_event,
-                                    watch.end_offset, into=into)
-            if found is not None:
-                watch.overrun_at, watch.decided, watch.method = found, True, "max-plus powers"
-                pending_watches.discard(w)
+    pending_watches = _locate_certain_overruns(sim, watches)
     depth = max(sim.depth, 1)
     window: list[np.ndarray] = []
     previous: np.ndarray | None = None
@@ -357,21 +345,8 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
         if k < depth:
             continue
         for r in list(pending_regimes):
-            regime = regimes[r]
-            if k - depth + 1 < regime.start:
-                continue
-            ev = regime.events
-            # Normalized state: x·den - k·num·scale is invariant exactly when
-            # x(k) = x(k') + (k-k')·λ, with λ = num/den in unscaled units.
-            state = _normalized_state(window, ev, k, regime.num, regime.den, scale)
-            earlier = regime._seen.get(state)
-            if earlier is None:
-                regime._seen[state] = k
-                continue
-            regime.cyclicity = k - earlier
-            regime.transient = earlier - depth + 1
-            regime._seen = {}
-            pending_regimes.discard(r)
+            if _repeated(regimes[r], window, k, depth, scale):
+                pending_regimes.discard(r)
         for w in list(pending_watches):
             watch = watches[w]
             if watch.regime is not None and watch.regime not in pending_regimes:
@@ -383,6 +358,45 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
                     watch.decided = True
                     pending_watches.discard(w)
     return sim.k
+
+
+def _locate_certain_overruns(sim: DaterSimulation, watches: list[OverrunWatch]) -> set[int]:
+    """The watches left to simulate, once every certain overrun is located by powers.
+
+    A task slower than its clock overruns for certain: where, exactly, without
+    simulating up to it (its lag may take millions of activations to build).
+    """
+    pending = set(range(len(watches)))
+    into: dict[int, list[int]] | None = None  # shared by every certain overrun
+    for w, watch in enumerate(watches):
+        if not watch.certain:
+            continue
+        if into is None:
+            into = input_places(sim.graph, sim.active)
+        found = certain_overrun(sim.graph, sim.active, watch.last_event, watch.tick_event,
+                                watch.end_offset, into=into)
+        if found is not None:
+            watch.overrun_at, watch.decided, watch.method = found, True, "max-plus powers"
+            pending.discard(w)
+    return pending
+
+
+def _repeated(regime: Regime, window: list[np.ndarray], k: int, depth: int, scale: int) -> bool:
+    """Whether the regime's state at step ``k`` repeats an earlier one (then its
+    transient and cyclicity are set); else the state is remembered."""
+    if k - depth + 1 < regime.start:
+        return False
+    # Normalized state: x·den - k·num·scale is invariant exactly when
+    # x(k) = x(k') + (k-k')·λ, with λ = num/den in unscaled units.
+    state = _normalized_state(window, regime.events, k, regime.num, regime.den, scale)
+    earlier = regime._seen.get(state)
+    if earlier is None:
+        regime._seen[state] = k
+        return False
+    regime.cyclicity = k - earlier
+    regime.transient = earlier - depth + 1
+    regime._seen = {}
+    return True
 
 
 def _normalized_state(window: list[np.ndarray], events: np.ndarray, k: int, num: int, den: int,
