@@ -395,17 +395,23 @@ def _solve(graph: Any, res: CycleTimeResult, verify: bool) -> None:
     res.critical_holdings = [Fraction(int(h), a.scale) for h in a.holding[r.circuit].tolist()]
     res.critical_tokens = int(sum(int(t) for t in a.tokens[r.circuit].tolist()))
     res.parts = _parts(graph, a, r, names)
+    _cycle_times(res, r, a.scale, names)
+
+
+def _cycle_times(res: CycleTimeResult, r: Any, scale: int, names: Callable[[int], str]) -> None:
+    """Each transition's own cycle time, recorded only where they are not all the
+    period (a graph that is not strongly connected), with the transitions that have none."""
     num, den = r.cycle_time_num, r.cycle_time_den
     top = (r.ratio.numerator, r.ratio.denominator)
-    uniform = bool((den > 0).all() and (num * top[1] == den * top[0]).all())
-    if not uniform:
-        res.cycle_times = {names(i): (None if d == 0 else Fraction(int(m), int(d) * a.scale))
-                           for i, (m, d) in enumerate(zip(num.tolist(), den.tolist()))}
-        inputs = [k for k, v in res.cycle_times.items() if v is None]
-        if inputs:
-            shown = ", ".join(inputs[:10]) + (" ..." if len(inputs) > 10 else "")
-            res.notes.append(f"{len(inputs)} transition(s) have no circuit upstream (inputs "
-                             f"fired from outside), so no cycle time: {shown}")
+    if bool((den > 0).all() and (num * top[1] == den * top[0]).all()):
+        return
+    res.cycle_times = {names(i): (None if d == 0 else Fraction(int(m), int(d) * scale))
+                       for i, (m, d) in enumerate(zip(num.tolist(), den.tolist()))}
+    inputs = [k for k, v in res.cycle_times.items() if v is None]
+    if inputs:
+        shown = ", ".join(inputs[:10]) + (" ..." if len(inputs) > 10 else "")
+        res.notes.append(f"{len(inputs)} transition(s) have no circuit upstream (inputs "
+                         f"fired from outside), so no cycle time: {shown}")
 
 
 def _parts(graph: Any, a: Any, r: Any, names: Callable[[int], str]) -> list[CyclePart]:
