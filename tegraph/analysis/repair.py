@@ -237,6 +237,16 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
     # graph of `component`: the checks search the whole graph).
     reasons = {(s.task, s.side): _prefer_latency(graph, s) for s in dead_sides}
     freed = [s for s in dead_sides if not _try_add(graph, list(itertools.pairwise(s.nodes)))]
+    fixed, changes = _reordered(skeleton, graph, freed, reasons)
+    if _deadlocks(fixed):
+        raise AssertionError("internal error: the reordered skeleton is not live")
+    return FixResult("fixed", fixed, changes, deadlocks)
+
+
+def _reordered(skeleton: Skeleton, graph: PrecedenceGraph, freed: list[_Side],
+               reasons: dict[tuple[str, str], str]) -> tuple[Skeleton, list[PortChange]]:
+    """The skeleton with each freed side's ports in the order of a topological order
+    of ``graph``, and the changes, in the file's order of tasks."""
     order = graph.topological_order()
     if order is None:  # pragma: no cover - every added edge was checked
         raise AssertionError("internal error: the kept port orders close a circuit")
@@ -250,10 +260,7 @@ def fix_ports(skeleton: Skeleton) -> FixResult:
             changes.append(PortChange(side.task, side.side, side.ports, after,
                                       reasons[side.task, side.side]))
             tasks[side.task] = replace(tasks[side.task], **{side.side: after})
-    fixed = replace(skeleton, tasks=tasks)
-    if _deadlocks(fixed):
-        raise AssertionError("internal error: the reordered skeleton is not live")
-    return FixResult("fixed", fixed, changes, deadlocks)
+    return replace(skeleton, tasks=tasks), changes
 
 
 def _fix_threads(skeleton: Skeleton, deadlocks: list[list[str]]) -> FixResult | None:
