@@ -37,7 +37,7 @@ from dataclasses import dataclass, field, replace
 
 from ..model.build import build_teg
 from ..model.elements import flow_list
-from ..model.skeleton import Protocol, Skeleton
+from ..model.skeleton import Protocol, Skeleton, Task
 from .liveness import token_free_circuits
 
 __all__ = ["PrecedenceGraph", "ReorderResult", "ThreadRepair", "reorder_ports",
@@ -290,39 +290,8 @@ class PrecedenceGraph:
                                                     2 + len(task.inputs) + pos)
         merged = {link.reader: self.write[link.writer] for link in sk.links
                   if link.protocol is Protocol.SYN_SYN}
-        events_of: dict[str, list[int]] = {}
-        for name, task in sk.tasks.items():
-            activate = self._node(f"{name}.activate", 0) if task.clock else None
-            compute = self._node(f"{name}.compute", 1 + len(task.inputs))
-            reads = []
-            for pos, port in enumerate(task.inputs):
-                node = merged.get((name, port))
-                if node is None:
-                    node = self._node(f"{name}.read:{port}", 1 + pos)
-                self.read[name, port] = node
-                reads.append(node)
-            writes = [self.write[name, port] for port in task.outputs]
-            # Two SYN/SYN inputs on one writer port make one event appear twice
-            # in the chain: the place between the copies is a 0-token self-loop,
-            # a deadlock whatever the order.
-            seen: set[int] = set()
-            for node in reads:
-                if node in seen:
-                    self._edge(node, node)
-                seen.add(node)
-            for r in reads:
-                if activate is not None:
-                    self._edge(activate, r)
-                self._edge(r, compute)
-            if activate is not None:
-                self._edge(activate, compute)
-            for w in writes:
-                self._edge(compute, w)
-            first = [activate] if activate is not None else []
-            events_of[name] = first + reads + [compute] + writes
-            if task.clock:
-                tick = self._tick(task.clock)
-                self._edge(tick, activate)  # type: ignore[arg-type]
+        self.events_of = {name: self._add_task(name, task, merged)
+                          for name, task in sk.tasks.items()}
         for link in sk.links:
             w, r = self.write[link.writer], self.read[link.reader]
             if link.protocol is Protocol.ASYN_SYN:
@@ -333,9 +302,42 @@ class PrecedenceGraph:
                 self.link_edges.setdefault((r, w), []).append(link.label)
             elif link.protocol is Protocol.SYN_SYN:
                 self.link_edges.setdefault((w, w), []).append(link.label)
-        self.events_of = events_of
         for k, thread in enumerate(sk.threads):
             self.add_thread(k, thread)
+
+    def _add_task(self, name: str, task: Task, merged: dict[tuple[str, str], int]) -> list[int]:
+        """The events of one task (a SYN/SYN read is its writer's event) and the
+        obligations of its chain; returns its events in chain order."""
+        activate = self._node(f"{name}.activate", 0) if task.clock else None
+        compute = self._node(f"{name}.compute", 1 + len(task.inputs))
+        reads = []
+        for pos, port in enumerate(task.inputs):
+            node = merged.get((name, port))
+            if node is None:
+                node = self._node(f"{name}.read:{port}", 1 + pos)
+            self.read[name, port] = node
+            reads.append(node)
+        writes = [self.write[name, port] for port in task.outputs]
+        # Two SYN/SYN inputs on one writer port make one event appear twice
+        # in the chain: the place between the copies is a 0-token self-loop,
+        # a deadlock whatever the order.
+        seen: set[int] = set()
+        for node in reads:
+            if node in seen:
+                self._edge(node, node)
+            seen.add(node)
+        for r in reads:
+            if activate is not None:
+                self._edge(activate, r)
+            self._edge(r, compute)
+        if activate is not None:
+            self._edge(activate, compute)
+        for w in writes:
+            self._edge(compute, w)
+        if activate is not None:
+            self._edge(self._tick(task.clock), activate)
+            return [activate, *reads, compute, *writes]
+        return [*reads, compute, *writes]
 
     def add_thread(self, k: int, thread: tuple[str, ...] | list[str]) -> None:
         """The obligations of thread ``k`` run in the order ``thread``: all of each
