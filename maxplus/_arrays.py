@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numpy.typing as npt
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
@@ -37,8 +38,11 @@ def gcd_arrays(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     [2, 3]
     """
     if a.dtype == object or b.dtype == object:
-        return np.frompyfunc(math.gcd, 2, 1)(a, b)
-    return np.gcd(a, b)
+        # A ufunc made by frompyfunc is typed as returning Any: the result is an object array.
+        out: np.ndarray = np.frompyfunc(math.gcd, 2, 1)(a, b)
+    else:
+        out = np.gcd(a, b)  # Any in the stubs, for arrays of unknown dtype
+    return out
 
 
 def int_array(values: list[int]) -> np.ndarray:
@@ -158,7 +162,7 @@ def _as_object(a: np.ndarray) -> np.ndarray:
 
 
 def compare_ratios(a_num: np.ndarray, a_den: np.ndarray, b_num: np.ndarray,
-                   b_den: np.ndarray) -> np.ndarray:
+                   b_den: np.ndarray) -> npt.NDArray[np.int8]:
     """Elementwise sign of ``a_num/a_den - b_num/b_den`` (denominators > 0), exact.
 
     int64 cross-multiplication when the products cannot overflow, Python ints otherwise.
@@ -170,10 +174,13 @@ def compare_ratios(a_num: np.ndarray, a_den: np.ndarray, b_num: np.ndarray,
     if not products_fit((a_num, b_den), (b_num, a_den)):
         a_num, a_den, b_num, b_den = (_as_object(x) for x in (a_num, a_den, b_num, b_den))
     left, right = a_num * b_den, b_num * a_den
-    return (left > right).astype(np.int8) - (left < right).astype(np.int8)
+    # Object arrays compare to Any in numpy's stubs; the comparisons are boolean arrays.
+    above: npt.NDArray[np.bool_] = left > right
+    below: npt.NDArray[np.bool_] = left < right
+    return above.astype(np.int8) - below.astype(np.int8)
 
 
-def float_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
+def float_ratios(num: np.ndarray, den: np.ndarray) -> npt.NDArray[np.float64]:
     """Nearest floats of ``num/den`` (den > 0), ``±inf`` beyond float range.
 
     Only an accelerator: callers settle every decision exactly.
@@ -182,8 +189,9 @@ def float_ratios(num: np.ndarray, den: np.ndarray) -> np.ndarray:
     [inf, 0.3333333333333333]
     """
     if num.dtype != object and den.dtype != object:
-        return num.astype(float) / den.astype(float)
-    return np.frompyfunc(_float_ratio, 2, 1)(num, den).astype(float)
+        return num.astype(np.float64) / den.astype(np.float64)
+    ratios: np.ndarray = np.frompyfunc(_float_ratio, 2, 1)(num, den)  # objects (floats)
+    return ratios.astype(np.float64)
 
 
 def _float_ratio(a: int, b: int) -> float:

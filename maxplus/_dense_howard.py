@@ -30,7 +30,7 @@ from collections.abc import Callable
 from fractions import Fraction
 from itertools import pairwise
 from operator import add, itemgetter
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -86,10 +86,13 @@ def _value_determination(pol: list[int], wpol: list[int], old: Policy | None
                 X[u] = X[pol[u]] + wpol[u] * T - W
                 ratio[u] = (W, T)
         for u in reversed(path):
+            # pol[u] is past u on the path, or on a circuit: its ratio is set (an
+            # assert here would cost a check per node of every determination).
             W, T = ratio[pol[u]]  # type: ignore[misc]
             ratio[u] = (W, T)
             X[u] = X[pol[u]] + wpol[u] * T - W
-    return ratio, X  # type: ignore[return-value]
+    # Every node reaches a policy circuit, so the loop gave every node its ratio.
+    return cast(list[Ratio], ratio), X
 
 
 class _Arcs:
@@ -125,7 +128,10 @@ class _Arcs:
 
 
 def _arcs(rows: list[list[int | None]]) -> _Arcs:
-    sources, weights, bounds, flat_sources = [], [], [], []
+    sources: list[list[int]] = []
+    weights: list[list[int]] = []
+    bounds: list[slice] = []
+    flat_sources: list[int] = []
     columns = range(len(rows))
     for row in rows:
         js = [j for j, w in zip(columns, row) if w is not None]
@@ -139,7 +145,7 @@ def _arcs(rows: list[list[int | None]]) -> _Arcs:
     return _Arcs(sources, weights, flat_weights, bounds, gather)
 
 
-def _improve_lists(arcs: _Arcs, state: Policy, times_T: dict[int, list[list[int]]]
+def _improve_lists(arcs: _Arcs, state: Policy, times_T: dict[int, list[int]]
                    ) -> list[int] | None:
     """One policy improvement on in-arc lists; None when the policy is optimal.
 
@@ -239,7 +245,8 @@ def _improve_arrays(values: np.ndarray, finite: np.ndarray, state: Policy) -> li
         up = ranks.max(axis=1) > rank
         if up.any():
             pol_a[up] = ranks.argmax(axis=1)[up]
-            return pol_a.tolist()
+            improved: list[int] = pol_a.tolist()
+            return improved
         same = finite & (rank[None, :] == rank[:, None])
     else:
         same = finite
@@ -248,7 +255,7 @@ def _improve_arrays(values: np.ndarray, finite: np.ndarray, state: Policy) -> li
     big = (max(map(abs, X)) + max(map(abs, W)) + max(T) * _abs_max(values))
     if big < INT64_SAFE and values.dtype != object:
         Xa, Wa, Ta = (np.array(a, dtype=np.int64) for a in (X, W, T))
-        low: object = np.iinfo(np.int64).min
+        low: int | float = np.iinfo(np.int64).min
     else:
         Xa, Wa, Ta = (_objects(a) for a in (X, W, T))
         low = -math.inf  # only compared, never added
@@ -258,7 +265,8 @@ def _improve_arrays(values: np.ndarray, finite: np.ndarray, state: Policy) -> li
     if not gain.any():
         return None
     pol_a[gain] = best[gain]
-    return pol_a.tolist()
+    improved = pol_a.tolist()
+    return improved
 
 
 def _objects(values: list[int]) -> np.ndarray:
@@ -282,29 +290,31 @@ def optimal_policy(values: np.ndarray | None, finite: np.ndarray | None,
         # in-arc after one step of x(k+1) = A x(k) from x = 0 (saves about one
         # iteration over the plain heaviest in-arc).
         heaviest = [max(ws) for ws in arcs.weights]
-        values = list(map(add, arcs.gather(heaviest), arcs.flat_weights))
+        two_arcs = list(map(add, arcs.gather(heaviest), arcs.flat_weights))
         pol = [js[row.index(max(row))] for js, row in
-               zip(arcs.sources, map(values.__getitem__, arcs.rows))]
+               zip(arcs.sources, map(two_arcs.__getitem__, arcs.rows))]
     else:
         assert values is not None and finite is not None
-        n = len(finite)
-        low = -math.inf if values.dtype == object else np.iinfo(np.int64).min
-        pol = np.where(finite, values, low).argmax(axis=1).tolist()
+        matrix, mask = values, finite
+        n = len(mask)
+        low = -math.inf if matrix.dtype == object else np.iinfo(np.int64).min
+        pol = np.where(mask, matrix, low).argmax(axis=1).tolist()
         nodes = np.arange(n)
     state: Policy | None = None
     # Howard terminates (each iteration strictly improves); the bound only
     # turns a defect into an error instead of a hang.
     for _ in range(100 * (n + 1) ** 2):
         if rows is not None:
-            wpol = [row[j] for row, j in zip(rows, pol)]
+            # A policy arc is an arc: its entry is finite, never None.
+            wpol = cast(list[int], [row[j] for row, j in zip(rows, pol)])
         else:
-            wpol = values[nodes, pol].tolist()
-        ratio, X = _value_determination(pol, wpol, state)  # type: ignore[arg-type]
+            wpol = matrix[nodes, pol].tolist()
+        ratio, X = _value_determination(pol, wpol, state)
         state = Policy(ratio, X, pol)
         if rows is not None:
             new = _improve_lists(arcs, state, times_T)
         else:
-            new = _improve_arrays(values, finite, state)
+            new = _improve_arrays(matrix, mask, state)
         if new is None:
             return state
         pol = new

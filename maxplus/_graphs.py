@@ -11,6 +11,7 @@ import math
 from collections import deque
 
 import numpy as np
+import numpy.typing as npt
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
@@ -46,7 +47,10 @@ def strong_classes(adj: np.ndarray) -> tuple[int, np.ndarray]:
     rows, cols = np.nonzero(adj)
     n = len(adj)
     graph = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (cols, rows)), shape=(n, n))
-    return connected_components(graph, directed=True, connection="strong")
+    # scipy has no inline types (pyproject.toml: [tool.mypy]): its result is Any to mypy.
+    classes: tuple[int, np.ndarray] = connected_components(graph, directed=True,
+                                                           connection="strong")
+    return classes
 
 
 def cyclic_nodes(adj: np.ndarray) -> np.ndarray:
@@ -57,7 +61,8 @@ def cyclic_nodes(adj: np.ndarray) -> np.ndarray:
     """
     n_comp, labels = strong_classes(adj)
     sizes = np.bincount(labels, minlength=n_comp)
-    return (sizes[labels] > 1) | np.diag(adj)
+    cyclic: npt.NDArray[np.bool_] = (sizes[labels] > 1) | np.diag(adj)
+    return cyclic
 
 
 def is_strongly_connected(adj: np.ndarray) -> bool:

@@ -118,11 +118,12 @@ def _from_int_rows(rows: list[list[int | None]]) -> IntegerMatrix:
         floats = np.array(rows, dtype=float)  # None -> nan
     except OverflowError:  # an int beyond float range: Python ints it is
         floats = None
-    finite = ~np.isnan(floats) if floats is not None else None
-    if floats is not None and np.all(np.abs(floats[finite]) < _FLOAT_EXACT):
-        # Below 2**53 every int converts exactly (and rounding can only move a
-        # larger one up to 2**53, so the test cannot pass wrongly).
-        return IntegerMatrix(np.where(finite, floats, 0.0).astype(np.int64), finite, 1)
+    if floats is not None:
+        finite = ~np.isnan(floats)
+        if np.all(np.abs(floats[finite]) < _FLOAT_EXACT):
+            # Below 2**53 every int converts exactly (and rounding can only move a
+            # larger one up to 2**53, so the test cannot pass wrongly).
+            return IntegerMatrix(np.where(finite, floats, 0.0).astype(np.int64), finite, 1)
     n = len(rows)
     values = np.zeros((n, n), dtype=object)
     finite = np.zeros((n, n), dtype=bool)

@@ -144,7 +144,7 @@ def max_cycle_mean_rows(rows: list[list[int | None]]) -> Fraction | None:
     """
     n = len(rows)
     if n <= 2:  # every elementary circuit, enumerated: the maximum of their means
-        means = [Fraction(rows[i][i]) for i in range(n) if rows[i][i] is not None]
+        means = [Fraction(w) for i in range(n) if (w := rows[i][i]) is not None]
         if n == 2 and rows[0][1] is not None and rows[1][0] is not None:
             means.append(Fraction(rows[0][1] + rows[1][0], 2))
         return max(means, default=None)
@@ -189,8 +189,9 @@ def cycle_times(matrix: IntegerMatrix) -> list[Fraction | None]:
         while ready:  # Kahn's topological order of the classes
             c = ready.pop()
             for d in successors[c]:
-                if best[c] is not None and (best[d] is None or best[c] > best[d]):
-                    best[d] = best[c]
+                here, there = best[c], best[d]
+                if here is not None and (there is None or here > there):
+                    best[d] = here
                 waiting[d] -= 1
                 if waiting[d] == 0:
                     ready.append(d)

@@ -28,7 +28,7 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -44,7 +44,8 @@ def _abs_max(a: np.ndarray) -> int:
     return max(abs(int(a.max())), abs(int(a.min())))
 
 
-def _check_walk(weight_of, n: int, p: int, q: int, walk: Sequence[int]) -> None:
+def _check_walk(weight_of: Callable[[int, int], int | None], n: int, p: int, q: int,
+                walk: Sequence[int]) -> None:
     if q <= 0:
         raise CertificateError(f"the claimed mean {p}/{q} has a denominator <= 0")
     if not walk:

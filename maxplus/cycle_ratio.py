@@ -40,6 +40,7 @@ from fractions import Fraction
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, depth_first_order
 
@@ -107,7 +108,7 @@ class CycleRatioResult:
     weight: np.ndarray = field(repr=False)
     tokens: np.ndarray = field(repr=False)
     iterations: int = 0
-    _cycle_times: list | None = field(default=None, repr=False)
+    _cycle_times: list[Fraction | None] | None = field(default=None, repr=False)
 
     @property
     def n_nodes(self) -> int:
@@ -179,7 +180,8 @@ class CycleRatioResult:
     @property
     def circuit_nodes(self) -> list[int]:
         """Nodes of the critical circuit: the source of each of its arcs, in order."""
-        return self.src[self.circuit].tolist()
+        nodes: list[int] = self.src[self.circuit].tolist()
+        return nodes
 
     def verify(self) -> bool:
         """Check the certificate exactly; return True or raise CertificateError.
@@ -407,7 +409,7 @@ def _validate_weights(weight: Any, m: int) -> tuple[np.ndarray, int]:
     values = [exact(v, f"weight[{k}]", allow_eps=False) for k, v in enumerate(items)]
     scale = 1
     for v in values:
-        scale = math.lcm(scale, v.denominator)  # type: ignore[union-attr]
+        scale = math.lcm(scale, v.denominator)
     return int_array([int(v * scale) for v in values]), scale
 
 
@@ -463,6 +465,7 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
     ratio: Fraction | None = None
     iterations = 0
     if live is None or live.any():
+        nodes: slice | np.ndarray
         if live is None:  # every node: no relabelling, no copies
             nodes = slice(None)
             solution = howard_arrays(src, dst, w, t, n)
@@ -483,7 +486,8 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         potential[nodes] = solution.potential
         policy[nodes] = s_pol
         best = argmax_ratio(solution.ratio_num, solution.ratio_den)
-        best = best if live is None else int(nodes[best])
+        if isinstance(nodes, np.ndarray):  # relabelled (live is not None): the caller's node
+            best = int(nodes[best])
         circuit = _policy_circuit(best, policy, src)
         ratio = Fraction(int(num[best]), scale * int(den[best]))
     # Cycle times in lowest terms, with the weight scale folded in (in Python
@@ -508,7 +512,7 @@ def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.n
     graph = sp.csr_matrix((np.ones(len(src), dtype=np.int8), (src, dst)), shape=(n, n))
     n_comp, labels = connected_components(graph, directed=True, connection="strong")
     sizes = np.bincount(labels, minlength=n_comp)
-    cyclic = sizes[labels] > 1
+    cyclic: npt.NDArray[np.bool_] = sizes[labels] > 1
     cyclic[src[src == dst]] = True
     if not cyclic.any():
         return cyclic
@@ -582,4 +586,5 @@ def _policy_circuit_in_c(start: int, policy: np.ndarray, src: np.ndarray) -> np.
     walk = depth_first_order(graph, int(start), directed=True, return_predecessors=False)
     entry = int(pred[walk[-1]])
     cycle_nodes = walk[int(np.flatnonzero(walk == entry)[0]):]
-    return policy[cycle_nodes][::-1].astype(np.int64)
+    arcs: npt.NDArray[np.int64] = policy[cycle_nodes][::-1].astype(np.int64)
+    return arcs

@@ -68,8 +68,9 @@ class ZeroTokenCircuitError(MaxPlusError, ValueError):
         Nodes visited, ``nodes[i]`` is the source of ``circuit[i]``.
     """
 
-    def __init__(self, circuit: Sequence[int], nodes: Sequence[int], what: str = "") -> None:
-        self.circuit = list(circuit)
+    def __init__(self, circuit: Sequence[int] | Sequence[tuple[int, int]], nodes: Sequence[int],
+                 what: str = "") -> None:
+        self.circuit: list[int | tuple[int, int]] = list(circuit)
         self.nodes = list(nodes)
         path = " -> ".join(str(i) for i in [*self.nodes, self.nodes[0]])
         super().__init__(

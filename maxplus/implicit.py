@@ -40,7 +40,7 @@ from ._params import unmasked
 from ._scaled import as_exact, product_scaled, rank_of, scale_together
 from .dense import otimes, star
 from .errors import MaxPlusValueError, ZeroTokenCircuitError
-from .scalar import EPS, exact_matrix, exact_vector
+from .scalar import EPS, Scalar, exact_matrix, exact_vector
 
 __all__ = ["ExplicitSystem", "simulate", "to_explicit"]
 
@@ -170,7 +170,7 @@ def to_explicit(A0: Any, A1: Any, *higher: Any, B: Any = None) -> ExplicitSystem
     return ExplicitSystem(big, big_b, p, n)
 
 
-def _initial_states(initial: Any, n: int, p: int) -> list[list]:
+def _initial_states(initial: Any, n: int, p: int) -> list[list[Scalar]]:
     """``[x(0), x(−1), ..., x(1−p)]``, missing ones ε."""
     if initial is None:
         return [[EPS] * n for _ in range(p)]

@@ -52,7 +52,7 @@ References
 from __future__ import annotations
 
 from functools import cmp_to_key
-from typing import Any, NamedTuple
+from typing import Any, Literal, NamedTuple, TypeAlias
 
 import numpy as np
 import scipy.sparse as sp
@@ -202,27 +202,35 @@ def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     return matrix.indices.astype(index, copy=False), matrix.indptr.astype(index, copy=False)
 
 
+_OutArcs: TypeAlias = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Any]
+"""What :meth:`_InArcs.out_arcs` gives; the last item is a scipy sparse array (untyped)."""
+
+
 class _InArcs:
     """Arcs sorted by head (CSR of in-arcs), built once; the order by tail on demand."""
 
-    def __init__(self, src, dst, w, t, n: int, _sorted=None) -> None:
+    def __init__(self, src: np.ndarray | None, dst: np.ndarray | None, w: np.ndarray,
+                 t: np.ndarray, n: int,
+                 _sorted: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+                 ) -> None:
         self.n = n
         if _sorted is not None:
             self.order, self.s_src, self.s_dst, self.starts = _sorted
         else:
+            assert src is not None and dst is not None  # only as_object() gives none (sorted)
             self.order, self.starts = stable_order(dst, n)
             index = self.order.dtype
             self.s_src = src[self.order].astype(index, copy=False)
             self.s_dst = np.repeat(np.arange(n, dtype=index), np.diff(self.starts))
         self.s_w = w[self.order] if _sorted is None else w
         self.s_t = t[self.order] if _sorted is None else t
-        self._out: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._out: _OutArcs | None = None
 
     def as_object(self) -> _InArcs:
         return _InArcs(None, None, _objects(self.s_w), _objects(self.s_t), self.n,
                        (self.order, self.s_src, self.s_dst, self.starts))
 
-    def out_arcs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Any]:
+    def out_arcs(self) -> _OutArcs:
         """Sorted-arc positions grouped by tail, their heads, offsets and counts (for sweeps).
 
         The last item is the same as a sparse matrix (row: tail, column: head,
@@ -322,7 +330,9 @@ class _Bounds:
         self.rounds_hint, self.circuit_hint = min(5, (n - 1).bit_length()), 64
         self.mark = np.zeros(n, dtype=arcs.order.dtype)
         self.seen = np.zeros(n, dtype=bool)
-        self.circuits: tuple | None = None  # of the previous value determination
+        # Of the previous value determination: its circuit nodes and arcs, and what
+        # _circuits found for them.
+        self.circuits: tuple[np.ndarray, np.ndarray, _Circuits] | None = None
         self.local = np.zeros(n, dtype=arcs.order.dtype)
 
     def unpack(self, packed: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -351,6 +361,7 @@ def _howard(arcs: _InArcs) -> HowardSolution:
         iterations += 1
         cand = None
         if not check_all:
+            assert prev is not None  # check_all holds in the first iteration
             # An arc between two nodes whose ratio and potential did not change
             # was not improving at the last check and still is not. (Picking
             # those arcs out costs more than it saves when many nodes changed.)
@@ -414,7 +425,7 @@ class _ArcTerms:
 
     def __init__(self, arcs: _InArcs, bounds: _Bounds) -> None:
         self.arcs, self.bounds = arcs, bounds
-        self.ratio: tuple | None = None
+        self.ratio: tuple[Any, Any] | None = None  # (W, T) of the stored terms
         self.stored: np.ndarray | None = None  # keys (packed) or terms, in sorted-arc order
         self.block_keys: np.ndarray | None = None  # keys in block order (_lay_out_blocks)
         self.packed = False
@@ -429,7 +440,8 @@ class _ArcTerms:
         """Each arc's place among its head's in-arcs, counted from the last (0)."""
         arcs = self.arcs
         where = np.arange(len(arcs.s_dst), dtype=np.int64)[positions]
-        return arcs.starts[arcs.s_dst[positions]] + (self.degree_max - 1) - where
+        order: np.ndarray = arcs.starts[arcs.s_dst[positions]] + (self.degree_max - 1) - where
+        return order
 
     def _store(self, W: Any, T: Any) -> None:
         if self.ratio == (W, T):
@@ -481,12 +493,13 @@ class _ArcTerms:
         if self.stored is None:  # keys are kept in block order only
             arcs = self.arcs
             sub = slice(None) if cand is None else cand
-            out = arcs.s_w[sub] * T
+            out: np.ndarray = arcs.s_w[sub] * T
             out -= W * arcs.s_t[sub]
             return out
         stored = self.stored if cand is None else self.stored[cand]
         # An arithmetic shift floors: (term * 2**bits + rank) >> bits == term, signs included.
-        return stored >> self.bits if self.packed else stored
+        found: np.ndarray = stored >> self.bits if self.packed else stored
+        return found
 
     def _lay_out_blocks(self) -> None:
         """Group the nodes by in-degree, for :meth:`block_maxima`.
@@ -537,6 +550,8 @@ class _ArcTerms:
         maximum over the in-arcs sorted by head gives, by blocks of equal
         in-degree (:meth:`_lay_out_blocks`).
         """
+        # Called only once _lay_out_blocks laid them out and _store filled the keys.
+        assert self.blocks is not None and self.block_keys is not None
         bits = self.bits
         value = (X << bits)[self.block_src]
         value += self.block_keys
@@ -552,13 +567,18 @@ MAX_DEGREE_BLOCKS = 64
 """Most distinct in-degrees for which the bias step takes its maxima by blocks."""
 
 
+_Step: TypeAlias = Literal["ratio", "bias"]
+"""A policy improvement: to an arc of larger ratio, or of the same ratio and larger bias."""
+
+
 def _improve(pol: np.ndarray, cur: _Values, cand: np.ndarray | None, arcs: _InArcs,
-             terms: _ArcTerms) -> str | None:
+             terms: _ArcTerms) -> _Step | None:
     """Switch policy arcs among ``cand`` (None: all arcs); the kind of step taken, or None."""
     s_src, s_dst = arcs.s_src, arcs.s_dst
     W, T, X, rank = cur.W, cur.T, cur.X, cur.rank
     cs, cd = (s_src, s_dst) if cand is None else (s_src[cand], s_dst[cand])
     if cur.n_ranks > 1:
+        assert rank is not None  # _Values has a rank array exactly when n_ranks > 1
         rank_src, rank_dst = rank[cs], rank[cd]
         # 1. Ratio improvement: a predecessor whose ratio is strictly larger.
         better = np.flatnonzero(rank_src > rank_dst)
@@ -672,7 +692,7 @@ def _raise(pol: np.ndarray, rank: np.ndarray, done: np.ndarray, heads: np.ndarra
     Any such in-arc will do; of several for one node, the last written stays.
     """
     pol[heads] = arcs
-    level = heads[pol[heads] == arcs]
+    level: np.ndarray = heads[pol[heads] == arcs]
     rank[level] = top
     done[level] = True
     return level
@@ -733,7 +753,7 @@ def _value_determination(pol: np.ndarray, arcs: _InArcs, prev: _Values | None,
             if packed is not None:
                 land, sum_w, sum_t = bounds.unpack(packed)
                 packed = None
-            elif sum_w is None:
+            elif sum_w is None or sum_t is None:  # both are set, or neither
                 sum_w, sum_t = arcs.s_w[pol], arcs.s_t[pol]
             sum_w = sum_w + sum_w[land]
             sum_t = sum_t + sum_t[land]
@@ -806,7 +826,8 @@ def _distinct(nodes: np.ndarray, scratch: np.ndarray) -> np.ndarray:
     """
     positions = np.arange(len(nodes), dtype=scratch.dtype)
     scratch[nodes] = positions
-    return nodes[scratch[nodes] == positions]
+    kept: np.ndarray = nodes[scratch[nodes] == positions]
+    return kept
 
 
 def _closed(image: np.ndarray, pred: np.ndarray, scratch: np.ndarray) -> bool:
@@ -819,8 +840,15 @@ def _closed(image: np.ndarray, pred: np.ndarray, scratch: np.ndarray) -> bool:
     return len(_distinct(pred[image], scratch)) == len(image)
 
 
+_Circuits: TypeAlias = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""What :func:`_circuits` finds: ``(W_c, T_c, X_c, circuit_of, rank_c)``."""
+
+_Walked: TypeAlias = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""Circuits walked: root positions, circuit of each position, weight and token sums."""
+
+
 def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray,
-              prev: _Values | None, bounds: _Bounds):
+              prev: _Values | None, bounds: _Bounds) -> _Circuits:
     """Per policy circuit its reduced ratio, rank, and the potentials of its nodes.
 
     ``w_cyc`` and ``t_cyc`` are the weight and tokens of each circuit node's
@@ -878,7 +906,7 @@ determination on 10^4 nodes, against 8 us in Python for 32 circuit nodes and
 45 us for 256)."""
 
 
-def _python_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
+def _python_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _Walked:
     """:func:`_jump_circuits` for a few circuit nodes, walked in Python."""
     c = len(back)
     following = [0] * c
@@ -905,7 +933,7 @@ def _python_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
             _like(sum_w, w_cyc), _like(sum_t, t_cyc))
 
 
-def _like(values: list, model: np.ndarray) -> np.ndarray:
+def _like(values: list[int], model: np.ndarray) -> np.ndarray:
     """``values`` as an array of ``model``'s dtype (object arrays hold Python ints)."""
     if model.dtype != object:
         return np.array(values, dtype=model.dtype)
@@ -914,7 +942,7 @@ def _like(values: list, model: np.ndarray) -> np.ndarray:
     return out
 
 
-def _jump_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
+def _jump_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _Walked:
     """Roots, circuit index and weight and token sums from the root, by pointer jumping.
 
     ``back`` maps each circuit node (a position) to its predecessor on its
@@ -944,7 +972,7 @@ def _jump_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
     return roots, slot[smallest], sum_w, sum_t
 
 
-def _walk_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray):
+def _walk_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _Walked:
     """:func:`_jump_circuits` by a traversal in C: long circuits cost ``O(c)``.
 
     A depth-first search that tries every position in increasing order enters

@@ -56,7 +56,7 @@ from collections.abc import Iterable
 from decimal import Decimal
 from fractions import Fraction
 from numbers import Integral, Rational
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
 
@@ -124,6 +124,10 @@ def is_eps(value: Any) -> bool:
     return isinstance(value, float) and value == EPS
 
 
+@overload
+def exact(value: Any, where: str = ..., *, allow_eps: Literal[False]) -> Fraction: ...
+@overload
+def exact(value: Any, where: str = ..., allow_eps: bool = ...) -> Scalar: ...
 def exact(value: Any, where: str = "value", allow_eps: bool = True) -> Scalar:
     """Convert one user value to an exact (max,+) scalar.
 
@@ -323,7 +327,7 @@ def _parse(value: Any, where: str) -> Scalar:
         return value  # the common case, within the bound for sure: no copy, no count
     if isinstance(value, (Integral, Rational)):
         result = (Fraction(int(value)) if isinstance(value, Integral)
-                  else Fraction(value.numerator, value.denominator))
+                  else Fraction(int(value.numerator), int(value.denominator)))
         for part, what in ((result.numerator, ""), (result.denominator, "a denominator of ")):
             why = _int_problem(part, f"the {type(value).__name__}", what)
             if why is not None:
@@ -385,9 +389,15 @@ def exact_time(value: Any, where: str = "value") -> Fraction:
     >>> exact_time("0.25")
     Fraction(1, 4)
     """
-    return exact(value, where, allow_eps=False)  # type: ignore[return-value]
+    return exact(value, where, allow_eps=False)
 
 
+@overload
+def exact_text(value: Fraction | int) -> str: ...
+@overload
+def exact_text(value: None) -> None: ...
+@overload
+def exact_text(value: Fraction | int | None) -> str | None: ...
 def exact_text(value: Fraction | int | None) -> str | None:
     """An exact number as reports write it: ``"7/3"``, ``"2"``; None stays None.
 
@@ -443,6 +453,12 @@ DISPLAY_DIGITS = 30
 """Most significant digits of a decimal that text reports print instead of a fraction."""
 
 
+@overload
+def display_text(value: Fraction | int) -> str: ...
+@overload
+def display_text(value: None) -> None: ...
+@overload
+def display_text(value: Fraction | int | None) -> str | None: ...
 def display_text(value: Fraction | int | None) -> str | None:
     """An exact number as text reports print it: its decimal when it terminates.
 
@@ -655,6 +671,8 @@ def common_denominator(values: Iterable[Scalar]) -> int:
     scale = 1
     for v in values:
         if not is_eps(v) and not (isinstance(v, float) and v == TOP):
+            # A float here is EPS or TOP, skipped above: the types (Fraction | float)
+            # cannot say that the only floats are those two.
             scale = math.lcm(scale, v.denominator)  # type: ignore[union-attr]
     return scale
 
@@ -696,6 +714,7 @@ def to_scaled(matrix: np.ndarray, scale: int | None = None,
         scale = common_denominator(flat)
     ints: list[Any] = [v if is_eps(v) else int(v * scale) for v in flat]
     largest = max((abs(v) for v in ints if not is_eps(v)), default=0)
+    arr: np.ndarray
     if (largest + 1) * max(growth, 1) < FLOAT_EXACT_BOUND:
         arr = np.array(ints, dtype=float).reshape(matrix.shape)
     else:

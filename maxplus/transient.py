@@ -357,7 +357,7 @@ def trajectory_transient(A: Any, x0: Any, max_steps: int = 10_000) -> Trajectory
     (S, X), scale = scale_together([M, vec], growth=max_steps + 2)
     num, den = (rate.numerator, rate.denominator) if rate is not None else (0, 1)
     state = X[:, 0]
-    seen: dict[tuple, int] = {}
+    seen: dict[tuple[Any, ...], int] = {}
     for k in range(max_steps + 1):
         # x(k) − kμ, scaled by den so that everything stays an integer.
         key = tuple(v if v == -np.inf else int(v) * den - k * num * scale for v in state.tolist())

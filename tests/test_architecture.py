@@ -37,6 +37,30 @@ def test_every_dependency_declared_and_used():
     assert done.returncode == 0, done.stdout + done.stderr
 
 
+def test_types_check():
+    """mypy with the [tool.mypy] configuration: strict on maxplus.
+
+    The cache is the project's ``.mypy_cache``: mypy keys it by its version, options and
+    each file's content, so a warm run (about a second) finds what a cold one (15 to 30 s)
+    does.
+    """
+    done = _run(sys.executable, "-m", "mypy", "--config-file", "pyproject.toml")
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_maxplus_is_the_strict_one():
+    """No override loosens maxplus: only tegraph modules switch parts of `strict` off."""
+    tomllib = pytest.importorskip("tomllib", reason="tomllib is in Python 3.11 and later")
+    mypy = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["mypy"]
+    assert mypy["strict"] is True and "maxplus" in mypy["files"]
+    for override in mypy.get("overrides", []):
+        loosened = [k for k, v in override.items() if v is False or k == "ignore_errors"]
+        if loosened:
+            modules = override["module"]
+            modules = [modules] if isinstance(modules, str) else modules
+            assert all(m.split(".")[0] == "tegraph" for m in modules), (modules, loosened)
+
+
 @pytest.mark.parametrize("tree", ["maxplus", "tegraph", "tests", "benchmarks"])
 def test_ruff_clean(tree):
     """ruff, with the rule set chosen in pyproject.toml."""
