@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -479,7 +479,7 @@ def _figures_for_drawing(obj: Any) -> CycleTimeResult | None:
 
 
 def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
-            clocks: dict[str, Sequence[Any]] | None = None,
+            clocks: Mapping[str, Sequence[Any]] | Sequence[Any] | None = None,
             chains: Sequence[Sequence[str]] = (), objectives: Sequence[str] | None = None,
             scheduler: str | None = None, workers: int | None = None,
             output: str | os.PathLike[str] | None = None, resume: bool = False,
@@ -504,8 +504,9 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
         ``{"W:p -> R:q": ["ASYN/SYN", "SYN/SYN"]}``; None or a bare name: all four.
     all_links : bool
         Choose every link, with all four protocols.
-    clocks : mapping of str to sequence of times
-        ``{"rtc": [5, 10, 20]}``; a task's own clock is ``"TASK.clock"``.
+    clocks : mapping of str to sequence of times, or sequence of pairs or texts
+        ``{"rtc": [5, 10, 20]}``, or ``["rtc=5,10,20"]`` as the command line gives them
+        (a clock named twice is refused); a task's own clock is ``"TASK.clock"``.
     chains : sequence of task-name sequences
         Chains whose latency is an objective, besides the skeleton's ``chains``.
     objectives : sequence of str, optional

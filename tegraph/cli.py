@@ -303,6 +303,7 @@ def fix(
         raise typer.Exit(1)
     if output is not None:
         try:
+            # Type: a live result (checked above) carries the fixed skeleton.
             dump_skeleton(result.skeleton, output, overwrite=force)  # type: ignore[arg-type]
         except FileExistsError:
             _fail(f"{output}: the file exists already; pass --force to replace it")

@@ -38,7 +38,7 @@ def test_every_dependency_declared_and_used():
 
 
 def test_types_check():
-    """mypy with the [tool.mypy] configuration: strict on maxplus.
+    """mypy with the [tool.mypy] configuration: strict on maxplus, basic on tegraph.
 
     The cache is the project's ``.mypy_cache``: mypy keys it by its version, options and
     each file's content, so a warm run (about a second) finds what a cold one (15 to 30 s)

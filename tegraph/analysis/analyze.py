@@ -56,6 +56,7 @@ from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import minimal_semiflows
 from .liveness import token_free_circuits
 from .processors import MAX_EVENTS, schedule_on_processors
+from .processors.schedule import UnboundedKind
 from .regime_bounds import autonomous_from
 from .reorder import reorder_ports
 from .repair import fix_ports
@@ -72,7 +73,7 @@ from .slack import shortest_circuits_through
 
 __all__ = ["analyze_skeleton"]
 
-_KIND_REPORTED = {
+_KIND_REPORTED: dict[str, UnboundedKind] = {
     "activation": "clock-overrun",
     "asyn-syn": "messages-overwritten",
     "syn-asyn": "requests-overwritten",
@@ -304,12 +305,13 @@ def _unbounded_places(g: _EventGraph, periods: _Periods) -> list[UnboundedPlace]
         a, b = int(g.src[k]), int(g.dst[k])
         kind = _KIND_REPORTED.get(g.places[k].kind, "chain")
         out.append(UnboundedPlace(
+            # Type: the ends of a live place lie downstream of a circuit: cycle times set.
             g.names[a], g.names[b], kind, ct[a], ct[b],  # type: ignore[arg-type]
             int(g.group_of_event[a]), _unbounded_advice(g, ct, kind, a, b)))
     return out
 
 
-def _unbounded_advice(g: _EventGraph, ct: list[Fraction | None], kind: str, a: int,
+def _unbounded_advice(g: _EventGraph, ct: list[Fraction | None], kind: UnboundedKind, a: int,
                       b: int) -> str:
     u = g.sk.unit
     fast, slow = display_text(ct[a]), display_text(ct[b])
@@ -360,6 +362,7 @@ def _group_reports(g: _EventGraph, periods: _Periods, dead_groups: set[int],
             if consistent:
                 period = ct[slowest]
         out.append(GroupReport(index, list(tasks), clocks, live, consistent, period, None,
+                               # Type: the events of a live group have their cycle times.
                                circuit, cycle_times, holdings, tokens))  # type: ignore[arg-type]
     return out
 
@@ -399,13 +402,15 @@ def _slack(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         lightest: dict[tuple[int, int], int] = {}
         for a, b, r in zip(s.tolist(), d.tolist(), reduced):
             lightest[a, b] = min(r, lightest.get((a, b), r))
-        upper = []
+        upper: list[int | None] = []
         for t in group.tasks:
             chain = task_chain(g.teg, t)
             hops = [lightest.get(hop) for hop in zip(chain, chain[1:] + chain[:1])]
-            upper.append(None if None in hops else sum(hops))  # type: ignore[arg-type]
+            known = [h for h in hops if h is not None]
+            upper.append(sum(known) if len(known) == len(hops) else None)
         for t, shortest in zip(group.tasks, shortest_circuits_through(
                 events, s, d, reduced, sources, upper)):
+            assert shortest is not None  # on its own chain circuit (above): a minimum exists
             slack = Fraction(shortest, T * g.scale)
             tasks[t].slack = slack
             tasks[t].critical = slack == 0
@@ -424,6 +429,7 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         if group.rate_consistent:
             group_regime[group.index] = len(regimes)
             events = g.events_of_group[group.index]
+            # Type: a rate-consistent group has its period (both lines).
             regimes.append(Regime(events, group.period.numerator,  # type: ignore[union-attr]
                                   group.period.denominator))  # type: ignore[union-attr]
     watches: list[OverrunWatch] = []
@@ -454,7 +460,7 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
                 proven = closure_regime[key]
             # Without a proven regime, only an overrun ends the search; it
             # must come when the task is slower than its clock.
-            certain = ct[last] > period  # type: ignore[operator]
+            certain = ct[last] > period
             watches.append(OverrunWatch(last, tick, proven, certain=certain, end_offset=offset))
         watched.append(name)
     notes: list[str] = []

@@ -28,6 +28,7 @@ the (max,+) counterpart of the ORCCAD paper's search for a repeated marking
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
@@ -177,7 +178,7 @@ def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.nd
         raise ModelError("the 0-token places of the simulated events contain a circuit; "
                          "simulate live events only", "active")
     depth = int(level.max(initial=-1)) + 1
-    out = []
+    out: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
     place_level = level[dst]
     if len(dst) < _THIN * depth:
         by_level = np.lexsort((dst, place_level))
@@ -298,7 +299,7 @@ class OverrunWatch:
     end_offset: int = 0
     overrun_at: int | None = None
     decided: bool = False
-    method: str = "simulation"
+    method: Literal["simulation", "max-plus powers"] = "simulation"
     """How it was decided: ``"simulation"`` (seen, or excluded by a proven regime) or
     ``"max-plus powers"`` (a certain overrun located exactly, see :func:`certain_overrun`)."""
 
@@ -506,7 +507,8 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
                                                       for e in events)}
     threshold = phase - end_offset
     # The first `depth` firings, with the initial tokens' availability times.
-    history, best = [], None
+    history: list[dict[int, int]] = []
+    best = None
     for k in range(1, depth + 1):
         history.append(_firing(order, into, graph, history, k))
         norm = history[-1][last] - k * period
@@ -551,6 +553,8 @@ def _firing(order: list[int], into: dict[int, list[int]], graph: tuple,
                  else (x[int(src[p])] if m == 0 else history[-m][int(src[p])])
                  + int(holding[p]))
             value = v if value is None or v > value else value
+        # Type: every event in order has an input place (certain_overrun checks it
+        # first), so value is set.
         x[e] = value  # type: ignore[assignment]
     return x
 
@@ -579,7 +583,8 @@ def _step(order: list[int], into: dict[int, list[int]], graph: tuple,
     return step
 
 
-def _last_below(matrix: np.ndarray, state: np.ndarray, threshold: int, zi: int) -> int | None:
+def _last_below(matrix: tuple[np.ndarray, np.ndarray], state: np.ndarray, threshold: int,
+                zi: int) -> int | None:
     """The largest number of steps after which ``state[zi]`` is still at most
     ``threshold`` (it is non-decreasing), by doubling then halving powers of
     ``matrix``; None when it stays below past 2**_MAX_DOUBLINGS steps."""
@@ -652,7 +657,7 @@ def _apply(a: tuple[np.ndarray, np.ndarray], x: np.ndarray, xf: np.ndarray
 
 def _max_over(sums: np.ndarray, ok: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
     """The maximum over ``axis`` of the entries where ``ok``; (values, any ok)."""
-    any_ok = ok.any(axis=axis)
+    any_ok = np.asarray(ok.any(axis=axis))  # an array: ok has 2 or 3 axes
     if not ok.any():
         return np.zeros(any_ok.shape, dtype=object), any_ok
     low = min(sums[ok].tolist()) - 1  # below every entry that counts

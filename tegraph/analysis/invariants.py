@@ -28,6 +28,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 import scipy.sparse as sp
@@ -94,7 +95,7 @@ DENSE_LIMIT = 1 << 18
 
 
 def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000,
-                      method: str = "auto") -> SemiflowResult:
+                      method: Literal["auto", "dense", "sparse"] = "auto") -> SemiflowResult:
     """All minimal p-semiflows of an incidence matrix, within a row budget.
 
     Parameters
@@ -211,7 +212,7 @@ def _farkas_sparse(Y: sp.csr_matrix, R: sp.csr_matrix, budget: int) -> SemiflowR
 
 def _farkas_dense(Y: np.ndarray, R: np.ndarray, budget: int) -> SemiflowResult:
     n_places = Y.shape[1]
-    done = ~R.any(axis=0)
+    done = np.asarray(~R.any(axis=0))  # an array: R is 2-D (the stubs allow a scalar)
     for _ in range(int((~done).sum())):
         cost = (R > 0).sum(axis=0) * (R < 0).sum(axis=0)
         cost[done] = np.iinfo(np.int64).max

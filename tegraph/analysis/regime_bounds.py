@@ -145,6 +145,7 @@ def _lower_bounds(slow, slow_mask, period, src, dst, tokens, holding, initial, s
         rows.append(x[target_list].copy())
         return x
 
+    # Type: the simulator's step, wrapped to record each state it reaches.
     sim.step = step  # type: ignore[method-assign]
     explore(sim, scale, [regime], [], max_steps)
     if regime.transient is None or regime.cyclicity is None:

@@ -36,7 +36,7 @@ import heapq
 from dataclasses import dataclass, field, replace
 
 from ..model.build import build_teg
-from ..model.elements import flow_list
+from ..model.elements import LinkLabel, flow_list
 from ..model.skeleton import Protocol, Skeleton, Task
 from .liveness import token_free_circuits
 
@@ -59,7 +59,7 @@ class ReorderResult:
     circuit : list of str
         When impossible: a circuit of the precedence graph, as event names;
         it is a deadlock whatever the port orders.
-    links : list of str
+    links : list of LinkLabel
         When impossible: the synchronizing links on that circuit (turning one
         of them asynchronous, or adding a clock or thread token, breaks it).
     """
@@ -68,7 +68,7 @@ class ReorderResult:
     orders: dict[str, dict[str, list[str]]] = field(default_factory=dict)
     skeleton: Skeleton | None = None
     circuit: list[str] = field(default_factory=list)
-    links: list[str] = field(default_factory=list)
+    links: list[LinkLabel] = field(default_factory=list)
 
 
 @dataclass
@@ -280,7 +280,7 @@ class PrecedenceGraph:
         self.priority: list[int] = []
         self.keys: list[str] = []  # names without the file's positions, for ties
         self.succ: list[list[int]] = []
-        self.link_edges: dict[tuple[int, int], list[str]] = {}
+        self.link_edges: dict[tuple[int, int], list[LinkLabel]] = {}
         self.read: dict[tuple[str, str], int] = {}
         self.write: dict[tuple[str, str], int] = {}
         self._ticks: dict[str, int] = {}

@@ -57,6 +57,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from ..model.build import build_teg
+from ..model.elements import LinkLabel
 from ..model.skeleton import Protocol, Skeleton
 from .liveness import token_free_circuits
 
@@ -109,7 +110,7 @@ class FixResult:
     circuit : list of str
         When impossible: a circuit of the precedence graph, a deadlock for
         every port order.
-    links : list of str
+    links : list of LinkLabel
         When impossible: the synchronizing links on that circuit; turning one
         of them asynchronous (ASYN/ASYN), or adding a clock, breaks it.
     threads : list of ThreadChange
@@ -128,7 +129,7 @@ class FixResult:
     changes: list[PortChange] = field(default_factory=list)
     deadlocks: list[list[str]] = field(default_factory=list)
     circuit: list[str] = field(default_factory=list)
-    links: list[str] = field(default_factory=list)
+    links: list[LinkLabel] = field(default_factory=list)
     threads: list[ThreadChange] = field(default_factory=list)
 
     @property
@@ -259,7 +260,8 @@ def _reordered(skeleton: Skeleton, graph: PrecedenceGraph, freed: list[_Side],
         if after != side.ports:
             changes.append(PortChange(side.task, side.side, side.ports, after,
                                       reasons[side.task, side.side]))
-            tasks[side.task] = replace(tasks[side.task], **{side.side: after})
+            ports: dict[str, Any] = {side.side: after}  # "inputs" or "outputs"
+            tasks[side.task] = replace(tasks[side.task], **ports)
     return replace(skeleton, tasks=tasks), changes
 
 
@@ -347,6 +349,7 @@ def _reaches(g: PrecedenceGraph, source: int, target: int, label: int | None,
         if v == target:
             return True
         for w in g.succ[v]:
+            # Type: component is given whenever label is.
             if w not in seen and (label is None or component[w] == label):  # type: ignore[index]
                 seen.add(w)
                 stack.append(w)

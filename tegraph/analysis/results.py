@@ -10,11 +10,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from maxplus.scalar import exact_text
 
-from .processors.schedule import ProcessorSchedule
+from .processors.schedule import ProcessorSchedule, UnboundedKind
+
+if TYPE_CHECKING:  # annotations only: a report loads no more modules for them
+    from ..model.elements import LinkLabel
 
 __all__ = ["Deadlock", "DesignPart", "GroupReport", "InvariantCheck", "Reorder", "Report",
            "TaskReport", "UnboundedPlace"]
@@ -26,7 +29,7 @@ class Deadlock:
 
     events: list[str]
     tasks: list[str]
-    links: list[str]
+    links: list[LinkLabel]
     advice: str
 
 
@@ -36,7 +39,7 @@ class UnboundedPlace:
 
     src: str
     dst: str
-    kind: str
+    kind: UnboundedKind
     src_cycle_time: Fraction
     dst_cycle_time: Fraction
     group: int
@@ -129,7 +132,7 @@ class Reorder:
     possible: bool
     orders: dict[str, dict[str, list[str]]]
     circuit: list[str] | None = None
-    links: list[Any] | None = None
+    links: list[LinkLabel] | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for the JSON report (``circuit`` and ``links`` only when impossible)."""

@@ -248,6 +248,7 @@ class _Context:
                           f"{cause.task} overruns")
             return Limit("overrun", detail, g.index, cause.task, cause.clock, None, events,
                          certificate=cert.kind, tasks=_owners(g, events))
+        # Type: a cause that is not an overrun is a pace cause: it has both circuits (both lines).
         circuit = [names[int(g.src[p])] for p in cause.circuit.places]  # type: ignore[union-attr]
         source = [names[int(g.src[p])] for p in cause.source.places]  # type: ignore[union-attr]
         against = (f"clock {cause.clock}" if cause.clock is not None

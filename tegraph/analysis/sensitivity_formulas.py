@@ -157,7 +157,7 @@ def period_formulas(groups: Sequence[ParametricGroup], params: Sequence[Paramete
     exact = [g for g in groups if len(g.params) <= max_parameters]
     solvers = [_cutting_planes(g, params) for g in exact]
     out: dict[int, GroupFormula] = {}
-    asked = [next(s) for s in solvers]
+    asked: list[list[tuple] | None] = [next(s) for s in solvers]
     rounds = queries = 0
     while any(a is not None for a in asked):
         batch, owners = [], []
@@ -194,8 +194,9 @@ def _box(params: Sequence[Parameter], dims: Sequence[int], extra: int = 0) -> Po
     for i, j in enumerate(dims):
         unit = tuple(Fraction(int(k == i)) for k in range(n))
         box.add((tuple(-x for x in unit), -params[j].low))
-        if params[j].high is not None:
-            box.add((unit, params[j].high))
+        high = params[j].high
+        if high is not None:
+            box.add((unit, high))
     return box
 
 
@@ -300,10 +301,11 @@ def _at_nominal(groups: Sequence[ParametricGroup], nominal: Sequence[Fraction]
         policy = mcr.certificate.policy
         for k, j, sign, first_node, first_arc, arcs in copies:
             n = groups[k].n_events
-            best = max((e for e in range(first_node, first_node + n) if ct[e] is not None),
-                       key=lambda e: ct[e])
+            finite = {e: ct_e for e in range(first_node, first_node + n)
+                      if (ct_e := ct[e]) is not None}
+            best = max(finite, key=finite.__getitem__)  # the first of the largest, as before
             circuit = _policy_circuit(policy, all_src, best)
-            slopes[k, j, sign] = (sign * ct[best],
+            slopes[k, j, sign] = (sign * finite[best],
                                   [int(arcs[a - first_arc]) for a in circuit])
     out = []
     for k, (g, a) in enumerate(zip(groups, answers)):

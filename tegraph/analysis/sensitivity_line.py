@@ -46,6 +46,7 @@ import math
 from collections.abc import Generator, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Literal
 
 from .sensitivity_model import ParametricGroup
 from .sensitivity_oracle import Affine, Certificate, Circuit, PointResult, evaluate
@@ -97,7 +98,7 @@ class Cause:
       free-running circuit): a place between them is unbounded.
     """
 
-    kind: str
+    kind: Literal["overrun", "pace"]
     group: int
     task: str | None = None
     clock: str | None = None
@@ -128,7 +129,7 @@ def solve_lines(pairs: Sequence[tuple[ParametricGroup, Line]], nominal: Sequence
         One set per pair; the number of batched oracle calls and of points asked.
     """
     solvers = [_solve(g, line, nominal) for g, line in pairs]
-    asked = [next(s) for s in solvers]
+    asked: list[list[Fraction] | None] = [next(s) for s in solvers]
     results: list[LineSet | None] = [None] * len(pairs)
     rounds = queries = 0
     while any(a is not None for a in asked):
@@ -152,6 +153,7 @@ def solve_lines(pairs: Sequence[tuple[ParametricGroup, Line]], nominal: Sequence
             except StopIteration as done:
                 results[k] = done.value
                 asked[k] = None
+    # Type: the loop ends when every solver has returned: no result is None.
     return results, rounds, queries  # type: ignore[return-value]
 
 
@@ -291,11 +293,13 @@ class _Newton:
             lines = [(self.line.affine(c.excess, self.nominal), c) for c in violations]
             if self.phase == "upper":
                 if any(s <= 0 for (_, s), _ in lines):
-                    return self._nothing()
+                    self._nothing()
+                    return None
                 roots = [(-c / s, cert) for (c, s), cert in lines]
                 step = min(r for r, _ in roots)
                 if step < self.low:
-                    return self._nothing()
+                    self._nothing()
+                    return None
                 self.cut["upper"] = [cert for r, cert in roots if r == step]
             else:
                 if any(s >= 0 for (_, s), _ in lines):
@@ -310,7 +314,6 @@ class _Newton:
     def _nothing(self) -> None:
         self.empty, self.phase = True, "done"
         self.upper = self.lower = None
-        return None
 
 
 def _assemble(group, line, nominal, low, top, pieces, newton: _Newton, n_queries: int
@@ -327,6 +330,7 @@ def _assemble(group, line, nominal, low, top, pieces, newton: _Newton, n_queries
     if newton.empty:
         no_overrun: list[Interval] = []
     else:
+        # Type: a Newton search that is not empty found its lower end (None above: unbounded).
         no_overrun = [(newton.lower, newton.upper)]  # type: ignore[list-item]
     intervals = intersect(rc, no_overrun)
     if far:
@@ -381,7 +385,7 @@ def _piece_line(pieces: list, t: Fraction, side: str = "") -> tuple:
 
 
 def _union_append(out: list[Interval], segment: Interval) -> list[Interval]:
-    if out and out[-1][1] is not None and segment[0] <= out[-1][1]:  # type: ignore[operator]
+    if out and out[-1][1] is not None and segment[0] <= out[-1][1]:
         out[-1] = (out[-1][0], segment[1])
     else:
         out.append(segment)

@@ -170,7 +170,8 @@ def _clocked_margins(groups: Sequence[ParametricGroup], nominal: Sequence[Fracti
         for p in np.flatnonzero(g.tokens > 0).tolist():
             v = int((g.initial[p] - period) * scale)
             e = int(g.dst[p])
-            start[e] = v if start[e] is None else max(start[e], v)  # type: ignore[type-var]
+            old = start[e]
+            start[e] = v if old is None else max(old, v)
         labels = np.arange(len(g.src))
         ints = [int(w) for w in weight]
         forward.append((g.n_events, g.src, g.dst, labels, ints, start, [0] * g.n_events))
@@ -183,19 +184,24 @@ def _clocked_margins(groups: Sequence[ParametricGroup], nominal: Sequence[Fracti
     behind = iter(longest_paths(reverse))
     out = []
     for (g, values, scale, weight), (y, _) in zip(jobs, ahead):
-        bounds: dict[str, Fraction] = {t: report.tasks[t].slack for t in g.tasks}  # type: ignore
+        # The groups here are live: analyze gave each of their tasks a slack.
+        bounds: dict[str, Fraction] = {t: report.tasks[t].slack for t in g.tasks}  # type: ignore[misc]
         for w in g.watches:
             r, _ = next(behind)
             room = g.clocks[w.clock].phase - g.offset(w, values)
             if w.offset_param >= 0:  # the task's own duration ends its activation
                 own = g.tasks[[index[t] for t in g.tasks].index(w.offset_param)]
-                bounds[own] = min(bounds[own], room - Fraction(y[w.end], scale))  # type: ignore
+                # y[w.end] is set: every event of a live group lies downstream of a marked
+                # place (its task's chain circuit holds a token).
+                end = Fraction(y[w.end], scale)  # type: ignore[arg-type]
+                bounds[own] = min(bounds[own], room - end)
             for t in g.tasks:
                 best = None
                 for p in np.flatnonzero(g.param == index[t]).tolist():
                     u, v = int(g.src[p]), int(g.dst[p])
-                    if y[u] is not None and r[v] is not None:
-                        total = y[u] + weight[p] + r[v]
+                    ahead_u, behind_v = y[u], r[v]
+                    if ahead_u is not None and behind_v is not None:
+                        total = ahead_u + weight[p] + behind_v
                         best = total if best is None else max(best, total)
                 if best is not None:
                     bounds[t] = min(bounds[t], room - Fraction(best, scale))

@@ -39,7 +39,7 @@ from maxplus.scalar import exact_time, size_problem
 
 from ..errors import InputError
 from ..model.build import build_teg, last_event
-from ..model.skeleton import Clock, Skeleton, Task
+from ..model.skeleton import Clock, Link, Skeleton, Task
 from ..model.teg import Place
 
 __all__ = [
@@ -273,8 +273,9 @@ def group_skeleton(skeleton: Skeleton, tasks: Sequence[str]) -> Skeleton:
     links add no place), so every figure of spec §4 of the group is the same.
     """
     members = set(tasks)
+    own = [skeleton.tasks[t] for t in tasks]
     clocks = {c: skeleton.clocks[c] for c in dict.fromkeys(
-        skeleton.tasks[t].clock for t in tasks if skeleton.tasks[t].clock is not None)}
+        task.clock for task in own if task.clock is not None)}
     links = [link for link in skeleton.links if link.protocol.synchronizing
              and link.writer[0] in members and link.reader[0] in members]
     threads = [th for th in skeleton.threads if th[0] in members]
@@ -418,7 +419,7 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter]) -> list[P
     ends_with_duration = activation_end_adds_duration()
     groups = skeleton_groups(skeleton)
     group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
-    links: list[list] = [[] for _ in groups]
+    links: list[list[Link]] = [[] for _ in groups]
     for link in skeleton.links:
         if link.protocol.synchronizing:
             links[group_of[link.writer[0]]].append(link)
@@ -427,8 +428,9 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter]) -> list[P
         threads[group_of[thread[0]]].append(thread)
     out = []
     for g, tasks in enumerate(groups):
+        own = [skeleton.tasks[t] for t in tasks]
         clocks = {c: skeleton.clocks[c] for c in dict.fromkeys(
-            skeleton.tasks[t].clock for t in tasks if skeleton.tasks[t].clock is not None)}
+            task.clock for task in own if task.clock is not None)}
         sub = Skeleton(skeleton.name, {t: skeleton.tasks[t] for t in tasks}, clocks, links[g],
                        threads[g], skeleton.unit)
         local = sorted([(by_owner[("duration", t)], "duration", t) for t in tasks

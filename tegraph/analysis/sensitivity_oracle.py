@@ -70,7 +70,7 @@ class Affine:
 
     def slope(self, direction: Mapping[int, Fraction]) -> Fraction:
         """Rate of change along ``direction`` (a vector of parameter increments)."""
-        return sum((c * direction.get(j, 0) for j, c in self.coef), Fraction(0))
+        return sum((c * direction.get(j, Fraction(0)) for j, c in self.coef), Fraction(0))
 
     def coefficient(self, j: int) -> int:
         return dict(self.coef).get(j, 0)
@@ -161,7 +161,8 @@ class PointResult:
 
     def critical_circuit(self) -> Circuit:
         """A circuit whose ratio is the group's largest."""
-        return self.circuit(int(np.argmax([c for c in self.cycle_time])))
+        ct = self.cycle_time  # the first of the largest, as numpy's argmax
+        return self.circuit(max(range(len(ct)), key=ct.__getitem__))
 
 
 def _policy_circuit(policy: np.ndarray, src: np.ndarray, event: int) -> list[int]:
@@ -296,9 +297,10 @@ def _overruns(results: list[PointResult]) -> None:
         info = g.clocks[clock]
         for w in watched:
             watch = g.watches[w]
-            if value[watch.end] is None:
+            reached = value[watch.end]
+            if reached is None:
                 raise AssertionError("internal error: an event no marked place reaches")
-            end_value = Fraction(value[watch.end], scale) + g.offset(watch, r.values)
+            end_value = Fraction(reached, scale) + g.offset(watch, r.values)
             margin = info.phase - end_value
             if margin >= 0:
                 r.slack[w] = margin
@@ -344,7 +346,7 @@ def _path(pred: list[int], g: ParametricGroup, end: int) -> tuple[int, list[int]
     raise AssertionError("internal error: the longest-path tree has a circuit")
 
 
-def _longest_paths(jobs) -> list[tuple[list[int], list[int], int]]:
+def _longest_paths(jobs) -> list[tuple[list[int | None], list[int], int]]:
     """Longest paths of every job, on the events with χ <= P (module docstring).
 
     Returns, per job, the value of each event (scaled), its tree predecessor (a
@@ -369,7 +371,7 @@ def _longest_paths(jobs) -> list[tuple[list[int], list[int], int]]:
             a = g.initial[p]
             v = a.numerator * (scale // a.denominator) - p_int
             e = int(g.dst[p])
-            if start[e] is None or v > start[e]:  # type: ignore[operator]
+            if start[e] is None or v > start[e]:
                 start[e], start_pred[e] = v, -p - 1
         blocks.append((g.n_events, g.src[arc], g.dst[arc], arc, weight, start, start_pred))
         scales.append(scale)

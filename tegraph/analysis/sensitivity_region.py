@@ -112,9 +112,9 @@ def _region(group: ParametricGroup, x: int, y: int,
                                         "consistent region is not drawn (not computed exactly)")
     x0, x1, y0, y1 = window
     poly = Polyhedron(2)
-    for row in (((Fraction(-1), Fraction(0)), -x0), ((Fraction(1), Fraction(0)), x1),
-                ((Fraction(0), Fraction(-1)), -y0), ((Fraction(0), Fraction(1)), y1)):
-        poly.add(row)
+    for side in (((Fraction(-1), Fraction(0)), -x0), ((Fraction(1), Fraction(0)), x1),
+                 ((Fraction(0), Fraction(-1)), -y0), ((Fraction(0), Fraction(1)), y1)):
+        poly.add(side)
     for a, b, bound in pace:
         poly.add(((a, b), bound))
     cuts: list[tuple[Fraction, Fraction, Fraction, str]] = []

@@ -66,7 +66,8 @@ from maxplus.scalar import exact_text
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.results import Report
 from ..model.build import build_teg
-from ..model.skeleton import Protocol, Skeleton
+from ..model.elements import LinkLabel
+from ..model.skeleton import Link, Protocol, Skeleton
 from ..model.skeleton.checks import KeyPath, Locator, check_chain
 from .schedulability import Schedulability, schedulability
 
@@ -99,7 +100,7 @@ class Hop:
 
     writer: str
     reader: str
-    links: list[str]
+    links: list[LinkLabel]
 
 
 @dataclass
@@ -281,7 +282,7 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     return result
 
 
-def _links(sk: Skeleton, writer: str, reader: str) -> list:
+def _links(sk: Skeleton, writer: str, reader: str) -> list[Link]:
     return [link for link in sk.links if link.writer[0] == writer and link.reader[0] == reader]
 
 
@@ -414,7 +415,9 @@ def _oldest(col, hops, i: int, k: int, start_e: int, K: int, n: int):
 
 
 def _bounds(segments: list[Segment], sched: Schedulability, unit: str) -> list[Bound]:
-    terms = []
+    # (T, R, (processor, priority)) of each segment; used only when every one is known
+    # (else `why` says which is not).
+    terms: list[tuple[Fraction, Fraction, tuple[str | None, int]]] = []
     why = []
     for s in segments:
         units = {id(u): u for t in s.tasks if (u := sched.unit_of(t)) is not None}
@@ -426,8 +429,8 @@ def _bounds(segments: list[Segment], sched: Schedulability, unit: str) -> list[B
         elif not u.schedulable or u.response_time is None:
             why.append(f"group {s.group} does not meet its period" if u.bounds is None
                        else f"group {s.group}'s response time is only bounded (budget)")
-        terms.append((s.period, None if u is None or not u.schedulable else u.response_time,
-                      None if u is None else (u.processor, u.priority)))
+        elif s.period is not None:
+            terms.append((s.period, u.response_time, (u.processor, u.priority)))
     formula_davare = "sum over segments of (T + R)"
     formula_duerr = ("sum over segments of (T + R), or T + max(R - T_next, 0) when the next "
                      "segment runs on the same processor at a lower priority")

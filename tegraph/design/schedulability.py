@@ -507,6 +507,7 @@ def effective_priorities(skeleton: Skeleton) -> tuple[dict[str, int], dict[str |
         declared = all(skeleton.tasks[t].priority is not None for t in tasks)
         source[processor] = "declared" if declared else "rate-monotonic"
         for t in tasks:
+            # Type: declared: every task of this processor has a priority.
             priorities[t] = skeleton.tasks[t].priority if declared else proposal[t]  # type: ignore[assignment]
     return {t: priorities[t] for t in skeleton.tasks}, source
 
@@ -610,6 +611,7 @@ def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: st
     level: dict[int, Fraction] = {}
     tied: dict[int, int] = {}
     for v in active:
+        # Type: `active` units have a period (None and 0 are left out above).
         level[v.priority] = level.get(v.priority, Fraction(0)) + v.cost / v.period  # type: ignore[operator]
         tied[v.priority] = tied.get(v.priority, 0) + 1
     above: dict[int, Fraction] = {}
@@ -627,6 +629,7 @@ def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: st
             result = ResponseTime("no time", None, None, None, 0)
         else:
             others = [v for v in active if v is not u and v.priority >= u.priority]
+            # Type: `others` are active units: each has a period.
             result = response_time_bounds(u.cost, [(v.cost, v.period) for v in others],  # type: ignore[misc]
                                           budget=budget)
         _judge(u, result, unit)
@@ -636,6 +639,7 @@ def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: st
     units.sort(key=lambda u: (-u.priority, u.group))
     if not active:
         return ProcessorVerdict(name, source, None, None, None, None, units)
+    # Type: `active` units have a period (None and 0 are left out above; both lines).
     T = hyperperiod(u.period for u in active)  # type: ignore[misc]
     demand = sum((u.cost * (T / u.period) for u in active), Fraction(0))  # type: ignore[operator]
     return ProcessorVerdict(name, source, T, demand, demand <= T, T - demand, units)
@@ -653,13 +657,17 @@ def _judge(u: UnitVerdict, result: ResponseTime, unit: str) -> None:
         _add_note(u, "more urgent units leave it no time")
     elif result.status == "exact":
         u.response_time = result.value
+        # Type: u is an active unit (a period; see the caller) and the recurrence gave
+        # its response time (both lines).
         u.schedulable = u.response_time <= u.period  # type: ignore[operator]
         u.margin = u.period - u.response_time  # type: ignore[operator]
     else:
         lo, hi = result.lower, result.upper
+        # Type: a recurrence stopped by its budget gives both bounds.
         u.bounds = (lo, hi)  # type: ignore[assignment]
         span = (f"response time between {display_text(lo)} and {display_text(hi)} "
                 f"{unit}, the recurrence stopped by its budget of {result.terms:,} terms")
+        # Type: u is an active unit: it has a period (here and in the elif).
         if lo > u.period:  # type: ignore[operator]
             u.schedulable = False
             why = f"{span}: above the period"

@@ -100,7 +100,7 @@ class Timeline:
     deadlocks: list[Deadlock] = field(default_factory=list)
     dead_tasks: list[str] = field(default_factory=list)
     """The tasks of the groups that are not live, in file order."""
-    hyperperiods: dict[str, Fraction | None] = field(default_factory=dict)
+    hyperperiods: dict[str, Fraction] = field(default_factory=dict)
     """First task of each undecided part -> its clocks' hyperperiod."""
     unsimulated: list[str] = field(default_factory=list)
     """First task of each part decided by a theorem: only the start of its schedule
@@ -263,6 +263,7 @@ def _by_part(s: ProcessorSchedule) -> dict[str, list[JobInterval]]:
 
 def _tick(skeleton: Skeleton, task: str, k: int) -> Fraction:
     """Tick k (from 1) of the clock of ``task``."""
+    # Type: called for tasks that overran: each has a clock.
     c = skeleton.clocks[skeleton.tasks[task].clock]  # type: ignore[index]
     return c.phase + (k - 1) * c.period
 
@@ -281,6 +282,7 @@ def _part_ends(skeleton: Skeleton, s: ProcessorSchedule, by_part: dict[str, list
             # Decided by the theorem: its regime (a hyperperiod) is not simulated, only
             # a quick look at its start; four periods of its slowest clock are drawn
             # (the critical instant at 0 and what follows), or less if the look stopped.
+            # Type: the critical instant decides only parts whose every task has its own clock.
             slowest = max(clocks[tasks[t].clock].period for t in r["tasks"])  # type: ignore[index]
             looked = max((i.end for i in by_part.get(first, [])), default=Fraction(0))
             ends[first] = min(looked, 4 * slowest)
@@ -303,7 +305,9 @@ def _until_the_proof(skeleton: Skeleton, s: ProcessorSchedule,
     if overrun_ticks:
         when, late = min((x, t) for t, x in overrun_ticks.items())
         length = {t: r["length"] or 0 for r in s.regimes for t in r["tasks"]}
-        job = (late, s.tasks[late].overrun_at - 1)
+        k = s.tasks[late].overrun_at
+        assert k is not None  # overrun_ticks holds only the tasks that overran
+        job = (late, k - 1)
         drawn, _ = _draw(s, by_part, ends, when + length[late], skeleton.unit)
         return max([when] + [i.end for i in drawn if (i.task, i.k) == job])
     horizon = max(ends.values(), default=Fraction(0))

@@ -124,8 +124,9 @@ def parse_xml(data: bytes, file: str | None = None) -> XmlNode:
     def chars(text: str) -> None:
         texts[-1].append(text)
 
-    parser.StartDoctypeDeclHandler = refuse  # type: ignore[assignment]
-    parser.EntityDeclHandler = refuse  # type: ignore[assignment]
+    parser.StartDoctypeDeclHandler = refuse
+    parser.EntityDeclHandler = refuse
+    # Type: typeshed wants a handler returning int; refuse raises before returning.
     parser.ExternalEntityRefHandler = refuse  # type: ignore[assignment]
     parser.StartElementHandler = start
     parser.EndElementHandler = end

@@ -146,6 +146,7 @@ def _line_of_index(data: bytes, index: int, src: np.ndarray, dst: np.ndarray) ->
     hits = np.flatnonzero((src == index) | (dst == index))
     if not len(hits):
         return None
+    # Type: _HEADER matches the empty string: match() never gives None.
     body = _HEADER.match(data).end()  # type: ignore[union-attr]
     count = int(hits[0])
     for number, raw in enumerate(data[body:].split(b"\n"), start=data.count(b"\n", 0, body) + 1):

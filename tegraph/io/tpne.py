@@ -318,7 +318,7 @@ def _arcs(weights: Any) -> list[tuple[int, int, int]]:
 
 def _layout(given: Any, n: int, radius: float) -> list[tuple[Any, Any]]:
     if isinstance(given, list) and len(given) == n and all(
-            isinstance(v, (int, Decimal)) and not isinstance(v, bool) and abs(v) < 10**9
+            isinstance(v, (int, Decimal)) and not isinstance(v, bool) and -10**9 < v < 10**9
             for xy in given for v in xy):
         return [(int(x) if x == int(x) else float(x), int(y) if y == int(y) else float(y))
                 for x, y in given]

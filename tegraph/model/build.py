@@ -188,14 +188,14 @@ def _add_threads(teg: TimedEventGraph, skeleton: Skeleton,
     tasks = skeleton.tasks
     ends = {name: (chain[0][0], chain[-1][0]) for name, chain in chains.items()}
     for i, thread in enumerate(skeleton.threads):
-        for j, t in enumerate(thread):
+        for j, name in enumerate(thread):
             nxt, last = thread[(j + 1) % len(thread)], j == len(thread) - 1
             # "The place that leaves T.compute holds duration(T)" (spec §2): a
             # thread place leaves it when T has no outputs.
-            holding = tasks[t].duration if ends[t][1] == f"{t}.compute" else 0
-            teg.add_place(ends[t][1], ends[nxt][0], tokens=1 if last else 0, holding=holding,
+            holding = tasks[name].duration if ends[name][1] == f"{name}.compute" else 0
+            teg.add_place(ends[name][1], ends[nxt][0], tokens=1 if last else 0, holding=holding,
                           kind="thread-return" if last else "thread",
-                          origin={"thread": i, "from": t, "to": nxt})
+                          origin={"thread": i, "from": name, "to": nxt})
 
 
 def _check_references(skeleton: Skeleton) -> None:
@@ -211,9 +211,9 @@ def _check_references(skeleton: Skeleton) -> None:
         if r not in tasks or q not in tasks[r].inputs:
             raise ModelError(f"unknown input port {r}:{q}", f"links[{i}]")
     for i, thread in enumerate(skeleton.threads):
-        for t in thread:
-            if t not in tasks:
-                raise ModelError(f"unknown task {t!r}", f"threads[{i}]")
+        for name in thread:
+            if name not in tasks:
+                raise ModelError(f"unknown task {name!r}", f"threads[{i}]")
 
 
 def _chain(task: Task, merged: dict[tuple[str, str], str]) -> list[tuple[str, str]]:

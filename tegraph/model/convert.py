@@ -151,5 +151,8 @@ def from_networkx(G: nx.DiGraph) -> PetriNet | TimedEventGraph:
     hold = [exact_time(G.nodes[p].get("holding", 0), f"place {p}") for p in places] if timed else []
     init = [exact_time(G.nodes[p].get("initial", 0), f"place {p}") for p in places] if timed else []
     marking = [int(G.nodes[p].get("tokens", 0)) for p in places]  # PetriNet bounds them
+    # The field is typed as the int64 array __post_init__ makes of it (refusing, with a
+    # message, a count beyond int64, which np.array here would raise as OverflowError).
     return PetriNet(str(G.graph.get("name", "net")), [str(p) for p in places],
-                    [str(t) for t in transitions], pre, post, marking, hold, init)
+                    [str(t) for t in transitions], pre, post,
+                    marking, hold, init)  # type: ignore[arg-type]

@@ -586,12 +586,15 @@ def _check_tokens(value: Any, where: str) -> int:
         raise ModelError(f"tokens must be an integer >= 0, got {value!r}", where)
     if isinstance(value, float) and not math.isfinite(value):
         raise ModelError(f"tokens must be an integer >= 0, got {value!r}", where)
-    if value != int(value) or value < 0:
+    # numbers.Rational declares no __int__ in typeshed; Fraction and the numeric types
+    # users pass (numpy, sympy) all have one.
+    whole = int(value)  # type: ignore[arg-type]
+    if value != whole or value < 0:
         raise ModelError(f"tokens must be an integer >= 0, got {value!r}", where)
-    why = count_problem(int(value), "tokens")  # held in int64 arrays (MAX_COUNT)
+    why = count_problem(whole, "tokens")  # held in int64 arrays (MAX_COUNT)
     if why is not None:
         raise ModelError(why, where)
-    return int(value)
+    return whole
 
 
 def _check_time(value: Any, what: str, where: str) -> Fraction:

@@ -181,9 +181,9 @@ def render_fix(result: FixResult, name: str = "skeleton") -> str:
                          f"[{', '.join(t.after)}]: {t.reason}")
     else:
         lines.append(f"{name}: a port order makes it live; changed:")
-    for c in result.changes:
-        lines.append(f"  {c.task} {c.side} [{', '.join(c.before)}] -> [{', '.join(c.after)}]: "
-                     f"{c.reason}")
+    for change in result.changes:
+        lines.append(f"  {change.task} {change.side} [{', '.join(change.before)}] -> "
+                     f"[{', '.join(change.after)}]: {change.reason}")
     lines.append("every other declared port order is kept")
     return "\n".join(lines) + "\n"
 

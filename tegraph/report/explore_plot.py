@@ -72,6 +72,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
         raise InputError(f"cannot draw to {target.name!r}; expected a file name ending in "
                          ".svg or .png", "plot")
     try:
+        from matplotlib.artist import Artist
         from matplotlib.figure import Figure
     except ImportError:
         raise PlotUnavailableError(
@@ -81,7 +82,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
     names = list(result.space.objectives)
     measured = [r for r in result.results.values() if r.live and r.consistent]
     front = {r.variant for r in result.front}
-    pairs = list(itertools.combinations(names, 2)) or [(names[0], None)]
+    pairs: list[tuple[str, str | None]] = [*itertools.combinations(names, 2)] or [(names[0], None)]
     columns = min(len(pairs), 3)
     rows = -(-len(pairs) // columns)
     fig = Figure(figsize=(4.2 * columns, 3.6 * rows + 0.6), layout="constrained")
@@ -94,9 +95,9 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
                 (_FRONT, [r for r in measured if r.variant in front], "Pareto front")):
             points = [(r.objectives.get(x_name), r.objectives.get(y_name) if y_name else 0)
                       for r in chosen]
-            points = [(float(x), float(y)) for x, y in points if x is not None and y is not None]
-            if points:
-                xs, ys = zip(*points)
+            shown = [(float(x), float(y)) for x, y in points if x is not None and y is not None]
+            if shown:
+                xs, ys = zip(*shown)
                 ax.scatter(xs, ys, s=18 if colour != _FRONT else 30, c=colour, label=label,
                            edgecolors="black" if colour == _FRONT else "none", linewidths=0.5,
                            zorder=3 if colour == _FRONT else 2)
@@ -106,7 +107,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
         else:
             ax.set_yticks([])
         ax.grid(linestyle=":", linewidth=0.5)
-    legend: dict[str, object] = {}
+    legend: dict[str, Artist] = {}
     for ax in fig.axes:  # a panel may lack a kind of point: gather them from all
         for handle, label in zip(*ax.get_legend_handles_labels()):
             legend.setdefault(label, handle)

@@ -62,10 +62,10 @@ def render_exploration(result: Exploration) -> str:
         lines.append(f"  link {c.label}: {', '.join(p.value for p in c.protocols)}"
                      + (" (narrowed by `links`; `all_links` gives the other links every "
                         "protocol not forbidden)" if c.narrowed else ""))
-    for c in space.clocks:
+    for k in space.clocks:
         # Decimals as the user wrote them (5.43, 2.715), a fraction only when one does not
         # terminate; the JSON report keeps its exact strings.
-        lines.append(f"  clock {c.name}: " + ", ".join(f"{display_text(t)}" for t in c.periods)
+        lines.append(f"  clock {k.name}: " + ", ".join(f"{display_text(t)}" for t in k.periods)
                      + f" {sk.unit}")
     lines.append("objectives, all minimized (ties broken by fewer Rule 2 findings):")
     for n in space.objectives:

@@ -57,9 +57,9 @@ def render_cycle_time(result: CycleTimeResult) -> str:
         if result.cycle_times is not None:
             lines.append("cycle times differ (the graph is not strongly connected):")
             width = max(len(k) for k in result.cycle_times)
-            for k, v in result.cycle_times.items():
+            for event, v in result.cycle_times.items():
                 shown = "none (no circuit upstream: an input)" if v is None else human(v, u)
-                lines.append(f"  {k:<{width}}  {shown}")
+                lines.append(f"  {event:<{width}}  {shown}")
         check = {True: "verified exactly", False: "FAILED", None: "not run"}
         lines.append(f"certificate: {check[result.certificate_verified]}")
     lines.append("time:        " + ", ".join(f"{k} {v:.3f} s" for k, v in result.seconds.items()))
@@ -96,7 +96,8 @@ def ratio_text(holdings: list[Fraction], tokens: int | None, unit: str) -> str:
     terms = [h for h in holdings if h] or [Fraction(0)]
     held = (str(display_text(terms[0])) if len(terms) == 1
             else "(" + " + ".join(str(display_text(h)) for h in terms) + ")")
-    return f"{held} {unit} over {count(tokens, 'token')} = {human(sum(terms) / tokens, unit)}"
+    ratio = sum(terms, Fraction(0)) / tokens
+    return f"{held} {unit} over {count(tokens, 'token')} = {human(ratio, unit)}"
 
 
 def _circuit_text(events: list[str], places: list[str]) -> str:
@@ -159,6 +160,7 @@ def render_timed_exploration(result: TimedExploration) -> str:
         elif g.period is None:
             lines.append(f"  group {g.index} ({', '.join(g.tasks)}): no repeated state")
         else:
+            # Type: a group with a period has its transient.
             k, c = g.transient  # type: ignore[misc]
             lines.append(f"  group {g.index} ({', '.join(g.tasks)}): period "
                          f"{display_text(g.period)} {u}, transient k={k}, cyclicity {c}")

@@ -14,6 +14,7 @@ ticks, the late activation of an overrun in red.
 from __future__ import annotations
 
 import os
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -109,6 +110,7 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
                          ".svg or .png", where="path")
     Figure = _matplotlib()
     from matplotlib import colormaps
+    from matplotlib.artist import Artist
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -134,7 +136,7 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
         label = f"{i.task}#{i.k}"
         if w * fits >= 4.2 * len(label) + 2:  # some 4.2 points a character at size 7
             ax.text(a + w / 2, y, label, ha="center", va="center", fontsize=7, zorder=3)
-    overrun = {}
+    overrun: dict[str | None, set[Fraction]] = {}  # by clock (an overrunning task has one)
     for t, k in tl.overrun_at.items():
         if k is not None:
             overrun.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])
@@ -160,7 +162,7 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
                None: "undecided within the budget"}[tl.schedulable]
     ax.set_title(f"{tl.name} on its processors (preemptive fixed priorities), 0-{H:g} "
                  f"{tl.unit}: {verdict}")
-    handles = [Patch(facecolor=colour[t], edgecolor="black", label=f"{t} (prio "
+    handles: list[Artist] = [Patch(facecolor=colour[t], edgecolor="black", label=f"{t} (prio "
                      f"{tl.priorities[t]})") for t in tl.tasks[:_KEYED]]
     handles += [Patch(facecolor="white", edgecolor=_LATE, hatch="//", label="late activation"),
                 Line2D([], [], color="black", marker="^", linestyle="none", label="clock tick"),

@@ -145,8 +145,9 @@ def _one(fig, result: SensitivityResult) -> None:
         breaks = {low, high}
         for t in f.terms:  # where two terms cross, the maximum may bend
             for u in f.terms:
-                cu, cv = t.coefficients.get(p.name, 0) / t.tokens, u.coefficients.get(
-                    p.name, 0) / u.tokens
+                # Exact slopes: ``int / int`` would make the crossings floats.
+                cu = Fraction(t.coefficients.get(p.name, 0), t.tokens)
+                cv = Fraction(u.coefficients.get(p.name, 0), u.tokens)
                 if cu != cv:
                     x = (_at_zero(u, p.name, result) - _at_zero(t, p.name, result)) / (cu - cv)
                     if low < x < high:

@@ -158,6 +158,7 @@ def _margin_lines(result: SensitivityResult) -> list[str]:
         p = m.parameter
         if m.nominal_consistent:
             grow = "unbounded" if m.high is None else f"+{number(m.high - p.nominal)}"
+            # Type: a margin consistent at nominal has its low end.
             around = _interval(m.low, m.high, "", p.low_open)  # type: ignore[arg-type]
             why = "; ".join(dict.fromkeys(_short(x) for x in m.limits_high)) or "-"
             others = [iv for iv in m.intervals if iv != (m.low, m.high)]
@@ -195,7 +196,7 @@ def _formula_lines(result: SensitivityResult) -> list[str]:
                          "parameters: only the terms critical there and the exact one-sided "
                          "derivatives")
             lines.append(f"    critical terms: {formula_text(f.expression())}")
-        moving = {p: d for p, d in f.derivatives.items() if d != (0, 0)}
+        moving = {p: d for p, d in f.derivatives.items() if d != (Fraction(0), Fraction(0))}
         if moving:
             lines.append("    at nominal, d(period)/d(parameter) (left, right): "
                          + ", ".join(f"{p} ({display_text(a)}, {display_text(b)})"

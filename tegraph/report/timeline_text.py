@@ -65,7 +65,7 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
         if len(named) < len(order):
             key += f", * = the {len(order) - len(named):,} others"
         lines.append(f"{proc.name:<{label}} |{''.join(row)}| {key}")
-    late = {}
+    late: dict[str | None, set[Fraction]] = {}  # by clock (an overrunning task has one)
     for t, k in tl.overrun_at.items():
         if k is not None:
             late.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])

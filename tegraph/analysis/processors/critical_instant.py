@@ -99,6 +99,7 @@ def independent_tasks(skeleton: Skeleton, tasks: list[str], platform: Platform, 
         return None
     order = sorted(tasks, key=lambda t: -platform.priority[t])  # most urgent first
     duration = {t: skeleton.tasks[t].duration for t in tasks}
+    # Type: _independent (above) holds only when every task has its own clock.
     period = {t: skeleton.clocks[skeleton.tasks[t].clock].period for t in tasks}  # type: ignore[index]
     response: dict[str, Fraction] = {}
     terms = 0
@@ -164,4 +165,5 @@ def _independent(sk: Skeleton, tasks: list[str], platform: Platform) -> bool:
     for task in sk.tasks.values():
         if task.clock is not None:
             users[task.clock] = users.get(task.clock, 0) + 1
+    # Type: None is not among `clocks` (returned False above).
     return all(users[c] == 1 and sk.clocks[c].phase == 0 for c in clocks)  # type: ignore[index]

@@ -129,7 +129,7 @@ def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
     for proc, tasks in on.items():
         declared = [skeleton.tasks[t].priority for t in tasks]
         if all(p is not None for p in declared):
-            chosen = {t: int(p) for t, p in zip(tasks, declared)}  # type: ignore[arg-type]
+            chosen = {t: int(p) for t, p in zip(tasks, declared) if p is not None}  # all are
             source = "declared"
         else:
             chosen = _rate_monotonic(tasks, group_of, keys)

@@ -36,7 +36,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any
+from typing import Any, Literal, TypeAlias
 
 import numpy as np
 import scipy.sparse as sp
@@ -61,9 +61,13 @@ MAX_EVENTS = 1_000_000
 joined by a group or a processor) are simulated smallest first, each with an equal
 share of what is left, so what a small part does not use goes to the larger ones."""
 
-_KIND_REPORTED = {"activation": "clock-overrun", "asyn-syn": "messages-overwritten",
-                  "syn-asyn": "requests-overwritten", "thread": "thread",
-                  "thread-return": "thread"}
+UnboundedKind: TypeAlias = Literal["clock-overrun", "messages-overwritten",
+                                  "requests-overwritten", "thread", "chain"]
+"""What an unbounded place is, as reports name it (from the kind of place the builder made)."""
+
+_KIND_REPORTED: dict[str, UnboundedKind] = {
+    "activation": "clock-overrun", "asyn-syn": "messages-overwritten",
+    "syn-asyn": "requests-overwritten", "thread": "thread", "thread-return": "thread"}
 
 
 @dataclass(frozen=True)
@@ -97,7 +101,7 @@ class GrowingPlace:
     place: int
     src: str
     dst: str
-    kind: str
+    kind: UnboundedKind
     group: int
     per_regime: int | None
     """Tokens gained per regime of its part; None: infinitely many at time 0."""
@@ -486,6 +490,7 @@ class _Outcome:
 
     def _regime(self, r: PartResult, d: PartData, names: list[str], events: list[int],
                 places: list[int]) -> None:
+        # Type: called only for a part whose regime was found.
         t1, t2, old, new, growing = r.regime  # type: ignore[misc]
         length = t2 - t1
         self.regimes.append({"tasks": names, "start": self._fraction(t1),

@@ -19,7 +19,7 @@ import signal
 import time
 import uuid
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, cast
 
 from distributed import Client, LocalCluster, WorkerPlugin, as_completed, get_worker
 from distributed.scheduler import KilledWorker
@@ -40,7 +40,8 @@ class _SpacePlugin(WorkerPlugin):
 
 def judge_on_worker(plugin: str, variants: Sequence[int]) -> list[VariantResult]:
     """The task a worker runs: judge ``variants`` of the space its plugin holds."""
-    space = get_worker().plugins[plugin].space
+    # The plugin registered under this name by DaskEngine (distributed types it as any plugin).
+    space = cast(_SpacePlugin, get_worker().plugins[plugin]).space
     return evaluate_batch(space, variants)
 
 

@@ -338,16 +338,24 @@ def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: S
     periods = {} if schedule is None else {t: f.period for t, f in schedule.tasks.items()}
     if "period" in wanted and schedule is not None:
         reference = space.reference_periods
-        counted = [name for name in skeleton.tasks if reference.get(name)]
-        if all(periods[name] is not None for name in counted):
-            result.objectives["period"] = max(
-                (periods[name] / reference[name] for name in counted), default=None)
+        # Each task's period over its designed one (tasks with a designed period), when
+        # every one of those periods is known (the `else`: no period was missing).
+        ratios: list[Fraction] = []
+        for name in skeleton.tasks:
+            designed = reference.get(name)
+            if designed:
+                period = periods[name]
+                if period is None:
+                    break
+                ratios.append(period / designed)
+        else:
+            result.objectives["period"] = max(ratios, default=None)
     if schedule is not None and wanted & {"load", "utilization"}:
-        loads: dict[str, Fraction] | None = {}
+        loads: dict[str, Fraction] = {}
         for name, task in skeleton.tasks.items():
             period = periods[name]
             if period is None:  # this task's share of its processor is not known
-                loads = None
+                loads = {}
                 break
             where = schedule.platform.processor_of[name]
             # A period of 0 is a circuit of zero durations: it takes no time.

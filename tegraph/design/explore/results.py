@@ -230,7 +230,7 @@ class ResultsTable:
                              "(another exploration, or not a results file: expected "
                              f"{len(self.columns)} columns, from 'variant' to 'seconds', for "
                              "these links, clocks and objectives)")
-            rows = []
+            rows: list[tuple[int | None, dict[str, str]]] = []
             for k, cells in enumerate(reader, start=1):
                 if len(cells) != len(self.columns):
                     self._refuse(path, reader.line_num, f"row {k} has {len(cells)} cells; "
@@ -376,7 +376,7 @@ class _Cells:
         if not _orders_ok(orders, self.space):
             self.refuse("orders", "expected the port orders of a repair, as JSON "
                         '{"TASK": {"inputs": [...], "outputs": [...]}}, or empty')
-        return orders  # type: ignore[no-any-return]
+        return orders
 
     def seconds(self) -> float:
         seconds = _seconds(self.row["seconds"])

@@ -76,9 +76,15 @@ class RunLog:
 class Engine(Protocol):
     """What :func:`run_search` asks of an engine (in process, or Dask)."""
 
-    kind: str
-    address: str | None
-    workers: int
+    # Read only: run_search never sets them (DaskEngine counts its workers live).
+    @property
+    def kind(self) -> str: ...
+
+    @property
+    def address(self) -> str | None: ...
+
+    @property
+    def workers(self) -> int: ...
 
     @property
     def in_flight(self) -> int: ...

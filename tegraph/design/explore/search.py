@@ -279,8 +279,8 @@ class ParetoLocalSearch:
             for p in choice.protocols:
                 if p is not protocols[i]:
                     out.append(space.variant_of([*protocols[:i], p, *protocols[i + 1:]], periods))
-        for j, choice in enumerate(space.clocks):
-            for t in choice.periods:
+        for j, clock in enumerate(space.clocks):
+            for t in clock.periods:
                 if t != periods[j]:
                     out.append(space.variant_of(protocols, [*periods[:j], t, *periods[j + 1:]]))
         return out

@@ -252,15 +252,15 @@ class DesignSpace:
         for choice, protocol in zip(self.links, protocols):
             p = p * len(choice.protocols) + choice.protocols.index(protocol)
         c = 0
-        for choice, period in zip(self.clocks, periods):
-            c = c * len(choice.periods) + choice.periods.index(period)
+        for clock, period in zip(self.clocks, periods):
+            c = c * len(clock.periods) + clock.periods.index(period)
         return p * self.n_clock_variants + c
 
     def describe(self, variant: int) -> tuple[dict[str, str], dict[str, str]]:
         """``({link: protocol}, {clock: period})`` as report texts."""
         links = {c.label: p.value for c, p in zip(self.links, self.protocols(variant))}
         clocks = {c.name: exact_text(t) for c, t in zip(self.clocks, self.periods(variant))}
-        return links, clocks  # type: ignore[return-value]
+        return links, clocks
 
     def build(self, variant: int) -> Skeleton:
         """The skeleton of ``variant``, checked like one read from a file."""
@@ -268,8 +268,8 @@ class DesignSpace:
         for choice, protocol in zip(self.links, self.protocols(variant)):
             links[choice.index] = replace(links[choice.index], protocol=protocol)
         clocks = dict(self.skeleton.clocks)
-        for choice, period in zip(self.clocks, self.periods(variant)):
-            clocks[choice.name] = replace(clocks[choice.name], period=period)
+        for clock, period in zip(self.clocks, self.periods(variant)):
+            clocks[clock.name] = replace(clocks[clock.name], period=period)
         return replace(self.skeleton, links=links, clocks=clocks).validate()
 
     def starting_variant(self) -> int:
@@ -280,9 +280,9 @@ class DesignSpace:
             given = self.skeleton.links[c.index].protocol
             protocols.append(given if given in c.protocols else c.protocols[0])
         periods = []
-        for c in self.clocks:
-            given = self.skeleton.clocks[c.name].period
-            periods.append(given if given in c.periods else c.periods[0])
+        for k in self.clocks:
+            declared = self.skeleton.clocks[k.name].period
+            periods.append(declared if declared in k.periods else k.periods[0])
         return self.variant_of(protocols, periods)
 
     @cached_property

@@ -31,7 +31,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 from fractions import Fraction
-from typing import Any
+from typing import Any, Final, Literal
 
 import numpy as np
 import scipy.sparse as sp
@@ -74,7 +74,7 @@ class _Roots:
         self.groups, self.group_of, self.chosen = groups, group_of, chosen
 
     def __contains__(self, task: object) -> bool:
-        return self.group_of.get(task) in self.chosen  # type: ignore[arg-type]
+        return isinstance(task, str) and self.group_of.get(task) in self.chosen
 
     def __getitem__(self, task: str) -> str:
         return self.groups[self.group_of[task]][0]
@@ -132,7 +132,7 @@ class Advisor(Candidates):
         periods = [c.period for c in skeleton.clocks.values()]
         self.fresh = max(periods, default=Fraction(0)) + 1  # a period no group has
         self.keys = {f.identity for f in findings}
-        self._dead: bool | None = None  # token-free circuits in the skeleton (on demand)
+        self._dead: set[int] | None = None  # token-free circuits in the skeleton (on demand)
         self._live: dict[Change, bool] = {}
         self._real: dict[tuple, _Rates] = {}
         self.periods_spent = 0
@@ -206,12 +206,12 @@ class Advisor(Candidates):
         part, root_of = self._regroup(groups, edits)
         return groups, part, root_of
 
-    def resampled(self, edits: Edits) -> list[tuple[str, Fraction, Fraction | None]]:
+    def resampled(self, edits: Edits) -> list[tuple[str, Fraction, Fraction | Literal["dead"]]]:
         """The clocked tasks of the touched groups that do not run at their clock's
         period once ``edits`` are made: (task, its clock's period, its period after).
 
         The period after is the task's cycle time in the edited skeleton
-        (:meth:`real_periods`), None where its group is dead. A task that loses its
+        (:meth:`real_periods`), :data:`DEAD` where its group is dead. A task that loses its
         clock counts against its clock's period too: the designed rate is the clock's.
         """
         groups, _, _ = self._groups_after(edits)
@@ -360,7 +360,7 @@ class Advisor(Candidates):
         moved = self.resampled(edits)
         if moved:
             text += "; " + "; ".join(
-                f"{t} runs {'every ' + self._period(a, u) if a is not DEAD else 'never (dead)'}"
+                f"{t} runs {'every ' + self._period(a, u) if a != DEAD else 'never (dead)'}"
                 f", not every {display_text(b)} {u} (its clock's period"
                 + (", and its clock goes)" if t in edits.drop else ")")
                 for t, b, a in moved)
@@ -436,13 +436,15 @@ class Advisor(Candidates):
                                link_key(link.writer, link.reader)))
         return after
 
-    def _regroup(self, groups: list[int], edits: Edits) -> tuple[dict, dict[str, str]]:
+    def _regroup(self, groups: list[int], edits: Edits
+                 ) -> tuple[dict, dict[str, str] | _Roots]:
         """The groups that the tasks of ``groups`` form once ``edits`` are made.
 
         Returns ``{root: (tasks in file order, how many clocks, design period)}``
         and the root of each of those tasks (union-find over them only).
         """
         if (all(p.synchronizing == link.protocol.synchronizing for link, p in edits.protocol)
+                # Type: a task whose clock is dropped has one.
                 and all(self.clock_users[self.sk.tasks[t].clock] == 1  # type: ignore[index]
                         for t in edits.drop)):
             return self._same_groups(groups, edits)
@@ -562,7 +564,7 @@ def _group_text(tasks: tuple[str, ...] | list[str]) -> str:
     return "{" + ", ".join(tasks[:3]) + f", ... ({len(tasks)} tasks)}}"
 
 
-DEAD = "dead"  # the period of a task on a dead part (a token-free circuit)
+DEAD: Final = "dead"  # the period of a task on a dead part (a token-free circuit)
 
 
 class _Rates:
@@ -602,7 +604,9 @@ def _cycle_times(sk: Skeleton) -> _Rates:
             who = f"clock {attrs['clock']}"
         else:  # a task's event: named by its task (a rendezvous by both)
             who = ", ".join(attrs.get("tasks", ())) or teg.transition_names[e]
-        rates.setdefault(int(label[e]), {}).setdefault(ct[e], who)
+        rate = ct[e]
+        assert rate is not None  # every event of a skeleton lies on a circuit (its chain's)
+        rates.setdefault(int(label[e]), {}).setdefault(rate, who)
     compute = teg.attrs["compute"]
     period: dict[str, Any] = {}
     mixed: dict[str, list[tuple[str, Fraction]]] = {}

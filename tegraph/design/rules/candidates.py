@@ -37,7 +37,7 @@ References
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 from ...model.skeleton import Link, Protocol, Skeleton
 from .findings import FindingKind, RuleFinding
@@ -320,7 +320,8 @@ class Candidates:
         # A Rule 2 finding's key is its link's two ports: no text is parsed.
         return next(link for link in self.by_writer[writer] if link.reader == reader)
 
-    _by_kind = {
+    # Each function takes the key of its own kind of finding (a task, a link's ports...).
+    _by_kind: dict[FindingKind, Callable[..., Iterator[Edits]]] = {
         FindingKind.RULE1_SEVERAL_SYNCS: _several_syncs,
         FindingKind.RULE1_NO_SYNC: _no_sync,
         FindingKind.RULE2_RENDEZVOUS: _rendezvous,

@@ -95,6 +95,7 @@ def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | No
         clock = f"{name}.clock"
         while clock in clocks:
             clock += "'"
+        # Type: period is given whenever a clock is added (refused above otherwise).
         clocks[clock] = Clock(clock, Fraction(period), private=True)  # type: ignore[arg-type]
         tasks[name] = dataclasses.replace(tasks[name], clock=clock)
     used = {t.clock for t in tasks.values()}

@@ -181,8 +181,8 @@ def rule3(sk: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
     for tasks in groups:
         clocks: dict[str, list[str]] = {}
         for t in tasks:
-            if sk.tasks[t].clock:
-                clocks.setdefault(sk.tasks[t].clock, []).append(t)  # type: ignore[arg-type]
+            if clock := sk.tasks[t].clock:
+                clocks.setdefault(clock, []).append(t)
         if not clocks:
             out.append(RuleFinding(
                 FindingKind.RULE3_NO_CLOCK, tasks, tasks, (), (),

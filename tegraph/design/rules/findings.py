@@ -62,12 +62,12 @@ class FindingKind(enum.Enum):
     @property
     def rule(self) -> int:
         """1 to 4."""
-        return self.value[0]  # type: ignore[no-any-return]
+        return self.value[0]
 
     @property
     def severity(self) -> str:
         """``"error"``, ``"warning"`` or ``"info"``."""
-        return self.value[1]  # type: ignore[no-any-return]
+        return self.value[1]
 
 
 FindingKey = tuple[FindingKind, Any]
@@ -78,9 +78,9 @@ RULE2_PROTOCOL = {FindingKind.RULE2_RENDEZVOUS: Protocol.SYN_SYN,
                   FindingKind.RULE2_UNSYNCHRONIZED: Protocol.ASYN_ASYN}
 
 
-def link_key(writer: tuple[str, str], reader: tuple[str, str]) -> tuple[tuple[str, str], ...]:
+def link_key(writer: tuple[str, str], reader: tuple[str, str]) -> tuple[tuple[str, ...], ...]:
     """The key of a Rule 2 finding: the link's two ports, ``(task, port)`` each."""
-    return (tuple(writer), tuple(reader))  # type: ignore[return-value]
+    return (tuple(writer), tuple(reader))
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Literal
 
 from ...model.skeleton import Link, Protocol, Skeleton
 
@@ -28,8 +29,7 @@ WRITER_BLOCKS = (Protocol.SYN_ASYN, Protocol.SYN_SYN)
 class Synchronization:
     """One thing a task waits for: its clock, or a blocking side of a link."""
 
-    kind: str
-    """``"clock"``, ``"input"`` or ``"output"``."""
+    kind: Literal["clock", "input", "output"]
     clock: str | None = None
     port: str | None = None
     """``TASK:PORT``."""
@@ -39,6 +39,7 @@ class Synchronization:
     def label(self) -> str:
         if self.kind == "clock":
             return f"clock {self.clock}"
+        # Type: an input or output synchronization always has its link (only a clock has none).
         return f"{self.kind} {self.port} ({self.link.label})"  # type: ignore[union-attr]
 
 
@@ -129,5 +130,5 @@ def group_period(sk: Skeleton, tasks: tuple[str, ...] | list[str]) -> Fraction |
     >>> group_period(sk, ["A"])
     Fraction(5, 2)
     """
-    periods = [sk.clocks[sk.tasks[t].clock].period for t in tasks if sk.tasks[t].clock]
+    periods = [sk.clocks[c].period for t in tasks if (c := sk.tasks[t].clock)]
     return min(periods) if periods else None

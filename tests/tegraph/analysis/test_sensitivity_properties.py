@@ -77,6 +77,7 @@ def verdict(sk: Skeleton, groups: list[int] | None = None) -> bool | None:
             if report.tasks[t].overrun_at is not None:
                 return False
             if not report.tasks[t].overrun_decided:
+                # Type: None: undecided, beside True and False.
                 fine = None  # type: ignore[assignment]
     return fine
 

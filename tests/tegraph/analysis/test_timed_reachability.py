@@ -289,6 +289,7 @@ def test_cli_timed_progress_on_a_terminal() -> None:
             break
         seen += chunk
     os.close(main)
+    # Type: stdout=PIPE: the stream is there.
     out = proc.stdout.read()  # type: ignore[union-attr]
     assert proc.wait(timeout=300) == 1 and b"MT2 overruns at activation 3" in out
     assert b" states, " in seen and b"/s" in seen, seen[:200]
