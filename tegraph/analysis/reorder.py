@@ -334,7 +334,8 @@ class PrecedenceGraph:
             self._edge(activate, compute)
         for w in writes:
             self._edge(compute, w)
-        if activate is not None:
+        if task.clock:
+            assert activate is not None  # made above for every clocked task
             self._edge(self._tick(task.clock), activate)
             return [activate, *reads, compute, *writes]
         return [*reads, compute, *writes]
