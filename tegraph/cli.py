@@ -638,12 +638,23 @@ def sensitivity_command(
     verify: bool = typer.Option(True, "--verify/--no-verify",
                                 help="Check every finite end with the analysis (consistent "
                                      "at it, not just beyond): two analyses of a group each."),
+    processors: bool = typer.Option(
+        True, "--processors/--no-processors",
+        help="Scaling factor and margins on the skeleton's processors (preemptive fixed "
+             "priorities, docs/skeleton.md §4b); --no-processors: every task on a "
+             "processor of its own, the v1.1 answers."),
+    max_events: int = typer.Option(
+        MAX_EVENTS, "--max-events", min=1,
+        help="On processors: budget of event firings of each simulation of a part of the "
+             "schedule; past it, the figure is only bounded and the report says why."),
 ) -> None:
     """How much durations can grow (scaling factor, margins), and each period as a formula.
 
     Exact: every end is a rational, found by searches that stop at an exact
-    breakpoint, and checked with the analysis. Exit status: 0 consistent at
-    the nominal values; 1 not (the sensitivity is reported anyway); 2 the
+    breakpoint, and checked with the analysis. By default on the skeleton's
+    processors (§4b); --no-processors: with a processor per task. Exit status:
+    0 consistent (and schedulable on its processors) at the nominal values;
+    1 not (the sensitivity is reported anyway); 2 the
     input was refused (an unknown parameter, an empty or negative range, a
     range without the nominal value); 130 interrupted (Ctrl-C).
     """
@@ -670,7 +681,8 @@ def sensitivity_command(
         skeleton = load_skeleton(file)
         try:
             result = sensitivity(skeleton, vary or None, formulas=formulas,
-                                 verify=verify)
+                                 verify=verify, processors=processors,
+                                 max_events=max_events)
         except InputError as exc:
             if exc.where.startswith("vary"):
                 exc.with_where("--vary" + exc.where[len("vary"):])

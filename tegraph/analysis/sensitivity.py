@@ -38,7 +38,9 @@ from typing import Any
 
 from maxplus.scalar import display_text
 
+from ..errors import InputError
 from ..model.skeleton import Skeleton
+from .processors import MAX_EVENTS
 from .sensitivity_formulas import GroupFormula, period_formulas
 from .sensitivity_line import Cause, Line, LineSet, intersect, point_causes, solve_lines
 from .sensitivity_margins import duration_margins
@@ -50,6 +52,8 @@ from .sensitivity_model import (
     skeleton_at,
 )
 from .sensitivity_oracle import evaluate
+from .sensitivity_parts import ProcessorLine
+from .sensitivity_processors import margin_on, scaling_on
 from .sensitivity_results import (
     Check,
     GroupFormulaReport,
@@ -70,7 +74,8 @@ _SHORT_STEPS = 1_000
 
 def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
                 max_formula_parameters: int = 6, verify: bool = True,
-                margins: bool = True) -> SensitivityResult:
+                margins: bool = True, processors: bool = True,
+                max_events: int = MAX_EVENTS) -> SensitivityResult:
     """Scaling factor, margins and period formulas of a skeleton, exact.
 
     Parameters
@@ -94,12 +99,22 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
         Compute each parameter's margin (one line search per parameter: the
         part that costs most on thousands of tasks); without it, ``margins``
         is empty.
+    processors : bool
+        The scaling factor and the margins on the skeleton's processors (spec
+        §4b: live, consistent and schedulable under preemptive fixed
+        priorities), each with its figure with a processor per task beside it
+        (``per_task``); False: with a processor per task only (spec §4, the
+        v1.1 answers). The period formulas are always with a processor per task.
+    max_events : int
+        On processors: the budget of event firings of each simulation of a
+        part of the schedule, at each point of a line.
 
     Returns
     -------
     SensitivityResult
         ``scaling`` (None when no duration is varied): the consistent factors
-        as closed intervals and ``factor``, with its limits; ``margins``: per
+        as closed intervals and ``factor``, with its limits (on processors:
+        the interval holding 1, ``semantics`` and ``exact`` say which and how); ``margins``: per
         parameter name, its consistent values and the interval around the
         nominal value, with the cause at each end; ``formulas``: per live
         group, the non-redundant terms of its cycle time and where it keeps
@@ -146,7 +161,19 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     (Fraction(5, 1), Fraction(10, 1))
     >>> r.formulas[0].expression()
     Max(10, d_A)
+
+    With B (duration 4, period 10) on the same processor, less urgent, both
+    may grow by 10/6 together (B then ends at 10, its next tick), while with a
+    processor per task the factor is 10/4:
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 5},
+    ...                                    "B": {"duration": 4, "period": 10}}})
+    >>> r = sensitivity(sk, formulas=False)
+    >>> r.scaling.semantics, r.scaling.factor, r.scaling.per_task.factor
+    ('processors', Fraction(5, 4), Fraction(5, 2))
     """
+    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
+        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
     started = time.perf_counter()
     params = parse_vary(skeleton, vary)
     nominal = [p.nominal for p in params]
@@ -162,13 +189,23 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     result.effort["setup"] = {"rounds": 1, "points": len(live), "analyses": 0,
                               "seconds": time.perf_counter() - started}
     context = _Context(skeleton, params, nominal, groups, fine, at_nominal)
+    on = None
+    if processors:
+        clock = time.perf_counter()
+        on = _nominal_on_processors(context, result, max_events)
+        result.effort["processors"] = context.effort(clock)
     if any(p.kind == "duration" for p in params):
         clock = time.perf_counter()
         result.scaling = _scaling(context, verify)
+        if on is not None:
+            result.scaling = scaling_on(context, on, result.scaling, verify)
         result.effort["scaling"] = context.effort(clock)
     if margins:
         clock = time.perf_counter()
         result.margins = _margins(context, verify)
+        if on is not None:
+            result.margins = {name: margin_on(context, on, m, verify)
+                              for name, m in result.margins.items()}
         result.effort["margins"] = context.effort(clock)
     if formulas:
         clock = time.perf_counter()
@@ -197,6 +234,7 @@ class _Context:
         self.skeleton, self.params, self.nominal = skeleton, params, nominal
         self.groups, self.fine, self.at_nominal = groups, fine, at_nominal
         self.rounds = self.points = self.analyses = 0
+        self.max_events = MAX_EVENTS
 
     def solve(self, pairs: list[tuple[ParametricGroup, Line]]) -> list[LineSet]:
         sets, rounds, points = solve_lines(pairs, self.nominal)
@@ -455,6 +493,23 @@ def _check_margin(ctx: _Context, margin: Margin, found, line: Line) -> None:
                              g, report)
 
 
+# --------------------------------------------------------------------------- on processors
+
+
+def _nominal_on_processors(ctx: _Context, result: SensitivityResult,
+                           max_events: int) -> ProcessorLine:
+    """The nominal verdict on processors, and the parts ready for the lines."""
+    from .analyze import analyze_skeleton
+
+    ctx.analyses += 1
+    report = analyze_skeleton(ctx.skeleton, processors=True, max_events=max_events,
+                              semiflow_max_places=0)
+    result.processors = True
+    result.schedulable = report.schedulable
+    ctx.max_events = max_events
+    return ProcessorLine(ctx.skeleton, ctx.params, ctx.nominal, report.groups, max_events)
+
+
 # --------------------------------------------------------------------------- formulas
 
 
@@ -502,10 +557,23 @@ def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> di
             f"up to {max_parameters} parameters per group: cutting planes, Howard at every "
             "vertex and ray of the box (exact double description); more: critical circuits "
             f"and one-sided derivatives at nominal; {spent(effort['formulas'])}")
+    if result.processors:
+        out["on processors"] = (
+            "within the per-task figures above (an upper bound): the exact §4b schedule of "
+            "each part (tasks joined by a group or a processor) simulated with every time an "
+            "affine function of the line's parameter, so each run decides a whole interval "
+            "of constant schedule order; the intervals are walked from the nominal value to "
+            "the first that is not schedulable (each end decided at it and just beyond); "
+            "parts of independent periodic tasks on one processor by the critical scaling "
+            "factor of Lehoczky, Sha and Ding (1989), exact"
+            + ("" if not result.scaling or result.scaling.exact
+               else "; the scaling factor is only BOUNDED (see 'undecided')"))
     if verify:
         checks = result.checks
         bad = sum(not c.agrees for c in checks)
-        where = "analyze_skeleton on the group at each finite end and just beyond it"
+        where = ("analyze_skeleton on the group at each finite end and just beyond it"
+                 + ("; on processors, on the whole skeleton (processors=True)"
+                    if result.processors else ""))
         if not checks:
             out["check"] = f"{where}: no finite end, nothing to check"
         else:

@@ -15,10 +15,13 @@ from maxplus.scalar import exact_text
 
 from .sensitivity_model import Parameter, ParametricGroup
 
-__all__ = ["Check", "GroupFormulaReport", "Limit", "Margin", "PaceReport", "Scaling",
-           "SensitivityResult", "Term"]
+__all__ = ["PER_TASK", "PROCESSORS", "Check", "GroupFormulaReport", "Limit", "Margin",
+           "PaceReport", "Scaling", "SensitivityResult", "Term"]
 
 Interval = tuple[Fraction, "Fraction | None"]
+
+PROCESSORS = "processors"
+PER_TASK = "processor per task"
 
 
 def _intervals(intervals: list[Interval]) -> list[list[str | None]]:
@@ -95,9 +98,24 @@ class Scaling:
     limits_below: list[Limit] = field(default_factory=list)
     limits_above: list[Limit] = field(default_factory=list)
     checks: list[Check] = field(default_factory=list)
+    semantics: str = PER_TASK
+    """``"processors"``: live, consistent (§4) and schedulable on its processors (§4b);
+    ``"processor per task"``: live and consistent (§4), every task on a processor of its own."""
+    exact: bool = True
+    """False: ``factor`` (or a nearest factor) is not proven; ``bounds`` says how far it is."""
+    bounds: tuple[Fraction | None, Fraction | None] | None = None
+    """When not exact: (proven schedulable up to, at most) for the factor."""
+    per_task: Scaling | None = None
+    """On processors: the same figures with a processor per task (an upper bound of
+    the factor: ``docs/sensitivity.md``)."""
+    breakpoints: int = 0
+    """On processors: intervals of constant schedule order visited."""
+    why_undecided: list[str] = field(default_factory=list)
+    method: str = "with a processor per task: exact line search ((max,+) certificates)"
+    """How the figure was decided (on processors: the theorem, the walk, or undecided)."""
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        out = {
             "parameters": self.parameters,
             "nominal_consistent": self.nominal_consistent,
             "factor": exact_text(self.factor),
@@ -105,7 +123,19 @@ class Scaling:
             "nearest_below": exact_text(self.nearest_below),
             "nearest_above": exact_text(self.nearest_above),
             "checks": [c.to_dict() for c in self.checks],
+            "semantics": self.semantics,
+            "exact": self.exact,
+            "bounds": None if self.bounds is None else [exact_text(b) for b in self.bounds],
+            "why_undecided": self.why_undecided,
+            "method": self.method,
         }
+        if self.per_task is not None:
+            out["per_task"] = {"factor": exact_text(self.per_task.factor),
+                               "intervals": _intervals(self.per_task.intervals),
+                               "nominal_consistent": self.per_task.nominal_consistent,
+                               "limits": [x.to_dict() for x in self.per_task.limits]}
+            out["breakpoints"] = self.breakpoints
+        return out
 
 
 @dataclass
@@ -126,8 +156,32 @@ class Margin:
     limits_low: list[Limit] = field(default_factory=list)
     limits_high: list[Limit] = field(default_factory=list)
     checks: list[Check] = field(default_factory=list)
+    semantics: str = PER_TASK
+    """As :attr:`Scaling.semantics`; on processors ``intervals`` holds the interval
+    around the nominal value only (the others are not searched)."""
+    exact: bool = True
+    bounds: tuple[Fraction | None, Fraction | None] | None = None
+    """When not exact: (low end at most, high end at least) proven; the ends lie
+    between these and the per-task ends."""
+    per_task: Margin | None = None
+    why_undecided: list[str] = field(default_factory=list)
+    method: str = "with a processor per task: exact line search ((max,+) certificates)"
 
     def to_dict(self) -> dict[str, Any]:
+        out = self._dict()
+        out.update({"semantics": self.semantics, "exact": self.exact,
+                    "bounds": None if self.bounds is None
+                    else [exact_text(b) for b in self.bounds],
+                    "why_undecided": self.why_undecided, "method": self.method})
+        if self.per_task is not None:
+            pt = self.per_task
+            out["per_task"] = {"low": exact_text(pt.low) if pt.nominal_consistent else None,
+                               "high": exact_text(pt.high),
+                               "nominal_consistent": pt.nominal_consistent,
+                               "intervals": _intervals(pt.intervals)}
+        return out
+
+    def _dict(self) -> dict[str, Any]:
         return {
             "kind": self.parameter.kind,
             "nominal": exact_text(self.parameter.nominal),
@@ -253,6 +307,10 @@ class SensitivityResult:
     effort: dict[str, dict[str, int | float]] = field(default_factory=dict)
     """Per part: oracle rounds (batched calls), points asked, analyses run, seconds."""
     source: str | None = None
+    processors: bool = False
+    """The scaling factor and margins are on the skeleton's processors (§4b)."""
+    schedulable: bool | None = None
+    """On processors, at the nominal values (§4b; None: undecided or not asked)."""
     models: dict[int, ParametricGroup] = field(default_factory=dict, repr=False, compare=False)
     """The live groups' parametric event graphs by group index
     (:class:`~.sensitivity_model.ParametricGroup`), for drawings that ask the oracle
@@ -267,7 +325,10 @@ class SensitivityResult:
 
     @property
     def exit_status(self) -> int:
-        """0 consistent at the nominal values; 1 not (the sensitivity is reported anyway)."""
+        """0 consistent (and, on processors, schedulable) at the nominal values; 1 not
+        (the sensitivity is reported anyway)."""
+        if self.processors:
+            return 0 if self.consistent and self.schedulable else 1
         return 0 if self.consistent else 1
 
     def to_dict(self) -> dict[str, Any]:
@@ -277,6 +338,8 @@ class SensitivityResult:
             "unit": self.unit,
             "live": self.live,
             "consistent": self.consistent,
+            "processors": self.processors,
+            "schedulable": self.schedulable,
             "parameters": [{"name": p.name, "kind": p.kind, "nominal": exact_text(p.nominal),
                             "low": exact_text(p.low), "high": exact_text(p.high),
                             "low_open": p.low_open} for p in self.parameters],

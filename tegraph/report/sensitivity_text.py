@@ -104,10 +104,14 @@ def render_sensitivity(result: SensitivityResult) -> str:
     n_params = len(result.parameters)
     lines = [f"sensitivity of {result.name}" + (f" ({result.source})" if result.source else "")
              + f": {n_params} parameter{'s' * (n_params != 1)}, times in {u}"]
-    lines.append("at the nominal values: " + ("consistent" if result.consistent
-                                               else "NOT CONSISTENT"))
+    lines.append("at the nominal values: " + _nominal(result))
     lines.append("consistent means live, every group rate-consistent, no overrun (spec §4); "
                  "a duration or period may make it so again further on (it is not monotone)")
+    if result.processors:
+        lines.append("schedulable means also no overrun, no growing place, no starved task "
+                     "on its processors under preemptive fixed priorities (spec §4b): the "
+                     "figures below are on its processors unless marked 'per task' (every "
+                     "task on a processor of its own, §4, an upper bound of them)")
     if result.scaling is not None:
         lines += ["", *_scaling_lines(result)]
     lines += ["", *_margin_lines(result)]
@@ -124,12 +128,23 @@ def render_sensitivity(result: SensitivityResult) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _nominal(result: SensitivityResult) -> str:
+    text = "consistent" if result.consistent else "NOT CONSISTENT"
+    if not result.processors:
+        return text + " (every task on a processor of its own)"
+    on = {True: "schedulable", False: "NOT SCHEDULABLE",
+          None: "schedulability UNDECIDED"}[result.schedulable]
+    return f"{text} with a processor per task, {on} on its processors"
+
+
 def _scaling_lines(result: SensitivityResult) -> list[str]:
     s = result.scaling
     assert s is not None
+    if s.per_task is not None:
+        return _scaling_on_lines(result)
     count = len(s.parameters)
     lines = [f"all {count} varied duration{'s' * (count != 1)} multiplied by one factor α "
-             "(the other times unchanged):"]
+             "(the other times unchanged), every task on a processor of its own:"]
     lines.append("  consistent for " + (f"α in {_intervals(s.intervals)}" if s.intervals
                                          else "no α"))
     if s.nominal_consistent:
@@ -137,8 +152,8 @@ def _scaling_lines(result: SensitivityResult) -> list[str]:
             lines.append("  scaling factor: none: nothing finite limits it (α can grow "
                          "without bound)")
         else:
-            lines.append(f"  scaling factor {number(s.factor)}: the durations can all grow "
-                         f"{number(s.factor)} times together")
+            lines.append(f"  scaling factor {number(s.factor)} with a processor per task: the "
+                         f"durations can all grow {number(s.factor)} times together")
             for limit in s.limits:
                 lines.append(f"    limit: {_limit(limit)}")
     else:
@@ -151,7 +166,98 @@ def _scaling_lines(result: SensitivityResult) -> list[str]:
     return lines
 
 
+def _scaling_on_lines(result: SensitivityResult) -> list[str]:
+    s = result.scaling
+    assert s is not None and s.per_task is not None
+    pt = s.per_task
+    count = len(s.parameters)
+    lines = [f"all {count} varied duration{'s' * (count != 1)} multiplied by one factor α "
+             "(the other times unchanged), ON ITS PROCESSORS:"]
+    how = (f"exact: the {s.breakpoints} interval{'s' * (s.breakpoints != 1)} of constant "
+           "schedule order between are all decided")
+    if s.nominal_consistent:
+        low, high = s.intervals[0]
+        if s.exact and s.factor is not None:
+            lines.append(f"  schedulable for α in {_interval(low, high)} (the interval holding "
+                         f"1; {how})")
+            lines.append(f"  scaling factor {number(s.factor)} on its processors: the "
+                         f"durations can all grow {number(s.factor)} times together")
+        elif s.exact:
+            lines.append(f"  schedulable for α in [{display_text(low)}, ∞) ({how})")
+            lines.append("  scaling factor: none: nothing finite limits it")
+        else:
+            proven, most = s.bounds  # type: ignore[misc]
+            lines.append(f"  scaling factor on its processors: a BOUND only, between "
+                         f"{number(proven)} (schedulable on [1, {display_text(proven)}], "
+                         "every breakpoint in between decided) and "
+                         + ("∞" if most is None else number(most))
+                         + " (the factor with a processor per task, an upper bound)")
+            for why in s.why_undecided:
+                lines.append(f"    undecided: {why}")
+        for limit in s.limits:
+            lines.append(f"    limit: {_limit(limit)}")
+    else:
+        lines.append("  α = 1 (the nominal durations) is NOT schedulable on its processors:")
+        for limit in s.limits:
+            lines.append(f"    because {_limit(limit)}")
+        for why in s.why_undecided:
+            lines.append(f"    undecided: {why}")
+        below = "none" if s.nearest_below is None else number(s.nearest_below)
+        above = "none" if s.nearest_above is None else number(s.nearest_above)
+        lines.append(f"  nearest schedulable factors: below {below}, above {above}"
+                     + ("" if s.exact else " (NOT exact: a search stopped, see 'undecided')"))
+    per = ("none" if pt.factor is None else number(pt.factor)) if pt.nominal_consistent \
+        else "1 is not consistent"
+    lines.append(f"  per task (every task on a processor of its own, §4): consistent for α in "
+                 f"{_intervals(pt.intervals)}; scaling factor {per} with a processor per task")
+    lines.append(f"  method: {s.method}")
+    return lines
+
+
 def _margin_lines(result: SensitivityResult) -> list[str]:
+    if result.processors:
+        return _margin_on_lines(result)
+    return _margin_per_task_lines(result)
+
+
+def _margin_on_lines(result: SensitivityResult) -> list[str]:
+    u = result.unit
+    rows = []
+    for m in result.margins.values():
+        p = m.parameter
+        pt = m.per_task
+        if m.nominal_consistent and m.exact:
+            grow = "unbounded" if m.high is None else f"+{number(m.high - p.nominal)}"
+            around = _interval(m.low, m.high, "", p.low_open)  # type: ignore[arg-type]
+            why = "; ".join(dict.fromkeys(_short(x) for x in m.limits_high)) or "-"
+        elif m.nominal_consistent:
+            lo, hi = m.bounds  # type: ignore[misc]
+            around = f"BOUND: [{display_text(lo)}, {display_text(hi)}] proven"
+            grow, why = f"at least +{number(hi - p.nominal)}", "undecided beyond"
+        else:
+            grow, around, why = "-", "NOT at nominal", "-"
+        if pt is None or not pt.nominal_consistent:
+            per = "NOT at nominal"
+        else:
+            per = _interval(pt.low, pt.high, "", p.low_open)  # type: ignore[arg-type]
+        rows.append([p.symbol, number(p.nominal), around, grow, why, per])
+    lines = [f"each parameter alone, the others nominal, ON ITS PROCESSORS (schedulability "
+             f"of its part: its groups and the tasks sharing their processors; times in {u}):"]
+    table = tabulate(rows, headers=["parameter", "nominal", "schedulable around nominal",
+                                    "can grow by", "limited above by",
+                                    "per task (consistent around nominal)"])
+    lines += ["  " + line for line in table.splitlines()]
+    lines.append("  (only the interval around the nominal value is searched on processors; the "
+                 "per-task column is every task on a processor of its own, an upper bound)")
+    methods: dict[str, list[str]] = {}
+    for m in result.margins.values():
+        methods.setdefault(m.method, []).append(m.parameter.symbol)
+    for method, who in methods.items():
+        lines.append(f"  method ({', '.join(who)}): {method}")
+    return lines
+
+
+def _margin_per_task_lines(result: SensitivityResult) -> list[str]:
     u = result.unit
     rows = []
     for m in result.margins.values():
@@ -167,8 +273,8 @@ def _margin_lines(result: SensitivityResult) -> list[str]:
             others = m.intervals
         rows.append([p.symbol, number(p.nominal), around, grow, why,
                      _intervals(others, "", p.low_open) if others else "-"])
-    lines = [f"each parameter alone, the others nominal (consistency of its group; times "
-             f"in {u}):"]
+    lines = [f"each parameter alone, the others nominal (consistency of its group, every "
+             f"task on a processor of its own; times in {u}):"]
     table = tabulate(rows, headers=["parameter", "nominal", "consistent around nominal",
                                     "can grow by", "limited above by", "other consistent values"])
     lines += ["  " + line for line in table.splitlines()]
@@ -245,13 +351,31 @@ def _inequality(coefficients: dict[str, Fraction], bound: Fraction) -> str:
 
 def _verdict(result: SensitivityResult) -> str:
     state = "consistent" if result.consistent else "NOT CONSISTENT"
+    if result.processors:
+        state = _nominal(result)
     parts = [f"verdict: {state} at the nominal values"]
     s = result.scaling
-    if s is not None:
+    if s is not None and s.per_task is not None:
+        where = "on its processors"
+        if s.nominal_consistent and s.exact and s.factor is not None:
+            parts.append(f"the varied durations can grow together by a factor "
+                         f"{number(s.factor)} {where}")
+        elif s.nominal_consistent and s.exact:
+            parts.append(f"the varied durations can grow together without bound {where}")
+        elif s.nominal_consistent:
+            parts.append(f"the scaling factor {where} is only bounded (undecided)")
+        elif s.nearest_below is not None or s.nearest_above is not None:
+            parts.append(f"some other scaling of the durations is schedulable {where}")
+        elif s.exact:
+            parts.append(f"no scaling of the durations makes it schedulable {where}")
+        else:
+            parts.append(f"no schedulable scaling found {where} (undecided)")
+    elif s is not None:
         if s.nominal_consistent and s.factor is not None:
             by_range = all(x.kind == "range" for x in s.limits) and s.limits
             parts.append(f"the varied durations can grow together by a factor "
-                         f"{number(s.factor)}" + (" (up to their ranges)" if by_range else ""))
+                         f"{number(s.factor)} with a processor per task"
+                         + (" (up to their ranges)" if by_range else ""))
         elif s.nominal_consistent:
             parts.append("the varied durations can grow together without bound")
         elif s.nearest_below is not None or s.nearest_above is not None:

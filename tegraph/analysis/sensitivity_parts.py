@@ -1,0 +1,285 @@
+"""The parts of a skeleton on its processors, evaluated at a point of a line of parameters.
+
+Along a line ``θ(t) = base + t·direction`` of the parameters (all varied
+durations times one factor, or one parameter alone), :class:`ProcessorLine`
+decides each part of the §4b schedule (tasks joined by a group or a
+processor) at a point t, or just beside it, and gives the interval around t
+where the same verdict holds:
+
+- a part of independent periodic tasks on one processor (the hypotheses of
+  :mod:`.processors.critical_instant`) by Lehoczky, Sha and Ding's test
+  (:mod:`.processors.scaling`): its schedulable t form one closed interval
+  from 0, read off the critical scaling factor or the duration margin;
+- any other part by the engine itself, run on affine times
+  (:mod:`.sensitivity_lin`): the interval of constant event order.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from ..model.build import build_teg
+from ..model.skeleton import Skeleton
+from .processors._engine import PartData, PartResult, simulate_part
+from .processors.critical_instant import _independent
+from .processors.platform import Platform, platform_of
+from .processors.scaling import critical_scaling_factor, duration_margin
+from .processors.schedule import MAX_EVENTS, _hyperperiod, _Net, _overrun_to_come
+from .sensitivity_lin import Cut, lin
+from .sensitivity_model import Parameter, skeleton_at
+from .sensitivity_walk import Outcome
+
+__all__ = ["THEOREM", "SCHEDULE", "ProcessorLine"]
+
+THEOREM = "theorem"
+SCHEDULE = "schedule"
+
+
+@dataclass
+class _Part:
+    data: PartData
+    names: list[str]
+    events: list[int]
+    places: list[int]
+    independent: bool
+    too_long: str | None = None
+
+
+@dataclass
+class ProcessorLine:
+    """The parts of a skeleton on its processors, ready to be evaluated along lines.
+
+    Built once per sensitivity analysis from the nominal analysis (its groups,
+    event graph and platform); ``max_events`` is the budget of each part's
+    simulation at each point.
+    """
+
+    skeleton: Skeleton
+    params: Sequence[Parameter]
+    nominal: list[Fraction]
+    groups: Sequence[Any]
+    max_events: int = MAX_EVENTS
+    parts: list[_Part] = field(default_factory=list)
+    part_of: dict[str, int] = field(default_factory=dict)
+    evaluations: int = 0
+    use_theorem: bool = True
+    """Decide independent parts by Lehoczky, Sha and Ding (False: simulate them too)."""
+    used: set[str] = field(default_factory=set)
+    """How the parts evaluated were decided (:data:`THEOREM`, :data:`SCHEDULE`)."""
+
+    def __post_init__(self) -> None:
+        sk = self.skeleton
+        self.teg = build_teg(sk)
+        self.platform: Platform = platform_of(sk, self.groups)
+        self.net = _Net(sk, self.teg, self.groups, self.platform)
+        for data, names, events, places in self.net.parts():
+            hyper, ticks = _hyperperiod(sk, names)
+            part = _Part(data, names, events, places,
+                         _independent(sk, names, self.platform))
+            if ticks > self.max_events:
+                part.too_long = (f"the hyperperiod of the part of {', '.join(names[:3])}"
+                                 f"{' ...' if len(names) > 3 else ''} is {hyper} {sk.unit} "
+                                 f"({ticks:,} clock ticks), more than `max_events` firings")
+            for t in names:
+                self.part_of[t] = len(self.parts)
+            self.parts.append(part)
+
+    # ---------------------------------------------------------- which parts move
+    def moving(self, direction: dict[int, Fraction]) -> list[int]:
+        """The parts holding a task or clock whose parameter moves along ``direction``."""
+        out: set[int] = set()
+        for j, k in direction.items():
+            if not k:
+                continue
+            p = self.params[j]
+            if p.kind == "duration":
+                if p.owner in self.part_of:
+                    out.add(self.part_of[p.owner])
+            else:
+                out.update(self.part_of[t] for t, task in self.skeleton.tasks.items()
+                           if task.clock == p.owner and t in self.part_of)
+        return sorted(out)
+
+    # ---------------------------------------------------------- one evaluation
+    def evaluate(self, part_index: int, base: dict[int, Fraction],
+                 direction: dict[int, Fraction], at: Fraction, side: int) -> Outcome:
+        """The verdict of one part at ``at`` (``side``: just above/below), and its interval."""
+        self.evaluations += 1
+        part = self.parts[part_index]
+        cut = Cut(at, side)
+        periods_move = any(k and self.params[j].kind == "period" for j, k in direction.items())
+        if part.independent and self.use_theorem and not periods_move:
+            return self._theorem(part, base, direction, cut)
+        if part.too_long and not periods_move:
+            return Outcome(None, cut, ("undecided", part.too_long))
+        data = part.data
+        if periods_move:
+            data = self._moved_data(part_index, base, direction, cut)
+        data = self._parametric(data, part, base, direction, cut)
+        return self._verdict(self._simulate(data), data, part, cut)
+
+    def _simulate(self, data: PartData) -> PartResult:
+        self.used.add(SCHEDULE)
+        # The engine looks for a regime even after an overrun (its figures need
+        # it); a verdict does not: budgets grow tenfold from 1,000, so an early
+        # overrun costs little and the whole budget is spent at most once more.
+        budget = min(1_000, self.max_events)
+        while True:
+            result = simulate_part(data, budget, keep_intervals=False)
+            if result.overrun_at or result.regime is not None or budget >= self.max_events:
+                return result
+            budget = min(budget * 10, self.max_events)
+
+    def _value(self, j: int, base: dict[int, Fraction], direction: dict[int, Fraction]
+               ) -> tuple[Fraction, Fraction]:
+        return base.get(j, self.nominal[j]), direction.get(j, Fraction(0))
+
+    def _parametric(self, data: PartData, part: _Part, base: dict[int, Fraction],
+                    direction: dict[int, Fraction], cut: Cut) -> PartData:
+        scale = self.net.scale
+        index = {p.owner: j for j, p in enumerate(self.params) if p.kind == "duration"}
+        duration = list(data.duration)
+        for i, t in enumerate(part.names):
+            if t in index:
+                c, k = self._value(index[t], base, direction)
+                duration[i] = lin(c * scale, k * scale, cut)
+        hold = list(data.p_hold)
+        clocks = self.teg.attrs["clocks"]
+        local = {e: i for i, e in enumerate(part.events)}
+        for j, p in enumerate(self.params):
+            if p.kind != "period":
+                continue
+            tick = local.get(clocks[p.owner])
+            if tick is None:
+                continue
+            c, k = self._value(j, base, direction)
+            for q, (s, d) in enumerate(zip(data.p_src, data.p_dst)):
+                if s == d == tick:
+                    hold[q] = lin(c * scale, k * scale, cut)
+        return dataclasses.replace(data, duration=duration, p_hold=hold)
+
+    def _moved_data(self, part_index: int, base: dict[int, Fraction],
+                    direction: dict[int, Fraction], cut: Cut) -> PartData:
+        """The part's data with the platform of the periods in the cut's interval.
+
+        Rate-monotonic priorities depend on the order of the periods: every pair
+        of clock periods is compared (recorded in the cut), and the platform is
+        taken at a point of the interval where that order holds.
+        """
+        sk = self.skeleton
+        moving = {self.params[j].owner: j for j, k in direction.items()
+                  if k and self.params[j].kind == "period"}
+        periods = {}
+        for name, clock in sk.clocks.items():
+            if name in moving:
+                c, k = self._value(moving[name], base, direction)
+                periods[name] = (c, k)
+            else:
+                periods[name] = (clock.period, Fraction(0))
+        names = list(periods)
+        for a in range(len(names)):
+            for b in range(a + 1, len(names)):
+                (c1, k1), (c2, k2) = periods[names[a]], periods[names[b]]
+                cut.sign(c1 - c2, k1 - k2)
+        rep = cut.at
+        if cut.side > 0:
+            rep = (cut.at + cut.hi) / 2 if cut.hi is not None else cut.at + 1
+        elif cut.side < 0:
+            rep = (cut.at + cut.lo) / 2 if cut.lo is not None else cut.at - 1
+        values = {j: base.get(j, self.nominal[j]) + rep * k for j, k in direction.items()}
+        moved = skeleton_at(sk, self.params, values)
+        platform = platform_of(moved, self.groups)
+        net = _Net(moved, build_teg(moved), self.groups, platform)
+        for data, names_, _, _ in net.parts():
+            if names_[0] == self.parts[part_index].names[0]:
+                scale = Fraction(self.net.scale, net.scale)
+                # back to the nominal scale, in which the parametric values are given
+                return dataclasses.replace(
+                    data, p_hold=[h * scale for h in data.p_hold],
+                    p_init=[a * scale for a in data.p_init],
+                    duration=[x * scale for x in data.duration])
+        raise AssertionError("the parts do not depend on the periods")
+
+    def _theorem(self, part: _Part, base: dict[int, Fraction], direction: dict[int, Fraction],
+                 cut: Cut) -> Outcome:
+        """Lehoczky, Sha and Ding: the schedulable t form one closed interval from 0."""
+        sk = self.skeleton
+        order = sorted(part.names, key=lambda t: -self.platform.priority[t])
+        index = {p.owner: j for j, p in enumerate(self.params) if p.kind == "duration"}
+        lines = []
+        for t in order:
+            c, k = (self._value(index[t], base, direction) if t in index
+                    else (sk.tasks[t].duration, Fraction(0)))
+            lines.append((c, k))
+        periods = [sk.clocks[sk.tasks[t].clock].period for t in order]  # type: ignore[index]
+        moving = [i for i, (_, k) in enumerate(lines) if k]
+        if all(c == 0 for c, _ in lines):
+            limit = critical_scaling_factor([(k, p) for (_, k), p in zip(lines, periods)])
+        elif len(moving) == 1 and lines[moving[0]][0] == 0 and lines[moving[0]][1] == 1:
+            m = moving[0]
+            limit = duration_margin([(c, p) for (c, _), p in zip(lines, periods)], m)
+        else:
+            limit = None
+            return self._simulated(part, base, direction, cut)
+        if limit is None:  # too many scheduling points
+            return self._simulated(part, base, direction, cut)
+        self.used.add(THEOREM)
+        if limit.value is None:
+            cut.above(Fraction(0), True)
+            return Outcome(True, cut)
+        a = limit.value
+        if a < 0:
+            return Outcome(False, cut, ("overrun", order[limit.task], 2))
+        if cut.at < a or (cut.at == a and cut.side <= 0):
+            cut.below(a, True)
+            return Outcome(True, cut)
+        cut.above(a, False)
+        # job 1 of the first task at the limit misses its deadline: §4b overrun at 2
+        return Outcome(False, cut, ("overrun", order[limit.task], 2))  # type: ignore[index]
+
+    def _simulated(self, part: _Part, base, direction, cut: Cut) -> Outcome:
+        if part.too_long:
+            return Outcome(None, cut, ("undecided", part.too_long))
+        data = self._parametric(part.data, part, base, direction, cut)
+        return self._verdict(self._simulate(data), data, part, cut)
+
+    def _verdict(self, r: PartResult, d: PartData, part: _Part, cut: Cut) -> Outcome:
+        """§4b's verdict of one part from its simulation (as ``schedule._Outcome``)."""
+        names = part.names
+        late = [(k, names[j]) for j, k in r.overrun_at.items()]
+        if late:
+            k, task = min(late)
+            return Outcome(False, cut, ("overrun", task, k))
+        if r.regime is None:
+            return Outcome(None, cut, ("undecided", f"no periodic regime within "
+                                       f"{self.max_events:,} event firings (`max_events`)"))
+        if r.regime[0] == "stop":
+            return Outcome(True, cut)
+        t1, t2, old, new, growing = r.regime
+        if growing:
+            p = min(growing)
+            g = part.places[p]
+            names_ = self.teg.transition_names
+            return Outcome(False, cut, ("grows", f"{names_[self.net.src[g]]} -> "
+                                        f"{names_[self.net.dst[g]]}"))
+        fired = [b - a for a, b in zip(old.fired, new.fired)]
+        compute_of = {j: e for e, j in enumerate(d.compute_task) if j >= 0}
+        tick_of = {j: e for e, ts in d.watched.items() for j in ts}
+        for j, t in enumerate(names):
+            if fired[compute_of[j]] == 0 and new.pending[j] >= 0:
+                return Outcome(False, cut, ("starved", t))
+        coming = []
+        for j in r.tick_log:
+            last = d.end_event[j]
+            ends = new.finished[j] - old.finished[j] if last is None else fired[last]
+            k = _overrun_to_come(r.tick_log[j], t1, t2, fired[tick_of[j]], ends)
+            if k is not None:
+                coming.append((k, names[j]))
+        if coming:
+            k, task = min(coming)
+            return Outcome(False, cut, ("overrun", task, k))
+        return Outcome(True, cut)

@@ -1,0 +1,363 @@
+"""Sensitivity on the processors (spec §4b): the scaling factor and margins, exact.
+
+Each figure is one line of parameters (all varied durations times one
+factor α, or one parameter alone): :func:`solve_line` finds the interval of
+the line holding the nominal point where the skeleton is live and consistent
+(§4, the per-task answer, an upper bound) and schedulable on its processors
+(§4b), by walking its parts (:mod:`.sensitivity_parts`) interval by interval
+of constant schedule order (:mod:`.sensitivity_walk`). :func:`scaling_on` and
+:func:`margin_on` turn the answer into the report's :class:`Scaling` and
+:class:`Margin`, each end checked with ``analyze_skeleton(processors=True)``
+at it and just beyond. The proof is in ``docs/sensitivity.md`` (*On
+processors*).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from .sensitivity_lin import Cut
+from .sensitivity_model import skeleton_at
+from .sensitivity_parts import SCHEDULE, THEOREM, ProcessorLine
+from .sensitivity_results import PROCESSORS, Check, Limit, Margin, Scaling
+from .sensitivity_walk import MAX_STEPS, Interval, Outcome, per_task_outcome, seek, walk
+
+__all__ = ["LineAnswer", "margin_on", "method_text", "scaling_on", "solve_line"]
+
+_NUDGE = Fraction(1, 10**9)
+_SHORT_EVENTS = 10_000
+
+
+@dataclass
+class LineAnswer:
+    """The schedulable values along one line on processors (also live and consistent, §4)."""
+
+    holding: bool | None
+    """The start itself: live, consistent and schedulable (None: undecided)."""
+    low: Fraction | None = None
+    high: Fraction | None = None
+    """Ends of the interval holding the start, proven (``high`` None: unbounded)."""
+    low_exact: bool = True
+    high_exact: bool = True
+    high_bound: Fraction | None = None
+    """When ``high`` is not exact: the per-task end, which the true end does not pass."""
+    nearest_below: Fraction | None = None
+    nearest_above: Fraction | None = None
+    nearest_exact: bool = True
+    steps: int = 0
+    """Intervals of constant schedule order visited."""
+    used: set[str] = field(default_factory=set)
+    """How the parts were decided: ``"theorem"`` and/or ``"schedule"``."""
+    why: list[str] = field(default_factory=list)
+    """Why an end is not exact (undecided points, the step budget)."""
+    at_start: Outcome | None = None
+    beyond: dict[str, Outcome] = field(default_factory=dict)
+    """"high"/"low"/"below"/"above": the outcome just beyond that end (for the checks)."""
+
+
+def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int, Fraction],
+               start: Fraction, per_task: Sequence[Interval], *, constant_parts: bool,
+               positive: bool = False, max_steps: int = MAX_STEPS) -> LineAnswer:
+    """The interval of the line, holding ``start``, where the skeleton is live, consistent
+    and schedulable on its processors; or, when ``start`` is not, the nearest such values.
+
+    Parameters
+    ----------
+    on : ProcessorLine
+    base, direction : dict of int to Fraction
+        The line ``θ(t) = base + t·direction`` by parameter index (others nominal).
+    start : Fraction
+        The nominal point of the line.
+    per_task : sequence of (Fraction, Fraction or None)
+        The consistent intervals with a processor per task along the same line
+        (exact, from :func:`~.sensitivity_line.solve_lines`); the answer lies in them.
+    constant_parts : bool
+        Also require the parts the line does not move (the scaling factor is
+        the whole skeleton's; a margin is its own part's).
+    positive : bool
+        t = 0 is excluded (a period): the walk down stops above it.
+    max_steps : int
+        Intervals of constant order visited by each walk before it stops with a bound.
+
+    Returns
+    -------
+    LineAnswer
+    """
+    on.used = set()
+    parts = on.moving(direction)
+    if constant_parts:
+        for i in range(len(on.parts)):
+            if i not in parts:
+                fixed = on.evaluate(i, base, {}, start, 0)
+                if fixed.verdict is not True:
+                    return LineAnswer(fixed.verdict, used=on.used, why=[why_text(fixed)])
+    combined = _combined(on, base, direction, parts, per_task, positive)
+    first = combined(start, 0)
+    answer = LineAnswer(first.verdict, at_start=first)
+    if first.verdict is True:
+        holding = next((a, b) for a, b in per_task if a <= start and (b is None or start <= b))
+        firsts = {i: on.evaluate(i, base, direction, start, 0) for i in parts}
+        for up in (True, False):
+            _end(on, answer, base, direction, start, holding[1] if up else holding[0], up,
+                 parts, firsts, Fraction(0) if positive and not up else None, max_steps)
+    else:
+        if first.verdict is None:
+            answer.why.append(why_text(first))
+        for up in (True, False):
+            found, exact, out, steps = seek(combined, first, up, max_steps)
+            answer.steps += steps
+            answer.nearest_exact = answer.nearest_exact and exact
+            setattr(answer, "nearest_above" if up else "nearest_below", found)
+            if out is not None:
+                answer.beyond["above" if up else "below"] = out
+            if not exact:
+                answer.why.append(why_text(out) if out is not None and out.why
+                                  else f"stopped after {max_steps} intervals of constant order")
+    answer.used = on.used
+    answer.why = list(dict.fromkeys(answer.why))
+    return answer
+
+
+def _combined(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int, Fraction],
+              parts: list[int], per_task: Sequence[Interval], positive: bool
+              ) -> Callable[[Fraction, int], Outcome]:
+    """The verdict of every moving part and of the per-task answer at once, with their cut."""
+    def combined(t: Fraction, side: int) -> Outcome:
+        if positive and (t < 0 or (t == 0 and side <= 0)):
+            cut = Cut(t, side)
+            cut.below(Fraction(0), True)
+            return Outcome(False, cut, ("per-task", None))
+        out = per_task_outcome(per_task, t, side)
+        if out.verdict is not True:
+            return out
+        verdict: bool | None = True
+        why = None
+        for i in parts:
+            o = on.evaluate(i, base, direction, t, side)
+            if o.verdict is False:
+                return o
+            out.cut.meet(o.cut)
+            if o.verdict is None:
+                verdict, why = None, o.why
+        return Outcome(verdict, out.cut, why)
+    return combined
+
+
+def _end(on: ProcessorLine, answer: LineAnswer, base: dict[int, Fraction],
+         direction: dict[int, Fraction], start: Fraction, per_task_end: Fraction | None,
+         up: bool, parts: list[int], firsts: dict[int, Outcome], floor: Fraction | None,
+         max_steps: int) -> None:
+    """One end of the interval holding ``start``: the nearest end over the moving parts.
+
+    Each part is walked up to the nearest end found so far (``best``, first the
+    per-task end): the interval holding start is the intersection of each
+    part's and the per-task one. A walk that stops undecided proves its part
+    only up to where it stopped (``proven``): the end is then a bound.
+    """
+    best = proven = per_task_end
+    source: Outcome | None = None
+    closer = (lambda a, b: a < b) if up else (lambda a, b: a > b)
+    for i in parts:
+        w = walk(lambda t, side, i=i: on.evaluate(i, base, direction, t, side), start, up,
+                 best, max_steps=max_steps, first=firsts[i], floor=floor)
+        answer.steps += w.steps
+        if not w.exact:
+            answer.why.append(w.why_stopped or "undecided")
+            if proven is None or closer(w.end, proven):
+                proven = w.end
+            continue
+        if not w.capped:
+            best, source = w.end, w.beyond
+            if proven is None or closer(best, proven):
+                proven = best
+    exact = proven == best
+    if up:
+        answer.high, answer.high_exact = proven, exact
+        answer.high_bound = None if exact else best
+    else:
+        answer.low, answer.low_exact = proven, exact
+    if source is not None and exact:
+        answer.beyond["high" if up else "low"] = source
+
+
+def why_text(out: Outcome | None) -> str:
+    """What an outcome that is not schedulable (or undecided) shows, in words."""
+    if out is None or out.why is None:
+        return "undecided"
+    kind, a, *rest = out.why
+    if kind == "undecided":
+        return str(a)
+    if kind == "overrun":
+        return f"{a} overruns at activation {rest[0]} on its processors"
+    if kind == "grows":
+        return f"the place {a} grows on its processors"
+    if kind == "starved":
+        return f"{a} never gets enough of its processor (starved)"
+    return "not consistent with a processor per task"
+
+
+def method_text(answer: LineAnswer) -> str:
+    """How the figure on processors was decided, for the report."""
+    ways = []
+    if THEOREM in answer.used:
+        ways.append("the critical scaling factor of Lehoczky, Sha and Ding (1989), exact for "
+                    "independent periodic tasks released together on one processor")
+    if SCHEDULE in answer.used:
+        ways.append(f"the exact §4b schedule run on affine times, {answer.steps} interval"
+                    f"{'s' * (answer.steps != 1)} of constant event order walked")
+    if not ways:
+        ways.append("the per-task answer (no part of the schedule moves on this line)")
+    text = "on its processors: " + "; ".join(ways)
+    if answer.why:
+        text += "; UNDECIDED beyond what is proven: " + "; ".join(dict.fromkeys(answer.why))
+    return text
+
+
+# --------------------------------------------------------------------------- the report
+
+
+def limit_on(outcome: Outcome) -> Limit:
+    """What the exact schedule shows just beyond an end."""
+    kind, a, *rest = outcome.why  # type: ignore[misc]
+    if kind == "overrun":
+        return Limit("processors", f"on its processors, {a} overruns: activation {rest[0] - 1} "
+                     f"has not ended at tick {rest[0]}", task=a, activation=rest[0], tasks=[a])
+    if kind == "grows":
+        return Limit("processors", f"on its processors, the place {a} grows by tokens every "
+                     "regime (unbounded)", events=a.split(" -> "))
+    if kind == "starved":
+        return Limit("processors", f"on its processors, {a} never gets enough of its "
+                     "processor (starved)", task=a, tasks=[a])
+    return Limit("processors", f"undecided on its processors: {a}")
+
+
+def _limits(answer: LineAnswer, key: str, per_task: list[Limit]) -> list[Limit]:
+    out = answer.beyond.get(key)
+    if out is None or out.why is None or out.why[0] == "per-task":
+        return list(per_task)
+    return [limit_on(out)]
+
+
+def scaling_on(ctx: Any, on: ProcessorLine, pt: Scaling, verify: bool) -> Scaling:
+    """The scaling factor on processors, within the one with a processor per task ``pt``.
+
+    ``ctx`` is the sensitivity's context (``skeleton``, ``params``, ``nominal``,
+    ``analyses``, ``max_events``).
+    """
+    durations = [j for j, p in enumerate(ctx.params) if p.kind == "duration"]
+    s = Scaling(pt.parameters, [], None, False, semantics=PROCESSORS, per_task=pt)
+    if not pt.intervals:  # no factor is consistent: none is schedulable either
+        s.limits = list(pt.limits)
+        s.method = "on its processors: no factor is consistent with a processor per task"
+        return s
+    answer = solve_line(on, {j: Fraction(0) for j in durations},
+                        {j: ctx.nominal[j] for j in durations}, Fraction(1), pt.intervals,
+                        constant_parts=True)
+    s.breakpoints, s.why_undecided, s.method = answer.steps, answer.why, method_text(answer)
+    if answer.holding:
+        s.nominal_consistent = True
+        s.intervals = [(answer.low, answer.high)]  # type: ignore[list-item]
+        s.exact = answer.high_exact and answer.low_exact
+        if answer.high_exact:
+            s.factor = answer.high
+        else:
+            s.bounds = (answer.high, answer.high_bound)
+        s.limits = _limits(answer, "high", pt.limits if pt.factor == answer.high else [])
+    else:
+        s.exact = answer.holding is False and answer.nearest_exact
+        s.nearest_below, s.nearest_above = answer.nearest_below, answer.nearest_above
+        start = answer.at_start
+        s.limits = ([limit_on(start)] if start is not None and start.why is not None
+                    and start.why[0] != "per-task" else list(pt.limits))
+        if s.nearest_below is not None:
+            s.limits_below = _limits(answer, "below", pt.limits_below)
+        if s.nearest_above is not None:
+            s.limits_above = _limits(answer, "above", pt.limits_above)
+    if verify:
+        _check(ctx, s.checks, "scaling",
+               lambda t: {j: t * ctx.nominal[j] for j in durations}, answer)
+    return s
+
+
+def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
+    """One parameter's margin on processors, within the one with a processor per task."""
+    p = pt.parameter
+    j = ctx.params.index(p)
+    m = Margin(p, pt.groups, [], False, semantics=PROCESSORS, per_task=pt)
+    if not pt.intervals:
+        m.method = "on its processors: no value is consistent with a processor per task"
+        return m
+    answer = solve_line(on, {j: Fraction(0)}, {j: Fraction(1)}, p.nominal, pt.intervals,
+                        constant_parts=False, positive=p.kind == "period")
+    m.why_undecided, m.method = answer.why, method_text(answer)
+    if answer.holding:
+        m.nominal_consistent = True
+        m.low, m.high = answer.low, answer.high
+        m.intervals = [(answer.low, answer.high)]  # type: ignore[list-item]
+        m.exact = answer.low_exact and answer.high_exact
+        if not m.exact:
+            m.bounds = (answer.low, answer.high)
+            m.low = answer.low if answer.low_exact else None
+            m.high = answer.high if answer.high_exact else None
+        m.limits_low = _limits(answer, "low", pt.limits_low if pt.low == answer.low else [])
+        m.limits_high = _limits(answer, "high", pt.limits_high if pt.high == answer.high else [])
+    else:
+        m.exact = answer.holding is False
+    if verify:
+        _check(ctx, m.checks, p.name, lambda t: {j: t}, answer)
+    return m
+
+
+def _check(ctx: Any, checks: list[Check], what: str,
+           values: Callable[[Fraction], dict[int, Fraction]], answer: LineAnswer) -> None:
+    """Each exact finite end: the whole analysis on processors at it and just beyond."""
+    ends = []
+    if answer.holding:
+        if answer.high_exact and answer.high is not None and "high" in answer.beyond:
+            ends.append((answer.high, 1, answer.beyond["high"]))
+        if answer.low_exact and answer.low is not None and "low" in answer.beyond:
+            ends.append((answer.low, -1, answer.beyond["low"]))
+    else:
+        for key, end, side in (("above", answer.nearest_above, 1),
+                               ("below", answer.nearest_below, -1)):
+            if end is not None and key in answer.beyond:
+                ends.append((end, -side, answer.beyond[key]))
+    for end, side, out in ends:
+        checks.append(Check(f"{what} on processors at the end", end, True,
+                            verdict_on(ctx, values(end))))
+        beyond = _just(end, side, out)
+        if beyond is not None:
+            checks.append(Check(f"{what} on processors just beyond", beyond, False,
+                                verdict_on(ctx, values(beyond))))
+
+
+def _just(end: Fraction, side: int, out: Outcome) -> Fraction | None:
+    """A point beside ``end`` (side +1 above, -1 below) inside the piece ``out`` holds on."""
+    step = abs(end) * _NUDGE or _NUDGE
+    if side > 0:
+        far = out.cut.hi
+        return end + step if far is None or end + step < far else (end + far) / 2
+    near = out.cut.lo
+    t = end - step if near is None or end - step > near else (end + near) / 2
+    return t if t >= 0 else None
+
+
+def verdict_on(ctx: Any, values: dict[int, Fraction]) -> bool | None:
+    """Live, consistent and schedulable on processors, by ``analyze_skeleton``."""
+    from .analyze import analyze_skeleton
+
+    moved = skeleton_at(ctx.skeleton, ctx.params, values)
+    # A small budget first: just beyond an end the first overrun comes early, and
+    # the schedule would spend its whole budget looking for a regime after it.
+    for budget in dict.fromkeys((min(_SHORT_EVENTS, ctx.max_events), ctx.max_events)):
+        ctx.analyses += 1
+        report = analyze_skeleton(moved, processors=True, max_events=budget,
+                                  semiflow_max_places=0)
+        if not (report.live and report.consistent):
+            return False
+        if report.schedulable is not None:
+            return report.schedulable
+    return None

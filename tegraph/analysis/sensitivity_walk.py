@@ -1,0 +1,133 @@
+"""Walking a line of parameters interval by interval of constant schedule order.
+
+An evaluation of the schedule at a point t of the line (or just beside it)
+gives a verdict and the interval around t where every comparison the engine
+made answers the same (:mod:`.sensitivity_lin`), so where the verdict is the
+same. :func:`walk` moves from such an interval to the next, each end
+evaluated at the end itself and just beyond it, until the verdict changes:
+every breakpoint of the schedule's order in between is visited, so the end
+found is exact. :func:`seek` does the same from a point that is not
+schedulable, to the nearest one that is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+
+from .sensitivity_lin import Cut
+
+__all__ = ["MAX_STEPS", "Interval", "Outcome", "Walk", "per_task_outcome", "seek", "walk"]
+
+MAX_STEPS = 400
+"""Intervals of constant order visited by one :func:`walk` before it stops with a bound."""
+
+Interval = tuple[Fraction, "Fraction | None"]
+
+@dataclass
+class Outcome:
+    """The verdict of the moving parts at one evaluation point, and where it holds."""
+
+    verdict: bool | None
+    cut: Cut
+    why: tuple | None = None
+    """False: ("overrun", task, k), ("grows", place name), ("starved", task),
+    ("per-task", None); None: ("undecided", reason)."""
+
+
+@dataclass
+class Walk:
+    """What :func:`walk` found in one direction from its start."""
+
+    end: Fraction | None
+    """The last t of the interval (None: unbounded, or nothing proven)."""
+    attained: bool = True
+    exact: bool = True
+    """False: the walk stopped (budget, undecided): ``end`` is only proven so far."""
+    beyond: Outcome | None = None
+    """The outcome just beyond ``end`` (its cut reaches the next breakpoint)."""
+    steps: int = 0
+    capped: bool = False
+    """The end is the cap given (the per-task end)."""
+    why_stopped: str | None = None
+
+
+def walk(evaluate: Callable[[Fraction, int], Outcome], start: Fraction, up: bool,
+         cap: Fraction | None, *, floor: Fraction | None = None,
+         max_steps: int = MAX_STEPS, first: Outcome | None = None) -> Walk:
+    """From ``start`` (schedulable), the end of its schedulable interval upward or downward.
+
+    ``cap``: stop there (an end already proven by other means, None: none);
+    ``floor``: the lowest value of the domain when walking down.
+    """
+    side = 1 if up else -1
+    out = first if first is not None else evaluate(start, 0)
+    assert out.verdict is True
+    cut = out.cut
+    steps = 0
+    while True:
+        end, closed = (cut.hi, cut.hi_closed) if up else (cut.lo, cut.lo_closed)
+        if end is None or (cap is not None and ((end > cap if up else end < cap)
+                                                or (end == cap and closed))):
+            if cap is None:
+                return Walk(floor if not up else None, steps=steps)
+            return Walk(cap, steps=steps, capped=True)
+        if floor is not None and (end <= floor if not up else False):
+            return Walk(floor, steps=steps, capped=True)
+        steps += 1
+        if steps > max_steps:
+            return Walk(end, closed, False, None, steps,
+                        why_stopped=f"stopped after {max_steps} intervals of constant order")
+        nxt = evaluate(end, side if closed else 0)
+        if nxt.verdict is None:
+            return Walk(end, closed, False, nxt, steps, why_stopped=str(nxt.why[1])
+                        if nxt.why else "undecided")
+        if nxt.verdict is False:
+            return Walk(end, closed, True, nxt, steps)
+        cut = nxt.cut
+
+
+def per_task_outcome(intervals: Sequence[Interval], t: Fraction, side: int) -> Outcome:
+    """Membership of t (or just beside it) in closed intervals, with the piece around it."""
+    cut = Cut(t, side)
+    for a, b in intervals:
+        after_a = t > a or (t == a and side >= 0)
+        before_b = b is None or t < b or (t == b and side <= 0)
+        if after_a and before_b:
+            cut.above(a, True)
+            if b is not None:
+                cut.below(b, True)
+            return Outcome(True, cut)
+    for a, b in intervals:  # the gap around t: open at the ends of its neighbours
+        if b is not None and (b < t or (b == t and side > 0)):
+            cut.above(b, False)
+        if a > t or (a == t and side < 0):
+            cut.below(a, False)
+    return Outcome(False, cut, ("per-task", None))
+
+
+def seek(evaluate: Callable[[Fraction, int], Outcome], first: Outcome, up: bool,
+          max_steps: int) -> tuple[Fraction | None, bool, Outcome | None, int]:
+    """From a point that is not schedulable, the nearest schedulable value up or down.
+
+    Returns (value or None when there is none, exact, the outcome on the near side
+    of it (not schedulable), intervals visited).
+    """
+    side = 1 if up else -1
+    out = first
+    steps = 0
+    while True:
+        if out.verdict is None:
+            return None, False, out, steps
+        cut = out.cut
+        end, closed = (cut.hi, cut.hi_closed) if up else (cut.lo, cut.lo_closed)
+        if end is None or end < 0:
+            return None, True, out, steps
+        steps += 1
+        if steps > max_steps:
+            return None, False, out, steps
+        nxt = evaluate(end, side if closed else 0)
+        if nxt.verdict is True:
+            return end, True, out, steps
+        out = nxt
