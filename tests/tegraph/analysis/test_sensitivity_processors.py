@@ -1,0 +1,195 @@
+"""`tegraph sensitivity` on the processors (spec §4b): values derived by hand or by
+another algorithm (the exact schedule of the scaled skeleton, Lehoczky-Sha-Ding)."""
+
+from __future__ import annotations
+
+import json
+from fractions import Fraction as F
+from pathlib import Path
+from unittest import mock
+
+import jsonschema
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+from tegraph import Skeleton, load_skeleton, sensitivity
+from tegraph.analysis.analyze import analyze_skeleton
+from tegraph.analysis.processors import schedule_on_processors
+from tegraph.analysis.processors.scaling import critical_scaling_factor
+from tegraph.analysis.sensitivity_parts import ProcessorLine
+from tegraph.cli import app
+from tegraph.errors import InputError
+from tegraph.model.build import build_teg
+from tegraph.report import render_text, to_json
+
+REPO = Path(__file__).resolve().parents[3]
+TORQUE = REPO / "examples" / "computed_torque.yaml"
+SCHEMA = json.loads((REPO / "docs" / "report.schema.json").read_text())
+NUDGE = F(1, 10**9)
+
+
+def on_schedule(sk: Skeleton) -> bool | None:
+    """Consistent (§4) and schedulable (§4b) by the exact schedule, not by the walk."""
+    report = analyze_skeleton(sk, processors=False, semiflow_max_places=0)
+    if not report.consistent:
+        return False
+    return schedule_on_processors(sk, build_teg(sk), report.groups,
+                                  intervals=False).schedulable
+
+
+def scaled(sk: Skeleton, a: F) -> Skeleton:
+    data = sk.to_dict()
+    for task in data["tasks"].values():
+        task["duration"] = str(F(task["duration"]) * a)
+    return Skeleton.from_dict(data)
+
+
+# ------------------------------------------------------------------ computed torque
+
+
+def test_computed_torque_on_its_one_cpu():
+    # One CPU, rate-monotonic: OBS.JL (1 ms) > the control chain TG.JS -> TF.TT.JS -> CO.JS
+    # (2 ms, one group, run back to back: each is released when the previous ends,
+    # so the CPU never idles between them) > MOD.DYN (6 ms). For MOD.DYN the chain
+    # is one unit of 0.6a every 2 ms, so by Lehoczky-Sha-Ding's scheduling points
+    # (W(t) = 1.2a + 0.1a ceil(t) + 0.6a ceil(t/2) <= t for some t in {1..6}):
+    #   t=1: 1.9a <= 1; t=2: 2a <= 2; t=3: 2.7a <= 3; t=4: 2.8a <= 4;
+    #   t=5: 3.5a <= 5; t=6: 3.6a <= 6 -> a <= 5/3 (the largest).
+    # The chain (CO.JS ends by 2): 0.6a + 0.1a ceil(t) <= t: t=2: 0.8a <= 2 -> 5/2.
+    # OBS.JL: 0.1a <= 1 -> 10. a* = min(5/3, 5/2, 10) = 5/3 < 2 (utilization 0.6 x 5/3 = 1).
+    sk = load_skeleton(TORQUE)
+    r = sensitivity(sk, formulas=False)
+    s = r.scaling
+    assert r.processors and r.schedulable is True and r.exit_status == 0
+    assert s.semantics == "processors" and s.exact and s.factor == F(5, 3)
+    assert s.limits[0].task == "MOD.DYN"
+    assert "affine" in s.method  # a synchronized group: the walk, not the theorem
+    assert s.per_task.factor == 5
+    assert all(c.agrees for c in r.checks)
+    # Another algorithm: the exact schedule of the scaled skeleton.
+    assert on_schedule(scaled(sk, F(5, 3))) is True
+    assert on_schedule(scaled(sk, F(5, 3) + NUDGE)) is False
+    assert on_schedule(scaled(sk, F(2))) is False
+    # Margins, each alone (same points, one unknown): MOD.DYN: C + 0.6 + 1.8 <= 6 at
+    # t=6 -> 3.6; OBS.JL: 1.2 + 6C + 1.8 <= 6 -> 1/2 (t=4 gives 2/5, smaller).
+    assert r.margins["MOD.DYN.duration"].high == F(18, 5)
+    assert r.margins["OBS.JL.duration"].high == F(1, 2)
+    assert r.margins["MOD.DYN.duration"].per_task.high == 6
+
+
+def test_computed_torque_with_a_processor_per_task_is_the_old_answer():
+    r = sensitivity(load_skeleton(TORQUE), formulas=False, processors=False)
+    assert not r.processors and r.scaling.factor == 5
+    assert r.scaling.semantics == "processor per task"
+    assert r.margins["MOD.DYN.duration"].high == 6
+
+
+def test_undecided_is_a_bound_never_a_guess():
+    # 10 event firings cannot cover one hyperperiod (6 ms: 6 + 3 + 1 ticks): the
+    # nominal verdict and the factor are undecided, with the budget named.
+    r = sensitivity(load_skeleton(TORQUE), formulas=False, margins=False, max_events=10,
+                    verify=False)
+    assert r.schedulable is None and r.exit_status == 1
+    assert r.scaling.factor is None and not r.scaling.exact
+    assert r.scaling.why_undecided and "max_events" in " ".join(r.scaling.why_undecided)
+
+
+def test_max_events_is_checked():
+    try:
+        sensitivity(load_skeleton(TORQUE), max_events=0)
+    except InputError as exc:
+        assert exc.where == "max_events"
+    else:
+        raise AssertionError("max_events=0 accepted")
+
+
+# ------------------------------------------------------------------ independent tasks
+
+
+def task_sets():
+    periods = st.sampled_from([F(2), F(3), F(4), F(5), F(6), F(10), F(12)])
+    durations = st.fractions(min_value=F(1, 4), max_value=F(3), max_denominator=4)
+    return st.lists(st.tuples(durations, periods), min_size=1, max_size=3)
+
+
+def skeleton_of(tasks) -> Skeleton:
+    return Skeleton.from_dict({"tasks": {
+        f"T{i}": {"duration": str(c), "period": str(p)} for i, (c, p) in enumerate(tasks)}})
+
+
+def _no_theorem(self):
+    ProcessorLine_post_init(self)
+    self.use_theorem = False
+
+
+ProcessorLine_post_init = ProcessorLine.__post_init__
+
+
+@settings(max_examples=15, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(task_sets())
+def test_theorem_walk_and_schedule_agree_on_independent_tasks(tasks):
+    sk = skeleton_of(tasks)
+    r = sensitivity(sk, formulas=False, margins=False, verify=False)
+    s = r.scaling
+    # Most urgent first: rate-monotonic, equal periods in file order (§4b).
+    order = sorted(range(len(tasks)), key=lambda i: (tasks[i][1], i))
+    lsd = critical_scaling_factor([tasks[i] for i in order]).value
+    per_task = min(p / c for c, p in tasks)  # each task alone: C a <= T
+    assert s.per_task.intervals[0] == (0, per_task)
+    if lsd < 1:  # also when per_task < 1: then some task alone misses, so lsd < 1
+        assert not s.nominal_consistent and s.factor is None
+        return
+    assert s.per_task.factor == per_task
+    assert s.factor == min(lsd, per_task) <= per_task  # never above the relaxation
+    assert "Lehoczky" in s.method
+    # The walk on affine times, the theorem switched off, finds the same factor.
+    with mock.patch.object(ProcessorLine, "__post_init__", _no_theorem):
+        walked = sensitivity(sk, formulas=False, margins=False, verify=False).scaling
+    assert walked.exact and walked.factor == s.factor and "affine" in walked.method
+    # Brute force on rationals with the exact schedule: bisection brackets the end.
+    assert on_schedule(scaled(sk, s.factor)) is True
+    assert on_schedule(scaled(sk, s.factor + NUDGE)) is False
+    low, high = F(1), per_task + 1
+    for _ in range(6):
+        mid = (low + high) / 2
+        low, high = (mid, high) if on_schedule(scaled(sk, mid)) else (low, mid)
+    assert low <= s.factor < high
+
+
+# ------------------------------------------------------------------ the command line
+
+
+def test_cli_labels_and_no_processors():
+    runner = CliRunner()
+    on = runner.invoke(app, ["sensitivity", str(TORQUE), "--no-formulas"])
+    assert on.exit_code == 0, on.output
+    assert "scaling factor 5/3 (≈1.66667) on its processors" in on.output
+    assert "scaling factor 5 with a processor per task" in on.output
+    off = runner.invoke(app, ["sensitivity", str(TORQUE), "--no-formulas", "--no-processors"])
+    assert off.exit_code == 0, off.output
+    assert "scaling factor 5 with a processor per task" in off.output
+    assert "on its processors" not in off.output
+    doc = json.loads(runner.invoke(app, ["sensitivity", str(TORQUE), "--json",
+                                         "--no-processors"]).output)
+    assert doc["scaling_factor"] == "5" and doc["processors"] is False
+    doc = json.loads(runner.invoke(app, ["sensitivity", str(TORQUE), "--json"]).output)
+    jsonschema.validate(doc, SCHEMA)
+    assert doc["scaling_factor"] == "5/3" and doc["processors"] is True
+    assert doc["scaling"]["semantics"] == "processors" and doc["scaling"]["exact"]
+    assert doc["scaling"]["per_task"]["factor"] == "5"
+
+
+def test_cli_bad_input_exits_2_with_one_message():
+    bad = CliRunner().invoke(app, ["sensitivity", str(TORQUE), "--vary", "NOPE.duration"])
+    assert bad.exit_code == 2
+    lines = [line for line in bad.output.strip().splitlines() if line]
+    assert len(lines) == 1 and "NOPE" in lines[0] and "Traceback" not in bad.output
+
+
+def test_text_of_an_independent_set_names_the_theorem():
+    sk = skeleton_of([(F(1), F(3)), (F(1), F(5)), (F(2), F(10))])
+    text = render_text(sensitivity(sk, formulas=False))
+    assert "scaling factor 9/7" in text and "Lehoczky, Sha and Ding" in text
+    assert json.loads(to_json(sensitivity(sk, formulas=False)))["scaling_factor"] == "9/7"
