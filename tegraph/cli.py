@@ -646,7 +646,8 @@ def sensitivity_command(
     max_events: int = typer.Option(
         MAX_EVENTS, "--max-events", min=1,
         help="On processors: budget of event firings of each simulation of a part of the "
-             "schedule; past it, the figure is only bounded and the report says why."),
+             "schedule, and of each figure in all; the whole run fires at most 20 times as "
+             "many. Past a budget, the figure is only bounded and the report says why."),
 ) -> None:
     """How much durations can grow (scaling factor, margins), and each period as a formula.
 
@@ -677,16 +678,27 @@ def sensitivity_command(
             _fail("--plot needs matplotlib, which is not installed; install it with: "
                   "pip install 'tegraph[plot]'")
         _output_file(plot, force)
+    import time
+
+    bar = _ProgressBar()
+    started = time.monotonic()
+
+    def progress(done: int, figures: int, fired: int) -> None:
+        bar.show(done / max(figures, 1), f"{done}/{figures} figures on processors, "
+                 f"{fired:,} event firings", time.monotonic() - started)
+
     with _refusals(file):
         skeleton = load_skeleton(file)
         try:
             result = sensitivity(skeleton, vary or None, formulas=formulas,
                                  verify=verify, processors=processors,
-                                 max_events=max_events)
+                                 max_events=max_events, progress=progress)
         except InputError as exc:
             if exc.where.startswith("vary"):
                 exc.with_where("--vary" + exc.where[len("vary"):])
             raise
+        finally:
+            bar.erase()
     if plot is not None:
         _draw(draw_sensitivity, result, plot, force)
     if json_out:

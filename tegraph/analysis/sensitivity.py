@@ -32,7 +32,7 @@ References
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -75,7 +75,8 @@ _SHORT_STEPS = 1_000
 def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
                 max_formula_parameters: int = 6, verify: bool = True,
                 margins: bool = True, processors: bool = True,
-                max_events: int = MAX_EVENTS) -> SensitivityResult:
+                max_events: int = MAX_EVENTS,
+                progress: Callable[[int, int, int], None] | None = None) -> SensitivityResult:
     """Scaling factor, margins and period formulas of a skeleton, exact.
 
     Parameters
@@ -107,7 +108,14 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
         v1.1 answers). The period formulas are always with a processor per task.
     max_events : int
         On processors: the budget of event firings of each simulation of a
-        part of the schedule, at each point of a line.
+        part of the schedule at one point, and of each figure (the scaling
+        factor, one margin) in all; the whole run on processors, the nominal
+        verdict included, fires at most ``RUN_BUDGETS`` (20) times as many
+        (``sensitivity_parts.Budget``). A figure cut by a budget is undecided
+        and says which.
+    progress : callable, optional
+        On processors, called as ``progress(figures_done, figures, firings)``
+        after each simulation and each figure (for a progress bar).
 
     Returns
     -------
@@ -190,23 +198,36 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
                               "seconds": time.perf_counter() - started}
     context = _Context(skeleton, params, nominal, groups, fine, at_nominal)
     on = None
+    has_durations = any(p.kind == "duration" for p in params)
+    figures = [0, int(has_durations) + (len(params) if margins else 0)]
     if processors:
         clock = time.perf_counter()
         on = _nominal_on_processors(context, result, max_events)
+        if progress is not None:
+            on.progress = lambda: progress(figures[0], figures[1], on.budget.spent)
         result.effort["processors"] = context.effort(clock)
-    if any(p.kind == "duration" for p in params):
+    if has_durations:
         clock = time.perf_counter()
         result.scaling = _scaling(context, verify)
         if on is not None:
             result.scaling = scaling_on(context, on, result.scaling, verify)
+            figures[0] += 1
         result.effort["scaling"] = context.effort(clock)
     if margins:
         clock = time.perf_counter()
         result.margins = _margins(context, verify)
         if on is not None:
-            result.margins = {name: margin_on(context, on, m, verify)
-                              for name, m in result.margins.items()}
+            for name, m in result.margins.items():
+                result.margins[name] = margin_on(context, on, m, verify)
+                figures[0] += 1
+                if progress is not None:
+                    progress(figures[0], figures[1], on.budget.spent)
         result.effort["margins"] = context.effort(clock)
+    if on is not None:
+        budget = on.budget
+        result.notes.append(
+            f"on processors: {budget.spent:,} event firings simulated in all, of the run's "
+            f"budget of {budget.total:,} ({budget.total // budget.max_events} × `max_events`)")
     if formulas:
         clock = time.perf_counter()
         found, rounds, points = period_formulas(live, params, max_formula_parameters)
@@ -235,6 +256,9 @@ class _Context:
         self.groups, self.fine, self.at_nominal = groups, fine, at_nominal
         self.rounds = self.points = self.analyses = 0
         self.max_events = MAX_EVENTS
+        self.schedulable: bool | None = None
+        self.unschedulable = None
+        """On processors: the outcome why the nominal values are not schedulable."""
 
     def solve(self, pairs: list[tuple[ParametricGroup, Line]]) -> list[LineSet]:
         sets, rounds, points = solve_lines(pairs, self.nominal)
@@ -498,16 +522,25 @@ def _check_margin(ctx: _Context, margin: Margin, found, line: Line) -> None:
 
 def _nominal_on_processors(ctx: _Context, result: SensitivityResult,
                            max_events: int) -> ProcessorLine:
-    """The nominal verdict on processors, and the parts ready for the lines."""
+    """The nominal verdict on processors, each part decided once, and the parts ready
+    for the lines.
+
+    The verdict is §4b's (``analyze_skeleton(processors=True)``), computed part by
+    part here so that each line reuses the outcome of the parts it does not move;
+    an overrun ends a part's simulation at once (the engine would go on looking
+    for a regime, which ``analyze`` needs for its figures, not for a verdict).
+    """
     from .analyze import analyze_skeleton
 
     ctx.analyses += 1
-    report = analyze_skeleton(ctx.skeleton, processors=True, max_events=max_events,
-                              semiflow_max_places=0)
+    # The groups (and liveness) only: the schedule is decided by the parts below.
+    report = analyze_skeleton(ctx.skeleton, semiflow_max_places=0)
     result.processors = True
-    result.schedulable = report.schedulable
     ctx.max_events = max_events
-    return ProcessorLine(ctx.skeleton, ctx.params, ctx.nominal, report.groups, max_events)
+    on = ProcessorLine(ctx.skeleton, ctx.params, ctx.nominal, report.groups, max_events)
+    ctx.schedulable, ctx.unschedulable = on.decide_nominal(report.live)
+    result.schedulable = ctx.schedulable
+    return on
 
 
 # --------------------------------------------------------------------------- formulas

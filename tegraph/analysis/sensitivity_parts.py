@@ -12,6 +12,12 @@ where the same verdict holds:
   from 0, read off the critical scaling factor or the duration margin;
 - any other part by the engine itself, run on affine times
   (:mod:`.sensitivity_lin`): the interval of constant event order.
+
+Each part is decided once at the nominal values (:meth:`ProcessorLine.decide_nominal`);
+a line evaluates only the parts it moves and reads the others' nominal
+outcome (their events do not depend on the line's parameters). Every
+simulation counts its event firings against the budgets of
+:class:`Budget`.
 """
 
 from __future__ import annotations
@@ -25,18 +31,82 @@ from typing import Any
 from ..model.build import build_teg
 from ..model.skeleton import Skeleton
 from .processors._engine import PartData, PartResult, simulate_part
-from .processors.critical_instant import _independent
+from .processors.critical_instant import _independent, independent_tasks
 from .processors.platform import Platform, platform_of
 from .processors.scaling import critical_scaling_factor, duration_margin
-from .processors.schedule import MAX_EVENTS, _hyperperiod, _Net, _overrun_to_come
+from .processors.schedule import (
+    MAX_EVENTS,
+    QUICK_LOOK,
+    _hyperperiod,
+    _Net,
+    _overrun_to_come,
+)
 from .sensitivity_lin import Cut, lin
 from .sensitivity_model import Parameter, skeleton_at
 from .sensitivity_walk import Outcome
 
-__all__ = ["THEOREM", "SCHEDULE", "ProcessorLine"]
+__all__ = ["RUN_BUDGETS", "SCHEDULE", "THEOREM", "Budget", "ProcessorLine"]
 
 THEOREM = "theorem"
 SCHEDULE = "schedule"
+
+_NAME_LOOK = 200
+"""Firings simulated at a saturated point to name the task that overruns first."""
+
+RUN_BUDGETS = 20
+"""The whole sensitivity on processors fires at most ``RUN_BUDGETS × max_events``
+events (the nominal verdict included)."""
+
+
+@dataclass
+class Budget:
+    """Event firings of the simulations on processors, bounded three ways.
+
+    - one simulation of a part at one point: at most ``max_events``;
+    - one figure (the scaling factor, or one margin), all its points: at most
+      ``max_events`` in all;
+    - the whole run (the nominal verdict and every figure): at most
+      :data:`RUN_BUDGETS` ``× max_events``.
+
+    A simulation cut by a budget is undecided, and its reason names it.
+    """
+
+    max_events: int
+    total: int = 0
+    spent: int = 0
+    figure_left: int | None = None
+    """Firings the current figure may still spend (None: no figure, the nominal verdict)."""
+
+    def __post_init__(self) -> None:
+        self.total = self.total or RUN_BUDGETS * self.max_events
+
+    @property
+    def run_left(self) -> int:
+        return max(self.total - self.spent, 0)
+
+    def start_figure(self) -> None:
+        self.figure_left = self.max_events
+
+    def cap(self) -> tuple[int, str]:
+        """The firings the next simulation may spend, and the reason it stops there."""
+        out = (self.max_events, self.cap_text())
+        # A simulation given b firings fires at most b + 1 (it stops past b).
+        if self.figure_left is not None and self.figure_left - 1 < out[0]:
+            out = (max(self.figure_left - 1, 0), f"this figure's budget of "
+                   f"{self.max_events:,} event firings (`max_events`) is spent")
+        if self.run_left - 1 < out[0]:
+            out = (max(self.run_left - 1, 0), f"the run's budget of {self.total:,} event "
+                   f"firings on processors ({self.total // self.max_events} × `max_events`) "
+                   "is spent")
+        return out
+
+    def cap_text(self) -> str:
+        return f"no periodic regime within {self.max_events:,} event firings (`max_events`)"
+
+    def spend(self, fired: int) -> None:
+        self.spent += fired
+        if self.figure_left is not None:
+            self.figure_left = max(self.figure_left - fired, 0)
 
 
 @dataclass
@@ -70,8 +140,16 @@ class ProcessorLine:
     """Decide independent parts by Lehoczky, Sha and Ding (False: simulate them too)."""
     used: set[str] = field(default_factory=set)
     """How the parts evaluated were decided (:data:`THEOREM`, :data:`SCHEDULE`)."""
+    budget: Budget | None = None
+    """Default ``Budget(max_events)``."""
+    nominal_outcomes: list[Outcome] = field(default_factory=list)
+    """Each part's outcome at the nominal values (:meth:`decide_nominal`)."""
+    progress: Any = None
+    """Called with no argument after each simulation (the CLI redraws its bar)."""
 
     def __post_init__(self) -> None:
+        if self.budget is None:
+            self.budget = Budget(self.max_events)
         sk = self.skeleton
         self.teg = build_teg(sk)
         self.platform: Platform = platform_of(sk, self.groups)
@@ -87,6 +165,32 @@ class ProcessorLine:
             for t in names:
                 self.part_of[t] = len(self.parts)
             self.parts.append(part)
+        self.why_cut = self.budget.cap_text()
+        # Places from events that fire infinitely often at time 0 into the rest
+        # grow at once (schedule.py's module docstring): not schedulable, as
+        # ``schedule_on_processors`` says, for the part they lead into.
+        self.zero_grows: dict[int, str] = {}
+        self.whole_grows: str | None = None
+        net, names_ = self.net, self.teg.transition_names
+        for s, d in zip(net.src, net.dst):
+            if s in net.zero and d not in net.zero:
+                owner = (self.teg.transition_attrs[d].get("tasks")
+                         or self.teg.transition_attrs[s].get("tasks"))
+                if not self.groups[net.group_of[owner[0]]].live:
+                    continue
+                text = f"{names_[s]} -> {names_[d]}"
+                if owner[0] in self.part_of:
+                    self.zero_grows.setdefault(self.part_of[owner[0]], text)
+                elif self.whole_grows is None:
+                    self.whole_grows = text
+
+    def tasks_of(self, parts: list[int]) -> list[str]:
+        """Every task of the skeleton joined to ``parts`` (by a group or a processor), in
+        file order: tasks of duration 0 that no part simulates included."""
+        label = self.net._union_parts()
+        index = {t: i for i, t in enumerate(self.net.tasks)}
+        mine = {label[index[self.parts[i].names[0]]] for i in parts if self.parts[i].names}
+        return [t for i, t in enumerate(self.net.tasks) if label[i] in mine]
 
     # ---------------------------------------------------------- which parts move
     def moving(self, direction: dict[int, Fraction]) -> list[int]:
@@ -114,6 +218,10 @@ class ProcessorLine:
         periods_move = any(k and self.params[j].kind == "period" for j, k in direction.items())
         if part.independent and self.use_theorem and not periods_move:
             return self._theorem(part, base, direction, cut)
+        if not periods_move:
+            saturated = self._saturated(part, base, direction, cut)
+            if saturated is not None:
+                return saturated
         if part.too_long and not periods_move:
             return Outcome(None, cut, ("undecided", part.too_long))
         data = part.data
@@ -122,17 +230,119 @@ class ProcessorLine:
         data = self._parametric(data, part, base, direction, cut)
         return self._verdict(self._simulate(data), data, part, cut)
 
-    def _simulate(self, data: PartData) -> PartResult:
+    def _saturated(self, part: _Part, base: dict[int, Fraction],
+                   direction: dict[int, Fraction], cut: Cut) -> Outcome | None:
+        """A processor asked for more than all its time: proven not schedulable.
+
+        Schedulable (§4b) implies every group keeps pace with its clock: each
+        task of a group with one clock of period T runs once per T in the
+        regime, so its processor is busy at least ``Σ duration / T`` of the
+        time, which cannot pass 1 (tasks of other groups only add work). The
+        sum is affine along the line: where it passes 1 is recorded in the
+        cut, so the walk stops exactly at the point where the load reaches 1,
+        which no simulation just beyond could prove (the schedule falls behind
+        by ε per period there, with no finite regime on the germ).
+        """
+        index = {p.owner: j for j, p in enumerate(self.params) if p.kind == "duration"}
+        load: dict[str, Any] = {}
+        for t in part.names:
+            group = self.groups[self.net.group_of[t]]
+            if len(group.clocks) != 1:
+                continue
+            period = self.skeleton.clocks[group.clocks[0]].period
+            c, k = (self._value(index[t], base, direction) if t in index
+                    else (self.skeleton.tasks[t].duration, Fraction(0)))
+            proc = self.platform.processor_of[t]
+            load[proc] = load.get(proc, Fraction(0)) + lin(c / period, k / period, cut)
+        if not any(work > 1 for work in load.values()):
+            return None
+        proc = next(p for p, work in load.items() if work > 1)
+        # Proven; a short look names the task that overruns first, if one does
+        # early (also a proof, on the same cut).
+        data = self._parametric(part.data, part, base, direction, cut)
+        look = self._simulate(data, _NAME_LOOK)
+        if look.overrun_at:
+            return self._verdict(look, data, part, cut)
+        return Outcome(False, cut, ("saturated", proc))
+
+    def _simulate(self, data: PartData, limit: int | None = None) -> PartResult:
+        """The part simulated within the budgets; ``self.why_cut`` says which one stopped it.
+
+        The engine looks for a regime even after an overrun (its figures need
+        it); a verdict does not: budgets grow tenfold from 1,000, so an early
+        overrun costs little and the whole budget is spent at most once more.
+        Every firing counts against the figure's and the run's budgets.
+        """
         self.used.add(SCHEDULE)
-        # The engine looks for a regime even after an overrun (its figures need
-        # it); a verdict does not: budgets grow tenfold from 1,000, so an early
-        # overrun costs little and the whole budget is spent at most once more.
-        budget = min(1_000, self.max_events)
-        while True:
+        budget_of = self.budget
+        assert budget_of is not None
+        top = self.max_events if limit is None else min(limit, self.max_events)
+        cap, self.why_cut = budget_of.cap()
+        budget = min(1_000, top, cap)
+        result = PartResult()
+        while budget > 0:
             result = simulate_part(data, budget, keep_intervals=False)
-            if result.overrun_at or result.regime is not None or budget >= self.max_events:
-                return result
-            budget = min(budget * 10, self.max_events)
+            budget_of.spend(result.fired)
+            if self.progress is not None:
+                self.progress()
+            if result.overrun_at or result.regime is not None or budget >= top:
+                break
+            cap, why = budget_of.cap()
+            nxt = min(budget * 10, top, cap)
+            if nxt <= budget:  # the figure's or the run's budget is spent
+                self.why_cut = why
+                break
+            budget = nxt
+        if budget >= self.max_events:
+            self.why_cut = budget_of.cap_text()
+        return result
+
+    def decide_nominal(self, live: bool = True) -> tuple[bool | None, Outcome | None]:
+        """Each part at the nominal values, once; the skeleton's verdict and its reason.
+
+        ``live``: the skeleton is live (spec §4); not live is not schedulable
+        (§4b). Returns (verdict, the outcome of the first part that is not
+        schedulable, or undecided; None when all are). Parts are decided
+        smallest first, as ``schedule_on_processors`` does; a part of
+        independent periodic tasks on one processor by the critical instant
+        (exact at any hyperperiod).
+        """
+        cut = Cut(Fraction(0), 0)
+        outcomes: list[Outcome] = [Outcome(True, cut)] * len(self.parts)
+        for i in sorted(range(len(self.parts)), key=lambda i: self.parts[i].data.n_events):
+            outcomes[i] = self._nominal_part(self.parts[i])
+        for i, why in self.zero_grows.items():
+            if outcomes[i].verdict is not False:
+                outcomes[i] = Outcome(False, cut, ("grows", why))
+        self.nominal_outcomes = outcomes
+        if not live:
+            return False, Outcome(False, cut, ("not live", None))
+        bad = [o for o in outcomes if o.verdict is False] + [o for o in outcomes
+                                                             if o.verdict is None]
+        if self.whole_grows is not None and not any(o.verdict is False for o in outcomes):
+            bad.insert(0, Outcome(False, cut, ("grows", self.whole_grows)))
+        if not bad:
+            return True, None
+        return bad[0].verdict, bad[0]
+
+    def _nominal_part(self, part: _Part) -> Outcome:
+        cut = Cut(Fraction(0), 0)
+        if part.independent and self.use_theorem:
+            verdict = independent_tasks(self.skeleton, part.names, self.platform)
+            if verdict is not None:
+                self.used.add(THEOREM)
+                if verdict.late is None:
+                    return Outcome(True, cut)
+                return Outcome(False, cut, ("overrun", verdict.late, 2))
+        saturated = self._saturated(part, {}, {}, cut)
+        if saturated is not None:
+            return saturated
+        if part.too_long:  # only an early overrun can be seen: a short look for it
+            result = self._simulate(part.data, QUICK_LOOK)
+            if result.overrun_at:
+                return self._verdict(result, part.data, part, cut)
+            return Outcome(None, cut, ("undecided", part.too_long))
+        return self._verdict(self._simulate(part.data), part.data, part, cut)
 
     def _value(self, j: int, base: dict[int, Fraction], direction: dict[int, Fraction]
                ) -> tuple[Fraction, Fraction]:
@@ -255,8 +465,7 @@ class ProcessorLine:
             k, task = min(late)
             return Outcome(False, cut, ("overrun", task, k))
         if r.regime is None:
-            return Outcome(None, cut, ("undecided", f"no periodic regime within "
-                                       f"{self.max_events:,} event firings (`max_events`)"))
+            return Outcome(None, cut, ("undecided", self.why_cut))
         if r.regime[0] == "stop":
             return Outcome(True, cut)
         t1, t2, old, new, growing = r.regime

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from ..model.skeleton import Skeleton
 from .sensitivity_lin import Cut
 from .sensitivity_model import skeleton_at
 from .sensitivity_parts import SCHEDULE, THEOREM, ProcessorLine
@@ -89,17 +90,19 @@ def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int
     on.used = set()
     parts = on.moving(direction)
     if constant_parts:
+        # The parts the line does not move keep their nominal events (no time of
+        # theirs depends on t): their outcome at the nominal values, decided once.
         for i in range(len(on.parts)):
             if i not in parts:
-                fixed = on.evaluate(i, base, {}, start, 0)
+                fixed = on.nominal_outcomes[i]
                 if fixed.verdict is not True:
                     return LineAnswer(fixed.verdict, used=on.used, why=[why_text(fixed)])
-    combined = _combined(on, base, direction, parts, per_task, positive)
+    firsts: dict[int, Outcome] = {}
+    combined = _combined(on, base, direction, parts, per_task, positive, firsts)
     first = combined(start, 0)
     answer = LineAnswer(first.verdict, at_start=first)
     if first.verdict is True:
         holding = next((a, b) for a, b in per_task if a <= start and (b is None or start <= b))
-        firsts = {i: on.evaluate(i, base, direction, start, 0) for i in parts}
         for up in (True, False):
             _end(on, answer, base, direction, start, holding[1] if up else holding[0], up,
                  parts, firsts, Fraction(0) if positive and not up else None, max_steps)
@@ -122,9 +125,13 @@ def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int
 
 
 def _combined(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int, Fraction],
-              parts: list[int], per_task: Sequence[Interval], positive: bool
-              ) -> Callable[[Fraction, int], Outcome]:
-    """The verdict of every moving part and of the per-task answer at once, with their cut."""
+              parts: list[int], per_task: Sequence[Interval], positive: bool,
+              firsts: dict[int, Outcome]) -> Callable[[Fraction, int], Outcome]:
+    """The verdict of every moving part and of the per-task answer at once, with their cut.
+
+    Its first call (at the start) keeps each part's outcome in ``firsts``: the
+    walks start from them instead of simulating the start again.
+    """
     def combined(t: Fraction, side: int) -> Outcome:
         if positive and (t < 0 or (t == 0 and side <= 0)):
             cut = Cut(t, side)
@@ -135,8 +142,11 @@ def _combined(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int,
             return out
         verdict: bool | None = True
         why = None
+        keep = not firsts
         for i in parts:
             o = on.evaluate(i, base, direction, t, side)
+            if keep:
+                firsts[i] = o
             if o.verdict is False:
                 return o
             out.cut.meet(o.cut)
@@ -196,7 +206,26 @@ def why_text(out: Outcome | None) -> str:
         return f"the place {a} grows on its processors"
     if kind == "starved":
         return f"{a} never gets enough of its processor (starved)"
+    if kind == "saturated":
+        return (f"the processor {a} is asked for more than all its time (each group's "
+                "tasks once per period of its clock)")
+    if kind == "not live":
+        return "the skeleton is not live (a circuit without token)"
     return "not consistent with a processor per task"
+
+
+def not_searched(verdict: bool | None, out: Outcome | None, what: str) -> str:
+    """Why no figure on processors is searched: the nominal values are not schedulable
+    (or undecided) on ``what`` (the skeleton, or a parameter's part)."""
+    if verdict is None:
+        return (f"undecided: {what} at the nominal values is undecided on its processors "
+                f"({why_text(out)}); nothing searched")
+    return f"none: not schedulable as it is ({why_text(out)}); nothing searched"
+
+
+def _not_consistent() -> str:
+    return ("none: not consistent as it is with a processor per task, so not schedulable "
+            "on its processors either; nothing searched")
 
 
 def method_text(answer: LineAnswer) -> str:
@@ -231,6 +260,9 @@ def limit_on(outcome: Outcome) -> Limit:
     if kind == "starved":
         return Limit("processors", f"on its processors, {a} never gets enough of its "
                      "processor (starved)", task=a, tasks=[a])
+    if kind == "saturated":
+        return Limit("processors", f"on its processors, {why_text(outcome)}: some group "
+                     "falls behind its clock")
     return Limit("processors", f"undecided on its processors: {a}")
 
 
@@ -253,6 +285,23 @@ def scaling_on(ctx: Any, on: ProcessorLine, pt: Scaling, verify: bool) -> Scalin
         s.limits = list(pt.limits)
         s.method = "on its processors: no factor is consistent with a processor per task"
         return s
+    # The nominal values not schedulable (or undecided): no figure, at once. The
+    # factors elsewhere are not searched (each would cost a whole schedule per
+    # interval of constant order), as no margin is.
+    why = None
+    if not pt.nominal_consistent:
+        why = _not_consistent()
+        s.limits = list(pt.limits)
+    elif ctx.schedulable is not True:
+        why = not_searched(ctx.schedulable, ctx.unschedulable, "the skeleton")
+        if ctx.unschedulable is not None and ctx.unschedulable.why and \
+                ctx.unschedulable.why[0] in ("overrun", "grows", "starved"):
+            s.limits = [limit_on(ctx.unschedulable)]
+    elif on.budget.run_left <= 0:
+        why = "undecided: " + on.budget.cap()[1] + "; nothing searched"
+    if why is not None:
+        return _unsearched(s, why, ctx.schedulable is None or why.startswith("undecided"))
+    on.budget.start_figure()
     answer = solve_line(on, {j: Fraction(0) for j in durations},
                         {j: ctx.nominal[j] for j in durations}, Fraction(1), pt.intervals,
                         constant_parts=True)
@@ -278,7 +327,8 @@ def scaling_on(ctx: Any, on: ProcessorLine, pt: Scaling, verify: bool) -> Scalin
             s.limits_above = _limits(answer, "above", pt.limits_above)
     if verify:
         _check(ctx, s.checks, "scaling",
-               lambda t: {j: t * ctx.nominal[j] for j in durations}, answer)
+               lambda t: {j: t * ctx.nominal[j] for j in durations}, answer,
+               on.tasks_of(on.moving({j: ctx.nominal[j] for j in durations})))
     return s
 
 
@@ -290,6 +340,21 @@ def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
     if not pt.intervals:
         m.method = "on its processors: no value is consistent with a processor per task"
         return m
+    # Its own part(s) only (a margin is its part's, as the per-task margin is its
+    # group's): not schedulable or undecided at the nominal values, no search.
+    why = None
+    if not pt.nominal_consistent:
+        why = _not_consistent()
+    else:
+        mine = [on.nominal_outcomes[i] for i in on.moving({j: Fraction(1)})]
+        bad = ([o for o in mine if o.verdict is False] + [o for o in mine if o.verdict is None])
+        if bad:
+            why = not_searched(bad[0].verdict, bad[0], "its part")
+        elif on.budget.run_left <= 0:
+            why = "undecided: " + on.budget.cap()[1] + "; nothing searched"
+    if why is not None:
+        return _unsearched(m, why, why.startswith("undecided"))
+    on.budget.start_figure()
     answer = solve_line(on, {j: Fraction(0)}, {j: Fraction(1)}, p.nominal, pt.intervals,
                         constant_parts=False, positive=p.kind == "period")
     m.why_undecided, m.method = answer.why, method_text(answer)
@@ -307,13 +372,28 @@ def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
     else:
         m.exact = answer.holding is False
     if verify:
-        _check(ctx, m.checks, p.name, lambda t: {j: t}, answer)
+        _check(ctx, m.checks, p.name, lambda t: {j: t}, answer,
+               on.tasks_of(on.moving({j: Fraction(1)})))
     return m
 
 
+def _unsearched(figure: Any, why: str, undecided: bool) -> Any:
+    """A figure on processors left unsearched: none (proven) or undecided, with why."""
+    figure.not_searched = why
+    figure.exact = not undecided
+    figure.method = "on its processors: " + why
+    if undecided:
+        figure.why_undecided = [why]
+    return figure
+
+
 def _check(ctx: Any, checks: list[Check], what: str,
-           values: Callable[[Fraction], dict[int, Fraction]], answer: LineAnswer) -> None:
-    """Each exact finite end: the whole analysis on processors at it and just beyond."""
+           values: Callable[[Fraction], dict[int, Fraction]], answer: LineAnswer,
+           tasks: list[str]) -> None:
+    """Each exact finite end: the whole analysis on processors at it and just beyond,
+    on the skeleton of ``tasks`` alone (the parts the line moves: the others'
+    events do not depend on it, and they are schedulable at the nominal values)."""
+    sub = _sub_skeleton(ctx.skeleton, tasks)
     ends = []
     if answer.holding:
         if answer.high_exact and answer.high is not None and "high" in answer.beyond:
@@ -327,16 +407,22 @@ def _check(ctx: Any, checks: list[Check], what: str,
                 ends.append((end, -side, answer.beyond[key]))
     for end, side, out in ends:
         checks.append(Check(f"{what} on processors at the end", end, True,
-                            verdict_on(ctx, values(end))))
+                            verdict_on(ctx, values(end), sub)))
         beyond = _just(end, side, out)
         if beyond is not None:
             checks.append(Check(f"{what} on processors just beyond", beyond, False,
-                                verdict_on(ctx, values(beyond))))
+                                verdict_on(ctx, values(beyond), sub)))
 
 
 def _just(end: Fraction, side: int, out: Outcome) -> Fraction | None:
     """A point beside ``end`` (side +1 above, -1 below) inside the piece ``out`` holds on."""
     step = abs(end) * _NUDGE or _NUDGE
+    if side > 0 and out.why is not None and out.why[0] == "saturated":
+        # The load grows with t past the end, so every point above it is proven
+        # saturated; 10^-9 beyond, the schedule would fall behind by 10^-9 per
+        # period and no analysis within its budget could see it: check a point
+        # a tenth further, where it falls behind fast.
+        return end + (abs(end) / 10 or Fraction(1))
     if side > 0:
         far = out.cut.hi
         return end + step if far is None or end + step < far else (end + far) / 2
@@ -345,11 +431,29 @@ def _just(end: Fraction, side: int, out: Outcome) -> Fraction | None:
     return t if t >= 0 else None
 
 
-def verdict_on(ctx: Any, values: dict[int, Fraction]) -> bool | None:
-    """Live, consistent and schedulable on processors, by ``analyze_skeleton``."""
+def _sub_skeleton(sk: Skeleton, tasks: list[str]) -> Skeleton:
+    """The skeleton of ``tasks`` alone: their clocks, and the links and threads between them."""
+    if len(tasks) == len(sk.tasks):
+        return sk
+    keep = set(tasks)
+    clocks = {c: sk.clocks[c] for c in dict.fromkeys(
+        sk.tasks[t].clock for t in tasks if sk.tasks[t].clock is not None)}
+    links = [x for x in sk.links if x.writer[0] in keep and x.reader[0] in keep]
+    threads = [th for th in sk.threads if th[0] in keep]
+    return Skeleton(sk.name, {t: sk.tasks[t] for t in tasks}, clocks, links, threads, sk.unit)
+
+
+def verdict_on(ctx: Any, values: dict[int, Fraction], sub: Skeleton | None = None
+               ) -> bool | None:
+    """Live, consistent and schedulable on processors, by ``analyze_skeleton``, of the
+    skeleton ``sub`` (default: the whole one) with ``values``."""
     from .analyze import analyze_skeleton
 
-    moved = skeleton_at(ctx.skeleton, ctx.params, values)
+    sub = ctx.skeleton if sub is None else sub
+    mine = {j: v for j, v in values.items()
+            if ctx.params[j].owner in (sub.tasks if ctx.params[j].kind == "duration"
+                                       else sub.clocks)}
+    moved = skeleton_at(sub, ctx.params, mine)
     # A small budget first: just beyond an end the first overrun comes early, and
     # the schedule would spend its whole budget looking for a regime after it.
     for budget in dict.fromkeys((min(_SHORT_EVENTS, ctx.max_events), ctx.max_events)):

@@ -113,6 +113,9 @@ class Scaling:
     why_undecided: list[str] = field(default_factory=list)
     method: str = "with a processor per task: exact line search ((max,+) certificates)"
     """How the figure was decided (on processors: the theorem, the walk, or undecided)."""
+    not_searched: str | None = None
+    """On processors: why no factor was searched ("none: not schedulable as it is ...",
+    or "undecided: ..." naming the budget); None: searched."""
 
     def to_dict(self) -> dict[str, Any]:
         out = {
@@ -129,6 +132,8 @@ class Scaling:
             "why_undecided": self.why_undecided,
             "method": self.method,
         }
+        if self.semantics == PROCESSORS:
+            out["not_searched"] = self.not_searched
         if self.per_task is not None:
             out["per_task"] = {"factor": exact_text(self.per_task.factor),
                                "intervals": _intervals(self.per_task.intervals),
@@ -166,6 +171,8 @@ class Margin:
     per_task: Margin | None = None
     why_undecided: list[str] = field(default_factory=list)
     method: str = "with a processor per task: exact line search ((max,+) certificates)"
+    not_searched: str | None = None
+    """As :attr:`Scaling.not_searched`, for its own part(s)."""
 
     def to_dict(self) -> dict[str, Any]:
         out = self._dict()
@@ -173,6 +180,8 @@ class Margin:
                     "bounds": None if self.bounds is None
                     else [exact_text(b) for b in self.bounds],
                     "why_undecided": self.why_undecided, "method": self.method})
+        if self.semantics == PROCESSORS:
+            out["not_searched"] = self.not_searched
         if self.per_task is not None:
             pt = self.per_task
             out["per_task"] = {"low": exact_text(pt.low) if pt.nominal_consistent else None,

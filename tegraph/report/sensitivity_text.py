@@ -175,7 +175,11 @@ def _scaling_on_lines(result: SensitivityResult) -> list[str]:
              "(the other times unchanged), ON ITS PROCESSORS:"]
     how = (f"exact: the {s.breakpoints} interval{'s' * (s.breakpoints != 1)} of constant "
            "schedule order between are all decided")
-    if s.nominal_consistent:
+    if s.not_searched is not None:
+        lines.append(f"  scaling factor on its processors: {s.not_searched}")
+        for limit in s.limits:
+            lines.append(f"    because {_limit(limit)}")
+    elif s.nominal_consistent:
         low, high = s.intervals[0]
         if s.exact and s.factor is not None:
             lines.append(f"  schedulable for α in {_interval(low, high)} (the interval holding "
@@ -226,7 +230,11 @@ def _margin_on_lines(result: SensitivityResult) -> list[str]:
     for m in result.margins.values():
         p = m.parameter
         pt = m.per_task
-        if m.nominal_consistent and m.exact:
+        if m.not_searched is not None:
+            undecided = m.not_searched.startswith("undecided")
+            around = "UNDECIDED at nominal" if undecided else "NOT at nominal"
+            grow, why = "-", "-"
+        elif m.nominal_consistent and m.exact:
             grow = "unbounded" if m.high is None else f"+{number(m.high - p.nominal)}"
             around = _interval(m.low, m.high, "", p.low_open)  # type: ignore[arg-type]
             why = "; ".join(dict.fromkeys(_short(x) for x in m.limits_high)) or "-"
@@ -357,7 +365,12 @@ def _verdict(result: SensitivityResult) -> str:
     s = result.scaling
     if s is not None and s.per_task is not None:
         where = "on its processors"
-        if s.nominal_consistent and s.exact and s.factor is not None:
+        if s.not_searched is not None:
+            parts.append(f"no scaling factor {where}: "
+                         + ("undecided at the nominal values"
+                            if s.not_searched.startswith("undecided")
+                            else "not schedulable as it is"))
+        elif s.nominal_consistent and s.exact and s.factor is not None:
             parts.append(f"the varied durations can grow together by a factor "
                          f"{number(s.factor)} {where}")
         elif s.nominal_consistent and s.exact:

@@ -193,3 +193,145 @@ def test_text_of_an_independent_set_names_the_theorem():
     text = render_text(sensitivity(sk, formulas=False))
     assert "scaling factor 9/7" in text and "Lehoczky, Sha and Ding" in text
     assert json.loads(to_json(sensitivity(sk, formulas=False)))["scaling_factor"] == "9/7"
+
+
+# ------------------------------------------------------------------ cost: no search where
+# no figure can exist, locality, budgets
+
+
+def _no_search(*args, **kwargs):
+    raise AssertionError("a search on processors was started")
+
+
+def test_not_schedulable_nominal_gives_no_figure_and_no_search():
+    # The issue's pair on one processor: A (priority 2) runs [0, 6); B is released
+    # at 0, runs [6, 10), has 2 of its 6 left when A's next job and B's own tick
+    # come at 10: B's activation 1 has not ended at tick 2 -> not schedulable.
+    # With a processor per task each alone is consistent (6 <= 10).
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10, "priority": 2},
+                                       "B": {"duration": 6, "period": 10, "priority": 1}}})
+    with mock.patch("tegraph.analysis.sensitivity_processors.solve_line", _no_search), \
+            mock.patch.object(ProcessorLine, "evaluate", _no_search):
+        r = sensitivity(sk, formulas=False)
+    assert r.consistent and r.schedulable is False and r.exit_status == 1
+    s = r.scaling
+    assert s.factor is None and s.exact and s.nearest_above is None
+    assert s.not_searched.startswith("none: not schedulable as it is")
+    assert "B overruns at activation 2" in s.not_searched
+    assert s.per_task.factor == F(10, 6)  # the per-task answer is still given beside
+    for m in r.margins.values():
+        assert m.high is None and m.exact
+        assert m.not_searched.startswith("none: not schedulable as it is")
+    doc = json.loads(to_json(r))
+    jsonschema.validate(doc, SCHEMA)
+    assert doc["scaling"]["not_searched"].startswith("none")
+    text = render_text(r)
+    assert "scaling factor on its processors: none: not schedulable as it is" in text
+    assert "no scaling factor on its processors: not schedulable as it is" in text
+
+
+def test_not_consistent_nominal_gives_no_figure_and_no_search():
+    # A alone overruns with a processor per task (12 > 10): nothing on processors.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 12, "period": 10}}})
+    with mock.patch("tegraph.analysis.sensitivity_processors.solve_line", _no_search):
+        r = sensitivity(sk, formulas=False)
+    m = r.margins["A.duration"]
+    assert not r.consistent and m.high is None
+    assert m.not_searched.startswith("none: not consistent as it is")
+
+
+def test_undecided_nominal_is_undecided_at_once_naming_max_events():
+    # 10 firings cannot cover computed_torque's hyperperiod (6 ms: 6 + 3 + 1 ticks).
+    with mock.patch("tegraph.analysis.sensitivity_processors.solve_line", _no_search), \
+            mock.patch.object(ProcessorLine, "evaluate", _no_search):
+        r = sensitivity(load_skeleton(TORQUE), formulas=False, max_events=10)
+    assert r.schedulable is None
+    figures = [r.scaling, *r.margins.values()]
+    for f in figures:
+        assert not f.exact and f.not_searched.startswith("undecided")
+        assert "`max_events`" in f.not_searched and "--max-events" not in f.not_searched
+    assert "undecided at the nominal values" in render_text(r)
+
+
+def _with_second_part(sk: Skeleton) -> Skeleton:
+    """computed_torque (its one CPU ``default``) and a second part on ``cpu9``."""
+    data = sk.to_dict()
+    data["tasks"]["X"] = {"duration": "3", "period": "7", "outputs": ["o"],
+                          "processor": "cpu9"}
+    data["tasks"]["Y"] = {"duration": "2", "inputs": ["i"], "processor": "cpu9"}
+    data["links"] = list(data.get("links", [])) + [
+        {"from": "X:o", "to": "Y:i", "protocol": "ASYN/SYN"}]
+    return Skeleton.from_dict(data)
+
+
+def test_a_margin_is_its_part_alone():
+    torque = load_skeleton(TORQUE)
+    both = _with_second_part(torque)
+    calls: list[int] = []
+    evaluate = ProcessorLine.evaluate
+    nominal_part = ProcessorLine._nominal_part
+    nominal_calls: list[str] = []
+
+    def counting(self, i, *args, **kwargs):
+        calls.append(self.parts[i].names[0])
+        return evaluate(self, i, *args, **kwargs)
+
+    def counting_nominal(self, part):
+        nominal_calls.append(part.names[0])
+        return nominal_part(self, part)
+
+    with mock.patch.object(ProcessorLine, "evaluate", counting), \
+            mock.patch.object(ProcessorLine, "_nominal_part", counting_nominal):
+        r = sensitivity(both, formulas=False, vary=["MOD.DYN.duration", "Y.duration"])
+    # Each part decided once at the nominal values, never again per margin; the
+    # margin of MOD.DYN simulates only the computed-torque part, Y's only X and Y's.
+    assert sorted(nominal_calls) == sorted(["OBS.JL", "X"]) or len(nominal_calls) == 2
+    assert set(calls) <= {"OBS.JL", "X"} and calls
+    # The same margins computed on each part alone (another skeleton, other parts):
+    # MOD.DYN on its CPU: 18/5 by hand (test_computed_torque_on_its_one_cpu).
+    # Y alone on cpu9 after X (ASYN/SYN: released when X ends at 3): it ends by
+    # X's next tick at 7 -> Y.duration <= 4; by the per-task answer also 4.
+    alone = sensitivity(torque, formulas=False, vary=["MOD.DYN.duration"])
+    pair = Skeleton.from_dict({"tasks": {
+        "X": {"duration": 3, "period": 7, "outputs": ["o"], "processor": "cpu9"},
+        "Y": {"duration": 2, "inputs": ["i"], "processor": "cpu9"}},
+        "links": [{"from": "X:o", "to": "Y:i", "protocol": "ASYN/SYN"}]})
+    pair_alone = sensitivity(pair, formulas=False, vary=["Y.duration"])
+    m, y = r.margins["MOD.DYN.duration"], r.margins["Y.duration"]
+    assert m.exact and m.high == alone.margins["MOD.DYN.duration"].high == F(18, 5)
+    assert y.exact and y.high == pair_alone.margins["Y.duration"].high == 4
+    assert all(c.agrees for c in r.checks)
+
+
+def test_a_tiny_budget_gives_undecided_never_a_wrong_number():
+    # 1,000 firings per figure: the nominal (about 50 firings per simulation) is
+    # decided, but no walk of computed_torque's scaling line ends within it.
+    exact = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False)
+    r = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False, max_events=1000)
+    assert r.schedulable is True
+    s = r.scaling
+    assert s.factor is None and not s.exact
+    assert "this figure's budget of 1,000 event firings (`max_events`)" in s.why_undecided[0]
+    proven, most = s.bounds
+    assert 1 <= proven <= exact.scaling.factor <= most  # a bound around the true 5/3
+    for name, m in r.margins.items():
+        true = exact.margins[name]
+        if m.exact:
+            assert (m.low, m.high) == (true.low, true.high)
+        else:
+            lo, hi = m.bounds
+            assert hi <= true.high and (lo is None or lo >= true.low)
+    # The run's budget: 2 x max_events in all, spent after the first figures; the
+    # rest are undecided at once, naming it.
+    with mock.patch("tegraph.analysis.sensitivity_parts.RUN_BUDGETS", 2):
+        r = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False, max_events=5000)
+    assert r.schedulable is True
+    spent = [f for f in [r.scaling, *r.margins.values()]
+             if "run's budget" in " ".join([f.not_searched or "", *f.why_undecided])]
+    assert spent and all(not f.exact for f in spent)
+    assert all("(2 × `max_events`)" in " ".join([f.not_searched or "", *f.why_undecided])
+               for f in spent)
+    for name, m in r.margins.items():
+        assert m.high is None or m.high == exact.margins[name].high
+    fired = int(r.notes[-1].split(" event firings")[0].split()[-1].replace(",", ""))
+    assert fired <= 10_000 and "budget of 10,000" in r.notes[-1]
