@@ -52,7 +52,7 @@ from .sensitivity_model import (
     skeleton_at,
 )
 from .sensitivity_oracle import evaluate
-from .sensitivity_parts import ProcessorLine
+from .sensitivity_parts import RUN_BUDGETS, ProcessorLine
 from .sensitivity_processors import margin_on, scaling_on
 from .sensitivity_results import (
     Check,
@@ -598,14 +598,20 @@ def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> di
             "of constant schedule order; the intervals are walked from the nominal value to "
             "the first that is not schedulable (each end decided at it and just beyond); "
             "parts of independent periodic tasks on one processor by the critical scaling "
-            "factor of Lehoczky, Sha and Ding (1989), exact"
+            "factor of Lehoczky, Sha and Ding (1989), exact; a processor asked for more than "
+            "all its time is proven not schedulable; each line simulates only the parts it "
+            "moves (the others' events do not depend on it: their nominal verdict, decided "
+            "once); nothing is searched where the nominal values are not schedulable or "
+            "undecided; budgets: `max_events` firings per simulation and per figure, "
+            f"{RUN_BUDGETS} × `max_events` for the whole run"
             + ("" if not result.scaling or result.scaling.exact
                else "; the scaling factor is only BOUNDED (see 'undecided')"))
     if verify:
         checks = result.checks
         bad = sum(not c.agrees for c in checks)
         where = ("analyze_skeleton on the group at each finite end and just beyond it"
-                 + ("; on processors, on the whole skeleton (processors=True)"
+                 + ("; on processors, on the skeleton of the parts the line moves "
+                    "(processors=True)"
                     if result.processors else ""))
         if not checks:
             out["check"] = f"{where}: no finite end, nothing to check"
