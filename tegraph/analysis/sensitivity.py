@@ -64,6 +64,7 @@ from .sensitivity_results import (
     SensitivityResult,
     Term,
 )
+from .sensitivity_walk import Outcome
 
 __all__ = ["duration_margins", "sensitivity"]
 
@@ -204,7 +205,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
         clock = time.perf_counter()
         on = _nominal_on_processors(context, result, max_events)
         if progress is not None:
-            on.progress = lambda: progress(figures[0], figures[1], on.budget.spent)
+            on.progress = lambda: progress(figures[0], figures[1], on.spend.spent)
         result.effort["processors"] = context.effort(clock)
     if has_durations:
         clock = time.perf_counter()
@@ -221,10 +222,10 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
                 result.margins[name] = margin_on(context, on, m, verify)
                 figures[0] += 1
                 if progress is not None:
-                    progress(figures[0], figures[1], on.budget.spent)
+                    progress(figures[0], figures[1], on.spend.spent)
         result.effort["margins"] = context.effort(clock)
     if on is not None:
-        budget = on.budget
+        budget = on.spend
         result.notes.append(
             f"on processors: {budget.spent:,} event firings simulated in all, of the run's "
             f"budget of {budget.total:,} ({budget.total // budget.max_events} × `max_events`)")
@@ -257,7 +258,7 @@ class _Context:
         self.rounds = self.points = self.analyses = 0
         self.max_events = MAX_EVENTS
         self.schedulable: bool | None = None
-        self.unschedulable = None
+        self.unschedulable: Outcome | None = None
         """On processors: the outcome why the nominal values are not schedulable."""
 
     def solve(self, pairs: list[tuple[ParametricGroup, Line]]) -> list[LineSet]:

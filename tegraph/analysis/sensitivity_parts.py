@@ -148,8 +148,9 @@ class ProcessorLine:
     """Called with no argument after each simulation (the CLI redraws its bar)."""
 
     def __post_init__(self) -> None:
-        if self.budget is None:
-            self.budget = Budget(self.max_events)
+        # The budget in use, typed for what follows (the field is None by default).
+        self.spend: Budget = self.budget if self.budget is not None else Budget(self.max_events)
+        self.budget = self.spend
         sk = self.skeleton
         self.teg = build_teg(sk)
         self.platform: Platform = platform_of(sk, self.groups)
@@ -165,7 +166,7 @@ class ProcessorLine:
             for t in names:
                 self.part_of[t] = len(self.parts)
             self.parts.append(part)
-        self.why_cut = self.budget.cap_text()
+        self.why_cut = self.spend.cap_text()
         # Places from events that fire infinitely often at time 0 into the rest
         # grow at once (schedule.py's module docstring): not schedulable, as
         # ``schedule_on_processors`` says, for the part they lead into.
@@ -274,7 +275,7 @@ class ProcessorLine:
         Every firing counts against the figure's and the run's budgets.
         """
         self.used.add(SCHEDULE)
-        budget_of = self.budget
+        budget_of = self.spend
         assert budget_of is not None
         top = self.max_events if limit is None else min(limit, self.max_events)
         cap, self.why_cut = budget_of.cap()
@@ -443,6 +444,7 @@ class ProcessorLine:
             return Outcome(True, cut)
         a = limit.value
         if a < 0:
+            assert limit.task is not None  # a negative bound is set by a task
             return Outcome(False, cut, ("overrun", order[limit.task], 2))
         if cut.at < a or (cut.at == a and cut.side <= 0):
             cut.below(a, True)
@@ -485,9 +487,9 @@ class ProcessorLine:
         for j in r.tick_log:
             last = d.end_event[j]
             ends = new.finished[j] - old.finished[j] if last is None else fired[last]
-            k = _overrun_to_come(r.tick_log[j], t1, t2, fired[tick_of[j]], ends)
-            if k is not None:
-                coming.append((k, names[j]))
+            at = _overrun_to_come(r.tick_log[j], t1, t2, fired[tick_of[j]], ends)
+            if at is not None:
+                coming.append((at, names[j]))
         if coming:
             k, task = min(coming)
             return Outcome(False, cut, ("overrun", task, k))

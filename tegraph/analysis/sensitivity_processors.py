@@ -14,9 +14,11 @@ processors*).
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
+from functools import partial
 from typing import Any
 
 from ..model.skeleton import Skeleton
@@ -169,19 +171,22 @@ def _end(on: ProcessorLine, answer: LineAnswer, base: dict[int, Fraction],
     """
     best = proven = per_task_end
     source: Outcome | None = None
-    closer = (lambda a, b: a < b) if up else (lambda a, b: a > b)
+    closer = operator.lt if up else operator.gt
     for i in parts:
-        w = walk(lambda t, side, i=i: on.evaluate(i, base, direction, t, side), start, up,
+        w = walk(partial(on.evaluate, i, base, direction), start, up,
                  best, max_steps=max_steps, first=firsts[i], floor=floor)
         answer.steps += w.steps
         if not w.exact:
+            assert w.end is not None  # a walk stops undecided at an end it reached
             answer.why.append(w.why_stopped or "undecided")
             if proven is None or closer(w.end, proven):
                 proven = w.end
             continue
         if not w.capped:
+            # Unbounded (None) only while nothing bounds the walk: then proven is None too,
+            # since every later walk is capped by `best`.
             best, source = w.end, w.beyond
-            if proven is None or closer(best, proven):
+            if proven is None or (best is not None and closer(best, proven)):
                 proven = best
     exact = proven == best
     if up:
@@ -297,11 +302,11 @@ def scaling_on(ctx: Any, on: ProcessorLine, pt: Scaling, verify: bool) -> Scalin
         if ctx.unschedulable is not None and ctx.unschedulable.why and \
                 ctx.unschedulable.why[0] in ("overrun", "grows", "starved"):
             s.limits = [limit_on(ctx.unschedulable)]
-    elif on.budget.run_left <= 0:
-        why = "undecided: " + on.budget.cap()[1] + "; nothing searched"
+    elif on.spend.run_left <= 0:
+        why = "undecided: " + on.spend.cap()[1] + "; nothing searched"
     if why is not None:
         return _unsearched(s, why, ctx.schedulable is None or why.startswith("undecided"))
-    on.budget.start_figure()
+    on.spend.start_figure()
     answer = solve_line(on, {j: Fraction(0) for j in durations},
                         {j: ctx.nominal[j] for j in durations}, Fraction(1), pt.intervals,
                         constant_parts=True)
@@ -350,11 +355,11 @@ def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
         bad = ([o for o in mine if o.verdict is False] + [o for o in mine if o.verdict is None])
         if bad:
             why = not_searched(bad[0].verdict, bad[0], "its part")
-        elif on.budget.run_left <= 0:
-            why = "undecided: " + on.budget.cap()[1] + "; nothing searched"
+        elif on.spend.run_left <= 0:
+            why = "undecided: " + on.spend.cap()[1] + "; nothing searched"
     if why is not None:
         return _unsearched(m, why, why.startswith("undecided"))
-    on.budget.start_figure()
+    on.spend.start_figure()
     answer = solve_line(on, {j: Fraction(0)}, {j: Fraction(1)}, p.nominal, pt.intervals,
                         constant_parts=False, positive=p.kind == "period")
     m.why_undecided, m.method = answer.why, method_text(answer)
@@ -436,8 +441,8 @@ def _sub_skeleton(sk: Skeleton, tasks: list[str]) -> Skeleton:
     if len(tasks) == len(sk.tasks):
         return sk
     keep = set(tasks)
-    clocks = {c: sk.clocks[c] for c in dict.fromkeys(
-        sk.tasks[t].clock for t in tasks if sk.tasks[t].clock is not None)}
+    used = [c for t in tasks if (c := sk.tasks[t].clock) is not None]
+    clocks = {c: sk.clocks[c] for c in dict.fromkeys(used)}
     links = [x for x in sk.links if x.writer[0] in keep and x.reader[0] in keep]
     threads = [th for th in sk.threads if th[0] in keep]
     return Skeleton(sk.name, {t: sk.tasks[t] for t in tasks}, clocks, links, threads, sk.unit)

@@ -240,6 +240,7 @@ def _margin_on_lines(result: SensitivityResult) -> list[str]:
             why = "; ".join(dict.fromkeys(_short(x) for x in m.limits_high)) or "-"
         elif m.nominal_consistent:
             lo, hi = m.bounds  # type: ignore[misc]
+            assert hi is not None  # a bounded margin has its proven end
             around = f"BOUND: [{display_text(lo)}, {display_text(hi)}] proven"
             grow, why = f"at least +{number(hi - p.nominal)}", "undecided beyond"
         else:
