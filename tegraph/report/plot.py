@@ -14,7 +14,6 @@ ticks, the late activation of an overrun in red.
 from __future__ import annotations
 
 import os
-from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -103,30 +102,53 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
     >>> written == out
     True
     """
-    target = Path(os.fspath(path))
-    suffix = target.suffix.lower()
-    if suffix not in _FORMATS:
-        raise InputError(f"cannot draw to {target.name!r}; expected a file name ending in "
-                         ".svg or .png", where="path")
+    target = _target(path)
     Figure = _matplotlib()
-    from matplotlib import colormaps
-    from matplotlib.artist import Artist
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
     tl = timeline
     lanes = tl.processors
     clocks = [c for c in tl.ticks if any(tl.clocks[t] == c for t in tl.tasks)]
     rows = len(lanes) + len(clocks)
-    H = float(tl.horizon)
     fig = Figure(figsize=(10.0, 1.8 + 0.5 * rows), layout="constrained")
     ax = fig.add_subplot()
     y_lane = {p: rows - 1 - i for i, p in enumerate(lanes)}
     y_clock = {c: len(clocks) - 1 - i for i, c in enumerate(clocks)}
+    colour = _task_colours(tl)
+    _draw_jobs(ax, tl, y_lane, colour)
+    _draw_ticks(ax, tl, y_clock)
+    _draw_regimes(ax, tl)
+    ax.set_yticks([y_lane[p] for p in lanes] + [y_clock[c] for c in clocks])
+    ax.set_yticklabels([f"processor {p}" for p in lanes] + [f"clock {c}" for c in clocks])
+    ax.set_ylim(-0.8, rows - 0.4)
+    ax.set_xlim(0, float(tl.horizon))
+    ax.set_xlabel(f"time ({tl.unit})")
+    ax.grid(axis="x", linestyle=":", linewidth=0.5)
+    ax.set_title(_title(tl))
+    fig.legend(handles=_legend_handles(tl, colour), loc="outside lower center", ncol=4,
+               fontsize="small", frameon=False)
+    return save_figure(fig, target, overwrite)
+
+
+def _target(path: str | os.PathLike[str]) -> Path:
+    """The file to draw into: refused unless its suffix names a format drawn here."""
+    target = Path(os.fspath(path))
+    if target.suffix.lower() not in _FORMATS:
+        raise InputError(f"cannot draw to {target.name!r}; expected a file name ending in "
+                         ".svg or .png", where="path")
+    return target
+
+
+def _task_colours(tl: Timeline) -> dict[str, Any]:
+    """Each task's colour, from a 20-colour palette (a task keeps its colour in every lane)."""
+    from matplotlib import colormaps
+
     palette = colormaps["tab20"]
-    colour = {t: palette(i % 20) for i, t in enumerate(tl.tasks)}
+    return {t: palette(i % 20) for i, t in enumerate(tl.tasks)}
+
+
+def _draw_jobs(ax: Any, tl: Timeline, y_lane: dict[str, int], colour: dict[str, Any]) -> None:
+    """A bar per interval of processor time, in its lane; the late job's bars hatched red."""
     late = {(j.task, j.index) for j in tl.late_jobs}
-    fits = 9.0 * 72 / H  # points per time unit, for an axis some 9 inches wide
+    fits = 9.0 * 72 / float(tl.horizon)  # points per time unit, for an axis some 9 inches wide
     for i in tl.intervals:
         y, a, w = y_lane[i.processor], float(i.start), float(i.end - i.start)
         bad = (i.task, i.k) in late
@@ -136,41 +158,58 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
         label = f"{i.task}#{i.k}"
         if w * fits >= 4.2 * len(label) + 2:  # some 4.2 points a character at size 7
             ax.text(a + w / 2, y, label, ha="center", va="center", fontsize=7, zorder=3)
-    overrun: dict[str | None, set[Fraction]] = {}  # by clock (an overrunning task has one)
+
+
+def _overrun_ticks(tl: Timeline) -> dict[str, set[Any]]:
+    """Per clock, the ticks at which one of its tasks overruns (drawn red)."""
+    overrun: dict[str, set[Any]] = {}
     for t, k in tl.overrun_at.items():
         if k is not None:
             overrun.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])
-    for c in clocks:
+    return overrun
+
+
+def _draw_ticks(ax: Any, tl: Timeline, y_clock: dict[str, int]) -> None:
+    """A row per clock: its ticks as black triangles, an overrun's tick as a larger red one."""
+    overrun = _overrun_ticks(tl)
+    for c in y_clock:
         xs = [x for x in tl.ticks[c] if x not in overrun.get(c, ())]
         ax.plot([float(x) for x in xs], [y_clock[c]] * len(xs), linestyle="none", marker="^",
                 markersize=6, color="black", zorder=3)
         red = [float(x) for x in overrun.get(c, ()) if x <= tl.horizon]
         ax.plot(red, [y_clock[c]] * len(red), linestyle="none", marker="^", markersize=8,
                 color=_LATE, zorder=3)
-    for r in tl.schedule.regimes:  # the proven regime: its start and its end
+
+
+def _draw_regimes(ax: Any, tl: Timeline) -> None:
+    """Dotted lines at the start and end of each proven regime within the drawing."""
+    for r in tl.schedule.regimes:
         if r["start"] is not None and r["length"] and r["tasks"][0] not in tl.unsimulated:
             for x in (r["start"], r["start"] + r["length"]):
                 if 0 < x <= tl.horizon:
                     ax.axvline(float(x), color=_WAIT, linestyle=":", linewidth=1, zorder=1)
-    ax.set_yticks([y_lane[p] for p in lanes] + [y_clock[c] for c in clocks])
-    ax.set_yticklabels([f"processor {p}" for p in lanes] + [f"clock {c}" for c in clocks])
-    ax.set_ylim(-0.8, rows - 0.4)
-    ax.set_xlim(0, H)
-    ax.set_xlabel(f"time ({tl.unit})")
-    ax.grid(axis="x", linestyle=":", linewidth=0.5)
+
+
+def _title(tl: Timeline) -> str:
+    """The title: what is drawn, over which span, and the verdict it shows."""
     verdict = {True: "schedulable (proven)", False: "NOT schedulable",
                None: "undecided within the budget"}[tl.schedulable]
-    ax.set_title(f"{tl.name} on its processors (preemptive fixed priorities), 0-{H:g} "
-                 f"{tl.unit}: {verdict}")
-    handles: list[Artist] = [Patch(facecolor=colour[t], edgecolor="black", label=f"{t} (prio "
+    return (f"{tl.name} on its processors (preemptive fixed priorities), 0-{float(tl.horizon):g} "
+            f"{tl.unit}: {verdict}")
+
+
+def _legend_handles(tl: Timeline, colour: dict[str, Any]) -> list[Any]:
+    """The legend: the first tasks with their priorities, then the marks' meanings."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    handles = [Patch(facecolor=colour[t], edgecolor="black", label=f"{t} (prio "
                      f"{tl.priorities[t]})") for t in tl.tasks[:_KEYED]]
     handles += [Patch(facecolor="white", edgecolor=_LATE, hatch="//", label="late activation"),
                 Line2D([], [], color="black", marker="^", linestyle="none", label="clock tick"),
                 Line2D([], [], color=_LATE, marker="^", linestyle="none", label="overrun tick"),
                 Line2D([], [], color=_WAIT, linestyle=":", label="proven regime")]
-    fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize="small",
-               frameon=False)
-    return save_figure(fig, target, overwrite)
+    return handles
 
 
 _KEYED = 20
