@@ -61,7 +61,7 @@ from maxplus.scalar import exact_text
 
 from ..model.build import build_teg
 from ..model.skeleton import Skeleton
-from ..model.teg import TimedEventGraph
+from ..model.teg import TEGArrays, TimedEventGraph
 from .reachability import skeleton_groups
 
 __all__ = ["TimedExploration", "TimedGroup", "TimedTask", "timed_reachability"]
@@ -263,21 +263,39 @@ class _Simulation:
         task_lists, members = skeleton_groups(teg)
         n = teg.n_transitions
         self.members = [m.tolist() for m in members]
+        self.group_of = self._group_of(n)
+        self._wire_places(a)
+        self.groups = [TimedGroup(g, list(ts)) for g, ts in enumerate(task_lists)]
+        self.names = teg.transition_names
+        self.ticks = {e for e in range(n) if teg.transition_attrs[e].get("role") == "tick"}
+        self.last_fired = [-1] * n
+        # A group is dead from its first state or never (module docstring).
+        self.dead = [bool(self._stuck(g)) for g in range(len(members))]
+        self._watch_overruns(teg)
+        self._start_run(n)
+
+    def _group_of(self, n: int) -> list[int]:
+        """Each event's group, -1 for a clock that activates nothing (it belongs to none)."""
         group_of = [-1] * n
         for g, events in enumerate(self.members):
             for e in events:
                 group_of[e] = g
-        self.group_of = group_of
+        return group_of
+
+    def _wire_places(self, a: TEGArrays) -> None:
+        """Each event's input places and output places with their holding times, each place's
+        initial tokens (FIFO, with their availability times) and each group's places."""
+        n, k = len(self.group_of), len(self.members)
         src, dst = a.src.tolist(), a.dst.tolist()
         hold, init, tokens = (v.tolist() for v in (a.holding, a.initial, a.tokens))
-        self.dst = dst
+        self.src, self.dst = src, dst
         self.inp: list[list[int]] = [[] for _ in range(n)]
         self.out: list[list[tuple[int, int]]] = [[] for _ in range(n)]
         self.fifo: list[deque[int]] = [deque() for _ in src]
-        self.places_of: list[list[int]] = [[] for _ in members]
-        self.inflight = [0] * len(members)  # latest availability time put in each group
+        self.places_of: list[list[int]] = [[] for _ in range(k)]
+        self.inflight = [0] * k  # latest availability time put in each group
         for p, (s, d) in enumerate(zip(src, dst)):
-            g = group_of[s]
+            g = self.group_of[s]
             if g < 0:
                 continue  # a clock that activates nothing: no group
             self.inp[d].append(p)
@@ -286,48 +304,53 @@ class _Simulation:
             self.places_of[g].append(p)
             if tokens[p]:
                 self.inflight[g] = max(self.inflight[g], int(init[p]))
-        self.groups = [TimedGroup(g, list(ts)) for g, ts in enumerate(task_lists)]
-        self.names = teg.transition_names
-        self.src = src
-        self.ticks = {e for e in range(n) if teg.transition_attrs[e].get("role") == "tick"}
-        self.last_fired = [-1] * n
-        # A group is dead from its first state or never (module docstring).
-        self.dead = [bool(self._stuck(g)) for g in range(len(members))]
+
+    def _watch_overruns(self, teg: TimedEventGraph) -> None:
+        """Each task's figures, and for a clocked task of a live group what the overrun
+        check needs: its clock's tick to watch and its last event, whose firings end
+        its activations."""
         self.tasks: dict[str, TimedTask] = {}
         self.watch: dict[int, list[tuple[str, int]]] = {}
         self.ends: dict[int, list[tuple[str, int, deque[int]]]] = {}
         for task, chain in teg.attrs.get("chains", {}).items():
             clock = teg.transition_attrs[chain[0]].get("clock")
-            g = group_of[chain[0]]
+            g = self.group_of[chain[0]]
             # Without a clock there is nothing to overrun, and in a dead group the
             # deadlock is reported instead (spec §4): decided from the start.
             self.tasks[task] = TimedTask(task, g, decided=clock is None or self.dead[g])
             if clock is not None and not self.dead[g]:  # an activation event: the task's clock
                 tick = teg.attrs["clocks"][clock]
                 last = chain[-1]
-                # The end of an activation: its last write, or the end of its
-                # computation when it has no output (every place leaving
-                # T.compute holds duration(T), spec §2).
-                offset = (max(h for _, h in self.out[last])
-                          if teg.transition_attrs[last].get("role") == "compute" else 0)
                 ended: deque[int] = deque(maxlen=2)  # end times of the last two activations
                 self.watch.setdefault(tick, []).append((task, last))
-                self.ends.setdefault(last, []).append((task, offset, ended))
+                self.ends.setdefault(last, []).append(
+                    (task, self._end_offset(teg, last), ended))
         self.ended = {task: ended for entries in self.ends.values()
                       for task, _, ended in entries}
         # Per event, what its firing must record (a list: looked up at every firing).
         self.end_of: list[list[tuple[str, int, deque[int]]] | None] = [
-            self.ends.get(e) for e in range(n)]
+            self.ends.get(e) for e in range(teg.n_transitions)]
+
+    def _end_offset(self, teg: TimedEventGraph, last: int) -> int:
+        """How long after its last event fires an activation ends: 0 after its last write;
+        after T.compute (no output), the duration of T, which every place leaving
+        T.compute holds (spec §2)."""
+        if teg.transition_attrs[last].get("role") == "compute":
+            return max(h for _, h in self.out[last])
+        return 0
+
+    def _start_run(self, n: int) -> None:
+        """The state of the run before its first firing: counts, daters, seen states, clock."""
+        k = len(self.members)
         self.count = [0] * n
         # Dead groups have no period: their daters are not kept.
         self.daters: list[list[int] | None] = [
-            None if self.dead[group_of[e]] else [] for e in range(n)]
+            None if self.dead[self.group_of[e]] else [] for e in range(n)]
         self.log: list[list[int] | None] = [None if d else [] for d in self.dead]
-        # Per live group: state -> (id, time first seen, group firings by then); per dead
-        # group: state -> id (_record_dead).
-        self.seen: list[dict[tuple, Any]] = [{} for _ in members]
-        self.current = [0] * len(members)
-        self.repeated = [False] * len(members)
+        # Per group: state -> (id, time first seen, group firings by then).
+        self.seen: list[dict[tuple, tuple[int, int, int]]] = [{} for _ in range(k)]
+        self.current = [0] * k
+        self.repeated = [False] * k
         self.whole: set[tuple[int, ...]] = set()
         self.now = 0
         self.firings = 0
@@ -337,8 +360,8 @@ class _Simulation:
         self.version = [0] * n
         self.heap: list[tuple[int, int, int]] = []
         self.ticked: set[int] = set()
-        self.instant = [-1] * len(members)  # last instant each group fired at, and how often
-        self.at_instant = [0] * len(members)
+        self.instant = [-1] * k  # last instant each group fired at, and how often
+        self.at_instant = [0] * k
 
     # ------------------------------------------------------------------ firing
     def _ready(self, e: int) -> int | None:
@@ -390,7 +413,6 @@ class _Simulation:
         x = self.daters[e]
         if x is not None:
             x.append(now)
-            # Type: only dead groups have no log, and their daters are None (x above).
             self.log[g].append(e)  # type: ignore[union-attr]
         if e in self.watch:
             self.ticked.add(e)
@@ -484,7 +506,6 @@ class _Simulation:
             if entry is None:
                 log = self.log[g]
                 entry = seen[key] = (len(seen), self.now, 0 if log is None else len(log))
-            # Type: dead groups were handled above: a live group has its log.
             elif not self.repeated[g] and len(self.log[g]) > entry[2]:  # type: ignore[arg-type]
                 self._regime(g, entry)
             if self.current[g] >= 0:
@@ -524,7 +545,6 @@ class _Simulation:
     def _regime(self, g: int, entry: tuple[int, int, int]) -> None:
         """The group's state repeated: period, transient and cyclicity from the daters."""
         _, t0, pos = entry
-        # Type: a regime is found only for a live group, which has its log.
         window = self.log[g][pos:]  # type: ignore[index]
         events = self.members[g]
         c0 = len(window) // len(events)
@@ -535,7 +555,7 @@ class _Simulation:
             raise AssertionError(f"internal error: group {g} repeated with unequal firing counts")
         span = self.now - t0
         daters = [self.daters[e] for e in events]
-        k, c = _transient(daters, [self.count[e] - c0 for e in events], c0, span)
+        k, c = _transient(daters, [self.count[e] - c0 for e in events], c0, span)  # type: ignore[arg-type]
         group = self.groups[g]
         group.period = Fraction(span, c0 * self.scale)
         group.transient = (k, c)
