@@ -41,40 +41,14 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
     B.clock |^   ^   |
     """
     tl, u, H = timeline, timeline.unit, timeline.horizon
-    times = {Fraction(0), H} | {x for i in tl.intervals for x in (i.start, i.end)}
-    times |= {x for ts in tl.ticks.values() for x in ts}
-    step = _gcd_all(times)
-    exact = H / step <= width
-    columns = int(H / step) if exact else width
+    exact, columns = _columns(tl, width)
     col = H / columns
     used = [c for c in tl.ticks if any(tl.clocks[t] == c for t in tl.tasks)]
     label = max(len(x) for x in [*tl.processors, *used])
     lines = [f"timeline {tl.name} on its processors: 0 to {display_text(H)} {u}, one column = "
              f"{display_text(col)} {u}" + ("" if exact else " (approximate drawing)")]
-    priorities = tl.priorities
-    # One letter per task, the same in every lane.
-    symbol = {t: _SYMBOLS[n] if n < len(_SYMBOLS) else "*" for n, t in enumerate(tl.tasks)}
-    lanes = _by_processor(tl)
-    for proc in tl.schedule.platform.processors:
-        order = sorted(proc.tasks, key=lambda t: -priorities[t])
-        row = ["."] * columns
-        for i in lanes[proc.name]:
-            _paint(row, i.start, i.end, col, symbol[i.task])
-        named = [t for t in order if symbol[t] != "*"]
-        key = ", ".join(f"{symbol[t]} = {t} (prio {priorities[t]})" for t in named)
-        if len(named) < len(order):
-            key += f", * = the {len(order) - len(named):,} others"
-        lines.append(f"{proc.name:<{label}} |{''.join(row)}| {key}")
-    late: dict[str | None, set[Fraction]] = {}  # by clock (an overrunning task has one)
-    for t, k in tl.overrun_at.items():
-        if k is not None:
-            late.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])
-    for c in used:
-        row = [" "] * columns
-        for x in tl.ticks[c]:  # a tick at the end is drawn when it is an overrun's
-            if x < H or x in late.get(c, ()):
-                row[min(int(x / col), columns - 1)] = "!" if x in late.get(c, ()) else "^"
-        lines.append(f"{c:<{label}} |{''.join(row)}|")
+    lines += _lanes(tl, columns, label)
+    lines += _clock_rows(tl, used, columns, label)
     lines.append("legend: a letter: that task's job runs (key after each lane); . idle; "
                  "^ clock tick; ! a tick at which a task overruns"
                  + ("" if exact else "; + several jobs within the column"))
@@ -85,6 +59,63 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
     lines.append(f"method: {tl.schedule.method}")
     lines.append(_verdict(tl))
     return "\n".join(lines) + "\n"
+
+
+def _columns(tl: Timeline, width: int) -> tuple[bool, int]:
+    """Whether the drawing is exact, and its number of columns: exact when every time
+    drawn is a multiple of a step of which the horizon holds at most ``width``."""
+    times = {Fraction(0), tl.horizon} | {x for i in tl.intervals for x in (i.start, i.end)}
+    times |= {x for ts in tl.ticks.values() for x in ts}
+    step = _gcd_all(times)
+    exact = tl.horizon / step <= width
+    return exact, int(tl.horizon / step) if exact else width
+
+
+def _lanes(tl: Timeline, columns: int, label: int) -> list[str]:
+    """A row per processor: its jobs' letters (one per task, the same in every lane)
+    and the key of its letters, by priority."""
+    col = tl.horizon / columns
+    symbol = {t: _SYMBOLS[n] if n < len(_SYMBOLS) else "*" for n, t in enumerate(tl.tasks)}
+    lanes = _by_processor(tl)
+    lines = []
+    for proc in tl.schedule.platform.processors:
+        row = ["."] * columns
+        for i in lanes[proc.name]:
+            _paint(row, i.start, i.end, col, symbol[i.task])
+        lines.append(f"{proc.name:<{label}} |{''.join(row)}| "
+                     f"{_lane_key(tl, proc.tasks, symbol)}")
+    return lines
+
+
+def _lane_key(tl: Timeline, tasks: tuple[str, ...], symbol: dict[str, str]) -> str:
+    """The key of a lane: each task's letter and priority, highest first; ``*`` counts
+    the tasks past the letters."""
+    priorities = tl.priorities
+    order = sorted(tasks, key=lambda t: -priorities[t])
+    named = [t for t in order if symbol[t] != "*"]
+    key = ", ".join(f"{symbol[t]} = {t} (prio {priorities[t]})" for t in named)
+    if len(named) < len(order):
+        key += f", * = the {len(order) - len(named):,} others"
+    return key
+
+
+def _clock_rows(tl: Timeline, used: list[str], columns: int, label: int) -> list[str]:
+    """A row per clock that activates a task: ``^`` its ticks, ``!`` a tick at which one
+    of its tasks overruns (drawn even at the horizon)."""
+    H = tl.horizon
+    col = H / columns
+    late: dict[str, set[Fraction]] = {}
+    for t, k in tl.overrun_at.items():
+        if k is not None:
+            late.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])
+    lines = []
+    for c in used:
+        row = [" "] * columns
+        for x in tl.ticks[c]:  # a tick at the end is drawn when it is an overrun's
+            if x < H or x in late.get(c, ()):
+                row[min(int(x / col), columns - 1)] = "!" if x in late.get(c, ()) else "^"
+        lines.append(f"{c:<{label}} |{''.join(row)}|")
+    return lines
 
 
 def _order_of_execution(tl: Timeline) -> list[str]:
