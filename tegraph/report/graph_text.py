@@ -12,7 +12,7 @@ from maxplus.scalar import display_text
 if TYPE_CHECKING:  # annotations only: the analyze report imports ratio_text, not the baselines
     from ..analysis.cycle_time import CycleTimeResult
     from ..analysis.reachability import Reachability
-    from ..analysis.timed_reachability import TimedExploration
+    from ..analysis.timed_reachability import TimedExploration, TimedGroup
 from ._format import count, human, number
 
 __all__ = ["render_cycle_time", "render_reachability", "render_timed_exploration"]
@@ -20,17 +20,10 @@ __all__ = ["render_cycle_time", "render_reachability", "render_timed_exploration
 
 def render_cycle_time(result: CycleTimeResult) -> str:
     """The human report of ``tegraph cycle-time``."""
-    u = result.unit
     head = f"{result.model} {result.name}" + (f" ({result.source})" if result.source else "")
     lines = [head, f"size:        {result.n_transitions} transitions, {result.n_places} places"]
     if not result.applicable:
-        lines.append(f"no period:   {result.reason}")
-        if result.reachability is not None:
-            lines.append("instead, the deadlock verdict of its reachable markings:")
-            lines.extend("  " + line for line in render_reachability(
-                result.reachability, limit=3, closing=False).splitlines())
-            if result.reachability.deadlock is None:
-                lines.append("to decide:   raise the budget (`max_states`, `max_seconds`)")
+        lines += _no_period_lines(result)
     elif result.token_free_circuit is not None:
         lines.append("DEADLOCK: circuit without token "
                      + " -> ".join([*result.token_free_circuit, result.token_free_circuit[0]])
@@ -38,34 +31,61 @@ def render_cycle_time(result: CycleTimeResult) -> str:
     elif result.period is None:
         lines.append("period:      none (no circuit: nothing bounds the firing rate)")
     else:
-        what = "group" if result.model == "skeleton" else "part"
-        several = (f" (the slowest of {len(result.parts)} {what}s, which run at their own "
-                   f"periods below)" if result.parts else "")
-        lines.append(f"period:      {human(result.period, u)}{several}")
-        what = "iterations" if result.model == "SDF graph" else "firings"
-        per = "time unit" if u == "time units" else u
-        lines.append("throughput:  " + ("unbounded (period 0)" if result.throughput is None
-                                        else f"{number(result.throughput)} {what} per {per}"))
-        lines.append("critical:    " + _circuit_text(result.critical_circuit, result.place_labels))
-        lines.append("why:         " + ratio_text(result.critical_holdings,
-                                                  result.critical_tokens, u))
-        for k, part in enumerate(result.parts):
-            name = "group" if result.model == "skeleton" else "part"
-            lines.append(f"  {name} {k} [{part.label}]: period {human(part.period, u)}: "
-                         + " -> ".join([*part.critical_circuit, part.critical_circuit[0]])
-                         + ": " + ratio_text(part.critical_holdings, part.critical_tokens, u))
-        if result.cycle_times is not None:
-            lines.append("cycle times differ (the graph is not strongly connected):")
-            width = max(len(k) for k in result.cycle_times)
-            for event, v in result.cycle_times.items():
-                shown = "none (no circuit upstream: an input)" if v is None else human(v, u)
-                lines.append(f"  {event:<{width}}  {shown}")
-        check = {True: "verified exactly", False: "FAILED", None: "not run"}
-        lines.append(f"certificate: {check[result.certificate_verified]}")
+        lines += _period_lines(result)
     lines.append("time:        " + ", ".join(f"{k} {v:.3f} s" for k, v in result.seconds.items()))
     lines.extend(f"note: {n}" for n in result.notes)
     lines.append(_cycle_time_verdict(result))
     return "\n".join(lines) + "\n"
+
+
+def _no_period_lines(result: CycleTimeResult) -> list[str]:
+    """Why a net has no period, and instead the deadlock verdict of its reachable markings."""
+    lines = [f"no period:   {result.reason}"]
+    if result.reachability is not None:
+        lines.append("instead, the deadlock verdict of its reachable markings:")
+        lines.extend("  " + line for line in render_reachability(
+            result.reachability, limit=3, closing=False).splitlines())
+        if result.reachability.deadlock is None:
+            lines.append("to decide:   raise the budget (`max_states`, `max_seconds`)")
+    return lines
+
+
+def _period_lines(result: CycleTimeResult) -> list[str]:
+    """The period with its proof: throughput, critical circuit and its ratio, each part's
+    period, the cycle times when they differ, and the certificate's check."""
+    u = result.unit
+    what = "group" if result.model == "skeleton" else "part"
+    several = (f" (the slowest of {len(result.parts)} {what}s, which run at their own "
+               f"periods below)" if result.parts else "")
+    lines = [f"period:      {human(result.period, u)}{several}"]
+    what = "iterations" if result.model == "SDF graph" else "firings"
+    per = "time unit" if u == "time units" else u
+    lines.append("throughput:  " + ("unbounded (period 0)" if result.throughput is None
+                                    else f"{number(result.throughput)} {what} per {per}"))
+    lines.append("critical:    " + _circuit_text(result.critical_circuit, result.place_labels))
+    lines.append("why:         " + ratio_text(result.critical_holdings,
+                                              result.critical_tokens, u))
+    for k, part in enumerate(result.parts):
+        name = "group" if result.model == "skeleton" else "part"
+        lines.append(f"  {name} {k} [{part.label}]: period {human(part.period, u)}: "
+                     + " -> ".join([*part.critical_circuit, part.critical_circuit[0]])
+                     + ": " + ratio_text(part.critical_holdings, part.critical_tokens, u))
+    lines += _cycle_times_lines(result)
+    check = {True: "verified exactly", False: "FAILED", None: "not run"}
+    lines.append(f"certificate: {check[result.certificate_verified]}")
+    return lines
+
+
+def _cycle_times_lines(result: CycleTimeResult) -> list[str]:
+    """Each transition's cycle time, when they differ (none: nothing to list)."""
+    if result.cycle_times is None:
+        return []
+    lines = ["cycle times differ (the graph is not strongly connected):"]
+    width = max(len(k) for k in result.cycle_times)
+    for k, v in result.cycle_times.items():
+        shown = "none (no circuit upstream: an input)" if v is None else human(v, result.unit)
+        lines.append(f"  {k:<{width}}  {shown}")
+    return lines
 
 
 def _cycle_time_verdict(result: CycleTimeResult) -> str:
@@ -96,8 +116,7 @@ def ratio_text(holdings: list[Fraction], tokens: int | None, unit: str) -> str:
     terms = [h for h in holdings if h] or [Fraction(0)]
     held = (str(display_text(terms[0])) if len(terms) == 1
             else "(" + " + ".join(str(display_text(h)) for h in terms) + ")")
-    ratio = sum(terms, Fraction(0)) / tokens
-    return f"{held} {unit} over {count(tokens, 'token')} = {human(ratio, unit)}"
+    return f"{held} {unit} over {count(tokens, 'token')} = {human(sum(terms) / tokens, unit)}"
 
 
 def _circuit_text(events: list[str], places: list[str]) -> str:
@@ -138,58 +157,71 @@ def render_reachability(result: Reachability, limit: int = 10, closing: bool = T
 
 def render_timed_exploration(result: TimedExploration) -> str:
     """The timed exploration (ORCCAD §5): how it ended, each group's figures, overruns."""
-    u = result.unit
-    if result.ended_by == "repeat":
-        head = f"complete: the whole state repeated at time {display_text(result.time_reached)} {u}"
-    elif result.complete:
-        head = f"complete: nothing fires after time {display_text(result.time_reached)} {u}"
-    else:
-        why = {"states": f"budget {result.max_states:,} states reached",
-               "time": "time budget reached", "interrupted": "interrupted"}
-        head = f"inconclusive ({why.get(result.stopped_by or '', 'stopped')})"
     lines = [(f"{result.name}: timed exploration, {result.states:,} state"
               f"{'s' * (result.states != 1)}, {result.firings:,} firing"
-              f"{'s' * (result.firings != 1)}; {head}")]
-    for g in result.groups:
-        if g.stalled_at is not None:
-            lines.append(f"  group {g.index} ({', '.join(g.tasks)}): fires without end at "
-                         f"time {display_text(g.stalled_at)} {u} (zero-duration tasks)")
-        elif g.stuck_after is not None:
-            lines.append(f"  group {g.index} ({', '.join(g.tasks)}): deadlock, nothing "
-                         f"fires after time {display_text(g.stuck_after)} {u}")
-        elif g.period is None:
-            lines.append(f"  group {g.index} ({', '.join(g.tasks)}): no repeated state")
-        else:
-            # Type: a group with a period has its transient.
-            k, c = g.transient  # type: ignore[misc]
-            lines.append(f"  group {g.index} ({', '.join(g.tasks)}): period "
-                         f"{display_text(g.period)} {u}, transient k={k}, cyclicity {c}")
+              f"{'s' * (result.firings != 1)}; {_exploration_end(result)}")]
+    lines += [_group_line(g, result.unit) for g in result.groups]
     for t in result.tasks.values():
         if t.overrun_at is not None:
             lines.append(f"  {t.name} overruns at activation {t.overrun_at}")
         elif not t.decided:
             lines.append(f"  {t.name}: overrun undecided")
+    lines.append(f"verdict: {_exploration_found(result)} (exit status {result.exit_status})")
+    return "\n".join(lines)
+
+
+def _exploration_end(result: TimedExploration) -> str:
+    """How the exploration ended: complete (a repeat, or nothing left to fire) or why not."""
+    u = result.unit
+    if result.ended_by == "repeat":
+        return f"complete: the whole state repeated at time {display_text(result.time_reached)} {u}"
+    if result.complete:
+        return f"complete: nothing fires after time {display_text(result.time_reached)} {u}"
+    why = {"states": f"budget {result.max_states:,} states reached",
+           "time": "time budget reached", "interrupted": "interrupted"}
+    return f"inconclusive ({why.get(result.stopped_by or '', 'stopped')})"
+
+
+def _group_line(g: TimedGroup, u: str) -> str:
+    """A group's figures: its period and transient, or what kept it from having one."""
+    tasks = ", ".join(g.tasks)
+    if g.stalled_at is not None:
+        return (f"  group {g.index} ({tasks}): fires without end at "
+                f"time {display_text(g.stalled_at)} {u} (zero-duration tasks)")
+    if g.stuck_after is not None:
+        return (f"  group {g.index} ({tasks}): deadlock, nothing "
+                f"fires after time {display_text(g.stuck_after)} {u}")
+    if g.period is None:
+        return f"  group {g.index} ({tasks}): no repeated state"
+    k, c = g.transient  # type: ignore[misc]
+    return (f"  group {g.index} ({tasks}): period "
+            f"{display_text(g.period)} {u}, transient k={k}, cyclicity {c}")
+
+
+def _exploration_found(result: TimedExploration) -> str:
+    """The verdict's findings: the first deadlock, overrun and endless instant, each with
+    how many more; else whether the search was complete."""
     late = [t for t in result.tasks.values() if t.overrun_at is not None]
     dead = [g for g in result.groups if g.stuck_events is not None]
     stalled = [g for g in result.groups if g.stalled_at is not None]
     found_parts = []
     if dead:
         found_parts.append(f"deadlock in group {dead[0].index} ({', '.join(dead[0].tasks)})"
-                           + (f" and {count(len(dead) - 1, 'more group')}" if len(dead) > 1
-                              else ""))
+                           + _more_groups(dead))
     if late:
         found_parts.append(f"{late[0].name} overruns at activation {late[0].overrun_at}"
                            + (f" and {len(late) - 1:,} more" if len(late) > 1 else ""))
     if stalled:
         found_parts.append(f"group {stalled[0].index} fires without end at time "
-                           f"{display_text(stalled[0].stalled_at)} {u} (zero-duration tasks)"
-                           + (f" and {count(len(stalled) - 1, 'more group')}"
-                              if len(stalled) > 1 else ""))
+                           f"{display_text(stalled[0].stalled_at)} {result.unit} "
+                           "(zero-duration tasks)" + _more_groups(stalled))
     if found_parts:
-        found = "; ".join(found_parts)
-    elif result.complete:
-        found = "no overrun (every group reached a repeated state or stopped)"
-    else:
-        found = "inconclusive: no overrun found before the budget ran out"
-    lines.append(f"verdict: {found} (exit status {result.exit_status})")
-    return "\n".join(lines)
+        return "; ".join(found_parts)
+    if result.complete:
+        return "no overrun (every group reached a repeated state or stopped)"
+    return "inconclusive: no overrun found before the budget ran out"
+
+
+def _more_groups(groups: list[TimedGroup]) -> str:
+    """`` and N more group(s)`` past the first of ``groups``, or nothing."""
+    return f" and {count(len(groups) - 1, 'more group')}" if len(groups) > 1 else ""
