@@ -348,7 +348,7 @@ class _Simulation:
             None if self.dead[self.group_of[e]] else [] for e in range(n)]
         self.log: list[list[int] | None] = [None if d else [] for d in self.dead]
         # Per group: state -> (id, time first seen, group firings by then).
-        self.seen: list[dict[tuple, tuple[int, int, int]]] = [{} for _ in range(k)]
+        self.seen: list[dict[tuple, Any]] = [{} for _ in range(k)]
         self.current = [0] * k
         self.repeated = [False] * k
         self.whole: set[tuple[int, ...]] = set()
@@ -413,6 +413,7 @@ class _Simulation:
         x = self.daters[e]
         if x is not None:
             x.append(now)
+            # Type: only dead groups have no log, and their daters are None (x above).
             self.log[g].append(e)  # type: ignore[union-attr]
         if e in self.watch:
             self.ticked.add(e)
@@ -506,6 +507,7 @@ class _Simulation:
             if entry is None:
                 log = self.log[g]
                 entry = seen[key] = (len(seen), self.now, 0 if log is None else len(log))
+            # Type: dead groups were handled above: a live group has its log.
             elif not self.repeated[g] and len(self.log[g]) > entry[2]:  # type: ignore[arg-type]
                 self._regime(g, entry)
             if self.current[g] >= 0:
@@ -545,6 +547,7 @@ class _Simulation:
     def _regime(self, g: int, entry: tuple[int, int, int]) -> None:
         """The group's state repeated: period, transient and cyclicity from the daters."""
         _, t0, pos = entry
+        # Type: a regime is found only for a live group, which has its log.
         window = self.log[g][pos:]  # type: ignore[index]
         events = self.members[g]
         c0 = len(window) // len(events)
@@ -555,7 +558,7 @@ class _Simulation:
             raise AssertionError(f"internal error: group {g} repeated with unequal firing counts")
         span = self.now - t0
         daters = [self.daters[e] for e in events]
-        k, c = _transient(daters, [self.count[e] - c0 for e in events], c0, span)  # type: ignore[arg-type]
+        k, c = _transient(daters, [self.count[e] - c0 for e in events], c0, span)
         group = self.groups[g]
         group.period = Fraction(span, c0 * self.scale)
         group.transient = (k, c)

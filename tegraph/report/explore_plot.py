@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from ..design.explore import Exploration
-from ..design.explore_eval import VariantResult
+from ..design.explore.evaluate import VariantResult
 from ..errors import InputError
 from .plot import INSTALL_HINT, PlotUnavailableError, save_figure
 
@@ -57,7 +57,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
     >>> import pathlib, tempfile
     >>> from tegraph import load_skeleton
     >>> from tegraph.design.explore import explore_design
-    >>> from tegraph.design.explore_space import design_space
+    >>> from tegraph.design.explore.space import design_space
     >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
     ...                      clocks={"rtc": [5, 10, 20]}, objectives=["period", "load"])
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "front.svg"
@@ -73,7 +73,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
     names = list(result.space.objectives)
     measured = [r for r in result.results.values() if r.live and r.consistent]
     front = {r.variant for r in result.front}
-    pairs = list(itertools.combinations(names, 2)) or [(names[0], None)]
+    pairs: list[tuple[str, str | None]] = [*itertools.combinations(names, 2)] or [(names[0], None)]
     columns = min(len(pairs), 3)
     rows = -(-len(pairs) // columns)
     fig = Figure(figsize=(4.2 * columns, 3.6 * rows + 0.6), layout="constrained")

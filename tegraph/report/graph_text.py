@@ -116,7 +116,8 @@ def ratio_text(holdings: list[Fraction], tokens: int | None, unit: str) -> str:
     terms = [h for h in holdings if h] or [Fraction(0)]
     held = (str(display_text(terms[0])) if len(terms) == 1
             else "(" + " + ".join(str(display_text(h)) for h in terms) + ")")
-    return f"{held} {unit} over {count(tokens, 'token')} = {human(sum(terms) / tokens, unit)}"
+    ratio = sum(terms, Fraction(0)) / tokens
+    return f"{held} {unit} over {count(tokens, 'token')} = {human(ratio, unit)}"
 
 
 def _circuit_text(events: list[str], places: list[str]) -> str:
@@ -193,6 +194,7 @@ def _group_line(g: TimedGroup, u: str) -> str:
                 f"fires after time {display_text(g.stuck_after)} {u}")
     if g.period is None:
         return f"  group {g.index} ({tasks}): no repeated state"
+    # Type: a group with a period has its transient.
     k, c = g.transient  # type: ignore[misc]
     return (f"  group {g.index} ({tasks}): period "
             f"{display_text(g.period)} {u}, transient k={k}, cyclicity {c}")

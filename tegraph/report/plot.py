@@ -160,9 +160,10 @@ def _draw_jobs(ax: Any, tl: Timeline, y_lane: dict[str, int], colour: dict[str, 
             ax.text(a + w / 2, y, label, ha="center", va="center", fontsize=7, zorder=3)
 
 
-def _overrun_ticks(tl: Timeline) -> dict[str, set[Any]]:
-    """Per clock, the ticks at which one of its tasks overruns (drawn red)."""
-    overrun: dict[str, set[Any]] = {}
+def _overrun_ticks(tl: Timeline) -> dict[str | None, set[Any]]:
+    """Per clock, the ticks at which one of its tasks overruns (drawn red; an
+    overrunning task has a clock)."""
+    overrun: dict[str | None, set[Any]] = {}
     for t, k in tl.overrun_at.items():
         if k is not None:
             overrun.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])
@@ -203,7 +204,7 @@ def _legend_handles(tl: Timeline, colour: dict[str, Any]) -> list[Any]:
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = [Patch(facecolor=colour[t], edgecolor="black", label=f"{t} (prio "
+    handles: list[Any] = [Patch(facecolor=colour[t], edgecolor="black", label=f"{t} (prio "
                      f"{tl.priorities[t]})") for t in tl.tasks[:_KEYED]]
     handles += [Patch(facecolor="white", edgecolor=_LATE, hatch="//", label="late activation"),
                 Line2D([], [], color="black", marker="^", linestyle="none", label="clock tick"),

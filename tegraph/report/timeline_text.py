@@ -104,7 +104,7 @@ def _clock_rows(tl: Timeline, used: list[str], columns: int, label: int) -> list
     of its tasks overruns (drawn even at the horizon)."""
     H = tl.horizon
     col = H / columns
-    late: dict[str, set[Fraction]] = {}
+    late: dict[str | None, set[Fraction]] = {}  # by clock (an overrunning task has one)
     for t, k in tl.overrun_at.items():
         if k is not None:
             late.setdefault(tl.clocks[t], set()).add(tl.overrun_ticks[t])
