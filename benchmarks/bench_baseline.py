@@ -98,8 +98,8 @@ import json, resource, sys, time
 sys.path.insert(0, {here!r})
 from bench_baseline import MAX_STATES, skeleton
 from tegraph import Skeleton, analyze, build_teg
-from tegraph.reachability import skeleton_reachability
-from tegraph.timed_reachability import timed_reachability
+from tegraph.analysis.baselines.reachability import skeleton_reachability
+from tegraph.analysis.baselines.timed_reachability import timed_reachability
 
 family, n, which, budget = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3], float(sys.argv[4])
 sk = Skeleton.from_dict(skeleton(family, n))

@@ -31,7 +31,7 @@ import json, sys, time
 import numpy as np
 from tegraph.io import read
 from tegraph.model.petri import PetriNet
-from tegraph.analysis.reachability import reachability_graph
+from tegraph.analysis.baselines.reachability import reachability_graph
 name, budget = sys.argv[1], int(sys.argv[2])
 if name == "ring":
     net = PetriNet("ring", ["ab", "ba"], ["a", "b"], np.array([[0, 1], [1, 0]]),

@@ -45,7 +45,7 @@ TIMED = """
 import json, sys, time
 sys.path.insert(0, {root!r})
 from tegraph import load_skeleton
-from tegraph.analysis.timed_reachability import timed_reachability
+from tegraph.analysis.baselines.timed_reachability import timed_reachability
 sk = load_skeleton({path!r})
 wall, cpu = time.perf_counter(), time.process_time()
 r = timed_reachability(sk, max_states=200_000)

@@ -81,7 +81,7 @@ def consistent_variant(doc: dict) -> dict:
 
 def pick(sk, k: int) -> list[str]:
     """k parameters of the largest group: durations, and with k >= 4 one clock period."""
-    from tegraph.analysis.sensitivity_model import skeleton_groups
+    from tegraph.analysis.sensitivity.parametric import skeleton_groups
 
     group = max(skeleton_groups(sk), key=len)
     clocks = list(dict.fromkeys(sk.tasks[t].clock for t in group if sk.tasks[t].clock))
@@ -101,7 +101,7 @@ def grid(sk, vary: list[str], per_axis: int) -> tuple[int, float]:
     import dataclasses
 
     from tegraph.analysis.analyze import analyze_skeleton
-    from tegraph.analysis.sensitivity_model import group_skeleton, parse_vary, skeleton_groups
+    from tegraph.analysis.sensitivity.parametric import group_skeleton, parse_vary, skeleton_groups
 
     params = parse_vary(sk, vary)
     owners = {p.owner for p in params if p.kind == "duration"}

@@ -44,7 +44,7 @@ _WHERE = {
     "explore": "tegraph.api",
     "reach": "tegraph.api",
     "rules": "tegraph.api",
-    "SensitivityResult": "tegraph.analysis.sensitivity_results",
+    "SensitivityResult": "tegraph.analysis.sensitivity.results",
     "duration_margins": "tegraph.analysis.sensitivity",
     "sensitivity": "tegraph.analysis.sensitivity",
     # design
@@ -86,7 +86,7 @@ if TYPE_CHECKING:  # static tools see the names where they are defined
     from .analysis.repair import FixResult, fix_ports
     from .analysis.results import Report
     from .analysis.sensitivity import duration_margins, sensitivity
-    from .analysis.sensitivity_results import SensitivityResult
+    from .analysis.sensitivity.results import SensitivityResult
     from .api import analyze, cycle_time, explore, reach, rules, to_dot, write
     from .design.rules import RuleFinding, check_rules
     from .design.timeline import Timeline, simulate_timeline

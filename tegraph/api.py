@@ -20,12 +20,12 @@ from maxplus.errors import MaxPlusError
 
 from . import io
 from .analysis.analyze import analyze_skeleton
+from .analysis.baselines.reachability import DEFAULT_MAX_MEMORY
 from .analysis.cycle_time import CycleTimeResult
 from .analysis.cycle_time import cycle_time as cycle_time_of
 from .analysis.processors import MAX_EVENTS
-from .analysis.reachability import DEFAULT_MAX_MEMORY
 from .analysis.results import Report
-from .analysis.sensitivity_margins import duration_margins
+from .analysis.sensitivity.margins import duration_margins
 from .design.section import DesignSection, design_section
 from .errors import InputError, TegraphError
 from .io._files import DEFAULT_MAX_BYTES
@@ -76,7 +76,7 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
     margins_max_tasks : int
         Up to this many tasks, each task's ``duration_margin`` (how much its
         duration may grow, its group staying consistent:
-        :func:`~tegraph.analysis.sensitivity_margins.duration_margins`) is
+        :func:`~tegraph.analysis.sensitivity.margins.duration_margins`) is
         computed; above it, ``methods["duration_margins"]`` says it was not
         (it costs about one more analysis; ``tegraph.sensitivity`` computes them).
     processors : bool
@@ -352,8 +352,8 @@ def reach(model: Any, *, timed: bool = False, max_states: int = 1_000_000,
 
     See Also
     --------
-    tegraph.analysis.reachability.reachability_graph : the untimed search of a net.
-    tegraph.analysis.timed_reachability.timed_reachability : the timed search.
+    tegraph.analysis.baselines.reachability.reachability_graph : the untimed search of a net.
+    tegraph.analysis.baselines.timed_reachability.timed_reachability : the timed search.
     analyze : the (max,+) answers the baselines are compared with.
 
     Examples
@@ -362,8 +362,8 @@ def reach(model: Any, *, timed: bool = False, max_states: int = 1_000_000,
     >>> reach(sk).deadlock, reach(sk, timed=True).exit_status
     (False, 0)
     """
-    from .analysis.reachability import reachability_graph, skeleton_reachability
-    from .analysis.timed_reachability import timed_reachability
+    from .analysis.baselines.reachability import reachability_graph, skeleton_reachability
+    from .analysis.baselines.timed_reachability import timed_reachability
     from .model.build import build_teg
     from .model.convert import as_petri_net
 

@@ -71,7 +71,7 @@ def test_ruff_clean(tree):
 def test_the_analyze_command_loads_no_other_command_code():
     """Renderers resolve on first use: analyze imports no explore, timeline or baseline code.
 
-    (``sensitivity_margins`` is analyze's own "can grow by" column, so it stays.)
+    (``analysis.sensitivity.margins`` is analyze's own "can grow by" column, so it stays.)
     """
     done = _run(sys.executable, "-c",
                 "import sys; sys.path.insert(0, '.')\n"
@@ -83,7 +83,9 @@ def test_the_analyze_command_loads_no_other_command_code():
                 "print(sorted(m for m in sys.modules if m.startswith('tegraph')))")
     assert done.returncode == 0, done.stderr
     loaded = done.stdout
-    for family in ("tegraph.design.explore", "tegraph.design.timeline", "timed_reachability",
-                   "tegraph.report.explore", "tegraph.report.timeline",
-                   "tegraph.report.sensitivity", "tegraph.analysis.sensitivity_results"):
+    for family in ("tegraph.design.explore", "tegraph.design.timeline",
+                   "tegraph.analysis.baselines.timed_reachability", "tegraph.report.explore",
+                   "tegraph.report.timeline", "tegraph.report.sensitivity",
+                   "tegraph.analysis.sensitivity.core", "tegraph.analysis.sensitivity.results",
+                   "tegraph.analysis.sensitivity.on_processors"):
         assert family not in loaded, family

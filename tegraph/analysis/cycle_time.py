@@ -20,7 +20,7 @@ place holds one token).
 * A P/T net that is not a marked graph has no (max,+) figures: the result
   says why (the place or arc at fault), and what still applies is run
   instead: the untimed reachability baseline
-  (:func:`tegraph.analysis.reachability.reachability_graph`, under a state and a time
+  (:func:`tegraph.analysis.baselines.reachability.reachability_graph`, under a state and a time
   budget) decides whether a dead marking is reachable, with a shortest
   firing sequence to each.
 
@@ -65,7 +65,7 @@ from ..model.petri import PetriNet
 from ..model.sdf import SDFGraph
 from ..model.skeleton import Skeleton
 from ..model.teg import TimedEventGraph
-from .reachability import DEFAULT_MAX_MEMORY, Reachability, reachability_graph
+from .baselines.reachability import DEFAULT_MAX_MEMORY, Reachability, reachability_graph
 
 __all__ = ["CycleTimeResult", "cycle_time"]
 
@@ -266,7 +266,7 @@ def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
     --------
     tegraph.cycle_time : the same, reading a file first.
     maxplus.max_cycle_ratio : the kernel.
-    tegraph.analysis.reachability.reachability_graph : the untimed fallback
+    tegraph.analysis.baselines.reachability.reachability_graph : the untimed fallback
         for a P/T net that is not a marked graph.
 
     Notes

@@ -120,7 +120,7 @@ class PetriNet:
     See Also
     --------
     tegraph.TimedEventGraph : the marked-graph case, with (max,+) semantics.
-    tegraph.analysis.reachability.reachability_graph : its reachable markings.
+    tegraph.analysis.baselines.reachability.reachability_graph : its reachable markings.
     tegraph.cycle_time : its period when it is a marked graph.
 
     References

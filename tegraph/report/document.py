@@ -71,10 +71,11 @@ _DOCUMENTS = Renderers("JSON document", {
     "tegraph.design.section.DesignSection": "tegraph.report.document:_rules",
     "tegraph.analysis.cycle_time.CycleTimeResult": "tegraph.report.document:_cycle_time",
     "tegraph.design.explore.exploration.Exploration": "tegraph.report.document:_explore",
-    "tegraph.analysis.sensitivity_results.SensitivityResult":
+    "tegraph.analysis.sensitivity.results.SensitivityResult":
         "tegraph.report.document:_sensitivity",
-    "tegraph.analysis.reachability.Reachability": "tegraph.report.document:_reach",
-    "tegraph.analysis.timed_reachability.TimedExploration": "tegraph.report.document:_reach",
+    "tegraph.analysis.baselines.reachability.Reachability": "tegraph.report.document:_reach",
+    "tegraph.analysis.baselines.timed_reachability.TimedExploration":
+        "tegraph.report.document:_reach",
 })
 
 

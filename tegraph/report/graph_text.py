@@ -10,9 +10,9 @@ import numpy as np
 from maxplus.scalar import display_text
 
 if TYPE_CHECKING:  # annotations only: the analyze report imports ratio_text, not the baselines
+    from ..analysis.baselines.reachability import Reachability
+    from ..analysis.baselines.timed_reachability import TimedExploration, TimedGroup
     from ..analysis.cycle_time import CycleTimeResult
-    from ..analysis.reachability import Reachability
-    from ..analysis.timed_reachability import TimedExploration, TimedGroup
 from ._format import count, human, number
 
 __all__ = ["render_cycle_time", "render_reachability", "render_timed_exploration"]

@@ -13,7 +13,7 @@ only the drawing coordinates are floats.
   period formula (which circuit is critical where), where it keeps pace with
   every clock (pale yellow, each clock's boundary outlined), inside it where
   it is consistent, with no overrun either (green, exact:
-  :mod:`tegraph.analysis.sensitivity_region`), the edges beyond which an
+  :mod:`tegraph.analysis.sensitivity.region`), the edges beyond which an
   overrun begins, and the nominal point with its verdict.
 """
 
@@ -25,9 +25,9 @@ from pathlib import Path
 
 from maxplus.scalar import display_text
 
-from ..analysis.sensitivity_polyhedra import Polyhedron
-from ..analysis.sensitivity_region import ConsistentRegion, consistent_region
-from ..analysis.sensitivity_results import GroupFormulaReport, SensitivityResult
+from ..analysis.sensitivity.polyhedra import Polyhedron
+from ..analysis.sensitivity.region import ConsistentRegion, consistent_region
+from ..analysis.sensitivity.results import GroupFormulaReport, SensitivityResult
 from ..errors import InputError
 from .plot import INSTALL_HINT, PlotUnavailableError, matplotlib_available, save_figure
 

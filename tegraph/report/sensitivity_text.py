@@ -16,7 +16,7 @@ from tabulate import tabulate
 
 from maxplus.scalar import display_text
 
-from ..analysis.sensitivity_results import Limit, SensitivityResult
+from ..analysis.sensitivity.results import Limit, SensitivityResult
 from ._format import number
 
 __all__ = ["formula_text", "render_sensitivity"]

@@ -260,8 +260,8 @@ def render_text(result: Any, **options: Any) -> str:
 _RENDERERS = Renderers("text rendering", {
     "tegraph.analysis.results.Report": "tegraph.report.text:_report",
     "tegraph.analysis.cycle_time.CycleTimeResult": "tegraph.report.text:_cycle_time",
-    "tegraph.analysis.reachability.Reachability": "tegraph.report.text:_reachability",
-    "tegraph.analysis.timed_reachability.TimedExploration":
+    "tegraph.analysis.baselines.reachability.Reachability": "tegraph.report.text:_reachability",
+    "tegraph.analysis.baselines.timed_reachability.TimedExploration":
         "tegraph.report.text:_timed_exploration",
     "tegraph.design.schedulability.Schedulability": "tegraph.report.text:_schedulability",
     "tegraph.design.latency.ChainLatency": "tegraph.report.text:_latency",
@@ -270,7 +270,7 @@ _RENDERERS = Renderers("text rendering", {
     "builtins.list": "tegraph.report.text:_rules",
     "tegraph.design.section.DesignSection": "tegraph.report.text:_design",
     "tegraph.design.explore.exploration.Exploration": "tegraph.report.text:_exploration",
-    "tegraph.analysis.sensitivity_results.SensitivityResult": "tegraph.report.text:_sensitivity",
+    "tegraph.analysis.sensitivity.results.SensitivityResult": "tegraph.report.text:_sensitivity",
 })
 
 

@@ -114,7 +114,7 @@ def test_a_size_of_zero_is_refused(tmp_path, command, option):
 
 
 def test_reach_refuses_a_memory_budget_of_zero_for_skeletons_and_nets_alike(tmp_path):
-    from tegraph.analysis.reachability import reachability_graph, skeleton_reachability
+    from tegraph.analysis.baselines.reachability import reachability_graph, skeleton_reachability
     from tegraph.model.build import build_teg
     from tegraph.model.petri import PetriNet
 

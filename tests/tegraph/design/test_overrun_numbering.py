@@ -6,7 +6,7 @@ last write, or, for a task without outputs, ``x_T.compute + duration(T)``.
 
 The three commands compute it three ways: the dater simulation with its
 periodic-regime proof (:func:`tegraph.analyze`), the ORCCAD §5 timed state
-search (:func:`~tegraph.analysis.timed_reachability.timed_reachability`) and the
+search (:func:`~tegraph.analysis.baselines.timed_reachability.timed_reachability`) and the
 schedule on processors that the timeline draws
 (:func:`~tegraph.design.timeline.simulate_timeline`, spec §4b, each task on a
 processor of its own so that it is §3 exactly). Expected values are derived by
@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from tegraph import Skeleton, analyze, build_teg, load_skeleton
-from tegraph.analysis.timed_reachability import timed_reachability
+from tegraph.analysis.baselines.timed_reachability import timed_reachability
 from tegraph.cli import app
 from tegraph.design.timeline import simulate_timeline
 from tegraph.report.timeline_text import render_timeline

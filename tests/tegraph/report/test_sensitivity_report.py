@@ -110,7 +110,7 @@ def test_the_nominal_point_inside_says_consistent():
 
 
 def test_the_consistent_region_is_exact_with_decimal_periods():
-    from tegraph.analysis.sensitivity_region import consistent_region
+    from tegraph.analysis.sensitivity.region import consistent_region
 
     # Periods 10.37: the triangle d1 + d2 <= 10.37 exactly (same derivation as above).
     r = sensitivity(_step(period="10.37"), ["MT1.duration=0..12", "MT2.duration=0..12"])

@@ -9,7 +9,7 @@ separation oracle:
 
 1. ``F`` is the maximum of the terms known (first: the critical circuit at
    the nominal point); ``E = {(θ, z) : θ in the box, z >= every term}`` is
-   kept with its vertices and rays (:mod:`.sensitivity_polyhedra`).
+   kept with its vertices and rays (:mod:`.polyhedra`).
 2. At each vertex ``(θ_v, F(θ_v))`` Howard gives ``λ(θ_v)``; along each ray
    ``(r, r_z)`` of an unbounded box the largest slope ``max_γ g_γ·r / m_γ``.
    A larger value comes with its critical circuit: a new term, a cut.
@@ -51,9 +51,9 @@ import numpy as np
 
 from maxplus import max_cycle_ratio
 
-from .sensitivity_model import Parameter, ParametricGroup
-from .sensitivity_oracle import Affine, Circuit, PointResult, _affine, _policy_circuit, evaluate
-from .sensitivity_polyhedra import Polyhedron, affine_rank
+from .oracle import Affine, Circuit, PointResult, _affine, _policy_circuit, evaluate
+from .parametric import Parameter, ParametricGroup
+from .polyhedra import Polyhedron, affine_rank
 
 __all__ = ["GroupFormula", "PaceInequality", "PaceRegion", "period_formulas"]
 
@@ -105,10 +105,10 @@ def period_formulas(groups: Sequence[ParametricGroup], params: Sequence[Paramete
     ----------
     groups : sequence of ParametricGroup
         The live groups, from
-        :func:`tegraph.analysis.sensitivity_model.parametric_groups`.
+        :func:`tegraph.analysis.sensitivity.parametric.parametric_groups`.
     params : sequence of Parameter
         The varied parameters and their boxes, from
-        :func:`tegraph.analysis.sensitivity_model.parse_vary`.
+        :func:`tegraph.analysis.sensitivity.parametric.parse_vary`.
     max_parameters : int
         A group with more parameters than this gets the derivatives at the
         nominal point instead of an exact formula.
@@ -143,7 +143,7 @@ def period_formulas(groups: Sequence[ParametricGroup], params: Sequence[Paramete
     and the task keeps pace with its clock while ``θ <= 5``:
 
     >>> from tegraph.model.skeleton import Skeleton
-    >>> from tegraph.analysis.sensitivity_model import parametric_groups, parse_vary
+    >>> from tegraph.analysis.sensitivity.parametric import parametric_groups, parse_vary
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 5}}})
     >>> ps = parse_vary(sk)
     >>> (f,), rounds, queries = period_formulas(parametric_groups(sk, ps), ps)

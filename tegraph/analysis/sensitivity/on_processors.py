@@ -4,8 +4,8 @@ Each figure is one line of parameters (all varied durations times one
 factor α, or one parameter alone): :func:`solve_line` finds the interval of
 the line holding the nominal point where the skeleton is live and consistent
 (§4, the per-task answer, an upper bound) and schedulable on its processors
-(§4b), by walking its parts (:mod:`.sensitivity_parts`) interval by interval
-of constant schedule order (:mod:`.sensitivity_walk`). :func:`scaling_on` and
+(§4b), by walking its parts (:mod:`.parts`) interval by interval
+of constant schedule order (:mod:`.walk`). :func:`scaling_on` and
 :func:`margin_on` turn the answer into the report's :class:`Scaling` and
 :class:`Margin`, each end checked with ``analyze_skeleton(processors=True)``
 at it and just beyond. The proof is in ``docs/sensitivity.md`` (*On
@@ -21,12 +21,12 @@ from fractions import Fraction
 from functools import partial
 from typing import Any
 
-from ..model.skeleton import Skeleton
-from .sensitivity_lin import Cut
-from .sensitivity_model import skeleton_at
-from .sensitivity_parts import SCHEDULE, THEOREM, ProcessorLine
-from .sensitivity_results import PROCESSORS, Check, Limit, Margin, Scaling
-from .sensitivity_walk import MAX_STEPS, Interval, Outcome, per_task_outcome, seek, walk
+from ...model.skeleton import Skeleton
+from .affine import Cut
+from .parametric import skeleton_at
+from .parts import SCHEDULE, THEOREM, ProcessorLine
+from .results import PROCESSORS, Check, Limit, Margin, Scaling
+from .walk import MAX_STEPS, Interval, Outcome, per_task_outcome, seek, walk
 
 __all__ = ["LineAnswer", "margin_on", "method_text", "scaling_on", "solve_line"]
 
@@ -76,7 +76,7 @@ def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int
         The nominal point of the line.
     per_task : sequence of (Fraction, Fraction or None)
         The consistent intervals with a processor per task along the same line
-        (exact, from :func:`~.sensitivity_line.solve_lines`); the answer lies in them.
+        (exact, from :func:`~.line.solve_lines`); the answer lies in them.
     constant_parts : bool
         Also require the parts the line does not move (the scaling factor is
         the whole skeleton's; a margin is its own part's).
@@ -452,7 +452,7 @@ def verdict_on(ctx: Any, values: dict[int, Fraction], sub: Skeleton | None = Non
                ) -> bool | None:
     """Live, consistent and schedulable on processors, by ``analyze_skeleton``, of the
     skeleton ``sub`` (default: the whole one) with ``values``."""
-    from .analyze import analyze_skeleton
+    from ..analyze import analyze_skeleton
 
     sub = ctx.skeleton if sub is None else sub
     mine = {j: v for j, v in values.items()

@@ -11,7 +11,7 @@ and Prodon [2]_). Everything is in Python integers: each ray is kept divided
 by the gcd of its entries.
 
 Used for a handful of parameters (the period formulas of
-:mod:`.sensitivity_formulas`, at most about six), where the cost, cubic in the
+:mod:`.formulas`, at most about six), where the cost, cubic in the
 number of rays per inequality, is small; the cone must be pointed (every
 coordinate bounded below), which the boxes of parameter ranges ensure.
 

@@ -37,10 +37,10 @@ from scipy.sparse.csgraph import connected_components
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time, size_problem
 
-from ..errors import InputError
-from ..model.build import build_teg, last_event
-from ..model.skeleton import Clock, Link, Skeleton, Task
-from ..model.teg import Place
+from ...errors import InputError
+from ...model.build import build_teg, last_event
+from ...model.skeleton import Clock, Link, Skeleton, Task
+from ...model.teg import Place
 
 __all__ = [
     "ClockInfo",
@@ -295,7 +295,7 @@ def activation_end_adds_duration() -> bool:
     v1.1 (its first activation ends at 3 > 2) and at activation 5 in v1.0
     (its computations start at 0, 3, 6, 9 against ticks 0, 2, 4, 6, 8).
     """
-    from .analyze import analyze_skeleton
+    from ..analyze import analyze_skeleton
 
     probe = Skeleton("probe", {"A": Task("A", Fraction(3), clock="c")},
                      {"c": Clock("c", Fraction(2))})

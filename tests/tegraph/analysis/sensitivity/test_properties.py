@@ -42,7 +42,7 @@ def sensitivity(*args, **kwargs):
     return _sensitivity(*args, **kwargs)
 
 
-EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[4] / "examples"
 NUDGE = F(1, 10**9)
 SETTINGS = dict(deadline=None, derandomize=True,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])

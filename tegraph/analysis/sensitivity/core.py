@@ -16,8 +16,8 @@
 
 How each figure is proven is in ``docs/sensitivity.md``; in
 short, the consistent set along a line is read off exact certificates
-(:mod:`.sensitivity_line`), the formulas come from cutting planes
-(:mod:`.sensitivity_formulas`), and each finite end reported is checked
+(:mod:`.line`), the formulas come from cutting planes
+(:mod:`.formulas`), and each finite end reported is checked
 again with :func:`~tegraph.analysis.analyze.analyze_skeleton` (consistent at
 the end, not just beyond), unless ``verify`` is False.
 
@@ -38,23 +38,23 @@ from typing import Any
 
 from maxplus.scalar import display_text
 
-from ..errors import InputError
-from ..model.skeleton import Skeleton
-from .processors import MAX_EVENTS
-from .sensitivity_formulas import GroupFormula, period_formulas
-from .sensitivity_line import Cause, Line, LineSet, intersect, point_causes, solve_lines
-from .sensitivity_margins import duration_margins
-from .sensitivity_model import (
+from ...errors import InputError
+from ...model.skeleton import Skeleton
+from ..processors import MAX_EVENTS
+from .formulas import GroupFormula, period_formulas
+from .line import Cause, Line, LineSet, intersect, point_causes, solve_lines
+from .margins import duration_margins
+from .on_processors import margin_on, scaling_on
+from .oracle import evaluate
+from .parametric import (
     Parameter,
     ParametricGroup,
     parametric_groups,
     parse_vary,
     skeleton_at,
 )
-from .sensitivity_oracle import evaluate
-from .sensitivity_parts import RUN_BUDGETS, ProcessorLine
-from .sensitivity_processors import margin_on, scaling_on
-from .sensitivity_results import (
+from .parts import RUN_BUDGETS, ProcessorLine
+from .results import (
     Check,
     GroupFormulaReport,
     Limit,
@@ -64,7 +64,7 @@ from .sensitivity_results import (
     SensitivityResult,
     Term,
 )
-from .sensitivity_walk import Outcome
+from .walk import Outcome
 
 __all__ = ["duration_margins", "sensitivity"]
 
@@ -84,7 +84,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     ----------
     skeleton : Skeleton
     vary : None, sequence of str or mapping
-        The parameters (see :func:`~.sensitivity_model.parse_vary`): texts
+        The parameters (see :func:`~.parametric.parse_vary`): texts
         ``TASK.duration``, ``CLOCK.period``, each optionally ``=LOW..HIGH``.
         Default: every task's duration over ``[0, ∞)``.
     formulas : bool
@@ -112,7 +112,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
         part of the schedule at one point, and of each figure (the scaling
         factor, one margin) in all; the whole run on processors, the nominal
         verdict included, fires at most ``RUN_BUDGETS`` (20) times as many
-        (``sensitivity_parts.Budget``). A figure cut by a budget is undecided
+        (``parts.Budget``). A figure cut by a budget is undecided
         and says which.
     progress : callable, optional
         On processors, called as ``progress(figures_done, figures, firings)``
@@ -275,7 +275,7 @@ class _Context:
 
     def consistent(self, group: ParametricGroup, values: dict[int, Fraction]):
         """The group's verdict by ``analyze_skeleton`` at ``values``, and the report."""
-        from .analyze import analyze_skeleton
+        from ..analyze import analyze_skeleton
 
         self.analyses += 1
         moved = skeleton_at(group.skeleton, self.params, {j: values[j] for j in group.params})
@@ -531,7 +531,7 @@ def _nominal_on_processors(ctx: _Context, result: SensitivityResult,
     an overrun ends a part's simulation at once (the engine would go on looking
     for a regime, which ``analyze`` needs for its figures, not for a verdict).
     """
-    from .analyze import analyze_skeleton
+    from ..analyze import analyze_skeleton
 
     ctx.analyses += 1
     # The groups (and liveness) only: the schedule is decided by the parts below.

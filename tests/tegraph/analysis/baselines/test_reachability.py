@@ -29,7 +29,7 @@ from typer.testing import CliRunner
 
 import tegraph
 from tegraph import Skeleton, analyze, build_teg, load_skeleton
-from tegraph.analysis.reachability import (
+from tegraph.analysis.baselines.reachability import (
     bounded_net,
     reachability_graph,
     skeleton_groups,

@@ -2,7 +2,7 @@
 
 An evaluation of the schedule at a point t of the line (or just beside it)
 gives a verdict and the interval around t where every comparison the engine
-made answers the same (:mod:`.sensitivity_lin`), so where the verdict is the
+made answers the same (:mod:`.affine`), so where the verdict is the
 same. :func:`walk` moves from such an interval to the next, each end
 evaluated at the end itself and just beyond it, until the verdict changes:
 every breakpoint of the schedule's order in between is visited, so the end
@@ -16,7 +16,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
-from .sensitivity_lin import Cut
+from .affine import Cut
 
 __all__ = ["MAX_STEPS", "Interval", "Outcome", "Walk", "per_task_outcome", "seek", "walk"]
 

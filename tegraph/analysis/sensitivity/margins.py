@@ -15,7 +15,7 @@ one nominal analysis, without any search:
   circuit is slower than the clocks and a place is unbounded. No source
   component can fall behind as ``d_T`` grows (ratios only grow).
 - **Overruns.** While no circuit is slower than P, ``Y_e`` (the longest path
-  of :mod:`.sensitivity_oracle`, weights ``h - m·P``) is the larger of the
+  of :mod:`.oracle`, weights ``h - m·P``) is the larger of the
   longest path avoiding the places ``p`` that hold ``d_T`` (it does not
   change) and ``Y_src(p) + w_p + R(dst(p))`` (R: the longest path to the end
   of the watched task), which grows one for one with ``d_T``: a path through
@@ -27,7 +27,7 @@ one nominal analysis, without any search:
 The margin is the smallest of these bounds. One forward and one reverse
 longest-path computation per clocked task, all groups at once, give them
 all. A group without a clock has no overrun and no period to keep; its
-margins come from the exact line search of :mod:`.sensitivity_line`.
+margins come from the exact line search of :mod:`.line`.
 """
 
 from __future__ import annotations
@@ -38,11 +38,11 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..model.skeleton import Skeleton
-from .results import Report
-from .sensitivity_line import Line, solve_lines
-from .sensitivity_model import ParametricGroup, parametric_groups, parse_vary
-from .sensitivity_oracle import longest_paths
+from ...model.skeleton import Skeleton
+from ..results import Report
+from .line import Line, solve_lines
+from .oracle import longest_paths
+from .parametric import ParametricGroup, parametric_groups, parse_vary
 
 __all__ = ["duration_margins", "group_consistent"]
 
@@ -117,7 +117,7 @@ def duration_margins(skeleton: Skeleton, report: Report | None = None
     {'A': '7', 'B': '7'}
     """
     if report is None:
-        from .analyze import analyze_skeleton
+        from ..analyze import analyze_skeleton
 
         report = analyze_skeleton(skeleton)
     params = parse_vary(skeleton)

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from tegraph import Skeleton, analyze, load_skeleton, render_text
-from tegraph.analysis.timed_reachability import timed_reachability
+from tegraph.analysis.baselines.timed_reachability import timed_reachability
 from tegraph.cli import app
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton, write_corpus

@@ -59,9 +59,9 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
-from ..model.build import build_teg
-from ..model.skeleton import Skeleton
-from ..model.teg import TEGArrays, TimedEventGraph
+from ...model.build import build_teg
+from ...model.skeleton import Skeleton
+from ...model.teg import TEGArrays, TimedEventGraph
 from .reachability import skeleton_groups
 
 __all__ = ["TimedExploration", "TimedGroup", "TimedTask", "timed_reachability"]

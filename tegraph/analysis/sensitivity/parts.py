@@ -11,7 +11,7 @@ where the same verdict holds:
   (:mod:`.processors.scaling`): its schedulable t form one closed interval
   from 0, read off the critical scaling factor or the duration margin;
 - any other part by the engine itself, run on affine times
-  (:mod:`.sensitivity_lin`): the interval of constant event order.
+  (:mod:`.affine`): the interval of constant event order.
 
 Each part is decided once at the nominal values (:meth:`ProcessorLine.decide_nominal`);
 a line evaluates only the parts it moves and reads the others' nominal
@@ -28,22 +28,22 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from ..model.build import build_teg
-from ..model.skeleton import Skeleton
-from .processors._engine import PartData, PartResult, simulate_part
-from .processors.critical_instant import _independent, independent_tasks
-from .processors.platform import Platform, platform_of
-from .processors.scaling import critical_scaling_factor, duration_margin
-from .processors.schedule import (
+from ...model.build import build_teg
+from ...model.skeleton import Skeleton
+from ..processors._engine import PartData, PartResult, simulate_part
+from ..processors.critical_instant import _independent, independent_tasks
+from ..processors.platform import Platform, platform_of
+from ..processors.scaling import critical_scaling_factor, duration_margin
+from ..processors.schedule import (
     MAX_EVENTS,
     QUICK_LOOK,
     _hyperperiod,
     _Net,
     _overrun_to_come,
 )
-from .sensitivity_lin import Cut, lin
-from .sensitivity_model import Parameter, skeleton_at
-from .sensitivity_walk import Outcome
+from .affine import Cut, lin
+from .parametric import Parameter, skeleton_at
+from .walk import Outcome
 
 __all__ = ["RUN_BUDGETS", "SCHEDULE", "THEOREM", "Budget", "ProcessorLine"]
 

@@ -20,11 +20,11 @@ import sympy
 from tegraph import Skeleton, duration_margins, load_skeleton
 from tegraph import sensitivity as _sensitivity
 from tegraph.analysis.analyze import analyze_skeleton
-from tegraph.analysis.sensitivity_model import parse_vary
+from tegraph.analysis.sensitivity.parametric import parse_vary
 from tegraph.errors import InputError
 from tegraph.report import render_text, to_json
 
-REPO = Path(__file__).resolve().parents[3]
+REPO = Path(__file__).resolve().parents[4]
 EXAMPLES = REPO / "examples"
 SCHEMA = json.loads((REPO / "docs" / "report.schema.json").read_text())
 

@@ -47,10 +47,10 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from ..errors import InputError
-from ..model.petri import PetriNet
-from ..model.teg import TimedEventGraph
-from ._marking_search import INT64_MAX, Progress, breadth_first
+from ...errors import InputError
+from ...model.petri import PetriNet
+from ...model.teg import TimedEventGraph
+from .marking_search import INT64_MAX, Progress, breadth_first
 
 __all__ = ["DEFAULT_MAX_MEMORY", "DeadMarking", "Reachability", "bounded_net",
            "reachability_graph", "skeleton_groups", "skeleton_reachability"]

@@ -17,13 +17,13 @@ from tegraph import Skeleton, load_skeleton, sensitivity
 from tegraph.analysis.analyze import analyze_skeleton
 from tegraph.analysis.processors import schedule_on_processors
 from tegraph.analysis.processors.scaling import critical_scaling_factor
-from tegraph.analysis.sensitivity_parts import ProcessorLine
+from tegraph.analysis.sensitivity.parts import ProcessorLine
 from tegraph.cli import app
 from tegraph.errors import InputError
 from tegraph.model.build import build_teg
 from tegraph.report import render_text, to_json
 
-REPO = Path(__file__).resolve().parents[3]
+REPO = Path(__file__).resolve().parents[4]
 TORQUE = REPO / "examples" / "computed_torque.yaml"
 SCHEMA = json.loads((REPO / "docs" / "report.schema.json").read_text())
 NUDGE = F(1, 10**9)
@@ -210,7 +210,7 @@ def test_not_schedulable_nominal_gives_no_figure_and_no_search():
     # With a processor per task each alone is consistent (6 <= 10).
     sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10, "priority": 2},
                                        "B": {"duration": 6, "period": 10, "priority": 1}}})
-    with mock.patch("tegraph.analysis.sensitivity_processors.solve_line", _no_search), \
+    with mock.patch("tegraph.analysis.sensitivity.on_processors.solve_line", _no_search), \
             mock.patch.object(ProcessorLine, "evaluate", _no_search):
         r = sensitivity(sk, formulas=False)
     assert r.consistent and r.schedulable is False and r.exit_status == 1
@@ -233,7 +233,7 @@ def test_not_schedulable_nominal_gives_no_figure_and_no_search():
 def test_not_consistent_nominal_gives_no_figure_and_no_search():
     # A alone overruns with a processor per task (12 > 10): nothing on processors.
     sk = Skeleton.from_dict({"tasks": {"A": {"duration": 12, "period": 10}}})
-    with mock.patch("tegraph.analysis.sensitivity_processors.solve_line", _no_search):
+    with mock.patch("tegraph.analysis.sensitivity.on_processors.solve_line", _no_search):
         r = sensitivity(sk, formulas=False)
     m = r.margins["A.duration"]
     assert not r.consistent and m.high is None
@@ -242,7 +242,7 @@ def test_not_consistent_nominal_gives_no_figure_and_no_search():
 
 def test_undecided_nominal_is_undecided_at_once_naming_max_events():
     # 10 firings cannot cover computed_torque's hyperperiod (6 ms: 6 + 3 + 1 ticks).
-    with mock.patch("tegraph.analysis.sensitivity_processors.solve_line", _no_search), \
+    with mock.patch("tegraph.analysis.sensitivity.on_processors.solve_line", _no_search), \
             mock.patch.object(ProcessorLine, "evaluate", _no_search):
         r = sensitivity(load_skeleton(TORQUE), formulas=False, max_events=10)
     assert r.schedulable is None
@@ -323,7 +323,7 @@ def test_a_tiny_budget_gives_undecided_never_a_wrong_number():
             assert hi <= true.high and (lo is None or lo >= true.low)
     # The run's budget: 2 x max_events in all, spent after the first figures; the
     # rest are undecided at once, naming it.
-    with mock.patch("tegraph.analysis.sensitivity_parts.RUN_BUDGETS", 2):
+    with mock.patch("tegraph.analysis.sensitivity.parts.RUN_BUDGETS", 2):
         r = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False, max_events=5000)
     assert r.schedulable is True
     spent = [f for f in [r.scaling, *r.margins.values()]

@@ -1,5 +1,5 @@
 """The breadth-first search of reachable markings under budgets: the kernel of
-:mod:`tegraph.analysis.reachability`.
+:mod:`tegraph.analysis.baselines.reachability`.
 
 Markings are stored as the bytes of the narrowest unsigned dtype that holds
 them (widened when a place outgrows it) in one dictionary, a level of markings

@@ -5,7 +5,7 @@ set of t where a live group is consistent (spec §4: rate-consistent, no
 overrun) is a finite union of closed intervals with exact endpoints. Two
 facts give it (proofs in ``docs/sensitivity.md``):
 
-- **No overrun is convex.** ``Y_end(θ)`` (:mod:`.sensitivity_oracle`) is a
+- **No overrun is convex.** ``Y_end(θ)`` (:mod:`.oracle`) is a
   maximum of affine functions of θ (one per elementary path, +∞ past a
   circuit), so ``{t : Y_end + offset <= φ}`` is one closed interval. Its ends
   are found by Newton's method on the certificates: from a point where a task
@@ -31,7 +31,7 @@ at ``|t| <= 2·Ĉ·M``; what holds at ``T∞`` holds for every larger t.
 
 All points where the oracle is asked are collected from every (group, line)
 pair at once, round by round, and solved as one batch
-(:func:`~.sensitivity_oracle.evaluate`).
+(:func:`~.oracle.evaluate`).
 
 References
 ----------
@@ -48,8 +48,8 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Literal
 
-from .sensitivity_model import ParametricGroup
-from .sensitivity_oracle import Affine, Certificate, Circuit, PointResult, evaluate
+from .oracle import Affine, Certificate, Circuit, PointResult, evaluate
+from .parametric import ParametricGroup
 
 __all__ = ["Cause", "Line", "LineSet", "intersect", "point_causes", "solve_lines"]
 

@@ -5,10 +5,10 @@ shades where a group is *consistent* (spec §4: rate-consistent and no
 overrun), not only where it keeps pace with its clocks: a design that keeps
 pace may still overrun (``examples/overrun_in_step.yaml`` at its nominal
 durations). The region is computed by cutting planes over the oracle of
-:mod:`.sensitivity_oracle`, and it is exact, for these reasons:
+:mod:`.oracle`, and it is exact, for these reasons:
 
 - *Keeping pace* with every clock is a polygon ``Q`` (the inequalities of the
-  period formula, :class:`~.sensitivity_results.PaceReport`). When every event
+  period formula, :class:`~.results.PaceReport`). When every event
   of the group is downstream of a clock's tick, its cycle time is at least
   that clock's period, so inside ``Q`` (where no circuit is slower than any
   clock, so all periods are equal) every cycle time is the period: ``Q`` is
@@ -18,7 +18,7 @@ durations). The region is computed by cutting planes over the oracle of
   certificates ``c`` of the oracle (an elementary path or circuit; each
   ``excess`` is affine in the parameters, the periods included), and at
   every point that overruns some certificate is positive (module docstring
-  of :mod:`.sensitivity_oracle`). ``N`` is convex.
+  of :mod:`.oracle`). ``N`` is convex.
 - The loop keeps a convex polygon ``R ⊇ Q ∩ N``: it starts at ``Q`` and cuts
   each vertex that overruns by the certificate found there (positive at that
   vertex, so the vertex is removed, and never met again). It stops when every
@@ -34,9 +34,9 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cmp_to_key
 
-from .sensitivity_model import ParametricGroup
-from .sensitivity_oracle import evaluate
-from .sensitivity_polyhedra import Polyhedron
+from .oracle import evaluate
+from .parametric import ParametricGroup
+from .polyhedra import Polyhedron
 
 __all__ = ["ConsistentRegion", "consistent_region"]
 

@@ -1,12 +1,12 @@
 """The exact verdict of spec §4 at many parameter points at once, with certificates.
 
-A *query* is a group (:class:`~.sensitivity_model.ParametricGroup`) and a value
+A *query* is a group (:class:`~.parametric.ParametricGroup`) and a value
 for each of its parameters. The answer holds every cycle time (Howard policy
 iteration, :func:`maxplus.max_cycle_ratio`), whether the group is
 rate-consistent, and for each clocked task either "no overrun" or a
 *certificate*: an affine function of the parameters that is positive at the
 query and positive only where the task overruns. Certificates are what the
-breakpoint searches of :mod:`.sensitivity_line` cut with.
+breakpoint searches of :mod:`.line` cut with.
 
 **Overruns without simulation.** Let C be the clock of T (period P, phase φ)
 and ``y_e(k) = x_e(k) - k·P``. The recurrence of spec §3 becomes
@@ -26,7 +26,7 @@ k >= 2) exactly when ``Y_end + offset <= φ``. Hence the certificates:
   wherever it is positive, so is ``Y_end + offset - φ``.
 
 Both are affine in the parameters: a holding is a constant or one parameter
-(:mod:`.sensitivity_model`), and P is a constant or a parameter.
+(:mod:`.parametric`), and P is a constant or a parameter.
 
 Each query is scaled to integers by its own common denominator, and the
 queries are solved together, as one disjoint union of graphs, by one Howard
@@ -46,7 +46,7 @@ import numpy as np
 from maxplus import max_cycle_ratio
 from maxplus.scalar import INT64_SAFE
 
-from .sensitivity_model import ParametricGroup
+from .parametric import ParametricGroup
 
 __all__ = ["Affine", "Certificate", "Circuit", "PointResult", "evaluate", "longest_paths"]
 

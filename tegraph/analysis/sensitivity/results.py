@@ -13,7 +13,7 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
-from .sensitivity_model import Parameter, ParametricGroup
+from .parametric import Parameter, ParametricGroup
 
 __all__ = ["PER_TASK", "PROCESSORS", "Check", "GroupFormulaReport", "Limit", "Margin",
            "PaceReport", "Scaling", "SensitivityResult", "Term"]
@@ -322,8 +322,8 @@ class SensitivityResult:
     """On processors, at the nominal values (§4b; None: undecided or not asked)."""
     models: dict[int, ParametricGroup] = field(default_factory=dict, repr=False, compare=False)
     """The live groups' parametric event graphs by group index
-    (:class:`~.sensitivity_model.ParametricGroup`), for drawings that ask the oracle
-    again (:func:`~.sensitivity_region.consistent_region`); not part of the JSON."""
+    (:class:`~.parametric.ParametricGroup`), for drawings that ask the oracle
+    again (:func:`~.region.consistent_region`); not part of the JSON."""
 
     @property
     def checks(self) -> list[Check]:
