@@ -288,12 +288,20 @@ class TimedEventGraph:
     @property
     def transition_names(self) -> tuple[str, ...]:
         """Event names, in index order."""
-        return tuple(self._names)
+        # Cached until the next change: callers index it once per place or event, and a
+        # fresh tuple per call made their loops quadratic.
+        names = self._cache.get("names")
+        if names is None:
+            names = self._cache["names"] = tuple(self._names)
+        return names
 
     @property
     def places(self) -> tuple[Place, ...]:
         """The places, in index order."""
-        return tuple(self._places)
+        places = self._cache.get("places")
+        if places is None:
+            places = self._cache["places"] = tuple(self._places)
+        return places
 
     def arrays(self) -> TEGArrays:
         """The places as numpy arrays of scaled integers (cached until the next change).
