@@ -68,6 +68,22 @@ def test_ruff_clean(tree):
     assert done.returncode == 0, done.stdout + done.stderr
 
 
+def test_analyze_with_advice_does_not_load_networkx():
+    """networkx is some 300 modules of start-up: only the code that needs it loads it
+    (the advice re-forming groups, the readers of its graphs), not a plain analysis.
+    computed_torque has design-rule findings, so the advice runs."""
+    done = _run(sys.executable, "-c",
+                "import sys; sys.path.insert(0, '.')\n"
+                "from tegraph.api import analyze\n"
+                "from tegraph.report import render_text\n"
+                "r = analyze('examples/computed_torque.yaml')\n"
+                "assert r.design is not None and r.design.rules\n"
+                "render_text(r)\n"
+                "print('networkx' in sys.modules)")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "False"
+
+
 def test_the_analyze_command_loads_no_other_command_code():
     """Renderers resolve on first use: analyze imports no explore, timeline or baseline code.
 

@@ -35,7 +35,6 @@ from typing import Any, Final, Literal
 
 import numpy as np
 import scipy.sparse as sp
-from networkx.utils import UnionFind
 from scipy.sparse.csgraph import connected_components
 
 from maxplus import max_cycle_ratio
@@ -448,6 +447,10 @@ class Advisor(Candidates):
                 and all(self.clock_users[self.sk.tasks[t].clock] == 1  # type: ignore[index]
                         for t in edits.drop)):
             return self._same_groups(groups, edits)
+        # networkx (some 300 modules) is imported only where groups are re-formed, so a
+        # plain `tegraph analyze` does not pay for it at start-up.
+        from networkx.utils import UnionFind
+
         tasks = [t for g in groups for t in self.groups[g]]
         joined = UnionFind(tasks)
         first_of: dict[str, str] = {}
