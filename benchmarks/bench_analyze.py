@@ -125,12 +125,12 @@ def main() -> None:
 
 def table(rows: list, names: list[str], runs: int) -> list[str]:
     head = ["# `tegraph analyze FILE --json`, whole process (fresh process per run)", "",
-            f"Machine: {os.cpu_count()} cores, shared: other engineers ran test suites "
-            "concurrently, so absolute times are inflated and noisy; A and B runs alternate, "
-            f"so the load falls on both alike. Median of {runs} runs (min-max), seconds; "
+            f"Machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f} at the "
+            "end (say beside the table what else ran); A and B runs alternate, so any load "
+            f"falls on both alike. Median of {runs} runs (min-max), seconds; "
             "CPU is user + system time of the process (less sensitive to the load than wall "
             "time); peak RSS is the largest of the runs; \"crash\": the time to the traceback. "
-            "A = main, B = perf. "
+            "A = the base checkout, B = this one. "
             f"Measured {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}.", ""]
     cols = ["shape", "tasks"]
     for name in names:
