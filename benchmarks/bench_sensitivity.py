@@ -101,12 +101,12 @@ def grid(sk, vary: list[str], per_axis: int) -> tuple[int, float]:
     import dataclasses
 
     from tegraph.analysis.analyze import analyze_skeleton
-    from tegraph.analysis.sensitivity.parametric import group_skeleton, parse_vary, skeleton_groups
+    from tegraph.analysis.sensitivity.parametric import parse_vary, skeleton_groups
 
     params = parse_vary(sk, vary)
     owners = {p.owner for p in params if p.kind == "duration"}
     group = next(g for g in skeleton_groups(sk) if owners & set(g))
-    local = group_skeleton(sk, group)
+    local = sk.restricted_to(group)
     axes = []
     for p in params:
         assert p.high is not None

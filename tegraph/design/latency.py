@@ -325,7 +325,7 @@ def _segment(sk: Skeleton, report: Report, tasks: list[str], start: tuple[str, s
 def _steady_latency(sk: Skeleton, group: list[str], tasks: list[str], start, end,
                     transient: tuple[int, int], period) -> Fraction | None:
     """Worst data age over one cyclicity of the regime, from the group's daters."""
-    teg = build_teg(_group_skeleton(sk, group))
+    teg = build_teg(sk.restricted_to(group))
     port_event = {pt: e for e, attrs in enumerate(teg.transition_attrs)
                   for pt in attrs.get("ports", ())}
     compute = teg.attrs["compute"]
@@ -352,18 +352,6 @@ def _steady_latency(sk: Skeleton, group: list[str], tasks: list[str], start, end
             return worst
         n *= 2
     return None  # pragma: no cover
-
-
-def _group_skeleton(sk: Skeleton, group: list[str]) -> Skeleton:
-    """The group's tasks alone, with their clocks, links and threads."""
-    members = set(group)
-    return Skeleton(
-        name=sk.name, unit=sk.unit, tasks={t: sk.tasks[t] for t in group},
-        clocks={c: k for c, k in sk.clocks.items()
-                if any(sk.tasks[t].clock == c for t in group)},
-        links=[link for link in sk.links
-               if link.writer[0] in members and link.reader[0] in members],
-        threads=[th for th in sk.threads if th[0] in members])
 
 
 def _worst_age(col, hops, n_tasks: int, start: tuple[int, Fraction], end: tuple[int, Fraction],

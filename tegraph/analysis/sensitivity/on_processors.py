@@ -398,7 +398,7 @@ def _check(ctx: Any, checks: list[Check], what: str,
     """Each exact finite end: the whole analysis on processors at it and just beyond,
     on the skeleton of ``tasks`` alone (the parts the line moves: the others'
     events do not depend on it, and they are schedulable at the nominal values)."""
-    sub = _sub_skeleton(ctx.skeleton, tasks)
+    sub = ctx.skeleton.restricted_to(tasks)
     ends = []
     if answer.holding:
         if answer.high_exact and answer.high is not None and "high" in answer.beyond:
@@ -434,18 +434,6 @@ def _just(end: Fraction, side: int, out: Outcome) -> Fraction | None:
     near = out.cut.lo
     t = end - step if near is None or end - step > near else (end + near) / 2
     return t if t >= 0 else None
-
-
-def _sub_skeleton(sk: Skeleton, tasks: list[str]) -> Skeleton:
-    """The skeleton of ``tasks`` alone: their clocks, and the links and threads between them."""
-    if len(tasks) == len(sk.tasks):
-        return sk
-    keep = set(tasks)
-    used = [c for t in tasks if (c := sk.tasks[t].clock) is not None]
-    clocks = {c: sk.clocks[c] for c in dict.fromkeys(used)}
-    links = [x for x in sk.links if x.writer[0] in keep and x.reader[0] in keep]
-    threads = [th for th in sk.threads if th[0] in keep]
-    return Skeleton(sk.name, {t: sk.tasks[t] for t in tasks}, clocks, links, threads, sk.unit)
 
 
 def verdict_on(ctx: Any, values: dict[int, Fraction], sub: Skeleton | None = None

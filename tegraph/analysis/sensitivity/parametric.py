@@ -48,7 +48,6 @@ __all__ = [
     "ParametricGroup",
     "Watch",
     "activation_end_adds_duration",
-    "group_skeleton",
     "parametric_groups",
     "parse_vary",
     "skeleton_at",
@@ -266,23 +265,6 @@ def skeleton_groups(skeleton: Skeleton) -> list[list[str]]:
     return list(order.values())
 
 
-def group_skeleton(skeleton: Skeleton, tasks: Sequence[str]) -> Skeleton:
-    """The skeleton of one group alone: its tasks, their clocks, links and threads.
-
-    Its timed event graph is the group's part of the skeleton's (ASYN/ASYN
-    links add no place), so every figure of spec §4 of the group is the same.
-    """
-    members = set(tasks)
-    own = [skeleton.tasks[t] for t in tasks]
-    clocks = {c: skeleton.clocks[c] for c in dict.fromkeys(
-        task.clock for task in own if task.clock is not None)}
-    links = [link for link in skeleton.links if link.protocol.synchronizing
-             and link.writer[0] in members and link.reader[0] in members]
-    threads = [th for th in skeleton.threads if th[0] in members]
-    return Skeleton(skeleton.name, {t: skeleton.tasks[t] for t in tasks}, clocks, links,
-                    threads, skeleton.unit)
-
-
 @functools.cache
 def activation_end_adds_duration() -> bool:
     """Whether an activation of a task without outputs ends when its computation ends.
@@ -344,7 +326,7 @@ class ParametricGroup:
         Position of the group (spec §4 order).
     tasks : tuple of str
     skeleton : Skeleton
-        The group alone (:func:`group_skeleton`).
+        The group alone (:meth:`Skeleton.restricted_to`).
     names : tuple of str
         Event names.
     src, dst, tokens, param : numpy.ndarray of int64

@@ -11,7 +11,8 @@ Times are exact :class:`fractions.Fraction` values.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import dataclasses
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -146,6 +147,31 @@ class Skeleton:
     def to_dict(self) -> dict[str, Any]:
         """The dictionary form (as written to a skeleton file), times as exact strings."""
         return skeleton_to_data(self)
+
+    def restricted_to(self, tasks: Sequence[str]) -> Skeleton:
+        """The skeleton of ``tasks`` alone: their clocks, the links between two of them
+        and the threads that start with one of them (a thread lies in one group), in
+        file order; ``self`` when ``tasks`` are all of them.
+
+        Cut along groups, its timed event graph is those groups' part of this one
+        (spec §2: no place crosses from a group to another), so their figures are
+        the same; cut along parts of the schedule on processors (no link or
+        processor shared with the rest), so is their schedule (§4b).
+
+        >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
+        ...                                    "B": {"duration": 1, "period": 3}}})
+        >>> list(sk.restricted_to(["B"]).tasks), list(sk.restricted_to(["B"]).clocks)
+        (['B'], ['B.clock'])
+        """
+        if len(tasks) == len(self.tasks):
+            return self
+        keep = set(tasks)
+        used = {self.tasks[t].clock for t in tasks}
+        clocks = {c: clock for c, clock in self.clocks.items() if c in used}
+        return dataclasses.replace(
+            self, tasks={t: self.tasks[t] for t in tasks}, clocks=clocks,
+            links=[x for x in self.links if x.writer[0] in keep and x.reader[0] in keep],
+            threads=[th for th in self.threads if th[0] in keep], chains=[])
 
     def link_of_port(self, task: str, port: str) -> Link | None:
         """The link that ends or starts at ``task:port``, if any."""
