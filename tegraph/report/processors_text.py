@@ -35,10 +35,41 @@ def processors_headline(report: Report) -> str:
     if s is None:
         return ("processors:  not considered — every task on a processor of its own "
                 "(processors=False): the figures of spec §4 decide")
-    where = ", ".join(f"{p.name}: {p.priority_source} priorities" for p in s.platform.processors)
+    where = _priority_sources(s.platform.processors)
     verdict = {True: "schedulable", False: "NOT SCHEDULABLE", None: "UNDECIDED"}[s.schedulable]
     return (f"processors:  {verdict} on {count(len(s.platform.processors), 'processor')} "
             f"({where}) — {s.method}")
+
+
+_NAMED = 4
+"""Processors named one by one in the header line; past that, grouped by where their
+priorities come from (a hundred processors would fill a screen)."""
+
+
+def _priority_sources(processors) -> str:
+    """Where each processor's priorities come from, in file order.
+
+    >>> from types import SimpleNamespace as P
+    >>> _priority_sources([P(name="cpu0", priority_source="declared")])
+    'cpu0: declared priorities'
+    >>> cpus = [P(name=f"cpu{i}", priority_source="rate-monotonic") for i in range(6)]
+    >>> _priority_sources(cpus)
+    'rate-monotonic priorities on all 6'
+    >>> cpus[4] = P(name="cpu4", priority_source="declared")
+    >>> _priority_sources(cpus)
+    'rate-monotonic priorities on cpu0, cpu1, cpu2 and 2 more; declared priorities on cpu4'
+    """
+    if len(processors) <= _NAMED:
+        return ", ".join(f"{p.name}: {p.priority_source} priorities" for p in processors)
+    by_source: dict[str, list[str]] = {}
+    for p in processors:
+        by_source.setdefault(p.priority_source, []).append(p.name)
+    if len(by_source) == 1:
+        return f"{next(iter(by_source))} priorities on all {len(processors)}"
+    return "; ".join(
+        f"{source} priorities on {', '.join(names[:3])}"
+        + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+        for source, names in by_source.items())
 
 
 def render_processors(report: Report) -> list[str]:

@@ -540,9 +540,8 @@ class _Outcome:
         parts = len(self.regimes)
         simulated = parts - self.by_theorem
         method = (f"exact event-driven simulation of the schedule on processors (§4b), "
-                  f"{self.events} event firings in {simulated} independent part(s); each "
-                  "part's periodic regime proven by a repeated state (up to places that "
-                  "only gain tokens, never taken last)") if simulated or not parts else ""
+                  f"{self.events} event firings in {simulated} independent part(s); "
+                  + self._proofs(simulated)) if simulated or not parts else ""
         if self.by_theorem:
             method += ("; " if method else "exact schedule on processors (§4b): ") + (
                        f"{self.by_theorem} part(s) of independent periodic tasks released "
@@ -552,6 +551,23 @@ class _Outcome:
         return ProcessorSchedule(net.platform, verdict, verdict is not None, method, why,
                                  self.tasks, group_periods, unbounded, self.intervals,
                                  net.scale, self.regimes, self.events)
+
+    def _proofs(self, simulated: int) -> str:
+        """What the simulation proved: a regime per part, or, where the budget ran out
+        first, only what it exhibited (an overrun, a growing place, a starved job)."""
+        proof = ("periodic regime proven by a repeated state (up to places that only gain "
+                 "tokens, never taken last)")
+        # A part whose simulation ran out of budget has no regime: its start is None
+        # (a part that stops for ever has a start and no length).
+        open_parts = sum(1 for r in self.regimes if r["start"] is None and "by" not in r)
+        if not open_parts:
+            return f"each part's {proof}"
+        exhibited = ("only what the simulation exhibited (an overrun, a growing place, a "
+                     "job that never ends) is proven")
+        if open_parts == simulated:
+            return f"no periodic regime within the budget: {exhibited}"
+        return (f"the {proof} in {simulated - open_parts} of them; in the other "
+                f"{open_parts}, none within the budget: {exhibited}")
 
     def _verdict(self, live: bool, unbounded: list[GrowingPlace]) -> tuple[bool | None, str | None]:
         found = (not live or unbounded or any(

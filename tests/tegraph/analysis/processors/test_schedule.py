@@ -259,6 +259,32 @@ def test_budget_gives_null_with_reason():
     assert small.tasks["A"].period is None and not small.tasks["A"].decided
 
 
+def test_an_overrun_found_before_the_budget_runs_out_claims_no_regime():
+    # test_two_tasks_above_full_load's pair: B's first job ends at 18 > its tick at 10
+    # (overrun at 2, within the first 10 firings), but the regime (B's period 15) needs
+    # 48 firings. With 20 the verdict is proven by the overrun alone: the method must
+    # not claim a repeated state, nor give B a period.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10, "priority": 2},
+                                       "B": {"duration": 6, "period": 10, "priority": 1}}})
+    s = schedule(sk, max_events=20)
+    assert (s.schedulable, s.exact, s.tasks["B"].overrun_at) == (False, True, 2)
+    assert s.tasks["B"].period is None
+    assert "proven by a repeated state" not in s.method
+    assert s.method.endswith("no periodic regime within the budget: only what the "
+                             "simulation exhibited (an overrun, a growing place, a job "
+                             "that never ends) is proven")
+    # Two independent parts, one repeating (C alone on cpu1) and one not: the method
+    # counts each.
+    sk = Skeleton.from_dict({"tasks": {
+        "A": {"duration": 6, "period": 10, "priority": 2},
+        "B": {"duration": 6, "period": 10, "priority": 1},
+        "C": {"duration": 1, "period": 10, "processor": "cpu1"}}})
+    s = schedule(sk, max_events=40)  # about half each: C repeats after 3, B needs 48
+    assert s.tasks["C"].period == 10 and s.tasks["B"].period is None
+    assert "regime proven by a repeated state (up to places that only gain tokens, " \
+        "never taken last) in 1 of them; in the other 1, none within the budget" in s.method
+
+
 def test_drifting_independent_sensors_are_decided_by_the_critical_instant():
     # Four sensors of 0.997, 1.009, 1.013 and 1.019 ms (997, 1009, 1013, 1019 are
     # primes): hyperperiod 997*1009*1013*1019/1000 ms, about 4e9 ticks: no simulation
