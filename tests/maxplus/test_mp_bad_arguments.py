@@ -1,4 +1,4 @@
-"""Bad arguments to the public maxplus API end in the library's own errors (issue 21, item 7).
+"""Bad arguments to the public maxplus API end in the library's own errors.
 
 Every mistake raises :class:`maxplus.MaxPlusError` (for bad values its
 subclass :class:`maxplus.MaxPlusValueError`, which names the parameter), never

@@ -1,4 +1,4 @@
-"""The kernel's alternative paths give the answers of its main ones (issue 20).
+"""The kernel's alternative paths give the answers of its main ones.
 
 Speed work added paths taken only on large inputs (a policy walk finished in
 C past ``WALK_IN_PYTHON`` steps, ...). Each is forced here on a small graph

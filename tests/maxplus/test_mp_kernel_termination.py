@@ -1,4 +1,4 @@
-"""Howard's policy iteration ends, whatever the size of the integers (issue 21, item 7).
+"""Howard's policy iteration ends, whatever the size of the integers.
 
 Holdings between about 2**57 and 2**60 made the int64 path pack the arc terms
 (``term * 2**bits + arc rank``) while the potentials were too large for packed

@@ -1,4 +1,4 @@
-"""The one number parser (maxplus.scalar.exact): its grammar and its digit bound (issue 21).
+"""The one number parser (maxplus.scalar.exact): its grammar and its digit bound.
 
 Every reader, command-line option and library call converts through ``exact``; these
 tests pin what it accepts and refuses, value by value, with the expected values derived

@@ -1,4 +1,4 @@
-"""A task slower than its clock overruns for certain: located exactly (issue 21).
+"""A task slower than its clock overruns for certain: located exactly.
 
 Expected activations are derived by hand from spec §3-§4 (end of activation
 k-1 against tick k), next to each assertion; docs/analysis.md has the proof

@@ -126,7 +126,7 @@ def test_a_lone_surrogate_in_a_tpne_name_is_refused_where_it_is_read(tmp_path, f
     assert refused(write(tmp_path, "s.json", text), "lone surrogate", "U+D800").where == where
 
 
-# ------------------------------------------------------------------ item 3: deep nesting
+# ------------------------------------------------------------------ deep nesting
 
 def test_deeply_nested_tpne_json_is_refused(tmp_path):
     # before: RecursionError from the JSON parser
@@ -140,7 +140,7 @@ def test_a_caption_that_is_no_text_is_refused(tmp_path):
         "nets[0].places[0].caption"
 
 
-# ------------------------------------------------------------------ items 4 and 6: counts
+# ----------------------------------------------- counts a file declares beyond memory
 
 @pytest.mark.parametrize("name, text, line", [
     # before: MemoryError (an attempt to allocate for 10**11 transitions)
@@ -164,7 +164,7 @@ def test_isolated_nodes_within_the_bound_are_kept(tmp_path):
     assert g.n_transitions == 1000
 
 
-# ------------------------------------------------------------------ item 6: huge numbers
+# ------------------------------------------------------------------ huge numbers
 
 NUMBERS = {"exponent": "1e999999999", "negative-exponent": "1e-100000000",
            "exponent-5000": "1E+5000", "5000-digits": "9" * 5000}
@@ -219,7 +219,7 @@ def test_a_common_denominator_beyond_the_limit_is_refused(tmp_path):
     refused(write(tmp_path, "den.pnml", text), "common denominator", "4300")
 
 
-# ------------------------------------------------------------------ item 5: SDF expansion
+# ------------------------------------------------------------------ SDF expansion
 
 def test_an_sdf_expansion_above_max_firings_is_refused_from_the_repetition_vector(tmp_path):
     # a -> b at rates 10**8 : 1: q = (1, 10**8), 100,000,001 firings an iteration

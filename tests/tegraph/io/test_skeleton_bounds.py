@@ -21,7 +21,7 @@ from tegraph.io import dump_skeleton, load_skeleton
 from tegraph.model.skeleton.checks import Locator
 from tests.paths import ANCHORS, REPO
 
-# ------------------------------------------------------------------ item 9: aliases
+# ------------------------------------------------------------------ aliases
 
 
 def test_an_ordinary_file_above_the_alias_budget_is_read(tmp_path, monkeypatch):
@@ -109,7 +109,7 @@ def test_merge_keys_are_an_alias_like_any_other(tmp_path):
     assert sk.tasks["B"].duration == 2 and sk.clocks["c"].phase == 1
 
 
-# ------------------------------------------------------------------ item 10: other formats
+# ------------------------------------------------------------------ other formats
 
 @pytest.mark.parametrize("anchor, what", [
     ("pnml/HouseConstruction-PT-00002.pnml", "this is a PNML net"),
@@ -141,7 +141,7 @@ def test_a_skeleton_that_merely_mentions_other_formats_is_read(tmp_path):
     assert set(load_skeleton(path).tasks) == {"nets"}
 
 
-# ------------------------------------------------------------------ item 2: surrogates
+# ------------------------------------------------------------------ surrogates
 
 @pytest.mark.parametrize("text, where", [
     ('{"tasks": {"A\\ud800": {"duration": 1}}}', "tasks.A\\ud800"),
@@ -164,7 +164,7 @@ def test_check_name_refuses_a_surrogate_given_in_code():
         Skeleton.from_dict({"tasks": {"A\ud800": {"duration": 1}}})
 
 
-# ------------------------------------------------------------------ item 11: extensions
+# ------------------------------------------------------------------ extensions
 
 @pytest.mark.parametrize("name", ["x.txt", "x.yaml.bak", "noext"])
 def test_dump_skeleton_refuses_other_extensions(tmp_path, name):

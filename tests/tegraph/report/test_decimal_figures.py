@@ -1,4 +1,4 @@
-"""Figures as the input said them (issue 21, item 5): decimals stay decimals, exactly.
+"""Figures as the input said them: decimals stay decimals, exactly.
 
 Before, text reports printed ``543/100 ms`` and ``T = 1038412611331/1000 ms`` where
 the file said 5.43 and 1038412611.331. Expected figures are derived by hand below.

@@ -1,4 +1,4 @@
-"""explore's text prints the decimals the user wrote (issue 21 review, item 2a).
+"""explore's text prints the decimals the user wrote.
 
 Before, ``--clock c1=5.43,2.715`` came back as ``clock c1: 543/100, 543/200 ms``, the
 constraints as ``latency A,B,C <= 46/5 ms`` and the front's clock column as fractions.

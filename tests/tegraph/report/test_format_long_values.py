@@ -1,4 +1,4 @@
-"""A value a hair from an integer is formatted in a few divisions (issue 21 review, item 4).
+"""A value a hair from an integer is formatted in a few divisions.
 
 ``analyze`` of a task of duration 1e-4299 on a 10 ms clock took 9 to 15 s, all of it in
 the rounded decimal beside the slack 10 - 1e-4299: one division per digit, 4,301 of

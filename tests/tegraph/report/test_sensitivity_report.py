@@ -1,4 +1,4 @@
-"""The sensitivity report as a reader sees it (issue 21 review, items 2b and 3).
+"""The sensitivity report as a reader sees it.
 
 Expected texts and regions are derived by hand in the comments.
 """

@@ -1,4 +1,4 @@
-"""explore's objectives as a designer reads them (issue 21, item 3): the period ratio
+"""explore's objectives as a designer reads them: the period ratio
 judges a task against its own designed rate, total utilization shows what a faster
 loop costs off the busiest processor, columns say what they hold, the text says why
 variants were rejected, Rule 2 findings break ties, and constraints restrict the space.

@@ -1,4 +1,4 @@
-"""`explore` judges each variant on its processors (spec v1.2 §4b, issue 19).
+"""`explore` judges each variant on its processors (spec v1.2 §4b).
 
 A variant is kept only when `schedulable` is True on its processors; undecided
 within the per-variant budget (`max_events`) is a rejection of its own; the

@@ -1,4 +1,4 @@
-"""explore's options after the issue 21 review, item 3: the timeout read by the one
+"""explore's options: the timeout read by the one
 number parser and shown as given, --link with --all-links said in the report, and the
 refusal of a foreign file under --resume --force saying what to do.
 """

@@ -1,4 +1,4 @@
-"""Time values of a skeleton go through the one number parser (issue 21, items 1 and 2)."""
+"""Time values of a skeleton go through the one number parser."""
 
 import time
 from fractions import Fraction as F
