@@ -32,11 +32,55 @@ places, ``{"clock": C}`` for ``clock``, ``{"clock": C, "task": T}`` for
 order), ``"compute"`` (task -> index of ``T.compute``), ``"clocks"`` (clock
 -> index of ``C.tick``) and ``"unit"``; read them with :func:`task_chain`,
 :func:`first_event`, :func:`last_event`, :func:`compute_events`.
+
+Two typed records are the one definition of what spec §2 and §4 say about
+times; read them with :func:`holding_sources` and :func:`activation_end`
+(they survive :meth:`~TimedEventGraph.to_networkx` and back, like the chains):
+
+* the :class:`HoldingSource` of every place, in place order: the parameter its
+  holding time *is*: the duration of task T (every place leaving ``T.compute``),
+  the period of clock C (the self-loop of ``C.tick``), or ``"none"`` (every
+  other place holds 0). Each holding is computed from its source
+  (:meth:`HoldingSource.value`), so the two cannot disagree;
+* the :class:`ActivationEnd` of every task (spec §4, ``overrun_at``): the event
+  whose k-th firing ends its k-th activation, its last write, and, for a task
+  without outputs, whether the duration is added after it: the activation then
+  ends at ``x_T.compute(k) + duration(T)``.
+
+A task of duration 3 with an output on a clock c of period 2: the clock's
+self-loop holds 2 (period of c), the place leaving ``T.compute`` holds 3
+(duration of T), the others 0; an activation ends with its write:
+
+>>> from fractions import Fraction as F
+>>> from tegraph.model.skeleton import Clock, Task
+>>> sk = Skeleton("s", {"T": Task("T", F(3), clock="c", outputs=("o",))},
+...               {"c": Clock("c", F(2))})
+>>> g = build_teg(sk)
+>>> [(p.name, str(p.holding), s.kind, s.owner) for p, s in zip(g.places, holding_sources(g))]
+... # doctest: +NORMALIZE_WHITESPACE
+[('c.tick -> c.tick', '2', 'period', 'c'), ('c.tick -> T.activate', '0', 'none', ''),
+ ('T.activate -> T.compute', '0', 'none', ''),
+ ('T.compute -> T.write:o', '3', 'duration', 'T'),
+ ('T.write:o -> T.activate', '0', 'none', '')]
+>>> end = activation_end(g, "T")
+>>> g.transition_names[end.event], end.adds_duration, end.offset
+('T.write:o', False, Fraction(0, 1))
+
+Without the output, the activation ends 3 after ``T.compute``:
+
+>>> sk = Skeleton("s", {"T": Task("T", F(3), clock="c")}, {"c": Clock("c", F(2))})
+>>> g = build_teg(sk)
+>>> end = activation_end(g, "T")
+>>> g.transition_names[end.event], end.adds_duration, end.offset
+('T.compute', True, Fraction(3, 1))
 """
 
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Literal
 
 from ..errors import ModelError
 from .skeleton import Protocol, Skeleton, Task
@@ -44,9 +88,13 @@ from .teg import TimedEventGraph
 
 __all__ = [
     "PLACE_KINDS",
+    "ActivationEnd",
+    "HoldingSource",
+    "activation_end",
     "build_teg",
     "compute_events",
     "first_event",
+    "holding_sources",
     "last_event",
     "task_chain",
 ]
@@ -54,6 +102,61 @@ __all__ = [
 PLACE_KINDS = ("chain", "return", "clock", "activation", "asyn-syn", "syn-asyn",
                "thread", "thread-return")
 """Every ``Place.kind`` that :func:`build_teg` produces."""
+
+
+@dataclass(frozen=True)
+class HoldingSource:
+    """The parameter a place's holding time is (spec §2).
+
+    Attributes
+    ----------
+    kind : {"duration", "period", "none"}
+        The duration of a task, the period of a clock, or none: the place holds 0.
+    owner : str
+        The task (``"duration"``) or the clock (``"period"``); ``""`` for none.
+    """
+
+    kind: Literal["duration", "period", "none"]
+    owner: str = ""
+
+    def value(self, skeleton: Skeleton) -> Fraction:
+        """The holding time it gives in ``skeleton``.
+
+        >>> from tegraph.model.skeleton import Task
+        >>> sk = Skeleton("s", {"T": Task("T", Fraction(3))})
+        >>> HoldingSource("duration", "T").value(sk), HoldingSource("none").value(sk)
+        (Fraction(3, 1), Fraction(0, 1))
+        """
+        if self.kind == "duration":
+            return skeleton.tasks[self.owner].duration
+        if self.kind == "period":
+            return skeleton.clocks[self.owner].period
+        return Fraction(0)
+
+
+_NO_PARAMETER = HoldingSource("none")
+
+
+@dataclass(frozen=True)
+class ActivationEnd:
+    """When the k-th activation of a task ends (spec §4, ``overrun_at``).
+
+    At ``x_event(k) + offset``.
+
+    Attributes
+    ----------
+    event : int
+        The task's last event: its last write, or ``T.compute`` without outputs.
+    adds_duration : bool
+        True for a task without outputs: the activation ends when its
+        computation does, ``duration(T)`` after ``T.compute`` fires.
+    offset : Fraction
+        ``duration(T)`` if ``adds_duration``, else 0.
+    """
+
+    event: int
+    adds_duration: bool
+    offset: Fraction
 
 
 def build_teg(skeleton: Skeleton) -> TimedEventGraph:
@@ -121,18 +224,41 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
     teg = TimedEventGraph(skeleton.name)
     teg.attrs["unit"] = skeleton.unit
     _add_events(teg, skeleton, chains, merged)
+    places = _Places(teg, skeleton)
     for c, clock in clocks.items():
-        teg.add_place(f"{c}.tick", f"{c}.tick", 1, clock.period, clock.phase, "clock",
-                      origin={"clock": c})
+        places.add(f"{c}.tick", f"{c}.tick", HoldingSource("period", c), tokens=1,
+                   initial=clock.phase, kind="clock", origin={"clock": c})
     for name, chain in chains.items():
-        _add_chain(teg, tasks[name], [ev for ev, _ in chain])
-    _add_links(teg, skeleton)
-    _add_threads(teg, skeleton, chains)
+        _add_chain(places, tasks[name], [ev for ev, _ in chain])
+    _add_links(places, skeleton)
+    _add_threads(places, skeleton, chains)
     idx = teg.index
     teg.attrs["chains"] = {t: tuple(idx(ev) for ev, _ in chain) for t, chain in chains.items()}
     teg.attrs["compute"] = {t: idx(f"{t}.compute") for t in tasks}
     teg.attrs["clocks"] = {c: idx(f"{c}.tick") for c in clocks}
+    teg.attrs["holding_source"] = tuple(places.sources)
+    # The activation ends with the last event of the chain: the last write, or
+    # T.compute without outputs, and then only when the computation ends (spec §4).
+    teg.attrs["activation_end"] = {
+        t: ActivationEnd(idx(chain[-1][0]), not tasks[t].outputs,
+                         Fraction(0) if tasks[t].outputs else tasks[t].duration)
+        for t, chain in chains.items()}
     return teg
+
+
+class _Places:
+    """Adds each place with the holding time its source gives, and records the source."""
+
+    def __init__(self, teg: TimedEventGraph, skeleton: Skeleton) -> None:
+        self.teg, self.skeleton = teg, skeleton
+        self.sources: list[HoldingSource] = []
+
+    def add(self, src: str, dst: str, source: HoldingSource = _NO_PARAMETER, *,
+            tokens: int = 0, initial: Fraction = Fraction(0), kind: str,
+            origin: dict) -> None:
+        self.teg.add_place(src, dst, tokens, source.value(self.skeleton), initial, kind,
+                           origin=origin)
+        self.sources.append(source)
 
 
 def _add_events(teg: TimedEventGraph, skeleton: Skeleton,
@@ -168,34 +294,30 @@ def _add_events(teg: TimedEventGraph, skeleton: Skeleton,
                                clock=tasks[name].clock if role == "activate" else None)
 
 
-def _add_links(teg: TimedEventGraph, skeleton: Skeleton) -> None:
+def _add_links(places: _Places, skeleton: Skeleton) -> None:
     """The place of each ASYN/SYN and SYN/ASYN link (spec §2)."""
     for i, link in enumerate(skeleton.links):
         w = f"{link.writer[0]}.write:{link.writer[1]}"
         r = f"{link.reader[0]}.read:{link.reader[1]}"
         origin = {"link": link.label, "link_index": i}
         if link.protocol is Protocol.ASYN_SYN:
-            teg.add_place(w, r, kind="asyn-syn", origin=origin)
+            places.add(w, r, kind="asyn-syn", origin=origin)
         elif link.protocol is Protocol.SYN_ASYN:
-            teg.add_place(r, w, kind="syn-asyn", origin=origin)
+            places.add(r, w, kind="syn-asyn", origin=origin)
         # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
 
 
-def _add_threads(teg: TimedEventGraph, skeleton: Skeleton,
+def _add_threads(places: _Places, skeleton: Skeleton,
                  chains: dict[str, list[tuple[str, str]]]) -> None:
     """Each thread's places: one task's last event to the next one's first, the
     return to the first task holding the token."""
-    tasks = skeleton.tasks
     ends = {name: (chain[0][0], chain[-1][0]) for name, chain in chains.items()}
     for i, thread in enumerate(skeleton.threads):
         for j, name in enumerate(thread):
             nxt, last = thread[(j + 1) % len(thread)], j == len(thread) - 1
-            # "The place that leaves T.compute holds duration(T)" (spec §2): a
-            # thread place leaves it when T has no outputs.
-            holding = tasks[name].duration if ends[name][1] == f"{name}.compute" else 0
-            teg.add_place(ends[name][1], ends[nxt][0], tokens=1 if last else 0, holding=holding,
-                          kind="thread-return" if last else "thread",
-                          origin={"thread": i, "from": name, "to": nxt})
+            places.add(ends[name][1], ends[nxt][0], _leaving(name, ends[name][1]),
+                       tokens=1 if last else 0, kind="thread-return" if last else "thread",
+                       origin={"thread": i, "from": name, "to": nxt})
 
 
 def _check_references(skeleton: Skeleton) -> None:
@@ -226,20 +348,23 @@ def _chain(task: Task, merged: dict[tuple[str, str], str]) -> list[tuple[str, st
     return chain
 
 
-def _add_chain(teg: TimedEventGraph, task: Task, chain: list[str]) -> None:
+def _leaving(task: str, event: str) -> HoldingSource:
+    """The source of a place of ``task`` leaving ``event``: "the place that leaves
+    T.compute holds duration(T)" (spec §2), every other place of a chain 0."""
+    return HoldingSource("duration", task) if event == f"{task}.compute" else _NO_PARAMETER
+
+
+def _add_chain(places: _Places, task: Task, chain: list[str]) -> None:
     """Activation place, chain places, return place; duration on the place leaving compute."""
     t = task.name
     if task.clock is not None:
-        teg.add_place(f"{task.clock}.tick", chain[0], kind="activation",
-                      origin={"clock": task.clock, "task": t})
-    compute = f"{t}.compute"
+        places.add(f"{task.clock}.tick", chain[0], kind="activation",
+                   origin={"clock": task.clock, "task": t})
     for a, b in itertools.pairwise(chain):
-        teg.add_place(a, b, holding=task.duration if a == compute else 0, kind="chain",
-                      origin={"task": t})
+        places.add(a, b, _leaving(t, a), kind="chain", origin={"task": t})
     # The return place (a self-loop on T.compute when the chain is that one event).
-    teg.add_place(chain[-1], chain[0], tokens=1,
-                  holding=task.duration if chain[-1] == compute else 0, kind="return",
-                  origin={"task": t})
+    places.add(chain[-1], chain[0], _leaving(t, chain[-1]), tokens=1, kind="return",
+               origin={"task": t})
 
 
 # ------------------------------------------------------------- chain helpers
@@ -282,4 +407,31 @@ def compute_events(teg: TimedEventGraph) -> dict[str, int]:
     """Task -> index of its ``T.compute`` event, in file order."""
     _chains(teg)
     return dict(teg.attrs["compute"])
+
+
+def holding_sources(teg: TimedEventGraph) -> tuple[HoldingSource, ...]:
+    """The parameter each place's holding time is, in place order (module docstring).
+
+    Raises
+    ------
+    ModelError
+        ``teg`` was not built by :func:`build_teg`.
+    """
+    _chains(teg)
+    sources: tuple[HoldingSource, ...] = teg.attrs["holding_source"]
+    return sources
+
+
+def activation_end(teg: TimedEventGraph, task: str) -> ActivationEnd:
+    """When each activation of ``task`` ends (module docstring).
+
+    Raises
+    ------
+    ModelError
+        An unknown task, or ``teg`` was not built by :func:`build_teg`.
+    """
+    if task not in _chains(teg):
+        raise ModelError("unknown task", task)
+    end: ActivationEnd = teg.attrs["activation_end"][task]
+    return end
 

@@ -7,17 +7,23 @@ is derived by hand from the spec §3 recursion in the comments.
 from __future__ import annotations
 
 from fractions import Fraction as F
+from pathlib import Path
 
 import networkx as nx
 import numpy as np
 import pytest
 
 from tegraph.errors import ModelError, NotLiveError
+from tegraph.io.skeleton_file import load_skeleton
 from tegraph.model.build import (
     PLACE_KINDS,
+    ActivationEnd,
+    HoldingSource,
+    activation_end,
     build_teg,
     compute_events,
     first_event,
+    holding_sources,
     last_event,
     task_chain,
 )
@@ -308,6 +314,69 @@ def test_provenance_survives_networkx_round_trip():
     h = TimedEventGraph.from_networkx(g.to_networkx())
     assert h.places == g.places and h.transition_attrs == g.transition_attrs
     assert task_chain(h, "MT2") == task_chain(g, "MT2") == [3, 5, 6]
+
+
+# ------------------------------------------------ holding sources and activation ends
+# Spec §2 puts duration(T) on every place leaving T.compute and period(C) on the
+# self-loop of C.tick; every other place holds 0. Spec §4 (overrun_at): an
+# activation ends with its last write, or, without outputs, at
+# x_T.compute(k) + duration(T).
+
+
+def test_holding_sources_of_a_task_with_an_output_on_a_clock():
+    # T (duration 3, output o) on clock c (period 2): places in build order are
+    # c.tick self-loop (holds 2: period of c), c.tick -> T.activate (0),
+    # T.activate -> T.compute (0), T.compute -> T.write:o (holds 3: duration of T),
+    # return T.write:o -> T.activate (0: it leaves a write, not compute).
+    g = build_teg(skeleton([Task("T", F(3), clock="c", outputs=("o",))], [Clock("c", F(2))]))
+    none = HoldingSource("none")
+    assert holding_sources(g) == (HoldingSource("period", "c"), none, none,
+                                  HoldingSource("duration", "T"), none)
+    assert [p.holding for p in g.places] == [2, 0, 0, 3, 0]
+    # It ends with its write: nothing added after that event.
+    assert activation_end(g, "T") == ActivationEnd(g.index("T.write:o"), False, F(0))
+
+
+def test_holding_sources_without_outputs_and_in_a_thread():
+    # A (duration 5, no outputs) and B (duration 7, output o) in a thread A, B,
+    # no clock. Places: A's return A.compute -> A.compute (5), B's chain
+    # B.compute -> B.write:o (7), B's return (0), then the thread places
+    # A.compute -> B.compute (leaves A.compute: 5) and the thread-return
+    # B.write:o -> A.compute (0).
+    g = build_teg(skeleton([Task("A", F(5)), Task("B", F(7), outputs=("o",))],
+                           threads=[("A", "B")]))
+    dA, dB, none = HoldingSource("duration", "A"), HoldingSource("duration", "B"), \
+        HoldingSource("none")
+    assert [p.kind for p in g.places] == ["return", "chain", "return", "thread",
+                                          "thread-return"]
+    assert holding_sources(g) == (dA, dB, none, dA, none)
+    assert [p.holding for p in g.places] == [5, 7, 0, 5, 0]
+    # A has no outputs: its activation ends duration(A) = 5 after A.compute.
+    assert activation_end(g, "A") == ActivationEnd(g.index("A.compute"), True, F(5))
+    assert activation_end(g, "B") == ActivationEnd(g.index("B.write:o"), False, F(0))
+
+
+def test_holding_sources_match_every_example_holding():
+    # Each place holds exactly the value its source names, on every example.
+    examples = sorted(Path(__file__).parents[3].joinpath("examples").glob("*.yaml"))
+    assert len(examples) >= 10
+    for path in examples:
+        sk = load_skeleton(path)
+        g = build_teg(sk)
+        for p, source in zip(g.places, holding_sources(g), strict=True):
+            assert p.holding == source.value(sk), (path.name, p.name)
+            assert (source.kind == "period") == (p.kind == "clock")
+
+
+def test_records_survive_networkx_round_trip_and_need_a_built_graph():
+    g = build_teg(skeleton([Task("A", F(1))]))
+    h = TimedEventGraph.from_networkx(g.to_networkx())
+    assert holding_sources(h) == holding_sources(g) == (HoldingSource("duration", "A"),)
+    assert activation_end(h, "A") == activation_end(g, "A") == ActivationEnd(0, True, F(1))
+    with pytest.raises(ModelError, match="unknown task"):
+        activation_end(g, "B")
+    with pytest.raises(ModelError, match="not built from a skeleton"):
+        holding_sources(TimedEventGraph())
 
 
 def test_dangling_references_and_helpers_errors():
