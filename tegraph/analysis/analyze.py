@@ -47,7 +47,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components
 from maxplus import CycleRatioResult, max_cycle_ratio
 from maxplus.scalar import display_text
 
-from ..model.build import build_teg, last_event, task_chain
+from ..model.build import activation_end, build_teg, task_chain
 from ..model.elements import flow_list
 from ..model.skeleton import Skeleton
 from ..model.teg import Place, TimedEventGraph
@@ -440,10 +440,8 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         clock = g.sk.tasks[name].clock
         if clock is None or not groups[t.group].live:
             continue
-        last, tick = last_event(g.teg, name), g.teg.attrs["clocks"][clock]
-        # The end of an activation (spec §4): its last write, or the end of
-        # its computation when it has none (a dater plus a constant).
-        offset = 0 if g.sk.tasks[name].outputs else int(g.sk.tasks[name].duration * g.scale)
+        end, tick = activation_end(g.teg, name), g.teg.attrs["clocks"][clock]
+        last, offset = end.event, int(end.offset * g.scale)  # spec §4: a dater plus a constant
         if t.group in group_regime:
             watches.append(OverrunWatch(last, tick, group_regime[t.group], end_offset=offset))
         else:

@@ -37,7 +37,7 @@ from ..analysis.analyze import analyze_skeleton
 from ..analysis.processors import MAX_EVENTS, JobInterval, ProcessorSchedule, schedule_on_processors
 from ..analysis.results import Deadlock
 from ..errors import InputError
-from ..model.build import build_teg
+from ..model.build import activation_end, build_teg
 from ..model.limits import shown
 from ..model.skeleton import Skeleton
 from .schedulability import hyperperiod
@@ -93,7 +93,9 @@ class Timeline:
     ticks: dict[str, list[Fraction]]
     clocks: dict[str, str | None]
     """The clock of each task (None: none)."""
-    has_outputs: dict[str, bool]
+    ends_with_computation: dict[str, bool]
+    """Whether an activation of each task ends when its job does, not with a write
+    (spec §4: a task without outputs)."""
     durations: dict[str, Fraction]
     overrun_ticks: dict[str, Fraction]
     """Task -> its clock's tick ``overrun_at`` (``phase + (k - 1) * period``)."""
@@ -207,8 +209,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     """
     horizon = _checked(skeleton, horizon, max_events)
     report = analyze_skeleton(skeleton, semiflow_max_places=0)
-    s = schedule_on_processors(skeleton, build_teg(skeleton), report.groups,
-                               max_events=max_events)
+    teg = build_teg(skeleton)
+    s = schedule_on_processors(skeleton, teg, report.groups, max_events=max_events)
     tasks, clocks = skeleton.tasks, skeleton.clocks
     by_part = _by_part(s)
     ends, hyper, unsimulated = _part_ends(skeleton, s, by_part)
@@ -225,7 +227,7 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     return Timeline(
         skeleton.name, skeleton.unit, s, horizon, proof_end, drawn, ticks,
         clocks={t: task.clock for t, task in tasks.items()},
-        has_outputs={t: bool(task.outputs) for t, task in tasks.items()},
+        ends_with_computation={t: activation_end(teg, t).adds_duration for t in tasks},
         durations={t: task.duration for t, task in tasks.items()}, overrun_ticks=at,
         deadlocks=list(report.deadlocks), dead_tasks=[t for t in tasks if t in dead],
         hyperperiods=hyper, unsimulated=unsimulated, notes=notes)

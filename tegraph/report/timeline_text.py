@@ -186,7 +186,7 @@ def _findings(tl: Timeline) -> list[str]:
         if job is None or job.finish is None:
             end = f"activation {k - 1} has not ended"
             end += (" (past the end of the drawing)" if at > tl.horizon else "")
-        elif not tl.has_outputs[t]:
+        elif tl.ends_with_computation[t]:
             end = f"activation {k - 1} runs until {display_text(job.finish)} {u}"
         elif job.finish > at:
             end = f"activation {k - 1} computes until {display_text(job.finish)} {u}"

@@ -59,7 +59,7 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
-from ...model.build import build_teg
+from ...model.build import activation_end, build_teg
 from ...model.skeleton import Skeleton
 from ...model.teg import TEGArrays, TimedEventGraph
 from .reachability import skeleton_groups
@@ -320,24 +320,16 @@ class _Simulation:
             self.tasks[task] = TimedTask(task, g, decided=clock is None or self.dead[g])
             if clock is not None and not self.dead[g]:  # an activation event: the task's clock
                 tick = teg.attrs["clocks"][clock]
-                last = chain[-1]
+                end = activation_end(teg, task)  # its last event, maybe plus its duration
                 ended: deque[int] = deque(maxlen=2)  # end times of the last two activations
-                self.watch.setdefault(tick, []).append((task, last))
-                self.ends.setdefault(last, []).append(
-                    (task, self._end_offset(teg, last), ended))
+                self.watch.setdefault(tick, []).append((task, end.event))
+                self.ends.setdefault(end.event, []).append(
+                    (task, int(end.offset * self.scale), ended))
         self.ended = {task: ended for entries in self.ends.values()
                       for task, _, ended in entries}
         # Per event, what its firing must record (a list: looked up at every firing).
         self.end_of: list[list[tuple[str, int, deque[int]]] | None] = [
             self.ends.get(e) for e in range(teg.n_transitions)]
-
-    def _end_offset(self, teg: TimedEventGraph, last: int) -> int:
-        """How long after its last event fires an activation ends: 0 after its last write;
-        after T.compute (no output), the duration of T, which every place leaving
-        T.compute holds (spec §2)."""
-        if teg.transition_attrs[last].get("role") == "compute":
-            return max(h for _, h in self.out[last])
-        return 0
 
     def _start_run(self, n: int) -> None:
         """The state of the run before its first firing: counts, daters, seen states, clock."""

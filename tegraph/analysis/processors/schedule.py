@@ -45,7 +45,7 @@ from scipy.sparse.csgraph import connected_components
 from maxplus.scalar import display_text
 
 from ...errors import InputError, ModelError
-from ...model.build import last_event
+from ...model.build import activation_end
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
 from ._engine import PartData, PartResult, simulate_part
@@ -383,10 +383,16 @@ class _Net:
             priority=[self.platform.priority[t] for t in names], file_index=tasks,
             processor=[procs[self.platform.processor_of[t]] for t in names],
             n_processors=len(procs),
-            end_event=[local[last_event(self.teg, t)] if self.sk.tasks[t].outputs else None
-                       for t in names],
+            end_event=[_end_event(self.teg, t, local) for t in names],
             watched=watched, snapshot_place=snapshot_place)
         return data, names, events, places
+
+
+def _end_event(teg: TimedEventGraph, task: str, local: dict[int, int]) -> int | None:
+    """The local event whose firing ends an activation of ``task`` (spec §4), or None
+    when it ends with the computation: on processors, when its job finishes."""
+    end = activation_end(teg, task)
+    return None if end.adds_duration else local[end.event]
 
 
 def _reach(out: list[list[int]], start: set[int]) -> set[int]:

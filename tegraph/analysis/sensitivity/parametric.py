@@ -6,15 +6,11 @@ of values to explore. Every holding time of the timed event graph is then an
 affine function of the parameters: spec §2 puts a duration on the places that
 leave ``T.compute`` and a period on a clock's self-loop, and nothing else.
 
-This module does not restate spec §2: it reads the affine structure off
-:func:`~tegraph.model.build.build_teg` itself. Each group (spec §4: the tasks
-joined by synchronizing links, threads and shared clocks) is built twice, the
-varied parameters replaced by two sets of distinct *markers* larger than any
-other time of the group; a place whose holding is the j-th marker in both
-builds holds parameter j, a place whose holding is the same in both builds
-holds that constant, and any other outcome (a holding that is a sum or a
-multiple of parameters) is refused as an internal error rather than
-mis-read. So a change of spec §2 flows through.
+This module does not restate spec §2: it reads the affine structure off the
+record :func:`~tegraph.model.build.build_teg` keeps, the parameter each
+holding time is (:func:`~tegraph.model.build.holding_sources`) and when each
+activation ends (:func:`~tegraph.model.build.activation_end`). So a change of
+spec §2 or §4 flows through.
 
 Groups are independent (no place joins two of them), so every later step
 works on one small group at a time, with its own exact scale.
@@ -23,8 +19,6 @@ works on one small group at a time, with its own exact scale.
 from __future__ import annotations
 
 import dataclasses
-import functools
-import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -38,8 +32,8 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time, size_problem
 
 from ...errors import InputError
-from ...model.build import build_teg, last_event
-from ...model.skeleton import Clock, Link, Skeleton, Task
+from ...model.build import activation_end, build_teg, holding_sources
+from ...model.skeleton import Link, Skeleton
 from ...model.teg import Place
 
 __all__ = [
@@ -47,7 +41,6 @@ __all__ = [
     "Parameter",
     "ParametricGroup",
     "Watch",
-    "activation_end_adds_duration",
     "parametric_groups",
     "parse_vary",
     "skeleton_at",
@@ -265,28 +258,6 @@ def skeleton_groups(skeleton: Skeleton) -> list[list[str]]:
     return list(order.values())
 
 
-@functools.cache
-def activation_end_adds_duration() -> bool:
-    """Whether an activation of a task without outputs ends when its computation ends.
-
-    Spec v1.1 (§4, ``overrun_at``): ``end_T(k) = x_T.compute(k) + duration(T)``
-    for a task without outputs; v1.0 took ``x_T.compute(k)``, the start. The
-    answer is read off :func:`~tegraph.analysis.analyze.analyze_skeleton`, the
-    oracle every figure here is checked against, so that both always agree:
-    a task of duration 3 on a clock of period 2 overruns at activation 2 in
-    v1.1 (its first activation ends at 3 > 2) and at activation 5 in v1.0
-    (its computations start at 0, 3, 6, 9 against ticks 0, 2, 4, 6, 8).
-    """
-    from ..analyze import analyze_skeleton
-
-    probe = Skeleton("probe", {"A": Task("A", Fraction(3), clock="c")},
-                     {"c": Clock("c", Fraction(2))})
-    first = analyze_skeleton(probe, semiflow_max_places=0).tasks["A"].overrun_at
-    if first not in (2, 5):
-        raise AssertionError(f"internal error: the overrun probe gave activation {first}")
-    return first == 2
-
-
 # ---------------------------------------------------------------- parametric groups
 
 
@@ -306,7 +277,8 @@ class Watch:
     """A clocked task whose overruns are watched.
 
     Its activation k ends at ``x_end(k) + offset`` (``offset`` its duration
-    when the activation ends with its computation, spec v1.1, else 0).
+    when the activation ends with its computation, spec §4, else 0:
+    :class:`~tegraph.model.build.ActivationEnd`).
     """
 
     task: str
@@ -398,7 +370,6 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter]) -> list[P
     (('A.clock.tick', 'A.activate', 'A.compute'), [-1, -1, -1, 0], ['5', '0', '0', '0'])
     """
     by_owner = {(p.kind, p.owner): j for j, p in enumerate(params)}
-    ends_with_duration = activation_end_adds_duration()
     groups = skeleton_groups(skeleton)
     group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
     links: list[list[Link]] = [[] for _ in groups]
@@ -419,54 +390,32 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter]) -> list[P
                         if ("duration", t) in by_owner]
                        + [(by_owner[("period", c)], "period", c) for c in clocks
                           if ("period", c) in by_owner])
-        out.append(_parametric_group(sub, g, local, ends_with_duration))
+        out.append(_parametric_group(sub, g, local))
     _structure(out)
     return out
 
 
-# A marker is V·(2^k·L + 1): every constant time of the group is below V, and no
-# sum of two or more markers, nor any multiple or fraction of one, is a marker
-# (modulo V·L a sum of n markers is n·V), so one build decodes every holding that
-# is a constant or a single parameter, and refuses anything else.
-_MARKER_SPREAD = 2**64
-
-
-def _parametric_group(sub: Skeleton, index: int, local: list[tuple[int, str, str]],
-                      ends_with_duration: bool) -> ParametricGroup:
-    times = [t.duration for t in sub.tasks.values()]
-    times += [v for c in sub.clocks.values() for v in (c.period, c.phase)]
-    top = math.floor(max(times, default=Fraction(0))) + 1
-    marker = {j: Fraction(top * (2**k * _MARKER_SPREAD + 1)) for k, (j, _, _) in enumerate(local)}
-    teg = build_teg(_with_values(sub, local, marker))
-    param_of_marker = {v: j for j, v in marker.items()}
+def _parametric_group(sub: Skeleton, index: int, local: list[tuple[int, str, str]]
+                      ) -> ParametricGroup:
+    """The group ``sub`` built once; each place holds the varied parameter its
+    recorded source names, or its built (constant) holding."""
+    teg = build_teg(sub)
+    param_of = {(kind, owner): j for j, kind, owner in local}
     places = teg.places
-    const: list[Fraction] = []
-    param: list[int] = []
-    for p in places:
-        j = param_of_marker.get(p.holding)
-        if j is not None:
-            const.append(Fraction(0))
-            param.append(j)
-        elif p.holding < top:
-            const.append(p.holding)
-            param.append(-1)
-        else:
-            raise AssertionError(f"internal error: the holding time of place {p.name} is "
-                                 "not one parameter or a constant")
-    clock_param = {owner: j for j, kind, owner in local if kind == "period"}
-    duration_param = {owner: j for j, kind, owner in local if kind == "duration"}
+    param = [param_of.get((source.kind, source.owner), -1) for source in holding_sources(teg)]
+    const = [Fraction(0) if j >= 0 else p.holding for p, j in zip(places, param)]
     ticks = teg.attrs["clocks"]
-    clocks = {c: ClockInfo(c, ticks[c], clock.period, clock_param.get(c, -1), clock.phase)
+    clocks = {c: ClockInfo(c, ticks[c], clock.period, param_of.get(("period", c), -1),
+                           clock.phase)
               for c, clock in sub.clocks.items()}
     watches = []
     for t, task in sub.tasks.items():
         if task.clock is None:
             continue
-        if ends_with_duration and not task.outputs:
-            end = teg.attrs["compute"][t]
-            watches.append(Watch(t, task.clock, end, task.duration, duration_param.get(t, -1)))
-        else:
-            watches.append(Watch(t, task.clock, last_event(teg, t), Fraction(0), -1))
+        end = activation_end(teg, t)
+        # The end's offset is the task's duration when it is added, so it varies with it.
+        watches.append(Watch(t, task.clock, end.event, end.offset,
+                             param_of.get(("duration", t), -1) if end.adds_duration else -1))
     group = ParametricGroup(
         index, tuple(sub.tasks), sub, teg.transition_names,
         np.array([p.src for p in places], dtype=np.int64),
