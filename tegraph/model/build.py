@@ -80,7 +80,7 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Literal
+from typing import Any, Literal
 
 from ..errors import ModelError
 from .skeleton import Protocol, Skeleton, Task
@@ -368,10 +368,15 @@ def _add_chain(places: _Places, task: Task, chain: list[str]) -> None:
 
 
 # ------------------------------------------------------------- chain helpers
+def _record(teg: TimedEventGraph, key: str) -> Any:
+    if key not in teg.attrs:
+        raise ModelError(f"not built from a skeleton (no {key!r} in attrs)", teg.name)
+    return teg.attrs[key]
+
+
 def _chains(teg: TimedEventGraph) -> dict[str, tuple[int, ...]]:
-    if "chains" not in teg.attrs:
-        raise ModelError("not built from a skeleton (no 'chains' in attrs)", teg.name)
-    return teg.attrs["chains"]
+    chains: dict[str, tuple[int, ...]] = _record(teg, "chains")
+    return chains
 
 
 def task_chain(teg: TimedEventGraph, task: str) -> list[int]:
@@ -417,8 +422,7 @@ def holding_sources(teg: TimedEventGraph) -> tuple[HoldingSource, ...]:
     ModelError
         ``teg`` was not built by :func:`build_teg`.
     """
-    _chains(teg)
-    sources: tuple[HoldingSource, ...] = teg.attrs["holding_source"]
+    sources: tuple[HoldingSource, ...] = _record(teg, "holding_source")
     return sources
 
 
@@ -430,8 +434,8 @@ def activation_end(teg: TimedEventGraph, task: str) -> ActivationEnd:
     ModelError
         An unknown task, or ``teg`` was not built by :func:`build_teg`.
     """
-    if task not in _chains(teg):
+    ends: dict[str, ActivationEnd] = _record(teg, "activation_end")
+    if task not in ends:
         raise ModelError("unknown task", task)
-    end: ActivationEnd = teg.attrs["activation_end"][task]
-    return end
+    return ends[task]
 

@@ -377,6 +377,11 @@ def test_records_survive_networkx_round_trip_and_need_a_built_graph():
         activation_end(g, "B")
     with pytest.raises(ModelError, match="not built from a skeleton"):
         holding_sources(TimedEventGraph())
+    # A graph that has chains but no record (made by hand): refused the same way.
+    bare = TimedEventGraph()
+    bare.attrs["chains"] = {"A": (0,)}
+    with pytest.raises(ModelError, match="no 'activation_end'"):
+        activation_end(bare, "A")
 
 
 def test_dangling_references_and_helpers_errors():
