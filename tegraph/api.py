@@ -20,10 +20,9 @@ from maxplus.errors import MaxPlusError
 
 from . import io
 from .analysis.analyze import analyze_skeleton
-from .analysis.baselines.reachability import DEFAULT_MAX_MEMORY
+from .analysis.budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES, MAX_EVENTS
 from .analysis.cycle_time import CycleTimeResult
 from .analysis.cycle_time import cycle_time as cycle_time_of
-from .analysis.processors import MAX_EVENTS
 from .analysis.results import Report
 from .analysis.sensitivity.margins import duration_margins
 from .design.section import DesignSection, design_section
@@ -228,7 +227,7 @@ def _add_duration_margins(skeleton: Skeleton, report: Report, max_tasks: int) ->
 
 def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
                default_holding: Any = None, max_bytes: int | None = None,
-               max_states: int = 1_000_000, max_seconds: float | None = None,
+               max_states: int = DEFAULT_MAX_STATES, max_seconds: float | None = None,
                max_memory: int = DEFAULT_MAX_MEMORY,
                max_firings: int = DEFAULT_MAX_FIRINGS) -> CycleTimeResult:
     """Period, throughput, critical circuit and cycle times of a timed event graph or its file.
@@ -312,7 +311,7 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
     return result
 
 
-def reach(model: Any, *, timed: bool = False, max_states: int = 1_000_000,
+def reach(model: Any, *, timed: bool = False, max_states: int = DEFAULT_MAX_STATES,
           max_seconds: float | None = None, max_memory: int = DEFAULT_MAX_MEMORY,
           max_firings: int = DEFAULT_MAX_FIRINGS, progress: Any = None,
           stop: Any = None) -> Any:

@@ -65,7 +65,8 @@ from ..model.petri import PetriNet
 from ..model.sdf import SDFGraph
 from ..model.skeleton import Skeleton
 from ..model.teg import TimedEventGraph
-from .baselines.reachability import DEFAULT_MAX_MEMORY, Reachability, reachability_graph
+from .baselines.reachability import Reachability, reachability_graph
+from .budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES
 
 __all__ = ["CycleTimeResult", "cycle_time"]
 
@@ -229,7 +230,7 @@ class CyclePart:
 
 
 def cycle_time(model: Any, *, verify: bool = True, default_holding: Any = None,
-               max_states: int = 1_000_000, max_seconds: float | None = None,
+               max_states: int = DEFAULT_MAX_STATES, max_seconds: float | None = None,
                max_memory: int = DEFAULT_MAX_MEMORY,
                max_firings: int = DEFAULT_MAX_FIRINGS) -> CycleTimeResult:
     """Period, throughput, critical circuit and cycle times of a timed event graph.

@@ -50,14 +50,12 @@ from scipy.sparse.csgraph import connected_components
 from ...errors import InputError
 from ...model.petri import PetriNet
 from ...model.teg import TimedEventGraph
+from ..budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES
 from .marking_search import INT64_MAX, Progress, breadth_first
 
 __all__ = ["DEFAULT_MAX_MEMORY", "DeadMarking", "Reachability", "bounded_net",
            "reachability_graph", "skeleton_groups", "skeleton_reachability"]
 
-DEFAULT_MAX_MEMORY = 2 * 2**30
-"""Default bound, in bytes, on the markings a search stores (2 GiB): a net of 26,000
-places stores about 50 kB a marking, so its budget of states is some 40,000."""
 
 
 @dataclass
@@ -207,7 +205,7 @@ class Reachability:
         }
 
 
-def reachability_graph(net: PetriNet, *, max_states: int = 1_000_000,
+def reachability_graph(net: PetriNet, *, max_states: int = DEFAULT_MAX_STATES,
                        max_seconds: float | None = None, progress: Progress | None = None,
                        stop: Callable[[], bool] | None = None,
                        max_memory: int = DEFAULT_MAX_MEMORY) -> Reachability:
@@ -305,7 +303,7 @@ def bounded_net(net: PetriNet, extra: int = 1) -> PetriNet:
                     attrs=dict(net.attrs))
 
 
-def skeleton_reachability(teg: TimedEventGraph, *, max_states: int = 1_000_000,
+def skeleton_reachability(teg: TimedEventGraph, *, max_states: int = DEFAULT_MAX_STATES,
                           max_seconds: float | None = None, progress: Progress | None = None,
                           stop: Callable[[], bool] | None = None,
                           max_memory: int = DEFAULT_MAX_MEMORY) -> Reachability:

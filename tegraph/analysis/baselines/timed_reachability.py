@@ -62,6 +62,7 @@ from maxplus.scalar import exact_text
 from ...model.build import activation_end, build_teg
 from ...model.skeleton import Skeleton
 from ...model.teg import TEGArrays, TimedEventGraph
+from ..budgets import DEFAULT_MAX_STATES
 from .reachability import skeleton_groups
 
 __all__ = ["TimedExploration", "TimedGroup", "TimedTask", "timed_reachability"]
@@ -205,7 +206,7 @@ class TimedExploration:
             "max_states": self.max_states, "seconds": round(self.seconds, 6),
         }
 
-def timed_reachability(model: Skeleton | TimedEventGraph, *, max_states: int = 1_000_000,
+def timed_reachability(model: Skeleton | TimedEventGraph, *, max_states: int = DEFAULT_MAX_STATES,
                        max_seconds: float | None = None, progress: Progress | None = None,
                        stop: Callable[[], bool] | None = None) -> TimedExploration:
     """Explore the timed state space of a skeleton until its whole state repeats.

@@ -48,6 +48,7 @@ from ...errors import InputError, ModelError
 from ...model.build import activation_end
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
+from ..budgets import MAX_EVENTS
 from ._engine import PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
 from .platform import Platform, check_groups, platform_of
@@ -55,11 +56,6 @@ from .platform import Platform, check_groups, platform_of
 __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
            "schedule_on_processors"]
 
-MAX_EVENTS = 1_000_000
-"""Default budget of :func:`schedule_on_processors`: event firings simulated in all
-(some 2 to 5 s) before the figures still unproven are left null. Parts (tasks
-joined by a group or a processor) are simulated smallest first, each with an equal
-share of what is left, so what a small part does not use goes to the larger ones."""
 
 UnboundedKind: TypeAlias = Literal["clock-overrun", "messages-overwritten",
                                   "requests-overwritten", "thread", "chain"]
