@@ -15,10 +15,11 @@ import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import NoReturn
+from typing import Annotated, NoReturn
 
 import typer
 
+from .analysis.budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES, MAX_EVENTS
 from .errors import InputError, TegraphError
 
 app = typer.Typer(
@@ -40,8 +41,8 @@ def _version(value: bool) -> None:
 
 @app.callback()
 def _commands(
-    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
-                                 help="Print the version and exit."),
+    version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
+                                          help="Print the version and exit.")] = False,
 ) -> None:
     """Deadlocks, periods and overruns of synchronized real-time task sets.
 
@@ -63,9 +64,6 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
 _FLAGS.update({"requires": "--require", "max_latency": "--max-latency", "forbid": "--forbid",
                "timeout": "--timeout", "all_links": "--all-links",
                "max_events": "--max-events", "processors": "--no-processors"})
-# Defaults written here as literals (importing the library for them would load numpy
-# and scipy before --help); tests/tegraph/test_cli.py checks they equal the constants.
-MAX_EVENTS = 1_000_000
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -79,20 +77,33 @@ def _fail(message: str) -> NoReturn:
     raise typer.Exit(2)
 
 
+def _exists(path: object) -> NoReturn:
+    """Refuse to replace the existing file ``path`` (exit 2): ``--force`` would."""
+    _fail(f"{path}: the file exists already; pass --force to replace it")
+
+
+@contextmanager
+def _writing(path: Path) -> Iterator[None]:
+    """Writing ``path``: an existing file, or a write the system refuses, is one message."""
+    try:
+        yield
+    except FileExistsError:
+        _exists(path)
+    except OSError as exc:
+        _fail(f"cannot write {path}: {exc.strerror}")
+
+
 def _draw(draw: Callable[..., object], result: object, path: Path, force: bool) -> None:
     """Draw ``result`` into ``path`` with ``draw``; every refusal is one message, exit 2."""
     from .report.plot import PlotUnavailableError
 
     try:
-        draw(result, path, overwrite=force)
+        with _writing(path):
+            draw(result, path, overwrite=force)
     except PlotUnavailableError as exc:
         _fail(str(exc))
-    except FileExistsError:
-        _fail(f"{path}: the file exists already; pass --force to replace it")
     except InputError as exc:
         _fail(f"{path}: {exc.reason}")
-    except OSError as exc:
-        _fail(f"cannot write {path}: {exc.strerror}")
 
 
 def _output_file(path: Path, force: bool, *, source: Path | None = None) -> None:
@@ -107,7 +118,7 @@ def _output_file(path: Path, force: bool, *, source: Path | None = None) -> None
         _fail(f"{path}: this is the input file; pass --force to replace it (its comments "
               "are not copied)")
     if path.exists() and not force:
-        _fail(f"{path}: the file exists already; pass --force to replace it")
+        _exists(path)
 
 
 def _output_directory(path: Path) -> None:
@@ -146,31 +157,87 @@ def _refusals(file: Path) -> Iterator[None]:
         _fail(f"{file}: {exc}")
 
 
+def _size_text(size: int) -> str:
+    """A byte count as ``--help`` shows it, in the largest unit that divides it.
+
+    >>> _size_text(2 * 2**30), _size_text(256 * 2**20), _size_text(1000)
+    ('2G', '256M', '1000')
+    """
+    for unit, scale in (("G", 2**30), ("M", 2**20), ("k", 2**10)):
+        if size % scale == 0:
+            return f"{size // scale}{unit}"
+    return str(size)
+
+
+# The options that several commands share, each declared once. Budgets take their
+# defaults from the library's constants (tegraph.analysis.budgets imports nothing,
+# so --help loads no numpy); a budget of nothing is refused by the library in one
+# line naming the option, not by a typer `min=` and its multi-line usage error.
+SkeletonFile = Annotated[Path, typer.Argument(help="Skeleton file (.yaml, .yml or .json).")]
+JsonFlag = Annotated[bool, typer.Option("--json",
+                                        help="Print the JSON report (docs/report.schema.json).")]
+MaxStates = Annotated[int, typer.Option(
+    "--max-states", help="State budget of the search (>= 1); beyond it the answer is "
+                         "inconclusive.")]
+MaxMemory = Annotated[str, typer.Option(
+    "--max-memory", help="Memory budget of the markings the untimed reachability search "
+                         "stores (e.g. 512M, 4G).")]
+# Literals checked against tegraph.model.limits.DEFAULT_MAX_FIRINGS and
+# tegraph.io DEFAULT_MAX_BYTES by tests/tegraph/test_cli.py: both modules load numpy.
+MaxFirings = Annotated[int, typer.Option(
+    "--max-firings", min=1, help="Largest homogeneous expansion of an SDF graph (firings "
+                                 "per iteration).")]
+_MAX_FIRINGS = 10**7
+_MAX_SIZE = "256M"
+MaxSize = Annotated[str, typer.Option(
+    "--max-size", help="Refuse larger input files (e.g. 1G; at least 1 byte: 0 is refused, "
+                       "there is no \"no limit\").")]
+MaxSeconds = Annotated[float | None, typer.Option(
+    "--max-seconds", min=0, help="Time budget of the search, in seconds.")]
+Processors = Annotated[bool, typer.Option(
+    "--processors/--no-processors",
+    help="Answer on the skeleton's processors (preemptive fixed priorities, "
+         "docs/skeleton.md §4b); --no-processors: every task on a processor of its own, "
+         "the v1.1 answers.")]
+
+
+def _force(what: str) -> typer.models.OptionInfo:
+    """The ``--force`` option; its help names what it lets a command replace."""
+    return typer.Option("--force", help=f"Replace {what}.")
+
+
+def _chain(use: str) -> typer.models.OptionInfo:
+    """The repeatable ``--chain`` option; its help says what the command does with it."""
+    return typer.Option("--chain", metavar="A,B,C",
+                        help=f"{use} this chain of tasks, sensor first, e.g. "
+                             "TG.JS,TF.TT.JS,CO.JS (repeatable; adds to the file's chains).")
+
+
+def _max_events(of: str, past: str) -> typer.models.OptionInfo:
+    """The ``--max-events`` budget; its help names what it bounds and what happens past it."""
+    return typer.Option("--max-events", help=f"Budget of event firings of {of}; past it, "
+                                             f"{past}.")
+
+
 @app.command()
 def analyze(
-    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    json_out: bool = typer.Option(False, "--json",
-                                  help="Print the JSON report (docs/skeleton.md §5)."),
-    csv_dir: Path | None = typer.Option(None, "--csv", metavar="DIR",
-                                        help="Write tasks.csv and groups.csv into this "
-                                             "existing directory."),
-    force: bool = typer.Option(False, "--force", help="Overwrite existing CSV files."),
-    max_steps: int = typer.Option(100_000, "--max-steps", min=1,
-                                  help="Budget on the firing index of the dater simulation."),
-    chain: list[str] | None = typer.Option(
-        None, "--chain", metavar="A,B,C",
-        help="Report the latency of this chain of tasks, sensor first (repeatable)."),
-    design: bool = typer.Option(True, "--design/--no-design",
-                                help="Include design rules, schedulability and latencies."),
-    processors: bool = typer.Option(
-        True, "--processors/--no-processors",
-        help="Decide the skeleton on its processors (preemptive fixed priorities, "
-             "docs/skeleton.md §4b); --no-processors: every task on a processor of its "
-             "own, the v1.1 verdict."),
-    max_events: int = typer.Option(
-        MAX_EVENTS, "--max-events", min=1,
-        help="Budget of event firings of the schedule on processors; past it, "
-             "schedulability is undecided (exit 1) and the report says why."),
+    file: SkeletonFile,
+    json_out: JsonFlag = False,
+    csv_dir: Annotated[Path | None, typer.Option(
+        "--csv", metavar="DIR",
+        help="Write tasks.csv and groups.csv into this existing directory.")] = None,
+    force: Annotated[bool, _force("existing CSV files")] = False,
+    max_steps: Annotated[int, typer.Option(
+        "--max-steps", min=1,
+        help="Budget on the firing index of the dater simulation.")] = 100_000,
+    chain: Annotated[list[str] | None, _chain("Report the latency of")] = None,
+    design: Annotated[bool, typer.Option(
+        "--design/--no-design",
+        help="Include design rules, schedulability and latencies.")] = True,
+    processors: Processors = True,
+    max_events: Annotated[int, _max_events(
+        "the schedule on processors (docs/skeleton.md §4b)",
+        "schedulability is undecided (exit status 1) and the report says why")] = MAX_EVENTS,
 ) -> None:
     """Analyze a synchronization skeleton: liveness, periods, overruns, slack, schedule.
 
@@ -200,8 +267,8 @@ def analyze(
     if csv_dir is not None:
         try:
             write_csv(report, csv_dir, overwrite=force)
-        except FileExistsError as exc:
-            _fail(f"{exc.filename}: the file exists already; pass --force to replace it")
+        except FileExistsError as exc:  # which of the two files: the library names it
+            _exists(exc.filename)
         except OSError as exc:
             _fail(f"cannot write CSV files to {csv_dir}: {exc.strerror}")
     typer.echo(to_json(report) if json_out else _cli_words(render_text(report)), nl=json_out)
@@ -214,21 +281,17 @@ def analyze(
 
 @app.command()
 def reach(
-    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml, .json) or a P/T net "
-                                          "(.pnml and the other formats `convert` reads)."),
-    timed: bool = typer.Option(False, "--timed",
-                               help="Timed exploration (ORCCAD §5): periods, transients and "
-                                    "overruns from the first repeated state (skeletons only)."),
-    max_states: int = typer.Option(1_000_000, "--max-states",
-                                   help="State budget (>= 1); beyond it the answer is "
-                                        "inconclusive."),
-    max_seconds: float | None = typer.Option(None, "--max-seconds", min=0,
-                                                help="Time budget in seconds."),
-    max_memory: str = typer.Option("2G", "--max-memory", help="Memory budget of the stored "
-                                   "markings of the untimed search (e.g. 512M, 4G)."),
-    max_firings: int = typer.Option(10**7, "--max-firings", min=1, help="Largest homogeneous "
-                                    "expansion of an SDF graph (firings per iteration)."),
-    json_out: bool = typer.Option(False, "--json", help="Print the result as JSON."),
+    file: Annotated[Path, typer.Argument(
+        help="Skeleton file (.yaml, .yml, .json) or a P/T net (.pnml and the other formats "
+             "`convert` reads).")],
+    timed: Annotated[bool, typer.Option(
+        "--timed", help="Timed exploration (ORCCAD §5): periods, transients and overruns "
+                        "from the first repeated state (skeletons only).")] = False,
+    max_states: MaxStates = DEFAULT_MAX_STATES,
+    max_seconds: MaxSeconds = None,
+    max_memory: MaxMemory = _size_text(DEFAULT_MAX_MEMORY),
+    max_firings: MaxFirings = _MAX_FIRINGS,
+    json_out: JsonFlag = False,
 ) -> None:
     """State-space baseline: the reachability graph (deadlocks) or, with --timed, the timed
     exploration (ORCCAD §5), which the (max,+) analysis is compared with.
@@ -275,13 +338,13 @@ def reach(
 
 @app.command()
 def fix(
-    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    output: Path | None = typer.Option(
-        None, "-o", "--output",
+    file: SkeletonFile,
+    output: Annotated[Path | None, typer.Option(
+        "-o", "--output",
         help="Write the live skeleton here (.yaml/.yml or .json), in an existing directory. "
-             "Without -o nothing is written."),
-    force: bool = typer.Option(False, "--force", help="Replace an existing output file (the "
-                               "input file too, when -o names it; its comments are lost)."),
+             "Without -o nothing is written.")] = None,
+    force: Annotated[bool, _force("an existing output file (the input file too, when -o "
+                                  "names it; its comments are lost)")] = False,
 ) -> None:
     """Reorder ports (or threads, when no port order helps) so that the skeleton is live,
     keeping every declared order that is fine.
@@ -303,14 +366,11 @@ def fix(
         raise typer.Exit(1)
     if output is not None:
         try:
-            # Type: a live result (checked above) carries the fixed skeleton.
-            dump_skeleton(result.skeleton, output, overwrite=force)  # type: ignore[arg-type]
-        except FileExistsError:
-            _fail(f"{output}: the file exists already; pass --force to replace it")
+            with _writing(output):
+                # Type: a live result (checked above) carries the fixed skeleton.
+                dump_skeleton(result.skeleton, output, overwrite=force)  # type: ignore[arg-type]
         except InputError as exc:
             _fail(str(exc))
-        except OSError as exc:
-            _fail(f"cannot write {output}: {exc.strerror}")
     typer.echo(render_fix(result, skeleton.name), nl=False)
     if output is not None:
         typer.echo(f"wrote {output} (live; comments of {file.name} are not copied)")
@@ -322,12 +382,9 @@ def fix(
 
 @app.command()
 def rules(
-    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    chain: list[str] | None = typer.Option(
-        None, "--chain", metavar="A,B,C",
-        help="A chain of tasks, sensor first, e.g. TG.JS,TF.TT.JS,CO.JS: report its latency "
-             "(repeatable; adds to the file's chains)."),
-    json_out: bool = typer.Option(False, "--json", help="Print JSON."),
+    file: SkeletonFile,
+    chain: Annotated[list[str] | None, _chain("Report the latency of")] = None,
+    json_out: JsonFlag = False,
 ) -> None:
     """Design rules of ORCCAD section 6, threads, schedulability and chain latencies.
 
@@ -350,20 +407,20 @@ def rules(
 
 @app.command()
 def timeline(
-    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    output: Path | None = typer.Option(
-        None, "-o", "--output", help="Also draw the diagram into this .svg or .png file "
-                                     "(needs matplotlib: pip install 'tegraph[plot]')."),
-    horizon: str | None = typer.Option(
-        None, "--horizon", help="End of the DRAWING, e.g. 12 or 7/3 (default: until the "
-                                "proof: the periodic regime, or the first overrun). The "
-                                "verdict never depends on it."),
-    width: int = typer.Option(96, "--width", min=10, help="Columns of the text diagram."),
-    force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
-    max_events: int = typer.Option(
-        MAX_EVENTS, "--max-events",  # no typer min: the library refuses in one line
-        help="Budget of event firings of the exact schedule (as for analyze); past it "
-             "the verdict is undecided, with the reason (exit status 1)."),
+    file: SkeletonFile,
+    output: Annotated[Path | None, typer.Option(
+        "-o", "--output", help="Also draw the diagram into this .svg or .png file (needs "
+                               "matplotlib: pip install 'tegraph[plot]').")] = None,
+    horizon: Annotated[str | None, typer.Option(
+        "--horizon", help="End of the DRAWING, e.g. 12 or 7/3 (default: until the proof: the "
+                          "periodic regime, or the first overrun). The verdict never depends "
+                          "on it.")] = None,
+    width: Annotated[int, typer.Option("--width", min=10,
+                                       help="Columns of the text diagram.")] = 96,
+    force: Annotated[bool, _force("an existing drawing")] = False,
+    max_events: Annotated[int, _max_events(
+        "the exact schedule on processors (docs/skeleton.md §4b), as for analyze",
+        "the verdict is undecided (exit status 1) and the report says why")] = MAX_EVENTS,
 ) -> None:
     """The schedule on its processors (spec §4b), a lane per processor, until its proof.
 
@@ -405,26 +462,21 @@ def timeline(
 
 @app.command("cycle-time")
 def cycle_time_command(
-    file: Path = typer.Argument(..., help="Any timed event graph tegraph reads: .pnml, SDF3 "
-                                "XML, .edges, TimedPetriNetEditor .json/.teg, a skeleton."),
-    json_out: bool = typer.Option(False, "--json", help="Print the JSON report "
-                                  "(docs/report.schema.json)."),
-    fmt: str | None = typer.Option(None, "--format", help="Force the input format "
-                                      "(pnml, sdf3, edges, tpne-json, tpne-teg, skeleton)."),
-    max_size: str = typer.Option("256M", "--max-size", help="Refuse larger files (e.g. 1G; at "
-                                  "least 1 byte: 0 is refused, there is no \"no limit\")."),
-    default_holding: str | None = typer.Option(
-        None, "--default-holding", help="Holding time of every place of a net that carries "
-        "no timing (default 0)."),
-    max_states: int = typer.Option(1_000_000, "--max-states", min=0,
-                                   help="State budget of the reachability search run on a "
-                                        "P/T net that is not a marked graph."),
-    max_seconds: float | None = typer.Option(None, "--max-seconds", min=0,
-                                                help="Time budget of that search, in seconds."),
-    max_memory: str = typer.Option("2G", "--max-memory", help="Memory budget of the markings "
-                                   "that search stores (e.g. 512M, 4G)."),
-    max_firings: int = typer.Option(10**7, "--max-firings", min=1, help="Largest homogeneous "
-                                    "expansion of an SDF graph (firings per iteration)."),
+    file: Annotated[Path, typer.Argument(
+        help="Any timed event graph tegraph reads: .pnml, SDF3 XML, .edges, "
+             "TimedPetriNetEditor .json/.teg, a skeleton.")],
+    json_out: JsonFlag = False,
+    fmt: Annotated[str | None, typer.Option(
+        "--format", help="Force the input format (pnml, sdf3, edges, tpne-json, tpne-teg, "
+                         "skeleton).")] = None,
+    max_size: MaxSize = _MAX_SIZE,
+    default_holding: Annotated[str | None, typer.Option(
+        "--default-holding", help="Holding time of every place of a net that carries no "
+                                  "timing (default 0).")] = None,
+    max_states: MaxStates = DEFAULT_MAX_STATES,
+    max_seconds: MaxSeconds = None,
+    max_memory: MaxMemory = _size_text(DEFAULT_MAX_MEMORY),
+    max_firings: MaxFirings = _MAX_FIRINGS,
 ) -> None:
     """Exact period, throughput and critical circuit of a timed event graph.
 
@@ -447,16 +499,17 @@ def cycle_time_command(
 
 @app.command()
 def convert(
-    source: Path = typer.Argument(..., help="Input file (format detected from it)."),
-    target: Path = typer.Argument(..., help="Output file (format from its extension: .pnml, "
-                                  ".xml/.sdf3, .edges, .json, .teg, .dot, .yaml)."),
-    from_fmt: str | None = typer.Option(None, "--from", help="Force the input format."),
-    to_fmt: str | None = typer.Option(None, "--to", help="Force the output format (pnml, "
-                                         "sdf3, edges, tpne-json, tpne-teg, dot, teg-dot, "
-                                         "skeleton)."),
-    force: bool = typer.Option(False, "--force", help="Overwrite an existing output file."),
-    max_size: str = typer.Option("256M", "--max-size", help="Refuse larger input files (e.g. 1G; "
-                                  "at least 1 byte: 0 is refused)."),
+    source: Annotated[Path, typer.Argument(help="Input file (format detected from it).")],
+    target: Annotated[Path, typer.Argument(
+        help="Output file (format from its extension: .pnml, .xml/.sdf3, .edges, .json, "
+             ".teg, .dot, .yaml).")],
+    from_fmt: Annotated[str | None, typer.Option("--from",
+                                                 help="Force the input format.")] = None,
+    to_fmt: Annotated[str | None, typer.Option(
+        "--to", help="Force the output format (pnml, sdf3, edges, tpne-json, tpne-teg, dot, "
+                     "teg-dot, skeleton).")] = None,
+    force: Annotated[bool, _force("an existing output file")] = False,
+    max_size: MaxSize = _MAX_SIZE,
 ) -> None:
     """Convert between formats where the target can hold the content.
 
@@ -472,14 +525,11 @@ def convert(
 
     _output_file(target, force)
     try:
-        model = read(source, from_fmt, max_bytes=_size(max_size, "--max-size"))
-        written = write(model, target, to_fmt, overwrite=force)
+        with _writing(target):
+            model = read(source, from_fmt, max_bytes=_size(max_size, "--max-size"))
+            written = write(model, target, to_fmt, overwrite=force)
     except InputError as exc:
         _fail(str(exc))
-    except FileExistsError:
-        _fail(f"{target}: the file exists already; pass --force to replace it")
-    except OSError as exc:
-        _fail(f"cannot write {target}: {exc.strerror}")
     except TegraphError as exc:
         _fail(f"{source}: {exc}")
     typer.echo(f"wrote {written}")
@@ -487,70 +537,66 @@ def convert(
 
 @app.command()
 def explore(
-    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    chain: list[str] | None = typer.Option(
-        None, "--chain", metavar="A,B,C",
-        help="Minimize the latency of this chain (repeatable; adds to the file's chains)."),
-    link: list[str] | None = typer.Option(
-        None, "--link", help="'W:p -> R:q=ASYN/SYN,SYN/SYN': choose this link's protocol "
-                             "among these (all four without '='; repeatable)."),
-    all_links: bool = typer.Option(False, "--all-links",
-                                   help="Choose every link's protocol among all four; a link "
-                                        "also given by --link keeps the protocols --link "
-                                        "gives it (the report says so)."),
-    clock: list[str] | None = typer.Option(
-        None, "--clock", help="NAME=5,10,20: choose this clock's period among these "
-                              "(a task's own clock is TASK.clock; repeatable)."),
-    objective: list[str] | None = typer.Option(
-        None, "--objective",
+    file: SkeletonFile,
+    chain: Annotated[list[str] | None, _chain("Minimize the latency of")] = None,
+    link: Annotated[list[str] | None, typer.Option(
+        "--link", help="'W:p -> R:q=ASYN/SYN,SYN/SYN': choose this link's protocol among "
+                       "these (all four without '='; repeatable).")] = None,
+    all_links: Annotated[bool, typer.Option(
+        "--all-links", help="Choose every link's protocol among all four; a link also given "
+                            "by --link keeps the protocols --link gives it (the report says "
+                            "so).")] = False,
+    clock: Annotated[list[str] | None, typer.Option(
+        "--clock", help="NAME=5,10,20: choose this clock's period among these (a task's own "
+                        "clock is TASK.clock; repeatable).")] = None,
+    objective: Annotated[list[str] | None, typer.Option(
+        "--objective",
         help="latency (of each chain, in the file's unit), period (the period ratio: the "
              "largest task period over the task's designed period, its own clock's or its "
              "input group's fastest), load (the busiest processor's utilization) or "
              "utilization (the sum over the processors); repeatable or comma-separated; "
              "default all that apply (utilization with two processors or more), all "
-             "minimized; ties are broken by fewer Rule 2 findings."),
-    require: list[str] | None = typer.Option(
-        None, "--require", metavar="TASK.period=P",
+             "minimized; ties are broken by fewer Rule 2 findings.")] = None,
+    require: Annotated[list[str] | None, typer.Option(
+        "--require", metavar="TASK.period=P",
         help="Keep only designs that run TASK at period P (or TASK.period<=P), in the "
-             "file's unit (repeatable)."),
-    max_latency: list[str] | None = typer.Option(
-        None, "--max-latency", metavar="A,B,C=L",
+             "file's unit (repeatable).")] = None,
+    max_latency: Annotated[list[str] | None, typer.Option(
+        "--max-latency", metavar="A,B,C=L",
         help="Keep only designs whose latency of chain A,B,C (exact, or the bound "
-             "guaranteed across asynchronous hops) is at most L (repeatable)."),
-    forbid: list[str] | None = typer.Option(
-        None, "--forbid", metavar="PROTOCOL",
+             "guaranteed across asynchronous hops) is at most L (repeatable).")] = None,
+    forbid: Annotated[list[str] | None, typer.Option(
+        "--forbid", metavar="PROTOCOL",
         help="No link may use this protocol, e.g. SYN/SYN: it is taken out of every "
-             "chosen link's choices (repeatable)."),
-    scheduler: str | None = typer.Option(
-        None, "--scheduler", help="Run on this Dask scheduler, e.g. tcp://HOST:8786."),
-    workers: int | None = typer.Option(
-        None, "--workers", min=0, help="Local Dask worker processes (0: this process; "
-                                       "default: decided from the measured cost)."),
-    output: Path | None = typer.Option(
-        None, "-o", "--output", help="Write every judged variant to this .csv or .parquet "
-                                     "file as results arrive."),
-    resume: bool = typer.Option(False, "--resume", help="Continue the -o file: skip the "
-                                                        "variants it holds."),
-    force: bool = typer.Option(False, "--force", help="Replace an existing -o or --plot file."),
-    plot: Path | None = typer.Option(
-        None, "--plot", help="Draw the front into this .svg or .png file (needs matplotlib: "
-                             "pip install 'tegraph[plot]')."),
-    max_variants: int = typer.Option(
-        10_000, "--max-variants", min=1, help="Search exhaustively up to this many variants; "
-                                             "beyond, Pareto local search analyzes at most "
-                                             "this many."),
-    batch_size: int | None = typer.Option(None, "--batch-size", min=1,
-                                          help="Variants per batch (default adaptive)."),
-    timeout: str = typer.Option("10", "--timeout",  # text: the library's exact parser reads it
-                                help="Seconds to wait for the scheduler to answer, e.g. 30 "
-                                     "or 5/2 (> 0, at most 86400)."),
-    max_events: int = typer.Option(
-        MAX_EVENTS, "--max-events", min=1,
-        help="Budget of event firings of each variant's schedule on processors "
-             "(docs/skeleton.md §4b); a variant undecided within it is rejected as "
-             "undecided. A decided variant stops at its proof (a few hundred firings "
-             "for a small pipe-line)."),
-    json_out: bool = typer.Option(False, "--json", help="Print the JSON report."),
+             "chosen link's choices (repeatable).")] = None,
+    scheduler: Annotated[str | None, typer.Option(
+        "--scheduler", help="Run on this Dask scheduler, e.g. tcp://HOST:8786.")] = None,
+    workers: Annotated[int | None, typer.Option(
+        "--workers", min=0, help="Local Dask worker processes (0: this process; default: "
+                                 "decided from the measured cost).")] = None,
+    output: Annotated[Path | None, typer.Option(
+        "-o", "--output", help="Write every judged variant to this .csv or .parquet file as "
+                               "results arrive.")] = None,
+    resume: Annotated[bool, typer.Option(
+        "--resume", help="Continue the -o file: skip the variants it holds.")] = False,
+    force: Annotated[bool, _force("an existing -o or --plot file")] = False,
+    plot: Annotated[Path | None, typer.Option(
+        "--plot", help="Draw the front into this .svg or .png file (needs matplotlib: "
+                       "pip install 'tegraph[plot]').")] = None,
+    max_variants: Annotated[int, typer.Option(
+        "--max-variants", min=1, help="Search exhaustively up to this many variants; beyond, "
+                                      "Pareto local search analyzes at most this "
+                                      "many.")] = 10_000,
+    batch_size: Annotated[int | None, typer.Option(
+        "--batch-size", min=1, help="Variants per batch (default adaptive).")] = None,
+    timeout: Annotated[str, typer.Option(  # text: the library's exact parser reads it
+        "--timeout", help="Seconds to wait for the scheduler to answer, e.g. 30 or 5/2 (> 0, "
+                          "at most 86400).")] = "10",
+    max_events: Annotated[int, _max_events(
+        "each variant's schedule on processors (docs/skeleton.md §4b)",
+        "the variant is rejected as undecided; a decided variant stops at its proof (a few "
+        "hundred firings for a small pipe-line)")] = MAX_EVENTS,
+    json_out: JsonFlag = False,
 ) -> None:
     """Search link protocols and clock periods for the Pareto front of live, consistent,
     schedulable designs (on their processors), locally or on a Dask cluster.
@@ -567,9 +613,7 @@ def explore(
     from .report.plot import matplotlib_available
 
     if plot is not None:
-        if plot.suffix.lower() not in (".svg", ".png"):
-            _fail(f"--plot: cannot draw to {plot.name!r}; expected a file name ending in "
-                  ".svg or .png")
+        _plot_suffix(plot)
         _output_file(plot, force)
         if not matplotlib_available():
             _fail("--plot: drawing the front needs matplotlib, which is not installed; "
@@ -587,25 +631,14 @@ def explore(
                  f"{p.rate:,.1f}/s, front {p.front}")
 
     try:
-        with _refusals(file):
-            skeleton = load_skeleton(file)
-        result = run_exploration(
-            skeleton, links, all_links=all_links, clocks=clocks,
-            chains=[parse_chain(c) for c in chain or []], objectives=objectives,
-            scheduler=scheduler, workers=workers, output=output, resume=resume,
-            overwrite=force, max_variants=max_variants, batch_size=batch_size,
-            progress=progress, timeout=timeout, requires=require or [],
-            max_latency=max_latency or [], forbid=forbid or [], max_events=max_events)
-    except InputError as exc:
-        _fail(_located(exc))
-    except OSError as exc:
-        _fail(f"cannot write {output}: {exc.strerror}")
-    except TegraphError as exc:
-        _fail(f"{file}: {exc}")
-    except KeyboardInterrupt:
-        kept = f"; the verdicts so far are in {output}: add --resume to go on" if output else ""
-        typer.echo(f"tegraph: interrupted{kept}", err=True)
-        raise typer.Exit(130) from None
+        with _exploring(file, output):
+            result = run_exploration(
+                load_skeleton(file), links, all_links=all_links, clocks=clocks,
+                chains=[parse_chain(c) for c in chain or []], objectives=objectives,
+                scheduler=scheduler, workers=workers, output=output, resume=resume,
+                overwrite=force, max_variants=max_variants, batch_size=batch_size,
+                progress=progress, timeout=timeout, requires=require or [],
+                max_latency=max_latency or [], forbid=forbid or [], max_events=max_events)
     finally:
         bar.erase()
     text = to_json(result) + "\n" if json_out else _cli_words(render_text(result))
@@ -618,36 +651,52 @@ def explore(
     raise typer.Exit(0 if result.front else 1)
 
 
+def _plot_suffix(plot: Path) -> None:
+    """Refuse a drawing whose file name says neither SVG nor PNG."""
+    if plot.suffix.lower() not in (".svg", ".png"):
+        _fail(f"--plot: cannot draw to {plot.name!r}; expected a file name ending in "
+              ".svg or .png")
+
+
+@contextmanager
+def _exploring(file: Path, output: Path | None) -> Iterator[None]:
+    """The refusals of an exploration, and Ctrl-C: the -o file keeps what was judged."""
+    try:
+        with _refusals(file):
+            yield
+    except OSError as exc:
+        _fail(f"cannot write {output}: {exc.strerror}")
+    except KeyboardInterrupt:
+        kept = f"; the verdicts so far are in {output}: add --resume to go on" if output else ""
+        typer.echo(f"tegraph: interrupted{kept}", err=True)
+        raise typer.Exit(130) from None
+
+
 @app.command("sensitivity")
 def sensitivity_command(
-    file: Path = typer.Argument(..., help="Skeleton file (.yaml, .yml or .json)."),
-    vary: list[str] | None = typer.Option(
-        None, "--vary", metavar="PARAM[=LOW..HIGH]",
+    file: SkeletonFile,
+    vary: Annotated[list[str] | None, typer.Option(
+        "--vary", metavar="PARAM[=LOW..HIGH]",
         help="A parameter to vary: TASK.duration or CLOCK.period (a task's own clock is "
              "TASK.clock), optionally with its range, exact: A.duration=0..5/2, "
-             "rtc.period=1.. (repeatable; default: every duration over [0, inf))."),
-    json_out: bool = typer.Option(False, "--json", help="Print the JSON report "
-                                  "(docs/report.schema.json)."),
-    plot: Path | None = typer.Option(
-        None, "--plot", metavar="OUT.svg|png",
+             "rtc.period=1.. (repeatable; default: every duration over [0, inf)).")] = None,
+    json_out: JsonFlag = False,
+    plot: Annotated[Path | None, typer.Option(
+        "--plot", metavar="OUT.svg|png",
         help="Also draw it (one parameter: the periods against it; two: the map of the "
-             "regions); needs matplotlib: pip install 'tegraph[plot]'."),
-    force: bool = typer.Option(False, "--force", help="Overwrite an existing drawing."),
-    formulas: bool = typer.Option(True, "--formulas/--no-formulas",
-                                  help="Compute each group's period as a formula."),
-    verify: bool = typer.Option(True, "--verify/--no-verify",
-                                help="Check every finite end with the analysis (consistent "
-                                     "at it, not just beyond): two analyses of a group each."),
-    processors: bool = typer.Option(
-        True, "--processors/--no-processors",
-        help="Scaling factor and margins on the skeleton's processors (preemptive fixed "
-             "priorities, docs/skeleton.md §4b); --no-processors: every task on a "
-             "processor of its own, the v1.1 answers."),
-    max_events: int = typer.Option(
-        MAX_EVENTS, "--max-events", min=1,
-        help="On processors: budget of event firings of each simulation of a part of the "
-             "schedule, and of each figure in all; the whole run fires at most 20 times as "
-             "many. Past a budget, the figure is only bounded and the report says why."),
+             "regions); needs matplotlib: pip install 'tegraph[plot]'.")] = None,
+    force: Annotated[bool, _force("an existing drawing")] = False,
+    formulas: Annotated[bool, typer.Option(
+        "--formulas/--no-formulas", help="Compute each group's period as a formula.")] = True,
+    verify: Annotated[bool, typer.Option(
+        "--verify/--no-verify", help="Check every finite end with the analysis (consistent "
+                                     "at it, not just beyond): two analyses of a group "
+                                     "each.")] = True,
+    processors: Processors = True,
+    max_events: Annotated[int, _max_events(
+        "each simulation of a part of the schedule on processors (docs/skeleton.md §4b), "
+        "and of each figure in all; the whole run fires at most 20 times as many",
+        "the figure is only bounded and the report says why")] = MAX_EVENTS,
 ) -> None:
     """How much durations can grow (scaling factor, margins), and each period as a formula.
 
@@ -666,9 +715,7 @@ def sensitivity_command(
     from .report.sensitivity_plot import draw_sensitivity
 
     if plot is not None:
-        if plot.suffix.lower() not in (".svg", ".png"):
-            _fail(f"--plot: cannot draw to {plot.name!r}; expected a file name ending in "
-                  ".svg or .png")
+        _plot_suffix(plot)
         if len(vary or ()) not in (1, 2):
             _fail("--plot: a drawing shows one or two parameters; name them with --vary "
                   f"(given: {len(vary or ())})")
