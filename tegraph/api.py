@@ -225,6 +225,15 @@ def _add_duration_margins(skeleton: Skeleton, report: Report, max_tasks: int) ->
         "otherwise")
 
 
+def _check_state_budget(max_states: Any) -> None:
+    """Refuse a budget of states that is no integer >= 1, naming ``max_states``.
+
+    A search of no state decides nothing: refused, like a memory budget of 0 bytes.
+    """
+    if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
+        raise InputError(f"expected an integer >= 1, got {max_states!r}", "max_states")
+
+
 def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
                default_holding: Any = None, max_bytes: int | None = None,
                max_states: int = DEFAULT_MAX_STATES, max_seconds: float | None = None,
@@ -248,7 +257,8 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
         Size limit when ``source`` is a path.
     max_states, max_seconds, max_memory : int, float, int, optional
         Budgets of the reachability exploration run on a P/T net that is not
-        a marked graph (beyond them its deadlock verdict is inconclusive).
+        a marked graph (beyond them its deadlock verdict is inconclusive);
+        ``max_states`` is checked (an integer >= 1) even when no search runs.
     max_firings : int
         Largest homogeneous expansion of an SDF graph (firings per iteration).
 
@@ -261,7 +271,7 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
     Raises
     ------
     InputError
-        The file or model is refused.
+        The file or model is refused, or ``max_states`` is below 1.
 
     See Also
     --------
@@ -294,6 +304,7 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
     >>> str(r.period), r.critical_circuit, r.source == str(f)
     ('5', ['0', '1'], True)
     """
+    _check_state_budget(max_states)  # even for a model whose cycle time runs no search
     read_seconds = None
     path = None
     if isinstance(source, (str, os.PathLike)):
@@ -366,9 +377,7 @@ def reach(model: Any, *, timed: bool = False, max_states: int = DEFAULT_MAX_STAT
     from .model.build import build_teg
     from .model.convert import as_petri_net
 
-    # A search of no state decides nothing: refused, like a memory budget of 0 bytes.
-    if isinstance(max_states, bool) or not isinstance(max_states, int) or max_states < 1:
-        raise InputError(f"expected an integer >= 1, got {max_states!r}", "max_states")
+    _check_state_budget(max_states)
     budgets = {"max_states": max_states, "max_seconds": max_seconds, "progress": progress,
                "stop": stop}
     if timed:

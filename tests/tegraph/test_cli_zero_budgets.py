@@ -51,3 +51,38 @@ def test_timeline_refuses_a_budget_of_nothing_in_one_line(tmp_path, value):
     out = CliRunner().invoke(app, ["timeline", str(path), "--max-events", value])
     line = refused_in_one_line(out, "--max-events")
     assert "expected an integer >= 1" in line
+
+
+@pytest.mark.parametrize("command", ["analyze", "explore", "sensitivity", "timeline"])
+@pytest.mark.parametrize("value", ["0", "-1"])
+def test_every_command_refuses_an_event_budget_of_nothing_in_one_line(tmp_path, command, value):
+    # before: analyze, explore and sensitivity declared `min=1` on --max-events, so typer
+    # printed its multi-line usage error; timeline already left the refusal to the library.
+    path = tmp_path / "a.yaml"
+    path.write_text(ONE_TASK)
+    out = CliRunner().invoke(app, [command, str(path), "--max-events", value])
+    line = refused_in_one_line(out, "--max-events")
+    assert "an integer >= 1" in line and f"got {value}" in line
+
+
+@pytest.mark.parametrize("value", ["0", "-1"])
+def test_cycle_time_refuses_a_state_budget_of_nothing_even_when_unused(tmp_path, value):
+    # before: cycle-time declared `min=0`: -1 got typer's usage error, and 0 was taken
+    # (exit 0) although `reach --max-states 0` is refused. The budget is checked even
+    # on a skeleton, whose cycle time runs no search, like --default-holding.
+    path = tmp_path / "a.yaml"
+    path.write_text(ONE_TASK)
+    out = CliRunner().invoke(app, ["cycle-time", str(path), "--max-states", value])
+    line = refused_in_one_line(out, "--max-states")
+    assert "expected an integer >= 1" in line and f"got {value}" in line
+
+
+def test_the_library_cycle_time_refuses_a_state_budget_of_nothing(tmp_path):
+    from tegraph.api import cycle_time
+
+    path = tmp_path / "a.yaml"
+    path.write_text(ONE_TASK)
+    with pytest.raises(InputError) as caught:
+        cycle_time(path, max_states=0)
+    assert caught.value.where == "max_states"
+    assert cycle_time(path, max_states=1).exit_status == 0
