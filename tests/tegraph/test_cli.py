@@ -1,13 +1,21 @@
-"""The command line: exit statuses, output formats, refusals without tracebacks."""
+"""The command line: exit statuses, output formats, refusals without tracebacks.
+
+Most tests run the commands in this process through typer's ``CliRunner`` (no
+interpreter start-up); a few, marked *end to end*, run ``python -m tegraph.cli``
+in a subprocess as a user does, for the exit statuses and output streams of a
+real process.
+"""
 
 from __future__ import annotations
 
+import gc
 import json
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from click.testing import Result
 from typer.testing import CliRunner
 
 from tegraph.cli import app
@@ -36,8 +44,27 @@ links:
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
+    """End to end: the command in a fresh interpreter, as from a shell."""
     return subprocess.run([sys.executable, "-m", "tegraph.cli", *args],
                           capture_output=True, text=True, timeout=120)
+
+
+def invoke(*args: object) -> Result:
+    """The command in this process; ``stdout`` and ``stderr`` are kept apart."""
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def no_traceback(result: Result) -> bool:
+    """In process, an escaped error is ``result.exception``; an exit is a SystemExit."""
+    return result.exception is None or isinstance(result.exception, SystemExit)
+
+
+@pytest.fixture(autouse=True)
+def _collector_back_on():
+    # `analyze` turns the cyclic collector off for its one-shot process; in this
+    # process the other tests still need it.
+    yield
+    gc.enable()
 
 
 @pytest.fixture
@@ -47,9 +74,10 @@ def live_file(tmp_path: Path) -> Path:
     return path
 
 
-def test_live_and_consistent_exits_0_with_exact_figures(live_file):
+def test_end_to_end_live_and_consistent_exits_0_with_exact_figures(live_file):
     out = run("analyze", str(live_file), "--json")
     assert out.returncode == 0, out.stderr
+    assert out.stderr == ""
     report = json.loads(out.stdout)
     # One group under A's clock: period 10. No path leads from B back to A, so
     # the only circuit through B.compute is B's chain (read -> compute ->
@@ -66,8 +94,8 @@ def test_live_and_consistent_exits_0_with_exact_figures(live_file):
 
 
 def test_human_report_names_verdicts_and_methods(live_file):
-    out = run("analyze", str(live_file))
-    assert out.returncode == 0
+    out = invoke("analyze", live_file)
+    assert out.exit_code == 0 and out.stderr == ""
     # The liveness line gives the verdict and its theorem ("live" alone would also
     # match the verdict line, so the test could not fail on it).
     liveness = next(line for line in out.stdout.splitlines() if line.startswith("liveness:"))
@@ -78,11 +106,11 @@ def test_human_report_names_verdicts_and_methods(live_file):
         "verdict: live, consistent and schedulable on its processors (exit status 0)")
 
 
-def test_deadlock_exits_1_and_names_the_circuit(tmp_path):
+def test_end_to_end_deadlock_exits_1_and_names_the_circuit(tmp_path):
     path = tmp_path / "fig7a.yaml"
     path.write_text(CIRCULAR)
     out = run("analyze", str(path), "--json")
-    assert out.returncode == 1
+    assert out.returncode == 1 and "Traceback" not in out.stderr
     report = json.loads(out.stdout)
     assert report["live"] is False
     assert report["reorder"]["possible"] is False
@@ -99,32 +127,32 @@ def test_deadlock_exits_1_and_names_the_circuit(tmp_path):
 def test_refused_input_exits_2_with_one_line(tmp_path, text, where):
     path = tmp_path / "bad.yaml"
     path.write_text(text)
-    out = run("analyze", str(path))
-    assert out.returncode == 2
+    out = invoke("analyze", path)
+    assert out.exit_code == 2 and no_traceback(out)
     assert out.stdout == ""
     assert "Traceback" not in out.stderr
     line = out.stderr.strip()
     assert line.startswith("tegraph: error: ") and str(path) in line and where in line
 
 
-def test_missing_file_exits_2(tmp_path):
+def test_end_to_end_missing_file_exits_2(tmp_path):
     out = run("analyze", str(tmp_path / "nothing.yaml"))
     assert out.returncode == 2 and "Traceback" not in out.stderr
-    assert "nothing.yaml" in out.stderr
+    assert "nothing.yaml" in out.stderr and out.stdout == ""
 
 
 def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
     out_dir = tmp_path / "tables"
     # No directory is created silently: a missing one is refused, before any work.
-    missing = run("analyze", str(live_file), "--csv", str(out_dir))
-    assert missing.returncode == 2 and "no such directory" in missing.stderr
+    missing = invoke("analyze", live_file, "--csv", out_dir)
+    assert missing.exit_code == 2 and "no such directory" in missing.stderr
     assert not out_dir.exists()
     # A file where a directory is expected: one clear line, no errno text.
-    as_file = run("analyze", str(live_file), "--csv", str(live_file))
-    assert as_file.returncode == 2 and "is a file; expected a directory" in as_file.stderr
+    as_file = invoke("analyze", live_file, "--csv", live_file)
+    assert as_file.exit_code == 2 and "is a file; expected a directory" in as_file.stderr
     assert "Errno" not in as_file.stderr
     out_dir.mkdir()
-    assert run("analyze", str(live_file), "--csv", str(out_dir)).returncode == 0
+    assert invoke("analyze", live_file, "--csv", out_dir).exit_code == 0
     rows = (out_dir / "tasks.csv").read_text().splitlines()
     assert rows[0] == ('task,group,period (ms),"period (ms, decimal)",overrun,'
                        'overrun_at (activation),slack (ms),"slack (ms, decimal)",critical')
@@ -133,10 +161,13 @@ def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
     assert rows[1] == "A,0,10,10,never,,8,8,False"
     assert rows[2] == "B,0,10,10,no clock,,23/3,7.66666666666667,False"
     (out_dir / "tasks.csv").write_text("mine")
-    again = run("analyze", str(live_file), "--csv", str(out_dir))
-    assert again.returncode == 2 and "exists" in again.stderr
+    again = invoke("analyze", live_file, "--csv", out_dir)
+    assert again.exit_code == 2 and again.stderr == (
+        f"tegraph: error: {out_dir / 'tasks.csv'}: the file exists already; pass --force "
+        "to replace it\n")
     assert (out_dir / "tasks.csv").read_text() == "mine"
-    assert run("analyze", str(live_file), "--csv", str(out_dir), "--force").returncode == 0
+    assert invoke("analyze", live_file, "--csv", out_dir, "--force").exit_code == 0
+    assert (out_dir / "tasks.csv").read_text().splitlines()[1:] == rows[1:]
 
 
 def _refusal_cases():
@@ -151,10 +182,6 @@ def _refusal_cases():
 
 @pytest.mark.parametrize("text, key_path, suffix", _refusal_cases())
 def test_every_spec_refusal_exits_2_through_the_cli(tmp_path, text, key_path, suffix):
-    from typer.testing import CliRunner
-
-    from tegraph.cli import app
-
     path = tmp_path / f"plant{suffix}"
     path.write_text(text, encoding="utf-8")
     result = CliRunner().invoke(app, ["analyze", str(path)])
@@ -167,8 +194,8 @@ def test_every_spec_refusal_exits_2_through_the_cli(tmp_path, text, key_path, su
         assert f"{key_path}: " in message
 
 
-def test_version_is_the_package_metadata():
-    from importlib.metadata import version
+def test_end_to_end_version_is_the_package_metadata():
+    from importlib.metadata import entry_points, version
 
     import maxplus
     import tegraph
@@ -176,19 +203,22 @@ def test_version_is_the_package_metadata():
     out = run("--version")
     assert out.returncode == 0 and out.stdout.strip() == f"tegraph {version('tegraph')}"
     assert tegraph.__version__ == maxplus.__version__ == version("tegraph")
+    # The console script is main(), which `python -m tegraph.cli` runs above.
+    (script,) = entry_points(group="console_scripts", name="tegraph")
+    assert script.value == "tegraph.cli:main"
 
 
 @pytest.mark.parametrize("command", ["analyze", "reach", "fix", "rules", "timeline",
                                      "cycle-time", "convert"])
 def test_every_command_lists_its_exit_statuses(command):
-    out = run(command, "--help")
-    assert out.returncode == 0
+    out = invoke(command, "--help")
+    assert out.exit_code == 0
     text = " ".join(out.stdout.split())
     assert "Exit status: 0" in text and " 2 the input" in text
 
 
 def test_chain_option_shows_a_readable_metavar():
-    text = run("analyze", "--help").stdout
+    text = invoke("analyze", "--help").stdout
     assert "--chain A,B,C" in text and "list[str]" not in text
 
 
@@ -201,8 +231,8 @@ def test_no_output_directory_is_created_silently(tmp_path, args):
     example = REPO / "examples" / "fig7b_wrong_order.yaml"
     missing = tmp_path / "not" / "there"
     argv = [a.format(example=example, missing=missing) for a in args]
-    out = run(*argv)
-    assert out.returncode == 2 and out.stdout == ""
+    out = invoke(*argv)
+    assert out.exit_code == 2 and out.stdout == "" and no_traceback(out)
     assert f"the directory {missing} does not exist" in out.stderr
     assert not (tmp_path / "not").exists()
 
@@ -238,3 +268,110 @@ def test_csv_overrun_tells_never_from_no_clock_from_not_live(tmp_path, example, 
     assert {t: rows[t]["overrun"] for t in expected} == expected
     late = {t: rows[t]["overrun_at (activation)"] for t in expected}
     assert late == {t: (w.split()[-1] if w.startswith("at ") else "") for t, w in expected.items()}
+
+
+# ------------------------------------------- output files: one refusal, one wording
+
+@pytest.mark.parametrize("args", [
+    ("analyze", "{live}", "--csv", "{dir}"),
+    ("fix", "{fig7b}", "-o", "{dir}/taken.yaml"),
+    ("convert", "{live}", "{dir}/taken.edges"),
+    ("timeline", "{live}", "-o", "{dir}/taken.svg"),
+    ("sensitivity", "{live}", "--vary", "A.duration", "--plot", "{dir}/taken.svg"),
+    ("explore", "{live}", "--plot", "{dir}/taken.svg"),
+], ids=lambda a: a[0])
+def test_every_command_refuses_to_replace_a_file_in_the_same_words(tmp_path, live_file, args):
+    # Each existing target is kept, with one line naming it, until --force is given.
+    taken = {"analyze": tmp_path / "tasks.csv"}.get(args[0], tmp_path / Path(args[-1]).name)
+    taken.write_text("mine")
+    fig7b = REPO / "examples" / "fig7b_wrong_order.yaml"
+    out = invoke(*(a.format(live=live_file, fig7b=fig7b, dir=tmp_path) for a in args))
+    assert out.exit_code == 2 and out.stdout == "" and no_traceback(out)
+    assert out.stderr == (f"tegraph: error: {taken}: the file exists already; pass --force "
+                          "to replace it\n")
+    assert taken.read_text() == "mine"
+
+
+def test_fix_refuses_to_replace_its_input_without_force(tmp_path):
+    path = tmp_path / "fig7b.yaml"
+    text = (REPO / "examples" / "fig7b_wrong_order.yaml").read_text()
+    path.write_text(text)
+    out = invoke("fix", path, "-o", path)
+    assert out.exit_code == 2 and out.stdout == ""
+    assert out.stderr == (f"tegraph: error: {path}: this is the input file; pass --force to "
+                          "replace it (its comments are not copied)\n")
+    assert path.read_text() == text
+
+
+# ------------------------------------------- shared options: declared once, library defaults
+
+def _options_by_flag() -> dict[str, list[tuple[str, object]]]:
+    """Each option flag -> (command, click parameter) for every command declaring it."""
+    from typer.main import get_command
+
+    found: dict[str, list[tuple[str, object]]] = {}
+    for name, command in get_command(app).commands.items():
+        for param in command.params:
+            for flag in (o for o in param.opts if o.startswith("-")):
+                found.setdefault(flag, []).append((name, param))
+    return found
+
+
+def test_budget_defaults_are_the_library_constants():
+    # The library's own constants, read where the library defines them (these modules
+    # load numpy, which the command line must not do before --help).
+    from tegraph.analysis.baselines.reachability import DEFAULT_MAX_MEMORY
+    from tegraph.analysis.processors import MAX_EVENTS
+    from tegraph.api import analyze, cycle_time, explore, reach
+    from tegraph.cli import _size
+    from tegraph.io import DEFAULT_MAX_BYTES
+    from tegraph.model.limits import DEFAULT_MAX_FIRINGS
+
+    def default(function, name):
+        import inspect
+        return inspect.signature(function).parameters[name].default
+
+    expected = {"--max-events": MAX_EVENTS, "--max-states": default(reach, "max_states"),
+                "--max-memory": DEFAULT_MAX_MEMORY, "--max-firings": DEFAULT_MAX_FIRINGS,
+                "--max-size": DEFAULT_MAX_BYTES, "--max-steps": default(analyze, "max_steps"),
+                "--max-variants": default(explore, "max_variants")}
+    assert default(cycle_time, "max_states") == expected["--max-states"]
+    options = _options_by_flag()
+    assert {flag: len(options[flag]) for flag in expected} == {
+        "--max-events": 4, "--max-states": 2, "--max-memory": 2, "--max-firings": 2,
+        "--max-size": 2, "--max-steps": 1, "--max-variants": 1}
+    for flag, value in expected.items():
+        for command, param in options[flag]:
+            shown = param.default
+            if flag in ("--max-memory", "--max-size"):  # a size text, e.g. "2G"
+                shown = _size(shown, flag)
+            assert shown == value, (command, flag)
+
+
+def test_a_shared_option_says_the_same_in_every_command():
+    # --force, --chain and --max-events name the command's object (a drawing, CSV files;
+    # report or minimize a latency; what the events are fired for): one sentence shape.
+    options = _options_by_flag()
+    shapes = {"--force": "Replace ", "--chain": " this chain of tasks, sensor first, e.g. ",
+              "--max-events": "Budget of event firings of "}
+    shared = {flag: found for flag, found in options.items() if len(found) > 1}
+    assert {"--json", "--force", "--chain", "--max-events", "--max-states", "--max-memory",
+            "--processors", "--max-seconds", "--max-firings", "--max-size"} <= set(shared)
+    for flag, found in shared.items():
+        helps = {command: param.help for command, param in found}
+        if flag in ("-o", "--output", "--plot"):  # a different file in each command
+            continue
+        if flag in shapes:
+            assert all(shapes[flag] in text for text in helps.values()), helps
+        else:
+            assert len(set(helps.values())) == 1, (flag, helps)
+
+
+def test_end_to_end_the_command_line_loads_no_numpy_before_its_work():
+    # --help and every refusal of an option come before any analysis: importing the
+    # command line (and the library's budgets it shows) loads neither numpy nor scipy.
+    done = subprocess.run([sys.executable, "-c", "import sys; import tegraph.cli; "
+                           "print(sorted({'numpy', 'scipy'} & set(sys.modules)))"],
+                          capture_output=True, text=True, timeout=120, cwd=REPO)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
