@@ -81,10 +81,11 @@ def consistent_variant(doc: dict) -> dict:
 
 def pick(sk, k: int) -> list[str]:
     """k parameters of the largest group: durations, and with k >= 4 one clock period."""
-    from tegraph.analysis.sensitivity.parametric import skeleton_groups
+    from tegraph.model.structure import Structure
 
-    group = max(skeleton_groups(sk), key=len)
-    clocks = list(dict.fromkeys(sk.tasks[t].clock for t in group if sk.tasks[t].clock))
+    structure = Structure.of(sk)
+    g = max(range(len(structure.groups)), key=lambda i: len(structure.groups[i]))
+    group, clocks = structure.groups[g], list(structure.clocks[g])
     durations = [t for t in group][: k - (1 if k >= 4 and clocks else 0)]
     out = []
     for t in durations:
@@ -101,11 +102,12 @@ def grid(sk, vary: list[str], per_axis: int) -> tuple[int, float]:
     import dataclasses
 
     from tegraph.analysis.analyze import analyze_skeleton
-    from tegraph.analysis.sensitivity.parametric import parse_vary, skeleton_groups
+    from tegraph.analysis.sensitivity.parametric import parse_vary
+    from tegraph.model.structure import Structure
 
     params = parse_vary(sk, vary)
     owners = {p.owner for p in params if p.kind == "duration"}
-    group = next(g for g in skeleton_groups(sk) if owners & set(g))
+    group = next(g for g in Structure.of(sk).groups if owners & set(g))
     local = sk.restricted_to(group)
     axes = []
     for p in params:

@@ -50,6 +50,7 @@ from maxplus.scalar import display_text
 from ..model.build import activation_end, build_teg, task_chain
 from ..model.elements import flow_list
 from ..model.skeleton import Skeleton
+from ..model.structure import Structure
 from ..model.teg import Place, TimedEventGraph
 from .deadlocks import skeleton_deadlocks
 from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
@@ -85,7 +86,8 @@ _KIND_REPORTED: dict[str, UnboundedKind] = {
 
 def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
                      semiflow_max_places: int = 2_000_000, *, processors: bool = False,
-                     max_events: int = MAX_EVENTS) -> Report:
+                     max_events: int = MAX_EVENTS, structure: Structure | None = None
+                     ) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack (spec §4).
 
     Parameters
@@ -107,6 +109,8 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         ``report.schedule``; False: every task on a processor of its own (§3).
     max_events : int
         Budget of event firings of the schedule on processors.
+    structure : Structure, optional
+        ``Structure.of(skeleton)``, if known; the report carries it (``report.structure``).
 
     Returns
     -------
@@ -126,7 +130,8 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
     >>> r.live, r.consistent, r.tasks["A"].period, r.tasks["A"].slack
     (True, True, Fraction(10, 1), Fraction(8, 1))
     """
-    graph = _EventGraph.of(skeleton)
+    structure = Structure.of(skeleton) if structure is None else structure
+    graph = _EventGraph.of(skeleton, structure)
     deadlocks, dead_groups = _deadlocks(graph)
     live = not deadlocks
     reorder = None if live else _reorder(skeleton, deadlocks, graph)
@@ -149,7 +154,7 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         name=skeleton.name, unit=skeleton.unit, live=live, consistent=consistent,
         deadlocks=deadlocks, reorder=reorder, groups=groups, tasks=tasks,
         unbounded_places=unbounded, invariants=invariants, methods=methods,
-        notes=notes, source=skeleton.source, schedule=schedule,
+        notes=notes, source=skeleton.source, schedule=schedule, structure=structure,
     )
 
 
@@ -173,34 +178,22 @@ class _EventGraph:
     task_group: dict[str, int]
     events_of_group: list[np.ndarray]
     places_of_group: list[np.ndarray]
+    structure: Structure
 
     @classmethod
-    def of(cls, skeleton: Skeleton) -> _EventGraph:
+    def of(cls, skeleton: Skeleton, structure: Structure) -> _EventGraph:
         teg = build_teg(skeleton)
         a = teg.arrays()
-        n = teg.n_transitions
-        graph = sp.csr_matrix((np.ones(len(a.src), dtype=np.int8), (a.src, a.dst)), shape=(n, n))
-        _, label = connected_components(graph, directed=True, connection="weak")
-        compute = teg.attrs["compute"]
-        # Groups are numbered in the order of their first task in the file.
-        number: dict[int, int] = {}
-        group_tasks: list[list[str]] = []
-        for name in skeleton.tasks:
-            lab = int(label[compute[name]])
-            if lab not in number:
-                number[lab] = len(number)
-                group_tasks.append([])
-            group_tasks[number[lab]].append(name)
-        relabel = np.full(int(label.max(initial=-1)) + 1, -1, dtype=np.int64)
-        for lab, g in number.items():
-            relabel[lab] = g
-        group_of_event = relabel[label]
+        # Each event is in its task's (its clock's) group: spec §2 builds no place
+        # between two groups (tests/tegraph/model/test_structure.py checks it).
+        group_of_event = structure.group_of_event(teg)
         # Events and places of each group, split once (groups can be thousands).
-        n_groups = len(group_tasks)
-        return cls(skeleton, teg, a.src, a.dst, a.tokens, a.holding, a.initial, a.scale, n,
-                   teg.transition_names, teg.places, group_tasks, group_of_event,
-                   {t: g for g, ts in enumerate(group_tasks) for t in ts},
-                   _split_by(group_of_event, n_groups), _split_by(group_of_event[a.src], n_groups))
+        n_groups = len(structure.groups)
+        return cls(skeleton, teg, a.src, a.dst, a.tokens, a.holding, a.initial, a.scale,
+                   teg.n_transitions, teg.transition_names, teg.places,
+                   [list(g) for g in structure.groups], group_of_event, dict(structure.group_of),
+                   _split_by(group_of_event, n_groups), _split_by(group_of_event[a.src], n_groups),
+                   structure)
 
     def compute(self, task: str) -> int:
         return self.teg.attrs["compute"][task]
@@ -338,11 +331,7 @@ def _group_reports(g: _EventGraph, periods: _Periods, dead_groups: set[int],
     ct = periods.cycle_times
     out = []
     for index, tasks in enumerate(g.group_tasks):
-        clocks: list[str] = []
-        for t in tasks:
-            c = g.sk.tasks[t].clock
-            if c and c not in clocks:
-                clocks.append(c)
+        clocks = list(g.structure.clocks[index])
         live = index not in dead_groups
         consistent = live and index not in bad
         period = None

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from maxplus.scalar import exact_text
 
+from ..model.structure import Structure
 from .processors.schedule import ProcessorSchedule, UnboundedKind
 
 if TYPE_CHECKING:  # annotations only: a report loads no more modules for them
@@ -206,6 +207,10 @@ class Report:
     schedule: ProcessorSchedule | None = None
     """The skeleton on its processors (spec §4b); None: every task on a processor
     of its own (``processors=False``), where the figures of §4 decide."""
+    structure: Structure | None = field(default=None, repr=False, compare=False)
+    """The skeleton's groups (numbered as :attr:`groups`), clocks, design periods and
+    links by port, computed once by the analysis: what follows it (design rules,
+    margins) reads these instead of finding the groups again."""
 
     @property
     def schedulable(self) -> bool | None:

@@ -56,6 +56,7 @@ from ..analysis.analyze import analyze_skeleton
 from ..analysis.results import Report
 from ..errors import InputError, TegraphError
 from ..model.skeleton import Skeleton
+from ..model.structure import Structure, design_period
 from .rules import is_automaton, proposed_priorities
 
 __all__ = [
@@ -458,7 +459,8 @@ class Schedulability:
                 "processors": [p.to_dict() for p in self.processors], "notes": self.notes}
 
 
-def effective_priorities(skeleton: Skeleton) -> tuple[dict[str, int], dict[str | None, str]]:
+def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
+                         ) -> tuple[dict[str, int], dict[str | None, str]]:
     """The priority of every task, and where it comes from on each processor.
 
     A processor whose tasks all declare a ``priority`` uses them; otherwise
@@ -469,6 +471,8 @@ def effective_priorities(skeleton: Skeleton) -> tuple[dict[str, int], dict[str |
     ----------
     skeleton : Skeleton
         Tasks with their processors and optional declared priorities.
+    structure : Structure, optional
+        ``Structure.of(skeleton)``, if known (the proposal reads its groups).
 
     Returns
     -------
@@ -497,7 +501,7 @@ def effective_priorities(skeleton: Skeleton) -> tuple[dict[str, int], dict[str |
     >>> effective_priorities(sk)
     ({'A': 1, 'B': 2}, {None: 'rate-monotonic'})
     """
-    proposal = proposed_priorities(skeleton)
+    proposal = proposed_priorities(skeleton, structure)
     on: dict[str | None, list[str]] = {}
     for name, task in skeleton.tasks.items():
         on.setdefault(task.processor, []).append(name)
@@ -575,7 +579,7 @@ def schedulability(skeleton: Skeleton, report: Report | None = None, *,
     budget = _budget(budget)
     if report is None:
         report = analyze_skeleton(skeleton)
-    priorities, source = effective_priorities(skeleton)
+    priorities, source = effective_priorities(skeleton, report.structure)
     notes: list[str] = []
     units: dict[str | None, list[UnitVerdict]] = {p: [] for p in source}
     for g in report.groups:
@@ -684,8 +688,8 @@ def _threads(sk: Skeleton, report: Report) -> list[ThreadVerdict]:
     for i, thread in enumerate(sk.threads):
         load = sum((sk.tasks[t].duration for t in thread), Fraction(0))
         first = report.tasks[thread[0]]
-        clocks = report.groups[first.group].clocks
-        pace = min((sk.clocks[c].period for c in clocks), default=None)
+        pace = (report.structure.periods[first.group] if report.structure is not None
+                else design_period(sk, report.groups[first.group].tasks))
         period = first.period
         if period is None:
             fits, margin = None, None

@@ -90,6 +90,6 @@ def design_section(skeleton: Skeleton, report: Report,
     named = [(tuple(c), ("chains", i)) for i, c in enumerate(skeleton.chains)]
     named += [(tuple(c), ("chain", i)) for i, c in enumerate(chains)]
     return DesignSection(
-        name=skeleton.name, unit=skeleton.unit, rules=check_rules(skeleton),
+        name=skeleton.name, unit=skeleton.unit, rules=check_rules(skeleton, report.structure),
         schedulability=sched,
         latency=[chain_latency(skeleton, c, report, sched, path) for c, path in named])

@@ -61,7 +61,7 @@ class Structure:
     group_of : mapping
         Task -> index of its group in ``groups``.
     clocks : tuple of tuple of str
-        The clocks of each group, in the order of ``skeleton.clocks``.
+        The clocks of each group, in the order of their first task in the file.
     group_of_clock : mapping
         Clock -> index of its group; a clock that activates no task is in none.
     periods : tuple of Fraction or None
@@ -124,11 +124,14 @@ class Structure:
             if g == len(groups):
                 groups.append([])
             groups[g].append(t)
-        group_of_clock = {c: number[lab] for c, i in clock_index.items()
-                          if (lab := int(label[i])) in number}
+        group_of = {t: g for g, ts in enumerate(groups) for t in ts}
+        # A clock is in the group of the tasks it activates (one group: they are joined).
+        group_of_clock: dict[str, int] = {}
         clocks: list[list[str]] = [[] for _ in groups]
-        for c, g in group_of_clock.items():
-            clocks[g].append(c)
+        for t, task in skeleton.tasks.items():
+            if task.clock is not None and task.clock not in group_of_clock:
+                group_of_clock[task.clock] = group_of[t]
+                clocks[group_of[t]].append(task.clock)
         by_reader: dict[Port, list[Link]] = {}
         by_writer: dict[Port, list[Link]] = {}
         for link in skeleton.links:
@@ -136,7 +139,7 @@ class Structure:
             by_writer.setdefault(link.writer, []).append(link)
         return cls(
             groups=tuple(tuple(g) for g in groups),
-            group_of={t: g for g, ts in enumerate(groups) for t in ts},
+            group_of=group_of,
             clocks=tuple(tuple(c) for c in clocks),
             group_of_clock=group_of_clock,
             periods=tuple(design_period(skeleton, g) for g in groups),

@@ -26,11 +26,11 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
-from fractions import Fraction
 from typing import Protocol as _Protocol
 
 from ...errors import InputError
 from ...model.skeleton import Skeleton
+from ...model.structure import design_period
 
 __all__ = ["DEFAULT_PROCESSOR", "Platform", "ProcessorInfo", "check_groups", "is_automaton",
            "platform_of"]
@@ -42,10 +42,9 @@ _AUTOMATON = re.compile(r"(?:^|\.)(?:rta|automaton)$", re.IGNORECASE)
 
 
 class _Group(_Protocol):
-    """What is read of a group: a ``GroupReport`` has both attributes."""
+    """What is read of a group: a ``GroupReport`` has it."""
 
     tasks: list[str]
-    clocks: list[str]
 
 
 def is_automaton(name: str) -> bool:
@@ -98,7 +97,7 @@ def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
     groups : sequence of GroupReport
         The groups of :func:`~tegraph.analysis.analyze.analyze_skeleton`
         (``report.groups``), in the order of their first task in the file;
-        only ``tasks`` and ``clocks`` are read.
+        only ``tasks`` is read.
 
     Returns
     -------
@@ -163,12 +162,12 @@ def check_groups(skeleton: Skeleton, groups: Sequence[_Group]) -> None:
 
 def _group_keys(skeleton: Skeleton, groups: Sequence[_Group]) -> list[tuple]:
     """Each group's rank key, most urgent first: clocked before clockless, shorter
-    design period (its smallest clock period), then its first task in the file."""
+    design period (:func:`~tegraph.model.structure.design_period`), then its first task
+    in the file."""
     index = {t: i for i, t in enumerate(skeleton.tasks)}
     keys = []
     for group in groups:
-        periods = [skeleton.clocks[c].period for c in group.clocks]
-        design: Fraction | None = min(periods) if periods else None
+        design = design_period(skeleton, group.tasks)
         first = min(index[t] for t in group.tasks)
         keys.append((design is None, design if design is not None else 0, first))
     return keys

@@ -40,6 +40,7 @@ from maxplus.scalar import display_text
 
 from ...errors import InputError
 from ...model.skeleton import Skeleton
+from ...model.structure import Structure
 from ..processors import MAX_EVENTS
 from .formulas import GroupFormula, period_formulas
 from .line import Cause, Line, LineSet, intersect, point_causes, solve_lines
@@ -186,7 +187,8 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     started = time.perf_counter()
     params = parse_vary(skeleton, vary)
     nominal = [p.nominal for p in params]
-    groups = parametric_groups(skeleton, params)
+    structure = Structure.of(skeleton)  # once: the groups here and the analysis on processors
+    groups = parametric_groups(skeleton, params, structure)
     live = [g for g in groups if g.live]
     at_nominal = dict(zip([g.index for g in live],
                           evaluate([(g, g.values({}, nominal)) for g in live])))
@@ -197,7 +199,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     result.models = {g.index: g for g in live}
     result.effort["setup"] = {"rounds": 1, "points": len(live), "analyses": 0,
                               "seconds": time.perf_counter() - started}
-    context = _Context(skeleton, params, nominal, groups, fine, at_nominal)
+    context = _Context(skeleton, params, nominal, groups, fine, at_nominal, structure)
     on = None
     has_durations = any(p.kind == "duration" for p in params)
     figures = [0, int(has_durations) + (len(params) if margins else 0)]
@@ -252,8 +254,9 @@ class _Context:
 
     def __init__(self, skeleton: Skeleton, params: Sequence[Parameter],
                  nominal: list[Fraction], groups: list[ParametricGroup],
-                 fine: dict[int, bool], at_nominal: dict) -> None:
+                 fine: dict[int, bool], at_nominal: dict, structure: Structure) -> None:
         self.skeleton, self.params, self.nominal = skeleton, params, nominal
+        self.structure = structure
         self.groups, self.fine, self.at_nominal = groups, fine, at_nominal
         self.rounds = self.points = self.analyses = 0
         self.max_events = MAX_EVENTS
@@ -535,7 +538,7 @@ def _nominal_on_processors(ctx: _Context, result: SensitivityResult,
 
     ctx.analyses += 1
     # The groups (and liveness) only: the schedule is decided by the parts below.
-    report = analyze_skeleton(ctx.skeleton, semiflow_max_places=0)
+    report = analyze_skeleton(ctx.skeleton, semiflow_max_places=0, structure=ctx.structure)
     result.processors = True
     ctx.max_events = max_events
     on = ProcessorLine(ctx.skeleton, ctx.params, ctx.nominal, report.groups, max_events)

@@ -122,7 +122,9 @@ def duration_margins(skeleton: Skeleton, report: Report | None = None
         report = analyze_skeleton(skeleton)
     params = parse_vary(skeleton)
     index = {p.owner: j for j, p in enumerate(params)}
-    groups = [g for g in parametric_groups(skeleton, params) if group_consistent(report, g.index)]
+    # The analysis' own groups (report.structure), so g.index numbers report.groups.
+    groups = [g for g in parametric_groups(skeleton, params, report.structure)
+              if group_consistent(report, g.index)]
     nominal = [p.nominal for p in params]
     margins: dict[str, Fraction | None] = {}
     clocked = [g for g in groups if g.clocks and _slack_covers(g, index)]

@@ -34,6 +34,7 @@ from maxplus.scalar import exact_time, size_problem
 from ...errors import InputError
 from ...model.build import activation_end, build_teg, holding_sources
 from ...model.skeleton import Link, Skeleton
+from ...model.structure import Structure
 from ...model.teg import Place
 
 __all__ = [
@@ -44,7 +45,6 @@ __all__ = [
     "parametric_groups",
     "parse_vary",
     "skeleton_at",
-    "skeleton_groups",
 ]
 
 @dataclass(frozen=True)
@@ -218,46 +218,6 @@ def _value(text: Any, name: str, end: str, where: str) -> Fraction:
                          f"{text!r} (expected e.g. 2, 0.5 or 5/2)", where) from None
 
 
-# ------------------------------------------------------------------------------- groups
-
-
-def skeleton_groups(skeleton: Skeleton) -> list[list[str]]:
-    """The tasks of each group (spec §4), groups and tasks in file order.
-
-    Tasks are joined by a synchronizing link (not ASYN/ASYN), a thread or a
-    shared clock.
-
-    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "outputs": ["o"]},
-    ...     "B": {"duration": 1, "inputs": ["i"]}, "C": {"duration": 2}},
-    ...     "links": [{"from": "A:o", "to": "B:i", "protocol": "ASYN/SYN"}]})
-    >>> skeleton_groups(sk)
-    [['A', 'B'], ['C']]
-    """
-    names = list(skeleton.tasks)
-    index = {t: i for i, t in enumerate(names)}
-    clock_index = {c: len(names) + i for i, c in enumerate(skeleton.clocks)}
-    rows, cols = [], []
-    for t, task in skeleton.tasks.items():
-        if task.clock is not None:
-            rows.append(index[t])
-            cols.append(clock_index[task.clock])
-    for link in skeleton.links:
-        if link.protocol.synchronizing:
-            rows.append(index[link.writer[0]])
-            cols.append(index[link.reader[0]])
-    for thread in skeleton.threads:
-        for a, b in zip(thread, thread[1:]):
-            rows.append(index[a])
-            cols.append(index[b])
-    n = len(names) + len(clock_index)
-    graph = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
-    order: dict[int, list[str]] = {}
-    for t in names:
-        order.setdefault(int(label[index[t]]), []).append(t)
-    return list(order.values())
-
-
 # ---------------------------------------------------------------- parametric groups
 
 
@@ -359,8 +319,12 @@ class ParametricGroup:
         return watch.offset if watch.offset_param < 0 else values[watch.offset_param]
 
 
-def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter]) -> list[ParametricGroup]:
+def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter],
+                      structure: Structure | None = None) -> list[ParametricGroup]:
     """Every group of the skeleton as a :class:`ParametricGroup`, in spec §4 order.
+
+    ``structure`` is ``Structure.of(skeleton)``, if known (``report.structure``):
+    its groups, so numbered as the analysis numbers them.
 
     Examples
     --------
@@ -370,8 +334,8 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter]) -> list[P
     (('A.clock.tick', 'A.activate', 'A.compute'), [-1, -1, -1, 0], ['5', '0', '0', '0'])
     """
     by_owner = {(p.kind, p.owner): j for j, p in enumerate(params)}
-    groups = skeleton_groups(skeleton)
-    group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
+    structure = Structure.of(skeleton) if structure is None else structure
+    groups, group_of = structure.groups, structure.group_of
     links: list[list[Link]] = [[] for _ in groups]
     for link in skeleton.links:
         if link.protocol.synchronizing:

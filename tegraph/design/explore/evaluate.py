@@ -71,8 +71,8 @@ from ...analysis.reorder import reorder_ports
 from ...analysis.results import Report
 from ...model.build import build_teg
 from ...model.skeleton import Protocol, Skeleton
+from ...model.structure import Structure
 from ..latency import chain_latency
-from ..rules import group_period, synchronized_groups
 from ..schedulability import Schedulability, schedulability
 from .prune import overloaded
 from .space import DesignSpace, latency_name
@@ -172,11 +172,12 @@ def rejection(result: VariantResult) -> str | None:
     return None
 
 
-def rule2_findings(skeleton: Skeleton) -> int:
+def rule2_findings(skeleton: Skeleton, structure: Structure | None = None) -> int:
     """Departures from Rule 2 of section 6 in ``skeleton``, counted as
     :func:`tegraph.design.rules.check_rules` reports them: each SYN/SYN link (a
     rendezvous blocks both sides), and each ASYN/ASYN link between two groups of
     one design period (Figure 4: the data may wait a period at each hop).
+    ``structure`` is ``Structure.of(skeleton)``, if known.
 
     >>> sk = Skeleton.from_dict({"clocks": {"rtc": {"period": 10}}, "tasks": {
     ...     "A": {"duration": 1, "clock": "rtc", "outputs": ["x"]},
@@ -185,9 +186,8 @@ def rule2_findings(skeleton: Skeleton) -> int:
     >>> rule2_findings(sk)
     1
     """
-    groups = synchronized_groups(skeleton)
-    group_of = {t: i for i, g in enumerate(groups) for t in g}
-    periods = [group_period(skeleton, g) for g in groups]
+    s = Structure.of(skeleton) if structure is None else structure
+    group_of, periods = s.group_of, s.periods
     count = 0
     for link in skeleton.links:
         w, r = group_of[link.writer[0]], group_of[link.reader[0]]
@@ -248,7 +248,7 @@ def evaluate_variant(space: DesignSpace, variant: int,
     skeleton = space.build(variant)
     report = analyze_skeleton(skeleton)
     result = VariantResult(variant, ANALYZED, live=report.live,
-                           rule2=rule2_findings(skeleton))
+                           rule2=rule2_findings(skeleton, report.structure))
     if not report.live:
         protocol_index = space.split(variant)[0]
         if protocol_index not in repairs:

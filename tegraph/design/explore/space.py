@@ -32,7 +32,7 @@ from ...analysis.processors.schedule import MAX_EVENTS
 from ...errors import InputError
 from ...model.skeleton import Protocol, Skeleton
 from ...model.skeleton.checks import Locator, check_chain
-from ..rules import group_period, synchronized_groups
+from ...model.structure import Structure
 
 __all__ = [
     "ClockChoice",
@@ -295,8 +295,8 @@ class DesignSpace:
         A task's own clock states the rate it is designed for: a variant where it
         leaves a faster group to run on that clock runs it at its designed rate."""
         sk = self.skeleton
-        out = {name: period for tasks in synchronized_groups(sk)
-               for period in [group_period(sk, tasks)] for name in tasks}
+        s = Structure.of(sk)
+        out = {name: period for tasks, period in zip(s.groups, s.periods) for name in tasks}
         for name, task in sk.tasks.items():
             if task.clock:
                 out[name] = sk.clocks[task.clock].period

@@ -15,7 +15,9 @@ a deadlock-free, temporally consistent, low-latency set of module tasks:
 
 A synchronized group is a weakly connected part of the timed event graph
 (spec §4 ``groups``): tasks joined by a synchronizing link, a thread or a
-shared clock. Each finding names the tasks, ports and links concerned and
+shared clock; the groups, their design periods and the links by port are
+:class:`tegraph.model.structure.Structure`, computed once per analysis and
+passed to every rule. Each finding names the tasks, ports and links concerned and
 what to change: for Rules 1-3 a machine-applicable :class:`~.change.Change`,
 chosen so that it brings no other finding of Rules 1-3, so that following the
 advice never goes round in a circle. The automaton is recognized by its name
@@ -29,8 +31,7 @@ Modules, and where a change goes
     identifies it (kind and key, never the message). A new kind of finding
     starts here: a member of :class:`FindingKind`, its key documented.
 ``synchronization``
-    What a task waits for, the synchronized groups, a group's design period:
-    the structure every rule reads.
+    What a task waits for (its clock, the blocking sides of its links).
 ``check``
     :func:`check_rules`; Rules 1-3 (what is wrong) and the advice in words.
     A rule's condition or its message changes here.
@@ -66,12 +67,7 @@ from .change import Change, apply_change
 from .check import check_rules
 from .findings import FindingKind, RuleFinding
 from .priorities import is_automaton, proposed_priorities
-from .synchronization import (
-    Synchronization,
-    group_period,
-    synchronizations,
-    synchronized_groups,
-)
+from .synchronization import Synchronization, synchronizations
 
 __all__ = [
     "Change",
@@ -80,9 +76,7 @@ __all__ = [
     "Synchronization",
     "apply_change",
     "check_rules",
-    "group_period",
     "is_automaton",
     "proposed_priorities",
     "synchronizations",
-    "synchronized_groups",
 ]

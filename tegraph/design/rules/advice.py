@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from collections.abc import Mapping, Sequence
 from fractions import Fraction
 from typing import Any, Final, Literal
 
@@ -44,10 +45,10 @@ from ...analysis.liveness import token_free_circuits
 from ...analysis.reorder import PrecedenceGraph
 from ...model.build import build_teg
 from ...model.skeleton import Link, Protocol, Skeleton
+from ...model.structure import Structure
 from .candidates import CANDIDATE_LIMIT, SPLIT, Candidates, Edits
 from .change import Change, apply_change
 from .findings import FindingKey, FindingKind, RuleFinding, link_key
-from .synchronization import group_period
 
 __all__ = ["CANDIDATE_LIMIT", "PERIODS_BUDGET", "SPLIT", "Advisor", "Choice"]
 
@@ -68,7 +69,7 @@ class _Roots:
 
     __slots__ = ("groups", "group_of", "chosen")
 
-    def __init__(self, groups: list[tuple[str, ...]], group_of: dict[str, int],
+    def __init__(self, groups: Sequence[tuple[str, ...]], group_of: Mapping[str, int],
                  chosen: set[int]) -> None:
         self.groups, self.group_of, self.chosen = groups, group_of, chosen
 
@@ -114,14 +115,14 @@ class Advisor(Candidates):
     findings : list of RuleFinding
         The findings of Rules 1-3 on ``skeleton``: a change must bring no
         finding outside them.
-    groups : list of tuple of str, optional
-        :func:`~.synchronization.synchronized_groups` of ``skeleton``, if known.
+    structure : Structure, optional
+        ``Structure.of(skeleton)``, if known.
     """
 
     def __init__(self, skeleton: Skeleton, findings: list[RuleFinding],
-                 groups: list[tuple[str, ...]] | None = None) -> None:
-        super().__init__(skeleton, groups)
-        self.periods = [group_period(skeleton, g) for g in self.groups]
+                 structure: Structure | None = None) -> None:
+        super().__init__(skeleton, structure)
+        self.periods = self.structure.periods
         self._group_clocks: dict[int, tuple[dict[str, int], list[tuple[Fraction, str]]]] = {}
         self.order = {t: i for i, t in enumerate(skeleton.tasks)}
         self.link_order = {id(link): i for i, link in enumerate(skeleton.links)}
@@ -593,8 +594,9 @@ def _cycle_times(sk: Skeleton) -> _Rates:
     teg = build_teg(sk)
     a = teg.arrays()
     n = teg.n_transitions
-    graph = sp.csr_matrix((np.ones(len(a.src), dtype=np.int8), (a.src, a.dst)), shape=(n, n))
-    _, label = connected_components(graph, directed=True, connection="weak")
+    # The changed skeleton's own groups (-1: the tick of a clock that drives no task,
+    # alone on its part, which no task's period reads).
+    label = Structure.of(sk).group_of_event(teg)
     dead = {int(label[a.src[c[0]]]) for c in token_free_circuits(a.src, a.dst, a.tokens, n)}
     live = ~np.isin(label, sorted(dead))
     lp = np.flatnonzero(live[a.src] & live[a.dst])

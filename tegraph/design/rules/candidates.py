@@ -40,8 +40,9 @@ import itertools
 from collections.abc import Callable, Iterator
 
 from ...model.skeleton import Link, Protocol, Skeleton
+from ...model.structure import Structure
 from .findings import FindingKind, RuleFinding
-from .synchronization import READER_BLOCKS, WRITER_BLOCKS, link_index, synchronized_groups
+from .synchronization import READER_BLOCKS, WRITER_BLOCKS
 
 __all__ = ["CANDIDATE_LIMIT", "SPLIT", "Candidates", "Edits", "Sync", "sync_label"]
 
@@ -102,15 +103,16 @@ class Candidates:
     Parameters
     ----------
     skeleton : Skeleton
-    groups : list of tuple of str, optional
-        :func:`~.synchronization.synchronized_groups` of ``skeleton``, if known.
+    structure : Structure, optional
+        ``Structure.of(skeleton)``, if known (its groups, links by port).
     """
 
-    def __init__(self, skeleton: Skeleton, groups: list[tuple[str, ...]] | None = None) -> None:
+    def __init__(self, skeleton: Skeleton, structure: Structure | None = None) -> None:
         self.sk = skeleton
-        self.groups = synchronized_groups(skeleton) if groups is None else groups
-        self.group_of = {t: g for g, ts in enumerate(self.groups) for t in ts}
-        self.by_reader, self.by_writer = link_index(skeleton)
+        self.structure = Structure.of(skeleton) if structure is None else structure
+        self.groups = self.structure.groups
+        self.group_of = self.structure.group_of
+        self.by_reader, self.by_writer = self.structure.by_reader, self.structure.by_writer
         self.threaded = {t for thread in skeleton.threads for t in thread}
         self._inputs: dict[str, list[Link]] = {}
         self._outputs: dict[str, list[Link]] = {}

@@ -18,23 +18,26 @@ import dataclasses
 from maxplus.scalar import display_text
 
 from ...model.skeleton import Protocol, Skeleton
+from ...model.structure import Structure
 from .advice import CANDIDATE_LIMIT, SPLIT, Advisor
 from .findings import FindingKind, RuleFinding, key_text, link_key, naming_order
 from .priorities import rule4
-from .synchronization import group_period, link_index, synchronizations, synchronized_groups
+from .synchronization import synchronizations
 
 __all__ = ["check_rules"]
 
 _ORDER = {"error": 0, "warning": 1, "info": 2}
 
 
-def check_rules(skeleton: Skeleton) -> list[RuleFinding]:
+def check_rules(skeleton: Skeleton, structure: Structure | None = None) -> list[RuleFinding]:
     """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
 
     Parameters
     ----------
     skeleton : Skeleton
         The design to check (file order decides the order of findings).
+    structure : Structure, optional
+        ``Structure.of(skeleton)``, if known (its groups are the synchronized groups).
 
     Returns
     -------
@@ -73,23 +76,21 @@ def check_rules(skeleton: Skeleton) -> list[RuleFinding]:
     >>> [(f.kind.name, f.key) for f in check_rules(sk) if f.severity != "info"]
     [('RULE3_NO_CLOCK', ('MT1', 'MT2', 'MT3'))]
     """
-    groups = synchronized_groups(skeleton)
-    structural = structural_findings(skeleton, groups)
-    advisor = Advisor(skeleton, structural, groups)
+    structure = Structure.of(skeleton) if structure is None else structure
+    structural = structural_findings(skeleton, structure)
+    advisor = Advisor(skeleton, structural, structure)
     findings = [advised(f, advisor) for f in structural]
-    findings += rule4(skeleton, groups)
+    findings += rule4(skeleton, structure)
     index = {t: i for i, t in enumerate(skeleton.tasks)}
     findings.sort(key=lambda f: (f.rule, _ORDER[f.severity],
                                  min((index[t] for t in f.tasks), default=0)))
     return findings
 
 
-def structural_findings(skeleton: Skeleton, groups: list[tuple[str, ...]]
-                        ) -> list[RuleFinding]:
+def structural_findings(skeleton: Skeleton, structure: Structure) -> list[RuleFinding]:
     """The findings of Rules 1-3, their advice still to be chosen."""
-    group_of = {t: g for g, tasks in enumerate(groups) for t in tasks}
-    return (rule1(skeleton, link_index(skeleton)) + rule2(skeleton, groups, group_of)
-            + rule3(skeleton, groups))
+    return (rule1(skeleton, structure) + rule2(skeleton, structure)
+            + rule3(skeleton, structure.groups))
 
 
 def advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
@@ -126,12 +127,12 @@ def advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
     return dataclasses.replace(finding, advice=words, change=change)
 
 
-def rule1(sk: Skeleton, index: tuple[dict, dict]) -> list[RuleFinding]:
+def rule1(sk: Skeleton, structure: Structure) -> list[RuleFinding]:
     """Rule 1: tasks with several synchronizations, and tasks outside threads with none."""
     threaded = {t for thread in sk.threads for t in thread}
     out = []
     for name in sk.tasks:
-        syncs = synchronizations(sk, name, index)
+        syncs = synchronizations(sk, name, structure)
         if len(syncs) > 1:
             out.append(RuleFinding(
                 FindingKind.RULE1_SEVERAL_SYNCS, name, (name,),
@@ -149,10 +150,9 @@ def rule1(sk: Skeleton, index: tuple[dict, dict]) -> list[RuleFinding]:
     return out
 
 
-def rule2(sk: Skeleton, groups: list[tuple[str, ...]], group_of: dict[str, int]
-          ) -> list[RuleFinding]:
+def rule2(sk: Skeleton, structure: Structure) -> list[RuleFinding]:
     """Rule 2: rendezvous, and ASYN/ASYN links between two groups of one design period."""
-    periods = [group_period(sk, g) for g in groups]
+    periods, group_of = structure.periods, structure.group_of
     out = []
     for link in sk.links:
         (w, p), (r, q) = link.writer, link.reader
@@ -175,7 +175,7 @@ def rule2(sk: Skeleton, groups: list[tuple[str, ...]], group_of: dict[str, int]
     return out
 
 
-def rule3(sk: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
+def rule3(sk: Skeleton, groups: tuple[tuple[str, ...], ...]) -> list[RuleFinding]:
     """Rule 3: groups without a clock, and groups with several."""
     out = []
     for tasks in groups:

@@ -22,8 +22,8 @@ from fractions import Fraction
 from maxplus.scalar import display_text
 
 from ...model.skeleton import Skeleton
+from ...model.structure import Structure, design_period
 from .findings import FindingKind, RuleFinding
-from .synchronization import group_period, synchronized_groups
 
 __all__ = ["is_automaton", "proposed_priorities", "rule4"]
 
@@ -42,14 +42,14 @@ def is_automaton(name: str) -> bool:
     return bool(_AUTOMATON.search(name))
 
 
-def proposed_priorities(sk: Skeleton) -> dict[str, int]:
+def proposed_priorities(sk: Skeleton, structure: Structure | None = None) -> dict[str, int]:
     """Rate-monotonic priorities (Rule 4): larger is more urgent.
 
     On each processor, the automaton first, then the groups by increasing
-    design period (:func:`group_period`; groups without a clock last, as
+    design period (``Structure.periods``; groups without a clock last, as
     background work), ties in file order; every task of a group gets its
     group's priority, distinct groups distinct priorities, numbered from 1
-    (lowest) up.
+    (lowest) up. ``structure`` is ``Structure.of(sk)``, if known.
 
     >>> sk = Skeleton.from_dict({"tasks": {
     ...     "SLOW": {"duration": 1, "period": 6}, "FAST": {"duration": 1, "period": 1},
@@ -59,8 +59,8 @@ def proposed_priorities(sk: Skeleton) -> dict[str, int]:
     """
     index = {t: i for i, t in enumerate(sk.tasks)}
     units: dict[str | None, list[tuple[tuple, list[str]]]] = {}
-    for group in synchronized_groups(sk):
-        period = group_period(sk, group)
+    s = Structure.of(sk) if structure is None else structure
+    for group, period in zip(s.groups, s.periods):
         parts: dict[tuple[str | None, bool], list[str]] = {}
         for t in group:
             parts.setdefault((sk.tasks[t].processor, is_automaton(t)), []).append(t)
@@ -77,14 +77,14 @@ def proposed_priorities(sk: Skeleton) -> dict[str, int]:
     return {t: out[t] for t in sk.tasks}
 
 
-def rule4(sk: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
-    """The findings of Rule 4 on ``sk`` whose synchronized groups are ``groups``.
+def rule4(sk: Skeleton, structure: Structure) -> list[RuleFinding]:
+    """The findings of Rule 4 on ``sk`` of structure ``structure``.
 
     Nothing declared: the proposal alone (``info``). Else, in turn: tasks
     without a priority, groups with several, groups sharing one on a processor,
     rate-monotonic order on each processor, the automaton above the rest.
     """
-    proposal = proposed_priorities(sk)
+    proposal = proposed_priorities(sk, structure)
     declared = {t: task.priority for t, task in sk.tasks.items() if task.priority is not None}
 
     def propose(tasks: Sequence[str]) -> str:
@@ -96,7 +96,7 @@ def rule4(sk: Skeleton, groups: list[tuple[str, ...]]) -> list[RuleFinding]:
             "rate-monotonic priorities (larger is more urgent; add `priority:` to each task): "
             + propose(list(sk.tasks)))]
     out = _missing(sk, declared, propose)
-    mixed, by_processor = _one_priority_per_group(sk, groups, declared)
+    mixed, by_processor = _one_priority_per_group(sk, structure.groups, declared)
     out += mixed
     for processor, units in by_processor.items():
         on = "" if processor is None else f" on processor {processor}"
@@ -124,7 +124,7 @@ def _missing(sk: Skeleton, declared: dict[str, int], propose: Callable[[Sequence
         "declare a priority for every task; rate-monotonic proposal: " + propose(missing))]
 
 
-def _one_priority_per_group(sk: Skeleton, groups: list[tuple[str, ...]],
+def _one_priority_per_group(sk: Skeleton, groups: Sequence[tuple[str, ...]],
                             declared: dict[str, int]
                             ) -> tuple[list[RuleFinding], dict[str | None, Units]]:
     """Groups whose tasks on one processor have several priorities (the automaton aside);
@@ -178,7 +178,7 @@ def _not_rate_monotonic(sk: Skeleton, units: Units, on: str,
     """
     out = []
     timed = sorted(((period, pa, a) for a, pa in units
-                    if (period := group_period(sk, a)) is not None), key=lambda x: x[0])
+                    if (period := design_period(sk, a)) is not None), key=lambda x: x[0])
     lowest: tuple[int, Fraction, tuple[str, ...]] | None = None  # of the faster groups
     i = 0
     while i < len(timed):

@@ -1,24 +1,21 @@
-"""What a task waits for, and the synchronized groups it forms (spec §6).
+"""What a task waits for (spec §6).
 
 A task's *synchronizations* are its clock, each input it reads ASYN/SYN or
 SYN/SYN (the reader blocks) and each output it posts SYN/ASYN or SYN/SYN (the
-writer blocks). A *synchronized group* is a weakly connected part of the timed
-event graph (spec §4 ``groups``): tasks joined by a synchronizing link, a
-thread or a shared clock. The design rules (:mod:`.rules`) and their advice
-(:mod:`.advice`) read a skeleton through these.
+writer blocks). The *synchronized groups* they form are the groups of spec §4,
+defined once in :class:`tegraph.model.structure.Structure`. The design rules
+(:mod:`.check`) and their advice (:mod:`.advice`) read a skeleton through these.
 """
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
-from fractions import Fraction
 from typing import Literal
 
 from ...model.skeleton import Link, Protocol, Skeleton
+from ...model.structure import Structure
 
-__all__ = ["READER_BLOCKS", "WRITER_BLOCKS", "Synchronization", "group_period", "link_index",
-           "synchronizations", "synchronized_groups"]
+__all__ = ["READER_BLOCKS", "WRITER_BLOCKS", "Synchronization", "synchronizations"]
 
 # Which side of a link blocks (spec §1): the reader of ASYN/SYN, the writer of SYN/ASYN.
 READER_BLOCKS = (Protocol.ASYN_SYN, Protocol.SYN_SYN)
@@ -43,19 +40,11 @@ class Synchronization:
         return f"{self.kind} {self.port} ({self.link.label})"  # type: ignore[union-attr]
 
 
-def link_index(sk: Skeleton) -> tuple[dict, dict]:
-    """Links by reader port and by writer port (one pass, so checks stay linear)."""
-    by_reader: dict[tuple[str, str], list[Link]] = {}
-    by_writer: dict[tuple[str, str], list[Link]] = {}
-    for link in sk.links:
-        by_reader.setdefault(link.reader, []).append(link)
-        by_writer.setdefault(link.writer, []).append(link)
-    return by_reader, by_writer
-
-
 def synchronizations(sk: Skeleton, task: str,
-                     index: tuple[dict, dict] | None = None) -> list[Synchronization]:
+                     structure: Structure | None = None) -> list[Synchronization]:
     """What ``task`` waits for at each activation, in chain order (Rule 1).
+
+    ``structure`` is ``Structure.of(sk)``, if known (its links by port are read).
 
     Examples
     --------
@@ -68,7 +57,8 @@ def synchronizations(sk: Skeleton, task: str,
     >>> [s.label for s in synchronizations(sk, "MT2")]
     ['clock MT2.clock', 'input MT2:y (MT1:y -> MT2:y (ASYN/SYN))']
     """
-    by_reader, by_writer = index if index is not None else link_index(sk)
+    s = Structure.of(sk) if structure is None else structure
+    by_reader, by_writer = s.by_reader, s.by_writer
     t = sk.tasks[task]
     out = [Synchronization("clock", clock=t.clock)] if t.clock else []
     for port in t.inputs:
@@ -80,55 +70,3 @@ def synchronizations(sk: Skeleton, task: str,
             if link.protocol in WRITER_BLOCKS:
                 out.append(Synchronization("output", port=f"{task}:{port}", link=link))
     return out
-
-
-def synchronized_groups(sk: Skeleton) -> list[tuple[str, ...]]:
-    """The synchronized groups: tasks joined by synchronizing links, threads, clocks.
-
-    These are the weakly connected parts of the timed event graph (spec §4),
-    found here by union-find on the skeleton; listed in the order of their
-    first task in the file, tasks in file order.
-
-    >>> sk = Skeleton.from_dict({"tasks": {
-    ...     "A": {"duration": 1, "period": 2, "outputs": ["x"]},
-    ...     "B": {"duration": 1, "inputs": ["x"]}, "C": {"duration": 1, "period": 2}},
-    ...   "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]})
-    >>> synchronized_groups(sk)
-    [('A', 'B'), ('C',)]
-    """
-    parent = {t: t for t in sk.tasks}
-
-    def find(t: str) -> str:
-        while parent[t] != t:
-            parent[t] = parent[parent[t]]
-            t = parent[t]
-        return t
-
-    def union(a: str, b: str) -> None:
-        parent[find(a)] = find(b)
-
-    for link in sk.links:
-        if link.protocol.synchronizing:
-            union(link.writer[0], link.reader[0])
-    for thread in sk.threads:
-        for a, b in itertools.pairwise(thread):
-            union(a, b)
-    first_of_clock: dict[str, str] = {}
-    for name, task in sk.tasks.items():
-        if task.clock:
-            union(name, first_of_clock.setdefault(task.clock, name))
-    groups: dict[str, list[str]] = {}
-    for name in sk.tasks:
-        groups.setdefault(find(name), []).append(name)
-    return [tuple(g) for g in groups.values()]
-
-
-def group_period(sk: Skeleton, tasks: tuple[str, ...] | list[str]) -> Fraction | None:
-    """The design period of a group: its fastest clock's period (None without a clock).
-
-    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": "5/2"}}})
-    >>> group_period(sk, ["A"])
-    Fraction(5, 2)
-    """
-    periods = [sk.clocks[c].period for t in tasks if (c := sk.tasks[t].clock)]
-    return min(periods) if periods else None

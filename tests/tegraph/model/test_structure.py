@@ -5,13 +5,18 @@ from __future__ import annotations
 import random
 from fractions import Fraction as F
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from tegraph import load_skeleton
 from tegraph.model.build import build_teg
 from tegraph.model.skeleton import Skeleton
 from tegraph.model.structure import Structure, design_period
+from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton
+
+EXAMPLES = REPO / "examples"
 
 
 def _weak_parts_of_the_teg(sk: Skeleton) -> tuple[list[tuple[str, ...]], list[int]]:
@@ -60,6 +65,15 @@ def test_the_fixed_corpus_agrees_too() -> None:
         assert s.group_of_event(build_teg(sk)).tolist() == event_group, seed
 
 
+@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.yaml")))
+def test_the_examples_agree_too(name: str) -> None:
+    sk = load_skeleton(EXAMPLES / name)
+    groups, event_group = _weak_parts_of_the_teg(sk)
+    s = Structure.of(sk)
+    assert list(s.groups) == groups
+    assert s.group_of_event(build_teg(sk)).tolist() == event_group
+
+
 def test_what_joins_tasks_and_what_does_not() -> None:
     # A-B: ASYN/SYN (joins); B-C: ASYN/ASYN (does not); C-D: SYN/SYN (joins);
     # E and G share the clock k (joins); F and H a thread (joins); "spare" drives nothing.
@@ -94,6 +108,17 @@ def test_design_period_is_the_fastest_clock() -> None:
         "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]})
     assert Structure.of(sk).periods == (F(3, 2),)
     assert design_period(sk, ["A"]) == F(5)
+
+
+def test_clocks_of_a_group_in_the_order_their_tasks_come() -> None:
+    # The clocks section lists a before b, but X (on b) comes before Y (on a): b first,
+    # as the report's groups list them.
+    sk = Skeleton.from_dict({"clocks": {"a": {"period": 2}, "b": {"period": 3}}, "tasks": {
+        "X": {"duration": 1, "clock": "b", "outputs": ["o"]},
+        "Y": {"duration": 1, "clock": "a", "inputs": ["i"]}},
+        "links": [{"from": "X:o", "to": "Y:i", "protocol": "ASYN/SYN"}]})
+    s = Structure.of(sk)
+    assert s.clocks == (("b", "a"),) and s.periods == (F(2),)
 
 
 def test_links_by_port_keep_file_order() -> None:

@@ -23,7 +23,6 @@ from tegraph.design.rules import (
     is_automaton,
     proposed_priorities,
     synchronizations,
-    synchronized_groups,
 )
 from tegraph.io import dump_skeleton
 from tegraph.model.skeleton import Skeleton
@@ -263,14 +262,6 @@ def test_rule4_automaton_highest():
     # The proposal puts the automaton on top though it shares OBS's group.
     del base["tasks"]["RTA"]["priority"], base["tasks"]["OBS"]["priority"]
     assert proposed_priorities(sk(base)) == {"OBS": 1, "RTA": 2}
-
-
-# ------------------------------------------------------------------ groups
-
-@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.yaml")))
-def test_groups_agree_with_the_timed_event_graph(name):
-    s = load_skeleton(EXAMPLES / name)
-    assert synchronized_groups(s) == [tuple(g.tasks) for g in analyze(s).groups]
 
 
 # ------------------------------------------------------------------ spec §6 keys
