@@ -203,10 +203,16 @@ def check_skeleton(sk: Skeleton) -> None:
     report = analyze(sk, design=False)
     teg = build_teg(sk)
     r = skeleton_reachability(teg, max_states=200_000)
-    assert r.complete
     assert r.groups == [g.tasks for g in report.groups]
-    assert r.deadlock is (not report.live)
-    assert {d.group for d in r.dead} == {g.index for g in report.groups if not g.live}
+    if r.complete:
+        assert r.deadlock is (not report.live)
+        assert {d.group for d in r.dead} == {g.index for g in report.groups if not g.live}
+    else:
+        # A rare random skeleton has more markings than the budget (hypothesis found one
+        # of over 200,000): the search must say it stopped on its budget, and a dead
+        # marking it did find still proves its group not live (one direction only).
+        assert r.stopped_by == "states" and r.deadlock is not False
+        assert {d.group for d in r.dead} <= {g.index for g in report.groups if not g.live}
     net = PetriNet.from_teg(teg)
     circuit_events = {teg.index(e) for d in report.deadlocks for e in d.events}
     for d in r.dead:
