@@ -41,6 +41,9 @@ Modules, and where a change goes
     :class:`Change`, a machine-applicable edit of a skeleton, and
     :func:`apply_change`. A new kind of edit goes here (and in the advisor's
     candidates).
+``freeing``
+    :class:`~.freeing.Edits`, a candidate's edits, and the search for the ways
+    a task keeps one synchronization only (the first found without the others).
 ``candidates``
     The candidate edits for a finding of Rules 1-3, best first, by kind.
     A new way to repair a finding goes here.

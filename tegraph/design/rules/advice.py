@@ -132,6 +132,15 @@ class Advisor(Candidates):
         periods = [c.period for c in skeleton.clocks.values()]
         self.fresh = max(periods, default=Fraction(0)) + 1  # a period no group has
         self.keys = {f.identity for f in findings}
+        # The Rule 3 finding of each group, by the group's own tuple: :meth:`brings`
+        # need not hash all the tasks of a group that stays as it was to see that its
+        # finding is not new (a group of 10,000 tasks, once per finding of its tasks).
+        self._rule3: dict[int, FindingKind] = {}
+        for kind, key in self.keys:
+            if kind in (FindingKind.RULE3_NO_CLOCK, FindingKind.RULE3_SEVERAL_CLOCKS):
+                members = self.groups[self.group_of[key[0]]]
+                if members == key:
+                    self._rule3[id(members)] = kind
         self._dead: set[int] | None = None  # token-free circuits in the skeleton (on demand)
         self._live: dict[Change, bool] = {}
         self._real: dict[tuple, _Rates] = {}
@@ -176,8 +185,7 @@ class Advisor(Candidates):
         first: Edits | None = None
         best: tuple[tuple[int, int, int], Edits] | None = None
         # The smallest edits first; among equals, the order of preference.
-        ranked = sorted(itertools.islice(self.candidates(finding), CANDIDATE_LIMIT), key=_size)
-        for edits in ranked:
+        for edits in self.ranked(finding):
             if self.brings(key, edits, whole=False) is not None:
                 first = first or edits
                 continue
@@ -404,8 +412,10 @@ class Advisor(Candidates):
         part, root_of = self._regroup(groups, edits)
         for tasks, n_clocks, _ in part.values():
             if n_clocks != 1:
-                after.add((FindingKind.RULE3_SEVERAL_CLOCKS if n_clocks
-                           else FindingKind.RULE3_NO_CLOCK, tuple(tasks)))
+                kind = FindingKind.RULE3_SEVERAL_CLOCKS if n_clocks else FindingKind.RULE3_NO_CLOCK
+                if self._rule3.get(id(tasks)) is kind and key != (kind, tasks):
+                    continue  # the group as it was, with its finding: nothing new
+                after.add((kind, tuple(tasks)))
         after |= self._rule2_after(edits, groups, part, root_of)
         new = after - self.keys
         if key in after:
@@ -554,10 +564,6 @@ class Advisor(Candidates):
             parts.append(f"give {t} a clock of its own (a period of your choice that no "
                          f"other group has, e.g. {display_text(self.fresh)} {self.sk.unit})")
         return "; ".join(parts)
-
-
-def _size(edits: Edits) -> int:
-    return len({id(link) for link, _ in edits.protocol}) + len(edits.drop) + len(edits.add)
 
 
 

@@ -42,7 +42,7 @@ from collections.abc import Callable, Iterator
 from ...model.skeleton import Link, Protocol, Skeleton
 from ...model.structure import Structure
 from .findings import FindingKind, RuleFinding
-from .synchronization import READER_BLOCKS, WRITER_BLOCKS
+from .freeing import Edits, Freeing, Run, Sync, waits_for
 
 __all__ = ["CANDIDATE_LIMIT", "SPLIT", "Candidates", "Edits", "Sync", "sync_label"]
 
@@ -57,45 +57,6 @@ _SPLIT_LIMIT = 8
 
 
 # ------------------------------------------------------------------ candidates
-
-class Edits:
-    """Candidate edits, keyed by the original links and task names (immutable).
-
-    ``kept`` is what the task of a Rule 1 finding keeps, or the clock a group of
-    Rule 3 keeps, for the advice's words. (A plain class: candidates are made by
-    the thousand, and ``dataclasses.replace`` would cost more than the check.)
-    """
-
-    __slots__ = ("protocol", "drop", "add", "kept")
-
-    def __init__(self, protocol: tuple[tuple[Link, Protocol], ...] = (),
-                 drop: frozenset[str] = frozenset(), add: frozenset[str] = frozenset(),
-                 kept: str = "") -> None:
-        self.protocol, self.drop, self.add, self.kept = protocol, drop, add, kept
-
-    def set(self, link: Link, protocol: Protocol) -> Edits:
-        return Edits(self.protocol + ((link, protocol),), self.drop, self.add, self.kept)
-
-    def with_clock(self, task: str, present: bool) -> Edits:
-        """``task`` keeps no clock (``present`` False) or gets one of its own."""
-        if present:
-            return Edits(self.protocol, self.drop, self.add | {task}, self.kept)
-        return Edits(self.protocol, self.drop | {task}, self.add - {task}, self.kept)
-
-    def saying(self, kept: str) -> Edits:
-        return Edits(self.protocol, self.drop, self.add, kept)
-
-    def get(self, link: Link) -> Protocol:
-        for known, protocol in reversed(self.protocol):
-            if known is link:
-                return protocol
-        return link.protocol
-
-
-Sync = tuple[str, Link | None]
-"""``("clock", None)``, ``("input", link)`` or ``("output", link)``."""
-
-
 
 class Candidates:
     """The candidate edits for each finding of Rules 1-3 on one skeleton.
@@ -136,51 +97,11 @@ class Candidates:
         """What ``task`` waits for once ``edits`` are made, in chain order."""
         has_clock = (self.sk.tasks[task].clock is not None and task not in edits.drop
                      or task in edits.add)
-        out: list[Sync] = [("clock", None)] if has_clock else []
-        out += [("input", link) for link in self.inputs(task) if edits.get(link) in READER_BLOCKS]
-        out += [("output", link) for link in self.outputs(task)
-                if edits.get(link) in WRITER_BLOCKS]
-        return out
+        return waits_for(has_clock, self.inputs(task), self.outputs(task), edits.get)
 
     def needs_one(self, task: str, edits: Edits) -> bool:
         """Rule 1 would warn: no synchronization and no thread."""
         return task not in self.threaded and not self.syncs(task, edits)
-
-    def _free(self, task: str, keep: Sync, seen: frozenset[str], edits: Edits
-              ) -> Iterator[Edits]:
-        """Variants of ``edits`` in which ``task`` keeps ``keep`` and nothing else."""
-        variants: Iterator[Edits] = iter([edits])
-        for sync in self.syncs(task, edits):
-            if sync != keep:
-                variants = self._each(variants, task, sync, seen)
-        return variants
-
-    def _each(self, variants: Iterator[Edits], task: str, sync: Sync, seen: frozenset[str]
-              ) -> Iterator[Edits]:
-        for edits in variants:
-            yield from self._remove(task, sync, seen, edits)
-
-    def _remove(self, task: str, sync: Sync, seen: frozenset[str], edits: Edits
-                ) -> Iterator[Edits]:
-        """Ways for ``task`` to stop waiting for ``sync``, best first."""
-        kind, link = sync
-        if kind == "clock":
-            yield edits.with_clock(task, False)
-            return
-        assert link is not None
-        now = edits.get(link)
-        if now is Protocol.SYN_SYN:  # the other side keeps blocking, or neither does
-            yield edits.set(link, Protocol.SYN_ASYN if kind == "input" else Protocol.ASYN_SYN)
-            yield edits.set(link, Protocol.ASYN_ASYN)
-            return
-        yield edits.set(link, Protocol.ASYN_ASYN)
-        other = link.writer[0] if kind == "input" else link.reader[0]
-        if other in seen:
-            return
-        # Pull (the writer waits for the task's request) or push (the reader waits).
-        turned = edits.set(link, Protocol.SYN_ASYN if kind == "input" else Protocol.ASYN_SYN)
-        yield from self._free(other, ("output" if kind == "input" else "input", link),
-                              seen | {other}, turned)
 
     def _gain(self, task: str, seen: frozenset[str], edits: Edits, inputs: bool = True,
               outputs: bool = True) -> Iterator[Edits]:
@@ -211,9 +132,39 @@ class Candidates:
 
     def candidates(self, finding: RuleFinding) -> Iterator[Edits]:
         """The changes that would remove ``finding`` (of Rules 1-3), best first (unchecked)."""
-        yield from self._by_kind[finding.kind](self, finding.key)
+        runs = self._runs(finding)
+        if runs is not None:
+            yield from self._freeing().candidates(runs)
+        else:
+            yield from self._by_kind[finding.kind](self, finding.key)
 
-    def _several_syncs(self, task: str) -> Iterator[Edits]:
+    def ranked(self, finding: RuleFinding) -> Iterator[Edits]:
+        """The first :data:`CANDIDATE_LIMIT` :meth:`candidates`, smallest first (by
+        :meth:`Edits.size`; among equals, in the order of preference).
+
+        Made one at a time: the advice mostly takes the first. Where the candidates
+        are searched (:class:`~.freeing.Freeing`), the first is found without
+        making the others, and the others are made if it is not taken.
+        """
+        runs = self._runs(finding)
+        first = None if runs is None else self._freeing().first(runs, CANDIDATE_LIMIT)
+        if first is not None:
+            yield first
+        ranked = sorted(itertools.islice(self.candidates(finding), CANDIDATE_LIMIT),
+                        key=Edits.size)
+        # The sort is stable, so its first is the one already given.
+        yield from ranked[1:] if first is not None else ranked
+
+    def _freeing(self) -> Freeing:
+        return Freeing(self.inputs, self.outputs, lambda task: self.sk.tasks[task].clock)
+
+    def _runs(self, finding: RuleFinding) -> list[Run] | None:
+        """The searches of :class:`~.freeing.Freeing` whose candidates are
+        ``finding``'s, one after the other (None: its candidates are not searched)."""
+        runs = self._runs_by_kind.get(finding.kind)
+        return None if runs is None else runs(self, finding.key)
+
+    def _several_syncs(self, task: str) -> list[Run]:
         """Rule 1, several synchronizations: keep one, each in turn, footnote 6's first."""
         empty = Edits()
         syncs = self.syncs(task, empty)
@@ -221,10 +172,8 @@ class Candidates:
         outputs = [s for s in syncs if s[0] == "output"]
         first = ([inputs[0]] if inputs else []) + [s for s in syncs if s[0] == "clock"] \
             + ([outputs[-1]] if outputs else [])
-        for keep in first + [s for s in syncs if s not in first]:
-            label = sync_label(keep)
-            for edits in self._free(task, keep, frozenset({task}), empty):
-                yield edits.saying(label)
+        return [(empty, task, keep, frozenset({task}), sync_label(keep))
+                for keep in first + [s for s in syncs if s not in first]]
 
     def _no_sync(self, task: str) -> Iterator[Edits]:
         """Rule 1, no synchronization: read an input, get a clock, or post an output."""
@@ -240,21 +189,19 @@ class Candidates:
         for side, other, protocol in ((w, r, Protocol.ASYN_SYN), (r, w, Protocol.SYN_ASYN)):
             yield from self._handed_over(side, frozenset({other}), Edits().set(link, protocol))
 
-    def _unsynchronized(self, key: tuple[tuple[str, str], tuple[str, str]]) -> Iterator[Edits]:
+    def _unsynchronized(self, key: tuple[tuple[str, str], tuple[str, str]]) -> list[Run]:
         """Rule 2, ASYN/ASYN at one rate: the reader, or the writer, waits on it and only on it."""
         link = self._link(*key)
         w, r = link.writer[0], link.reader[0]
-        yield from self._free(r, ("input", link), frozenset({w, r}),
-                              Edits().set(link, Protocol.ASYN_SYN))
-        yield from self._free(w, ("output", link), frozenset({w, r}),
-                              Edits().set(link, Protocol.SYN_ASYN))
+        return [(Edits().set(link, Protocol.ASYN_SYN), r, ("input", link), frozenset({w, r}), ""),
+                (Edits().set(link, Protocol.SYN_ASYN), w, ("output", link), frozenset({w, r}), "")]
 
-    def _no_clock(self, tasks: tuple[str, ...]) -> Iterator[Edits]:
+    def _no_clock(self, tasks: tuple[str, ...]) -> list[Run]:
         """Rule 3, no clock: a clock to one task, which keeps only that synchronization."""
         empty = Edits()
         quiet = [t for t in tasks if not any(k == "input" for k, _ in self.syncs(t, empty))]
-        for t in quiet + [t for t in tasks if t not in quiet]:
-            yield from self._free(t, ("clock", None), frozenset({t}), empty.with_clock(t, True))
+        return [(empty.with_clock(t, True), t, ("clock", None), frozenset({t}), "")
+                for t in quiet + [t for t in tasks if t not in quiet]]
 
     def _several_clocks(self, tasks: tuple[str, ...]) -> Iterator[Edits]:
         """Rule 3, several clocks: split the group, or keep one clock."""
@@ -264,23 +211,27 @@ class Candidates:
             if clock:
                 clocks.setdefault(clock, []).append(t)
         yield from self._split(tasks)
+        clocked = frozenset(t for users in clocks.values() for t in users)
+        # A task's links do not change when other tasks lose their clocks: whether it
+        # is left without a synchronization when its clock goes is told once, not once
+        # per clock kept (a group bound by n clocks would cost n^2).
+        bare = [t for users in clocks.values() for t in users
+                if self.needs_one(t, Edits(drop=frozenset({t})))]
         for keep in clocks:
             # One task at a time, breadth first: a group bound by thousands of clocks
             # would nest a generator per task (Python's recursion limit). Only the first
             # CANDIDATE_LIMIT variants (in the order of the choices) are ever examined, and the
             # first CANDIDATE_LIMIT complete ones extend the first CANDIDATE_LIMIT partial ones.
-            others = [t for clock, users in clocks.items() if clock != keep for t in users]
-            # A task's links do not change when other tasks lose their clocks: when none
-            # is left without a synchronization, the one candidate is every drop at once
-            # (what the loop below gives, without a copy of the drops per task).
-            at_once = Edits(drop=frozenset(others), kept=keep)
-            needy = [t for t in others if self.needs_one(t, at_once)]
+            others = clocked.difference(clocks[keep])
+            # When no task is left without a synchronization, the one candidate is every
+            # drop at once (what the loop below gives, without a copy of the drops per task).
+            needy = [t for t in bare if self.sk.tasks[t].clock != keep]
             if not needy:
-                yield at_once
+                yield Edits(drop=others, kept=keep)
                 continue
             # The others are dropped at once; those left without a synchronization
             # gain one, one task at a time, breadth first.
-            variants = [Edits(drop=frozenset(others).difference(needy), kept=keep)]
+            variants = [Edits(drop=others.difference(needy), kept=keep)]
             for t in needy:
                 variants = list(itertools.islice(self._unclock(variants, t), CANDIDATE_LIMIT))
             yield from variants
@@ -324,14 +275,18 @@ class Candidates:
 
     # Each function takes the key of its own kind of finding (a task, a link's ports...).
     _by_kind: dict[FindingKind, Callable[..., Iterator[Edits]]] = {
-        FindingKind.RULE1_SEVERAL_SYNCS: _several_syncs,
         FindingKind.RULE1_NO_SYNC: _no_sync,
         FindingKind.RULE2_RENDEZVOUS: _rendezvous,
-        FindingKind.RULE2_UNSYNCHRONIZED: _unsynchronized,
-        FindingKind.RULE3_NO_CLOCK: _no_clock,
         FindingKind.RULE3_SEVERAL_CLOCKS: _several_clocks,
     }
-    """The candidates of each kind of finding of Rules 1-3, from its key."""
+    """The candidates of each kind of finding of Rules 1-3 that is not searched, from its key."""
+
+    _runs_by_kind: dict[FindingKind, Callable[..., list[Run]]] = {
+        FindingKind.RULE1_SEVERAL_SYNCS: _several_syncs,
+        FindingKind.RULE2_UNSYNCHRONIZED: _unsynchronized,
+        FindingKind.RULE3_NO_CLOCK: _no_clock,
+    }
+    """The searches of each other kind of finding, from its key."""
 
 
 def sync_label(sync: Sync) -> str:
