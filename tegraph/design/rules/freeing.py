@@ -137,6 +137,12 @@ class Freeing:
                  outputs: Callable[[str], list[Link]],
                  clock: Callable[[str], str | None]) -> None:
         self.inputs, self.outputs, self.clock = inputs, outputs, clock
+        # The walk's bound (a branch at least this large is skipped) and cap (candidates
+        # and skipped branches counted, past which nothing is within the limit).
+        self._bound: int | None = None
+        self._cap: int | None = None
+        self._found = self._skipped = 0
+        self.kept = ""
 
     # ------------------------------------------------------------ the walk
     def candidates(self, runs: Sequence[Run]) -> Iterator[Edits]:
