@@ -148,8 +148,8 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
     return report
 
 
-def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence[str]] = ()
-          ) -> DesignSection:
+def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence[str]] = (),
+          processors: bool = True) -> DesignSection:
     """The design rules of ORCCAD §6, schedulability and chain latencies (``tegraph rules``).
 
     Parameters
@@ -159,6 +159,9 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
     chains : sequence of task-name sequences
         Sensor-to-actuator chains whose latency to report, besides the
         skeleton's own ``chains``.
+    processors : bool
+        The advice also says what each change does to the skeleton on its
+        processors (spec §4b); False: every task on a processor of its own.
 
     Returns
     -------
@@ -189,7 +192,7 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
     ([(4, 'info')], 0)
     """
     skeleton = _skeleton(skeleton)
-    return design_section(skeleton, analyze_skeleton(skeleton), chains)
+    return design_section(skeleton, analyze_skeleton(skeleton), chains, processors=processors)
 
 
 def _skeleton(skeleton: Any) -> Skeleton:

@@ -385,6 +385,7 @@ def rules(
     file: SkeletonFile,
     chain: Annotated[list[str] | None, _chain("Report the latency of")] = None,
     json_out: JsonFlag = False,
+    processors: Processors = True,
 ) -> None:
     """Design rules of ORCCAD section 6, threads, schedulability and chain latencies.
 
@@ -400,7 +401,7 @@ def rules(
     with _refusals(file):
         skeleton = load_skeleton(file)
         chains = [parse_chain(c) for c in chain or []]
-        section = check_design(skeleton, chains=chains)
+        section = check_design(skeleton, chains=chains, processors=processors)
     typer.echo(to_json(section) if json_out else _cli_words(render_text(section)), nl=json_out)
     raise typer.Exit(section.exit_status)
 

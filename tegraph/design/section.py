@@ -63,7 +63,8 @@ class DesignSection:
 
 
 def design_section(skeleton: Skeleton, report: Report,
-                   chains: Sequence[Sequence[str]] = ()) -> DesignSection:
+                   chains: Sequence[Sequence[str]] = (), *,
+                   processors: bool | None = None) -> DesignSection:
     """Rules 1-4, schedulability and the latency of each chain, for one analyzed skeleton.
 
     Parameters
@@ -75,6 +76,9 @@ def design_section(skeleton: Skeleton, report: Report,
     chains : sequence of task-name sequences
         Chains to report besides the skeleton's own ``chains`` (key path
         ``chains[i][j]`` for those, ``chain[i][j]`` for these in error messages).
+    processors : bool, optional
+        Whether the advice says what each change does on the skeleton's processors
+        (spec §4b); default: where ``report`` was decided on them (``report.schedule``).
 
     Returns
     -------
@@ -90,6 +94,8 @@ def design_section(skeleton: Skeleton, report: Report,
     named = [(tuple(c), ("chains", i)) for i, c in enumerate(skeleton.chains)]
     named += [(tuple(c), ("chain", i)) for i, c in enumerate(chains)]
     return DesignSection(
-        name=skeleton.name, unit=skeleton.unit, rules=check_rules(skeleton, report.structure),
+        name=skeleton.name, unit=skeleton.unit,
+        rules=check_rules(skeleton, report.structure, processors=(
+            report.schedule is not None if processors is None else processors)),
         schedulability=sched,
         latency=[chain_latency(skeleton, c, report, sched, path) for c, path in named])

@@ -15,7 +15,7 @@ from typing import Any
 from ...errors import InputError
 from ...model.skeleton import Clock, Link, Protocol, Skeleton
 
-__all__ = ["Change", "apply_change"]
+__all__ = ["Change", "ScheduleEffect", "apply_change"]
 
 
 @dataclass(frozen=True)
@@ -42,6 +42,42 @@ class Change:
         """Plain data for the JSON report."""
         return {"protocols": [{"from": w, "to": r, "protocol": p} for w, r, p in self.protocols],
                 "drop_clock": list(self.drop_clock), "add_clock": list(self.add_clock)}
+
+
+@dataclass(frozen=True)
+class ScheduleEffect:
+    """What a change does to the skeleton on its processors (spec §4b), before -> after.
+
+    Decided on the part the change touches (:mod:`.on_processors`): the groups it
+    touches and every group sharing a processor with them.
+
+    Attributes
+    ----------
+    tasks : tuple of str
+        The tasks of that part, in file order (the rest is not simulated again).
+    processors : tuple of str
+        Their processors.
+    before, after : bool or None
+        Schedulable on processors without and with the change; None: not decided
+        (``why_undecided``).
+    why_undecided : str or None
+        Why ``before`` or ``after`` is None (a budget); None when both are decided.
+    text : str
+        The same in words (the advice's clause).
+    """
+
+    tasks: tuple[str, ...]
+    processors: tuple[str, ...]
+    before: bool | None
+    after: bool | None
+    why_undecided: str | None
+    text: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for the JSON report (the words are in the finding's advice)."""
+        return {"tasks": list(self.tasks), "processors": list(self.processors),
+                "schedulable_before": self.before, "schedulable_after": self.after,
+                "why_undecided": self.why_undecided}
 
 
 def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | None = None

@@ -21,6 +21,7 @@ from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from .advice import CANDIDATE_LIMIT, SPLIT, Advisor
 from .findings import FindingKind, RuleFinding, key_text, link_key, naming_order
+from .on_processors import ScheduleAdvice
 from .priorities import rule4
 from .synchronization import synchronizations
 
@@ -29,7 +30,8 @@ __all__ = ["check_rules"]
 _ORDER = {"error": 0, "warning": 1, "info": 2}
 
 
-def check_rules(skeleton: Skeleton, structure: Structure | None = None) -> list[RuleFinding]:
+def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
+                processors: bool = True) -> list[RuleFinding]:
     """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
 
     Parameters
@@ -38,6 +40,11 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None) -> list[
         The design to check (file order decides the order of findings).
     structure : Structure, optional
         ``Structure.of(skeleton)``, if known (its groups are the synchronized groups).
+    processors : bool
+        Also say what each advised change does to the skeleton on its processors
+        (spec §4b, :mod:`.on_processors`: ``RuleFinding.schedule`` and a clause of
+        the advice); False: every task has a processor of its own, where the
+        periods the advice states say it.
 
     Returns
     -------
@@ -79,7 +86,9 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None) -> list[
     structure = Structure.of(skeleton) if structure is None else structure
     structural = structural_findings(skeleton, structure)
     advisor = Advisor(skeleton, structural, structure)
-    findings = [advised(f, advisor) for f in structural]
+    on = (ScheduleAdvice(skeleton, structure.groups, structure.group_of, advisor.fresh)
+          if processors else None)
+    findings = [advised(f, advisor, on) for f in structural]
     findings += rule4(skeleton, structure)
     index = {t: i for i, t in enumerate(skeleton.tasks)}
     findings.sort(key=lambda f: (f.rule, _ORDER[f.severity],
@@ -93,8 +102,10 @@ def structural_findings(skeleton: Skeleton, structure: Structure) -> list[RuleFi
             + rule3(skeleton, structure.groups))
 
 
-def advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
-    """The finding with the best change that brings no other finding, in words."""
+def advised(finding: RuleFinding, advisor: Advisor, on: ScheduleAdvice | None = None
+            ) -> RuleFinding:
+    """The finding with the best change that brings no other finding, in words; with
+    ``on``, what the change does to the skeleton on its processors too."""
     choice = advisor.choose(finding)
     change, said = choice.change, choice.kept
     if change is None:
@@ -117,14 +128,15 @@ def advised(finding: RuleFinding, advisor: Advisor) -> RuleFinding:
         words = f"keep one clock ({said}): {words}"
     elif finding.rule == 3:
         words += " (one clock for the whole group)"
-    words += f" [{choice.periods}]"
+    effect = None if on is None else on.effect(change)
+    words += f" [{choice.periods}" + ("" if effect is None else f"; {effect.text}") + "]"
     if choice.live is False:
         # Under a deadlock, advice that leaves it is said to leave it (spec §4 deadlocks).
         words += (" This alone leaves the skeleton dead: none of the changes examined for this "
                   "finding makes it live (see the deadlock's own advice).")
     elif choice.live:
         words += " This also makes the skeleton live."
-    return dataclasses.replace(finding, advice=words, change=change)
+    return dataclasses.replace(finding, advice=words, change=change, schedule=effect)
 
 
 def rule1(sk: Skeleton, structure: Structure) -> list[RuleFinding]:

@@ -16,7 +16,7 @@ from typing import Any
 
 from ...model.elements import LinkLabel
 from ...model.skeleton import Protocol
-from .change import Change
+from .change import Change, ScheduleEffect
 
 __all__ = ["FindingKey", "FindingKind", "RuleFinding", "link_key"]
 
@@ -103,6 +103,10 @@ class RuleFinding:
     change : Change or None
         The same as an edit of the skeleton (Rules 1-3; None for Rule 4, and
         when no change removes the finding without bringing another one).
+    schedule : ScheduleEffect or None
+        What ``change`` does to the skeleton on its processors (spec §4b), before
+        -> after; None without a change, or when every task has a processor of
+        its own (``processors=False``), where the periods say it.
 
     See Also
     --------
@@ -123,6 +127,7 @@ class RuleFinding:
     message: str
     advice: str
     change: Change | None = None
+    schedule: ScheduleEffect | None = None
 
     @property
     def rule(self) -> int:
@@ -145,7 +150,8 @@ class RuleFinding:
         return {"rule": self.rule, "severity": self.severity, "tasks": list(self.tasks),
                 "ports": list(self.ports), "links": [link.document() for link in self.links],
                 "message": self.message, "advice": self.advice,
-                "change": None if self.change is None else self.change.to_dict()}
+                "change": None if self.change is None else self.change.to_dict(),
+                "schedule": None if self.schedule is None else self.schedule.to_dict()}
 
 
 def key_text(identity: FindingKey) -> str:

@@ -95,11 +95,16 @@ def test_rule1_counts_blocking_outputs_and_rendezvous():
     assert errors[0].change == Change((("W:a", "R:a", "ASYN/SYN"),))
     # Before, R waits for nothing (it reads SYN/ASYN, no clock): it runs every 1 ms (its
     # duration) beside W's 5 ms. After, R waits for W's message: {W, R} runs at 5 ms.
+    # On their one processor (one group, one priority): before, R runs whenever W does not
+    # (4 ms of every 5) and posts 4 requests per 5 ms that W takes once: the place of
+    # requests R.read:a -> W.write:a grows. After, W [0,1], R [1,2], again every 5 ms.
     assert errors[0].advice == ("keep only its clock: make W:a -> R:a ASYN/SYN (R waits for "
                                 "W's message) [periods (max cycle ratio), "
                                 "before -> after: {W, R} not rate-consistent (clock c 5 ms, "
                                 "R 1 ms) -> {W, R} 5 ms; every clocked task keeps its "
-                                "clock's period]")
+                                "clock's period; on its processors (§4b), before -> after: "
+                                "NOT SCHEDULABLE (the place R.read:a -> W.write:a grows "
+                                "(requests-overwritten)) -> schedulable ({W, R} 5 ms)]")
     warnings = of_rule(check_rules(s), 1, "warning")
     assert [f.tasks for f in warnings] == [("R",)]
     assert "no synchronization" in warnings[0].message
@@ -136,10 +141,14 @@ def test_rule2_unsynchronized_pipeline_of_figure_4():
                                            ("MT2:x2 -> MT3:x2 (ASYN/ASYN)",),
                                            ("MT3:x3 -> MT4:x3 (ASYN/ASYN)",)]
     # MT1 and MT2 join one group paced by MT1's 10 ms clock; MT2's own clock was 10 ms too.
+    # On their one processor all four tasks need 1 + 2 + 2 + 1 = 6 ms of every 10, each
+    # released at a 10 ms tick (or, after, at MT1's end): every job ends before the next.
     assert ("make MT1:x1 -> MT2:x1 ASYN/SYN (MT2 waits for MT1's message); remove the clock "
             "MT2.clock of MT2 [periods (max cycle ratio), before -> after: "
             "{MT1} 10 ms, {MT2} 10 ms -> {MT1, MT2} 10 ms; every clocked task keeps its "
-            "clock's period]") == findings[0].advice
+            "clock's period; on its processors (§4b), before -> after: schedulable ({MT1} "
+            "10 ms, {MT2} 10 ms, {MT3} 10 ms, {MT4} 10 ms) -> schedulable ({MT1, MT2} 10 ms, "
+            "{MT3} 10 ms, {MT4} 10 ms)]") == findings[0].advice
     assert findings[0].change == Change((("MT1:x1", "MT2:x1", "ASYN/SYN"),), ("MT2",))
     assert all("Figure 4" in f.message for f in findings)
 
@@ -158,12 +167,20 @@ def test_rule3_group_without_clock_figure_7a():
     # No group has a clock: any period is one no other group has (the example says 1 ms).
     # The group has no clock before; after, MT1's new clock paces it; the circular wait
     # through MT2:b -> MT1:b is cut, so the skeleton (dead, Figure 7a) becomes live.
+    # On its one processor with the assumed 1 ms clock, three jobs of 1 ms each per 1 ms
+    # cannot fit (one priority; release, then file order): MT1 [0,1]; at 1 MT1#2 and
+    # MT3#1 are released, MT1 first [1,2]; at 2 MT3#1 (released 1) [2,3]; at 3 MT1#3
+    # (released 2) before MT2#1 and MT3#2 (released 3) [3,4]: MT1's tick 4 at 3 finds
+    # activation 3 not ended: MT1 overruns at activation 4.
     assert f.advice == ("make MT2:b -> MT1:b ASYN/ASYN (neither side waits); give MT1 a clock "
                         "of its own (a period of your choice that no other group has, e.g. "
                         "1 ms) (one clock for the whole group) [periods (max cycle ratio), "
                         "before -> after: {MT1, MT2, MT3} dead -> "
-                        "{MT1, MT2, MT3} a period of your choice] This also makes the "
-                        "skeleton live.")
+                        "{MT1, MT2, MT3} a period of your choice; on its processors (§4b), "
+                        "before -> after: NOT SCHEDULABLE (dead: a token-free circuit) -> "
+                        "NOT SCHEDULABLE (MT1 overruns at activation 4) (the new clock at 1 "
+                        "ms, the period the advice assumed)] This also makes the skeleton "
+                        "live.")
 
 
 def test_rule3_group_without_clock_names_its_source():
@@ -179,10 +196,19 @@ def test_rule3_two_clocks_in_one_group():
     assert (f.severity, f.tasks) == ("error", ("MT1", "MT2"))
     assert "2 clocks (MT1.clock on MT1, MT2.clock on MT2)" in f.message
     # Both clocks are 10 ms: MT2 keeps its sampling period on MT1's clock.
+    # On their one processor (12 ms of work every 10 ms, one priority; a job runs by its
+    # release, then file order): before, MT1 [0,6], MT2 [6,12] past MT2's tick at 10:
+    # MT2 overruns at activation 2. After, MT2#k is released at max(MT1's k-th end,
+    # MT2#(k-1)'s end): MT1 [0,6], MT2 [6,12], MT1 [12,18], MT2 [18,24], MT1 [24,30],
+    # MT1 [30,36] (released 30, before MT2#3 released 30), MT2 [36,42], MT1 [42,48],
+    # MT2 [48,54] (released 42), MT1 [54,60], MT2#5 (released 54) [60,66] before MT1#7
+    # (released 60) [66,72], past MT1's tick at 70: MT1 overruns at activation 8.
     assert f.advice == ("keep one clock (MT1.clock): remove the clock MT2.clock of MT2 "
                         "[periods (max cycle ratio), before -> after: "
                         "{MT1, MT2} 10 ms, unchanged; every clocked task keeps its clock's "
-                        "period]")
+                        "period; on its processors (§4b), before -> after: NOT SCHEDULABLE "
+                        "(MT2 overruns at activation 2) -> NOT SCHEDULABLE (MT1 overruns at "
+                        "activation 8)]")
 
 
 # ------------------------------------------------------------------ Rule 4

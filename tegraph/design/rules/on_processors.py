@@ -1,0 +1,234 @@
+"""What an advised change does to the skeleton on its processors (spec §4b), before -> after.
+
+The advice (:mod:`.advice`) states the periods a change gives, which assume a
+processor per task (spec §4). A controller runs on a few processors under
+preemptive fixed priorities (§4b), where a change can make the skeleton
+schedulable or break it. :class:`ScheduleAdvice` decides that for the change
+chosen for a finding:
+
+- **where**: the groups the change touches, closed under "shares a processor
+  with" (§4b's platform takes whole groups: the rate-monotonic proposal numbers
+  the groups of a processor). A change re-forms groups only among the tasks it
+  touches, so the same tasks are closed before and after; their schedule is
+  independent of the rest (no place, no processor time shared), and the rest is
+  not simulated again;
+- **how**: that part alone (:meth:`~tegraph.model.skeleton.Skeleton.restricted_to`),
+  before and with the change, analyzed on its processors
+  (:func:`~tegraph.analysis.analyze.analyze_skeleton` with ``processors=True``,
+  which decides it with :func:`~tegraph.analysis.processors.schedule_on_processors`);
+- **within a budget**: :data:`CHANGE_EVENTS` event firings per simulation (two per
+  change: before and after), :data:`ADVICE_EVENTS` in all, each simulation charged
+  at least its fixed cost, and parts of more than :data:`PART_TASKS` tasks are not
+  simulated. So a skeleton of 10,000 tasks with 10,000 findings costs a bounded
+  time; once the budget is spent, the advice says so.
+
+A clock the change adds gets the period the advisor assumed (a period no group
+has, :attr:`~.advice.Advisor.fresh`); the words say so.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from fractions import Fraction
+from typing import Any
+
+from maxplus.scalar import display_text
+
+from ...analysis.budgets import MAX_EVENTS
+from ...analysis.processors.platform import DEFAULT_PROCESSOR
+from ...model.skeleton import Skeleton
+from .advice import _group_text
+from .change import Change, ScheduleEffect, apply_change
+
+__all__ = ["ADVICE_EVENTS", "CHANGE_EVENTS", "PART_TASKS", "ScheduleAdvice"]
+
+CHANGE_EVENTS = MAX_EVENTS // 100
+"""Event firings of one simulation of a changed part (10,000; twice per change:
+before and after): a part the advice touches is usually a group or two, decided in
+some tens to thousands of firings; past it the verdict is "undecided"."""
+
+ADVICE_EVENTS = MAX_EVENTS // 5
+"""Event firings the advice simulates in all (200,000, a fifth of what ``analyze``
+spends on the whole schedule), each simulation counted at least
+:data:`_MIN_COST` plus :data:`_TASK_COST` per task of its part."""
+
+PART_TASKS = 1_000
+"""Largest part (tasks on the processors a change touches) the advice simulates."""
+
+_MIN_COST = 500
+"""What one simulation costs at least, in firings: the fixed cost of building and
+analyzing the part (some 5 ms, as 500 firings of the simulation)."""
+
+_TASK_COST = 20
+"""What building and analyzing a part costs per task, in firings."""
+
+_SHOWN = 4
+"""Groups named in a verdict's figures; more are counted."""
+
+
+class _Verdict:
+    """The §4b verdict of one part: schedulable (or None), and its words."""
+
+    __slots__ = ("schedulable", "words")
+
+    def __init__(self, schedulable: bool | None, words: str) -> None:
+        self.schedulable, self.words = schedulable, words
+
+
+class ScheduleAdvice:
+    """The effect of advised changes on the skeleton's processors, within a budget.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    groups : sequence of tuple of str
+        The skeleton's groups (``Structure.of(skeleton).groups``).
+    group_of : mapping
+        Each task's index in ``groups``.
+    fresh : Fraction
+        The period of a clock a change adds (the advisor's assumption).
+
+    Examples
+    --------
+    Figure 12 on one processor: MT2 overruns at activation 3 (it waits for MT1's
+    message every 10 ms on its 4 ms clock); with the link ASYN/ASYN, the two run
+    at their own clocks (hand-derived in ``tests/tegraph/design/rules/test_on_processors.py``):
+
+    >>> from tegraph.model.structure import Structure
+    >>> sk = Skeleton.from_dict({"clocks": {"rtc": {"period": 10}}, "tasks": {
+    ...     "MT1": {"duration": 1, "clock": "rtc", "outputs": ["y"]},
+    ...     "MT2": {"duration": 2, "period": 4, "inputs": ["y"]}},
+    ...   "links": [{"from": "MT1:y", "to": "MT2:y", "protocol": "ASYN/SYN"}]})
+    >>> s = Structure.of(sk)
+    >>> advice = ScheduleAdvice(sk, s.groups, s.group_of, Fraction(11))
+    >>> effect = advice.effect(Change((("MT1:y", "MT2:y", "ASYN/ASYN"),)))
+    >>> effect.before, effect.after, effect.tasks
+    (False, True, ('MT1', 'MT2'))
+    >>> print(effect.text.replace(" -> s", "\n-> s"))
+    on its processors (§4b), before -> after: NOT SCHEDULABLE (MT2 overruns at activation 3)
+    -> schedulable ({MT1} 10 ms, {MT2} 4 ms)
+    """
+
+    def __init__(self, skeleton: Skeleton, groups: Sequence[tuple[str, ...]],
+                 group_of: Mapping[str, int], fresh: Fraction) -> None:
+        self.sk, self.groups, self.group_of, self.fresh = skeleton, groups, group_of, fresh
+        self.order = {t: i for i, t in enumerate(skeleton.tasks)}
+        self.part_of = self._parts()
+        self.spent = 0
+        """Event firings charged so far (:data:`ADVICE_EVENTS`)."""
+        self._known: dict[Any, _Verdict] = {}
+
+    def _parts(self) -> list[int]:
+        """The part of each group: groups joined by sharing a processor (union-find, once,
+        so a change costs its own part, not the skeleton)."""
+        parent = list(range(len(self.groups)))
+
+        def find(i: int) -> int:
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        first: dict[str, int] = {}
+        for g, tasks in enumerate(self.groups):
+            for t in tasks:
+                proc = self.sk.tasks[t].processor or DEFAULT_PROCESSOR
+                other = first.setdefault(proc, g)
+                parent[find(g)] = find(other)
+        return [find(g) for g in range(len(self.groups))]
+
+    def effect(self, change: Change) -> ScheduleEffect:
+        """The §4b verdict before -> after ``change``, on the part it touches.
+
+        Returns
+        -------
+        ScheduleEffect
+            Its ``text`` is the advice's clause.
+        """
+        touched = {w.split(":")[0] for w, _, _ in change.protocols}
+        touched |= {r.split(":")[0] for _, r, _ in change.protocols}
+        touched |= set(change.drop_clock) | set(change.add_clock)
+        parts = {self.part_of[self.group_of[t]] for t in touched}
+        tasks = tuple(sorted((t for g, members in enumerate(self.groups)
+                              if self.part_of[g] in parts for t in members),
+                             key=self.order.__getitem__))
+        processors = tuple(dict.fromkeys(self.sk.tasks[t].processor or DEFAULT_PROCESSOR
+                                         for t in tasks))
+        head = "on its processors (§4b), before -> after: "
+        if len(tasks) > PART_TASKS:
+            why = (f"not simulated: the processors it touches run {len(tasks):,} tasks, more "
+                   f"than the advice simulates per change ({PART_TASKS:,}; tegraph analyze on "
+                   "the changed file decides it)")
+            return ScheduleEffect(tasks, processors, None, None, why, head + why)
+        key = tuple(sorted(parts))
+        before = self._verdict(key, tasks, Change())
+        after = self._verdict(key, tasks, change)
+        if before is None or after is None:
+            why = (f"not decided: the advice's budget of {ADVICE_EVENTS:,} event firings in "
+                   "all is spent (tegraph analyze on the changed file decides it)")
+            return ScheduleEffect(tasks, processors, None, None, why, head + why)
+        if before.words == after.words:
+            text = head + before.words + ", unchanged"
+        else:
+            text = head + before.words + " -> " + after.words
+        if change.add_clock and after.schedulable is not None:
+            text += (f" (the new clock at {display_text(self.fresh)} {self.sk.unit}, "
+                     "the period the advice assumed)")
+        undecided = None
+        if before.schedulable is None or after.schedulable is None:
+            undecided = f"undecided within {CHANGE_EVENTS:,} event firings per simulation"
+        return ScheduleEffect(tasks, processors, before.schedulable, after.schedulable,
+                              undecided, text)
+
+    def _verdict(self, key: tuple, tasks: tuple[str, ...], change: Change) -> _Verdict | None:
+        """The part of ``tasks`` with ``change`` made, decided on its processors (cached);
+        None once :data:`ADVICE_EVENTS` is spent."""
+        known = self._known.get((key, change))
+        if known is not None:
+            return known
+        if self.spent + _MIN_COST + _TASK_COST * len(tasks) > ADVICE_EVENTS:
+            return None
+        from ...analysis.analyze import analyze_skeleton
+
+        sub = apply_change(self.sk.restricted_to(tasks), change,
+                           self.fresh if change.add_clock else None)
+        # Only the schedule is read: the semiflow cross-check is skipped, and the §4
+        # dater simulation gets the same budget as the schedule.
+        report = analyze_skeleton(sub, max_steps=CHANGE_EVENTS, semiflow_max_places=0,
+                                  processors=True, max_events=CHANGE_EVENTS)
+        schedule = report.schedule
+        assert schedule is not None  # processors=True
+        self.spent += max(schedule.events, _MIN_COST) + _TASK_COST * len(tasks)
+        verdict = self._known[(key, change)] = _Verdict(
+            schedule.schedulable, _words(sub, report))
+        return verdict
+
+
+def _words(sk: Skeleton, report: Any) -> str:
+    """A part's §4b verdict in words: why it is not schedulable (the first reason of:
+    dead, first overrun, a starved task, a growing place), or its groups' periods."""
+    schedule = report.schedule
+    if schedule.schedulable is None:
+        return f"undecided within {CHANGE_EVENTS:,} event firings"
+    if schedule.schedulable:
+        shown = [f"{_group_text(g.tasks)} {display_text(p)} {sk.unit}"
+                 for g, p in zip(report.groups[:_SHOWN], schedule.group_periods)]
+        if len(report.groups) > _SHOWN:
+            shown.append(f"... ({len(report.groups)} groups)")
+        return f"schedulable ({', '.join(shown)})"
+    if not report.live:
+        why = "dead: a token-free circuit"
+    else:
+        overruns = [(f.overrun_at, i, t) for i, (t, f) in enumerate(schedule.tasks.items())
+                    if f.overrun_at is not None]
+        if overruns:
+            k, _, t = min(overruns)
+            why = f"{t} overruns at activation {k}"
+        elif schedule.starved:
+            why = f"{schedule.starved[0]} never gets its processor (starved)"
+        elif schedule.unbounded:
+            u = schedule.unbounded[0]
+            why = f"the place {u.src} -> {u.dst} grows ({u.kind})"
+        else:  # schedulable False is proven by one of the above (spec §4b)
+            why = "see tegraph analyze"
+    return f"NOT SCHEDULABLE ({why})"
