@@ -51,6 +51,10 @@ Modules, and where a change goes
     :class:`~.advice.Advisor`: checks each candidate where it can change the
     rules (what it would bring, liveness, the periods it changes) and
     chooses. How a change is judged goes here.
+``on_processors``
+    :class:`~.on_processors.ScheduleAdvice`: what an advised change does to the
+    skeleton on its processors (spec §4b), before -> after, on the part it
+    touches, within a stated budget of event firings. Said, never ranked.
 
 The design section of a report (rules, schedulability, latencies together) is
 :mod:`tegraph.design.section`, one floor up in the design package: it also
