@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
@@ -182,10 +183,38 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     >>> r.scaling.semantics, r.scaling.factor, r.scaling.per_task.factor
     ('processors', Fraction(5, 4), Fraction(5, 2))
     """
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+    _check_max_events(max_events)
     started = time.perf_counter()
     params = parse_vary(skeleton, vary)
+    context, result = _nominal(skeleton, params, started)
+    has_durations = any(p.kind == "duration" for p in params)
+    figures = _Figures(int(has_durations) + (len(params) if margins else 0), progress)
+    on = _processors_part(context, result, max_events, figures) if processors else None
+    if has_durations:
+        _scaling_part(context, result, on, verify, figures)
+    if margins:
+        _margins_part(context, result, on, verify, figures)
+    if on is not None:
+        budget = on.spend
+        result.notes.append(
+            f"on processors: {budget.spent:,} event firings simulated in all, of the run's "
+            f"budget of {budget.total:,} ({budget.total // budget.max_events} × `max_events`)")
+    if formulas:
+        _formulas_part(context, result, max_formula_parameters)
+    result.methods = _methods(result, max_formula_parameters, verify)
+    result.notes += _closing_notes(result)
+    return result
+
+
+def _check_max_events(max_events: Any) -> None:
+    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
+        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+
+
+def _nominal(skeleton: Skeleton, params: Sequence[Parameter],
+             started: float) -> tuple[_Context, SensitivityResult]:
+    """The groups and their verdicts at the nominal values: the result's frame and the
+    context every figure shares."""
     nominal = [p.nominal for p in params]
     structure = Structure.of(skeleton)  # once: the groups here and the analysis on processors
     groups = parametric_groups(skeleton, params, structure)
@@ -199,54 +228,76 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     result.models = {g.index: g for g in live}
     result.effort["setup"] = {"rounds": 1, "points": len(live), "analyses": 0,
                               "seconds": time.perf_counter() - started}
-    context = _Context(skeleton, params, nominal, groups, fine, at_nominal, structure)
-    on = None
-    has_durations = any(p.kind == "duration" for p in params)
-    figures = [0, int(has_durations) + (len(params) if margins else 0)]
-    if processors:
-        clock = time.perf_counter()
-        on = _nominal_on_processors(context, result, max_events)
-        if progress is not None:
-            on.progress = lambda: progress(figures[0], figures[1], on.spend.spent)
-        result.effort["processors"] = context.effort(clock)
-    if has_durations:
-        clock = time.perf_counter()
-        result.scaling = _scaling(context, verify)
-        if on is not None:
-            result.scaling = scaling_on(context, on, result.scaling, verify)
-            figures[0] += 1
-        result.effort["scaling"] = context.effort(clock)
-    if margins:
-        clock = time.perf_counter()
-        result.margins = _margins(context, verify)
-        if on is not None:
-            for name, m in result.margins.items():
-                result.margins[name] = margin_on(context, on, m, verify)
-                figures[0] += 1
-                if progress is not None:
-                    progress(figures[0], figures[1], on.spend.spent)
-        result.effort["margins"] = context.effort(clock)
+    return _Context(skeleton, params, nominal, groups, fine, at_nominal,
+                    structure), result
+
+
+@dataclass
+class _Figures:
+    """The figures (scaling factor, margins) decided so far on processors, of
+    ``total``, for the caller's ``progress``."""
+
+    total: int
+    progress: Callable[[int, int, int], None] | None
+    done: int = 0
+
+    def report(self, spent: int) -> None:
+        if self.progress is not None:
+            self.progress(self.done, self.total, spent)
+
+
+def _processors_part(ctx: _Context, result: SensitivityResult, max_events: int,
+                     figures: _Figures) -> ProcessorLine:
+    clock = time.perf_counter()
+    on = _nominal_on_processors(ctx, result, max_events)
+    if figures.progress is not None:
+        on.progress = lambda: figures.report(on.spend.spent)
+    result.effort["processors"] = ctx.effort(clock)
+    return on
+
+
+def _scaling_part(ctx: _Context, result: SensitivityResult, on: ProcessorLine | None,
+                  verify: bool, figures: _Figures) -> None:
+    clock = time.perf_counter()
+    result.scaling = _scaling(ctx, verify)
     if on is not None:
-        budget = on.spend
-        result.notes.append(
-            f"on processors: {budget.spent:,} event firings simulated in all, of the run's "
-            f"budget of {budget.total:,} ({budget.total // budget.max_events} × `max_events`)")
-    if formulas:
-        clock = time.perf_counter()
-        found, rounds, points = period_formulas(live, params, max_formula_parameters)
-        result.formulas = [_formula_report(g, f, params, at_nominal[g.index])
-                           for g, f in zip(live, found)]
-        result.effort["formulas"] = {"rounds": rounds, "points": points, "analyses": 0,
-                                     "seconds": time.perf_counter() - clock}
-    result.methods = _methods(result, max_formula_parameters, verify)
+        result.scaling = scaling_on(ctx, on, result.scaling, verify)
+        figures.done += 1
+    result.effort["scaling"] = ctx.effort(clock)
+
+
+def _margins_part(ctx: _Context, result: SensitivityResult, on: ProcessorLine | None,
+                  verify: bool, figures: _Figures) -> None:
+    clock = time.perf_counter()
+    result.margins = _margins(ctx, verify)
+    if on is not None:
+        for name, m in result.margins.items():
+            result.margins[name] = margin_on(ctx, on, m, verify)
+            figures.done += 1
+            figures.report(on.spend.spent)
+    result.effort["margins"] = ctx.effort(clock)
+
+
+def _formulas_part(ctx: _Context, result: SensitivityResult, max_parameters: int) -> None:
+    clock = time.perf_counter()
+    live = list(result.models.values())
+    found, rounds, points = period_formulas(live, ctx.params, max_parameters)
+    result.formulas = [_formula_report(g, f, ctx.params, ctx.at_nominal[g.index])
+                       for g, f in zip(live, found)]
+    result.effort["formulas"] = {"rounds": rounds, "points": points, "analyses": 0,
+                                 "seconds": time.perf_counter() - clock}
+
+
+def _closing_notes(result: SensitivityResult) -> list[str]:
+    notes = []
     if not result.live:
-        result.notes.append("the skeleton is not live (a circuit without token): no value of "
-                            "any parameter makes it consistent; liveness does not depend on times")
+        notes.append("the skeleton is not live (a circuit without token): no value of "
+                     "any parameter makes it consistent; liveness does not depend on times")
     disagree = [c for c in result.checks if not c.agrees]
     if disagree:
-        result.notes.append(f"{len(disagree)} cross-check(s) with the analysis DISAGREE, e.g. "
-                            f"{disagree[0].what} at {display_text(disagree[0].value)}")
-    return result
+        notes.append(f"{len(disagree)} cross-check(s) with the analysis DISAGREE, e.g. "
+                     f"{disagree[0].what} at {display_text(disagree[0].value)}")
+    return notes
 
 
 class _Context:
@@ -340,68 +391,115 @@ class _Context:
 # --------------------------------------------------------------------------- scaling
 
 
-def _scaling(ctx: _Context, verify: bool) -> Scaling:
-    params, nominal = ctx.params, ctx.nominal
-    durations = [j for j, p in enumerate(params) if p.kind == "duration"]
-    low, high = Fraction(0), None
+@dataclass
+class _Box:
+    """The factors the varied durations' own ranges allow, ``[low, high]``, and whose
+    range ends each side (a factor moves every varied duration at once)."""
+
+    low: Fraction = Fraction(0)
+    high: Fraction | None = None
     low_by: str | None = None
     high_by: str | None = None
     impossible: str | None = None
+    """A duration that is 0 with a range excluding 0: no factor brings it in."""
+
+    @property
+    def empty(self) -> bool:
+        return self.impossible is not None or (self.high is not None and self.low > self.high)
+
+
+def _factor_box(params: Sequence[Parameter], nominal: list[Fraction],
+                durations: list[int]) -> _Box:
+    box = _Box()
     for j in durations:
         p, d = params[j], nominal[j]
         if d == 0:
             if p.low > 0:
-                impossible = p.name
+                box.impossible = p.name
             continue
-        if p.low / d > low:
-            low, low_by = p.low / d, p.name
-        if p.high is not None and (high is None or p.high / d < high):
-            high, high_by = p.high / d, p.name
-    line = Line({j: Fraction(0) for j in durations}, {j: nominal[j] for j in durations}, low,
-                high)
+        if p.low / d > box.low:
+            box.low, box.low_by = p.low / d, p.name
+        if p.high is not None and (box.high is None or p.high / d < box.high):
+            box.high, box.high_by = p.high / d, p.name
+    return box
+
+
+def _scaling(ctx: _Context, verify: bool) -> Scaling:
+    params, nominal = ctx.params, ctx.nominal
+    durations = [j for j, p in enumerate(params) if p.kind == "duration"]
+    box = _factor_box(params, nominal, durations)
+    line = Line({j: Fraction(0) for j in durations}, {j: nominal[j] for j in durations},
+                box.low, box.high)
     names = [params[j].name for j in durations]
-    varied = set(durations)  # once: a set per group costs O(groups × parameters)
-    blocked = [g for g in ctx.groups if varied.isdisjoint(g.params) or not g.live
-               or not any(nominal[j] for j in g.params if j in line.direction)]
-    blocked = [g for g in blocked if not ctx.fine[g.index]]
-    if impossible is not None or (high is not None and low > high) or blocked:
-        limits = [x for g in blocked for x in ctx.nominal_limits(g, True)]
-        if impossible is not None:
-            limits.append(Limit("range", f"{impossible} is 0, outside its range: no factor "
-                                "brings it in", parameter=impossible))
-        return Scaling(names, [], None, False, limits)
+    blocked = _blocked(ctx, line, set(durations))
+    if box.empty or blocked:
+        return Scaling(names, [], None, False, _refusal(ctx, blocked, box))
     moving = [g for g in ctx.groups if g.live and any(line.direction.get(j) for j in g.params)]
     sets = ctx.solve([(g, line) for g in moving])
-    overall: list[Interval] = [(low, high)]
+    overall: list[Interval] = [(box.low, box.high)]
     for s in sets:
         overall = intersect(overall, s.intervals)
-
-    def limits_at(t: Fraction | None, side: str) -> list[Limit]:
-        if t is None:
-            return []
-        out = [ctx.limit(c) for s in sets for c in s.causes.get((t, side), [])]
-        if side == "above" and t == high:
-            out.append(Limit("range", f"the range of {high_by} ends here", parameter=high_by))
-        if side == "below" and t == low and low_by is not None:
-            out.append(Limit("range", f"the range of {low_by} starts here", parameter=low_by))
-        return out
-
-    one = Fraction(1)
-    holding = next(((a, b) for a, b in overall if a <= one and (b is None or one <= b)), None)
-    if holding is not None:
-        scaling = Scaling(names, overall, holding[1], True, limits_at(holding[1], "above"))
-    else:
-        below = [b for _, b in overall if b is not None and b < one]
-        above = [a for a, _ in overall if a > one]
-        nb = max(below) if below else None
-        na = min(above) if above else None
-        scaling = Scaling(names, overall, None, False, [], nb, na, limits_at(nb, "above"),
-                          limits_at(na, "below"))
-        scaling.limits = [x for g, s in zip(moving, sets) if not _contains(s.intervals, one)
-                          for x in ctx.nominal_limits(g, False)]
+    scaling = _scaling_from(ctx, names, overall, moving, sets, box)
     if verify:
         _check_scaling(ctx, scaling, moving, sets, line)
     return scaling
+
+
+def _blocked(ctx: _Context, line: Line, varied: set[int]) -> list[ParametricGroup]:
+    """The groups inconsistent at the nominal values that no factor moves: no varied
+    duration, not live, or every varied duration of theirs 0.
+
+    ``varied`` is made once by the caller: a set per group costs O(groups × parameters).
+    """
+    nominal = ctx.nominal
+    blocked = [g for g in ctx.groups if varied.isdisjoint(g.params) or not g.live
+               or not any(nominal[j] for j in g.params if j in line.direction)]
+    return [g for g in blocked if not ctx.fine[g.index]]
+
+
+def _refusal(ctx: _Context, blocked: list[ParametricGroup], box: _Box) -> list[Limit]:
+    """Why no factor is consistent, when that is known before any search."""
+    limits = [x for g in blocked for x in ctx.nominal_limits(g, True)]
+    if box.impossible is not None:
+        limits.append(Limit("range", f"{box.impossible} is 0, outside its range: no factor "
+                            "brings it in", parameter=box.impossible))
+    return limits
+
+
+def _scaling_from(ctx: _Context, names: list[str], overall: list[Interval],
+                  moving: list[ParametricGroup], sets: list[LineSet], box: _Box) -> Scaling:
+    """The factor from the consistent factors ``overall``: the end of the interval
+    holding 1, or, when 1 is not consistent, the nearest consistent factors and why."""
+    one = Fraction(1)
+    holding = next(((a, b) for a, b in overall if a <= one and (b is None or one <= b)), None)
+    if holding is not None:
+        return Scaling(names, overall, holding[1], True,
+                       _factor_limits(ctx, sets, box, holding[1], "above"))
+    below = [b for _, b in overall if b is not None and b < one]
+    above = [a for a, _ in overall if a > one]
+    nb = max(below) if below else None
+    na = min(above) if above else None
+    scaling = Scaling(names, overall, None, False, [], nb, na,
+                      _factor_limits(ctx, sets, box, nb, "above"),
+                      _factor_limits(ctx, sets, box, na, "below"))
+    scaling.limits = [x for g, s in zip(moving, sets) if not _contains(s.intervals, one)
+                      for x in ctx.nominal_limits(g, False)]
+    return scaling
+
+
+def _factor_limits(ctx: _Context, sets: list[LineSet], box: _Box, t: Fraction | None,
+                   side: str) -> list[Limit]:
+    """What ends the consistent factors at t on ``side`` (the groups' causes, a range)."""
+    if t is None:
+        return []
+    out = [ctx.limit(c) for s in sets for c in s.causes.get((t, side), [])]
+    if side == "above" and t == box.high:
+        out.append(Limit("range", f"the range of {box.high_by} ends here",
+                         parameter=box.high_by))
+    if side == "below" and t == box.low and box.low_by is not None:
+        out.append(Limit("range", f"the range of {box.low_by} starts here",
+                         parameter=box.low_by))
+    return out
 
 
 def _owners(g: ParametricGroup, events: list[str]) -> list[str]:
