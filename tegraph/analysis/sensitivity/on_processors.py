@@ -92,13 +92,9 @@ def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int
     on.used = set()
     parts = on.moving(direction)
     if constant_parts:
-        # The parts the line does not move keep their nominal events (no time of
-        # theirs depends on t): their outcome at the nominal values, decided once.
-        for i in range(len(on.parts)):
-            if i not in parts:
-                fixed = on.nominal_outcomes[i]
-                if fixed.verdict is not True:
-                    return LineAnswer(fixed.verdict, used=on.used, why=[why_text(fixed)])
+        fixed = _fixed_refusal(on, parts)
+        if fixed is not None:
+            return fixed
     firsts: dict[int, Outcome] = {}
     combined = _combined(on, base, direction, parts, per_task, positive, firsts)
     first = combined(start, 0)
@@ -109,21 +105,43 @@ def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int
             _end(on, answer, base, direction, start, holding[1] if up else holding[0], up,
                  parts, firsts, Fraction(0) if positive and not up else None, max_steps)
     else:
-        if first.verdict is None:
-            answer.why.append(why_text(first))
-        for up in (True, False):
-            found, exact, out, steps = seek(combined, first, up, max_steps)
-            answer.steps += steps
-            answer.nearest_exact = answer.nearest_exact and exact
-            setattr(answer, "nearest_above" if up else "nearest_below", found)
-            if out is not None:
-                answer.beyond["above" if up else "below"] = out
-            if not exact:
-                answer.why.append(why_text(out) if out is not None and out.why
-                                  else f"stopped after {max_steps} intervals of constant order")
+        _nearest(answer, combined, first, max_steps)
     answer.used = on.used
     answer.why = list(dict.fromkeys(answer.why))
     return answer
+
+
+def _fixed_refusal(on: ProcessorLine, parts: list[int]) -> LineAnswer | None:
+    """The answer when a part the line does not move is not schedulable (or undecided)
+    at the nominal values; None when all are.
+
+    Those parts keep their nominal events (no time of theirs depends on t): their
+    outcome at the nominal values, decided once.
+    """
+    for i in range(len(on.parts)):
+        if i not in parts:
+            fixed = on.nominal_outcomes[i]
+            if fixed.verdict is not True:
+                return LineAnswer(fixed.verdict, used=on.used, why=[why_text(fixed)])
+    return None
+
+
+def _nearest(answer: LineAnswer, combined: Callable[[Fraction, int], Outcome],
+             first: Outcome, max_steps: int) -> None:
+    """The start is not schedulable (or undecided): the nearest values that are, each
+    side, into ``answer``."""
+    if first.verdict is None:
+        answer.why.append(why_text(first))
+    for up in (True, False):
+        found, exact, out, steps = seek(combined, first, up, max_steps)
+        answer.steps += steps
+        answer.nearest_exact = answer.nearest_exact and exact
+        setattr(answer, "nearest_above" if up else "nearest_below", found)
+        if out is not None:
+            answer.beyond["above" if up else "below"] = out
+        if not exact:
+            answer.why.append(why_text(out) if out is not None and out.why
+                              else f"stopped after {max_steps} intervals of constant order")
 
 
 def _combined(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int, Fraction],
@@ -290,20 +308,7 @@ def scaling_on(ctx: Any, on: ProcessorLine, pt: Scaling, verify: bool) -> Scalin
         s.limits = list(pt.limits)
         s.method = "on its processors: no factor is consistent with a processor per task"
         return s
-    # The nominal values not schedulable (or undecided): no figure, at once. The
-    # factors elsewhere are not searched (each would cost a whole schedule per
-    # interval of constant order), as no margin is.
-    why = None
-    if not pt.nominal_consistent:
-        why = _not_consistent()
-        s.limits = list(pt.limits)
-    elif ctx.schedulable is not True:
-        why = not_searched(ctx.schedulable, ctx.unschedulable, "the skeleton")
-        if ctx.unschedulable is not None and ctx.unschedulable.why and \
-                ctx.unschedulable.why[0] in ("overrun", "grows", "starved"):
-            s.limits = [limit_on(ctx.unschedulable)]
-    elif on.spend.run_left <= 0:
-        why = "undecided: " + on.spend.cap()[1] + "; nothing searched"
+    why = _scaling_not_searched(ctx, on, pt, s)
     if why is not None:
         return _unsearched(s, why, ctx.schedulable is None or why.startswith("undecided"))
     on.spend.start_figure()
@@ -312,29 +317,59 @@ def scaling_on(ctx: Any, on: ProcessorLine, pt: Scaling, verify: bool) -> Scalin
                         constant_parts=True)
     s.breakpoints, s.why_undecided, s.method = answer.steps, answer.why, method_text(answer)
     if answer.holding:
-        s.nominal_consistent = True
-        s.intervals = [(answer.low, answer.high)]  # type: ignore[list-item]
-        s.exact = answer.high_exact and answer.low_exact
-        if answer.high_exact:
-            s.factor = answer.high
-        else:
-            s.bounds = (answer.high, answer.high_bound)
-        s.limits = _limits(answer, "high", pt.limits if pt.factor == answer.high else [])
+        _factor_holding(s, answer, pt)
     else:
-        s.exact = answer.holding is False and answer.nearest_exact
-        s.nearest_below, s.nearest_above = answer.nearest_below, answer.nearest_above
-        start = answer.at_start
-        s.limits = ([limit_on(start)] if start is not None and start.why is not None
-                    and start.why[0] != "per-task" else list(pt.limits))
-        if s.nearest_below is not None:
-            s.limits_below = _limits(answer, "below", pt.limits_below)
-        if s.nearest_above is not None:
-            s.limits_above = _limits(answer, "above", pt.limits_above)
+        _factor_nearest(s, answer, pt)
     if verify:
         _check(ctx, s.checks, "scaling",
                lambda t: {j: t * ctx.nominal[j] for j in durations}, answer,
                on.tasks_of(on.moving({j: ctx.nominal[j] for j in durations})))
     return s
+
+
+def _scaling_not_searched(ctx: Any, on: ProcessorLine, pt: Scaling, s: Scaling) -> str | None:
+    """Why no factor is searched (setting what limits it into ``s``); None: searched.
+
+    The nominal values not schedulable (or undecided): no figure, at once. The
+    factors elsewhere are not searched (each would cost a whole schedule per
+    interval of constant order), as no margin is.
+    """
+    if not pt.nominal_consistent:
+        s.limits = list(pt.limits)
+        return _not_consistent()
+    if ctx.schedulable is not True:
+        if ctx.unschedulable is not None and ctx.unschedulable.why and \
+                ctx.unschedulable.why[0] in ("overrun", "grows", "starved"):
+            s.limits = [limit_on(ctx.unschedulable)]
+        return not_searched(ctx.schedulable, ctx.unschedulable, "the skeleton")
+    if on.spend.run_left <= 0:
+        return "undecided: " + on.spend.cap()[1] + "; nothing searched"
+    return None
+
+
+def _factor_holding(s: Scaling, answer: LineAnswer, pt: Scaling) -> None:
+    """1 is schedulable: the interval holding it, its end and what limits it."""
+    s.nominal_consistent = True
+    s.intervals = [(answer.low, answer.high)]  # type: ignore[list-item]
+    s.exact = answer.high_exact and answer.low_exact
+    if answer.high_exact:
+        s.factor = answer.high
+    else:
+        s.bounds = (answer.high, answer.high_bound)
+    s.limits = _limits(answer, "high", pt.limits if pt.factor == answer.high else [])
+
+
+def _factor_nearest(s: Scaling, answer: LineAnswer, pt: Scaling) -> None:
+    """1 is not schedulable (or undecided): why, and the nearest factors that are."""
+    s.exact = answer.holding is False and answer.nearest_exact
+    s.nearest_below, s.nearest_above = answer.nearest_below, answer.nearest_above
+    start = answer.at_start
+    s.limits = ([limit_on(start)] if start is not None and start.why is not None
+                and start.why[0] != "per-task" else list(pt.limits))
+    if s.nearest_below is not None:
+        s.limits_below = _limits(answer, "below", pt.limits_below)
+    if s.nearest_above is not None:
+        s.limits_above = _limits(answer, "above", pt.limits_above)
 
 
 def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
