@@ -180,76 +180,104 @@ def _two(fig, result: SensitivityResult) -> None:
     """Per group: the formula's cells (greys, each annotated with its critical term),
     the region where the group keeps pace with every clock shaded and labelled, and
     each clock's own boundary in a colour of its own."""
-    from matplotlib.lines import Line2D
-
     px, py = result.parameters
-    (x0, x1), (y0, y1) = _window(result, 0), _window(result, 1)
-    window = (x0, x1, y0, y1)
+    window = (*_window(result, 0), *_window(result, 1))
     groups = [f for f in result.formulas or () if px.name in f.parameters
               or py.name in f.parameters]
     nominal = _nominal(result)
     for k, f in enumerate(groups[:4]):
         ax = fig.add_subplot(1, min(len(groups), 4), k + 1)
-        for i, t in enumerate(f.terms):  # the cell where term t is the largest
-            cell = _cell(f, i, px.name, py.name, window, nominal)
-            if cell:
-                ax.fill([float(a) for a, _ in cell], [float(b) for _, b in cell],
-                        facecolor=_CELL_GREYS[i % len(_CELL_GREYS)], edgecolor="grey",
-                        linewidth=0.5, zorder=0)
-                cx = sum(float(a) for a, _ in cell) / len(cell)
-                cy = sum(float(b) for _, b in cell) / len(cell)
-                ax.annotate(_term_text(t), (cx, cy), ha="center", fontsize="x-small")
-        if f.pace:
-            # Where the group keeps pace with all its clocks at once, and inside it, where
-            # it is consistent (no overrun either): computed exactly by the oracle.
-            every = _pace_polygon(f.pace, px.name, py.name, window, nominal)
-            clocks = ", ".join(r.clock for r in f.pace)
-            if len(every) >= 3:
-                ax.fill([float(a) for a, _ in every], [float(b) for _, b in every],
-                        facecolor=_PACE_ONLY, edgecolor="none", zorder=1,
-                        label=f"keeps pace with every clock ({clocks})")
-            elif every:  # periods equal only on a line: a segment (or a point)
-                ax.plot([float(a) for a, _ in every], [float(b) for _, b in every],
-                        color=_PACE_ONLY, linewidth=9, solid_capstyle="butt", zorder=1,
-                        label=f"keeps pace with every clock ({clocks}) only on this "
-                              f"{'segment' if len(every) == 2 else 'point'}")
-            else:
-                ax.add_line(Line2D([], [], color=_PACE_ONLY, linewidth=6,
-                                   label=f"nowhere here keeps pace with every clock "
-                                         f"({clocks})"))
-            found = _consistent(result, f, px.name, py.name, window, nominal)
-        else:
-            found = None
+        _draw_cells(ax, f, px.name, py.name, window, nominal)
+        found = _draw_pace(ax, result, f, window, nominal) if f.pace else None
         if found is not None:
             _draw_consistent(ax, found)
-        for c, region in enumerate(f.pace):
-            colour = _CLOCK_COLOURS[c % len(_CLOCK_COLOURS)]
-            shape = _pace_polygon([region], px.name, py.name, window, nominal)
-            if shape:
-                xs = [float(a) for a, _ in shape] + [float(shape[0][0])]
-                ys = [float(b) for _, b in shape] + [float(shape[0][1])]
-                ax.plot(xs, ys, color=colour, linewidth=1.5, zorder=2,
-                        linestyle=("-", "--", "-.", ":")[c % 4],
-                        label=f"boundary of keeping pace with {region.clock}")
-            else:
-                ax.add_line(Line2D([], [], color=colour, linestyle=":",
-                                   label=f"{region.clock}: not kept pace with anywhere here"))
-        verdict = ("" if found is None or found.why_not is not None else
-                   ": consistent" if found.nominal_consistent else ": NOT CONSISTENT")
-        ax.plot([float(px.nominal)], [float(py.nominal)],
-                marker="x" if verdict == ": NOT CONSISTENT" else "o", markersize=8,
-                color=_NOT_CONSISTENT if verdict == ": NOT CONSISTENT" else (
-                    _CONSISTENT_POINT if verdict else "black"),
-                linestyle="none", zorder=4,
-                label=f"nominal ({display_text(px.nominal)}, {display_text(py.nominal)})"
-                      f"{verdict}")
-        ax.set_xlim(float(x0), float(x1))
-        ax.set_ylim(float(y0), float(y1))
-        ax.set_xlabel(f"{px.name} ({result.unit})")
-        ax.set_ylabel(f"{py.name} ({result.unit})")
-        ax.set_title(f"group {f.group}: where it is consistent; critical circuit by region "
-                     "(greys)", fontsize="small")
-        ax.legend(fontsize="x-small")
+        _draw_clock_boundaries(ax, f, px.name, py.name, window, nominal)
+        _draw_nominal(ax, result, found)
+        _frame(ax, result, f, window)
+
+
+def _draw_cells(ax, f: GroupFormulaReport, x: str, y: str, window, nominal) -> None:
+    """The cell where each term of the formula is the largest, in greys, annotated."""
+    for i, t in enumerate(f.terms):
+        cell = _cell(f, i, x, y, window, nominal)
+        if cell:
+            ax.fill([float(a) for a, _ in cell], [float(b) for _, b in cell],
+                    facecolor=_CELL_GREYS[i % len(_CELL_GREYS)], edgecolor="grey",
+                    linewidth=0.5, zorder=0)
+            cx = sum(float(a) for a, _ in cell) / len(cell)
+            cy = sum(float(b) for _, b in cell) / len(cell)
+            ax.annotate(_term_text(t), (cx, cy), ha="center", fontsize="x-small")
+
+
+def _draw_pace(ax, result: SensitivityResult, f: GroupFormulaReport, window,
+               nominal) -> ConsistentRegion | None:
+    """Where the group keeps pace with all its clocks at once (pale yellow); returns
+    where, inside it, it is consistent (no overrun either), computed exactly by the
+    oracle."""
+    from matplotlib.lines import Line2D
+
+    px, py = result.parameters
+    every = _pace_polygon(f.pace, px.name, py.name, window, nominal)
+    clocks = ", ".join(r.clock for r in f.pace)
+    if len(every) >= 3:
+        ax.fill([float(a) for a, _ in every], [float(b) for _, b in every],
+                facecolor=_PACE_ONLY, edgecolor="none", zorder=1,
+                label=f"keeps pace with every clock ({clocks})")
+    elif every:  # periods equal only on a line: a segment (or a point)
+        ax.plot([float(a) for a, _ in every], [float(b) for _, b in every],
+                color=_PACE_ONLY, linewidth=9, solid_capstyle="butt", zorder=1,
+                label=f"keeps pace with every clock ({clocks}) only on this "
+                      f"{'segment' if len(every) == 2 else 'point'}")
+    else:
+        ax.add_line(Line2D([], [], color=_PACE_ONLY, linewidth=6,
+                           label=f"nowhere here keeps pace with every clock "
+                                 f"({clocks})"))
+    return _consistent(result, f, px.name, py.name, window, nominal)
+
+
+def _draw_clock_boundaries(ax, f: GroupFormulaReport, x: str, y: str, window,
+                           nominal) -> None:
+    """Each clock's own boundary of keeping pace, in a colour and line style of its own."""
+    from matplotlib.lines import Line2D
+
+    for c, region in enumerate(f.pace):
+        colour = _CLOCK_COLOURS[c % len(_CLOCK_COLOURS)]
+        shape = _pace_polygon([region], x, y, window, nominal)
+        if shape:
+            xs = [float(a) for a, _ in shape] + [float(shape[0][0])]
+            ys = [float(b) for _, b in shape] + [float(shape[0][1])]
+            ax.plot(xs, ys, color=colour, linewidth=1.5, zorder=2,
+                    linestyle=("-", "--", "-.", ":")[c % 4],
+                    label=f"boundary of keeping pace with {region.clock}")
+        else:
+            ax.add_line(Line2D([], [], color=colour, linestyle=":",
+                               label=f"{region.clock}: not kept pace with anywhere here"))
+
+
+def _draw_nominal(ax, result: SensitivityResult, found: ConsistentRegion | None) -> None:
+    """The nominal point, with its verdict when the consistent region was computed."""
+    px, py = result.parameters
+    verdict = ("" if found is None or found.why_not is not None else
+               ": consistent" if found.nominal_consistent else ": NOT CONSISTENT")
+    ax.plot([float(px.nominal)], [float(py.nominal)],
+            marker="x" if verdict == ": NOT CONSISTENT" else "o", markersize=8,
+            color=_NOT_CONSISTENT if verdict == ": NOT CONSISTENT" else (
+                _CONSISTENT_POINT if verdict else "black"),
+            linestyle="none", zorder=4,
+            label=f"nominal ({display_text(px.nominal)}, {display_text(py.nominal)})"
+                  f"{verdict}")
+
+
+def _frame(ax, result: SensitivityResult, f: GroupFormulaReport, window) -> None:
+    px, py = result.parameters
+    x0, x1, y0, y1 = window
+    ax.set_xlim(float(x0), float(x1))
+    ax.set_ylim(float(y0), float(y1))
+    ax.set_xlabel(f"{px.name} ({result.unit})")
+    ax.set_ylabel(f"{py.name} ({result.unit})")
+    ax.set_title(f"group {f.group}: where it is consistent; critical circuit by region "
+                 "(greys)", fontsize="small")
+    ax.legend(fontsize="x-small")
 
 
 def _consistent(result: SensitivityResult, f: GroupFormulaReport, x: str, y: str, window,
