@@ -16,7 +16,13 @@ from tabulate import tabulate
 
 from maxplus.scalar import display_text
 
-from ..analysis.sensitivity.results import Limit, SensitivityResult
+from ..analysis.sensitivity.results import (
+    GroupFormulaReport,
+    Limit,
+    PaceReport,
+    Scaling,
+    SensitivityResult,
+)
 from ._format import number
 
 __all__ = ["formula_text", "render_sensitivity"]
@@ -299,42 +305,48 @@ def _formula_lines(result: SensitivityResult) -> list[str]:
              + ", ".join(f"{p.symbol} = {p.name}" for p in result.parameters[:6])
              + (", ..." if len(result.parameters) > 6 else "") + "):"]
     still = [f for f in result.formulas or () if not f.parameters]
+    symbol = {p.name: p.symbol for p in result.parameters}
     for f in result.formulas or ():
-        if not f.parameters:
-            continue
-        clocks = f", clocks {', '.join(f.clocks)}" if f.clocks else ", no clock"
-        head = f"  group {f.group} ({', '.join(f.tasks)}{clocks}): "
-        if f.exact:
-            lines.append(head + f"{formula_text(f.expression())} (exact over the whole range)")
-        else:
-            lines.append(head + f"{number(f.cycle_time)} at nominal, {len(f.parameters)} "
-                         "parameters: only the terms critical there and the exact one-sided "
-                         "derivatives")
-            lines.append(f"    critical terms: {formula_text(f.expression())}")
-        moving = {p: d for p, d in f.derivatives.items() if d != (Fraction(0), Fraction(0))}
-        if moving:
-            lines.append("    at nominal, d(period)/d(parameter) (left, right): "
-                         + ", ".join(f"{p} ({display_text(a)}, {display_text(b)})"
-                                     for p, (a, b) in moving.items()))
-        for region in f.pace:
-            if region.empty:
-                why = (f": circuit {' -> '.join(region.blocking)} alone is slower"
-                       if region.blocking else "")
-                lines.append(f"    keeps pace with clock {region.clock}: never in the "
-                             f"range{why}")
-            elif not region.inequalities:
-                lines.append(f"    keeps pace with clock {region.clock}: everywhere in the range")
-            else:
-                symbol = {p.name: p.symbol for p in result.parameters}
-                parts = [_inequality({symbol[n]: c for n, c in co.items()}, b)
-                         for co, b, _ in region.inequalities]
-                lines.append(f"    keeps pace with clock {region.clock} where: "
-                             + ", ".join(parts))
+        if f.parameters:
+            lines += _group_formula_lines(f, symbol)
     if still:
         shown = ", ".join(str(f.group) for f in still[:12]) + (", ..." if len(still) > 12 else "")
         lines.append(f"  groups {shown}: do not depend on the varied parameters "
                      f"({len(still)} group{'s' * (len(still) != 1)})")
     return lines
+
+
+def _group_formula_lines(f: GroupFormulaReport, symbol: dict[str, str]) -> list[str]:
+    """One group's period formula (or its critical terms), derivatives and pace regions."""
+    clocks = f", clocks {', '.join(f.clocks)}" if f.clocks else ", no clock"
+    head = f"  group {f.group} ({', '.join(f.tasks)}{clocks}): "
+    if f.exact:
+        lines = [head + f"{formula_text(f.expression())} (exact over the whole range)"]
+    else:
+        lines = [head + f"{number(f.cycle_time)} at nominal, {len(f.parameters)} "
+                 "parameters: only the terms critical there and the exact one-sided "
+                 "derivatives",
+                 f"    critical terms: {formula_text(f.expression())}"]
+    moving = {p: d for p, d in f.derivatives.items() if d != (Fraction(0), Fraction(0))}
+    if moving:
+        lines.append("    at nominal, d(period)/d(parameter) (left, right): "
+                     + ", ".join(f"{p} ({display_text(a)}, {display_text(b)})"
+                                 for p, (a, b) in moving.items()))
+    lines += [_pace_line(region, symbol) for region in f.pace]
+    return lines
+
+
+def _pace_line(region: PaceReport, symbol: dict[str, str]) -> str:
+    """Where the group keeps pace with one clock: never, everywhere, or inequalities."""
+    if region.empty:
+        why = (f": circuit {' -> '.join(region.blocking)} alone is slower"
+               if region.blocking else "")
+        return f"    keeps pace with clock {region.clock}: never in the range{why}"
+    if not region.inequalities:
+        return f"    keeps pace with clock {region.clock}: everywhere in the range"
+    parts = [_inequality({symbol[n]: c for n, c in co.items()}, b)
+             for co, b, _ in region.inequalities]
+    return f"    keeps pace with clock {region.clock} where: " + ", ".join(parts)
 
 
 def _inequality(coefficients: dict[str, Fraction], bound: Fraction) -> str:
@@ -365,40 +377,46 @@ def _verdict(result: SensitivityResult) -> str:
     parts = [f"verdict: {state} at the nominal values"]
     s = result.scaling
     if s is not None and s.per_task is not None:
-        where = "on its processors"
-        if s.not_searched is not None:
-            parts.append(f"no scaling factor {where}: "
-                         + ("undecided at the nominal values"
-                            if s.not_searched.startswith("undecided")
-                            else "not schedulable as it is"))
-        elif s.nominal_consistent and s.exact and s.factor is not None:
-            parts.append(f"the varied durations can grow together by a factor "
-                         f"{number(s.factor)} {where}")
-        elif s.nominal_consistent and s.exact:
-            parts.append(f"the varied durations can grow together without bound {where}")
-        elif s.nominal_consistent:
-            parts.append(f"the scaling factor {where} is only bounded (undecided)")
-        elif s.nearest_below is not None or s.nearest_above is not None:
-            parts.append(f"some other scaling of the durations is schedulable {where}")
-        elif s.exact:
-            parts.append(f"no scaling of the durations makes it schedulable {where}")
-        else:
-            parts.append(f"no schedulable scaling found {where} (undecided)")
+        parts.append(_scaling_verdict_on(s))
     elif s is not None:
-        if s.nominal_consistent and s.factor is not None:
-            by_range = all(x.kind == "range" for x in s.limits) and s.limits
-            parts.append(f"the varied durations can grow together by a factor "
-                         f"{number(s.factor)} with a processor per task"
-                         + (" (up to their ranges)" if by_range else ""))
-        elif s.nominal_consistent:
-            parts.append("the varied durations can grow together without bound")
-        elif s.nearest_below is not None or s.nearest_above is not None:
-            parts.append("some other scaling of the durations is consistent")
-        else:
-            parts.append("no scaling of the durations makes it consistent")
+        parts.append(_scaling_verdict_per_task(s))
     checks = result.checks
     if checks:
         bad = sum(not c.agrees for c in checks)
         parts.append("every end cross-checked with the analysis" if not bad
                      else f"{bad} cross-check(s) DISAGREE")
     return "; ".join(parts) + f" (exit status {result.exit_status})"
+
+
+def _scaling_verdict_on(s: Scaling) -> str:
+    """The scaling factor on processors, in a few words for the verdict line."""
+    where = "on its processors"
+    if s.not_searched is not None:
+        return (f"no scaling factor {where}: "
+                + ("undecided at the nominal values" if s.not_searched.startswith("undecided")
+                   else "not schedulable as it is"))
+    if s.nominal_consistent and s.exact and s.factor is not None:
+        return f"the varied durations can grow together by a factor {number(s.factor)} {where}"
+    if s.nominal_consistent and s.exact:
+        return f"the varied durations can grow together without bound {where}"
+    if s.nominal_consistent:
+        return f"the scaling factor {where} is only bounded (undecided)"
+    if s.nearest_below is not None or s.nearest_above is not None:
+        return f"some other scaling of the durations is schedulable {where}"
+    if s.exact:
+        return f"no scaling of the durations makes it schedulable {where}"
+    return f"no schedulable scaling found {where} (undecided)"
+
+
+def _scaling_verdict_per_task(s: Scaling) -> str:
+    """The scaling factor with a processor per task, in a few words for the verdict line."""
+    if s.nominal_consistent and s.factor is not None:
+        by_range = all(x.kind == "range" for x in s.limits) and s.limits
+        return (f"the varied durations can grow together by a factor "
+                f"{number(s.factor)} with a processor per task"
+                + (" (up to their ranges)" if by_range else ""))
+    if s.nominal_consistent:
+        return "the varied durations can grow together without bound"
+    if s.nearest_below is not None or s.nearest_above is not None:
+        return "some other scaling of the durations is consistent"
+    return "no scaling of the durations makes it consistent"
