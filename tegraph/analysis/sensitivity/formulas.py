@@ -200,59 +200,81 @@ def _box(params: Sequence[Parameter], dims: Sequence[int], extra: int = 0) -> Po
     return box
 
 
+@dataclass
+class _Envelope:
+    """The terms found so far and their upper envelope: ``E`` is the set of points
+    ``(θ, y)`` of the box with ``y`` above every term (one row per term)."""
+
+    dims: Sequence[int]
+    E: Polyhedron
+    terms: dict[tuple, Circuit] = field(default_factory=dict)
+    rows: dict[int, tuple] = field(default_factory=dict)
+    """Row index in ``E`` -> term key."""
+
+    def add(self, circuit: Circuit) -> None:
+        key = circuit.key()
+        if key in self.terms:
+            return
+        self.terms[key] = circuit
+        m = circuit.tokens
+        a = tuple(Fraction(circuit.holding.coefficient(j), m) for j in self.dims) \
+            + (Fraction(-1),)
+        self.rows[self.E.add((a, -circuit.holding.const / m))] = key
+
+    def unchecked(self, checked: set[tuple]) -> list[tuple[bool, tuple]]:
+        """The vertices and rays of E not yet checked (rays along y alone need none)."""
+        p = len(self.dims)
+        return [(is_vertex, point) for is_vertex, point, _ in self.E.generator_items()
+                if (is_vertex, point) not in checked and (is_vertex or any(point[:p]))]
+
+    def refine(self, todo: list[tuple[bool, tuple]], got: list[PointResult],
+               checked: set[tuple]) -> None:
+        """A generator whose true cycle time is above E's adds its critical circuit as
+        a term; one that is not is checked for good."""
+        p = len(self.dims)
+        known = set(self.terms)
+        for (is_vertex, point), answer in zip(todo, got):
+            if answer.cycle_time_max > point[p]:
+                circuit = answer.critical_circuit()
+                if circuit.key() in known:
+                    raise AssertionError("internal error: a known term exceeds the envelope")
+                self.add(circuit)
+            else:
+                checked.add((is_vertex, point))
+
+    def facets(self) -> list[Circuit]:
+        """The non-redundant terms: those whose row is a facet of E, sorted."""
+        items = self.E.generator_items()
+        dimension = affine_rank([x for v, x, _ in items if v], [x for v, x, _ in items if not v])
+        kept = []
+        for row, key in self.rows.items():
+            face = [(v, x) for v, x, mask in items if mask >> row & 1]
+            rank = affine_rank([x for v, x in face if v], [x for v, x in face if not v])
+            if rank == dimension - 1:
+                kept.append(self.terms[key])
+        kept.sort(key=lambda c: (c.tokens, c.holding.const, c.holding.coef))
+        return kept
+
+
 def _cutting_planes(group: ParametricGroup, params: Sequence[Parameter]
                     ) -> Generator[list[tuple], list[PointResult], GroupFormula]:
     dims = group.params
-    p = len(dims)
     nominal = {j: params[j].nominal for j in dims}
     got = yield [(nominal,)]
-    terms: dict[tuple, Circuit] = {}
-    rows: dict[int, tuple] = {}  # row index in E -> term key
-    E = _box(params, dims, extra=1)
+    envelope = _Envelope(dims, _box(params, dims, extra=1))
     n_queries = 1
-
-    def add(circuit: Circuit) -> bool:
-        key = circuit.key()
-        if key in terms:
-            return False
-        terms[key] = circuit
-        m = circuit.tokens
-        a = tuple(Fraction(circuit.holding.coefficient(j), m) for j in dims) + (Fraction(-1),)
-        rows[E.add((a, -circuit.holding.const / m))] = key
-        return True
-
-    add(got[0].critical_circuit())
+    envelope.add(got[0].critical_circuit())
     checked: set[tuple] = set()
     while True:
-        todo = []
-        for is_vertex, point, _ in E.generator_items():
-            if (is_vertex, point) in checked or (not is_vertex and not any(point[:p])):
-                continue
-            todo.append((is_vertex, point))
+        todo = envelope.unchecked(checked)
         if not todo:
             break
         got = yield [({j: point[i] for i, j in enumerate(dims)},) if is_vertex
                      else ({j: point[i] for i, j in enumerate(dims)}, True)
                      for is_vertex, point in todo]
         n_queries += len(todo)
-        known = set(terms)
-        for (is_vertex, point), answer in zip(todo, got):
-            if answer.cycle_time_max > point[p]:
-                circuit = answer.critical_circuit()
-                if circuit.key() in known:
-                    raise AssertionError("internal error: a known term exceeds the envelope")
-                add(circuit)
-            else:
-                checked.add((is_vertex, point))
-    items = E.generator_items()
-    dimension = affine_rank([x for v, x, _ in items if v], [x for v, x, _ in items if not v])
-    kept = []
-    for row, key in rows.items():
-        face = [(v, x) for v, x, mask in items if mask >> row & 1]
-        rank = affine_rank([x for v, x in face if v], [x for v, x in face if not v])
-        if rank == dimension - 1:
-            kept.append(terms[key])
-    kept.sort(key=lambda c: (c.tokens, c.holding.const, c.holding.coef))
+        envelope.refine(todo, got, checked)
+    kept = envelope.facets()
     derivatives = _derivatives_from_terms(kept, dims, nominal)
     return GroupFormula(group.index, dims, True, kept, derivatives, queries=n_queries)
 
@@ -326,6 +348,10 @@ def _at_nominal(groups: Sequence[ParametricGroup], nominal: Sequence[Fraction]
     return out
 
 
+_Candidate = tuple[tuple[Fraction, ...], Fraction, Circuit]
+"""``(a, b, circuit)``: the circuit keeps pace with the clock where ``a·θ <= b``."""
+
+
 def _pace_regions(group: ParametricGroup, formula: GroupFormula, params: Sequence[Parameter]
                   ) -> list[PaceRegion]:
     if not formula.exact:
@@ -335,18 +361,7 @@ def _pace_regions(group: ParametricGroup, formula: GroupFormula, params: Sequenc
     for clock, info in group.clocks.items():
         period = (Affine(Fraction(0), ((info.period_param, 1),)) if info.period_param >= 0
                   else Affine(info.period))
-        candidates: list[tuple[tuple[Fraction, ...], Fraction, Circuit]] = []
-        blocking = None
-        for c in formula.terms:
-            a = tuple(Fraction(c.holding.coefficient(j), c.tokens) - period.coefficient(j)
-                      for j in dims)
-            b = period.const - c.holding.const / c.tokens
-            if not any(a):
-                if b < 0 and blocking is None:
-                    blocking = c
-                continue
-            if all((x, y) != (a, b) for x, y, _ in candidates):
-                candidates.append((a, b, c))
+        candidates, blocking = _pace_candidates(formula, period)
         if blocking is not None:
             out.append(PaceRegion(clock, [], True, blocking))
             continue
@@ -356,18 +371,46 @@ def _pace_regions(group: ParametricGroup, formula: GroupFormula, params: Sequenc
         if whole.empty():
             out.append(PaceRegion(clock, [], True))
             continue
-        kept: list[int] = []
-        for i in range(len(candidates)):
-            others = _box(params, dims)
-            for k in kept + list(range(i + 1, len(candidates))):
-                others.add(candidates[k][:2])
-            a, b, _ = candidates[i]
-            items = others.generator_items()
-            exceeds = any(sum(x * y for x, y in zip(a, point)) > (b if v else 0)
-                          for v, point, _ in items)
-            if exceeds:
-                kept.append(i)
+        kept = _non_redundant(params, dims, candidates)
         inequalities = [PaceInequality(tuple(zip(dims, candidates[i][0])), candidates[i][1],
                                        candidates[i][2]) for i in kept]
         out.append(PaceRegion(clock, inequalities, False))
     return out
+
+
+def _pace_candidates(formula: GroupFormula, period: Affine
+                     ) -> tuple[list[_Candidate], Circuit | None]:
+    """One inequality per term (duplicates once), and the first term slower than the
+    clock whatever the parameters (``blocking``), if any."""
+    dims = formula.params
+    candidates: list[_Candidate] = []
+    blocking = None
+    for c in formula.terms:
+        a = tuple(Fraction(c.holding.coefficient(j), c.tokens) - period.coefficient(j)
+                  for j in dims)
+        b = period.const - c.holding.const / c.tokens
+        if not any(a):
+            if b < 0 and blocking is None:
+                blocking = c
+            continue
+        if all((x, y) != (a, b) for x, y, _ in candidates):
+            candidates.append((a, b, c))
+    return candidates, blocking
+
+
+def _non_redundant(params: Sequence[Parameter], dims: Sequence[int],
+                   candidates: list[_Candidate]) -> list[int]:
+    """The candidates not implied by the box and the others (those kept so far and
+    those still to come), by index."""
+    kept: list[int] = []
+    for i in range(len(candidates)):
+        others = _box(params, dims)
+        for k in kept + list(range(i + 1, len(candidates))):
+            others.add(candidates[k][:2])
+        a, b, _ = candidates[i]
+        items = others.generator_items()
+        exceeds = any(sum(x * y for x, y in zip(a, point)) > (b if v else 0)
+                      for v, point, _ in items)
+        if exceeds:
+            kept.append(i)
+    return kept
