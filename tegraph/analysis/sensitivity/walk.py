@@ -68,24 +68,44 @@ def walk(evaluate: Callable[[Fraction, int], Outcome], start: Fraction, up: bool
     steps = 0
     while True:
         end, closed = (cut.hi, cut.hi_closed) if up else (cut.lo, cut.lo_closed)
-        if end is None or (cap is not None and ((end > cap if up else end < cap)
-                                                or (end == cap and closed))):
-            if cap is None:
-                return Walk(floor if not up else None, steps=steps)
-            return Walk(cap, steps=steps, capped=True)
-        if floor is not None and (end <= floor if not up else False):
-            return Walk(floor, steps=steps, capped=True)
+        bounded = _bounded(end, closed, up, cap, floor, steps)
+        if bounded is not None:
+            return bounded
+        assert end is not None  # _bounded stops at an unbounded end
         steps += 1
         if steps > max_steps:
             return Walk(end, closed, False, None, steps,
                         why_stopped=f"stopped after {max_steps} intervals of constant order")
         nxt = evaluate(end, side if closed else 0)
-        if nxt.verdict is None:
-            return Walk(end, closed, False, nxt, steps, why_stopped=str(nxt.why[1])
-                        if nxt.why else "undecided")
-        if nxt.verdict is False:
-            return Walk(end, closed, True, nxt, steps)
+        changed = _changed(end, closed, nxt, steps)
+        if changed is not None:
+            return changed
         cut = nxt.cut
+
+
+def _bounded(end: Fraction | None, closed: bool, up: bool, cap: Fraction | None,
+             floor: Fraction | None, steps: int) -> Walk | None:
+    """The walk's answer when its interval reaches past what bounds it: the cap,
+    no end at all, or (down) the floor; None: walk on to ``end``."""
+    if end is None or (cap is not None and ((end > cap if up else end < cap)
+                                            or (end == cap and closed))):
+        if cap is None:
+            return Walk(floor if not up else None, steps=steps)
+        return Walk(cap, steps=steps, capped=True)
+    if floor is not None and (end <= floor if not up else False):
+        return Walk(floor, steps=steps, capped=True)
+    return None
+
+
+def _changed(end: Fraction, closed: bool, nxt: Outcome, steps: int) -> Walk | None:
+    """The walk's answer when the verdict at (or just past) ``end`` is not schedulable
+    (the end, exact) or undecided (the end, proven so far); None: still schedulable."""
+    if nxt.verdict is None:
+        return Walk(end, closed, False, nxt, steps, why_stopped=str(nxt.why[1])
+                    if nxt.why else "undecided")
+    if nxt.verdict is False:
+        return Walk(end, closed, True, nxt, steps)
+    return None
 
 
 def per_task_outcome(intervals: Sequence[Interval], t: Fraction, side: int) -> Outcome:
