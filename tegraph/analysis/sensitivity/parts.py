@@ -33,7 +33,7 @@ from ...model.skeleton import Skeleton
 from ..processors._engine import PartData, PartResult, simulate_part
 from ..processors.critical_instant import _independent, independent_tasks
 from ..processors.platform import Platform, platform_of
-from ..processors.scaling import critical_scaling_factor, duration_margin
+from ..processors.scaling import ScalingLimit, critical_scaling_factor, duration_margin
 from ..processors.schedule import (
     MAX_EVENTS,
     QUICK_LOOK,
@@ -427,31 +427,11 @@ class ProcessorLine:
                     else (sk.tasks[t].duration, Fraction(0)))
             lines.append((c, k))
         periods = [sk.clocks[sk.tasks[t].clock].period for t in order]  # type: ignore[index]
-        moving = [i for i, (_, k) in enumerate(lines) if k]
-        if all(c == 0 for c, _ in lines):
-            limit = critical_scaling_factor([(k, p) for (_, k), p in zip(lines, periods)])
-        elif len(moving) == 1 and lines[moving[0]][0] == 0 and lines[moving[0]][1] == 1:
-            m = moving[0]
-            limit = duration_margin([(c, p) for (c, _), p in zip(lines, periods)], m)
-        else:
-            limit = None
-            return self._simulated(part, base, direction, cut)
-        if limit is None:  # too many scheduling points
+        limit = _theorem_limit(lines, periods)
+        if limit is None:
             return self._simulated(part, base, direction, cut)
         self.used.add(THEOREM)
-        if limit.value is None:
-            cut.above(Fraction(0), True)
-            return Outcome(True, cut)
-        a = limit.value
-        if a < 0:
-            assert limit.task is not None  # a negative bound is set by a task
-            return Outcome(False, cut, ("overrun", order[limit.task], 2))
-        if cut.at < a or (cut.at == a and cut.side <= 0):
-            cut.below(a, True)
-            return Outcome(True, cut)
-        cut.above(a, False)
-        # job 1 of the first task at the limit misses its deadline: §4b overrun at 2
-        return Outcome(False, cut, ("overrun", order[limit.task], 2))  # type: ignore[index]
+        return _theorem_outcome(limit, order, cut)
 
     def _simulated(self, part: _Part, base, direction, cut: Cut) -> Outcome:
         if part.too_long:
@@ -494,3 +474,34 @@ class ProcessorLine:
             k, task = min(coming)
             return Outcome(False, cut, ("overrun", task, k))
         return Outcome(True, cut)
+
+
+def _theorem_limit(lines: list[tuple[Fraction, Fraction]], periods: list[Fraction]
+                   ) -> ScalingLimit | None:
+    """The limit of t by the theorem, when it applies to the line: every duration
+    ``k·t`` (the critical scaling factor), or one duration ``t`` alone, the others
+    fixed (its margin); None when it does not, or has too many scheduling points."""
+    moving = [i for i, (_, k) in enumerate(lines) if k]
+    if all(c == 0 for c, _ in lines):
+        return critical_scaling_factor([(k, p) for (_, k), p in zip(lines, periods)])
+    if len(moving) == 1 and lines[moving[0]][0] == 0 and lines[moving[0]][1] == 1:
+        return duration_margin([(c, p) for (c, _), p in zip(lines, periods)], moving[0])
+    return None
+
+
+def _theorem_outcome(limit: ScalingLimit, order: list[str], cut: Cut) -> Outcome:
+    """The verdict at the cut's point from the theorem's limit ``a``: schedulable on
+    [0, a], an overrun at activation 2 beyond it (job 1 of the first task at the limit
+    misses its deadline, §4b)."""
+    if limit.value is None:
+        cut.above(Fraction(0), True)
+        return Outcome(True, cut)
+    a = limit.value
+    if a < 0:
+        assert limit.task is not None  # a negative bound is set by a task
+        return Outcome(False, cut, ("overrun", order[limit.task], 2))
+    if cut.at < a or (cut.at == a and cut.side <= 0):
+        cut.below(a, True)
+        return Outcome(True, cut)
+    cut.above(a, False)
+    return Outcome(False, cut, ("overrun", order[limit.task], 2))  # type: ignore[index]
