@@ -211,24 +211,8 @@ def _solve(group: ParametricGroup, line: Line, nominal: Sequence[Fraction]
     while True:
         wanted: set[Fraction] = set()
         for f in range(n_sources + 1):
-            still = []
-            for a, b, la, lb in pending[f]:
-                if la[:2] == lb[:2] or a == b:
-                    pieces[f].append((a, b, la))
-                    continue
-                x = _meet(la, lb)
-                if not a <= x <= b:
-                    raise AssertionError("internal error: envelope lines meet outside")
-                if x in known:
-                    value, lx = _value(known[x], f), _line(known[x], f, group, line, nominal)
-                    if value == la[0] + la[1] * x:
-                        pieces[f] += [(a, x, la), (x, b, lb)]
-                    else:
-                        still += [(a, x, la, lx), (x, b, lx, lb)]
-                else:
-                    still.append((a, b, la, lb))
-                    wanted.add(x)
-            pending[f] = still
+            pending[f] = _refine(f, pending[f], pieces[f], known, wanted,
+                                 (group, line, nominal))
         point = newton.advance(known)
         if point is not None:
             wanted.add(point)
@@ -238,6 +222,34 @@ def _solve(group: ParametricGroup, line: Line, nominal: Sequence[Fraction]
             got = yield sorted(wanted)
             known.update(got)
     return _assemble(group, line, nominal, low, top, pieces, newton, len(known))
+
+
+def _refine(f: int, pending: list, pieces: list, known: dict[Fraction, PointResult],
+            wanted: set[Fraction], where: tuple[ParametricGroup, Line, Sequence[Fraction]]
+            ) -> list:
+    """One round on function f's envelope: each pending segment ``(a, b, la, lb)``
+    whose end lines agree, or that the value where they meet confirms, becomes
+    pieces; one whose meeting point is known to lie above them is split there; one
+    whose meeting point is not known yet stays, and the point is ``wanted``.
+    Returns the segments still pending."""
+    still = []
+    for a, b, la, lb in pending:
+        if la[:2] == lb[:2] or a == b:
+            pieces.append((a, b, la))
+            continue
+        x = _meet(la, lb)
+        if not a <= x <= b:
+            raise AssertionError("internal error: envelope lines meet outside")
+        if x in known:
+            value, lx = _value(known[x], f), _line(known[x], f, *where)
+            if value == la[0] + la[1] * x:
+                pieces += [(a, x, la), (x, b, lb)]
+            else:
+                still += [(a, x, la, lx), (x, b, lx, lb)]
+        else:
+            still.append((a, b, la, lb))
+            wanted.add(x)
+    return still
 
 
 def _value(result: PointResult, f: int) -> Fraction:
