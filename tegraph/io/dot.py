@@ -172,52 +172,66 @@ def _net_dot(net: PetriNet, marks: Highlights) -> str:
     return "\n".join(out + ["}"]) + "\n"
 
 
+@dataclass
+class _Marked:
+    """The skeleton's items that a set of marked places of its TEG touch."""
+
+    tasks: set[str]
+    links: set[int]
+    clocks: set[str]
+    ports: set[Any]
+
+    def has(self, kind: str, item: Any) -> bool:
+        """``item`` is among the marked ``kind`` (``"tasks"``, ``"links"``, ``"clocks"``)."""
+        return item in getattr(self, kind)
+
+
+def _marked(sk: Skeleton, g: TimedEventGraph, places: Any) -> _Marked:
+    """The tasks, clocks (through their tick's own place), rendezvous ports and links
+    (a place made by a link, or a SYN/SYN link between two marked ports) of ``places``."""
+    m = _Marked(set(), set(), set(), set())
+    for p in places:
+        place = g.places[p]
+        for e in (place.src, place.dst):
+            attrs = g.transition_attrs[e]
+            m.tasks.update(attrs.get("tasks", ()))
+            if attrs.get("role") == "tick" and place.kind == "clock":
+                m.clocks.add(attrs["clock"])
+            if attrs.get("role") == "rendezvous":
+                m.ports.update(attrs.get("ports", ()))
+        if isinstance(place.origin, dict) and "link_index" in place.origin:
+            m.links.add(place.origin["link_index"])
+    for i, link in enumerate(sk.links):
+        if link.protocol is Protocol.SYN_SYN and {link.writer, link.reader} <= m.ports:
+            m.links.add(i)
+    return m
+
+
 def _skeleton_dot(sk: Skeleton, marks: Highlights) -> str:
     g = build_teg(sk)
-    crit, dead, caption = marks.critical, marks.token_free, marks.caption
-    on = {"crit": crit, "dead": dead}
-    tasks_on: dict[str, set[str]] = {"crit": set(), "dead": set()}
-    links_on: dict[str, set[int]] = {"crit": set(), "dead": set()}
-    clocks_on: dict[str, set[str]] = {"crit": set(), "dead": set()}
-    ports_on: dict[str, set[Any]] = {"crit": set(), "dead": set()}
-    for key, places in on.items():
-        for p in places:
-            place = g.places[p]
-            for e in (place.src, place.dst):
-                attrs = g.transition_attrs[e]
-                tasks_on[key].update(attrs.get("tasks", ()))
-                if attrs.get("role") == "tick" and place.kind == "clock":
-                    clocks_on[key].add(attrs["clock"])
-                if attrs.get("role") == "rendezvous":
-                    ports_on[key].update(attrs.get("ports", ()))
-            if isinstance(place.origin, dict) and "link_index" in place.origin:
-                links_on[key].add(place.origin["link_index"])
-    for key in on:
-        for i, link in enumerate(sk.links):
-            if link.protocol is Protocol.SYN_SYN and {link.writer, link.reader} <= ports_on[key]:
-                links_on[key].add(i)
+    crit, dead = _marked(sk, g, marks.critical), _marked(sk, g, marks.token_free)
 
-    def style(key_sets: dict[str, set[Any]], item: Any) -> str:
-        return (", " + _CRITICAL) if item in key_sets["crit"] else \
-            (", " + _DEAD) if item in key_sets["dead"] else ""
+    def style(kind: str, item: Any) -> str:
+        return (", " + _CRITICAL) if crit.has(kind, item) else \
+            (", " + _DEAD) if dead.has(kind, item) else ""
 
-    label = sk.name + (f": {caption}" if caption else "")
+    label = sk.name + (f": {marks.caption}" if marks.caption else "")
     out = [f"digraph {_q(sk.name)} {{", f"  label={_q(label)}; rankdir=LR;"]
     for c in sk.clocks.values():
         text = f"{c.name}\nperiod {exact_text(c.period)} {sk.unit}" + (
             f", phase {exact_text(c.phase)}" if c.phase else "")
         out.append(f"  {_q('clock:' + c.name)} [shape=ellipse, label={_q(text)}"
-                   + style(clocks_on, c.name) + "];")
+                   + style("clocks", c.name) + "];")
     for t in sk.tasks.values():
         text = f"{t.name}\n{exact_text(t.duration)} {sk.unit}"
         out.append(f"  {_q('task:' + t.name)} [shape=box, label={_q(text)}"
-                   + style(tasks_on, t.name) + "];")
+                   + style("tasks", t.name) + "];")
         if t.clock is not None:
             out.append(f"  {_q('clock:' + t.clock)} -> {_q('task:' + t.name)} [style=dotted];")
     for i, link in enumerate(sk.links):
         text = f"{link.writer[1]} -> {link.reader[1]}\n{link.protocol.value}"
         out.append(f"  {_q('task:' + link.writer[0])} -> {_q('task:' + link.reader[0])} "
-                   f"[label={_q(text)}" + style(links_on, i) + "];")
+                   f"[label={_q(text)}" + style("links", i) + "];")
     for thread in sk.threads:
         for a, b in zip(thread, thread[1:] + thread[:1]):
             out.append(f"  {_q('task:' + a)} -> {_q('task:' + b)} [style=dashed, color=gray, "
