@@ -222,9 +222,11 @@ def _nominal(skeleton: Skeleton, params: Sequence[Parameter],
     at_nominal = dict(zip([g.index for g in live],
                           evaluate([(g, g.values({}, nominal)) for g in live])))
     fine = {g.index: g.live and at_nominal[g.index].consistent for g in groups}
-    result = SensitivityResult(skeleton.name, skeleton.unit, params, all(g.live for g in groups),
-                               all(fine.values()), [list(g.tasks) for g in groups], None, {},
-                               None, source=skeleton.source)
+    result = SensitivityResult(name=skeleton.name, unit=skeleton.unit, parameters=params,
+                               live=all(g.live for g in groups),
+                               consistent=all(fine.values()),
+                               groups=[list(g.tasks) for g in groups], scaling=None,
+                               margins={}, formulas=None, source=skeleton.source)
     result.models = {g.index: g for g in live}
     result.effort["setup"] = {"rounds": 1, "points": len(live), "analyses": 0,
                               "seconds": time.perf_counter() - started}
@@ -363,8 +365,8 @@ class _Context:
                 events = [names[int(g.src[p])] for p in cert.places]
                 detail = (f"circuit {' -> '.join(events)} is slower than clock {cause.clock}: "
                           f"{cause.task} overruns")
-            return Limit("overrun", detail, g.index, cause.task, cause.clock, None, events,
-                         certificate=cert.kind, tasks=_owners(g, events))
+            return Limit("overrun", detail, group=g.index, task=cause.task, clock=cause.clock,
+                         events=events, certificate=cert.kind, tasks=_owners(g, events))
         # Type: a cause that is not an overrun is a pace cause: it has both circuits (both lines).
         circuit = [names[int(g.src[p])] for p in cause.circuit.places]  # type: ignore[union-attr]
         source = [names[int(g.src[p])] for p in cause.source.places]  # type: ignore[union-attr]
@@ -372,7 +374,7 @@ class _Context:
                    else f"the free-running circuit {' -> '.join(source)}")
         detail = (f"circuit {' -> '.join(circuit)} is slower than {against}: a place of "
                   f"group {g.index} ({', '.join(g.tasks)}) is unbounded")
-        return Limit("pace", detail, g.index, clock=cause.clock, events=circuit,
+        return Limit("pace", detail, group=g.index, clock=cause.clock, events=circuit,
                      source_events=source, tasks=_owners(g, circuit))
 
 
@@ -433,7 +435,8 @@ def _scaling(ctx: _Context, verify: bool) -> Scaling:
     names = [params[j].name for j in durations]
     blocked = _blocked(ctx, line, set(durations))
     if box.empty or blocked:
-        return Scaling(names, [], None, False, _refusal(ctx, blocked, box))
+        return Scaling(names, intervals=[], factor=None, nominal_consistent=False,
+                       limits=_refusal(ctx, blocked, box))
     moving = [g for g in ctx.groups if g.live and any(line.direction.get(j) for j in g.params)]
     sets = ctx.solve([(g, line) for g in moving])
     overall: list[Interval] = [(box.low, box.high)]
@@ -473,15 +476,16 @@ def _scaling_from(ctx: _Context, names: list[str], overall: list[Interval],
     one = Fraction(1)
     holding = next(((a, b) for a, b in overall if a <= one and (b is None or one <= b)), None)
     if holding is not None:
-        return Scaling(names, overall, holding[1], True,
-                       _factor_limits(ctx, sets, box, holding[1], "above"))
+        return Scaling(names, intervals=overall, factor=holding[1], nominal_consistent=True,
+                       limits=_factor_limits(ctx, sets, box, holding[1], "above"))
     below = [b for _, b in overall if b is not None and b < one]
     above = [a for a, _ in overall if a > one]
     nb = max(below) if below else None
     na = min(above) if above else None
-    scaling = Scaling(names, overall, None, False, [], nb, na,
-                      _factor_limits(ctx, sets, box, nb, "above"),
-                      _factor_limits(ctx, sets, box, na, "below"))
+    scaling = Scaling(names, intervals=overall, factor=None, nominal_consistent=False,
+                      nearest_below=nb, nearest_above=na,
+                      limits_below=_factor_limits(ctx, sets, box, nb, "above"),
+                      limits_above=_factor_limits(ctx, sets, box, na, "below"))
     scaling.limits = [x for g, s in zip(moving, sets) if not _contains(s.intervals, one)
                       for x in ctx.nominal_limits(g, False)]
     return scaling
@@ -580,7 +584,8 @@ def _margins(ctx: _Context, verify: bool) -> dict[str, Margin]:
             intervals = intersect(intervals, s.intervals)
         holding = next(((a, b) for a, b in intervals
                         if a <= p.nominal and (b is None or p.nominal <= b)), None)
-        margin = Margin(p, [g.index for g in mine], intervals, holding is not None)
+        margin = Margin(p, groups=[g.index for g in mine], intervals=intervals,
+                        nominal_consistent=holding is not None)
         if holding is not None:
             margin.low, margin.high = holding
             margin.limits_low = _ends(ctx, found, holding[0], "below", p)
@@ -664,10 +669,12 @@ def _formula_report(g: ParametricGroup, f: GroupFormula, params: Sequence[Parame
         pace.append(PaceReport(region.clock, region.empty, inequalities,
                                circuit(region.blocking) if region.blocking else []))
     return GroupFormulaReport(
-        g.index, list(g.tasks), list(g.clocks), [params[j].name for j in g.params], f.exact,
-        nominal_result.cycle_time_max, nominal_result.rate_consistent, terms,
-        {params[j].name: d for j, d in f.derivatives.items()}, pace,
-        {params[j].name: params[j].symbol for j in g.params})
+        group=g.index, tasks=list(g.tasks), clocks=list(g.clocks),
+        parameters=[params[j].name for j in g.params], exact=f.exact,
+        cycle_time=nominal_result.cycle_time_max,
+        rate_consistent=nominal_result.rate_consistent, terms=terms,
+        derivatives={params[j].name: d for j, d in f.derivatives.items()}, pace=pace,
+        symbols={params[j].name: params[j].symbol for j in g.params})
 
 
 def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> dict[str, str]:

@@ -276,7 +276,8 @@ def _cutting_planes(group: ParametricGroup, params: Sequence[Parameter]
         envelope.refine(todo, got, checked)
     kept = envelope.facets()
     derivatives = _derivatives_from_terms(kept, dims, nominal)
-    return GroupFormula(group.index, dims, True, kept, derivatives, queries=n_queries)
+    return GroupFormula(group.index, dims, exact=True, terms=kept, derivatives=derivatives,
+                        queries=n_queries)
 
 
 def _derivatives_from_terms(terms: list[Circuit], dims: Sequence[int],
@@ -343,8 +344,8 @@ def _at_nominal(groups: Sequence[ParametricGroup], nominal: Sequence[Fraction]
                 c = Circuit(g.index, tuple(places), _affine(g, places),
                             int(sum(int(g.tokens[q]) for q in places)))
                 terms.setdefault(c.key(), c)
-        out.append(GroupFormula(g.index, g.params, False, list(terms.values()), derivatives,
-                                queries=1))
+        out.append(GroupFormula(g.index, g.params, exact=False, terms=list(terms.values()),
+                                derivatives=derivatives, queries=1))
     return out
 
 

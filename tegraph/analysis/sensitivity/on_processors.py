@@ -303,7 +303,8 @@ def scaling_on(ctx: Any, on: ProcessorLine, pt: Scaling, verify: bool) -> Scalin
     ``analyses``, ``max_events``).
     """
     durations = [j for j, p in enumerate(ctx.params) if p.kind == "duration"]
-    s = Scaling(pt.parameters, [], None, False, semantics=PROCESSORS, per_task=pt)
+    s = Scaling(pt.parameters, intervals=[], factor=None, nominal_consistent=False,
+                semantics=PROCESSORS, per_task=pt)
     if not pt.intervals:  # no factor is consistent: none is schedulable either
         s.limits = list(pt.limits)
         s.method = "on its processors: no factor is consistent with a processor per task"
@@ -376,7 +377,8 @@ def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
     """One parameter's margin on processors, within the one with a processor per task."""
     p = pt.parameter
     j = ctx.params.index(p)
-    m = Margin(p, pt.groups, [], False, semantics=PROCESSORS, per_task=pt)
+    m = Margin(p, groups=pt.groups, intervals=[], nominal_consistent=False,
+               semantics=PROCESSORS, per_task=pt)
     if not pt.intervals:
         m.method = "on its processors: no value is consistent with a processor per task"
         return m

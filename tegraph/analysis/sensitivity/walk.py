@@ -74,7 +74,7 @@ def walk(evaluate: Callable[[Fraction, int], Outcome], start: Fraction, up: bool
         assert end is not None  # _bounded stops at an unbounded end
         steps += 1
         if steps > max_steps:
-            return Walk(end, closed, False, None, steps,
+            return Walk(end, attained=closed, exact=False, steps=steps,
                         why_stopped=f"stopped after {max_steps} intervals of constant order")
         nxt = evaluate(end, side if closed else 0)
         changed = _changed(end, closed, nxt, steps)
@@ -101,10 +101,10 @@ def _changed(end: Fraction, closed: bool, nxt: Outcome, steps: int) -> Walk | No
     """The walk's answer when the verdict at (or just past) ``end`` is not schedulable
     (the end, exact) or undecided (the end, proven so far); None: still schedulable."""
     if nxt.verdict is None:
-        return Walk(end, closed, False, nxt, steps, why_stopped=str(nxt.why[1])
-                    if nxt.why else "undecided")
+        return Walk(end, attained=closed, exact=False, beyond=nxt, steps=steps,
+                    why_stopped=str(nxt.why[1]) if nxt.why else "undecided")
     if nxt.verdict is False:
-        return Walk(end, closed, True, nxt, steps)
+        return Walk(end, attained=closed, beyond=nxt, steps=steps)
     return None
 
 
