@@ -246,9 +246,15 @@ def _margin_on_lines(result: SensitivityResult) -> list[str]:
             why = "; ".join(dict.fromkeys(_short(x) for x in m.limits_high)) or "-"
         elif m.nominal_consistent:
             lo, hi = m.bounds  # type: ignore[misc]
-            assert hi is not None  # a bounded margin has its proven end
-            around = f"BOUND: [{display_text(lo)}, {display_text(hi)}] proven"
-            grow, why = f"at least +{number(hi - p.nominal)}", "undecided beyond"
+            if hi is None:
+                # A walk stops undecided only at an end it reached: no proven high end
+                # means the high end is exact and unbounded; the low end is the bound.
+                around = f"BOUND: [{display_text(lo)}, ∞) proven"
+                grow = "unbounded"
+                why = "; ".join(dict.fromkeys(_short(x) for x in m.limits_high)) or "-"
+            else:
+                around = f"BOUND: [{display_text(lo)}, {display_text(hi)}] proven"
+                grow, why = f"at least +{number(hi - p.nominal)}", "undecided beyond"
         else:
             grow, around, why = "-", "NOT at nominal", "-"
         if pt is None or not pt.nominal_consistent:

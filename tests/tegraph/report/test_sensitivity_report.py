@@ -148,3 +148,27 @@ def test_no_region_is_claimed_where_it_is_not_computed_exactly():
                for t in labels), labels
     assert not [p for p in ax.patches if str(p.get_label()).startswith("consistent")]
     assert "nominal (1, 2)" in labels
+
+
+# ------------------------------------------------- a margin undecided below only
+
+
+def test_a_margin_undecided_below_and_unbounded_above_is_printed_not_a_traceback():
+    # fig11 on its processors, rtc.period alone, 200 firings per figure: the nominal
+    # (period 10) is decided; the walk down from 10 spends its budget (the low end is
+    # only bounded: proven schedulable down to some period), the walk up meets no end
+    # (the high end is exact: unbounded, None). The renderer asserted a finite proven
+    # high end and raised AssertionError (a traceback on the CLI).
+    path = EXAMPLES / "fig11_fixed_order.yaml"
+    r = sensitivity(load_skeleton(path), ["rtc.period"], formulas=False, verify=False,
+                    max_events=200)
+    m = r.margins["rtc.period"]
+    assert r.schedulable is True and m.nominal_consistent and not m.exact
+    lo, hi = m.bounds
+    assert hi is None and m.high is None and lo is not None and lo <= 10
+    out = CliRunner().invoke(app, ["sensitivity", str(path), "--vary", "rtc.period",
+                                   "--max-events", "200", "--no-formulas", "--no-verify"])
+    assert out.exit_code == 0 and out.exception is None, out.output
+    row = next(line for line in out.output.splitlines()
+               if line.split()[:1] == [m.parameter.symbol])
+    assert f"BOUND: [{lo}, ∞) proven" in row and "unbounded" in row, row
