@@ -211,7 +211,7 @@ def _check_max_events(max_events: Any) -> None:
         raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
 
 
-def _nominal(skeleton: Skeleton, params: Sequence[Parameter],
+def _nominal(skeleton: Skeleton, params: tuple[Parameter, ...],
              started: float) -> tuple[_Context, SensitivityResult]:
     """The groups and their verdicts at the nominal values: the result's frame and the
     context every figure shares."""
