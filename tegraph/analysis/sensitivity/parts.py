@@ -396,11 +396,18 @@ class ProcessorLine:
             for b in range(a + 1, len(names)):
                 (c1, k1), (c2, k2) = periods[names[a]], periods[names[b]]
                 cut.sign(c1 - c2, k1 - k2)
+        # A period is > 0 (the model refuses 0): on this line, c + k·t > 0 bounds t
+        # below where k > 0 and above where k < 0. The point taken beside ``at`` stays
+        # inside (at - 1 could be a period of 0 or less, which no schedule has).
+        lo = max([-c / k for c, k in periods.values() if k > 0]
+                 + ([cut.lo] if cut.lo is not None else []), default=None)
+        hi = min([-c / k for c, k in periods.values() if k < 0]
+                 + ([cut.hi] if cut.hi is not None else []), default=None)
         rep = cut.at
         if cut.side > 0:
-            rep = (cut.at + cut.hi) / 2 if cut.hi is not None else cut.at + 1
+            rep = (cut.at + hi) / 2 if hi is not None else cut.at + 1
         elif cut.side < 0:
-            rep = (cut.at + cut.lo) / 2 if cut.lo is not None else cut.at - 1
+            rep = (cut.at + lo) / 2 if lo is not None else cut.at - 1
         values = {j: base.get(j, self.nominal[j]) + rep * k for j, k in direction.items()}
         moved = skeleton_at(sk, self.params, values)
         platform = platform_of(moved, self.groups)

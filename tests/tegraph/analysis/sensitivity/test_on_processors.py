@@ -335,3 +335,19 @@ def test_a_tiny_budget_gives_undecided_never_a_wrong_number():
         assert m.high is None or m.high == exact.margins[name].high
     fired = int(r.notes[-1].split(" event firings")[0].split()[-1].replace(",", ""))
     assert fired <= 10_000 and "budget of 10,000" in r.notes[-1]
+
+
+def test_a_period_walked_down_is_never_taken_at_zero_or_below():
+    # obs.period of computed_torque on its one CPU: the walk down from the nominal 1 ms
+    # asks for the schedule just below the end of an interval that had no lower end;
+    # the point taken there was at - 1 = 0 ms, a period the model refuses, and the
+    # schedule crashed (KeyError) on a clock of period 0. Per task the group of OBS.JL
+    # (alone, 0.1 ms) keeps pace for every period >= 0.1 ms (by hand); on the CPU the
+    # nominal 1 ms is schedulable (test_computed_torque_on_its_one_cpu), so whatever
+    # the budget leaves undecided, the interval found holds 1.
+    s = sensitivity(load_skeleton(TORQUE), ["obs.period"], formulas=False, verify=False,
+                    max_events=20_000)
+    m = s.margins["obs.period"]
+    assert m.per_task.intervals == [(F(1, 10), None)]
+    low, high = m.bounds if m.bounds is not None else (m.low, m.high)
+    assert low <= 1 and (high is None or 1 <= high)
