@@ -54,9 +54,30 @@ class DesignSection:
         return 1 if violated else 0
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``design`` of the JSON report (``rules``, ``schedulability``, ``latency``)."""
+        """The ``design`` of the JSON report (``rules``, ``schedule_parts``,
+        ``schedulability``, ``latency``).
+
+        The parts an advised change was decided on (its tasks and processors) are
+        listed once, in order of first use, and each finding's ``schedule`` names its
+        part by index: many findings share one part.
+        """
+        parts: dict[int, int] = {}  # id of a part's task tuple -> its index
+        shown: list[dict[str, Any]] = []
+        rules = []
+        for f in self.rules:
+            part = None
+            if f.schedule is not None:
+                # The advice shares one tuple per part, so its identity finds it without
+                # hashing thousands of names per finding; equal copies only repeat a row.
+                part = parts.get(id(f.schedule.tasks))
+                if part is None:
+                    part = parts[id(f.schedule.tasks)] = len(shown)
+                    shown.append({"tasks": list(f.schedule.tasks),
+                                  "processors": list(f.schedule.processors)})
+            rules.append(f.to_dict(part))
         return {
-            "rules": [f.to_dict() for f in self.rules],
+            "rules": rules,
+            "schedule_parts": shown,
             "schedulability": self.schedulability.to_dict(),
             "latency": [c.to_dict() for c in self.latency],
         }

@@ -145,13 +145,20 @@ class RuleFinding:
         """``(kind, key)``: the same finding in two checks of two versions of a skeleton."""
         return (self.kind, self.key)
 
-    def to_dict(self) -> dict[str, Any]:
-        """Plain data for the JSON report."""
+    def to_dict(self, part: int | None = None) -> dict[str, Any]:
+        """Plain data for the JSON report; ``part``: the index of ``schedule``'s part in
+        the section's ``schedule_parts`` (:meth:`DesignSection.to_dict
+        <tegraph.design.section.DesignSection.to_dict>` numbers them)."""
+        schedule = None
+        if self.schedule is not None:
+            if part is None:
+                raise ValueError("a finding with a schedule needs its part's index")
+            schedule = self.schedule.to_dict(part)
         return {"rule": self.rule, "severity": self.severity, "tasks": list(self.tasks),
                 "ports": list(self.ports), "links": [link.document() for link in self.links],
                 "message": self.message, "advice": self.advice,
                 "change": None if self.change is None else self.change.to_dict(),
-                "schedule": None if self.schedule is None else self.schedule.to_dict()}
+                "schedule": schedule}
 
 
 def key_text(identity: FindingKey) -> str:

@@ -54,9 +54,11 @@ def test_fig12_on_its_one_processor():
 def test_fig12_json_carries_the_effect():
     data = json.loads(to_json(rules(FIG12)))
     first = data["rules"][0]
-    assert first["schedule"] == {"tasks": ["MT1", "MT2"], "processors": ["default"],
-                                 "schedulable_before": False, "schedulable_after": True,
-                                 "why_undecided": None}
+    assert first["schedule"] == {"part": 0, "schedulable_before": False,
+                                 "schedulable_after": True, "why_undecided": None}
+    # Both findings (Rules 1 and 3) touch the one part: it is written once.
+    assert data["schedule_parts"] == [{"tasks": ["MT1", "MT2"], "processors": ["default"]}]
+    assert [f["schedule"]["part"] for f in data["rules"] if f["schedule"]] == [0, 0]
     assert data["rules"][-1]["schedule"] is None  # Rule 4: no change
 
 

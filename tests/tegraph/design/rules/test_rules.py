@@ -405,10 +405,11 @@ def test_the_rules_command_prints_what_the_library_call_returns():
     assert json.loads(out.stdout) == to_document(section)
     assert out.returncode == section.exit_status == 1  # three Rule 2 warnings
     doc = to_document(section)
-    assert list(doc) == ["schema_version", "report", "name", "unit", "rules", "schedulability",
-                         "latency"]
+    assert list(doc) == ["schema_version", "report", "name", "unit", "rules", "schedule_parts",
+                         "schedulability", "latency"]
     design = to_document(analyze(str(path), chains=[["MT1", "MT2"]]))["design"]
-    assert design == {k: doc[k] for k in ("rules", "schedulability", "latency")}
+    assert design == {k: doc[k] for k in ("rules", "schedule_parts", "schedulability",
+                                          "latency")}
     assert run("rules", str(path)).stdout.endswith("(exit status 1)\n")
     with pytest.raises(TypeError, match="skeleton: expected a Skeleton"):
         tegraph.rules(3)
