@@ -350,9 +350,12 @@ def _group_reports(g: _EventGraph, periods: _Periods, dead_groups: set[int],
             tokens = int(sum(int(t) for t in mcr.tokens[arcs].tolist()))
             if consistent:
                 period = ct[slowest]
-        out.append(GroupReport(index, list(tasks), clocks, live, consistent, period, None,
+        out.append(GroupReport(index=index, tasks=list(tasks), clocks=clocks, live=live,
+                               rate_consistent=consistent, period=period, transient=None,
+                               critical_circuit=circuit,
                                # Type: the events of a live group have their cycle times.
-                               circuit, cycle_times, holdings, tokens))  # type: ignore[arg-type]
+                               cycle_times=cycle_times,  # type: ignore[arg-type]
+                               critical_holdings=holdings, critical_tokens=tokens))
     return out
 
 
@@ -361,7 +364,8 @@ def _task_reports(g: _EventGraph, groups: list[GroupReport]) -> dict[str, TaskRe
     for name, task in g.sk.tasks.items():
         index = g.task_group[name]
         period = groups[index].cycle_times.get(name) if groups[index].live else None
-        out[name] = TaskReport(name, index, period, None, None, None, task.clock,
+        out[name] = TaskReport(name=name, group=index, period=period, overrun_at=None,
+                               slack=None, critical=None, clock=task.clock,
                                duration=task.duration)
     return out
 

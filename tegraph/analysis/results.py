@@ -47,7 +47,9 @@ class UnboundedPlace:
     advice: str
 
 
-@dataclass
+# Keyword-only, as the other long results: several fields share a type (None, Fraction),
+# so a positional call would neither read nor type-check as meant.
+@dataclass(kw_only=True)
 class TaskReport:
     """Figures of one task (null where spec §5 says they are undefined)."""
 
@@ -86,7 +88,8 @@ class TaskReport:
         return "never" if self.overrun_decided else "undecided (budget)"
 
 
-@dataclass
+# Keyword-only: see TaskReport.
+@dataclass(kw_only=True)
 class GroupReport:
     """One weakly connected part of the timed event graph."""
 
