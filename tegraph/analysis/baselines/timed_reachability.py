@@ -132,7 +132,8 @@ class TimedTask:
     decided: bool = False
 
 
-@dataclass
+# Keyword-only: twelve fields, several of the same type; a positional call cannot be read.
+@dataclass(kw_only=True)
 class TimedExploration:
     """What :func:`timed_reachability` found.
 
@@ -622,10 +623,13 @@ class _Simulation:
         if self.complete:
             for t in self.tasks.values():
                 t.decided = t.decided or self.groups[t.group].stalled_at is None
-        return TimedExploration(name, unit, len(self.whole), self.firings, self.complete,
-                                self.ended_by, self.stopped_by, Fraction(self.now, self.scale),
-                                self.groups,
-                                self.tasks, self.max_states, time.perf_counter() - self.start)
+        return TimedExploration(name=name, unit=unit, states=len(self.whole),
+                                firings=self.firings, complete=self.complete,
+                                ended_by=self.ended_by, stopped_by=self.stopped_by,
+                                time_reached=Fraction(self.now, self.scale),
+                                groups=self.groups, tasks=self.tasks,
+                                max_states=self.max_states,
+                                seconds=time.perf_counter() - self.start)
 
 
 def _transient(daters: list[list[int]], before: list[int], c0: int, span: int) -> tuple[int, int]:

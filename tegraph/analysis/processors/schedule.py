@@ -103,7 +103,8 @@ class GrowingPlace:
     """Tokens gained per regime of its part; None: infinitely many at time 0."""
 
 
-@dataclass
+# Keyword-only: twelve fields, several of the same type; a positional call cannot be read.
+@dataclass(kw_only=True)
 class ProcessorSchedule:
     """The result of :func:`schedule_on_processors` (times in the skeleton's unit)."""
 
@@ -550,9 +551,11 @@ class _Outcome:
                        "together on one processor, whose hyperperiod is too long to "
                        "simulate, decided by the critical instant (Liu and Layland 1973) "
                        "and the exact response-time test (Lehoczky, Sha and Ding 1989)")
-        return ProcessorSchedule(net.platform, verdict, verdict is not None, method, why,
-                                 self.tasks, group_periods, unbounded, self.intervals,
-                                 net.scale, self.regimes, self.events)
+        return ProcessorSchedule(platform=net.platform, schedulable=verdict,
+                                 exact=verdict is not None, method=method, why_undecided=why,
+                                 tasks=self.tasks, group_periods=group_periods,
+                                 unbounded=unbounded, raw_intervals=self.intervals,
+                                 scale=net.scale, regimes=self.regimes, events=self.events)
 
     def _proofs(self, simulated: int) -> str:
         """What the simulation proved: a regime per part, or, where the budget ran out

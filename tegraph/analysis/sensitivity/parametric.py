@@ -248,7 +248,8 @@ class Watch:
     offset_param: int
 
 
-@dataclass
+# Keyword-only: fourteen fields, five of them arrays of int64; a positional call cannot be read.
+@dataclass(kw_only=True)
 class ParametricGroup:
     """One group's timed event graph, each holding ``const + θ[param]`` (param -1: none).
 
@@ -381,12 +382,13 @@ def _parametric_group(sub: Skeleton, index: int, local: list[tuple[int, str, str
         watches.append(Watch(t, task.clock, end.event, end.offset,
                              param_of.get(("duration", t), -1) if end.adds_duration else -1))
     group = ParametricGroup(
-        index, tuple(sub.tasks), sub, teg.transition_names,
-        np.array([p.src for p in places], dtype=np.int64),
-        np.array([p.dst for p in places], dtype=np.int64),
-        np.array([p.tokens for p in places], dtype=np.int64),
-        np.array(param, dtype=np.int64), const, [p.initial for p in places],
-        tuple(places), clocks, watches, tuple(j for j, _, _ in local))
+        index=index, tasks=tuple(sub.tasks), skeleton=sub, names=teg.transition_names,
+        src=np.array([p.src for p in places], dtype=np.int64),
+        dst=np.array([p.dst for p in places], dtype=np.int64),
+        tokens=np.array([p.tokens for p in places], dtype=np.int64),
+        param=np.array(param, dtype=np.int64), const=const,
+        initial=[p.initial for p in places], places=tuple(places), clocks=clocks,
+        watches=watches, params=tuple(j for j, _, _ in local))
     group.event_owners = tuple(tuple(a.get("tasks", ())) for a in teg.transition_attrs)
     return group
 
