@@ -68,7 +68,8 @@ __all__ = [
 ]
 
 
-@dataclass
+# Keyword-only: ten fields, six of them arrays; a positional call cannot be read.
+@dataclass(kw_only=True)
 class CycleRatioResult:
     """Cycle ratio, critical circuit and cycle times of a graph.
 
@@ -495,7 +496,9 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
     scaled_den = den * scale if abs_max(den) * scale < INT64_SAFE else den.astype(object) * scale
     ct_num, ct_den = _reduce(num, scaled_den, den != 0)
     cert = CycleRatioCertificate(scale, num, den, potential, policy, circuit)
-    return CycleRatioResult(ratio, circuit, ct_num, ct_den, cert, src, dst, w, t, iterations)
+    return CycleRatioResult(ratio=ratio, circuit=circuit, cycle_time_num=ct_num,
+                            cycle_time_den=ct_den, certificate=cert, src=src, dst=dst,
+                            weight=w, tokens=t, iterations=iterations)
 
 
 def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.ndarray | None:
