@@ -329,7 +329,8 @@ def _budget(budget: int | None) -> int:
     return budget
 
 
-@dataclass
+# Keyword-only: nine fields, several of the same type; a positional call cannot be read.
+@dataclass(kw_only=True)
 class UnitVerdict:
     """Response-time verdict of one unit (a group's tasks on one processor)."""
 
@@ -600,8 +601,10 @@ def schedulability(skeleton: Skeleton, report: Report | None = None, *,
                 note = "no clock: its period is its own cycle time (Rule 3)"
             if any(is_automaton(t) for t in tasks):
                 note = "the automaton, taken as periodic at the rate of its messages"
-            units[processor].append(UnitVerdict(processor, g.index, tasks, priority, rate,
-                                                Fraction(cost), None, None, None, note=note))
+            units[processor].append(UnitVerdict(processor=processor, group=g.index,
+                                                tasks=tasks, priority=priority, period=rate,
+                                                cost=Fraction(cost), response_time=None,
+                                                schedulable=None, margin=None, note=note))
     processors = [_processor(p, source[p], us, skeleton.unit, budget)
                   for p, us in units.items()]
     return Schedulability(processors, _threads(skeleton, report), priorities, notes)

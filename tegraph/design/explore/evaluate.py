@@ -59,7 +59,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import KW_ONLY, dataclass, field, replace
 from fractions import Fraction
 from typing import Any
 
@@ -123,6 +123,9 @@ class VariantResult:
 
     variant: int
     judged: str
+    # The rest by keyword only: eleven fields, most of them flags or None, cannot be read
+    # in a positional call; the variant and its judgement (always given) can.
+    _: KW_ONLY
     live: bool | None = None
     repaired: bool = False
     consistent: bool | None = None

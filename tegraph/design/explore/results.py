@@ -280,9 +280,10 @@ class ResultsTable:
         # In the order of the columns: the first cell refused is the one named.
         objectives, kinds, rule2 = cells.objectives(), cells.kinds(), cells.rule2()
         orders, seconds = cells.orders(), cells.seconds()
-        result = VariantResult(variant, judged, live, bool(repaired), consistent,
-                               schedulable, objectives, kinds, orders, row["reason"], seconds,
-                               rule2, meets)
+        result = VariantResult(variant, judged, live=live, repaired=bool(repaired),
+                               consistent=consistent, schedulable=schedulable,
+                               objectives=objectives, kinds=kinds, orders=orders,
+                               reason=row["reason"], seconds=seconds, rule2=rule2, meets=meets)
         cells.coherent(result, kept)
         return result
 

@@ -81,7 +81,8 @@ class ParetoFront:
     >>> F = Fraction
     >>> front = ParetoFront(["load"])
     >>> for v, load in [(0, F(1, 2)), (1, F(1, 3)), (2, F(1, 3))]:
-    ...     _ = front.add(VariantResult(v, "analyzed", True, False, True, True, {"load": load}))
+    ...     _ = front.add(VariantResult(v, "analyzed", live=True, consistent=True,
+    ...                                     schedulable=True, objectives={"load": load}))
     >>> sorted(front.members)
     [1, 2]
     """
