@@ -344,15 +344,49 @@ class _Net:
             yield self._part_data(by_label.get(lab, []), members[lab], places.get(lab, []))
 
     def _part_data(self, tasks: list[int], events: list[int], places: list[int]):
+        """The part of these global tasks, events and places, re-indexed locally for
+        the engine (:class:`PartData`), with them."""
         local = {e: i for i, e in enumerate(events)}
-        local_task = {i: j for j, i in enumerate(tasks)}
         names = [self.tasks[i] for i in tasks]
-        procs: dict[str, int] = {}
+        procs: dict[str, int] = {}  # its processors, numbered in the order of its tasks
         for t in names:
             procs.setdefault(self.platform.processor_of[t], len(procs))
+        watched, slowest_tick = self._watched(names, local)
+        data = PartData(
+            n_events=len(events),
+            p_src=[local[self.src[p]] for p in places], p_dst=[local[self.dst[p]] for p in places],
+            p_tokens=[self.tokens[p] for p in places], p_hold=[self.hold[p] for p in places],
+            p_init=[self.init[p] for p in places],
+            p_job=[self.src[p] in self.compute_of for p in places],
+            p_cap=self._caps(places),
+            compute_task=self._compute_task(tasks, events, local),
+            duration=[int(self.sk.tasks[t].duration * self.scale) for t in names],
+            priority=[self.platform.priority[t] for t in names], file_index=tasks,
+            processor=[procs[self.platform.processor_of[t]] for t in names],
+            n_processors=len(procs),
+            end_event=[_end_event(self.teg, t, local) for t in names],
+            watched=watched, snapshot_place=self._snapshot_place(places, events, slowest_tick))
+        return data, names, events, places
+
+    def _caps(self, places: list[int]) -> list[int | None]:
+        """``PartData.p_cap`` of each place: None (counted exactly) on a circuit, where
+        the circuit's tokens bound its count; else its initial tokens + 2."""
+        return [None if self.scc[self.src[p]] == self.scc[self.dst[p]] else self.tokens[p] + 2
+                for p in places]
+
+    def _compute_task(self, tasks: list[int], events: list[int],
+                      local: dict[int, int]) -> list[int]:
+        """``PartData.compute_task``: per local event, the local task it computes, or -1."""
         compute_task = [-1] * len(events)
-        for i, j in local_task.items():
+        for j, i in enumerate(tasks):
             compute_task[local[self.compute[self.tasks[i]]]] = j
+        return compute_task
+
+    def _watched(self, names: list[str], local: dict[int, int]
+                 ) -> tuple[dict[int, list[int]], int | None]:
+        """``PartData.watched`` (local tick -> the local clocked tasks it activates) and
+        the local tick of the slowest clock (the first of the slowest), or None
+        without clock."""
         watched: dict[int, list[int]] = {}
         slowest: tuple[Fraction, int] | None = None
         for j, t in enumerate(names):
@@ -363,26 +397,16 @@ class _Net:
                 period = self.sk.clocks[clock].period
                 if slowest is None or period > slowest[0]:
                     slowest = (period, tick)
-        snapshot_place = None
-        if slowest is not None:
-            snapshot_place = next(i for i, p in enumerate(places)
-                                  if self.src[p] == self.dst[p] == events[slowest[1]])
-        data = PartData(
-            n_events=len(events),
-            p_src=[local[self.src[p]] for p in places], p_dst=[local[self.dst[p]] for p in places],
-            p_tokens=[self.tokens[p] for p in places], p_hold=[self.hold[p] for p in places],
-            p_init=[self.init[p] for p in places],
-            p_job=[self.src[p] in self.compute_of for p in places],
-            p_cap=[None if self.scc[self.src[p]] == self.scc[self.dst[p]] else self.tokens[p] + 2
-                   for p in places],
-            compute_task=compute_task,
-            duration=[int(self.sk.tasks[t].duration * self.scale) for t in names],
-            priority=[self.platform.priority[t] for t in names], file_index=tasks,
-            processor=[procs[self.platform.processor_of[t]] for t in names],
-            n_processors=len(procs),
-            end_event=[_end_event(self.teg, t, local) for t in names],
-            watched=watched, snapshot_place=snapshot_place)
-        return data, names, events, places
+        return watched, None if slowest is None else slowest[1]
+
+    def _snapshot_place(self, places: list[int], events: list[int],
+                        tick: int | None) -> int | None:
+        """``PartData.snapshot_place``: the local self-loop place of the local ``tick``
+        (the slowest clock's), None when there is no clock."""
+        if tick is None:
+            return None
+        return next(i for i, p in enumerate(places)
+                    if self.src[p] == self.dst[p] == events[tick])
 
 
 def _end_event(teg: TimedEventGraph, task: str, local: dict[int, int]) -> int | None:
