@@ -159,29 +159,20 @@ def _slack_covers(g: ParametricGroup, index: dict[str, int]) -> bool:
 def _clocked_margins(groups: Sequence[ParametricGroup], nominal: Sequence[Fraction],
                      report: Report, index: dict[str, int]) -> list[dict[str, Fraction]]:
     """The bounds of the module docstring for every task of clocked consistent groups."""
+    # All searches at once: one forward (Y) per group, one reverse (R) per watched task.
     forward, reverse, jobs = [], [], []
     for g in groups:
         period = report.groups[g.index].period
         assert period is not None
         values = {j: nominal[j] for j in g.params}
-        holdings = g.holdings(values)
-        scale = math.lcm(period.denominator, *(h.denominator for h in holdings),
-                         *(a.denominator for a in g.initial))
-        weight = [(h - m * period) * scale for h, m in zip(holdings, g.tokens.tolist())]
-        start: list[int | None] = [None] * g.n_events
-        for p in np.flatnonzero(g.tokens > 0).tolist():
-            v = int((g.initial[p] - period) * scale)
-            e = int(g.dst[p])
-            old = start[e]
-            start[e] = v if old is None else max(old, v)
+        scale, weight, start = _weights(g, values, period)
         labels = np.arange(len(g.src))
-        ints = [int(w) for w in weight]
-        forward.append((g.n_events, g.src, g.dst, labels, ints, start, [0] * g.n_events))
+        forward.append((g.n_events, g.src, g.dst, labels, weight, start, [0] * g.n_events))
         for w in g.watches:
             start_r: list[int | None] = [None] * g.n_events
             start_r[w.end] = 0
-            reverse.append((g.n_events, g.dst, g.src, labels, ints, start_r, [0] * g.n_events))
-        jobs.append((g, values, scale, ints))
+            reverse.append((g.n_events, g.dst, g.src, labels, weight, start_r, [0] * g.n_events))
+        jobs.append((g, values, scale, weight))
     ahead = longest_paths(forward)
     behind = iter(longest_paths(reverse))
     out = []
@@ -198,14 +189,39 @@ def _clocked_margins(groups: Sequence[ParametricGroup], nominal: Sequence[Fracti
                 end = Fraction(y[w.end], scale)  # type: ignore[arg-type]
                 bounds[own] = min(bounds[own], room - end)
             for t in g.tasks:
-                best = None
-                for p in np.flatnonzero(g.param == index[t]).tolist():
-                    u, v = int(g.src[p]), int(g.dst[p])
-                    ahead_u, behind_v = y[u], r[v]
-                    if ahead_u is not None and behind_v is not None:
-                        total = ahead_u + weight[p] + behind_v
-                        best = total if best is None else max(best, total)
+                best = _longest_through(g, index[t], y, r, weight)
                 if best is not None:
                     bounds[t] = min(bounds[t], room - Fraction(best, scale))
         out.append(bounds)
     return out
+
+
+def _weights(g: ParametricGroup, values: dict[int, Fraction], period: Fraction
+             ) -> tuple[int, list[int], list[int | None]]:
+    """The forward search of ``g`` at its period: a scale making every figure an
+    integer, each place's weight ``(h - m·P)·scale`` and each event's start (the
+    latest ``(initial - P)·scale`` of its marked places entering it; None: none)."""
+    holdings = g.holdings(values)
+    scale = math.lcm(period.denominator, *(h.denominator for h in holdings),
+                     *(a.denominator for a in g.initial))
+    weight = [int((h - m * period) * scale) for h, m in zip(holdings, g.tokens.tolist())]
+    start: list[int | None] = [None] * g.n_events
+    for p in np.flatnonzero(g.tokens > 0).tolist():
+        v = int((g.initial[p] - period) * scale)
+        e = int(g.dst[p])
+        old = start[e]
+        start[e] = v if old is None else max(old, v)
+    return scale, weight, start
+
+
+def _longest_through(g: ParametricGroup, param: int, y: Sequence[int | None],
+                     r: Sequence[int | None], weight: Sequence[int]) -> int | None:
+    """The longest ``Y_src(p) + w_p + R(dst(p))`` over the places ``p`` holding
+    parameter ``param`` (scaled; None when no such path exists)."""
+    best = None
+    for p in np.flatnonzero(g.param == param).tolist():
+        ahead_u, behind_v = y[int(g.src[p])], r[int(g.dst[p])]
+        if ahead_u is not None and behind_v is not None:
+            total = ahead_u + weight[p] + behind_v
+            best = total if best is None else max(best, total)
+    return best
