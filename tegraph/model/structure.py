@@ -96,34 +96,7 @@ class Structure:
     @classmethod
     def of(cls, skeleton: Skeleton) -> Structure:
         """The structure of ``skeleton`` (assumed valid: every name it uses exists)."""
-        names = list(skeleton.tasks)
-        index = {t: i for i, t in enumerate(names)}
-        clock_index = {c: len(names) + i for i, c in enumerate(skeleton.clocks)}
-        rows: list[int] = []
-        cols: list[int] = []
-        for t, task in skeleton.tasks.items():
-            if task.clock is not None:
-                rows.append(index[t])
-                cols.append(clock_index[task.clock])
-        for link in skeleton.links:
-            if link.protocol.synchronizing:
-                rows.append(index[link.writer[0]])
-                cols.append(index[link.reader[0]])
-        for thread in skeleton.threads:
-            for a, b in zip(thread, thread[1:]):
-                rows.append(index[a])
-                cols.append(index[b])
-        n = len(names) + len(clock_index)
-        graph = sp.csr_array((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
-        _, label = connected_components(graph, directed=False)
-        # Renumber the components by their first task in the file (spec §4 order).
-        number: dict[int, int] = {}
-        groups: list[list[str]] = []
-        for t in names:
-            g = number.setdefault(int(label[index[t]]), len(number))
-            if g == len(groups):
-                groups.append([])
-            groups[g].append(t)
+        groups = _groups(skeleton)
         group_of = {t: g for g, ts in enumerate(groups) for t in ts}
         # A clock is in the group of the tasks it activates (one group: they are joined).
         group_of_clock: dict[str, int] = {}
@@ -163,3 +136,44 @@ class Structure:
         for clock, tick in teg.attrs["clocks"].items():
             out[tick] = self.group_of_clock.get(clock, -1)
         return out
+
+
+def _joins(skeleton: Skeleton, index: Mapping[str, int]) -> tuple[list[int], list[int]]:
+    """The edges of the graph whose connected parts are the groups: task-clock for
+    each clocked task (clocks numbered after the tasks), writer-reader for each
+    synchronizing link, neighbours in each thread."""
+    clock_index = {c: len(index) + i for i, c in enumerate(skeleton.clocks)}
+    rows: list[int] = []
+    cols: list[int] = []
+    for t, task in skeleton.tasks.items():
+        if task.clock is not None:
+            rows.append(index[t])
+            cols.append(clock_index[task.clock])
+    for link in skeleton.links:
+        if link.protocol.synchronizing:
+            rows.append(index[link.writer[0]])
+            cols.append(index[link.reader[0]])
+    for thread in skeleton.threads:
+        for a, b in zip(thread, thread[1:]):
+            rows.append(index[a])
+            cols.append(index[b])
+    return rows, cols
+
+
+def _groups(skeleton: Skeleton) -> list[list[str]]:
+    """The tasks of each group (spec §4), groups and tasks in file order."""
+    names = list(skeleton.tasks)
+    index = {t: i for i, t in enumerate(names)}
+    rows, cols = _joins(skeleton, index)
+    n = len(names) + len(skeleton.clocks)
+    graph = sp.csr_array((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    # Renumber the components by their first task in the file (spec §4 order).
+    number: dict[int, int] = {}
+    groups: list[list[str]] = []
+    for t in names:
+        g = number.setdefault(int(label[index[t]]), len(number))
+        if g == len(groups):
+            groups.append([])
+        groups[g].append(t)
+    return groups

@@ -23,7 +23,7 @@ simulation counts its event firings against the budgets of
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -373,6 +373,15 @@ class ProcessorLine:
                     hold[q] = lin(c * scale, k * scale, cut)
         return dataclasses.replace(data, duration=duration, p_hold=hold)
 
+    def _line_periods(self, base: dict[int, Fraction], direction: dict[int, Fraction]
+                      ) -> dict[str, tuple[Fraction, Fraction]]:
+        """Each clock's period on the line, ``c + k·t`` as (c, k) (k = 0: it stays)."""
+        moving = {self.params[j].owner: j for j, k in direction.items()
+                  if k and self.params[j].kind == "period"}
+        return {name: (self._value(moving[name], base, direction) if name in moving
+                       else (clock.period, Fraction(0)))
+                for name, clock in self.skeleton.clocks.items()}
+
     def _moved_data(self, part_index: int, base: dict[int, Fraction],
                     direction: dict[int, Fraction], cut: Cut) -> PartData:
         """The part's data with the platform of the periods in the cut's interval.
@@ -382,32 +391,13 @@ class ProcessorLine:
         taken at a point of the interval where that order holds.
         """
         sk = self.skeleton
-        moving = {self.params[j].owner: j for j, k in direction.items()
-                  if k and self.params[j].kind == "period"}
-        periods = {}
-        for name, clock in sk.clocks.items():
-            if name in moving:
-                c, k = self._value(moving[name], base, direction)
-                periods[name] = (c, k)
-            else:
-                periods[name] = (clock.period, Fraction(0))
+        periods = self._line_periods(base, direction)
         names = list(periods)
         for a in range(len(names)):
             for b in range(a + 1, len(names)):
                 (c1, k1), (c2, k2) = periods[names[a]], periods[names[b]]
                 cut.sign(c1 - c2, k1 - k2)
-        # A period is > 0 (the model refuses 0): on this line, c + k·t > 0 bounds t
-        # below where k > 0 and above where k < 0. The point taken beside ``at`` stays
-        # inside (at - 1 could be a period of 0 or less, which no schedule has).
-        lo = max([-c / k for c, k in periods.values() if k > 0]
-                 + ([cut.lo] if cut.lo is not None else []), default=None)
-        hi = min([-c / k for c, k in periods.values() if k < 0]
-                 + ([cut.hi] if cut.hi is not None else []), default=None)
-        rep = cut.at
-        if cut.side > 0:
-            rep = (cut.at + hi) / 2 if hi is not None else cut.at + 1
-        elif cut.side < 0:
-            rep = (cut.at + lo) / 2 if lo is not None else cut.at - 1
+        rep = _inside(cut, periods.values())
         values = {j: base.get(j, self.nominal[j]) + rep * k for j, k in direction.items()}
         moved = skeleton_at(sk, self.params, values)
         platform = platform_of(moved, self.groups)
@@ -512,3 +502,27 @@ def _theorem_outcome(limit: ScalingLimit, order: list[str], cut: Cut) -> Outcome
         return Outcome(True, cut)
     cut.above(a, False)
     return Outcome(False, cut, ("overrun", order[limit.task], 2))  # type: ignore[index]
+
+
+def _inside(cut: Cut, periods: Iterable[tuple[Fraction, Fraction]]) -> Fraction:
+    """The point of the line where the cut is taken: ``at``, or just beside it (side
+    +1/-1), halfway to the interval's end and inside the periods' domain.
+
+    A period is > 0 (the model refuses 0): on the line, c + k·t > 0 bounds t below
+    where k > 0 and above where k < 0, so the point beside ``at`` stays inside
+    (at - 1 could be a period of 0 or less, which no schedule has).
+
+    >>> from fractions import Fraction as F
+    >>> _inside(Cut(F(1), -1), [(F(0), F(1))])  # the period t itself: halfway to 0
+    Fraction(1, 2)
+    """
+    periods = list(periods)
+    lo = max([-c / k for c, k in periods if k > 0]
+             + ([cut.lo] if cut.lo is not None else []), default=None)
+    hi = min([-c / k for c, k in periods if k < 0]
+             + ([cut.hi] if cut.hi is not None else []), default=None)
+    if cut.side > 0:
+        return (cut.at + hi) / 2 if hi is not None else cut.at + 1
+    if cut.side < 0:
+        return (cut.at + lo) / 2 if lo is not None else cut.at - 1
+    return cut.at
