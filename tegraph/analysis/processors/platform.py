@@ -24,16 +24,20 @@ groups for every command).
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Protocol as _Protocol
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from ...errors import InputError
 from ...model.skeleton import Skeleton
 from ...model.structure import design_period
 
 __all__ = ["DEFAULT_PROCESSOR", "Platform", "ProcessorInfo", "check_groups", "is_automaton",
-           "platform_of"]
+           "platform_of", "processor_parts"]
 
 DEFAULT_PROCESSOR = "default"
 """The processor of every task that declares none (§4b)."""
@@ -184,3 +188,38 @@ def _rate_monotonic(tasks: list[str], group_of: dict[str, int],
         if is_automaton(t):
             out[t] = top + 1
     return out
+
+
+def processor_parts(groups: Sequence[Sequence[str]], processor_of: Mapping[str, str]
+                    ) -> list[int]:
+    """The part of each group on the processors (§4b): groups joined, transitively, by
+    sharing a processor; numbered in the order of their first group.
+
+    A part's schedule depends on nothing outside it (no link crosses groups, no
+    processor crosses parts), so each is decided alone.
+
+    Parameters
+    ----------
+    groups : sequence of sequences of str
+        The tasks of each group (spec §4).
+    processor_of : mapping of str to str
+        Each task's processor.
+
+    Examples
+    --------
+    >>> processor_parts([("A",), ("B", "C"), ("D",)],
+    ...                 {"A": "cpu0", "B": "cpu1", "C": "cpu2", "D": "cpu2"})
+    [0, 1, 1]
+    """
+    index: dict[str, int] = {}
+    rows: list[int] = []
+    cols: list[int] = []
+    for g, tasks in enumerate(groups):
+        for t in tasks:
+            rows.append(g)
+            cols.append(len(groups) + index.setdefault(processor_of[t], len(index)))
+    n = len(groups) + len(index)
+    graph = sp.csr_array((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    first: dict[int, int] = {}
+    return [first.setdefault(int(label[g]), len(first)) for g in range(len(groups))]

@@ -51,7 +51,7 @@ from ...model.teg import TimedEventGraph
 from ..budgets import MAX_EVENTS
 from ._engine import PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
-from .platform import Platform, check_groups, platform_of
+from .platform import Platform, check_groups, platform_of, processor_parts
 
 __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
            "schedule_on_processors"]
@@ -300,22 +300,8 @@ class _Net:
 
     def _union_parts(self) -> list[int]:
         """Part label of each task: tasks joined by a group or a processor."""
-        parent = list(range(len(self.tasks)))
-
-        def find(i: int) -> int:
-            while parent[i] != i:
-                parent[i] = parent[parent[i]]
-                i = parent[i]
-            return i
-
-        first: dict[Any, int] = {}
-        for i, t in enumerate(self.tasks):
-            for key in (("g", self.group_of.get(t, -1 - i)), ("p", self.platform.processor_of[t])):
-                if key in first:
-                    parent[find(i)] = find(first[key])
-                else:
-                    first[key] = i
-        return [find(i) for i in range(len(self.tasks))]
+        part = processor_parts([g.tasks for g in self.groups], self.platform.processor_of)
+        return [part[self.group_of[t]] for t in self.tasks]
 
     def parts(self):
         """For each part: its :class:`PartData` and its global tasks, events and places."""

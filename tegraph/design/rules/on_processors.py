@@ -35,7 +35,7 @@ from typing import Any
 from maxplus.scalar import display_text
 
 from ...analysis.budgets import MAX_EVENTS
-from ...analysis.processors.platform import DEFAULT_PROCESSOR
+from ...analysis.processors.platform import DEFAULT_PROCESSOR, processor_parts
 from ...model.skeleton import Skeleton
 from .advice import _group_text
 from .change import Change, ScheduleEffect, apply_change
@@ -123,23 +123,10 @@ class ScheduleAdvice:
         self._part_tasks: dict[tuple, tuple[tuple[str, ...], tuple[str, ...]]] = {}
 
     def _parts(self) -> list[int]:
-        """The part of each group: groups joined by sharing a processor (union-find, once,
-        so a change costs its own part, not the skeleton)."""
-        parent = list(range(len(self.groups)))
-
-        def find(i: int) -> int:
-            while parent[i] != i:
-                parent[i] = parent[parent[i]]
-                i = parent[i]
-            return i
-
-        first: dict[str, int] = {}
-        for g, tasks in enumerate(self.groups):
-            for t in tasks:
-                proc = self.sk.tasks[t].processor or DEFAULT_PROCESSOR
-                other = first.setdefault(proc, g)
-                parent[find(g)] = find(other)
-        return [find(g) for g in range(len(self.groups))]
+        """The part of each group on the processors (once, so that a change costs its
+        own part, not the skeleton)."""
+        return processor_parts(self.groups, {
+            t: task.processor or DEFAULT_PROCESSOR for t, task in self.sk.tasks.items()})
 
     def effect(self, change: Change) -> ScheduleEffect:
         """The §4b verdict before -> after ``change``, on the part it touches.
