@@ -131,6 +131,8 @@ class _Part:
         self.result = PartResult(jobs=[[] for _ in d.duration])
         self.ticked: list[int] = []
         self.count = 0
+        self.cut = False
+        """An event was enabled when ``count`` had reached the budget (none fired past it)."""
         self.started = False
 
     # ------------------------------------------------------------ an instant
@@ -144,9 +146,12 @@ class _Part:
                 self._job_done(proc, now, work)
         while self.future and self.future[0][0] <= now:
             work.append(heapq.heappop(self.future)[1])
-        while work and self.count <= budget:
+        while work and not self.cut:
             e = work.pop()
-            while self._enabled(e, now) and self.count <= budget:
+            while self._enabled(e, now):
+                if self.count >= budget:  # an event still to fire: the budget is spent
+                    self.cut = True
+                    break
                 self._fire(e, now, work)
         self._check_ticks(now)
         for proc in self.touched:
@@ -316,7 +321,7 @@ def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> Part
             if _compare(part, seen, now):
                 break
         part.instant(now, budget)
-        if part.count > budget:
+        if part.cut:
             part.result.budget_spent = True
             break
         nxt = part.next_instant()

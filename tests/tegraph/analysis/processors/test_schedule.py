@@ -255,6 +255,8 @@ def test_budget_gives_null_with_reason():
                                        "B": {"duration": 1, "period": 11}}})
     small = schedule(sk, max_events=20)
     assert small.schedulable is None and not small.exact
+    # A budget of 20 firings fires 20, not one more to see that work is left.
+    assert small.events == 20 and "20 event firings" in small.method
     assert "max_events" in small.why_undecided and "20" in small.why_undecided
     assert small.tasks["A"].period is None and not small.tasks["A"].decided
 
