@@ -20,16 +20,20 @@ from maxplus.errors import MaxPlusError
 
 from . import io
 from .analysis.analyze import analyze_skeleton
-from .analysis.budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES, MAX_EVENTS
 from .analysis.cycle_time import CycleTimeResult
 from .analysis.cycle_time import cycle_time as cycle_time_of
 from .analysis.results import Report
 from .analysis.sensitivity.margins import duration_margins
 from .design.section import DesignSection, design_section
 from .errors import InputError, TegraphError
-from .io._files import DEFAULT_MAX_BYTES
 from .io.dot import dot_text
-from .model.limits import DEFAULT_MAX_FIRINGS
+from .model.budgets import (
+    DEFAULT_MAX_BYTES,
+    DEFAULT_MAX_FIRINGS,
+    DEFAULT_MAX_MEMORY,
+    DEFAULT_MAX_STATES,
+    MAX_EVENTS,
+)
 from .model.skeleton import Skeleton
 from .report.dot import highlights
 

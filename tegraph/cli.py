@@ -19,8 +19,14 @@ from typing import Annotated, NoReturn
 
 import typer
 
-from .analysis.budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES, MAX_EVENTS
 from .errors import InputError, TegraphError
+from .model.budgets import (
+    DEFAULT_MAX_BYTES,
+    DEFAULT_MAX_FIRINGS,
+    DEFAULT_MAX_MEMORY,
+    DEFAULT_MAX_STATES,
+    MAX_EVENTS,
+)
 
 app = typer.Typer(
     add_completion=True,
@@ -170,7 +176,7 @@ def _size_text(size: int) -> str:
 
 
 # The options that several commands share, each declared once. Budgets take their
-# defaults from the library's constants (tegraph.analysis.budgets imports nothing,
+# defaults from the library's constants (tegraph.model.budgets imports nothing,
 # so --help loads no numpy); a budget of nothing is refused by the library in one
 # line naming the option, not by a typer `min=` and its multi-line usage error.
 SkeletonFile = Annotated[Path, typer.Argument(help="Skeleton file (.yaml, .yml or .json).")]
@@ -182,13 +188,10 @@ MaxStates = Annotated[int, typer.Option(
 MaxMemory = Annotated[str, typer.Option(
     "--max-memory", help="Memory budget of the markings the untimed reachability search "
                          "stores (e.g. 512M, 4G).")]
-# Literals checked against tegraph.model.limits.DEFAULT_MAX_FIRINGS and
-# tegraph.io DEFAULT_MAX_BYTES by tests/tegraph/test_cli.py: both modules load numpy.
 MaxFirings = Annotated[int, typer.Option(
     "--max-firings", min=1, help="Largest homogeneous expansion of an SDF graph (firings "
                                  "per iteration).")]
-_MAX_FIRINGS = 10**7
-_MAX_SIZE = "256M"
+_MAX_SIZE = _size_text(DEFAULT_MAX_BYTES)
 MaxSize = Annotated[str, typer.Option(
     "--max-size", help="Refuse larger input files (e.g. 1G; at least 1 byte: 0 is refused, "
                        "there is no \"no limit\").")]
@@ -290,7 +293,7 @@ def reach(
     max_states: MaxStates = DEFAULT_MAX_STATES,
     max_seconds: MaxSeconds = None,
     max_memory: MaxMemory = _size_text(DEFAULT_MAX_MEMORY),
-    max_firings: MaxFirings = _MAX_FIRINGS,
+    max_firings: MaxFirings = DEFAULT_MAX_FIRINGS,
     json_out: JsonFlag = False,
 ) -> None:
     """State-space baseline: the reachability graph (deadlocks) or, with --timed, the timed
@@ -477,7 +480,7 @@ def cycle_time_command(
     max_states: MaxStates = DEFAULT_MAX_STATES,
     max_seconds: MaxSeconds = None,
     max_memory: MaxMemory = _size_text(DEFAULT_MAX_MEMORY),
-    max_firings: MaxFirings = _MAX_FIRINGS,
+    max_firings: MaxFirings = DEFAULT_MAX_FIRINGS,
 ) -> None:
     """Exact period, throughput and critical circuit of a timed event graph.
 

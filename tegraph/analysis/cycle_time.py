@@ -59,14 +59,13 @@ from maxplus.scalar import display_text, exact_text, exact_time
 
 from ..errors import InputError
 from ..model.arcs import ArcList
+from ..model.budgets import DEFAULT_MAX_FIRINGS, DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES
 from ..model.convert import as_teg_like
-from ..model.limits import DEFAULT_MAX_FIRINGS
 from ..model.petri import PetriNet
 from ..model.sdf import SDFGraph
 from ..model.skeleton import Skeleton
 from ..model.teg import TimedEventGraph
 from .baselines.reachability import Reachability, reachability_graph
-from .budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES
 
 __all__ = ["CycleTimeResult", "cycle_time"]
 

@@ -6,13 +6,9 @@ import os
 from pathlib import Path
 
 from ..errors import InputError
+from ..model.budgets import DEFAULT_MAX_BYTES
 
 __all__ = ["DEFAULT_MAX_BYTES", "check_size", "read_limited", "write_bytes"]
-
-DEFAULT_MAX_BYTES = 256 * 2**20
-"""Files above this size are refused unless the caller raises the limit (256 MiB:
-an arc list of 4 million places takes about 100 MB)."""
-
 
 def check_size(path: str | os.PathLike[str], max_bytes: int = DEFAULT_MAX_BYTES) -> None:
     """Refuse (``InputError``) a file above ``max_bytes``, or one that cannot be read."""

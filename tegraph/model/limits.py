@@ -37,6 +37,8 @@ from typing import Any
 
 from maxplus.scalar import MAX_DIGITS
 
+from .budgets import DEFAULT_MAX_FIRINGS
+
 __all__ = ["DEFAULT_MAX_FIRINGS", "FREE_NODES", "MAX_COUNT", "MAX_DIGITS",
            "count_problem", "denominator_problem", "node_count_problem",
            "shown", "text_problem"]
@@ -46,10 +48,6 @@ MAX_COUNT = 2**63 - 1
 
 FREE_NODES = 2**20
 """Nodes no arc names that a file may declare beyond its own size in bytes."""
-
-DEFAULT_MAX_FIRINGS = 10**7
-"""Default bound on the firings (and token transfers) of one iteration of an SDF
-graph's homogeneous expansion: its arrays take about 100 bytes a firing."""
 
 _MAX_BITS = int(MAX_DIGITS * math.log2(10)) + 1
 _SHOWN = 40

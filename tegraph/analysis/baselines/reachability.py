@@ -48,9 +48,9 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from ...errors import InputError
+from ...model.budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES
 from ...model.petri import PetriNet
 from ...model.teg import TimedEventGraph
-from ..budgets import DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES
 from .marking_search import INT64_MAX, Progress, breadth_first
 
 __all__ = ["DEFAULT_MAX_MEMORY", "DeadMarking", "Reachability", "bounded_net",

@@ -59,10 +59,10 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
+from ...model.budgets import DEFAULT_MAX_STATES
 from ...model.build import activation_end, build_teg
 from ...model.skeleton import Skeleton
 from ...model.teg import TEGArrays, TimedEventGraph
-from ..budgets import DEFAULT_MAX_STATES
 from .reachability import skeleton_groups
 
 __all__ = ["TimedExploration", "TimedGroup", "TimedTask", "timed_reachability"]

@@ -6,7 +6,15 @@ preemptive fixed-priority schedule exactly (``docs/analysis.md``, *The
 schedule on processors*).
 """
 
-from .platform import DEFAULT_PROCESSOR, Platform, ProcessorInfo, is_automaton, platform_of
+from .platform import (
+    DEFAULT_PROCESSOR,
+    Platform,
+    ProcessorInfo,
+    is_automaton,
+    platform_of,
+    processor_of,
+    processor_parts,
+)
 from .schedule import (
     MAX_EVENTS,
     GrowingPlace,
@@ -18,4 +26,4 @@ from .schedule import (
 
 __all__ = ["DEFAULT_PROCESSOR", "MAX_EVENTS", "GrowingPlace", "JobInterval", "Platform",
            "ProcessorInfo", "ProcessorSchedule", "TaskOnProcessors", "is_automaton",
-           "platform_of", "schedule_on_processors"]
+           "platform_of", "processor_of", "processor_parts", "schedule_on_processors"]

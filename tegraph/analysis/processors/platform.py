@@ -37,7 +37,7 @@ from ...model.skeleton import Skeleton
 from ...model.structure import design_period
 
 __all__ = ["DEFAULT_PROCESSOR", "Platform", "ProcessorInfo", "check_groups", "is_automaton",
-           "platform_of", "processor_parts"]
+           "platform_of", "processor_of", "processor_parts"]
 
 DEFAULT_PROCESSOR = "default"
 """The processor of every task that declares none (§4b)."""
@@ -120,10 +120,9 @@ def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
     {'A': 3, 'B': 2, 'C': 4, 'D': 1}
     """
     check_groups(skeleton, groups)
-    processor_of = {name: task.processor or DEFAULT_PROCESSOR
-                    for name, task in skeleton.tasks.items()}
+    processors = processor_of(skeleton)
     on: dict[str, list[str]] = {}
-    for name, proc in processor_of.items():
+    for name, proc in processors.items():
         on.setdefault(proc, []).append(name)
     priority: dict[str, int] = {}
     infos = []
@@ -139,7 +138,7 @@ def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
             source = "rate-monotonic"
         priority.update(chosen)
         infos.append(ProcessorInfo(proc, tuple(tasks), {t: chosen[t] for t in tasks}, source))
-    return Platform(tuple(infos), processor_of, {t: priority[t] for t in skeleton.tasks})
+    return Platform(tuple(infos), processors, {t: priority[t] for t in skeleton.tasks})
 
 
 def check_groups(skeleton: Skeleton, groups: Sequence[_Group]) -> None:
@@ -188,6 +187,17 @@ def _rate_monotonic(tasks: list[str], group_of: dict[str, int],
         if is_automaton(t):
             out[t] = top + 1
     return out
+
+
+def processor_of(skeleton: Skeleton) -> dict[str, str]:
+    """Each task's processor (§4b): the one it declares, else :data:`DEFAULT_PROCESSOR`.
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "processor": "cpu1"},
+    ...                                    "B": {"duration": 1}}})
+    >>> processor_of(sk)
+    {'A': 'cpu1', 'B': 'default'}
+    """
+    return {name: task.processor or DEFAULT_PROCESSOR for name, task in skeleton.tasks.items()}
 
 
 def processor_parts(groups: Sequence[Sequence[str]], processor_of: Mapping[str, str]

@@ -45,10 +45,10 @@ from scipy.sparse.csgraph import connected_components
 from maxplus.scalar import display_text
 
 from ...errors import InputError, ModelError
+from ...model.budgets import MAX_EVENTS
 from ...model.build import activation_end
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
-from ..budgets import MAX_EVENTS
 from ._engine import PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
 from .platform import Platform, check_groups, platform_of, processor_parts

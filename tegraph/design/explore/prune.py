@@ -95,7 +95,7 @@ from scipy.sparse.csgraph import breadth_first_order
 
 from maxplus.scalar import exact_text
 
-from ...analysis.processors import DEFAULT_PROCESSOR
+from ...analysis.processors import processor_of
 from ...analysis.reorder import PrecedenceGraph
 from ...analysis.results import Report
 from ...model.skeleton import Protocol, Skeleton
@@ -325,6 +325,7 @@ def overloaded(skeleton: Skeleton, report: Report) -> str | None:
     """
     # processor -> (task, duration, period of its group's clock, has a clock of its own)
     grouped: dict[str, list[tuple[str, Fraction, Fraction, bool]]] = {}
+    runs_on = processor_of(skeleton)
     for g in report.groups:
         periods = {skeleton.clocks[c].period for c in g.clocks}
         if len(periods) != 1:  # no clock (or, not in a consistent variant, clocks that differ)
@@ -332,7 +333,7 @@ def overloaded(skeleton: Skeleton, report: Report) -> str | None:
         (period,) = periods
         for name in g.tasks:
             task = skeleton.tasks[name]
-            grouped.setdefault(task.processor or DEFAULT_PROCESSOR, []).append(
+            grouped.setdefault(runs_on[name], []).append(
                 (name, task.duration, period, task.clock is not None))
     for where, tasks in grouped.items():
         load = sum((d / p for _, d, p, _ in tasks), Fraction(0))

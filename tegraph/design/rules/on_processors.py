@@ -34,8 +34,8 @@ from typing import Any
 
 from maxplus.scalar import display_text
 
-from ...analysis.budgets import MAX_EVENTS
-from ...analysis.processors.platform import DEFAULT_PROCESSOR, processor_parts
+from ...analysis.processors.platform import processor_of, processor_parts
+from ...model.budgets import MAX_EVENTS
 from ...model.skeleton import Skeleton
 from .advice import _group_text
 from .change import Change, ScheduleEffect, apply_change
@@ -113,6 +113,7 @@ class ScheduleAdvice:
                  group_of: Mapping[str, int], fresh: Fraction) -> None:
         self.sk, self.groups, self.group_of, self.fresh = skeleton, groups, group_of, fresh
         self.order = {t: i for i, t in enumerate(skeleton.tasks)}
+        self.processor_of = processor_of(skeleton)
         self.part_of = self._parts()
         self.members: dict[int, list[str]] = {}  # each part's tasks, in file order
         for t in skeleton.tasks:
@@ -125,8 +126,7 @@ class ScheduleAdvice:
     def _parts(self) -> list[int]:
         """The part of each group on the processors (once, so that a change costs its
         own part, not the skeleton)."""
-        return processor_parts(self.groups, {
-            t: task.processor or DEFAULT_PROCESSOR for t, task in self.sk.tasks.items()})
+        return processor_parts(self.groups, self.processor_of)
 
     def effect(self, change: Change) -> ScheduleEffect:
         """The §4b verdict before -> after ``change``, on the part it touches.
@@ -145,7 +145,7 @@ class ScheduleAdvice:
             tasks = tuple(sorted((t for p in parts for t in self.members[p]),
                                  key=self.order.__getitem__))
             self._part_tasks[key] = (tasks, tuple(dict.fromkeys(
-                self.sk.tasks[t].processor or DEFAULT_PROCESSOR for t in tasks)))
+                self.processor_of[t] for t in tasks)))
         tasks, processors = self._part_tasks[key]
         head = "on its processors (§4b), before -> after: "
         if len(tasks) > PART_TASKS:
