@@ -41,6 +41,7 @@ from tegraph.model.convert import as_petri_net
 from tegraph.model.petri import PetriNet
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton, write_corpus
+from tests.tegraph.test_cli import CIRCULAR  # Figure 7a, written once
 
 SETTINGS = settings(max_examples=60, deadline=None,
                     suppress_health_check=[HealthCheck.too_slow])
@@ -271,16 +272,6 @@ def test_bounded_net_keeps_each_place_within_its_bound() -> None:
 
 # ------------------------------------------------------------------ command line
 
-CIRCULAR = """\
-tasks:
-  MT1: {duration: 1, inputs: [c], outputs: [a]}
-  MT2: {duration: 1, inputs: [a], outputs: [b]}
-  MT3: {duration: 1, inputs: [b], outputs: [c]}
-links:
-  - {from: "MT1:a", to: "MT2:a", protocol: ASYN/SYN}
-  - {from: "MT2:b", to: "MT3:b", protocol: ASYN/SYN}
-  - {from: "MT3:c", to: "MT1:c", protocol: ASYN/SYN}
-"""
 
 
 def test_cli_untimed_json_on_a_skeleton(tmp_path: Path) -> None:
