@@ -227,13 +227,13 @@ class _Envelope:
         return [(is_vertex, point) for is_vertex, point, _ in self.E.generator_items()
                 if (is_vertex, point) not in checked and (is_vertex or any(point[:p]))]
 
-    def refine(self, todo: list[tuple[bool, tuple]], got: list[PointResult],
+    def refine(self, unchecked_points: list[tuple[bool, tuple]], got: list[PointResult],
                checked: set[tuple]) -> None:
         """A generator whose true cycle time is above E's adds its critical circuit as
         a term; one that is not is checked for good."""
         p = len(self.dims)
         known = set(self.terms)
-        for (is_vertex, point), answer in zip(todo, got):
+        for (is_vertex, point), answer in zip(unchecked_points, got):
             if answer.cycle_time_max > point[p]:
                 circuit = answer.critical_circuit()
                 if circuit.key() in known:
@@ -266,14 +266,14 @@ def _cutting_planes(group: ParametricGroup, params: Sequence[Parameter]
     envelope.add(got[0].critical_circuit())
     checked: set[tuple] = set()
     while True:
-        todo = envelope.unchecked(checked)
-        if not todo:
+        unchecked_points = envelope.unchecked(checked)
+        if not unchecked_points:
             break
         got = yield [({j: point[i] for i, j in enumerate(dims)},) if is_vertex
                      else ({j: point[i] for i, j in enumerate(dims)}, True)
-                     for is_vertex, point in todo]
-        n_queries += len(todo)
-        envelope.refine(todo, got, checked)
+                     for is_vertex, point in unchecked_points]
+        n_queries += len(unchecked_points)
+        envelope.refine(unchecked_points, got, checked)
     kept = envelope.facets()
     derivatives = _derivatives_from_terms(kept, dims, nominal)
     return GroupFormula(group.index, dims, exact=True, terms=kept, derivatives=derivatives,

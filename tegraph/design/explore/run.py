@@ -232,11 +232,11 @@ class _Run:
             self.settle([VariantResult(v, PRUNED, live=False, reason=DEAD_REASON)
                          for v in pruned if v not in known], fresh=True)
             self.settle([known[v] for v in analyze if v in known], fresh=False)
-            todo = [v for v in analyze if v not in known]
-            if todo:
-                engine.submit(todo)
+            to_judge = [v for v in analyze if v not in known]
+            if to_judge:
+                engine.submit(to_judge)
                 log.batches += 1
-                log.batch_sizes.append(len(todo))
+                log.batch_sizes.append(len(to_judge))
 
     def receive(self, results: list[VariantResult],
                 progress: Callable[[Progress], None] | None) -> None:
