@@ -22,11 +22,19 @@ import heapq
 from collections import deque
 from dataclasses import dataclass, field
 
-__all__ = ["PartData", "PartResult", "simulate_part"]
+__all__ = ["AFTER_OVERRUN", "PartData", "PartResult", "simulate_part"]
 
 _KEEP = 8
 """Snapshots kept per key: a bounded place counted above its cap can still
 repeat with an earlier one than the latest of its key."""
+
+AFTER_OVERRUN = 10
+"""Once an overrun is exhibited (the verdict, proven), the search for a regime
+(the other figures) goes on for as many firings again as the overrun took, and
+at least a tenth (``1 / AFTER_OVERRUN``) of the budget. The figures that need
+the regime then stay null, as when the budget is spent: on drifting,
+overrunning groups no regime comes, and its search alone would spend the whole
+budget after the verdict is known."""
 
 
 @dataclass
@@ -75,6 +83,9 @@ class PartResult:
     tick_log: dict[int, list[tuple[int, int, int]]] = field(default_factory=dict)
     """Clocked task -> (time, k, ends - (k - 1)) at each tick of its clock."""
     budget_spent: bool = False
+    after_overrun: int | None = None
+    """Firings at the first overrun, when the search for a regime stopped
+    :data:`AFTER_OVERRUN` rules past it (before the budget); else None."""
 
 
 @dataclass
@@ -307,7 +318,8 @@ class _Part:
 
 
 def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> PartResult:
-    """Simulate one part until its state repeats, nothing more happens, or ``budget`` firings.
+    """Simulate one part until its state repeats, nothing more happens, or ``budget`` firings
+    (fewer once an overrun is exhibited: :data:`AFTER_OVERRUN`).
 
     ``keep_intervals``: record the processor time of each job (for drawing); an
     analysis that only reads the figures leaves them out (a tuple per preemption).
@@ -316,14 +328,21 @@ def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> Part
     part.keep_intervals = keep_intervals
     seen: dict[tuple, list[Snapshot]] = {}
     now = 0
+    limit = budget
+    overrun: int | None = None
     while True:
         if d.snapshot_place is None or part.queues[d.snapshot_place][0] == now:
             if _compare(part, seen, now):
                 break
-        part.instant(now, budget)
+        part.instant(now, limit)
         if part.cut:
             part.result.budget_spent = True
+            if limit < budget:
+                part.result.after_overrun = overrun
             break
+        if overrun is None and part.result.overrun_at:
+            overrun = part.count
+            limit = min(budget, overrun + max(overrun, budget // AFTER_OVERRUN))
         nxt = part.next_instant()
         if nxt is None:
             part.result.regime = ("stop", now)

@@ -49,7 +49,7 @@ from ...model.budgets import MAX_EVENTS
 from ...model.build import activation_end
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
-from ._engine import PartData, PartResult, simulate_part
+from ._engine import AFTER_OVERRUN, PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
 from .platform import Platform, check_groups, platform_of, processor_parts
 
@@ -426,6 +426,8 @@ class _Outcome:
         self.regimes: list[dict[str, Any]] = []
         self.undecided: list[str] = []
         self.by_theorem = 0
+        self.after_overrun = 0
+        """Parts whose search for a regime stopped past their first overrun (AFTER_OVERRUN)."""
         """Parts decided by the critical instant (``critical_instant.py``)."""
         self.events = 0
         self.rate: dict[int, set] = {}
@@ -455,6 +457,7 @@ class _Outcome:
     def add(self, r: PartResult, d: PartData, names: list[str], events: list[int],
             places: list[int]) -> None:
         self.events += r.fired
+        self.after_overrun += r.after_overrun is not None
         procs = list(dict.fromkeys(self.net.platform.processor_of[t] for t in names))
         self.intervals += [(procs[proc], start, end, names[task], k)
                            for proc, start, end, task, k in r.intervals]
@@ -579,10 +582,19 @@ class _Outcome:
             return f"each part's {proof}"
         exhibited = ("only what the simulation exhibited (an overrun, a growing place, a "
                      "job that never ends) is proven")
+        # A part's search stops past its first overrun before the budget (AFTER_OVERRUN).
+        past = ("within as many firings again as its first overrun took (at least "
+                f"1/{AFTER_OVERRUN} of its share; the overrun decides the verdict)")
+        if not self.after_overrun:
+            within = "within the budget"
+        elif self.after_overrun == open_parts:
+            within = past
+        else:
+            within = f"within the budget, or for {self.after_overrun} of them {past}"
         if open_parts == simulated:
-            return f"no periodic regime within the budget: {exhibited}"
+            return f"no periodic regime {within}: {exhibited}"
         return (f"the {proof} in {simulated - open_parts} of them; in the other "
-                f"{open_parts}, none within the budget: {exhibited}")
+                f"{open_parts}, none {within}: {exhibited}")
 
     def _verdict(self, live: bool, unbounded: list[GrowingPlace]) -> tuple[bool | None, str | None]:
         found = (not live or unbounded or any(

@@ -284,7 +284,31 @@ def test_an_overrun_found_before_the_budget_runs_out_claims_no_regime():
     s = schedule(sk, max_events=40)  # about half each: C repeats after 3, B needs 48
     assert s.tasks["C"].period == 10 and s.tasks["B"].period is None
     assert "regime proven by a repeated state (up to places that only gain tokens, " \
-        "never taken last) in 1 of them; in the other 1, none within the budget" in s.method
+        "never taken last) in 1 of them; in the other 1, none within as many firings " \
+        "again as its first overrun took" in s.method
+
+
+def test_past_an_overrun_the_search_for_a_regime_is_bounded():
+    # The pair above: events tick, activate, compute of A and of B. At 0 the six
+    # fire; at 10 A.tick, B.tick, A.activate, A.compute (4 more) but not
+    # B.activate, whose job (started at 6 after A's) ends at 12: B overruns at
+    # activation 2, seen at the 10th firing. The search for a regime then goes
+    # on for as many firings again (10), or a tenth of the share if more: with
+    # 100 firings that is 20 in all, short of the 48 the regime needs; with
+    # 1,000 it is 10 + 100 and the regime (B's period 15) is proven.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10, "priority": 2},
+                                       "B": {"duration": 6, "period": 10, "priority": 1}}})
+    s = schedule(sk, max_events=100)
+    assert (s.schedulable, s.exact, s.events, s.tasks["B"].overrun_at) == (False, True, 20, 2)
+    assert s.tasks["B"].period is None
+    assert s.method.endswith("no periodic regime within as many firings again as its first "
+                             "overrun took (at least 1/10 of its share; the overrun decides "
+                             "the verdict): only what the simulation exhibited (an overrun, "
+                             "a growing place, a job that never ends) is proven")
+    s = schedule(sk, max_events=1000)
+    assert (s.events, s.tasks["B"].period) == (48, 15)
+    assert s.method.endswith("each part's periodic regime proven by a repeated state (up to "
+                             "places that only gain tokens, never taken last)")
 
 
 def test_drifting_independent_sensors_are_decided_by_the_critical_instant():
