@@ -607,27 +607,34 @@ def _cycle_times(sk: Skeleton) -> _Rates:
     live = ~np.isin(label, sorted(dead))
     lp = np.flatnonzero(live[a.src] & live[a.dst])
     mcr = max_cycle_ratio(a.src[lp], a.dst[lp], a.holding[lp], a.tokens[lp], n_nodes=n)
-    ct = [None if c is None else c / a.scale for c in mcr.cycle_times]
-    rates: dict[int, dict[Fraction, str]] = {}
+    # Rates compared as the kernel's lowest-terms pairs (num, den): a Fraction is
+    # made only for what is read (each task's period, the rates of a mixed group).
+    num, den = mcr.cycle_time_num.tolist(), mcr.cycle_time_den.tolist()
+    labels = label.tolist()
+    first: dict[int, dict[tuple[int, int], int]] = {}  # group -> rate -> its first event
     for e in np.flatnonzero(live).tolist():
-        attrs = teg.transition_attrs[e]
-        if attrs.get("role") == "tick":
-            who = f"clock {attrs['clock']}"
-        else:  # a task's event: named by its task (a rendezvous by both)
-            who = ", ".join(attrs.get("tasks", ())) or teg.transition_names[e]
-        rate = ct[e]
-        assert rate is not None  # every event of a skeleton lies on a circuit (its chain's)
-        rates.setdefault(int(label[e]), {}).setdefault(rate, who)
+        # Every event of a skeleton lies on a circuit (its chain's): den > 0.
+        first.setdefault(labels[e], {}).setdefault((num[e], den[e]), e)
+    scale = a.scale
     compute = teg.attrs["compute"]
+    rates = {g: [(_who(teg, f), Fraction(r[0], r[1] * scale)) for r, f in seen.items()]
+             for g, seen in first.items() if len(seen) > 1}
     period: dict[str, Any] = {}
     mixed: dict[str, list[tuple[str, Fraction]]] = {}
     for t in sk.tasks:
         e = compute[t]
-        period[t] = ct[e] if live[e] else DEAD
-        seen = rates.get(int(label[e]), {})
-        if len(seen) > 1:
-            mixed[t] = [(who, r) for r, who in seen.items()]
+        period[t] = Fraction(num[e], den[e] * scale) if live[e] else DEAD
+        if labels[e] in rates:
+            mixed[t] = rates[labels[e]]
     return _Rates(period, mixed)
+
+
+def _who(teg: Any, e: int) -> str:
+    """An event for the advice's words: its clock, or its task (a rendezvous by both)."""
+    attrs = teg.transition_attrs[e]
+    if attrs.get("role") == "tick":
+        return f"clock {attrs['clock']}"
+    return ", ".join(attrs.get("tasks", ())) or teg.transition_names[e]
 
 
 def _token_free(sk: Skeleton) -> list:
