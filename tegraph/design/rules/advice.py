@@ -132,6 +132,7 @@ class Advisor(Candidates):
         periods = [c.period for c in skeleton.clocks.values()]
         self.fresh = max(periods, default=Fraction(0)) + 1  # a period no group has
         self.keys = {f.identity for f in findings}
+        self._after: tuple[Edits, tuple[list[int], dict, Any]] | None = None
         # The Rule 3 finding of each group, by the group's own tuple: :meth:`brings`
         # need not hash all the tasks of a group that stays as it was to see that its
         # finding is not new (a group of 10,000 tasks, once per finding of its tasks).
@@ -207,7 +208,17 @@ class Advisor(Candidates):
 
     # ------------------------------------------------------------ rates and liveness
     def _groups_after(self, edits: Edits) -> tuple[list[int], dict, Any]:
-        """The groups the edited tasks are in, and those their tasks form after ``edits``."""
+        """The groups the edited tasks are in, and those their tasks form after ``edits``.
+
+        Remembered for the last edits asked about: ranking a candidate and wording
+        the chosen one ask for the same edits up to five times.
+        """
+        if self._after is not None and self._after[0] is edits:
+            return self._after[1]
+        self._after = (edits, self._form_groups_after(edits))
+        return self._after[1]
+
+    def _form_groups_after(self, edits: Edits) -> tuple[list[int], dict, Any]:
         touched = {t for link, _ in edits.protocol for t in (link.writer[0], link.reader[0])}
         touched |= edits.drop | edits.add
         groups = sorted({self.group_of[t] for t in touched})
@@ -408,8 +419,7 @@ class Advisor(Candidates):
                 after.add((FindingKind.RULE1_NO_SYNC, t))
         if not whole and (key in after or not after <= self.keys):
             return (after - self.keys) | ({key} & after)
-        groups = sorted({self.group_of[t] for t in touched})
-        part, root_of = self._regroup(groups, edits)
+        groups, part, root_of = self._groups_after(edits)
         for tasks, n_clocks, _ in part.values():
             if n_clocks != 1:
                 kind = FindingKind.RULE3_SEVERAL_CLOCKS if n_clocks else FindingKind.RULE3_NO_CLOCK
