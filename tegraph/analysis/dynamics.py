@@ -28,7 +28,7 @@ the (max,+) counterpart of the ORCCAD paper's search for a repeated marking
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, NamedTuple
 
 import numpy as np
 
@@ -368,14 +368,14 @@ def _locate_certain_overruns(sim: DaterSimulation, watches: list[OverrunWatch]) 
     simulating up to it (its lag may take millions of activations to build).
     """
     pending = set(range(len(watches)))
-    into: dict[int, list[int]] | None = None  # shared by every certain overrun
+    context: PowerContext | None = None  # shared by every certain overrun
     for w, watch in enumerate(watches):
         if not watch.certain:
             continue
-        if into is None:
-            into = input_places(sim.graph, sim.active)
+        if context is None:
+            context = PowerContext.of(sim.graph, sim.active)
         found = certain_overrun(sim.graph, sim.active, watch.last_event, watch.tick_event,
-                                watch.end_offset, into=into)
+                                watch.end_offset, context=context)
         if found is not None:
             watch.overrun_at, watch.decided, watch.method = found, True, "max-plus powers"
             pending.discard(w)
@@ -431,18 +431,37 @@ _MAX_DOUBLINGS = 256
 """The powers stop past 2**256 activations (then the simulation's budget answers)."""
 
 
-def input_places(graph: tuple, active: np.ndarray) -> dict[int, list[int]]:
-    """Each live event's input places (between live events), for :func:`certain_overrun`."""
-    src, dst = np.asarray(graph[0]), np.asarray(graph[1])
-    into: dict[int, list[int]] = {}
-    for p in np.flatnonzero(active[src] & active[dst]).tolist():
-        into.setdefault(int(dst[p]), []).append(p)
-    return into
+class PowerContext(NamedTuple):
+    """What :func:`certain_overrun` reads of the whole graph, made once for all its
+    calls (else each call would cost the whole graph: 10,000 clocked tasks, 10,000
+    passes over 140,000 places)."""
+
+    into: dict[int, list[int]]
+    """Each live event's input places (between live events)."""
+    source: list[int]
+    """The source event of each place."""
+    loop: dict[int, list[int]]
+    """Each event's self-loop places."""
+    too_large: set[int]
+    """Events whose upstream closure is too large for powers (so is that of every
+    event downstream of them), learnt along the calls."""
+
+    @classmethod
+    def of(cls, graph: tuple, active: np.ndarray) -> PowerContext:
+        src, dst = np.asarray(graph[0]), np.asarray(graph[1])
+        source, target = src.tolist(), dst.tolist()
+        into: dict[int, list[int]] = {}
+        for p in np.flatnonzero(active[src] & active[dst]).tolist():
+            into.setdefault(target[p], []).append(p)
+        loop: dict[int, list[int]] = {}
+        for p in np.flatnonzero(src == dst).tolist():
+            loop.setdefault(source[p], []).append(p)
+        return cls(into, source, loop, set())
 
 
 def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
                     end_offset: int = 0, *,
-                    into: dict[int, list[int]] | None = None) -> int | None:
+                    context: PowerContext | None = None) -> int | None:
     """The first activation ``k >= 2`` with ``end(k-1) > x_tick(k)``, by (max,+) powers.
 
     For a clocked task whose last event is slower than its clock (cycle time
@@ -466,8 +485,8 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
         The task's last event and its clock's tick.
     end_offset : int
         ``δ``: 0, or the (scaled) duration of a task without outputs.
-    into : dict, optional
-        :func:`input_places` of ``graph``, computed once when many tasks are located
+    context : PowerContext, optional
+        ``PowerContext.of(graph, active)``, made once when many tasks are located
         (else each call would cost the whole graph).
 
     Returns
@@ -487,13 +506,14 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
     2
     """
     src, dst, tokens, holding, initial = (np.asarray(a) for a in graph)
-    loop = np.flatnonzero((src == tick) & (dst == tick))
+    if context is None:
+        context = PowerContext.of(graph, active)
+    loop = context.loop.get(tick, [])
     if len(loop) != 1 or int(tokens[loop[0]]) != 1:
         return None
     period, phase = int(holding[loop[0]]), int(initial[loop[0]])
-    if into is None:
-        into = input_places(graph, active)
-    closure = _upstream(last, into, src)
+    into = context.into
+    closure = _upstream(last, into, context.source, context.too_large)
     if closure is None:
         return None
     places = [p for e in closure for p in into[e]]
@@ -526,16 +546,26 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
     return None if index is None else depth + index + 2
 
 
-def _upstream(last: int, into: dict[int, list[int]], src: np.ndarray) -> set[int] | None:
+def _upstream(last: int, into: dict[int, list[int]], source: list[int],
+              too_large: set[int]) -> set[int] | None:
     """The events ``last`` depends on (itself included); None when they are too many
-    for powers or one has no input place (not a skeleton's graph)."""
+    for powers or one has no input place (not a skeleton's graph).
+
+    ``too_large`` holds events already known to have too large a closure: one met
+    upstream makes this one too large at once (and ``last`` joins them).
+    """
     closure, stack = {last}, [last]
     while stack:
         for p in into.get(stack.pop(), []):
-            if int(src[p]) not in closure:
-                closure.add(int(src[p]))
-                stack.append(int(src[p]))
+            e = source[p]
+            if e not in closure:
+                if e in too_large:
+                    too_large.add(last)
+                    return None
+                closure.add(e)
+                stack.append(e)
         if len(closure) >= _POWER_EVENTS:  # too large for powers: stop searching at once
+            too_large.add(last)
             return None
     return None if any(e not in into for e in closure) else closure
 
