@@ -56,9 +56,10 @@ PERIODS_BUDGET = 10_000
 """Tasks the advice may rebuild and solve, in all, to state real periods (each
 solve counts at least ``_SOLVE_COST``): a change to a group of n tasks rebuilds
 and solves those n tasks, so one finding per task of a 10,000-task chain would
-cost 10^8 (hours); 10,000 is about a second of solving. Past it, the advice
-states no period before -> after and says so; the choice then falls back to the
-smallest change bringing no finding."""
+cost 10^8 (hours); 10,000 is about a second of solving. A change is solved only
+while the periods before it fit too (they are worded side by side). Past it, the
+advice states no period before -> after and says so; the choice then falls back
+to the smallest change bringing no finding."""
 
 _SOLVE_COST = 30
 """What one solve costs at least, in tasks: the fixed cost of a build and a solve."""
@@ -270,7 +271,12 @@ class Advisor(Candidates):
         known = self._real.get(key)
         if known is None:
             cost = max(_SOLVE_COST, sum(len(self.groups[g]) for g in groups))
-            if self.periods_spent + cost > PERIODS_BUDGET:
+            # A change's periods are worded beside those before it: solve it only
+            # when the periods before can be solved too (else a group as large as
+            # the budget would spend it all on periods nobody reads).
+            before = (tuple(groups), Change())
+            pair = cost if change == Change() or before in self._real else 2 * cost
+            if self.periods_spent + pair > PERIODS_BUDGET:
                 return None
             self.periods_spent += cost
             edited = apply_change(self._within(groups), change,
@@ -361,8 +367,9 @@ class Advisor(Candidates):
         """
         u = self.sk.unit
         groups, part, _ = self._groups_after(edits)
-        now = self.real_periods(groups, Change())
+        # The change first: it is solved only when the periods before fit the budget too.
         real = self.real_periods(groups, self.change_of(edits))
+        now = None if real is None else self.real_periods(groups, Change())
         if now is None or real is None:
             return (f"periods before -> after not computed: the advice's budget of "
                     f"{PERIODS_BUDGET:,} tasks rebuilt is spent (tegraph analyze on the "

@@ -378,6 +378,27 @@ def test_past_the_periods_budget_the_advice_says_it_stated_none(monkeypatch):
         assert [x for x in check_rules(after) if x.rule < 4] == []
 
 
+def test_a_change_is_solved_only_when_the_periods_before_fit_too(monkeypatch):
+    # CTRL_GAINS' group counts 30 (a solve's least cost). With a budget of 45 one
+    # solve fits but not the pair (before and after) its words need: none is made,
+    # where the change used to be solved (30) and the budget then refused the
+    # periods before it, so that its periods were solved and never stated.
+    import tegraph.design.rules.advice as advice
+
+    solved = []
+    monkeypatch.setattr(advice, "PERIODS_BUDGET", 45)
+    monkeypatch.setattr(advice, "_cycle_times",
+                        lambda sk, solve=advice._cycle_times: solved.append(sk) or solve(sk))
+    findings = [f for f in check_rules(Skeleton.from_dict(CTRL_GAINS)) if f.rule in (1, 3)]
+    assert findings and solved == []
+    assert all("periods before -> after not computed" in f.advice for f in findings)
+    # With room for the ranking's first solve and the pair (90), the change is worded
+    # with its periods before.
+    monkeypatch.setattr(advice, "PERIODS_BUDGET", 90)
+    findings = [f for f in check_rules(Skeleton.from_dict(CTRL_GAINS)) if f.rule in (1, 3)]
+    assert any("periods (max cycle ratio), before -> after" in f.advice for f in findings)
+
+
 def test_dropping_a_clock_says_the_new_sampling_period():
     # The candidate that keeps CTRL's input and drops its clock is not chosen (the cut
     # is), but its words must say what it does to CTRL's rate.
