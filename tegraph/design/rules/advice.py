@@ -468,34 +468,43 @@ class Advisor(Candidates):
         """The groups that the tasks of ``groups`` form once ``edits`` are made.
 
         Returns ``{root: (tasks in file order, how many clocks, design period)}``
-        and the root of each of those tasks (union-find over them only).
+        and the root of each of those tasks (connected components over them only).
         """
         if (all(p.synchronizing == link.protocol.synchronizing for link, p in edits.protocol)
                 # Type: a task whose clock is dropped has one.
                 and all(self.clock_users[self.sk.tasks[t].clock] == 1  # type: ignore[index]
                         for t in edits.drop)):
             return self._same_groups(groups, edits)
-        # networkx (some 300 modules) is imported only where groups are re-formed, so a
-        # plain `tegraph analyze` does not pay for it at start-up.
-        from networkx.utils import UnionFind
-
         tasks = [t for g in groups for t in self.groups[g]]
-        joined = UnionFind(tasks)
-        first_of: dict[str, str] = {}
+        index = {t: i for i, t in enumerate(tasks)}
+        rows: list[int] = []
+        cols: list[int] = []
+        first_of: dict[str, int] = {}
         clock_of: dict[str, str | None] = {}
-        for t in tasks:
+        for i, t in enumerate(tasks):
             clock = None if t in edits.drop else self.sk.tasks[t].clock
             if t in edits.add:
                 clock = f"{t}\0new"  # a clock of its own: it joins nothing
             clock_of[t] = clock
             if clock:
-                joined.union(t, first_of.setdefault(clock, t))
-            joined.union(t, *(link.writer[0] for link in self.inputs(t)
-                              if edits.get(link).synchronizing))
+                rows.append(i)
+                cols.append(first_of.setdefault(clock, i))
+            for link in self.inputs(t):
+                if edits.get(link).synchronizing:
+                    rows.append(i)
+                    cols.append(index.setdefault(link.writer[0], len(index)))
         for g in groups:
             for thread in self.threads_of.get(g, ()):
-                joined.union(*thread)
-        root_of = {t: joined[t] for t in tasks}
+                rows += [index[t] for t in thread[1:]]
+                cols += [index[thread[0]]] * (len(thread) - 1)
+        n = len(index)
+        joined = sp.coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
+        label = connected_components(joined, directed=False)[1]
+        # Each re-formed group is named by its first task in ``tasks``.
+        _, first = np.unique(label, return_index=True)
+        names = list(index)  # the tasks, then any writer from outside them
+        root = first[label].tolist()
+        root_of = {t: names[root[i]] for i, t in enumerate(tasks)}
         return self._counted(tasks, root_of, clock_of), root_of
 
     def _counted(self, tasks: list[str], root_of: dict[str, str],
