@@ -247,7 +247,13 @@ def test_the_in_place_check_equals_a_full_recheck(rng: random.Random):
     check_the_check(Skeleton.from_dict(random_skeleton(rng, max_tasks=6)))
 
 
-def test_the_in_place_check_on_the_examples_and_corpus():
+@pytest.mark.parametrize("components_from", [200, 0], ids=["union-find", "scipy"])
+def test_the_in_place_check_on_the_examples_and_corpus(monkeypatch, components_from):
+    # Both ways of re-forming the groups (by size: a union-find or scipy's connected
+    # components) against the full re-check.
+    import tegraph.design.rules.advice as advice
+
+    monkeypatch.setattr(advice, "_COMPONENTS_FROM", components_from)
     compared = sum(check_the_check(load_skeleton(p)) for p in sorted(EXAMPLES.glob("*.yaml")))
     compared += sum(check_the_check(Skeleton.from_dict(random_skeleton(random.Random(seed))))
                     for seed in range(60))
