@@ -44,6 +44,7 @@ import numpy.typing as npt
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, depth_first_order
 
+from . import _small_howard
 from ._arrays import (
     INT64_SAFE,
     abs_max,
@@ -297,6 +298,8 @@ def max_cycle_ratio(
     src_a, dst_a, n = _validate_arcs(src, dst, n_nodes)
     w_int, scale = _validate_weights(weight, len(src_a))
     t_int = _validate_tokens(tokens, len(src_a))
+    if len(src_a) <= _small_howard.SMALL_GRAPH_ARCS:
+        return _solve_small(src_a, dst_a, w_int, t_int, scale, n)
     _refuse_zero_token_circuits(src_a, dst_a, t_int, n)
     return _solve(src_a, dst_a, w_int, t_int, scale, n)
 
@@ -499,6 +502,55 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
     return CycleRatioResult(ratio=ratio, circuit=circuit, cycle_time_num=ct_num,
                             cycle_time_den=ct_den, certificate=cert, src=src, dst=dst,
                             weight=w, tokens=t, iterations=iterations)
+
+
+def _solve_small(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale: int,
+                 n: int) -> CycleRatioResult:
+    """:func:`_solve` (and the zero-token check) on Python lists: the same result, sooner.
+
+    :mod:`maxplus._small_howard` runs the same iteration as the numpy kernel,
+    so the policy, potentials and circuit are the same too. Only the dtypes
+    may differ: int64 here whenever the numbers fit, where the numpy kernel
+    falls back to Python ints on bounds (which it checks before the numbers exist).
+    """
+    src_l, dst_l, t_l = src.tolist(), dst.tolist(), t.tolist()
+    zero = [a for a, k in enumerate(t_l) if k == 0]
+    if zero and _small_howard.has_circuit(n, src_l, dst_l, zero):
+        _refuse_zero_token_circuits(src, dst, t, n)  # raises, naming the circuit numpy names
+    live = _small_howard.downstream_of_circuits(n, src_l, dst_l)
+    nodes = [v for v in range(n) if live[v]]
+    sol = (_small_howard.howard_lists(src_l, dst_l, w.tolist(), t_l, n, live) if nodes
+           else _small_howard.ListSolution([0] * n, [0] * n, [0] * n, [-1] * n, 0))
+    ratio: Fraction | None = None
+    circuit = np.zeros(0, dtype=np.int64)
+    policy = np.array(sol.policy, dtype=np.int64)
+    if nodes:
+        best = nodes[0]  # the first node of largest cycle time, as argmax_ratio picks
+        for v in nodes:
+            if sol.num[v] * sol.den[best] > sol.num[best] * sol.den[v]:
+                best = v
+        circuit = _policy_circuit(best, policy, src)
+        ratio = Fraction(sol.num[best], scale * sol.den[best])
+    # Cycle times in lowest terms, with the weight scale folded in.
+    ct_num, ct_den = [0] * n, [0] * n
+    for v in nodes:
+        g = math.gcd(sol.num[v], sol.den[v] * scale)
+        ct_num[v], ct_den[v] = sol.num[v] // g, sol.den[v] * scale // g
+    wide = w.dtype == object or t.dtype == object  # as the numpy kernel: objects in and out
+    num, den, potential = _int_arrays(sol.num, sol.den, sol.potential, wide=wide)
+    ct_num_a, ct_den_a = _int_arrays(ct_num, ct_den, wide=wide)
+    cert = CycleRatioCertificate(scale, num, den, potential, policy, circuit)
+    return CycleRatioResult(ratio=ratio, circuit=circuit, cycle_time_num=ct_num_a,
+                            cycle_time_den=ct_den_a, certificate=cert, src=src, dst=dst,
+                            weight=w, tokens=t, iterations=sol.iterations)
+
+
+def _int_arrays(*values: list[int], wide: bool) -> list[np.ndarray]:
+    """The lists as int64 arrays, or all as object arrays (``wide``, or past int64's reach)."""
+    arrays = [] if wide else [int_array(v) for v in values]
+    if wide or any(a.dtype == object for a in arrays):
+        arrays = [np.array(v, dtype=object) for v in values]
+    return arrays
 
 
 def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.ndarray | None:

@@ -15,6 +15,9 @@ from hypothesis import strategies as st
 from maxplus import CertificateError, MaxPlusValueError, ZeroTokenCircuitError
 from maxplus.cycle_ratio import CycleRatioCertificate, max_cycle_ratio
 
+# Both kernels: on graphs this small max_cycle_ratio would run the list one only.
+pytestmark = pytest.mark.usefixtures("both_kernels")
+
 
 def brute_force(n, src, dst, w, t):
     """(ratio per elementary circuit with its node set, zero-token circuit found?)."""

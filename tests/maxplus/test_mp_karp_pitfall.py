@@ -18,7 +18,12 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+import pytest
+
 from maxplus import eigenvalue, howard, karp
+
+# Both kernels: on graphs this small max_cycle_ratio would run the list one only.
+pytestmark = pytest.mark.usefixtures("both_kernels")
 
 A = [[1, 5], [3, 2]]
 

@@ -20,6 +20,10 @@ import maxplus.policy_iteration as pi
 
 from .test_howard_brute_force import check, circuits_with_chains, small_multigraphs
 
+# These tests reach the numpy kernel's own strategies (thresholds, caches, fallbacks):
+# on graphs this small max_cycle_ratio would run the list kernel instead.
+pytestmark = pytest.mark.usefixtures("numpy_kernel")
+
 
 def ring(n: int, chord_weight: int = 1):
     """Ring 0 -> 1 -> ... -> n-1 -> 0 of weight 3 per arc (arcs 0..n-1), plus chords i -> i+2.

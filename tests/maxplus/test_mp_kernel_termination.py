@@ -27,6 +27,11 @@ import maxplus.policy_iteration as pi
 
 from .test_howard_brute_force import brute_force
 
+# The numpy kernel, whose int64 bounds these holdings probe (bounded() counts its
+# determinations); the list kernel has no int64 to leave and is compared to it in
+# test_small_howard.
+pytestmark = pytest.mark.usefixtures("numpy_kernel")
+
 MAX_ITERATIONS = 200
 """Far above what graphs of a few nodes need (a handful), far below a hang."""
 

@@ -1,0 +1,333 @@
+"""Howard's policy iteration on Python lists: the kernel for small graphs.
+
+:func:`maxplus.policy_iteration.howard_arrays` spends a few microseconds on
+each of its ~170 numpy calls per solve whatever the graph's size: 1.5 ms for
+a graph of 86 nodes and 116 arcs (one group of a generated skeleton), which
+plain Python walks in a tenth of that. Below :data:`SMALL_GRAPH_ARCS` arcs,
+:func:`maxplus.cycle_ratio.max_cycle_ratio` runs this module instead.
+
+It is the *same* iteration, step for step, not merely another exact
+algorithm: the same first policy (each node's first heaviest in-arc), the
+same value determination (a policy circuit is rooted at its smallest node,
+whose potential is kept when its ratio is unchanged), the same improvement
+(a ratio step to the first in-arc of largest ratio, passed downstream level
+by level with the numpy sweep's order of visits and its "last write wins"
+choice; else a bias step to the first in-arc of largest value). So it
+returns the same policy, potentials, circuit and iteration count as the
+numpy kernel, and every output built on them is unchanged; the property tests
+of ``tests/maxplus/test_small_howard.py`` check that equality on random graphs.
+The termination proof of :func:`~maxplus.policy_iteration.howard_arrays`
+therefore holds here too; as there, a repeated policy raises RuntimeError
+rather than looping.
+
+All numbers are Python ints: exact at any size, no int64 bound to watch.
+"""
+
+from __future__ import annotations
+
+from math import gcd
+from typing import NamedTuple
+
+__all__ = ["SMALL_GRAPH_ARCS", "downstream_of_circuits", "has_circuit", "howard_lists"]
+
+
+SMALL_GRAPH_ARCS = 1500
+"""Up to this many arcs, :func:`maxplus.cycle_ratio.max_cycle_ratio` runs this module.
+
+Measured with ``benchmarks/bench_small_graphs.py`` (2 cores shared, medians
+of 5): the Python lists win clearly below about 1,000-3,000 arcs depending on
+the family (see that script's docstring for the table), and the two are
+within 20 % of each other around the constant, so its exact value matters little.
+"""
+
+# The numpy sweep's thresholds decide the order in which it visits arcs, hence
+# which of several equal choices it keeps ("last write wins"): mirrored here.
+_SWEEP_FEW = 16
+_SCAN_MIN_SHARE = 16
+
+
+class ListSolution(NamedTuple):
+    """Per node (all ``n``): reduced ratio ``num/den`` (0/0 off the live nodes),
+    potential, policy arc (-1 off the live nodes); value determinations run."""
+
+    num: list[int]
+    den: list[int]
+    potential: list[int]
+    policy: list[int]
+    iterations: int
+
+
+def has_circuit(n: int, src: list[int], dst: list[int], arcs: list[int]) -> bool:
+    """Whether the arcs ``arcs`` (indices into ``src``/``dst``) contain a circuit.
+
+    Kahn's algorithm: repeatedly drop nodes without in-arc; a circuit is what
+    never drops.
+
+    >>> src, dst = [0, 1, 2], [1, 2, 1]
+    >>> has_circuit(3, src, dst, [0, 1, 2]), has_circuit(3, src, dst, [0, 1])
+    (True, False)
+    """
+    return len(_acyclic_part(n, src, dst, arcs)) < n
+
+
+def downstream_of_circuits(n: int, src: list[int], dst: list[int]) -> list[bool]:
+    """Per node, whether some circuit reaches it (a node of a circuit included).
+
+    A node drops out of Kahn's algorithm exactly when every backward walk
+    from it ends, i.e. when no circuit lies upstream of it.
+
+    >>> downstream_of_circuits(4, [0, 1, 1, 3], [1, 1, 2, 0])
+    [False, True, True, False]
+    """
+    live = [True] * n
+    for v in _acyclic_part(n, src, dst, range(len(src))):
+        live[v] = False
+    return live
+
+
+def _acyclic_part(n: int, src: list[int], dst: list[int], arcs: list[int] | range) -> list[int]:
+    """The nodes that Kahn's algorithm drops: those no circuit of ``arcs`` reaches."""
+    indegree = [0] * n
+    out: list[list[int]] = [[] for _ in range(n)]
+    for a in arcs:
+        indegree[dst[a]] += 1
+        out[src[a]].append(dst[a])
+    dropped = [v for v in range(n) if indegree[v] == 0]
+    for u in dropped:  # grows while it is walked
+        for v in out[u]:
+            indegree[v] -= 1
+            if indegree[v] == 0:
+                dropped.append(v)
+    return dropped
+
+
+def howard_lists(src: list[int], dst: list[int], w: list[int], t: list[int], n: int,
+                 live: list[bool]) -> ListSolution:
+    """Howard's iteration on the arcs between live nodes (every live node has such an in-arc).
+
+    Parameters
+    ----------
+    src, dst, w, t : list of int
+        Arcs, integer weights and token counts, with no circuit of zero tokens.
+    n : int
+        Number of nodes.
+    live : list of bool
+        The nodes some circuit reaches (:func:`downstream_of_circuits`).
+
+    Returns
+    -------
+    ListSolution
+        What :func:`maxplus.policy_iteration.howard_arrays` returns for the live
+        nodes relabelled in increasing order, mapped back to all ``n`` nodes.
+
+    Examples
+    --------
+    Circuit 0 -> 1 -> 0 of ratio (5+3)/2 and a self-loop of ratio 3 on node 1:
+
+    >>> s = howard_lists([0, 1, 1], [1, 0, 1], [5, 3, 3], [1, 1, 1], 2, [True, True])
+    >>> s.num, s.den, s.policy
+    ([4, 4], [1, 1], [1, 0])
+    """
+    nodes = [v for v in range(n) if live[v]]
+    # In-arcs in arc order: the numpy kernel's arcs sorted stably by head.
+    in_arcs: list[list[int]] = [[] for _ in range(n)]
+    for a, (s, d) in enumerate(zip(src, dst)):
+        if live[s] and live[d]:
+            in_arcs[d].append(a)
+    pol = [-1] * n
+    for v in nodes:  # the first heaviest in-arc
+        arcs = in_arcs[v]
+        best = arcs[0]
+        for a in arcs:
+            if w[a] > w[best]:
+                best = a
+        pol[v] = best
+    out_arcs: list[list[int]] = [[] for _ in range(n)]
+    for v in nodes:  # by tail, then in the order by head (the numpy kernel's out_arcs)
+        for a in in_arcs[v]:
+            out_arcs[src[a]].append(a)
+    iteration = _Iteration(src, dst, w, t, nodes, in_arcs, out_arcs)
+    seen = {tuple(pol)}
+    prev: _Values | None = None
+    iterations = 0
+    while True:
+        cur = iteration.values(pol, prev)
+        iterations += 1
+        prev = cur
+        if not iteration.improve(pol, cur):
+            num = [0] * n
+            den = [0] * n
+            for v in nodes:
+                num[v], den[v] = cur.ratio[v]
+            return ListSolution(num, den, cur.X, pol, iterations)
+        key = tuple(pol)
+        if key in seen:  # impossible by the proof in howard_arrays: a bug
+            raise RuntimeError("internal error: policy iteration revisited a policy "
+                               "(it would loop for ever); please report it")
+        seen.add(key)
+
+
+class _Values(NamedTuple):
+    """One value determination: per node its reduced ratio ``(W, T)``, rank and potential."""
+
+    ratio: list[tuple[int, int]]
+    rank: list[int]
+    X: list[int]
+    n_ranks: int
+
+
+class _Iteration:
+    """The graph, and the two steps of the iteration on it."""
+
+    def __init__(self, src: list[int], dst: list[int], w: list[int], t: list[int],
+                 nodes: list[int], in_arcs: list[list[int]], out_arcs: list[list[int]]) -> None:
+        self.src, self.dst, self.w, self.t = src, dst, w, t
+        self.nodes, self.in_arcs, self.out_arcs = nodes, in_arcs, out_arcs
+        self.n = len(in_arcs)
+
+    def values(self, pol: list[int], prev: _Values | None) -> _Values:
+        """Ratio and potential of every live node under ``pol`` (tight on policy arcs)."""
+        src, w, t = self.src, self.w, self.t
+        state = [0] * self.n  # 0: not seen, 1: on the current walk, 2: valued
+        ratio: list[tuple[int, int]] = [(0, 0)] * self.n
+        X = [0] * self.n
+        for v in self.nodes:
+            if state[v]:
+                continue
+            path = []
+            u = v
+            while state[u] == 0:  # backwards along the policy
+                state[u] = 1
+                path.append(u)
+                u = src[pol[u]]
+            if state[u] == 1:  # the walk closed a circuit: path[k:], backwards from u
+                k = path.index(u)
+                self._circuit(path[k:], pol, prev, ratio, X)
+                for x in path[k:]:
+                    state[x] = 2
+                del path[k:]
+            for x in reversed(path):  # tight along the policy, from its valued tail
+                a = pol[x]
+                p = src[a]
+                W, T = ratio[x] = ratio[p]
+                X[x] = X[p] + w[a] * T - W * t[a]
+                state[x] = 2
+        distinct = sorted(set(ratio[v] for v in self.nodes), key=_as_key)
+        rank_of = {r: i for i, r in enumerate(distinct)}
+        rank = [0] * self.n
+        for v in self.nodes:
+            rank[v] = rank_of[ratio[v]]
+        return _Values(ratio, rank, X, len(distinct))
+
+    def _circuit(self, cycle: list[int], pol: list[int], prev: _Values | None,
+                 ratio: list[tuple[int, int]], X: list[int]) -> None:
+        """Ratio and potentials of a policy circuit (its nodes listed backwards)."""
+        w, t = self.w, self.t
+        W = sum(w[pol[x]] for x in cycle)
+        T = sum(t[pol[x]] for x in cycle)
+        g = gcd(W, T)  # T > 0: no circuit without tokens
+        W, T = W // g, T // g
+        root = min(cycle)
+        r = cycle.index(root)
+        # Its potential is kept when its ratio is (Cochet-Terrasson et al.): as numpy's _circuits.
+        carry = prev.X[root] if prev is not None and prev.ratio[root] == (W, T) else 0
+        ratio[root], X[root] = (W, T), carry
+        before = root
+        for x in cycle[:r][::-1] + cycle[r + 1:][::-1]:  # forwards from the root
+            a = pol[x]
+            ratio[x] = (W, T)
+            X[x] = X[before] + w[a] * T - W * t[a]
+            before = x
+
+    def improve(self, pol: list[int], cur: _Values) -> bool:
+        """One policy improvement (a ratio step, else a bias step); False when none."""
+        src, rank = self.src, cur.rank
+        if cur.n_ranks > 1:
+            frontier = []
+            raised = []
+            for v in self.nodes:  # the first in-arc of largest strictly better ratio
+                best_rank, best = rank[v], -1
+                for a in self.in_arcs[v]:
+                    r = rank[src[a]]
+                    if r > best_rank:
+                        best_rank, best = r, a
+                if best >= 0:
+                    frontier.append(v)
+                    raised.append((best, best_rank))
+            if frontier:
+                for v, (a, r) in zip(frontier, raised):
+                    pol[v], rank[v] = a, r
+                self._sweep(pol, rank, frontier)
+                return True
+        w, t, X, ratio = self.w, self.t, cur.X, cur.ratio
+        switched = False
+        for v in self.nodes:  # the first in-arc of largest value, of the same ratio
+            W, T = ratio[v]
+            rv, best_value, best = rank[v], X[v], -1
+            for a in self.in_arcs[v]:
+                s = src[a]
+                if rank[s] == rv:
+                    value = X[s] + w[a] * T - W * t[a]
+                    if value > best_value:
+                        best_value, best = value, a
+            if best >= 0:
+                pol[v] = best
+                switched = True
+        return switched
+
+    def _sweep(self, pol: list[int], rank: list[int], frontier: list[int]) -> None:
+        """numpy's ``_sweep_downstream``: larger ranks passed downstream, breadth first.
+
+        The arcs of a round are visited in the order numpy gathers them (by
+        tail in the round's order, or, for a round of many nodes, by head), and
+        of several arcs into one node the last visited wins, as numpy's
+        assignment does; the next round lists the raised nodes in the order of
+        their winning arcs.
+        """
+        src, dst, out_arcs = self.src, self.dst, self.out_arcs
+        n_live = len(self.nodes)
+        done = [False] * self.n
+        pending = sorted(frontier, key=lambda v: -rank[v])  # stable, as numpy's argsort
+        groups: list[list[int]] = []  # by rank, cut before the sweep raises any of them
+        for v in pending:
+            if groups and rank[groups[-1][0]] == rank[v]:
+                groups[-1].append(v)
+            else:
+                groups.append([v])
+        for group in groups:
+            level = [v for v in group if not done[v]]
+            if not level:
+                continue
+            top = rank[level[0]]
+            for v in level:
+                done[v] = True
+            while level:
+                if len(level) > _SWEEP_FEW and len(level) * _SCAN_MIN_SHARE > n_live:
+                    in_level = set(level)
+                    gathered = [a for v in self.nodes for a in self.in_arcs[v]
+                                if src[a] in in_level]
+                else:
+                    gathered = [a for u in level for a in out_arcs[u]]
+                kept = [a for a in gathered if rank[dst[a]] < top]
+                for a in kept:
+                    pol[dst[a]] = a
+                level = [dst[a] for a in kept if pol[dst[a]] == a]
+                for v in level:
+                    rank[v] = top
+                    done[v] = True
+
+
+def _as_key(ratio: tuple[int, int]) -> _Ratio:
+    return _Ratio(*ratio)
+
+
+class _Ratio:
+    """A reduced fraction ``W/T`` (``T > 0``) ordered by value, by cross-multiplication."""
+
+    __slots__ = ("W", "T")
+
+    def __init__(self, W: int, T: int) -> None:
+        self.W, self.T = W, T
+
+    def __lt__(self, other: _Ratio) -> bool:
+        return self.W * other.T < other.W * self.T
