@@ -3,7 +3,7 @@
 :func:`maxplus.policy_iteration.howard_arrays` spends a few microseconds on
 each of its ~170 numpy calls per solve whatever the graph's size: 1.5 ms for
 a graph of 86 nodes and 116 arcs (one group of a generated skeleton), which
-plain Python walks in a tenth of that. Below :data:`SMALL_GRAPH_ARCS` arcs,
+plain Python walks in a third of that. Up to :data:`SMALL_GRAPH_ARCS` arcs,
 :func:`maxplus.cycle_ratio.max_cycle_ratio` runs this module instead.
 
 It is the *same* iteration, step for step, not merely another exact
@@ -26,24 +26,27 @@ All numbers are Python ints: exact at any size, no int64 bound to watch.
 from __future__ import annotations
 
 from math import gcd
-from typing import NamedTuple
+from typing import Literal, NamedTuple, TypeAlias
+
+from . import policy_iteration
 
 __all__ = ["SMALL_GRAPH_ARCS", "downstream_of_circuits", "has_circuit", "howard_lists"]
 
 
-SMALL_GRAPH_ARCS = 1500
+SMALL_GRAPH_ARCS = 350
 """Up to this many arcs, :func:`maxplus.cycle_ratio.max_cycle_ratio` runs this module.
 
-Measured with ``benchmarks/bench_small_graphs.py`` (2 cores shared, medians
-of 5): the Python lists win clearly below about 1,000-3,000 arcs depending on
-the family (see that script's docstring for the table), and the two are
-within 20 % of each other around the constant, so its exact value matters little.
+Measured by ``python benchmarks/bench_cycle_ratio.py --crossover --runs 5``
+(2 cores shared with other work, load ~4.5; time per solve, lists / numpy):
+SPRAND (m = 4n), the same with equal weights, a ring with chords and a
+controller-like graph (a 2-event circuit per task, token-free links, a slow
+clock per 10 tasks) gave 0.09-0.15 at 10-30 arcs, 0.19-0.33 at 100, 0.45-0.68
+at 230-300, 0.66-1.21 at 390-500 (the controller-like and ring families cross
+first), 0.95-1.34 at 540-700, 1.3-1.8 at 1,000 and 2-3 at 2,000: each
+iteration costs ~0.3 us per arc in Python, against a numpy overhead of about
+1-2 ms per solve. The constant sits where the first families cross.
 """
 
-# The numpy sweep's thresholds decide the order in which it visits arcs, hence
-# which of several equal choices it keeps ("last write wins"): mirrored here.
-_SWEEP_FEW = 16
-_SCAN_MIN_SHARE = 16
 
 
 class ListSolution(NamedTuple):
@@ -150,11 +153,19 @@ def howard_lists(src: list[int], dst: list[int], w: list[int], t: list[int], n: 
     seen = {tuple(pol)}
     prev: _Values | None = None
     iterations = 0
+    check_all = True
     while True:
         cur = iteration.values(pol, prev)
         iterations += 1
+        todo = None
+        if not check_all:
+            assert prev is not None  # check_all holds in the first iteration
+            todo = iteration.touched(prev, cur)
         prev = cur
-        if not iteration.improve(pol, cur):
+        step = iteration.improve(pol, cur, todo)
+        if step is None and todo is not None:
+            step = iteration.improve(pol, cur, None)  # the last word checks every node
+        if step is None:
             num = [0] * n
             den = [0] * n
             for v in nodes:
@@ -165,6 +176,12 @@ def howard_lists(src: list[int], dst: list[int], w: list[int], t: list[int], n: 
             raise RuntimeError("internal error: policy iteration revisited a policy "
                                "(it would loop for ever); please report it")
         seen.add(key)
+        # After a ratio step, gains were not examined: check every node next.
+        check_all = step == "ratio"
+
+
+_Step: TypeAlias = Literal["ratio", "bias"]
+"""A policy improvement: to an arc of larger ratio, or of the same ratio and larger bias."""
 
 
 class _Values(NamedTuple):
@@ -184,6 +201,8 @@ class _Iteration:
         self.src, self.dst, self.w, self.t = src, dst, w, t
         self.nodes, self.in_arcs, self.out_arcs = nodes, in_arcs, out_arcs
         self.n = len(in_arcs)
+        # Per node its in-arcs as (arc, tail, weight, tokens): the improvement's inner loop.
+        self.in_lists = [[(a, src[a], w[a], t[a]) for a in arcs] for arcs in in_arcs]
 
     def values(self, pol: list[int], prev: _Values | None) -> _Values:
         """Ratio and potential of every live node under ``pol`` (tight on policy arcs)."""
@@ -239,16 +258,35 @@ class _Iteration:
             X[x] = X[before] + w[a] * T - W * t[a]
             before = x
 
-    def improve(self, pol: list[int], cur: _Values) -> bool:
-        """One policy improvement (a ratio step, else a bias step); False when none."""
-        src, rank = self.src, cur.rank
+    def touched(self, prev: _Values, cur: _Values) -> list[int] | None:
+        """The nodes whose in-arcs may improve after a bias step; None for all nodes.
+
+        As the numpy kernel's candidate arcs: an arc between two nodes whose
+        ratio and potential did not change was not improving at the last check
+        and still is not, so only the nodes that changed and the heads of their
+        out-arcs need a look (all nodes when many changed).
+        """
+        changed = [v for v in self.nodes
+                   if cur.X[v] != prev.X[v] or cur.ratio[v] != prev.ratio[v]]
+        if 8 * len(changed) >= len(self.nodes):
+            return None
+        dst, out_arcs = self.dst, self.out_arcs
+        todo = set(changed)
+        for u in changed:
+            todo.update(dst[a] for a in out_arcs[u])
+        return sorted(todo)
+
+    def improve(self, pol: list[int], cur: _Values, todo: list[int] | None) -> _Step | None:
+        """One policy improvement at the nodes ``todo`` (None: all); its kind, or None."""
+        rank, in_lists = cur.rank, self.in_lists
+        nodes = self.nodes if todo is None else todo
         if cur.n_ranks > 1:
             frontier = []
             raised = []
-            for v in self.nodes:  # the first in-arc of largest strictly better ratio
+            for v in nodes:  # the first in-arc of largest strictly better ratio
                 best_rank, best = rank[v], -1
-                for a in self.in_arcs[v]:
-                    r = rank[src[a]]
+                for a, s, _, _ in in_lists[v]:
+                    r = rank[s]
                     if r > best_rank:
                         best_rank, best = r, a
                 if best >= 0:
@@ -258,22 +296,21 @@ class _Iteration:
                 for v, (a, r) in zip(frontier, raised):
                     pol[v], rank[v] = a, r
                 self._sweep(pol, rank, frontier)
-                return True
-        w, t, X, ratio = self.w, self.t, cur.X, cur.ratio
+                return "ratio"
+        X, ratio = cur.X, cur.ratio
         switched = False
-        for v in self.nodes:  # the first in-arc of largest value, of the same ratio
+        for v in nodes:  # the first in-arc of largest value, of the same ratio
             W, T = ratio[v]
             rv, best_value, best = rank[v], X[v], -1
-            for a in self.in_arcs[v]:
-                s = src[a]
+            for a, s, wa, ta in in_lists[v]:
                 if rank[s] == rv:
-                    value = X[s] + w[a] * T - W * t[a]
+                    value = X[s] + wa * T - W * ta
                     if value > best_value:
                         best_value, best = value, a
             if best >= 0:
                 pol[v] = best
                 switched = True
-        return switched
+        return "bias" if switched else None
 
     def _sweep(self, pol: list[int], rank: list[int], frontier: list[int]) -> None:
         """numpy's ``_sweep_downstream``: larger ranks passed downstream, breadth first.
@@ -302,7 +339,10 @@ class _Iteration:
             for v in level:
                 done[v] = True
             while level:
-                if len(level) > _SWEEP_FEW and len(level) * _SCAN_MIN_SHARE > n_live:
+                # The numpy sweep's thresholds decide the order of its visits, hence
+                # which of several equal choices it keeps: read from it, at each call.
+                if (len(level) > policy_iteration.SWEEP_FEW
+                        and len(level) * policy_iteration.SCAN_MIN_SHARE > n_live):
                     in_level = set(level)
                     gathered = [a for v in self.nodes for a in self.in_arcs[v]
                                 if src[a] in in_level]

@@ -225,9 +225,9 @@ def test_list_kernel_never_revisits_a_policy(monkeypatch):
     # that keeps "improving" without changing anything ends in an error, not a hang.
     original = small._Iteration.improve
 
-    def stuck(self, pol, cur):
-        original(self, pol, cur)
-        return True
+    def stuck(self, pol, cur, todo):
+        original(self, pol, cur, todo)
+        return "bias"
 
     monkeypatch.setattr(small._Iteration, "improve", stuck)
     with kernel(LISTS), pytest.raises(RuntimeError, match="revisited a policy"):
