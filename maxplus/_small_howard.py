@@ -215,7 +215,7 @@ class _Iteration:
                 continue
             path = []
             u = v
-            while state[u] == 0:  # backwards along the policy
+            while not state[u]:  # backwards along the policy
                 state[u] = 1
                 path.append(u)
                 u = src[pol[u]]
@@ -225,38 +225,47 @@ class _Iteration:
                 for x in path[k:]:
                     state[x] = 2
                 del path[k:]
-            for x in reversed(path):  # tight along the policy, from its valued tail
+            # The rest of the walk reaches the circuit of u: its ratio, and potentials
+            # tight along the policy from u's.
+            WT = ratio[u]
+            W, T = WT
+            x_u = X[u]
+            for x in reversed(path):
                 a = pol[x]
-                p = src[a]
-                W, T = ratio[x] = ratio[p]
-                X[x] = X[p] + w[a] * T - W * t[a]
+                x_u += w[a] * T - W * t[a]
+                X[x] = x_u
+                ratio[x] = WT
                 state[x] = 2
-        distinct = sorted(set(ratio[v] for v in self.nodes), key=_as_key)
-        rank_of = {r: i for i, r in enumerate(distinct)}
+        distinct = set(ratio[v] for v in self.nodes)
         rank = [0] * self.n
-        for v in self.nodes:
-            rank[v] = rank_of[ratio[v]]
+        if len(distinct) > 1:
+            rank_of = {r: i for i, r in enumerate(sorted(distinct, key=_as_key))}
+            for v in self.nodes:
+                rank[v] = rank_of[ratio[v]]
         return _Values(ratio, rank, X, len(distinct))
 
     def _circuit(self, cycle: list[int], pol: list[int], prev: _Values | None,
                  ratio: list[tuple[int, int]], X: list[int]) -> None:
         """Ratio and potentials of a policy circuit (its nodes listed backwards)."""
         w, t = self.w, self.t
-        W = sum(w[pol[x]] for x in cycle)
-        T = sum(t[pol[x]] for x in cycle)
+        W = T = 0
+        for x in cycle:
+            a = pol[x]
+            W += w[a]
+            T += t[a]
         g = gcd(W, T)  # T > 0: no circuit without tokens
         W, T = W // g, T // g
+        WT = (W, T)
         root = min(cycle)
         r = cycle.index(root)
         # Its potential is kept when its ratio is (Cochet-Terrasson et al.): as numpy's _circuits.
-        carry = prev.X[root] if prev is not None and prev.ratio[root] == (W, T) else 0
-        ratio[root], X[root] = (W, T), carry
-        before = root
+        x_root = prev.X[root] if prev is not None and prev.ratio[root] == WT else 0
+        ratio[root], X[root] = WT, x_root
         for x in cycle[:r][::-1] + cycle[r + 1:][::-1]:  # forwards from the root
             a = pol[x]
-            ratio[x] = (W, T)
-            X[x] = X[before] + w[a] * T - W * t[a]
-            before = x
+            x_root += w[a] * T - W * t[a]
+            X[x] = x_root
+            ratio[x] = WT
 
     def touched(self, prev: _Values, cur: _Values) -> list[int] | None:
         """The nodes whose in-arcs may improve after a bias step; None for all nodes.
