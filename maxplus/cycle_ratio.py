@@ -546,11 +546,15 @@ def _solve_small(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray,
 
 
 def _int_arrays(*values: list[int], wide: bool) -> list[np.ndarray]:
-    """The lists as int64 arrays, or all as object arrays (``wide``, or past int64's reach)."""
-    arrays = [] if wide else [int_array(v) for v in values]
-    if wide or any(a.dtype == object for a in arrays):
-        arrays = [np.array(v, dtype=object) for v in values]
-    return arrays
+    """The lists as int64 arrays, or all as object arrays (``wide``, or past int64's reach).
+
+    ``int64`` exactly when :func:`~maxplus._arrays.int_array` would choose it
+    for every list (its test by min and max: a generator per value cost a
+    fifth of a small solve).
+    """
+    fits = not wide and all(not v or (-INT64_SAFE < min(v) and max(v) < INT64_SAFE)
+                            for v in values)
+    return [np.array(v, dtype=np.int64 if fits else object) for v in values]
 
 
 def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.ndarray | None:
