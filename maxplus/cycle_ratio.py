@@ -15,7 +15,10 @@ denominator, the bias of a node is kept multiplied by the token count of its
 policy circuit, and ratios are compared by cross-multiplication. Every step is a
 numpy operation on whole arrays (pointer doubling for the policy graph,
 segmented reductions for the improvement), so the cost per iteration is
-``O(m + n log n)`` with no Python loop over nodes or arcs.
+``O(m + n log n)`` with no Python loop over nodes or arcs. On graphs of at
+most ``SMALL_GRAPH_ARCS`` arcs (:mod:`maxplus._small_howard`), where the fixed
+cost of some 170 numpy calls per solve outweighs the work, the same iteration
+runs on Python lists instead, step for step, with the same result.
 
 The result carries a certificate that :meth:`CycleRatioResult.verify` checks
 independently, in exact arithmetic: the returned circuit attains the ratio,
@@ -267,7 +270,9 @@ def max_cycle_ratio(
     Notes
     -----
     Howard's multichain policy iteration (Cochet-Terrasson et al. [3]_) in
-    exact integer arithmetic; the cycle-time vector of a reducible graph is
+    exact integer arithmetic, on numpy arrays, or on Python lists for graphs of
+    at most ``maxplus._small_howard.SMALL_GRAPH_ARCS`` arcs (the same steps and
+    result, without a fixed cost of about a millisecond); the cycle-time vector of a reducible graph is
     ``χ_i = max`` over the strongly connected classes upstream of ``i`` of
     their maximum ratio ([1]_, Thm 3.112). With all tokens 1 the ratio is
     Karp's maximum cycle mean [2]_. Howard's algorithm was the fastest in
