@@ -178,9 +178,18 @@ def test_token_free_circuit_refused_alike():
 
 
 def test_no_circuit_and_no_arc():
-    for args in (([], [], []), ([0, 1], [1, 2], [3, 4])):
-        r = same_result(*args, n_nodes=4)
+    for args, n in ((([], [], []), 4), (([], [], []), 0), (([0, 1], [1, 2], [3, 4]), 4)):
+        r = same_result(*args, n_nodes=n)
         assert r.ratio is None and r.circuit.tolist() == [] and r.iterations == 0
+        assert r.cycle_times == [None] * n
+
+
+def test_token_counts_beyond_int64():
+    # Circuit 0 -> 1 -> 0 with 2**64 + 1 tokens and weight 2 * (2**64 + 1): ratio 2;
+    # the self-loop on 1 (weight 1, 1 token): ratio 1; both nodes see the circuit of ratio 2.
+    big = 2**64 + 1
+    r = same_result([0, 1, 1], [1, 0, 1], [2 * big, 0, 1], [big, 0, 1])
+    assert r.cycle_times == [2, 2]
 
 
 def test_small_graphs_skip_the_numpy_kernel(monkeypatch):
