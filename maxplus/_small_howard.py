@@ -154,14 +154,20 @@ def howard_lists(src: list[int], dst: list[int], w: list[int], t: list[int], n: 
     prev: _Values | None = None
     iterations = 0
     check_all = True
+    # The policy's children of each node: the nodes whose policy arc leaves it.
+    children: list[set[int]] = [set() for _ in range(n)]
+    for v in nodes:
+        children[src[pol[v]]].add(v)
+    affected: list[int] | None = None  # all nodes
     while True:
-        cur = iteration.values(pol, prev)
+        cur = iteration.values(pol, prev, affected)
         iterations += 1
         todo = None
         if not check_all:
             assert prev is not None  # check_all holds in the first iteration
-            todo = iteration.touched(prev, cur)
+            todo = iteration.touched(prev, cur, affected)
         prev = cur
+        before = pol[:]
         step = iteration.improve(pol, cur, todo)
         if step is None and todo is not None:
             step = iteration.improve(pol, cur, None)  # the last word checks every node
@@ -178,6 +184,19 @@ def howard_lists(src: list[int], dst: list[int], w: list[int], t: list[int], n: 
         seen.add(key)
         # After a ratio step, gains were not examined: check every node next.
         check_all = step == "ratio"
+        # Only the nodes whose policy walk passes a switched node get new values:
+        # the others reach the same circuit by the same path, and that circuit
+        # keeps its ratio and its root's potential.
+        affected = [v for v in nodes if pol[v] != before[v]]
+        for v in affected:
+            children[src[before[v]]].discard(v)
+            children[src[pol[v]]].add(v)
+        reached = set(affected)
+        for u in affected:  # grows while it is walked
+            for c in children[u]:
+                if c not in reached:
+                    reached.add(c)
+                    affected.append(c)
 
 
 _Step: TypeAlias = Literal["ratio", "bias"]
@@ -204,13 +223,25 @@ class _Iteration:
         # Per node its in-arcs as (arc, tail, weight, tokens): the improvement's inner loop.
         self.in_lists = [[(a, src[a], w[a], t[a]) for a in arcs] for arcs in in_arcs]
 
-    def values(self, pol: list[int], prev: _Values | None) -> _Values:
-        """Ratio and potential of every live node under ``pol`` (tight on policy arcs)."""
+    def values(self, pol: list[int], prev: _Values | None, affected: list[int] | None
+               ) -> _Values:
+        """Ratio and potential of every live node under ``pol`` (tight on policy arcs).
+
+        Only the nodes ``affected`` (None: all) are valued again; the others
+        keep their values of ``prev``.
+        """
         src, w, t = self.src, self.w, self.t
-        state = [0] * self.n  # 0: not seen, 1: on the current walk, 2: valued
-        ratio: list[tuple[int, int]] = [(0, 0)] * self.n
-        X = [0] * self.n
-        for v in self.nodes:
+        if affected is None or prev is None:
+            state = [0] * self.n  # 0: not seen, 1: on the current walk, 2: valued
+            ratio: list[tuple[int, int]] = [(0, 0)] * self.n
+            X = [0] * self.n
+            affected = self.nodes
+        else:
+            state = [2] * self.n
+            for v in affected:
+                state[v] = 0
+            ratio, X = prev.ratio[:], prev.X[:]
+        for v in affected:
             if state[v]:
                 continue
             path = []
@@ -267,7 +298,8 @@ class _Iteration:
             X[x] = x_root
             ratio[x] = WT
 
-    def touched(self, prev: _Values, cur: _Values) -> list[int] | None:
+    def touched(self, prev: _Values, cur: _Values, affected: list[int] | None
+                ) -> list[int] | None:
         """The nodes whose in-arcs may improve after a bias step; None for all nodes.
 
         As the numpy kernel's candidate arcs: an arc between two nodes whose
@@ -275,7 +307,7 @@ class _Iteration:
         and still is not, so only the nodes that changed and the heads of their
         out-arcs need a look (all nodes when many changed).
         """
-        changed = [v for v in self.nodes
+        changed = [v for v in (self.nodes if affected is None else affected)
                    if cur.X[v] != prev.X[v] or cur.ratio[v] != prev.ratio[v]]
         if 8 * len(changed) >= len(self.nodes):
             return None

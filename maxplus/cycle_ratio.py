@@ -272,9 +272,10 @@ def max_cycle_ratio(
     Howard's multichain policy iteration (Cochet-Terrasson et al. [3]_) in
     exact integer arithmetic, on numpy arrays, or on Python lists for graphs of
     at most ``maxplus._small_howard.SMALL_GRAPH_ARCS`` arcs (the same steps and
-    result, without a fixed cost of about a millisecond); the cycle-time vector of a reducible graph is
-    ``χ_i = max`` over the strongly connected classes upstream of ``i`` of
-    their maximum ratio ([1]_, Thm 3.112). With all tokens 1 the ratio is
+    result, without a fixed cost of about a millisecond); the cycle-time
+    vector of a reducible graph is ``χ_i = max`` over the strongly connected
+    classes upstream of ``i`` of their maximum ratio ([1]_, Thm 3.112). With
+    all tokens 1 the ratio is
     Karp's maximum cycle mean [2]_. Howard's algorithm was the fastest in
     practice in Dasdan's comparison of cycle-ratio algorithms [4]_.
 
