@@ -37,14 +37,15 @@ SMALL_GRAPH_ARCS = 350
 """Up to this many arcs, :func:`maxplus.cycle_ratio.max_cycle_ratio` runs this module.
 
 Measured by ``python benchmarks/bench_cycle_ratio.py --crossover --runs 5``
-(2 cores shared with other work, load ~4.5; time per solve, lists / numpy):
+(2 cores shared with other work, load ~4; time per solve, lists / numpy):
 SPRAND (m = 4n), the same with equal weights, a ring with chords and a
 controller-like graph (a 2-event circuit per task, token-free links, a slow
-clock per 10 tasks) gave 0.09-0.15 at 10-30 arcs, 0.19-0.33 at 100, 0.45-0.68
-at 230-300, 0.66-1.21 at 390-500 (the controller-like and ring families cross
-first), 0.95-1.34 at 540-700, 1.3-1.8 at 1,000 and 2-3 at 2,000: each
-iteration costs ~0.3 us per arc in Python, against a numpy overhead of about
-1-2 ms per solve. The constant sits where the first families cross.
+clock per 10 tasks) gave 0.07-0.15 at 6-30 arcs, 0.18-0.29 at 77-100,
+0.29-0.67 at 230-300, 0.47-1.08 at 390-500 (the ring and controller-like
+families cross first; an earlier run of the same gave up to 1.21 there),
+0.95-1.31 at 540-700, 1.0-1.5 at 770-1,000 and 2.2-2.5 at 1,550-2,000:
+Python costs ~0.3 us per arc and iteration, numpy about 1-2 ms per solve
+whatever the size. The constant sits below where the first families cross.
 """
 
 
