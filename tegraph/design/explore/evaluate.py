@@ -74,6 +74,7 @@ from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from ..latency import chain_latency
 from ..schedulability import Schedulability, schedulability
+from .incremental import judge_of
 from .prune import overloaded
 from .space import DesignSpace, latency_name
 
@@ -233,7 +234,8 @@ def evaluate_batch(space: DesignSpace, variants: Sequence[int]) -> list[VariantR
 
 
 def evaluate_variant(space: DesignSpace, variant: int,
-                     repairs: dict[int, Any] | None = None) -> VariantResult:
+                     repairs: dict[int, Any] | None = None, *,
+                     incremental: bool = True) -> VariantResult:
     """Judge one variant (see the module docstring).
 
     Parameters
@@ -242,12 +244,22 @@ def evaluate_variant(space: DesignSpace, variant: int,
     variant : int
     repairs : dict, optional
         Port orders already found per protocol index (filled in).
+    incremental : bool
+        Compose the verdict of a live, inconsistent variant from the figures of its
+        groups, each analysed once per configuration of its own choices
+        (:mod:`.incremental`); False: analyse the whole variant afresh. The
+        result is the same.
 
     Returns
     -------
     VariantResult
     """
     repairs = {} if repairs is None else repairs
+    composed = judge_of(space).judge(variant) if incremental else None
+    if composed is not None:  # live, not consistent: what the whole analysis would say
+        variant_skeleton, structure, reason = composed
+        return VariantResult(variant, ANALYZED, live=True, consistent=False, reason=reason,
+                             rule2=rule2_findings(variant_skeleton, structure))
     skeleton = space.build(variant)
     report = analyze_skeleton(skeleton)
     result = VariantResult(variant, ANALYZED, live=report.live,
