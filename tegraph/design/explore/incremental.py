@@ -270,8 +270,8 @@ def judge_of(space: DesignSpace) -> IncrementalJudge:
 
     >>> from tegraph.design.explore.space import design_space
     >>> from tegraph import Skeleton
-    >>> space = design_space(Skeleton.from_dict({"tasks": {"A": {"duration": 1,
-    ...                                                          "period": 2}}}))
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}})
+    >>> space = design_space(sk, clocks={"A.clock": [2, 3]})
     >>> judge_of(space) is judge_of(space)
     True
     """
