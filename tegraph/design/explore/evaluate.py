@@ -245,10 +245,11 @@ def evaluate_variant(space: DesignSpace, variant: int,
     repairs : dict, optional
         Port orders already found per protocol index (filled in).
     incremental : bool
-        Compose the verdict of a live, inconsistent variant from the figures of its
-        groups, each analysed once per configuration of its own choices
-        (:mod:`.incremental`); False: analyse the whole variant afresh. The
-        result is the same.
+        Compose the §4 verdict of a live variant (and, when it is consistent, the
+        report the judgement on processors reads) from the figures of its groups,
+        each group analysed once per configuration of its own choices
+        (:mod:`.incremental`); False: analyse the whole variant afresh. The result
+        is the same.
 
     Returns
     -------
@@ -256,33 +257,39 @@ def evaluate_variant(space: DesignSpace, variant: int,
     """
     repairs = {} if repairs is None else repairs
     composed = judge_of(space).judge(variant) if incremental else None
-    if composed is not None:  # live, not consistent: what the whole analysis would say
-        variant_skeleton, structure, reason = composed
-        return VariantResult(variant, ANALYZED, live=True, consistent=False, reason=reason,
-                             rule2=rule2_findings(variant_skeleton, structure))
-    skeleton = space.build(variant)
-    report = analyze_skeleton(skeleton)
-    result = VariantResult(variant, ANALYZED, live=report.live,
-                           rule2=rule2_findings(skeleton, report.structure))
-    if not report.live:
-        protocol_index = space.split(variant)[0]
-        if protocol_index not in repairs:
-            found = reorder_ports(skeleton)
-            repairs[protocol_index] = found.orders if found.possible else None
-        orders = repairs[protocol_index]
-        if orders is None:
-            result.reason = "dead whatever the port order (reorder: the precedence graph " \
-                            "has a circuit)"
+    if composed is not None:  # live: the whole analysis' verdict, from the groups'
+        skeleton = composed.skeleton
+        result = VariantResult(variant, ANALYZED, live=True,
+                               rule2=rule2_findings(skeleton, composed.structure))
+        if composed.report is None:
+            result.consistent, result.reason = False, composed.reason
             return result
-        skeleton = _reordered(skeleton, orders)
+        report = composed.report
+        result.consistent = True
+    else:
+        skeleton = space.build(variant)
         report = analyze_skeleton(skeleton)
-        if not report.live:  # pragma: no cover - reorder's theorem, re-checked by analyze
-            raise AssertionError("internal error: the reordered variant is not live")
-        result.live, result.repaired, result.orders = True, True, orders
-    result.consistent = report.consistent
-    if not report.consistent:
-        result.reason = _inconsistency(report)
-        return result
+        result = VariantResult(variant, ANALYZED, live=report.live,
+                               rule2=rule2_findings(skeleton, report.structure))
+        if not report.live:
+            protocol_index = space.split(variant)[0]
+            if protocol_index not in repairs:
+                found = reorder_ports(skeleton)
+                repairs[protocol_index] = found.orders if found.possible else None
+            orders = repairs[protocol_index]
+            if orders is None:
+                result.reason = "dead whatever the port order (reorder: the precedence " \
+                                "graph has a circuit)"
+                return result
+            skeleton = _reordered(skeleton, orders)
+            report = analyze_skeleton(skeleton)
+            if not report.live:  # pragma: no cover - reorder's theorem, re-checked by analyze
+                raise AssertionError("internal error: the reordered variant is not live")
+            result.live, result.repaired, result.orders = True, True, orders
+        result.consistent = report.consistent
+        if not report.consistent:
+            result.reason = _inconsistency(report)
+            return result
     sched = schedulability(skeleton, report)
     # The response-time test decides nothing on processors (docs/explore.md): it is a
     # cross-check, and the chain latency's bounds read its response times.

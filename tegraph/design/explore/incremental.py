@@ -34,10 +34,13 @@ report of the whole variant:
    simulation decides each watched task on its own group's daters); the first
    overrun is the first task in file order.
 
-A variant that is consistent is judged on its processors (§4b), where groups
+A variant that is consistent is then judged on its processors (§4b) by the caller,
+on the whole variant, from the report composed here (the groups' own reports, each
+renumbered; tasks in file order). That judgement is not composed from parts: groups
 sharing a processor are coupled (:func:`~tegraph.analysis.processors.platform.
-processor_parts`) and the budget of event firings is shared among the parts: it is
-not composed here (``None``), the caller judges it afresh.
+processor_parts`), and the budget of event firings is shared among the parts in an
+order that depends on how many each part fired, so a part's verdict depends on the
+others' (see ``docs/explore.md``).
 """
 
 from __future__ import annotations
@@ -52,9 +55,10 @@ from maxplus import max_cycle_ratio
 
 from ...analysis.analyze import _KIND_REPORTED, analyze_skeleton
 from ...analysis.liveness import token_free_circuits
+from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg
 from ...model.skeleton import Skeleton
-from ...model.structure import Structure
+from ...model.structure import Structure, design_period
 from .space import DesignSpace
 
 __all__ = ["IncrementalJudge", "judge_of"]
@@ -90,16 +94,27 @@ class GroupRates:
 
 
 @dataclass(frozen=True)
-class GroupOverrun:
-    """The second stage of one group: its first overrun (file order), if any.
+class Composed:
+    """The §4 verdict of a live variant, composed from its groups.
 
     Attributes
     ----------
-    first : tuple of (int, str, int) or None
-        ``(task's index in the file, task, activation)``.
+    skeleton : Skeleton
+        The variant's skeleton.
+    structure : Structure
+        Its groups.
+    reason : str
+        Why it is not consistent (empty when consistent).
+    report : Report or None
+        When consistent: the report :func:`~tegraph.analysis.analyze.analyze_skeleton`
+        gives of the whole variant, as far as the judgement on processors reads it
+        (groups, tasks, structure; no semiflow cross-check); None otherwise.
     """
 
-    first: tuple[int, str, int] | None
+    skeleton: Skeleton
+    structure: Structure
+    reason: str = ""
+    report: Report | None = None
 
 
 class IncrementalJudge:
@@ -118,10 +133,10 @@ class IncrementalJudge:
     >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
     ...                      clocks={"rtc": [5, 10]})
     >>> judge = IncrementalJudge(space)
-    >>> [judge.judge(v) for v in range(space.size)]  # both consistent: judged afresh
-    [None, None]
-    >>> len(judge.rates)
-    2
+    >>> [judge.judge(v).report is not None for v in range(space.size)]  # consistent?
+    [True, True]
+    >>> len(judge.rates), len(judge.reports)
+    (2, 2)
     """
 
     def __init__(self, space: DesignSpace) -> None:
@@ -132,7 +147,8 @@ class IncrementalJudge:
         self.chosen_link = {c.index: k for k, c in enumerate(space.links)}
         self.chosen_clock = {c.name: k for k, c in enumerate(space.clocks)}
         self.rates: dict[tuple, GroupRates] = {}
-        self.overruns: dict[tuple, GroupOverrun] = {}
+        self.reports: dict[tuple, Report] = {}
+        self.structures: dict[int, Structure] = {}
 
     def variant_skeleton(self, variant: int) -> Skeleton:
         """The skeleton of ``variant`` (as :meth:`DesignSpace.build`, not validated again:
@@ -159,17 +175,17 @@ class IncrementalJudge:
                        if name in used)
         return (tuple(tasks), links, clocks)
 
-    def judge(self, variant: int) -> tuple[Skeleton, Structure, str] | None:
-        """The reason ``variant`` is not consistent (spec §4), composed from its groups.
+    def judge(self, variant: int) -> Composed | None:
+        """The §4 verdict of ``variant``, composed from its groups.
 
         Returns
         -------
-        tuple of (Skeleton, Structure, str) or None
-            The variant's skeleton, its structure and the reason, when it is live and
-            not consistent; None when it is dead or consistent (judged afresh).
+        Composed or None
+            None when a group is dead (the variant is judged afresh, port repair
+            included).
         """
         sk = self.variant_skeleton(variant)
-        structure = Structure.of(sk)
+        structure = self.structure(sk, self.space.split(variant)[0])
         keys = [self.key(sk, g) for g in structure.groups]
         rates = [self._rates(sk, g, k) for g, k in zip(structure.groups, keys)]
         if not all(r.live for r in rates):
@@ -178,30 +194,49 @@ class IncrementalJudge:
         if unbounded:
             first = min(unbounded, key=lambda r: r.first or ())
             more = sum(r.count for r in unbounded) - 1
-            return sk, structure, first.text + (f" (and {more} more)" if more else "")
-        late = [o.first for o in (self._overrun(sk, g, k) for g, k in zip(structure.groups, keys))
-                if o.first is not None]
+            return Composed(sk, structure, first.text + (f" (and {more} more)" if more else ""))
+        reports = [self._report(sk, g, k) for g, k in zip(structure.groups, keys)]
+        # The tasks in file order (as the whole report lists them): the first late one.
+        tasks = {name: replace(reports[structure.group_of[name]].tasks[name],
+                               group=structure.group_of[name]) for name in sk.tasks}
+        late = [t for t in tasks.values() if t.overrun_at is not None]
         if late:
-            _, name, k = min(late)
-            return sk, structure, f"overrun: {name} at activation {k}"
-        return None
+            return Composed(sk, structure, f"overrun: {late[0].name} at activation "
+                                           f"{late[0].overrun_at}")
+        groups = [replace(r.groups[0], index=i) for i, r in enumerate(reports)]
+        report = Report(name=sk.name, unit=sk.unit, live=True, consistent=True, deadlocks=[],
+                        reorder=None, groups=groups, tasks=tasks, unbounded_places=[],
+                        invariants=InvariantCheck(False, None, None,
+                                                  reason="not computed (composed from groups)"),
+                        source=sk.source, structure=structure)
+        return Composed(sk, structure, report=report)
+
+    def structure(self, skeleton: Skeleton, protocol_index: int) -> Structure:
+        """``Structure.of(skeleton)``, ``skeleton`` the variant: the groups depend on the
+        protocols only (clocks join by name, not by period), so they are found once per
+        protocol assignment; the design periods are those of this variant's clocks."""
+        found = self.structures.get(protocol_index)
+        if found is None:
+            found = Structure.of(skeleton)
+            if len(self.structures) >= MAX_CACHED:
+                self.structures.clear()
+            self.structures[protocol_index] = found
+        elif self.space.clocks:
+            found = replace(found, periods=tuple(design_period(skeleton, g)
+                                                 for g in found.groups))
+        return found
 
     # ------------------------------------------------------------------ stages
 
     def _part(self, skeleton: Skeleton, tasks: Sequence[str]) -> tuple[Skeleton, list[int],
                                                                       list[int]]:
-        """The group cut out of ``skeleton`` (its tasks, the clocks they use, the links
-        and threads inside it), and the file index of each of its links and threads."""
+        """The group cut out of ``skeleton`` (:meth:`Skeleton.restricted_to`), and the
+        file index of each of its links and threads (in the same order)."""
         inside = set(tasks)
-        used = {skeleton.tasks[t].clock for t in tasks}
         links = [i for i, x in enumerate(skeleton.links)
                  if x.writer[0] in inside and x.reader[0] in inside]
         threads = [i for i, th in enumerate(skeleton.threads) if th[0] in inside]
-        part = replace(skeleton, tasks={t: skeleton.tasks[t] for t in tasks},
-                       clocks={c: v for c, v in skeleton.clocks.items() if c in used},
-                       links=[skeleton.links[i] for i in links],
-                       threads=[skeleton.threads[i] for i in threads], chains=[])
-        return part, links, threads
+        return skeleton.restricted_to(tasks), links, threads
 
     def _rates(self, skeleton: Skeleton, tasks: Sequence[str], key: tuple) -> GroupRates:
         found = self.rates.get(key)
@@ -244,20 +279,18 @@ class IncrementalJudge:
             return _TASK, self.task_index[origin["task"]]
         return _CLOCK, self.clock_index[origin["clock"]]
 
-    def _overrun(self, skeleton: Skeleton, tasks: Sequence[str], key: tuple) -> GroupOverrun:
-        found = self.overruns.get(key)
+    def _report(self, skeleton: Skeleton, tasks: Sequence[str], key: tuple) -> Report:
+        """The group's own report (its one group numbered 0; the caller renumbers copies:
+        what is cached is never changed)."""
+        found = self.reports.get(key)
         if found is None:
-            part, _, _ = self._part(skeleton, tasks)
             # The semiflow cross-check (no verdict depends on it) is left out.
-            report = analyze_skeleton(part, semiflow_max_places=0)
-            if report.unbounded_places or not report.live:  # pragma: no cover - stage 1 said
+            found = analyze_skeleton(skeleton.restricted_to(tasks), semiflow_max_places=0)
+            if found.unbounded_places or not found.live:  # pragma: no cover - stage 1 said
                 raise AssertionError("internal error: the group's rates and analysis differ")
-            late = [(self.task_index[t.name], t.name, t.overrun_at)
-                    for t in report.tasks.values() if t.overrun_at is not None]
-            found = GroupOverrun(late[0] if late else None)
-            if len(self.overruns) >= MAX_CACHED:
-                self.overruns.clear()
-            self.overruns[key] = found
+            if len(self.reports) >= MAX_CACHED:
+                self.reports.clear()
+            self.reports[key] = found
         return found
 
 

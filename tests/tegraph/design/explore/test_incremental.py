@@ -13,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tegraph import Skeleton, load_skeleton
+from tegraph.analysis.analyze import analyze_skeleton
 from tegraph.design.explore.evaluate import evaluate_variant
 from tegraph.design.explore.incremental import IncrementalJudge, judge_of
 from tegraph.design.explore.search import ParetoFront
@@ -38,6 +39,12 @@ def _space(sk: Skeleton, rng: random.Random, max_links: int = 4, **kwargs):
     clocks = {c: sorted({sk.clocks[c].period, sk.clocks[c].period * rng.choice([2, 3]),
                          sk.clocks[c].period / rng.choice([2, 3])})
               for c in sorted(used)[:3]}
+    if sk.links and rng.random() < 0.5:  # a chain's latency, and constraints
+        link = rng.choice(sk.links)
+        chain = [link.writer[0], link.reader[0]]
+        task = rng.choice(sorted(sk.tasks))
+        kwargs = {"chains": [chain], "requires": [f"{task}.period<={rng.choice([2, 5, 10])}"],
+                  "max_latency": [f"{','.join(chain)}={rng.choice([3, 10, 30])}"], **kwargs}
     return design_space(sk, links[:max_links], clocks=clocks, **kwargs)
 
 
@@ -112,17 +119,18 @@ def test_untouched_groups_are_analysed_once_and_a_return_pays_nothing():
     space = design_space(sk, ["A:x -> B:x"])
     judge = IncrementalJudge(space)
     reasons = [judge.judge(v) for v in range(space.size)]
-    assert all(r is not None for r in reasons)
+    assert all(r is not None and r.report is None for r in reasons)
     # ASYN/ASYN splits A and B: groups (A), (B), (C); otherwise (A, B), (C).
     # Keys: (A) and (B) once, (A, B) with each of the three synchronizing protocols,
     # (C) once: 6 analyses for 4 variants.
     assert len(judge.rates) == 6
     before = dict(judge.rates)
     again = [judge.judge(v) for v in reversed(range(space.size))]
-    assert judge.rates == before and [r[2] for r in again] == [r[2] for r in reversed(reasons)]
+    assert judge.rates == before
+    assert [r.reason for r in again] == [r.reason for r in reversed(reasons)]
     # C (3 every 2) is the only unbounded place of the ASYN/ASYN variant: its
     # clock-overrun place is the clock tick to C's activation.
-    assert reasons[0][2] == "clock-overrun at C.clock.tick -> C.activate"
+    assert reasons[0].reason == "clock-overrun at C.clock.tick -> C.activate"
 
 
 def test_the_first_unbounded_place_is_the_whole_graph_s_first():
@@ -144,7 +152,12 @@ def test_the_first_unbounded_place_is_the_whole_graph_s_first():
 
 
 @pytest.mark.parametrize("name", ["fig4_pipeline_synchronized.yaml", "threads.yaml"])
-def test_a_consistent_variant_is_judged_afresh(name):
+def test_a_consistent_variant_carries_the_report_composed_from_its_groups(name):
     sk = load_skeleton(REPO / "examples" / name)
     space = design_space(sk, all_links=True)
-    assert IncrementalJudge(space).judge(space.starting_variant()) is None
+    v = space.starting_variant()
+    composed = IncrementalJudge(space).judge(v)
+    assert composed is not None and composed.report is not None and not composed.reason
+    fresh = analyze_skeleton(space.build(v))
+    assert fresh.consistent
+    assert composed.report.groups == fresh.groups and composed.report.tasks == fresh.tasks
