@@ -16,18 +16,30 @@ and reports the median and the spread (min-max) over the rounds.
    plugin ``explore`` uses) against the space sent with every batch.
 5. **Extrapolation**: the cost of one variant of a 10,000-task skeleton.
 
+``--ab OTHER_ROOT`` measures instead this tree (A) against another checkout (B) of
+tegraph, each exploration in a fresh process (A B A B, the workers of a Dask
+run importing the same tree): variants per second of a whole exploration, in
+process and on a LocalCluster of 1 and 2 warm workers. Each exploration starts
+cold: a design space judged incrementally (``explore/incremental.py``) keeps its
+groups' figures only for that space.
+
 Usage (Dask's local process scheduler, compared here, is the ``bench`` extra)::
 
     pip install '.[bench]'
     python benchmarks/bench_explore.py [--rounds 3] [--skip-10k]
+    python benchmarks/bench_explore.py --ab ../base [--rounds 3]
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import json
 import logging
+import os
 import pickle
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -63,7 +75,14 @@ def spread(values: list[float], digits: int = 1) -> str:
     return f"{m:.{digits}f} ({min(values):.{digits}f}-{max(values):.{digits}f})"
 
 
+def fresh(space):
+    """A copy of ``space``: an incremental judge keeps its cache per space object, so
+    every measured exploration starts cold, as a new ``tegraph explore`` does."""
+    return dataclasses.replace(space)
+
+
 def one_shot(space, how: str) -> float:
+    space = fresh(space)
     start = time.perf_counter()
     if how == "in-process":
         explore_design(space, workers=0)
@@ -80,6 +99,7 @@ def one_shot(space, how: str) -> float:
 
 
 def rate(space, address: str, batch_size: int | None = None) -> float:
+    space = fresh(space)
     start = time.perf_counter()
     found = explore_design(space, scheduler=address, batch_size=batch_size)
     return len(found.results) / (time.perf_counter() - start)
@@ -97,11 +117,82 @@ def rate_space_per_batch(space, client, batch_size: int) -> float:
     return space.size / (time.perf_counter() - start)
 
 
+# One exploration in a fresh process, on the tegraph of ROOT (argv: ROOT, tasks, links,
+# "in-process" or a number of warm LocalCluster workers); prints variants and seconds.
+_CHILD = r"""
+import json, logging, sys, time
+root, n, k, how = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+sys.path[:0] = [root, root + "/benchmarks"]
+from generate_skeleton import generate
+import tegraph
+assert tegraph.__file__.startswith(root), tegraph.__file__
+from tegraph import Skeleton
+from tegraph.design.explore import explore_design
+from tegraph.design.explore.space import design_space, link_text
+sk = Skeleton.from_dict(generate(n, seed=0))
+space = design_space(sk, [link_text(x.writer, x.reader) for x in sk.links[:k]],
+                     objectives=["period", "load"])
+if how == "in-process":
+    start = time.perf_counter()
+    found = explore_design(space, workers=0)
+else:
+    from distributed import Client, LocalCluster
+    w = int(how)
+    with LocalCluster(n_workers=w, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR) as c, \
+            Client(c) as client:
+        client.wait_for_workers(w)
+        client.run(lambda: __import__("tegraph.design.explore.evaluate"))
+        start = time.perf_counter()
+        found = explore_design(space, scheduler=c.scheduler_address)
+print(json.dumps({"variants": len(found.results), "seconds": time.perf_counter() - start}))
+"""
+
+
+def ab(other: str, rounds: int) -> None:
+    """This tree (A) against ``other`` (B): variants/s of whole explorations, cold."""
+    roots = {"A": str(HERE.parent), "B": str(Path(other).resolve())}
+    cases = [(20, 3, "in-process"), (1000, 2, "in-process"), (20, 5, "in-process"),
+             (20, 5, "1"), (20, 5, "2"), (1000, 4, "in-process"), (1000, 4, "1"),
+             (1000, 4, "2")]
+    got: dict[tuple, list[float]] = {(c, r): [] for c in cases for r in roots}
+    for _ in range(rounds):
+        for case in cases:
+            for name, root in roots.items():
+                env = dict(os.environ, PYTHONPATH=root)
+                out = subprocess.run([sys.executable, "-c", _CHILD, root, *map(str, case)],
+                                     cwd=root, env=env, capture_output=True, text=True,
+                                     timeout=3600, check=True)
+                row = json.loads(out.stdout.strip().splitlines()[-1])
+                got[case, name].append(row["variants"] / row["seconds"])
+                print(f"  {name} {case}: {row['variants']} variants, {row['seconds']:.2f} s",
+                      file=sys.stderr, flush=True)
+    print(f"A = {roots['A']}, B = {roots['B']}; variants/s, median (min-max) of {rounds}\n")
+    print("| tasks | links | variants | engine | A | B | A/B |")
+    print("|---:|---:|---:|---|---:|---:|---:|")
+    for case in cases:
+        n, k, how = case
+        a, b = got[case, "A"], got[case, "B"]
+        engine = "in process" if how == "in-process" else f"{how} warm worker(s)"
+        print(f"| {n:,} | {k} | {4 ** k} | {engine} | {spread(a, 1)} | {spread(b, 2)} | "
+              f"{statistics.median(a) / statistics.median(b):.1f}x |")
+    for n, k in sorted({(n, k) for n, k, how in cases if how == "2"}):
+        for name in roots:
+            one, two = got[(n, k, "1"), name], got[(n, k, "2"), name]
+            print(f"{name}: {n:,} tasks, {4 ** k} variants: 2 workers / 1 worker = "
+                  f"{statistics.median(two) / statistics.median(one):.2f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--skip-10k", action="store_true")
+    parser.add_argument("--ab", metavar="OTHER_ROOT",
+                        help="compare this tree with another checkout (see the docstring)")
     args = parser.parse_args()
+    if args.ab:
+        ab(args.ab, args.rounds)
+        return
     from distributed import Client
 
     spaces = {20: space_of(20, 3), 1000: space_of(1000, 2)}
@@ -139,8 +230,9 @@ def main() -> None:
             for n, s in spaces.items():
                 for w, address in warm.items():
                     rates[n, w].append(rate(s, address))
+                cold = fresh(s)
                 start = time.perf_counter()
-                explore_design(s, workers=0)
+                explore_design(cold, workers=0)
                 rates[n, "in-process"].append(s.size / (time.perf_counter() - start))
         print("| tasks | in-process | LocalCluster 1 worker | LocalCluster 2 workers | "
               "speed-up 2 vs 1 |")

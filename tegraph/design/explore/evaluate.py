@@ -1,7 +1,9 @@
 """Judge variants of a design space: analyze, repair the port order, schedule, measure.
 
 One variant is judged as ``tegraph analyze`` would judge it, on its processors
-(spec v1.2 §4b):
+(spec v1.2 §4b). Step 1 is composed, when the variant is live, from the figures of its
+groups, each analysed once per configuration of its own choices (:mod:`.incremental`,
+the same result as the whole analysis):
 
 1. :func:`~tegraph.analysis.analyze.analyze_skeleton` on the variant's skeleton
    (spec §4, every task on a processor of its own);

@@ -265,7 +265,7 @@ class IncrementalJudge:
         first = (*self._owner(place.origin, links, threads), k)
         names = teg.transition_names
         kind = _KIND_REPORTED.get(place.kind, "chain")
-        return GroupRates(True, len(slower), first,  # type: ignore[arg-type]
+        return GroupRates(True, len(slower), first,
                           f"{kind} at {names[place.src]} -> {names[place.dst]}")
 
     def _owner(self, origin: dict[str, Any], links: list[int], threads: list[int]
