@@ -71,7 +71,13 @@ def _walk_agrees(space, rng: random.Random, steps: int) -> int:
     fresh_front, front = ParetoFront(space.objectives), ParetoFront(space.objectives)
     variant, composed = rng.randrange(space.size), 0
     for _ in range(steps):
-        composed += judge.judge(variant) is not None
+        found = judge.judge(variant)
+        composed += found is not None
+        if found is not None and found.report is not None:
+            # The periods, transients and overruns of every group and task, as the
+            # whole analysis finds them (what the judgement on processors reads).
+            whole = analyze_skeleton(space.build(variant))
+            assert (found.report.groups, found.report.tasks) == (whole.groups, whole.tasks)
         fast = evaluate_variant(space, variant)
         fresh = evaluate_variant(space, variant, incremental=False)
         assert fast == fresh, (variant, space.describe(variant))
