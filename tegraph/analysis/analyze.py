@@ -47,7 +47,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components
 from maxplus import CycleRatioResult, max_cycle_ratio
 from maxplus.scalar import display_text
 
-from ..model.build import activation_end, build_teg, task_chain
+from ..model.build import UnboundedKind, activation_end, build_teg, task_chain, unbounded_kind
 from ..model.elements import flow_list
 from ..model.skeleton import Skeleton
 from ..model.structure import Structure
@@ -57,7 +57,6 @@ from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import minimal_semiflows
 from .liveness import token_free_circuits
 from .processors import MAX_EVENTS, schedule_on_processors
-from .processors.schedule import UnboundedKind
 from .regime_bounds import autonomous_from
 from .reorder import reorder_ports
 from .repair import fix_ports
@@ -74,13 +73,6 @@ from .slack import shortest_circuits_through
 
 __all__ = ["analyze_skeleton"]
 
-_KIND_REPORTED: dict[str, UnboundedKind] = {
-    "activation": "clock-overrun",
-    "asyn-syn": "messages-overwritten",
-    "syn-asyn": "requests-overwritten",
-    "thread": "thread",
-    "thread-return": "thread",
-}
 
 
 
@@ -296,7 +288,7 @@ def _unbounded_places(g: _EventGraph, periods: _Periods) -> list[UnboundedPlace]
     out = []
     for k in lp[slower].tolist():
         a, b = int(g.src[k]), int(g.dst[k])
-        kind = _KIND_REPORTED.get(g.places[k].kind, "chain")
+        kind = unbounded_kind(g.places[k].kind)
         out.append(UnboundedPlace(
             # Type: the ends of a live place lie downstream of a circuit: cycle times set.
             g.names[a], g.names[b], kind, ct[a], ct[b],  # type: ignore[arg-type]

@@ -14,8 +14,9 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from maxplus.scalar import exact_text
 
+from ..model.build import UnboundedKind
 from ..model.structure import Structure
-from .processors.schedule import ProcessorSchedule, UnboundedKind
+from .processors.schedule import ProcessorSchedule
 
 if TYPE_CHECKING:  # annotations only: a report loads no more modules for them
     from ..model.elements import LinkLabel

@@ -80,7 +80,7 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Literal
+from typing import Any, Literal, TypeAlias
 
 from ..errors import ModelError
 from .skeleton import Protocol, Skeleton, Task
@@ -89,6 +89,7 @@ from .teg import TimedEventGraph
 __all__ = [
     "PLACE_KINDS",
     "ActivationEnd",
+    "UnboundedKind",
     "HoldingSource",
     "activation_end",
     "build_teg",
@@ -97,11 +98,29 @@ __all__ = [
     "holding_sources",
     "last_event",
     "task_chain",
+    "unbounded_kind",
 ]
 
 PLACE_KINDS = ("chain", "return", "clock", "activation", "asyn-syn", "syn-asyn",
                "thread", "thread-return")
 """Every ``Place.kind`` that :func:`build_teg` produces."""
+
+UnboundedKind: TypeAlias = Literal["clock-overrun", "messages-overwritten",
+                                  "requests-overwritten", "thread", "chain"]
+"""What an unbounded place is, as reports name it (spec §4)."""
+
+_UNBOUNDED: dict[str, UnboundedKind] = {
+    "activation": "clock-overrun", "asyn-syn": "messages-overwritten",
+    "syn-asyn": "requests-overwritten", "thread": "thread", "thread-return": "thread"}
+
+
+def unbounded_kind(place_kind: str) -> UnboundedKind:
+    """What an unbounded place of this :data:`PLACE_KINDS` kind is, as reports name it.
+
+    >>> unbounded_kind("activation"), unbounded_kind("return")
+    ('clock-overrun', 'chain')
+    """
+    return _UNBOUNDED.get(place_kind, "chain")
 
 
 @dataclass(frozen=True)

@@ -36,7 +36,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, Literal, TypeAlias
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -46,7 +46,7 @@ from maxplus.scalar import display_text
 
 from ...errors import InputError, ModelError
 from ...model.budgets import MAX_EVENTS
-from ...model.build import activation_end
+from ...model.build import UnboundedKind, activation_end, unbounded_kind
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
 from ._engine import AFTER_OVERRUN, PartData, PartResult, simulate_part
@@ -57,13 +57,6 @@ __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "Ta
            "schedule_on_processors"]
 
 
-UnboundedKind: TypeAlias = Literal["clock-overrun", "messages-overwritten",
-                                  "requests-overwritten", "thread", "chain"]
-"""What an unbounded place is, as reports name it (from the kind of place the builder made)."""
-
-_KIND_REPORTED: dict[str, UnboundedKind] = {
-    "activation": "clock-overrun", "asyn-syn": "messages-overwritten",
-    "syn-asyn": "requests-overwritten", "thread": "thread", "thread-return": "thread"}
 
 
 @dataclass(frozen=True)
@@ -452,7 +445,7 @@ class _Outcome:
         self.grows.add(group)
         self.unbounded.append(GrowingPlace(
             p, net.teg.transition_names[net.src[p]], net.teg.transition_names[net.dst[p]],
-            _KIND_REPORTED.get(place.kind, "chain"), group, per))
+            unbounded_kind(place.kind), group, per))
 
     def add(self, r: PartResult, d: PartData, names: list[str], events: list[int],
             places: list[int]) -> None:

@@ -53,10 +53,10 @@ import numpy as np
 
 from maxplus import max_cycle_ratio
 
-from ...analysis.analyze import _KIND_REPORTED, analyze_skeleton
+from ...analysis.analyze import analyze_skeleton
 from ...analysis.liveness import token_free_circuits
 from ...analysis.results import InvariantCheck, Report
-from ...model.build import build_teg
+from ...model.build import build_teg, unbounded_kind
 from ...model.skeleton import Skeleton
 from ...model.structure import Structure, design_period
 from .space import DesignSpace
@@ -264,7 +264,7 @@ class IncrementalJudge:
         place = teg.places[k]
         first = (*self._owner(place.origin, links, threads), k)
         names = teg.transition_names
-        kind = _KIND_REPORTED.get(place.kind, "chain")
+        kind = unbounded_kind(place.kind)
         return GroupRates(True, len(slower), first,
                           f"{kind} at {names[place.src]} -> {names[place.dst]}")
 
