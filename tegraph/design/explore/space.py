@@ -262,15 +262,18 @@ class DesignSpace:
         clocks = {c.name: exact_text(t) for c, t in zip(self.clocks, self.periods(variant))}
         return links, clocks
 
-    def build(self, variant: int) -> Skeleton:
-        """The skeleton of ``variant``, checked like one read from a file."""
+    def build(self, variant: int, validate: bool = True) -> Skeleton:
+        """The skeleton of ``variant``, checked like one read from a file (``validate``
+        False: not checked again, as only protocols and periods change, each checked
+        when the space was made)."""
         links = list(self.skeleton.links)
         for choice, protocol in zip(self.links, self.protocols(variant)):
             links[choice.index] = replace(links[choice.index], protocol=protocol)
         clocks = dict(self.skeleton.clocks)
         for clock, period in zip(self.clocks, self.periods(variant)):
             clocks[clock.name] = replace(clocks[clock.name], period=period)
-        return replace(self.skeleton, links=links, clocks=clocks).validate()
+        variant_skeleton = replace(self.skeleton, links=links, clocks=clocks)
+        return variant_skeleton.validate() if validate else variant_skeleton
 
     def starting_variant(self) -> int:
         """The input design itself, each choice replaced by the first allowed one where
