@@ -163,14 +163,14 @@ def howard_lists(src: list[int], dst: list[int], w: list[int], t: list[int], n: 
     while True:
         cur = iteration.values(pol, prev, affected)
         iterations += 1
-        todo = None
+        to_improve = None
         if not check_all:
             assert prev is not None  # check_all holds in the first iteration
-            todo = iteration.touched(prev, cur, affected)
+            to_improve = iteration.touched(prev, cur, affected)
         prev = cur
         before = pol[:]
-        step = iteration.improve(pol, cur, todo)
-        if step is None and todo is not None:
+        step = iteration.improve(pol, cur, to_improve)
+        if step is None and to_improve is not None:
             step = iteration.improve(pol, cur, None)  # the last word checks every node
         if step is None:
             num = [0] * n
@@ -313,15 +313,15 @@ class _Iteration:
         if 8 * len(changed) >= len(self.nodes):
             return None
         dst, out_arcs = self.dst, self.out_arcs
-        todo = set(changed)
+        to_improve = set(changed)
         for u in changed:
-            todo.update(dst[a] for a in out_arcs[u])
-        return sorted(todo)
+            to_improve.update(dst[a] for a in out_arcs[u])
+        return sorted(to_improve)
 
-    def improve(self, pol: list[int], cur: _Values, todo: list[int] | None) -> _Step | None:
-        """One policy improvement at the nodes ``todo`` (None: all); its kind, or None."""
+    def improve(self, pol: list[int], cur: _Values, to_improve: list[int] | None) -> _Step | None:
+        """One policy improvement at the nodes ``to_improve`` (None: all); its kind, or None."""
         rank, in_lists = cur.rank, self.in_lists
-        nodes = self.nodes if todo is None else todo
+        nodes = self.nodes if to_improve is None else to_improve
         if cur.n_ranks > 1:
             frontier = []
             raised = []
