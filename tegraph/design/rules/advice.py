@@ -483,63 +483,30 @@ class Advisor(Candidates):
                         for t in edits.drop)):
             return self._same_groups(groups, edits)
         tasks = [t for g in groups for t in self.groups[g]]
-        if len(tasks) < _COMPONENTS_FROM:
-            return self._regroup_small(tasks, groups, edits)
-        index = {t: i for i, t in enumerate(tasks)}
-        rows: list[int] = []
-        cols: list[int] = []
-        first_of: dict[str, int] = {}
-        clock_of: dict[str, str | None] = {}
-        for i, t in enumerate(tasks):
-            clock = None if t in edits.drop else self.sk.tasks[t].clock
-            if t in edits.add:
-                clock = f"{t}\0new"  # a clock of its own: it joins nothing
-            clock_of[t] = clock
-            if clock:
-                rows.append(i)
-                cols.append(first_of.setdefault(clock, i))
-            for link in self.inputs(t):
-                if edits.get(link).synchronizing:
-                    rows.append(i)
-                    cols.append(index.setdefault(link.writer[0], len(index)))
-        for g in groups:
-            for thread in self.threads_of.get(g, ()):
-                rows += [index[t] for t in thread[1:]]
-                cols += [index[thread[0]]] * (len(thread) - 1)
-        n = len(index)
-        joined = sp.coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
-        label = connected_components(joined, directed=False)[1]
-        # Each re-formed group is named by its first task in ``tasks``.
-        _, first = np.unique(label, return_index=True)
-        names = list(index)  # the tasks, then any writer from outside them
-        root = first[label].tolist()
-        root_of = {t: names[root[i]] for i, t in enumerate(tasks)}
+        clock_of, pairs = self._joins_after(tasks, groups, edits)
+        root_of = (_union_find if len(tasks) < _COMPONENTS_FROM else _components)(tasks, pairs)
         return self._counted(tasks, root_of, clock_of), root_of
 
-    def _regroup_small(self, tasks: list[str], groups: list[int], edits: Edits
-                       ) -> tuple[dict, dict[str, str]]:
-        """:meth:`_regroup` by networkx's union-find, for a few tasks (the same groups)."""
-        # networkx (some 300 modules) is imported only where groups are re-formed, so a
-        # plain `tegraph analyze` does not pay for it at start-up.
-        from networkx.utils import UnionFind
-
-        joined = UnionFind(tasks)
+    def _joins_after(self, tasks: list[str], groups: list[int], edits: Edits
+                     ) -> tuple[dict[str, str | None], list[tuple[str, str]]]:
+        """Each task's clock once ``edits`` are made, and the pairs of tasks that join
+        (a shared clock, a synchronizing link, a thread), as in spec §4."""
         first_of: dict[str, str] = {}
         clock_of: dict[str, str | None] = {}
+        pairs: list[tuple[str, str]] = []
         for t in tasks:
             clock = None if t in edits.drop else self.sk.tasks[t].clock
             if t in edits.add:
                 clock = f"{t}\0new"  # a clock of its own: it joins nothing
             clock_of[t] = clock
             if clock:
-                joined.union(t, first_of.setdefault(clock, t))
-            joined.union(t, *(link.writer[0] for link in self.inputs(t)
-                              if edits.get(link).synchronizing))
+                pairs.append((t, first_of.setdefault(clock, t)))
+            pairs += [(t, link.writer[0]) for link in self.inputs(t)
+                      if edits.get(link).synchronizing]
         for g in groups:
             for thread in self.threads_of.get(g, ()):
-                joined.union(*thread)
-        root_of = {t: joined[t] for t in tasks}
-        return self._counted(tasks, root_of, clock_of), root_of
+                pairs += [(thread[0], t) for t in thread[1:]]
+        return clock_of, pairs
 
     def _counted(self, tasks: list[str], root_of: dict[str, str],
                  clock_of: dict[str, str | None]
@@ -625,6 +592,36 @@ class Advisor(Candidates):
                          f"other group has, e.g. {display_text(self.fresh)} {self.sk.unit})")
         return "; ".join(parts)
 
+
+
+def _union_find(tasks: list[str], pairs: list[tuple[str, str]]) -> dict[str, str]:
+    """The root of each task once ``pairs`` are joined, by networkx's union-find."""
+    # networkx (some 300 modules) is imported only where groups are re-formed, so a
+    # plain `tegraph analyze` does not pay for it at start-up.
+    from networkx.utils import UnionFind
+
+    joined = UnionFind(tasks)
+    for a, b in pairs:
+        joined.union(a, b)
+    return {t: joined[t] for t in tasks}
+
+
+def _components(tasks: list[str], pairs: list[tuple[str, str]]) -> dict[str, str]:
+    """The root of each task once ``pairs`` are joined (its part's first task), by
+    scipy's connected components."""
+    index = {t: i for i, t in enumerate(tasks)}
+    for pair in pairs:  # a writer from outside the tasks joins them all the same
+        for t in pair:
+            index.setdefault(t, len(index))
+    rows = [index[a] for a, _ in pairs]
+    cols = [index[b] for _, b in pairs]
+    n = len(index)
+    graph = sp.coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
+    label = connected_components(graph, directed=False)[1]
+    _, first = np.unique(label, return_index=True)
+    names = list(index)
+    root = first[label].tolist()
+    return {t: names[root[i]] for i, t in enumerate(tasks)}
 
 
 def _group_text(tasks: tuple[str, ...] | list[str]) -> str:
