@@ -185,6 +185,7 @@ JsonFlag = Annotated[bool, typer.Option("--json",
 MaxStates = Annotated[int, typer.Option(
     "--max-states", help="State budget of the search (>= 1); beyond it the answer is "
                          "inconclusive.")]
+_MAX_MEMORY = _size_text(DEFAULT_MAX_MEMORY)
 MaxMemory = Annotated[str, typer.Option(
     "--max-memory", help="Memory budget of the markings the untimed reachability search "
                          "stores (e.g. 512M, 4G).")]
@@ -292,7 +293,7 @@ def reach(
                         "from the first repeated state (skeletons only).")] = False,
     max_states: MaxStates = DEFAULT_MAX_STATES,
     max_seconds: MaxSeconds = None,
-    max_memory: MaxMemory = _size_text(DEFAULT_MAX_MEMORY),
+    max_memory: MaxMemory = _MAX_MEMORY,
     max_firings: MaxFirings = DEFAULT_MAX_FIRINGS,
     json_out: JsonFlag = False,
 ) -> None:
@@ -479,7 +480,7 @@ def cycle_time_command(
                                   "timing (default 0).")] = None,
     max_states: MaxStates = DEFAULT_MAX_STATES,
     max_seconds: MaxSeconds = None,
-    max_memory: MaxMemory = _size_text(DEFAULT_MAX_MEMORY),
+    max_memory: MaxMemory = _MAX_MEMORY,
     max_firings: MaxFirings = DEFAULT_MAX_FIRINGS,
 ) -> None:
     """Exact period, throughput and critical circuit of a timed event graph.
