@@ -269,9 +269,11 @@ class ProcessorLine:
     def _simulate(self, data: PartData, limit: int | None = None) -> PartResult:
         """The part simulated within the budgets; ``self.why_cut`` says which one stopped it.
 
-        The engine looks for a regime even after an overrun (its figures need
-        it); a verdict does not: budgets grow tenfold from 1,000, so an early
-        overrun costs little and the whole budget is spent at most once more.
+        Past an overrun the engine still looks for a regime (its figures need it)
+        for as many firings again, and at least a tenth of its budget
+        (``AFTER_OVERRUN``); a verdict needs none of it: budgets grow tenfold from
+        1,000, so an early overrun costs little and the whole budget is spent at
+        most once more.
         Every firing counts against the figure's and the run's budgets.
         """
         self.used.add(SCHEDULE)
