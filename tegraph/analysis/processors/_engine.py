@@ -122,6 +122,15 @@ class _Part:
             else:
                 self.outputs[s].append(p)
         self.queues = [deque([a] * m) for a, m in zip(d.p_init, d.p_tokens)]
+        # The hot loop reads each event's places through their queues, bound once
+        # (a firing then costs no index look-ups): (place, queue) in, (queue, hold,
+        # event) out, and (queue, event) for the places a job's end fills.
+        q = self.queues
+        self.in_queues = [[q[p] for p in ins] for ins in self.inputs]
+        self.in_pairs = [[(p, q[p]) for p in ins] for ins in self.inputs]
+        self.out_arcs = [[(q[p], d.p_hold[p], d.p_dst[p]) for p in outs]
+                         for outs in self.outputs]
+        self.job_arcs = [[(q[p], d.p_dst[p]) for p in outs] for outs in self.job_out]
         self.tight = [-1] * len(d.p_src)
         self.future: list[tuple[int, int]] = [(a, t) for a, t, m in zip(
             d.p_init, d.p_dst, d.p_tokens) if m and a > 0]
@@ -150,24 +159,34 @@ class _Part:
     def instant(self, now: int, budget: int) -> None:
         work = [] if self.started else list(range(self.d.n_events))
         self.started = True
-        comp = self.completions
+        comp, stamps, future = self.completions, self.stamp, self.future
         while comp and comp[0][0] <= now:
             _, proc, stamp = heapq.heappop(comp)
-            if stamp == self.stamp[proc]:
+            if stamp == stamps[proc]:
                 self._job_done(proc, now, work)
-        while self.future and self.future[0][0] <= now:
-            work.append(heapq.heappop(self.future)[1])
+        while future and future[0][0] <= now:
+            work.append(heapq.heappop(future)[1])
+        in_queues, fire = self.in_queues, self._fire
         while work and not self.cut:
             e = work.pop()
-            while self._enabled(e, now):
-                if self.count >= budget:  # an event still to fire: the budget is spent
-                    self.cut = True
-                    break
-                self._fire(e, now, work)
-        self._check_ticks(now)
-        for proc in self.touched:
-            self._dispatch(proc, now)
-        self.touched.clear()
+            queues = in_queues[e]
+            while True:  # fire e as long as every input place has an available token
+                for q in queues:
+                    if not q or q[0] > now:
+                        break
+                else:
+                    if self.count >= budget:  # an event still to fire: the budget is spent
+                        self.cut = True
+                        break
+                    fire(e, now, work)
+                    continue
+                break
+        if self.ticked:
+            self._check_ticks(now)
+        if self.touched:
+            for proc in self.touched:
+                self._dispatch(proc, now)
+            self.touched.clear()
 
     def next_instant(self) -> int | None:
         comp = self.completions
@@ -178,20 +197,14 @@ class _Part:
             nxt = comp[0][0]
         return nxt
 
-    def _enabled(self, e: int, now: int) -> bool:
-        for p in self.inputs[e]:
-            q = self.queues[p]
-            if not q or q[0] > now:
-                return False
-        return True
-
     def _fire(self, e: int, now: int, work: list[int]) -> None:
         d = self.d
         self.count += 1
         self.fired[e] += 1
-        for p in self.inputs[e]:
-            if self.queues[p].popleft() == now:
-                self.tight[p] = now
+        tight = self.tight
+        for p, q in self.in_pairs[e]:
+            if q.popleft() == now:
+                tight[p] = now
         task = d.compute_task[e]
         if task >= 0:
             self.result.jobs[task].append([now, None])
@@ -203,13 +216,13 @@ class _Part:
                 heapq.heappush(self.heaps[proc],
                                (-d.priority[task], now, d.file_index[task], task))
                 self.touched.add(proc)
-        for p in self.outputs[e]:
-            at = now + d.p_hold[p]
-            self.queues[p].append(at)
-            if at == now:
-                work.append(d.p_dst[p])
+        for q, hold, dst in self.out_arcs[e]:
+            if hold:
+                q.append(now + hold)
+                heapq.heappush(self.future, (now + hold, dst))
             else:
-                heapq.heappush(self.future, (at, d.p_dst[p]))
+                q.append(now)
+                work.append(dst)
         if e in d.watched:
             self.ticked.append(e)
 
@@ -225,9 +238,9 @@ class _Part:
         self.remaining[task] = -1
         self.finished[task] += 1
         self.result.jobs[task][-1][1] = now
-        for p in self.job_out[task]:
-            self.queues[p].append(now)
-            work.append(self.d.p_dst[p])
+        for q, dst in self.job_arcs[task]:
+            q.append(now)
+            work.append(dst)
 
     def ends(self, task: int) -> int:
         last = self.d.end_event[task]
