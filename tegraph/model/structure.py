@@ -29,7 +29,7 @@ from .skeleton import Link, Skeleton
 if TYPE_CHECKING:
     from .teg import TimedEventGraph
 
-__all__ = ["Structure", "design_period"]
+__all__ = ["Structure", "design_period", "label_events"]
 
 Port = tuple[str, str]
 
@@ -130,12 +130,29 @@ class Structure:
         >>> Structure.of(sk).group_of_event(build_teg(sk)).tolist()
         [0, 0, 0, 1]
         """
-        out = np.full(teg.n_transitions, -1, dtype=np.int64)
-        for task, chain in teg.attrs["chains"].items():
-            out[list(chain)] = self.group_of[task]
-        for clock, tick in teg.attrs["clocks"].items():
-            out[tick] = self.group_of_clock.get(clock, -1)
-        return out
+        return label_events(teg, self.group_of, self.group_of_clock)
+
+
+def label_events(teg: TimedEventGraph, group_of: Mapping[str, int],
+                 group_of_clock: Mapping[str, int]) -> np.ndarray:
+    """The group of each event of ``teg``: its task's (``group_of``), or its clock's
+    (``group_of_clock``; -1 for a clock in none).
+
+    :meth:`Structure.group_of_event` for groups known otherwise (the design
+    advice re-forms those of an edited skeleton without re-computing them).
+
+    >>> from tegraph.model.build import build_teg
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
+    ...                                    "B": {"duration": 1}}})
+    >>> label_events(build_teg(sk), {"A": 7, "B": 3}, {}).tolist()
+    [7, 7, -1, 3]
+    """
+    out = np.full(teg.n_transitions, -1, dtype=np.int64)
+    for task, chain in teg.attrs["chains"].items():
+        out[list(chain)] = group_of[task]
+    for clock, tick in teg.attrs["clocks"].items():
+        out[tick] = group_of_clock.get(clock, -1)
+    return out
 
 
 def _joins(skeleton: Skeleton, index: Mapping[str, int]) -> tuple[list[int], list[int]]:

@@ -38,14 +38,14 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from maxplus import max_cycle_ratio
+from maxplus import ZeroTokenCircuitError, max_cycle_ratio
 from maxplus.scalar import display_text
 
 from ...analysis.liveness import token_free_circuits
 from ...analysis.reorder import PrecedenceGraph
 from ...model.build import build_teg
 from ...model.skeleton import Link, Protocol, Skeleton
-from ...model.structure import Structure
+from ...model.structure import Structure, label_events
 from .candidates import CANDIDATE_LIMIT, SPLIT, Candidates, Edits
 from .change import Change, apply_change
 from .findings import FindingKey, FindingKind, RuleFinding, link_key
@@ -241,8 +241,8 @@ class Advisor(Candidates):
         (:meth:`real_periods`), :data:`DEAD` where its group is dead. A task that loses its
         clock counts against its clock's period too: the designed rate is the clock's.
         """
-        groups, _, _ = self._groups_after(edits)
-        real = self.real_periods(groups, self.change_of(edits))
+        groups, _, root_of = self._groups_after(edits)
+        real = self.real_periods(groups, self.change_of(edits), root_of)
         if real is None:
             return []
         out = []
@@ -258,14 +258,18 @@ class Advisor(Candidates):
 
     def inconsistent(self, edits: Edits) -> int:
         """How many groups touched by ``edits`` are not rate-consistent afterwards."""
-        groups, part, _ = self._groups_after(edits)
-        real = self.real_periods(groups, self.change_of(edits))
+        groups, part, root_of = self._groups_after(edits)
+        real = self.real_periods(groups, self.change_of(edits), root_of)
         if real is None:
             return 0
         return sum(members[0] in real.mixed for members, _, _ in part.values())
 
-    def real_periods(self, groups: list[int], change: Change) -> _Rates | None:
+    def real_periods(self, groups: list[int], change: Change, roots: Mapping[str, Any]
+                     ) -> _Rates | None:
         """The period of each task of ``groups`` once ``change`` is made (None: dead).
+
+        ``roots``: the group of each of their tasks once ``change`` is made (any
+        label per group: :meth:`_regroup`'s root task, or :attr:`group_of` for no change).
 
         Only the touched groups are rebuilt, edited and solved: the cycle time of
         each task's compute event is the max cycle ratio of the timed event graph
@@ -288,7 +292,7 @@ class Advisor(Candidates):
             self.periods_spent += cost
             edited = apply_change(self._within(groups), change,
                                   self.fresh if change.add_clock else None)
-            known = self._real[key] = _cycle_times(edited)
+            known = self._real[key] = _cycle_times(edited, roots)
         return known
 
     def _groups_text(self, members: list[tuple[str, ...]], real: _Rates) -> str:
@@ -373,10 +377,10 @@ class Advisor(Candidates):
         afterwards is named.
         """
         u = self.sk.unit
-        groups, part, _ = self._groups_after(edits)
+        groups, part, root_of = self._groups_after(edits)
         # The change first: it is solved only when the periods before fit the budget too.
-        real = self.real_periods(groups, self.change_of(edits))
-        now = None if real is None else self.real_periods(groups, Change())
+        real = self.real_periods(groups, self.change_of(edits), root_of)
+        now = None if real is None else self.real_periods(groups, Change(), self.group_of)
         if now is None or real is None:
             return (f"periods before -> after not computed: the advice's budget of "
                     f"{PERIODS_BUDGET:,} tasks rebuilt is spent (tegraph analyze on the "
@@ -646,8 +650,11 @@ class _Rates:
         self.period, self.mixed = period, mixed
 
 
-def _cycle_times(sk: Skeleton) -> _Rates:
+def _cycle_times(sk: Skeleton, roots: Mapping[str, Any]) -> _Rates:
     """Each task's period in ``sk``: the cycle time of its compute event (DEAD: dead).
+
+    ``roots``: the group of each task (a label per group), as the advisor
+    re-formed them: the groups are not computed again.
 
     As :func:`tegraph.analysis.analyze` does: the weak parts with a token-free
     circuit are left out, the max cycle ratio of the rest is solved exactly; a
@@ -659,11 +666,22 @@ def _cycle_times(sk: Skeleton) -> _Rates:
     n = teg.n_transitions
     # The changed skeleton's own groups (-1: the tick of a clock that drives no task,
     # alone on its part, which no task's period reads).
-    label = Structure.of(sk).group_of_event(teg)
-    dead = {int(label[a.src[c[0]]]) for c in token_free_circuits(a.src, a.dst, a.tokens, n)}
-    live = ~np.isin(label, sorted(dead))
-    lp = np.flatnonzero(live[a.src] & live[a.dst])
-    mcr = max_cycle_ratio(a.src[lp], a.dst[lp], a.holding[lp], a.tokens[lp], n_nodes=n)
+    number: dict[Any, int] = {}
+    group_of = {t: number.setdefault(roots[t], len(number)) for t in sk.tasks}
+    group_of_clock: dict[str, int] = {}
+    for t, task in sk.tasks.items():
+        if task.clock is not None:
+            group_of_clock.setdefault(task.clock, group_of[t])
+    label = label_events(teg, group_of, group_of_clock)
+    try:  # most candidates leave the groups live: the kernel refuses a token-free circuit
+        mcr = max_cycle_ratio(a.src, a.dst, a.holding, a.tokens, n_nodes=n)
+        live = np.ones(n, dtype=bool)
+    except ZeroTokenCircuitError:
+        dead = {int(label[a.src[c[0]]])
+                for c in token_free_circuits(a.src, a.dst, a.tokens, n)}
+        live = ~np.isin(label, sorted(dead))
+        lp = np.flatnonzero(live[a.src] & live[a.dst])
+        mcr = max_cycle_ratio(a.src[lp], a.dst[lp], a.holding[lp], a.tokens[lp], n_nodes=n)
     # Rates compared as the kernel's lowest-terms pairs (num, den): a Fraction is
     # made only for what is read (each task's period, the rates of a mixed group).
     num, den = mcr.cycle_time_num.tolist(), mcr.cycle_time_den.tolist()

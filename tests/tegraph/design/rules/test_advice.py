@@ -394,7 +394,8 @@ def test_a_change_is_solved_only_when_the_periods_before_fit_too(monkeypatch):
     solved = []
     monkeypatch.setattr(advice, "PERIODS_BUDGET", 45)
     monkeypatch.setattr(advice, "_cycle_times",
-                        lambda sk, solve=advice._cycle_times: solved.append(sk) or solve(sk))
+                        lambda sk, roots, solve=advice._cycle_times:
+                        solved.append(sk) or solve(sk, roots))
     findings = [f for f in check_rules(Skeleton.from_dict(CTRL_GAINS)) if f.rule in (1, 3)]
     assert findings and solved == []
     assert all("periods before -> after not computed" in f.advice for f in findings)
