@@ -9,7 +9,9 @@ created, an existing file is never replaced without ``--force``.
 
 from __future__ import annotations
 
+import atexit
 import gc
+import os
 import re
 import sys
 from collections.abc import Callable, Iterator
@@ -801,13 +803,47 @@ class _ProgressBar:
             typer.echo("\r" + " " * 79 + "\r", err=True, nl=False)
 
 
-def main() -> None:
-    """Console-script entry point."""
+def main() -> NoReturn:
+    """Console-script entry point.
+
+    The process ends as soon as the command is done (:func:`_end`): its exit
+    handlers run and its output is flushed, but the interpreter does not tear
+    down the modules and objects it is about to discard.
+    """
     try:
         app()
     except KeyboardInterrupt:
         typer.echo("tegraph: interrupted", err=True)
-        sys.exit(130)
+        _end(130)
+    except SystemExit as exc:  # every command ends here (click's standalone mode)
+        _end(exc.code)
+    _end(0)
+
+
+def _end(code: object) -> NoReturn:
+    """End the process with ``code`` as :func:`sys.exit` would, without the teardown.
+
+    Tearing down numpy's, scipy's and typer's ~700 modules and an analysis's
+    objects costs about 0.15 s of every command (measured on a 1,000-task
+    analysis and on a bare import), for memory the system reclaims at once.
+    What a normal exit does that matters still happens: the exit handlers run
+    (a Dask cluster's, logging's, temporary directories'), then the output
+    streams are flushed.
+    """
+    if code is None:
+        status = 0
+    elif isinstance(code, int):
+        status = code
+    else:  # sys.exit("message"): the message on stderr, status 1
+        print(code, file=sys.stderr)
+        status = 1
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (BrokenPipeError, ValueError):  # a reader that left (| head), a closed stream
+            pass
+    os._exit(status)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -135,6 +135,32 @@ def test_refused_input_exits_2_with_one_line(tmp_path, text, where):
     assert line.startswith("tegraph: error: ") and str(path) in line and where in line
 
 
+def test_end_to_end_the_process_ends_with_its_handlers_run_and_its_output_whole(tmp_path):
+    # main() ends the process without the interpreter's teardown (os._exit): what a
+    # normal exit guarantees must still hold. An exit handler registered before the
+    # command runs, and a report of 400 tasks (some 200 kB, beyond any pipe buffer)
+    # arrives whole: the JSON parses and names every task.
+    tasks = "".join(f"  T{i}: {{duration: 1, period: {i % 7 + 2}}}\n" for i in range(400))
+    path = tmp_path / "many.yaml"
+    path.write_text("tasks:\n" + tasks)
+    code = ("import atexit, sys; "
+            "atexit.register(lambda: print('handler ran', file=sys.stderr)); "
+            "sys.argv = ['tegraph', 'analyze', '--json', sys.argv[1]]; "
+            "from tegraph.cli import main; main()")
+    out = subprocess.run([sys.executable, "-c", code, str(path)], capture_output=True,
+                         text=True, timeout=120)
+    # Exit 1: the 400 tasks share the one processor of spec §4b's default, at a
+    # utilization of sum(1/period) over the tasks, about 98 (some 57 tasks per period 2..8).
+    assert out.returncode == 1, out.stderr
+    assert out.stderr == "handler ran\n"
+    assert sorted(json.loads(out.stdout)["tasks"]) == sorted(f"T{i}" for i in range(400))
+    # A refusal keeps its status 2 and its one line.
+    out = subprocess.run([sys.executable, "-c", code, str(tmp_path / "none.yaml")],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 2 and out.stdout == ""
+    assert out.stderr.startswith("tegraph: error: ") and out.stderr.endswith("handler ran\n")
+
+
 def test_end_to_end_missing_file_exits_2(tmp_path):
     out = run("analyze", str(tmp_path / "nothing.yaml"))
     assert out.returncode == 2 and "Traceback" not in out.stderr
