@@ -38,7 +38,6 @@ from collections import Counter
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
-from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 import scipy.sparse as sp
@@ -300,6 +299,10 @@ def dumps_pnml(obj: Any) -> str:
     >>> net.places, [str(h) for h in net.holding], net.marking.tolist()
     (['a -> b', 'b -> a'], ['7/3', '1'], [0, 1])
     """
+    # Here, not at the top: xml.sax.saxutils loads urllib.request, http and ssl,
+    # which every command would pay for at start-up.
+    from xml.sax.saxutils import escape, quoteattr
+
     net = as_petri_net(obj)
     ids = net.attrs.get("pnml_ids", {})
     p_ids, t_ids = _ids(net.places, ids.get("places"), "p"), _ids(net.transitions,

@@ -38,7 +38,6 @@ from __future__ import annotations
 import os
 from pathlib import Path
 from typing import Any
-from xml.sax.saxutils import quoteattr
 
 from maxplus.scalar import size_problem
 
@@ -319,6 +318,10 @@ def dumps_sdf3(obj: Any) -> str:
     >>> parse_sdf3(dumps_sdf3(g)) == g
     True
     """
+    # Here, not at the top: xml.sax.saxutils loads urllib.request, http and ssl,
+    # which every command would pay for at start-up.
+    from xml.sax.saxutils import quoteattr
+
     g = obj if isinstance(obj, SDFGraph) else SDFGraph.from_teg(as_teg(obj))
     ports: dict[str, list[str]] = {a: [] for a in g.actors}
     lines = ['<?xml version="1.0" encoding="UTF-8"?>', '<sdf3 type="sdf" version="1.0">',
