@@ -112,25 +112,23 @@ class _Part:
         self.d = d
         self.keep_intervals = True
         n = d.n_events
-        self.inputs: list[list[int]] = [[] for _ in range(n)]
-        self.outputs: list[list[int]] = [[] for _ in range(n)]
-        self.job_out: list[list[int]] = [[] for _ in d.duration]
-        for p, (s, t) in enumerate(zip(d.p_src, d.p_dst)):
-            self.inputs[t].append(p)
-            if d.p_job[p]:
-                self.job_out[d.compute_task[s]].append(p)
-            else:
-                self.outputs[s].append(p)
         self.queues = [deque([a] * m) for a, m in zip(d.p_init, d.p_tokens)]
         # The hot loop reads each event's places through their queues, bound once
-        # (a firing then costs no index look-ups): (place, queue) in, (queue, hold,
-        # event) out, and (queue, event) for the places a job's end fills.
-        q = self.queues
-        self.in_queues = [[q[p] for p in ins] for ins in self.inputs]
-        self.in_pairs = [[(p, q[p]) for p in ins] for ins in self.inputs]
-        self.out_arcs = [[(q[p], d.p_hold[p], d.p_dst[p]) for p in outs]
-                         for outs in self.outputs]
-        self.job_arcs = [[(q[p], d.p_dst[p]) for p in outs] for outs in self.job_out]
+        # (a firing then costs no index look-ups): the input queues of each event,
+        # with their places (for the tight marks); (queue, hold, event) out of each
+        # event; (queue, event) for the places the end of each task's job fills.
+        self.in_queues: list[list[deque[int]]] = [[] for _ in range(n)]
+        self.in_pairs: list[list[tuple[int, deque[int]]]] = [[] for _ in range(n)]
+        self.out_arcs: list[list[tuple[deque[int], int, int]]] = [[] for _ in range(n)]
+        self.job_arcs: list[list[tuple[deque[int], int]]] = [[] for _ in d.duration]
+        for p, (s, t, queue, job, hold) in enumerate(zip(d.p_src, d.p_dst, self.queues,
+                                                         d.p_job, d.p_hold)):
+            self.in_queues[t].append(queue)
+            self.in_pairs[t].append((p, queue))
+            if job:
+                self.job_arcs[d.compute_task[s]].append((queue, t))
+            else:
+                self.out_arcs[s].append((queue, hold, t))
         self.tight = [-1] * len(d.p_src)
         self.future: list[tuple[int, int]] = [(a, t) for a, t, m in zip(
             d.p_init, d.p_dst, d.p_tokens) if m and a > 0]
