@@ -505,8 +505,13 @@ class _Outcome:
         self.regimes.append({"tasks": names, "start": self._fraction(t1),
                              "length": self._fraction(length)})
         fired = [b - a for a, b in zip(old.fired, new.fired)]
+        # The period of an event firing n times a regime: one Fraction per count
+        # (a part of 10,000 tasks has a few counts and some 30,000 events).
+        period: dict[int, Fraction | None] = {0: None}
+        for n in set(fired) - {0}:
+            period[n] = Fraction(length, n * self.net.scale)
         for e, n in enumerate(fired):
-            self._rate(events[e], self._fraction(length) / n if n else None)
+            self._rate(events[e], period[n])
         for p, per in growing.items():
             self._grow(places[p], per)
         compute_of = {j: e for e, j in enumerate(d.compute_task) if j >= 0}
@@ -518,7 +523,7 @@ class _Outcome:
             n = fired[compute]
             fig.starved = n == 0 and new.pending[j] >= 0
             if n:
-                fig.period = self._fraction(length) / n
+                fig.period = period[n]
                 fig.response = self._fraction(_response(r.jobs[j], old.fired[compute],
                                                         new.fired[compute], length))
             if fig.overrun_at is None and j in r.tick_log:
