@@ -21,8 +21,8 @@ report of the whole variant:
 1. **live**: every group has no token-free circuit. A variant with a dead group is
    not composed (``None``): the port repair is decided on the whole skeleton, and
    the caller judges it afresh.
-2. **unbounded places** (first stage, cheap: the token-free-circuit test and the
-   cycle times of the group alone, :func:`maxplus.max_cycle_ratio`): the whole
+2. **unbounded places** (first stage, cheap: the cycle times of the group alone,
+   :func:`maxplus.max_cycle_ratio`, which refuses a token-free circuit): the whole
    report lists them in the place order of the whole graph, which
    :func:`~tegraph.model.build.build_teg` builds owner by owner (clocks, then
    each task's chain in file order, then links, then threads), each owner's places
@@ -51,10 +51,9 @@ from typing import Any
 
 import numpy as np
 
-from maxplus import max_cycle_ratio
+from maxplus import ZeroTokenCircuitError, max_cycle_ratio
 
 from ...analysis.analyze import analyze_skeleton
-from ...analysis.liveness import token_free_circuits
 from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
 from ...model.skeleton import Skeleton
@@ -244,9 +243,10 @@ class IncrementalJudge:
         teg = build_teg(part)
         a = teg.arrays()
         n = teg.n_transitions
-        if token_free_circuits(a.src, a.dst, a.tokens, n):
+        try:  # the kernel refuses a token-free circuit: the group is dead (Commoner)
+            mcr = max_cycle_ratio(a.src, a.dst, a.holding, a.tokens, n_nodes=n)
+        except ZeroTokenCircuitError:
             return GroupRates(False)
-        mcr = max_cycle_ratio(a.src, a.dst, a.holding, a.tokens, n_nodes=n)
         num, den = mcr.cycle_time_num, mcr.cycle_time_den
         # chi_out > chi_in, compared exactly by cross-multiplication (as analyze does).
         slower = np.flatnonzero(num[a.dst] * den[a.src] > num[a.src] * den[a.dst])
