@@ -221,6 +221,17 @@ def argmax_ratio(num: np.ndarray, den: np.ndarray) -> int:
     else:
         # Float division of exact ints errs by a few ulps; 1e-9 relative is ample.
         cand = np.flatnonzero(approx >= top - abs(top) * 1e-9 - 1e-300)
+    if len(cand) > 1:
+        # Most graphs give most nodes one cycle time: one exact comparison of
+        # every candidate with the first settles that case (nothing above it:
+        # it is the first of the largest), where the tournament took log2 of
+        # the candidates' count in rounds (0.3 ms of a 12 ms solve at 10^4 nodes).
+        # Otherwise the largest lie among those strictly above it, in order.
+        head = cand[:1]
+        above = compare_ratios(num[cand], den[cand], num[head], den[head]) > 0
+        if not above.any():
+            return int(cand[0])
+        cand = cand[above]
     while len(cand) > 1:
         # Pair neighbours; the left one (lower index) wins ties, an odd one out passes.
         left, right = cand[0:len(cand) - 1:2], cand[1::2]

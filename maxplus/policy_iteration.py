@@ -198,8 +198,23 @@ def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     m = len(keys)
     index = np.int32 if max(n, m) < 2**31 else np.int64
     positions = np.arange(m, dtype=index)
+    if _coo_tocsr is not None:
+        # The conversion itself, without the sparse array's checks and copies
+        # (2.5 times faster: 0.11 against 0.27 ms for 4 * 10^4 keys, 3 against
+        # 7.5 ms for 4 * 10^5).
+        starts, order = np.empty(n + 1, dtype=index), np.empty(m, dtype=index)
+        ones = np.ones(m, dtype=np.int8)
+        _coo_tocsr(n, m, m, keys.astype(index, copy=False), positions, ones, starts, order,
+                   np.empty(m, dtype=np.int8))
+        return order, starts
     matrix = sp.csr_array((np.ones(m, dtype=np.int8), (keys, positions)), shape=(n, m))
     return matrix.indices.astype(index, copy=False), matrix.indptr.astype(index, copy=False)
+
+
+try:  # scipy's own COO to CSR routine (private, in every scipy this project accepts)
+    from scipy.sparse._sparsetools import coo_tocsr as _coo_tocsr
+except ImportError:  # pragma: no cover - a scipy that moved it: the public conversion
+    _coo_tocsr = None
 
 
 _OutArcs: TypeAlias = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Any]
@@ -884,9 +899,12 @@ def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cy
     # Root of each circuit: its smallest node, i.e. its first position (the
     # circuit nodes are sorted), so that an unchanged circuit keeps its root
     # from one iteration to the next.
-    walks = (_walk_circuits if c > WALK_MIN_CIRCUIT_NODES else _jump_circuits
-             if c > PYTHON_MAX_CIRCUIT_NODES else _python_circuits)
-    roots, circuit_of, sum_w, sum_t = walks(back, w_cyc, t_cyc)
+    walked = _one_circuit(back, w_cyc, t_cyc) if c > PYTHON_MAX_CIRCUIT_NODES else None
+    if walked is None:
+        walks = (_walk_circuits if c > WALK_MIN_CIRCUIT_NODES else _jump_circuits
+                 if c > PYTHON_MAX_CIRCUIT_NODES else _python_circuits)
+        walked = walks(back, w_cyc, t_cyc)
+    roots, circuit_of, sum_w, sum_t = walked
     # The circuit of root r: its own policy arc and the path back to r.
     closing = back[roots]
     W_c = w_cyc[roots] + sum_w[closing]
@@ -990,6 +1008,39 @@ def _jump_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _W
     slot = np.zeros(c, dtype=back.dtype)
     slot[roots] = np.arange(len(roots), dtype=back.dtype)
     return roots, slot[smallest], sum_w, sum_t
+
+
+def _one_circuit(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _Walked | None:
+    """:func:`_jump_circuits` when the circuit nodes form one circuit; None otherwise.
+
+    One depth-first search in C from position 0 along the circuit: if it
+    visits every position, there is one circuit, rooted at 0, and the sums
+    from the root are cumulative sums along the visit. A long critical
+    circuit is often the only policy circuit (the ring of 10^5 nodes with
+    chords: 24,000 nodes in every iteration; all weights equal: 10^5), and
+    this costs a fifth of :func:`_walk_circuits` there (whose search runs
+    over twice the nodes and three times the arcs, to enter every circuit).
+    When there are several circuits, the search stopped at the end of the
+    first one: a waste of at most one pass.
+    """
+    c = len(back)
+    index = back.dtype
+    following = np.empty(c, dtype=index)
+    following[back] = np.arange(c, dtype=index)
+    graph = sp.csr_array((np.ones(c, dtype=np.int8), following, np.arange(c + 1, dtype=index)),
+                         shape=(c, c))
+    order = depth_first_order(graph, 0, directed=True, return_predecessors=False)
+    if len(order) < c:
+        return None
+    sums = []
+    for values in (w_cyc, t_cyc):
+        along = values[order]
+        along[0] = 0  # the root's own arc closes the circuit
+        along = np.cumsum(along)
+        out = np.empty(c, dtype=along.dtype)
+        out[order] = along
+        sums.append(out)
+    return order[:1], np.zeros(c, dtype=index), sums[0], sums[1]
 
 
 def _walk_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _Walked:

@@ -75,11 +75,12 @@ def fallback_paths(scan: bool):
     """The paths large or unusual graphs take: the bias step's segmented maximum by
     ``reduceat`` (many distinct in-degrees), circuits by pointer jumping (more than
     256 circuit nodes), the policy walk in C, and every sweep round either by a scan
-    of all arcs (``scan``) or by gathering the out-arcs of its nodes."""
+    of all arcs (``scan``) or by gathering the out-arcs of its nodes; and the counting
+    sort by scipy's public sparse conversion (a scipy without the private routine)."""
     names = ["MAX_DEGREE_BLOCKS", "PYTHON_MAX_CIRCUIT_NODES", "SWEEP_FEW", "SCAN_MIN_SHARE",
-             "ROWS_MIN_LEVEL"]
+             "ROWS_MIN_LEVEL", "_coo_tocsr"]
     saved = [getattr(pi, x) for x in names], cr.WALK_IN_PYTHON
-    for name, value in zip(names, [0, 0, 0, 10**9 if scan else 0, 0]):
+    for name, value in zip(names, [0, 0, 0, 10**9 if scan else 0, 0, None]):
         setattr(pi, name, value)
     cr.WALK_IN_PYTHON = 1
     try:
@@ -135,6 +136,23 @@ def test_block_maxima_find_the_first_best_in_arc():
     assert terms.terms(0, 1, np.array([1, 5])).tolist() == [5, 3]
 
 
+@settings(deadline=None, max_examples=60)
+@given(st.lists(st.integers(0, 9), max_size=40))
+def test_stable_order_with_and_without_the_private_conversion(keys):
+    """Both counting sorts give numpy's stable argsort and the segment offsets."""
+    keys = np.array(keys, dtype=np.int64)
+    expected = np.argsort(keys, kind="stable").tolist()
+    offsets = np.searchsorted(np.sort(keys), np.arange(11)).tolist()  # 10 keys: 11 offsets
+    saved = pi._coo_tocsr
+    try:
+        for routine in (saved, None):
+            pi._coo_tocsr = routine
+            order, starts = pi.stable_order(keys, 10)
+            assert order.tolist() == expected and starts.tolist() == offsets
+    finally:
+        pi._coo_tocsr = saved
+
+
 def test_policy_digests_tell_policies_apart():
     digest = pi._PolicyDigest(5)
     a = np.array([0, 1, 2, 3, 4], dtype=np.int32)
@@ -159,6 +177,47 @@ def test_circuits_walked_in_python_as_by_pointer_jumping(back, weights):
         for a, b in zip(jumped, walked):
             assert a.tolist() == b.tolist()
         assert walked[2].dtype == w.dtype
+
+
+@settings(deadline=None, max_examples=80)
+@given(st.permutations(range(12)), st.lists(st.integers(-2**70, 2**70), min_size=12,
+                                            max_size=12))
+def test_one_circuit_is_walked_as_by_pointer_jumping(back, weights):
+    """_one_circuit gives what both general walks give when the positions form one
+    circuit, and declines (None) when they form several."""
+    back = np.array(back, dtype=np.int32)
+    # Count the circuits of the permutation by hand: follow each unseen position.
+    seen, circuits = set(), 0
+    for p in range(12):
+        if p not in seen:
+            circuits += 1
+            while p not in seen:
+                seen.add(p)
+                p = int(back[p])
+    tokens = np.arange(1, 13, dtype=np.int64)
+    for w in (np.array([x % 1000 for x in weights], dtype=np.int64),
+              np.array(weights, dtype=object)):
+        one = pi._one_circuit(back, w, tokens)
+        if circuits > 1:
+            assert one is None
+            continue
+        assert one is not None
+        for general in (pi._jump_circuits(back, w, tokens), pi._walk_circuits(back, w, tokens)):
+            for a, b in zip(one, general):
+                assert a.tolist() == b.tolist()
+        assert one[2].dtype == w.dtype
+
+
+def test_one_long_circuit_by_hand():
+    """Positions 0 -> 2 -> 1 -> 3 -> 0 (back maps each to its predecessor): one circuit,
+    rooted at 0; the sums from the root along 2, 1, 3 are 20, 20 + 10, 20 + 10 + 30."""
+    back = np.array([3, 2, 0, 1], dtype=np.int32)
+    w = np.array([40, 10, 20, 30], dtype=np.int64)
+    t = np.array([1, 2, 3, 4], dtype=np.int64)
+    roots, circuit_of, sum_w, sum_t = pi._one_circuit(back, w, t)
+    assert roots.tolist() == [0] and circuit_of.tolist() == [0, 0, 0, 0]
+    assert sum_w.tolist() == [0, 30, 20, 60] and sum_t.tolist() == [0, 5, 3, 9]
+    assert pi._one_circuit(np.array([1, 0, 3, 2], dtype=np.int32), w, t) is None
 
 
 def _solve_without_circuit_cache(src, dst, w, t, n):
