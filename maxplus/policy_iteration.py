@@ -196,7 +196,8 @@ def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     ([1, 3, 0, 2], [0, 1, 2, 4])
     """
     m = len(keys)
-    index = np.int32 if max(n, m) < 2**31 else np.int64
+    index = (np.intp if max(n, m) <= INTP_MAX_ARCS else np.int32 if max(n, m) < 2**31
+             else np.int64)
     positions = np.arange(m, dtype=index)
     if _coo_tocsr is not None:
         # The conversion itself, without the sparse array's checks and copies
@@ -209,6 +210,14 @@ def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
         return order, starts
     matrix = sp.csr_array((np.ones(m, dtype=np.int8), (keys, positions)), shape=(n, m))
     return matrix.indices.astype(index, copy=False), matrix.indptr.astype(index, copy=False)
+
+
+INTP_MAX_ARCS = 2**21
+"""Up to this many keys (arcs) and nodes, the kernel's index arrays are ``intp``,
+above it int32 (int64 past 2**31). numpy converts every int32 index array to
+``intp`` before a gather (57 against 33 us for 4 * 10^4 entries, 0.72 against
+0.49 ms for 4 * 10^5); int32 halves the index arrays' memory where it counts,
+at 10^6 nodes (whose peak is to stay under 1 GiB)."""
 
 
 try:  # scipy's own COO to CSR routine (private, in every scipy this project accepts)

@@ -75,12 +75,13 @@ def fallback_paths(scan: bool):
     """The paths large or unusual graphs take: the bias step's segmented maximum by
     ``reduceat`` (many distinct in-degrees), circuits by pointer jumping (more than
     256 circuit nodes), the policy walk in C, and every sweep round either by a scan
-    of all arcs (``scan``) or by gathering the out-arcs of its nodes; and the counting
-    sort by scipy's public sparse conversion (a scipy without the private routine)."""
+    of all arcs (``scan``) or by gathering the out-arcs of its nodes; the counting
+    sort by scipy's public sparse conversion (a scipy without the private routine),
+    and int32 indices (graphs of more than ``INTP_MAX_ARCS`` arcs)."""
     names = ["MAX_DEGREE_BLOCKS", "PYTHON_MAX_CIRCUIT_NODES", "SWEEP_FEW", "SCAN_MIN_SHARE",
-             "ROWS_MIN_LEVEL", "_coo_tocsr"]
+             "ROWS_MIN_LEVEL", "_coo_tocsr", "INTP_MAX_ARCS"]
     saved = [getattr(pi, x) for x in names], cr.WALK_IN_PYTHON
-    for name, value in zip(names, [0, 0, 0, 10**9 if scan else 0, 0, None]):
+    for name, value in zip(names, [0, 0, 0, 10**9 if scan else 0, 0, None, 0]):
         setattr(pi, name, value)
     cr.WALK_IN_PYTHON = 1
     try:
@@ -143,14 +144,15 @@ def test_stable_order_with_and_without_the_private_conversion(keys):
     keys = np.array(keys, dtype=np.int64)
     expected = np.argsort(keys, kind="stable").tolist()
     offsets = np.searchsorted(np.sort(keys), np.arange(11)).tolist()  # 10 keys: 11 offsets
-    saved = pi._coo_tocsr
+    saved, saved_max = pi._coo_tocsr, pi.INTP_MAX_ARCS
     try:
-        for routine in (saved, None):
-            pi._coo_tocsr = routine
+        for routine, intp_max in ((saved, 10**9), (None, 10**9), (saved, 0), (None, 0)):
+            pi._coo_tocsr, pi.INTP_MAX_ARCS = routine, intp_max
             order, starts = pi.stable_order(keys, 10)
             assert order.tolist() == expected and starts.tolist() == offsets
+            assert order.dtype == (np.intp if intp_max else np.int32)
     finally:
-        pi._coo_tocsr = saved
+        pi._coo_tocsr, pi.INTP_MAX_ARCS = saved, saved_max
 
 
 def test_policy_digests_tell_policies_apart():
