@@ -581,8 +581,8 @@ class _ArcTerms:
         value += self.block_keys
         best = np.empty(len(X), dtype=np.int64)
         for arc_at, d, node_at, k in self.blocks:
-            np.max(value[arc_at:arc_at + d * k].reshape(d, k), axis=0,
-                   out=best[node_at:node_at + k])
+            np.maximum.reduce(value[arc_at:arc_at + d * k].reshape(d, k), axis=0,
+                              out=best[node_at:node_at + k])
         hit = np.flatnonzero((best >> bits) > X[self.block_nodes])
         return self.block_nodes[hit], best[hit]
 
