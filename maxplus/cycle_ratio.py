@@ -502,8 +502,15 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         ratio = Fraction(int(num[best]), scale * int(den[best]))
     # Cycle times in lowest terms, with the weight scale folded in (in Python
     # ints when den * scale could leave int64).
-    scaled_den = den * scale if abs_max(den) * scale < INT64_SAFE else den.astype(object) * scale
-    ct_num, ct_den = _reduce(num, scaled_den, den != 0)
+    if scale == 1:
+        # Howard's ratios are in lowest terms already (each circuit's W/T is
+        # reduced) and nodes without a cycle time hold 0/0: what _reduce would
+        # give, without its gcd per node (3.5 ms at 10^5 nodes).
+        ct_num, ct_den = num.copy(), den.copy()
+    else:
+        scaled_den = (den * scale if abs_max(den) * scale < INT64_SAFE
+                      else den.astype(object) * scale)
+        ct_num, ct_den = _reduce(num, scaled_den, den != 0)
     cert = CycleRatioCertificate(scale, num, den, potential, policy, circuit)
     return CycleRatioResult(ratio=ratio, circuit=circuit, cycle_time_num=ct_num,
                             cycle_time_den=ct_den, certificate=cert, src=src, dst=dst,

@@ -88,6 +88,10 @@ def check_kernel(n, arcs):
     assert r.ratio == top
     assert r.cycle_times == ct
     assert r.verify()
+    # The cycle-time arrays themselves in lowest terms (Fraction would hide a
+    # common factor), 0/0 where there is none: integer weights take no gcd pass.
+    for v, (a, b) in enumerate(zip(r.cycle_time_num.tolist(), r.cycle_time_den.tolist())):
+        assert (a, b) == ((0, 0) if ct[v] is None else (ct[v].numerator, ct[v].denominator))
     if top is not None:
         c = r.circuit.tolist()
         assert Fraction(sum(w[k] for k in c), sum(t[k] for k in c)) == top
