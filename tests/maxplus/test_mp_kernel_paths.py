@@ -155,6 +155,30 @@ def test_stable_order_with_and_without_the_private_conversion(keys):
         pi._coo_tocsr, pi.INTP_MAX_ARCS = saved, saved_max
 
 
+@settings(deadline=None, max_examples=80)
+@given(st.integers(1, 8).flatmap(lambda n: st.tuples(
+    st.just(n),
+    st.lists(st.tuples(st.integers(0, n - 1), st.integers(0, n - 1), st.integers(-3, 3)),
+             min_size=0, max_size=30))))
+def test_initial_policy_by_blocks_is_the_first_heaviest_in_arc(g):
+    """The policy found by blocks of equal in-degree is, per node, its first in-arc
+    (in head order) of largest weight, found here by a loop over the arcs."""
+    n, extra = g
+    # Every node gets an in-arc (a ring), then the drawn arcs: degrees vary, ties abound.
+    arcs = [(v, (v + 1) % n, 0) for v in range(n)] + extra
+    src, dst, w = (np.array(c, dtype=np.int64) for c in zip(*arcs))
+    t = np.ones(len(arcs), dtype=np.int64)
+    sorted_arcs = pi._InArcs(src, dst, w, t, n)
+    found = pi._ArcTerms(sorted_arcs, pi._Bounds(sorted_arcs)).initial_policy()
+    expected = []
+    for v in range(n):  # sorted by head, then by input order (a stable sort)
+        ins = [k for k in range(len(arcs)) if dst[k] == v]
+        best = max(w[k] for k in ins)
+        expected.append(next(k for k in ins if w[k] == best))
+    assert sorted_arcs.order[found].tolist() == expected
+    assert found.tolist() == sorted_arcs.initial_policy().tolist()
+
+
 def test_policy_digests_tell_policies_apart():
     digest = pi._PolicyDigest(5)
     a = np.array([0, 1, 2, 3, 4], dtype=np.int32)
