@@ -31,19 +31,20 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 
 CHILD = """
-import resource, sys
+import atexit, resource, sys
 from tegraph.cli import main
 rss_file = sys.argv.pop(1)
 sys.argv = ["tegraph", "analyze", *sys.argv[1:]]
-code = 0
-try:
-    main()
-except SystemExit as exc:
-    code = exc.code
-use = resource.getrusage(resource.RUSAGE_SELF)
-with open(rss_file, "w") as fh:
-    fh.write(f"{use.ru_maxrss} {use.ru_utime + use.ru_stime}")
-sys.exit(code)
+
+
+def usage():  # an exit handler: main() ends the process itself once they have run
+    use = resource.getrusage(resource.RUSAGE_SELF)
+    with open(rss_file, "w") as fh:
+        fh.write(f"{use.ru_maxrss} {use.ru_utime + use.ru_stime}")
+
+
+atexit.register(usage)
+main()
 """
 
 CASES = [("groups", 1_000, (), None), ("groups", 10_000, (), None),
