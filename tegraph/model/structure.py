@@ -144,8 +144,11 @@ def label_events(teg: TimedEventGraph, group_of: Mapping[str, int],
     >>> from tegraph.model.build import build_teg
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
     ...                                    "B": {"duration": 1}}})
-    >>> label_events(build_teg(sk), {"A": 7, "B": 3}, {}).tolist()
-    [7, 7, -1, 3]
+    >>> g = build_teg(sk)  # events: A's clock tick, A.activate, A.compute, B.compute
+    >>> label_events(g, {"A": 7, "B": 3}, {"A.clock": 7}).tolist()
+    [7, 7, 7, 3]
+    >>> label_events(g, {"A": 7, "B": 3}, {}).tolist()  # a clock in no group
+    [-1, 7, 7, 3]
     """
     out = np.full(teg.n_transitions, -1, dtype=np.int64)
     for task, chain in teg.attrs["chains"].items():
