@@ -114,16 +114,14 @@ class _Part:
         n = d.n_events
         self.queues = [deque([a] * m) for a, m in zip(d.p_init, d.p_tokens)]
         # The hot loop reads each event's places through their queues, bound once
-        # (a firing then costs no index look-ups): the input queues of each event,
-        # with their places (for the tight marks); (queue, hold, event) out of each
-        # event; (queue, event) for the places the end of each task's job fills.
-        self.in_queues: list[list[deque[int]]] = [[] for _ in range(n)]
+        # (a firing then costs no index look-ups): (place, queue) into each event,
+        # the place for the tight marks; (queue, hold, event) out of each event;
+        # (queue, event) for the places the end of each task's job fills.
         self.in_pairs: list[list[tuple[int, deque[int]]]] = [[] for _ in range(n)]
         self.out_arcs: list[list[tuple[deque[int], int, int]]] = [[] for _ in range(n)]
         self.job_arcs: list[list[tuple[deque[int], int]]] = [[] for _ in d.duration]
         for p, (s, t, queue, job, hold) in enumerate(zip(d.p_src, d.p_dst, self.queues,
                                                          d.p_job, d.p_hold)):
-            self.in_queues[t].append(queue)
             self.in_pairs[t].append((p, queue))
             if job:
                 self.job_arcs[d.compute_task[s]].append((queue, t))
@@ -164,12 +162,12 @@ class _Part:
                 self._job_done(proc, now, work)
         while future and future[0][0] <= now:
             work.append(heapq.heappop(future)[1])
-        in_queues, fire = self.in_queues, self._fire
+        in_pairs, fire = self.in_pairs, self._fire
         while work and not self.cut:
             e = work.pop()
-            queues = in_queues[e]
+            inputs = in_pairs[e]
             while True:  # fire e as long as every input place has an available token
-                for q in queues:
+                for _, q in inputs:
                     if not q or q[0] > now:
                         break
                 else:

@@ -419,9 +419,9 @@ class _Outcome:
         self.regimes: list[dict[str, Any]] = []
         self.undecided: list[str] = []
         self.by_theorem = 0
+        """Parts decided by the critical instant (``critical_instant.py``)."""
         self.after_overrun = 0
         """Parts whose search for a regime stopped past their first overrun (AFTER_OVERRUN)."""
-        """Parts decided by the critical instant (``critical_instant.py``)."""
         self.events = 0
         self.rate: dict[int, set] = {}
         """Group -> the cycle times of its events (None: an event that stops)."""
