@@ -71,7 +71,7 @@ from .results import (
 )
 from .slack import shortest_circuits_through
 
-__all__ = ["analyze_skeleton"]
+__all__ = ["analyze_skeleton", "unbounded_mask"]
 
 
 
@@ -278,12 +278,26 @@ def _cycle_times(g: _EventGraph, dead_groups: set[int]) -> _Periods:
     return _Periods(mcr, verified, cycle_times, live_event, lp)
 
 
+def unbounded_mask(num: np.ndarray, den: np.ndarray, src: np.ndarray, dst: np.ndarray
+                   ) -> np.ndarray:
+    """Which places fill up without bound: their output event's cycle time
+    ``num/den`` exceeds their input event's (chi_out > chi_in), compared exactly
+    by cross-multiplication.
+
+    Events of cycle times 3 and 5/2; place 0 goes 3 -> 5/2 (its reader is faster),
+    place 1 goes 5/2 -> 3 (its reader is slower: it fills):
+
+    >>> unbounded_mask(np.array([3, 5]), np.array([1, 2]), np.array([0, 1]),
+    ...                np.array([1, 0])).tolist()
+    [False, True]
+    """
+    return num[dst] * den[src] > num[src] * den[dst]
+
+
 def _unbounded_places(g: _EventGraph, periods: _Periods) -> list[UnboundedPlace]:
     lp = periods.live_places
-    num, den = periods.mcr.cycle_time_num, periods.mcr.cycle_time_den
-    ins, outs = g.src[lp], g.dst[lp]
-    # chi_out > chi_in, compared exactly by cross-multiplication.
-    slower = num[outs] * den[ins] > num[ins] * den[outs]
+    slower = unbounded_mask(periods.mcr.cycle_time_num, periods.mcr.cycle_time_den,
+                            g.src[lp], g.dst[lp])
     ct = periods.cycle_times
     out = []
     for k in lp[slower].tolist():

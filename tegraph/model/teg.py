@@ -247,6 +247,7 @@ class TimedEventGraph:
         ...
         tegraph.errors.ModelError: place a -> b: unknown event 'b'
         """
+        label = f"{src} -> {dst}" if name is None else name
         index = self._index
         if (type(src) is str and type(dst) is str and src in index and dst in index
                 and type(tokens) is int and 0 <= tokens <= MAX_COUNT
@@ -254,12 +255,10 @@ class TimedEventGraph:
                 and type(initial) is Fraction and initial.numerator >= 0):
             # The builder's own places (events by name, exact times, counts in range)
             # need none of the checks below, nor the words of their errors.
-            label = f"{src} -> {dst}" if name is None else name
             self._places.append(Place(index[src], index[dst], tokens, holding, initial,
                                       str(kind or ""), label, origin))
             self._cache.clear()
             return len(self._places) - 1
-        label = f"{src} -> {dst}" if name is None else name
         s = self._resolve(src, f"place {label}")
         d = self._resolve(dst, f"place {label}")
         if name is None:

@@ -53,7 +53,7 @@ import numpy as np
 
 from maxplus import ZeroTokenCircuitError, max_cycle_ratio
 
-from ...analysis.analyze import analyze_skeleton
+from ...analysis.analyze import analyze_skeleton, unbounded_mask
 from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
 from ...model.skeleton import Skeleton
@@ -247,9 +247,8 @@ class IncrementalJudge:
             mcr = max_cycle_ratio(a.src, a.dst, a.holding, a.tokens, n_nodes=n)
         except ZeroTokenCircuitError:
             return GroupRates(False)
-        num, den = mcr.cycle_time_num, mcr.cycle_time_den
-        # chi_out > chi_in, compared exactly by cross-multiplication (as analyze does).
-        slower = np.flatnonzero(num[a.dst] * den[a.src] > num[a.src] * den[a.dst])
+        slower = np.flatnonzero(unbounded_mask(mcr.cycle_time_num, mcr.cycle_time_den,
+                                               a.src, a.dst))
         if not len(slower):
             return GroupRates(True)
         k = int(slower[0])
