@@ -200,8 +200,13 @@ def _breadth_levels(n: int, s_sorted: np.ndarray, d_by_src: np.ndarray, dst: np.
                     active: np.ndarray) -> np.ndarray | None:
     """Levels by a numpy breadth-first pass, one pass per level; None for a thin DAG.
 
-    A long chain would take a pass per event: past ``2 * _THIN`` levels holding
-    fewer than ``_THIN`` places each on average, :func:`_kahn_levels` takes over.
+    A long chain would take a pass per event: when the levels since the last
+    checkpoint (at ``2 * _THIN`` levels, then at each doubling of the depth)
+    held fewer than ``_THIN`` places each on average, :func:`_kahn_levels`
+    takes over. The checkpoints double so that a broad head followed by a long
+    thin tail (a clock per task: 10,000 ticks at level 0, then a chain of
+    30,000 levels) is caught after at most twice the levels of its head, and
+    a broad DAG is never handed to Python.
     """
     indegree = np.bincount(dst, minlength=n)
     level = np.full(n, -1, dtype=np.int64)
@@ -210,6 +215,7 @@ def _breadth_levels(n: int, s_sorted: np.ndarray, d_by_src: np.ndarray, dst: np.
     ends_src = np.searchsorted(s_sorted, np.arange(n), side="right")
     depth = 0
     seen = 0
+    checkpoint, since_depth, since_seen = 2 * _THIN, 0, 0
     remaining = indegree.copy()
     while len(frontier):
         level[frontier] = depth
@@ -217,8 +223,10 @@ def _breadth_levels(n: int, s_sorted: np.ndarray, d_by_src: np.ndarray, dst: np.
         if lengths.sum() == 0:
             break
         seen += int(lengths.sum())
-        if depth == 2 * _THIN and seen < _THIN * depth:
-            return None
+        if depth == checkpoint:
+            if seen - since_seen < _THIN * (depth - since_depth):
+                return None
+            checkpoint, since_depth, since_seen = 2 * depth, depth, seen
         idx = np.repeat(starts_src[frontier], lengths) + _ragged_arange(lengths)
         succ = d_by_src[idx]
         np.subtract.at(remaining, succ, 1)
@@ -673,9 +681,22 @@ def _dense(rows: list[dict[int, int]], n: int) -> tuple[np.ndarray, np.ndarray]:
 def _square(a: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """A ⊗ A in the (max,+) semiring, exact (Python ints; ε where ``finite`` is False)."""
     values, finite = a
-    sums = values[:, :, None] + values[None, :, :]
+    narrow = _narrow(values, finite)
+    # The cube of sums is the cost: in int64 when every sum fits (exact), else
+    # Python ints (powers past 2**doublings activations grow without bound).
+    sums = (narrow[:, :, None] + narrow[None, :, :] if narrow is not None
+            else values[:, :, None] + values[None, :, :])
     both = finite[:, :, None] & finite[None, :, :]
     return _max_over(sums, both, axis=1)
+
+
+def _narrow(values: np.ndarray, finite: np.ndarray) -> np.ndarray | None:
+    """``values`` as int64 (0 where not finite) when the sum of any two finite
+    entries fits in int64; else None."""
+    entries = values[finite].tolist()
+    if entries and max(-min(entries), max(entries)) >= 2**62:
+        return None
+    return np.where(finite, values, 0).astype(np.int64)
 
 
 def _apply(a: tuple[np.ndarray, np.ndarray], x: np.ndarray, xf: np.ndarray
@@ -690,7 +711,8 @@ def _max_over(sums: np.ndarray, ok: np.ndarray, axis: int) -> tuple[np.ndarray, 
     any_ok = np.asarray(ok.any(axis=axis))  # an array: ok has 2 or 3 axes
     if not ok.any():
         return np.zeros(any_ok.shape, dtype=object), any_ok
-    low = min(sums[ok].tolist()) - 1  # below every entry that counts
+    # Below every entry that counts (int64 sums lie within ±2**63, so low does too).
+    low = (min(sums[ok].tolist()) if sums.dtype == object else int(sums[ok].min())) - 1
     out = np.where(ok, sums, low).max(axis=axis)
     out = np.where(any_ok, out, 0).astype(object)
     return out, any_ok

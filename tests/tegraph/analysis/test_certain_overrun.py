@@ -7,6 +7,7 @@ of the method ("A certain overrun, located exactly").
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -77,3 +78,29 @@ def test_powers_agree_with_the_timed_exploration(writer_tenths, writer_duration,
     timed = reach(sk, timed=True, max_states=200_000).tasks["A"]
     assert timed.decided and found.overrun_decided
     assert found.overrun_at == timed.overrun_at
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 7), st.data())
+def test_a_power_squared_matches_the_definition(n, data):
+    # (A ⊗ A)[i, j] = max over k of A[i, k] + A[k, j] among finite entries: checked
+    # by the definition in Python ints, with entries small (the int64 cube) and near
+    # or past 2**62 (the sums then leave int64: Python ints, exact).
+    from tegraph.analysis.dynamics import _square
+
+    size = data.draw(st.sampled_from([10, 2**61, 2**62, 2**70]))
+    cells = data.draw(st.lists(st.one_of(st.none(), st.integers(-size, size)),
+                               min_size=n * n, max_size=n * n))
+    values = np.zeros((n, n), dtype=object)
+    finite = np.zeros((n, n), dtype=bool)
+    for c, v in enumerate(cells):
+        if v is not None:
+            values[c // n, c % n], finite[c // n, c % n] = v, True
+    out, out_finite = _square((values, finite))
+    for i in range(n):
+        for j in range(n):
+            terms = [cells[i * n + k] + cells[k * n + j] for k in range(n)
+                     if cells[i * n + k] is not None and cells[k * n + j] is not None]
+            assert bool(out_finite[i, j]) == bool(terms)
+            if terms:
+                assert out[i, j] == max(terms) and type(out[i, j]) is int
