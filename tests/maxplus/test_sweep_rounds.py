@@ -7,6 +7,13 @@ in the same order, so that Howard's iteration is the same whichever walks.
 Deep chains below a circuit (each round one node: the shape of a skeleton's
 ASYN/SYN chain) and fans (rounds that grow past ``SWEEP_FEW`` and come back)
 make the two disagree if either changes the order of its visits.
+
+The walk replaces the round's *gather* (the out-arcs of its nodes, node by
+node); a round holding a large share of a small graph's nodes is otherwise
+*scanned* (every arc, in head order: ``SCAN_MIN_SHARE``), which visits the
+same arcs in another order and so may keep another of several equally good
+in-arcs. The comparison therefore switches the scan off; the scan is held to
+the same ratios, which do not depend on that choice.
 """
 
 from __future__ import annotations
@@ -19,14 +26,15 @@ from hypothesis import strategies as st
 import maxplus.policy_iteration as pi
 
 
-def solve(src, dst, w, t, n, few):
-    saved = pi.SWEEP_FEW
-    pi.SWEEP_FEW = few
+def solve(src, dst, w, t, n, few, scan=False):
+    saved = pi.SWEEP_FEW, pi.SCAN_MIN_SHARE
+    # A share of 0 never scans (len(level) * 0 > n is false): every round gathers.
+    pi.SWEEP_FEW, pi.SCAN_MIN_SHARE = few, (saved[1] if scan else 0)
     try:
         return pi.howard_arrays(np.array(src), np.array(dst), np.array(w, dtype=np.int64),
                                 np.array(t, dtype=np.int64), n)
     finally:
-        pi.SWEEP_FEW = saved
+        pi.SWEEP_FEW, pi.SCAN_MIN_SHARE = saved
 
 
 def same(a, b):
@@ -60,6 +68,28 @@ def test_small_rounds_in_python_switch_as_the_vectorized_ones(graph):
     # Both are Howard's answer: the circuit 0 -> 1 -> 0 has ratio (5 + 3)/2 = 4, the
     # other 1; every tail node is reached from node 0, 1, 2 or 3 by its feeders.
     assert walked.ratio_num[0] * 1 == 4 * walked.ratio_den[0]
+    # The scanned rounds may keep other in-arcs of equal rank (this graph found it:
+    # node 11 fed from nodes 4 and 10, both raised to 4 in one round), never other
+    # ratios.
+    scanned = solve(*graph, few=0, scan=True)
+    assert scanned.ratio_num.tolist() == walked.ratio_num.tolist()
+    assert scanned.ratio_den.tolist() == walked.ratio_den.tolist()
+
+
+def test_a_scanned_round_may_keep_another_equal_in_arc():
+    # Hypothesis' counter-example to comparing the walk with the scan: node 11 has
+    # in-arcs 15 (from 10) and 16 (from 4); both tails are raised to ratio 4 in one
+    # round. Gathered node by node (4 then 10) the last written is arc 15, as the
+    # walk keeps; scanned in head order the arcs come 15, 16 and arc 16 stays.
+    graph = ([0, 1, 2, 3, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 2, 10, 4],
+             [1, 0, 3, 2, 4, 4, 5, 6, 7, 7, 7, 8, 9, 10, 10, 11, 11],
+             [5, 3, 1, 1, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0],
+             [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0], 12)
+    walked, gathered = solve(*graph, few=pi.SWEEP_FEW), solve(*graph, few=0)
+    scanned = solve(*graph, few=0, scan=True)
+    assert same(walked, gathered) and walked.policy[11] == 15
+    assert scanned.policy[11] == 16
+    assert scanned.ratio_num.tolist() == walked.ratio_num.tolist()
 
 
 @pytest.mark.parametrize("length", [1, 17, 5000])
