@@ -116,6 +116,10 @@ def check_name(name: Any, path: KeyPath, what: str, loc: Locator) -> str:
 
 
 def _check_time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locator) -> None:
+    if type(value) is Fraction:  # the common case: its sign is its numerator's (no ABC)
+        n = value.numerator
+        if n > 0 or (n == 0 and not positive):
+            return
     bound = "> 0" if positive else ">= 0"
     if isinstance(value, bool) or not isinstance(value, (Fraction, Integral)):
         raise loc.error(
@@ -212,7 +216,9 @@ def _check_task(key: Any, task: Task, sk: SkeletonShape, loc: Locator) -> tuple[
     sides: list[set[str]] = []
     for side in ("inputs", "outputs"):
         names = getattr(task, side)
-        if isinstance(names, str) or not isinstance(names, Sequence):
+        # A tuple (what the schema builds) is a Sequence: no abstract-class check.
+        if type(names) is not tuple and (isinstance(names, str)
+                                         or not isinstance(names, Sequence)):
             raise loc.error(f"expected a sequence of port names, got {names!r}", (*path, side))
         for i, port in enumerate(names):
             where = (*path, side, i)

@@ -33,6 +33,7 @@ TASK_KEYS = ("duration", "clock", "period", "phase", "inputs", "outputs", "prior
              "processor")
 LINK_KEYS = ("from", "to", "protocol")
 _PROTOCOLS = ", ".join(p.value for p in Protocol)
+_PROTOCOL_OF = {p.value: p for p in Protocol}
 _NUMBER = 'a finite number such as 2, 0.5 or "7/3"'
 _DECIMAL_INT = re.compile(r"[+-]?[0-9][0-9_]*")
 
@@ -93,12 +94,14 @@ def _text(value: Any, path: KeyPath, what: str, loc: Locator) -> str:
 
 def _time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locator) -> Fraction:
     bound = "> 0" if positive else ">= 0"
-    if path in loc.raw:
+    if loc.raw and path in loc.raw:
         # The text the user wrote is exact ("0.1", "010" is ten); YAML's float or
         # octal reading of it is not. Words like .inf fall through to the checks.
         value = _from_text(loc.raw[path].replace("_", ""), value)
     detail = None
-    if value is None or isinstance(value, (bool, Mapping, list, tuple)):
+    # An int or a text (what a file mostly holds) is no Mapping: no abstract-class check.
+    if value is None or isinstance(value, (bool, list, tuple)) or (
+            type(value) is not int and type(value) is not str and isinstance(value, Mapping)):
         detail = _kind(value)
     elif isinstance(value, float) and not math.isfinite(value):
         detail = "NaN" if math.isnan(value) else "infinity"
@@ -115,7 +118,8 @@ def _time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locator) ->
             detail = f"{value!r}, which has a zero denominator" if zero else _kind(value)
     if detail is not None:
         raise loc.error(f"expected {what} {bound}: {_NUMBER}, got {detail}", path)
-    if result < 0 or (positive and result == 0):
+    # The sign of a Fraction is its numerator's (an int comparison, not Fraction's).
+    if result.numerator < 0 or (positive and result.numerator == 0):
         raise loc.error(f"expected {what} {bound}, got {_time_text(result)}", path)
     return result
 
@@ -229,6 +233,9 @@ def _protocol(value: Any, path: KeyPath, loc: Locator) -> Protocol:
     if isinstance(value, Protocol):
         return value
     text = _text(value, path, f"a protocol ({_PROTOCOLS})", loc)
+    protocol = _PROTOCOL_OF.get(text)  # as written in the spec, the common case
+    if protocol is not None:
+        return protocol
     spelled = "".join(text.split()).upper().replace("-", "/")
     for protocol in Protocol:
         if protocol.value == spelled:
