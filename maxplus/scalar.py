@@ -454,10 +454,14 @@ def exact_text(value: Fraction | int | None) -> str | None:
     """
     if value is None:
         return None
-    value = Fraction(value)
-    if value.denominator == 1:
-        return _int_text(value.numerator)
-    return f"{_int_text(value.numerator)}/{_int_text(value.denominator)}"
+    if type(value) is not Fraction:  # a Fraction is read as it is (no copy: reports write
+        value = Fraction(value)      # tens of thousands of them)
+    n, d = value.numerator, value.denominator
+    if n.bit_length() < _SAFE_BITS and d.bit_length() < _SAFE_BITS:  # str() takes them
+        return str(n) if d == 1 else f"{n}/{d}"
+    if d == 1:
+        return _int_text(n)
+    return f"{_int_text(n)}/{_int_text(d)}"
 
 
 _CHUNK_DIGITS = 1000
