@@ -132,9 +132,15 @@ class _Part:
                 out_later[s].append((queue, hold, t))
             else:
                 out_now[s].append((queue, t))
+        # An event with a self-loop place may refill an input by firing: it is tried
+        # again after each firing. Any other event, once an input place is emptied,
+        # cannot fire again at this instant (only its own firing could refill it).
+        loops = {s for s, t in zip(d.p_src, d.p_dst) if s == t}
         # Everything a firing of each event reads, in one tuple: (inputs, places filled
-        # at once, places filled later, its task or -1, whether it is a watched tick).
-        self.events = [(ins, now_, later, task, e in d.watched) for e, (ins, now_, later, task)
+        # at once, places filled later, its task or -1, whether it is a watched tick,
+        # whether it has a self-loop).
+        self.events = [(ins, now_, later, task, e in d.watched, e in loops)
+                       for e, (ins, now_, later, task)
                        in enumerate(zip(self.in_pairs, out_now, out_later, d.compute_task))]
         self.tight = [-1] * len(d.p_src)
         self.future: list[tuple[int, int]] = [(a, t) for a, t, m in zip(
@@ -177,7 +183,8 @@ class _Part:
         seen: dict[tuple, list[Snapshot]] = {}
         snap_queue = None if d.snapshot_place is None else self.queues[d.snapshot_place]
         comp, stamps, future, touched = self.completions, self.stamp, self.future, self.touched
-        heappop, job_done, dispatch = heapq.heappop, self._job_done, self._dispatch
+        heappop, end_job, dispatch = heapq.heappop, self._end_job, self._dispatch
+        heaps, running, keep_intervals = self.heaps, self.running, self.keep_intervals
         overrun_at = result.overrun_at
         limit = budget
         overrun: int | None = None
@@ -192,8 +199,14 @@ class _Part:
             # processor touched takes its most urgent job.
             while comp and comp[0][0] <= now:
                 _, proc, stamp = heappop(comp)
-                if stamp == stamps[proc]:
-                    job_done(proc, now, work)
+                if stamp == stamps[proc]:  # the running job of proc is done
+                    task = heappop(heaps[proc])[3]
+                    if keep_intervals:
+                        self._record(proc, task, now)
+                    running[proc] = -1
+                    stamps[proc] += 1
+                    touched.add(proc)
+                    end_job(task, now, work)
             while future and future[0][0] <= now:
                 work.append(heappop(future)[1])
             if work:
@@ -238,7 +251,7 @@ class _Part:
         try:
             while work:
                 e = work.pop()
-                inputs, out_now, out_later, task, watched = events[e]
+                inputs, out_now, out_later, task, watched, loop = events[e]
                 while True:  # fire e as long as every input place has an available token
                     for _, q in inputs:
                         if not q or q[0] > now:
@@ -249,9 +262,12 @@ class _Part:
                             return
                         count += 1
                         fired[e] += 1
+                        again = True
                         for p, q in inputs:
                             if q.popleft() == now:
                                 tight[p] = now
+                            if not q:
+                                again = loop
                         if task >= 0:  # its job is released
                             jobs[task].append([now, None])
                             if duration[task] == 0:
@@ -270,19 +286,11 @@ class _Part:
                             heappush(future, (now + hold, dst))
                         if watched:
                             ticked.append(e)
-                        continue
+                        if again:
+                            continue  # try it again
                     break
         finally:
             self.count = count
-
-    def _job_done(self, proc: int, now: int, work: list[int]) -> None:
-        task = heapq.heappop(self.heaps[proc])[3]
-        if self.keep_intervals:
-            self._record(proc, task, now)
-        self.running[proc] = -1
-        self.stamp[proc] += 1
-        self.touched.add(proc)
-        self._end_job(task, now, work)
 
     def _end_job(self, task: int, now: int, work: list[int]) -> None:
         self.remaining[task] = -1
