@@ -132,9 +132,11 @@ class _Part:
                 out_later[s].append((queue, hold, t))
             else:
                 out_now[s].append((queue, t))
-        # An event with a self-loop place may refill an input by firing: it is tried
-        # again after each firing. Any other event, once an input place is emptied,
-        # cannot fire again at this instant (only its own firing could refill it).
+        # After a firing, an event is tried again at once only while every input place
+        # still holds a token, or when it has a self-loop (its firing refills it: tried
+        # at once, the order of the firings stays that of trying every event again).
+        # A place emptied by the firing can only be refilled by another event's firing,
+        # which puts this event back on the list of events to try.
         loops = {s for s, t in zip(d.p_src, d.p_dst) if s == t}
         # Everything a firing of each event reads, in one tuple: (inputs, places filled
         # at once, places filled later, its task or -1, whether it is a watched tick,
