@@ -353,16 +353,25 @@ class _Part:
                 rem[task] = self.done_at[proc] - now
         return rem
 
-    def key(self, now: int, pending: list[int]) -> tuple:
-        d = self.d
-        counts = tuple(len(q) if cap is None or len(q) < cap else cap
-                       for q, cap in zip(self.queues, d.p_cap))
+    def key(self, now: int, pending: list[int], lengths: list[int]) -> tuple:
+        """The state compared at ``now``, ``lengths`` the token count of each place."""
+        counts = list(lengths)
+        for p, cap in self.capped:  # counts above the cap are one key
+            if counts[p] > cap:
+                counts[p] = cap
         # Tokens not yet available (clock self-loops), relative to now.
         ahead = tuple(tuple(max(a - now, 0) for a in self.queues[p]) for p in self.timed)
         # Only the order of the pending jobs matters, not their release times:
         # a job released later comes after every pending one of its priority.
         order = tuple(tuple(x[3] for x in sorted(heap)) for heap in self.heaps if len(heap) > 1)
-        return counts, ahead, tuple(pending), order
+        return tuple(counts), ahead, tuple(pending), order
+
+    @property
+    def capped(self) -> list[tuple[int, int]]:
+        """(place, cap) of the places whose count has a cap (``PartData.p_cap``)."""
+        if not hasattr(self, "_capped"):
+            self._capped = [(p, cap) for p, cap in enumerate(self.d.p_cap) if cap is not None]
+        return self._capped
 
     @property
     def timed(self) -> list[int]:
@@ -371,9 +380,9 @@ class _Part:
             self._timed = [p for p, (h, job) in enumerate(zip(d.p_hold, d.p_job)) if h and not job]
         return self._timed
 
-    def snapshot(self, now: int, pending: list[int]) -> Snapshot:
-        return Snapshot(now, tuple(len(q) for q in self.queues), tuple(self.fired),
-                        tuple(self.finished), tuple(pending))
+    def snapshot(self, now: int, pending: list[int], lengths: list[int]) -> Snapshot:
+        return Snapshot(now, tuple(lengths), tuple(self.fired), tuple(self.finished),
+                        tuple(pending))
 
     def repeats(self, old: Snapshot, new: Snapshot) -> dict[int, int] | None:
         """The growing places when ``new`` repeats ``old`` up to them (proof in docs), else None."""
@@ -408,8 +417,9 @@ def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> Part
 
 def _compare(part: _Part, seen: dict[tuple, list[Snapshot]], now: int) -> bool:
     pending = part.pending(now)
-    key = part.key(now, pending)
-    snap = part.snapshot(now, pending)
+    lengths = list(map(len, part.queues))  # the count of every place, once for both
+    key = part.key(now, pending, lengths)
+    snap = part.snapshot(now, pending, lengths)
     earlier = seen.setdefault(key, [])
     for old in reversed(earlier):
         growing = part.repeats(old, snap)

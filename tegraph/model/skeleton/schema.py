@@ -124,6 +124,17 @@ def _time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locator) ->
     return result
 
 
+_NO_PHASE = Fraction(0)
+
+
+def _phase(body: Mapping[Any, Any], path: KeyPath, loc: Locator) -> Fraction:
+    """The phase of a clock (or of a task's private clock): 0 when not given (most
+    clocks; no number to read)."""
+    if "phase" not in body:
+        return _NO_PHASE
+    return _time(body["phase"], (*path, "phase"), "a phase", False, loc)
+
+
 def _from_text(text: str, parsed: Any) -> Any:
     if ":" in text:
         return text  # YAML 1.1 reads 1:30 as 90 (base 60); YAML 1.2 and users do not
@@ -167,7 +178,7 @@ def _clock(key: str, body: Any, loc: Locator) -> Clock:
     if "period" not in body:
         raise loc.error("missing; expected a period > 0 for every clock", (*path, "period"))
     period = _time(body["period"], (*path, "period"), "a period", True, loc)
-    phase = _time(body.get("phase", 0), (*path, "phase"), "a phase", False, loc)
+    phase = _phase(body, path, loc)
     return Clock(key, period, phase)
 
 
@@ -201,7 +212,7 @@ def _task(key: str, body: Any, declared: Mapping[str, Clock], loc: Locator
                 (*path, "period"),
             )
         period = _time(body["period"], (*path, "period"), "a period", True, loc)
-        phase = _time(body.get("phase", 0), (*path, "phase"), "a phase", False, loc)
+        phase = _phase(body, path, loc)
         private = Clock(clock, period, phase, private=True)
     elif "phase" in body:
         raise loc.error(
