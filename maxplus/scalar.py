@@ -530,7 +530,8 @@ def display_text(value: Fraction | int | None) -> str | None:
     """
     if value is None:
         return None
-    value = Fraction(value)
+    if type(value) is not Fraction:  # a Fraction is read as it is (no copy)
+        value = Fraction(value)
     if value.denominator == 1:
         return _int_text(value.numerator)
     d, places = value.denominator, 0
