@@ -112,13 +112,13 @@ class _Part:
         self.d = d
         self.keep_intervals = True
         n = d.n_events
-        self.queues = [deque([a] * m) for a, m in zip(d.p_init, d.p_tokens)]
+        self.queues = [deque((a,) * m) for a, m in zip(d.p_init, d.p_tokens)]
         # The hot loop reads each event's places through their queues, bound once
         # (a firing then costs no index look-ups): (place, queue) into each event,
-        # the place for the tight marks; (queue, hold, event) out of each event;
-        # (queue, event) for the places the end of each task's job fills.
-        # The places a firing fills at once, (queue, event), and those whose token comes
-        # later, (queue, hold, event): two lists, so a firing tests no hold per place.
+        # the place for the tight marks; out of each event, the places it fills at
+        # once, (queue, event), and those whose token comes later, (queue, hold,
+        # event), in two lists (a firing tests no hold per place); (queue, event) for
+        # the places the end of each task's job fills.
         self.in_pairs: list[list[tuple[int, deque[int]]]] = [[] for _ in range(n)]
         out_now: list[list[tuple[deque[int], int]]] = [[] for _ in range(n)]
         out_later: list[list[tuple[deque[int], int, int]]] = [[] for _ in range(n)]
@@ -185,8 +185,9 @@ class _Part:
         seen: dict[tuple, list[Snapshot]] = {}
         snap_queue = None if d.snapshot_place is None else self.queues[d.snapshot_place]
         comp, stamps, future, touched = self.completions, self.stamp, self.future, self.touched
-        heappop, end_job, dispatch = heapq.heappop, self._end_job, self._dispatch
+        heappop, heappush, end_job = heapq.heappop, heapq.heappush, self._end_job
         heaps, running, keep_intervals = self.heaps, self.running, self.keep_intervals
+        remaining, done_at, run_start = self.remaining, self.done_at, self.run_start
         overrun_at = result.overrun_at
         limit = budget
         overrun: int | None = None
@@ -216,8 +217,24 @@ class _Part:
             if self.ticked:
                 self._check_ticks(now)
             if touched:
+                # Each processor touched goes to its most urgent pending job, preempting
+                # the running one (whose remaining work is then kept).
                 for proc in touched:
-                    dispatch(proc, now)
+                    heap = heaps[proc]
+                    top = heap[0][3] if heap else -1
+                    old = running[proc]
+                    if top == old:
+                        continue
+                    if old >= 0:
+                        remaining[old] = done_at[proc] - now
+                        if keep_intervals:
+                            self._record(proc, old, now)
+                    running[proc] = top
+                    stamps[proc] += 1
+                    if top >= 0:
+                        run_start[proc] = now
+                        done_at[proc] = now + remaining[top]
+                        heappush(comp, (done_at[proc], proc, stamps[proc]))
                 touched.clear()
             if self.cut:
                 result.budget_spent = True
@@ -318,23 +335,6 @@ class _Part:
         self.ticked = []
 
     # ------------------------------------------------------------ processors
-    def _dispatch(self, proc: int, now: int) -> None:
-        """Give ``proc`` to its most urgent pending job (preempting the running one)."""
-        heap = self.heaps[proc]
-        top = heap[0][3] if heap else -1
-        old = self.running[proc]
-        if top == old:
-            return
-        if old >= 0:
-            self.remaining[old] = self.done_at[proc] - now
-            self._record(proc, old, now)
-        self.running[proc] = top
-        self.stamp[proc] += 1
-        if top >= 0:
-            self.run_start[proc] = now
-            self.done_at[proc] = now + self.remaining[top]
-            heapq.heappush(self.completions, (self.done_at[proc], proc, self.stamp[proc]))
-
     def _record(self, proc: int, task: int, end: int) -> None:
         start = self.run_start[proc]
         if end > start and self.keep_intervals:
