@@ -258,7 +258,8 @@ def _endpoint(
 ) -> tuple[str, str]:
     path: KeyPath = ("links", i, end)
     pair = link.writer if end == "from" else link.reader
-    if not (isinstance(pair, tuple) and len(pair) == 2 and all(isinstance(p, str) for p in pair)):
+    if not (isinstance(pair, tuple) and len(pair) == 2 and isinstance(pair[0], str)
+            and isinstance(pair[1], str)):
         raise loc.error(f"expected a (task, port) pair of names, got {pair!r}", path)
     task, port = pair
     if task not in ports:

@@ -258,12 +258,15 @@ def _protocol(value: Any, path: KeyPath, loc: Locator) -> Protocol:
     )
 
 
+_LINK_PARTS = (("from", 'the writer "TASK:PORT"'), ("to", 'the reader "TASK:PORT"'),
+               ("protocol", f"one of {_PROTOCOLS}"))
+
+
 def _link(body: Any, i: int, loc: Locator) -> Link:
     path: KeyPath = ("links", i)
     body = _mapping(body, path, "a mapping with 'from', 'to' and 'protocol'", loc)
     _known_keys(body, LINK_KEYS, path, loc)
-    for key, expected in (("from", 'the writer "TASK:PORT"'), ("to", 'the reader "TASK:PORT"'),
-                          ("protocol", f"one of {_PROTOCOLS}")):
+    for key, expected in _LINK_PARTS:
         if key not in body:
             raise loc.error(f"missing; expected {expected} in every link", (*path, key))
     return Link(_endpoint(body["from"], (*path, "from"), loc),
