@@ -119,13 +119,13 @@ class _Part:
         # once, (queue, event), and those whose token comes later, (queue, hold,
         # event), in two lists (a firing tests no hold per place); (queue, event) for
         # the places the end of each task's job fills.
-        self.in_pairs: list[list[tuple[int, deque[int]]]] = [[] for _ in range(n)]
+        in_pairs: list[list[tuple[int, deque[int]]]] = [[] for _ in range(n)]
         out_now: list[list[tuple[deque[int], int]]] = [[] for _ in range(n)]
         out_later: list[list[tuple[deque[int], int, int]]] = [[] for _ in range(n)]
         self.job_arcs: list[list[tuple[deque[int], int]]] = [[] for _ in d.duration]
         for p, (s, t, queue, job, hold) in enumerate(zip(d.p_src, d.p_dst, self.queues,
                                                          d.p_job, d.p_hold)):
-            self.in_pairs[t].append((p, queue))
+            in_pairs[t].append((p, queue))
             if job:
                 self.job_arcs[d.compute_task[s]].append((queue, t))
             elif hold:
@@ -141,9 +141,11 @@ class _Part:
         # Everything a firing of each event reads, in one tuple: (inputs, places filled
         # at once, places filled later, its task or -1, whether it is a watched tick,
         # whether it has a self-loop).
-        self.events = [(ins, now_, later, task, e in d.watched, e in loops)
-                       for e, (ins, now_, later, task)
-                       in enumerate(zip(self.in_pairs, out_now, out_later, d.compute_task))]
+        # Tuples, not the lists they were built in: no room kept to grow (some 8 MB
+        # at 10,000 tasks, most of them empty ``()``, one object for all).
+        self.events = [(tuple(ins), tuple(now_), tuple(later), task, e in d.watched,
+                        e in loops) for e, (ins, now_, later, task)
+                       in enumerate(zip(in_pairs, out_now, out_later, d.compute_task))]
         self.tight = [-1] * len(d.p_src)
         self.future: list[tuple[int, int]] = [(a, t) for a, t, m in zip(
             d.p_init, d.p_dst, d.p_tokens) if m and a > 0]
