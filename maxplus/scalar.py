@@ -314,8 +314,42 @@ def _text_value(text: str, where: str, original: Any) -> Scalar:
     return value
 
 
+# The numbers a skeleton file mostly holds: "98/3750", "12", "0.5", no blank, no "_",
+# no exponent. Under _PLAIN_LENGTH characters no integer of them nears MAX_DIGITS, so
+# their value is read without the general grammar's size accounting (same value: the
+# test of the grammar compares both paths).
+_PLAIN = re.compile(r"([+-]?)([0-9]+)(?:/([0-9]+)|\.([0-9]+))?")
+_PLAIN_LENGTH = 100
+
+
+def _plain_value(text: str) -> Fraction | None:
+    """The value of a short plain text (see ``_PLAIN``), or None: the general grammar reads it."""
+    if len(text) > _PLAIN_LENGTH:
+        return None
+    m = _PLAIN.fullmatch(text)
+    if m is None:
+        return None
+    sign, whole, q, frac = m.groups()
+    if q is not None:
+        if q.strip("0") == "":
+            return None  # a zero denominator: the general path words the refusal
+        return Fraction(-int(whole) if sign == "-" else int(whole), int(q))
+    if frac is not None:
+        n = int(whole + frac)
+        return Fraction(-n if sign == "-" else n, 10 ** len(frac))
+    n = int(whole)
+    return Fraction(-n if sign == "-" else n)
+
+
 def _parse(value: Any, where: str) -> Scalar:
     """THE conversion of one user value (every reader, option and call goes through it)."""
+    kind = type(value)
+    if kind is int and value.bit_length() < _SAFE_BITS:
+        return Fraction(value)  # the common case, within the bound for sure
+    if kind is str:
+        plain = _plain_value(value)
+        if plain is not None:
+            return plain
     if value is None:
         return EPS
     if isinstance(value, (bool, np.bool_)):
@@ -420,10 +454,14 @@ def exact_text(value: Fraction | int | None) -> str | None:
     """
     if value is None:
         return None
-    value = Fraction(value)
-    if value.denominator == 1:
-        return _int_text(value.numerator)
-    return f"{_int_text(value.numerator)}/{_int_text(value.denominator)}"
+    if type(value) is not Fraction:  # a Fraction is read as it is (no copy: reports write
+        value = Fraction(value)      # tens of thousands of them)
+    n, d = value.numerator, value.denominator
+    if n.bit_length() < _SAFE_BITS and d.bit_length() < _SAFE_BITS:  # str() takes them
+        return str(n) if d == 1 else f"{n}/{d}"
+    if d == 1:
+        return _int_text(n)
+    return f"{_int_text(n)}/{_int_text(d)}"
 
 
 _CHUNK_DIGITS = 1000
@@ -492,7 +530,8 @@ def display_text(value: Fraction | int | None) -> str | None:
     """
     if value is None:
         return None
-    value = Fraction(value)
+    if type(value) is not Fraction:  # a Fraction is read as it is (no copy)
+        value = Fraction(value)
     if value.denominator == 1:
         return _int_text(value.numerator)
     d, places = value.denominator, 0

@@ -12,13 +12,7 @@ command line) loads only what it uses.
 from __future__ import annotations
 
 import importlib
-from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
-
-try:
-    __version__ = version("tegraph")
-except PackageNotFoundError:  # a checkout used without installing it
-    __version__ = "0+unknown"
 
 # name -> module that defines it
 _WHERE = {
@@ -69,7 +63,22 @@ _WHERE = {
 __all__ = list(_WHERE)
 
 
+def _version() -> str:
+    # importlib.metadata and the look-up of the installed distribution cost some 40 ms:
+    # paid when the version is asked for, not by every command at start-up.
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("tegraph")
+    except PackageNotFoundError:  # a checkout used without installing it
+        return "0+unknown"
+
+
 def __getattr__(name: str) -> Any:
+    if name == "__version__":
+        value: Any = _version()
+        globals()[name] = value
+        return value
     if name in _WHERE:
         value = getattr(importlib.import_module(_WHERE[name]), name)
         globals()[name] = value  # later lookups skip this function
@@ -78,7 +87,7 @@ def __getattr__(name: str) -> Any:
 
 
 def __dir__() -> list[str]:
-    return sorted([*globals(), *_WHERE])
+    return sorted({*globals(), *_WHERE, "__version__"})
 
 
 if TYPE_CHECKING:  # static tools see the names where they are defined

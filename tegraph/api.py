@@ -20,13 +20,10 @@ from maxplus.errors import MaxPlusError
 
 from . import io
 from .analysis.analyze import analyze_skeleton
-from .analysis.cycle_time import CycleTimeResult
-from .analysis.cycle_time import cycle_time as cycle_time_of
 from .analysis.results import Report
 from .analysis.sensitivity.margins import duration_margins
 from .design.section import DesignSection, design_section
 from .errors import InputError, TegraphError
-from .io.dot import dot_text
 from .model.budgets import (
     DEFAULT_MAX_BYTES,
     DEFAULT_MAX_FIRINGS,
@@ -37,7 +34,8 @@ from .model.budgets import (
 from .model.skeleton import Skeleton
 from .report.dot import highlights
 
-if TYPE_CHECKING:  # the exploration is imported when called: `analyze` need not load it
+if TYPE_CHECKING:  # imported when called: `analyze` need not load them (some 30 ms)
+    from .analysis.cycle_time import CycleTimeResult
     from .design.explore import Exploration
 
 __all__ = ["analyze", "cycle_time", "explore", "reach", "rules", "to_dot", "write"]
@@ -320,6 +318,8 @@ def cycle_time(source: Any, *, format: str | None = None, verify: bool = True,
         limit = DEFAULT_MAX_BYTES if max_bytes is None else max_bytes  # 0 is no "default"
         source = io.read(path, format, max_bytes=limit)
         read_seconds = time.perf_counter() - t0
+    from .analysis.cycle_time import cycle_time as cycle_time_of
+
     result = cycle_time_of(source, verify=verify, default_holding=default_holding,
                            max_states=max_states, max_seconds=max_seconds,
                            max_memory=max_memory, max_firings=max_firings)
@@ -480,11 +480,15 @@ def to_dot(obj: Any, view: str | None = None) -> str:
     >>> to_dot(g).splitlines()[1]
     '  label="ring: period 5 (critical circuit in red)"; rankdir=LR;'
     """
+    from .io.dot import dot_text
+
     return dot_text(obj, view, highlights(_figures_for_drawing(obj)))
 
 
 def _figures_for_drawing(obj: Any) -> CycleTimeResult | None:
     """The cycle time of what a drawing shows; None when it cannot be had (never a failure)."""
+    from .analysis.cycle_time import cycle_time as cycle_time_of
+
     try:
         # No reachability search for a drawing: a net that is not a marked
         # graph gets its reason as a caption, nothing more.

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from maxplus.scalar import exact_text
 
-from ..analysis.cycle_time import CycleTimeResult
 from ..io.dot import Highlights
+
+if TYPE_CHECKING:  # an annotation only: `analyze` need not load the cycle-time module
+    from ..analysis.cycle_time import CycleTimeResult
 
 __all__ = ["highlights"]
 

@@ -112,21 +112,40 @@ class _Part:
         self.d = d
         self.keep_intervals = True
         n = d.n_events
-        self.queues = [deque([a] * m) for a, m in zip(d.p_init, d.p_tokens)]
+        self.queues = [deque((a,) * m) for a, m in zip(d.p_init, d.p_tokens)]
         # The hot loop reads each event's places through their queues, bound once
         # (a firing then costs no index look-ups): (place, queue) into each event,
-        # the place for the tight marks; (queue, hold, event) out of each event;
-        # (queue, event) for the places the end of each task's job fills.
-        self.in_pairs: list[list[tuple[int, deque[int]]]] = [[] for _ in range(n)]
-        self.out_arcs: list[list[tuple[deque[int], int, int]]] = [[] for _ in range(n)]
+        # the place for the tight marks; out of each event, the places it fills at
+        # once, (queue, event), and those whose token comes later, (queue, hold,
+        # event), in two lists (a firing tests no hold per place); (queue, event) for
+        # the places the end of each task's job fills.
+        in_pairs: list[list[tuple[int, deque[int]]]] = [[] for _ in range(n)]
+        out_now: list[list[tuple[deque[int], int]]] = [[] for _ in range(n)]
+        out_later: list[list[tuple[deque[int], int, int]]] = [[] for _ in range(n)]
         self.job_arcs: list[list[tuple[deque[int], int]]] = [[] for _ in d.duration]
         for p, (s, t, queue, job, hold) in enumerate(zip(d.p_src, d.p_dst, self.queues,
                                                          d.p_job, d.p_hold)):
-            self.in_pairs[t].append((p, queue))
+            in_pairs[t].append((p, queue))
             if job:
                 self.job_arcs[d.compute_task[s]].append((queue, t))
+            elif hold:
+                out_later[s].append((queue, hold, t))
             else:
-                self.out_arcs[s].append((queue, hold, t))
+                out_now[s].append((queue, t))
+        # After a firing, an event is tried again at once only while every input place
+        # still holds a token, or when it has a self-loop (its firing refills it: tried
+        # at once, the order of the firings stays that of trying every event again).
+        # A place emptied by the firing can only be refilled by another event's firing,
+        # which puts this event back on the list of events to try.
+        loops = {s for s, t in zip(d.p_src, d.p_dst) if s == t}
+        # Everything a firing of each event reads, in one tuple: (inputs, places filled
+        # at once, places filled later, its task or -1, whether it is a watched tick,
+        # whether it has a self-loop).
+        # Tuples, not the lists they were built in: no room kept to grow (some 8 MB
+        # at 10,000 tasks, most of them empty ``()``, one object for all).
+        self.events = [(tuple(ins), tuple(now_), tuple(later), task, e in d.watched,
+                        e in loops) for e, (ins, now_, later, task)
+                       in enumerate(zip(in_pairs, out_now, out_later, d.compute_task))]
         self.tight = [-1] * len(d.p_src)
         self.future: list[tuple[int, int]] = [(a, t) for a, t, m in zip(
             d.p_init, d.p_dst, d.p_tokens) if m and a > 0]
@@ -146,89 +165,153 @@ class _Part:
         self.touched: set[int] = set()
         self.result = PartResult(jobs=[[] for _ in d.duration])
         self.ticked: list[int] = []
+        self.hot = (self.events, self.fired, self.tight, self.future, self.result.jobs,
+                    self.remaining, self.heaps, d.duration, d.processor, self.touched,
+                    d.priority, d.file_index)
+        """What ``_fire_all`` reads, bound once (the lists themselves change, never these
+        bindings)."""
         self.count = 0
         self.cut = False
         """An event was enabled when ``count`` had reached the budget (none fired past it)."""
-        self.started = False
 
-    # ------------------------------------------------------------ an instant
-    def instant(self, now: int, budget: int) -> None:
-        work = [] if self.started else list(range(self.d.n_events))
-        self.started = True
-        comp, stamps, future = self.completions, self.stamp, self.future
-        while comp and comp[0][0] <= now:
-            _, proc, stamp = heapq.heappop(comp)
-            if stamp == stamps[proc]:
-                self._job_done(proc, now, work)
-        while future and future[0][0] <= now:
-            work.append(heapq.heappop(future)[1])
-        in_pairs, fire = self.in_pairs, self._fire
-        while work and not self.cut:
-            e = work.pop()
-            inputs = in_pairs[e]
-            while True:  # fire e as long as every input place has an available token
-                for _, q in inputs:
-                    if not q or q[0] > now:
-                        break
-                else:
-                    if self.count >= budget:  # an event still to fire: the budget is spent
-                        self.cut = True
-                        break
-                    fire(e, now, work)
-                    continue
-                break
-        if self.ticked:
-            self._check_ticks(now)
-        if self.touched:
-            for proc in self.touched:
-                self._dispatch(proc, now)
-            self.touched.clear()
+    # ------------------------------------------------------------ the run
+    def run(self, budget: int) -> int:
+        """Simulate from time 0 until a proof or the budget (rules of :func:`simulate_part`);
+        return the last instant.
 
-    def next_instant(self) -> int | None:
-        comp = self.completions
-        while comp and comp[0][2] != self.stamp[comp[0][1]]:
-            heapq.heappop(comp)
-        nxt = self.future[0][0] if self.future else None
-        if comp and (nxt is None or comp[0][0] < nxt):
-            nxt = comp[0][0]
-        return nxt
+        The loop over instants is written out here, on locals (some 100,000 instants
+        on a part of 1,000 tasks on 100 processors: calls and attribute look-ups per
+        instant cost as much as its work).
+        """
+        d, result = self.d, self.result
+        seen: dict[tuple, list[Snapshot]] = {}
+        snap_queue = None if d.snapshot_place is None else self.queues[d.snapshot_place]
+        comp, stamps, future, touched = self.completions, self.stamp, self.future, self.touched
+        heappop, heappush, end_job = heapq.heappop, heapq.heappush, self._end_job
+        heaps, running, keep_intervals = self.heaps, self.running, self.keep_intervals
+        remaining, done_at, run_start = self.remaining, self.done_at, self.run_start
+        overrun_at = result.overrun_at
+        limit = budget
+        overrun: int | None = None
+        work = list(range(d.n_events))  # at time 0 every event is tried
+        now = 0
+        while True:
+            if snap_queue is None or snap_queue[0] == now:
+                if _compare(self, seen, now):
+                    return now
+            # The instant: jobs that end deliver their tokens, tokens that become
+            # available wake their events, every enabled event fires, then each
+            # processor touched takes its most urgent job.
+            while comp and comp[0][0] <= now:
+                _, proc, stamp = heappop(comp)
+                if stamp == stamps[proc]:  # the running job of proc is done
+                    task = heappop(heaps[proc])[3]
+                    if keep_intervals:
+                        self._record(proc, task, now)
+                    running[proc] = -1
+                    stamps[proc] += 1
+                    touched.add(proc)
+                    end_job(task, now, work)
+            while future and future[0][0] <= now:
+                work.append(heappop(future)[1])
+            if work:
+                self._fire_all(now, limit, work)
+            if self.ticked:
+                self._check_ticks(now)
+            if touched:
+                # Each processor touched goes to its most urgent pending job, preempting
+                # the running one (whose remaining work is then kept).
+                for proc in touched:
+                    heap = heaps[proc]
+                    top = heap[0][3] if heap else -1
+                    old = running[proc]
+                    if top == old:
+                        continue
+                    if old >= 0:
+                        remaining[old] = done_at[proc] - now
+                        if keep_intervals:
+                            self._record(proc, old, now)
+                    running[proc] = top
+                    stamps[proc] += 1
+                    if top >= 0:
+                        run_start[proc] = now
+                        done_at[proc] = now + remaining[top]
+                        heappush(comp, (done_at[proc], proc, stamps[proc]))
+                touched.clear()
+            if self.cut:
+                result.budget_spent = True
+                if limit < budget:
+                    result.after_overrun = overrun
+                return now
+            if overrun is None and overrun_at:
+                overrun = self.count
+                limit = min(budget, overrun + max(overrun, budget // AFTER_OVERRUN))
+            # The next instant: the earliest of a token becoming available and a
+            # running job's end (completions of preempted jobs are stale).
+            while comp and comp[0][2] != stamps[comp[0][1]]:
+                heappop(comp)
+            nxt = future[0][0] if future else None
+            if comp and (nxt is None or comp[0][0] < nxt):
+                nxt = comp[0][0]
+            if nxt is None:
+                result.regime = ("stop", now)
+                return now
+            now = nxt
 
-    def _fire(self, e: int, now: int, work: list[int]) -> None:
-        d = self.d
-        self.count += 1
-        self.fired[e] += 1
-        tight = self.tight
-        for p, q in self.in_pairs[e]:
-            if q.popleft() == now:
-                tight[p] = now
-        task = d.compute_task[e]
-        if task >= 0:
-            self.result.jobs[task].append([now, None])
-            if d.duration[task] == 0:
-                self._end_job(task, now, work)
-            else:
-                self.remaining[task] = d.duration[task]
-                proc = d.processor[task]
-                heapq.heappush(self.heaps[proc],
-                               (-d.priority[task], now, d.file_index[task], task))
-                self.touched.add(proc)
-        for q, hold, dst in self.out_arcs[e]:
-            if hold:
-                q.append(now + hold)
-                heapq.heappush(self.future, (now + hold, dst))
-            else:
-                q.append(now)
-                work.append(dst)
-        if e in d.watched:
-            self.ticked.append(e)
+    def _fire_all(self, now: int, budget: int, work: list[int]) -> None:
+        """Fire every event of ``work`` (and those it enables) as long as its input places
+        all hold an available token, until the budget of firings is spent.
 
-    def _job_done(self, proc: int, now: int, work: list[int]) -> None:
-        task = heapq.heappop(self.heaps[proc])[3]
-        self._record(proc, task, now)
-        self.running[proc] = -1
-        self.stamp[proc] += 1
-        self.touched.add(proc)
-        self._end_job(task, now, work)
+        The hot loop of the simulation: one firing is written out here, on locals
+        (a method call and attribute look-ups per firing cost as much as the firing).
+        """
+        (events, fired, tight, future, jobs, remaining, heaps, duration, processor, touched,
+         priority, file_index) = self.hot
+        ticked, push, heappush = self.ticked, work.append, heapq.heappush
+        count = self.count
+        try:
+            while work:
+                e = work.pop()
+                inputs, out_now, out_later, task, watched, loop = events[e]
+                while True:  # fire e as long as every input place has an available token
+                    for _, q in inputs:
+                        if not q or q[0] > now:
+                            break
+                    else:
+                        if count >= budget:  # an event still to fire: the budget is spent
+                            self.cut = True
+                            return
+                        count += 1
+                        fired[e] += 1
+                        again = True
+                        for p, q in inputs:
+                            if q.popleft() == now:
+                                tight[p] = now
+                            if not q:
+                                again = loop
+                        if task >= 0:  # its job is released
+                            jobs[task].append([now, None])
+                            if duration[task] == 0:
+                                self._end_job(task, now, work)
+                            else:
+                                remaining[task] = duration[task]
+                                proc = processor[task]
+                                heappush(heaps[proc],
+                                         (-priority[task], now, file_index[task], task))
+                                touched.add(proc)
+                        for q, dst in out_now:
+                            q.append(now)
+                            push(dst)
+                        for q, hold, dst in out_later:
+                            q.append(now + hold)
+                            heappush(future, (now + hold, dst))
+                        if watched:
+                            ticked.append(e)
+                        if again:
+                            continue  # try it again
+                    break
+        finally:
+            self.count = count
 
     def _end_job(self, task: int, now: int, work: list[int]) -> None:
         self.remaining[task] = -1
@@ -254,23 +337,6 @@ class _Part:
         self.ticked = []
 
     # ------------------------------------------------------------ processors
-    def _dispatch(self, proc: int, now: int) -> None:
-        """Give ``proc`` to its most urgent pending job (preempting the running one)."""
-        heap = self.heaps[proc]
-        top = heap[0][3] if heap else -1
-        old = self.running[proc]
-        if top == old:
-            return
-        if old >= 0:
-            self.remaining[old] = self.done_at[proc] - now
-            self._record(proc, old, now)
-        self.running[proc] = top
-        self.stamp[proc] += 1
-        if top >= 0:
-            self.run_start[proc] = now
-            self.done_at[proc] = now + self.remaining[top]
-            heapq.heappush(self.completions, (self.done_at[proc], proc, self.stamp[proc]))
-
     def _record(self, proc: int, task: int, end: int) -> None:
         start = self.run_start[proc]
         if end > start and self.keep_intervals:
@@ -289,16 +355,25 @@ class _Part:
                 rem[task] = self.done_at[proc] - now
         return rem
 
-    def key(self, now: int, pending: list[int]) -> tuple:
-        d = self.d
-        counts = tuple(len(q) if cap is None or len(q) < cap else cap
-                       for q, cap in zip(self.queues, d.p_cap))
+    def key(self, now: int, pending: list[int], lengths: list[int]) -> tuple:
+        """The state compared at ``now``, ``lengths`` the token count of each place."""
+        counts = list(lengths)
+        for p, cap in self.capped:  # counts above the cap are one key
+            if counts[p] > cap:
+                counts[p] = cap
         # Tokens not yet available (clock self-loops), relative to now.
         ahead = tuple(tuple(max(a - now, 0) for a in self.queues[p]) for p in self.timed)
         # Only the order of the pending jobs matters, not their release times:
         # a job released later comes after every pending one of its priority.
         order = tuple(tuple(x[3] for x in sorted(heap)) for heap in self.heaps if len(heap) > 1)
-        return counts, ahead, tuple(pending), order
+        return tuple(counts), ahead, tuple(pending), order
+
+    @property
+    def capped(self) -> list[tuple[int, int]]:
+        """(place, cap) of the places whose count has a cap (``PartData.p_cap``)."""
+        if not hasattr(self, "_capped"):
+            self._capped = [(p, cap) for p, cap in enumerate(self.d.p_cap) if cap is not None]
+        return self._capped
 
     @property
     def timed(self) -> list[int]:
@@ -307,9 +382,9 @@ class _Part:
             self._timed = [p for p, (h, job) in enumerate(zip(d.p_hold, d.p_job)) if h and not job]
         return self._timed
 
-    def snapshot(self, now: int, pending: list[int]) -> Snapshot:
-        return Snapshot(now, tuple(len(q) for q in self.queues), tuple(self.fired),
-                        tuple(self.finished), tuple(pending))
+    def snapshot(self, now: int, pending: list[int], lengths: list[int]) -> Snapshot:
+        return Snapshot(now, tuple(lengths), tuple(self.fired), tuple(self.finished),
+                        tuple(pending))
 
     def repeats(self, old: Snapshot, new: Snapshot) -> dict[int, int] | None:
         """The growing places when ``new`` repeats ``old`` up to them (proof in docs), else None."""
@@ -335,28 +410,7 @@ def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> Part
     """
     part = _Part(d)
     part.keep_intervals = keep_intervals
-    seen: dict[tuple, list[Snapshot]] = {}
-    now = 0
-    limit = budget
-    overrun: int | None = None
-    while True:
-        if d.snapshot_place is None or part.queues[d.snapshot_place][0] == now:
-            if _compare(part, seen, now):
-                break
-        part.instant(now, limit)
-        if part.cut:
-            part.result.budget_spent = True
-            if limit < budget:
-                part.result.after_overrun = overrun
-            break
-        if overrun is None and part.result.overrun_at:
-            overrun = part.count
-            limit = min(budget, overrun + max(overrun, budget // AFTER_OVERRUN))
-        nxt = part.next_instant()
-        if nxt is None:
-            part.result.regime = ("stop", now)
-            break
-        now = nxt
+    now = part.run(budget)
     part.flush(now)
     part.result.fired = part.count
     part.result.intervals.sort(key=lambda s: (s[0], s[1]))
@@ -365,8 +419,9 @@ def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> Part
 
 def _compare(part: _Part, seen: dict[tuple, list[Snapshot]], now: int) -> bool:
     pending = part.pending(now)
-    key = part.key(now, pending)
-    snap = part.snapshot(now, pending)
+    lengths = list(map(len, part.queues))  # the count of every place, once for both
+    key = part.key(now, pending, lengths)
+    snap = part.snapshot(now, pending, lengths)
     earlier = seen.setdefault(key, [])
     for old in reversed(earlier):
         growing = part.repeats(old, snap)

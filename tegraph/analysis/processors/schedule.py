@@ -307,19 +307,23 @@ class _Net:
         for t, task in self.sk.tasks.items():
             if task.clock is not None:
                 part_of_event[self.teg.attrs["clocks"][task.clock]] = label[index[t]]
-        members: dict[int, list[int]] = {}
-        for e, lab in sorted(part_of_event.items()):
-            if e not in self.zero:
-                members.setdefault(lab, []).append(e)
-        places: dict[int, list[int]] = {}
-        for p, (s, d) in enumerate(zip(self.src, self.dst)):
-            if s in part_of_event and s not in self.zero and d not in self.zero:
-                places.setdefault(part_of_event[s], []).append(p)
+        # Each part's events and places, in increasing order, by numpy over the arrays
+        # (tens of thousands of events and places at 10,000 tasks).
+        part = np.full(self.n, -1, dtype=np.int64)
+        part[np.fromiter(part_of_event, np.int64, len(part_of_event))] = np.fromiter(
+            part_of_event.values(), np.int64, len(part_of_event))
+        zero = np.zeros(self.n, dtype=bool)
+        zero[np.fromiter(self.zero, np.int64, len(self.zero))] = True
+        src, dst = self.teg.arrays().src, self.teg.arrays().dst
+        events = np.flatnonzero((part >= 0) & ~zero)
+        members = _by_label(events, part[events])
+        kept = np.flatnonzero((part[src] >= 0) & ~zero[src] & ~zero[dst])
+        places = _by_label(kept, part[src[kept]])
         by_label: dict[int, list[int]] = {}
         for i, t in enumerate(self.tasks):
             if self.compute[t] not in self.zero:
                 by_label.setdefault(label[i], []).append(i)
-        for lab in sorted(members, key=lambda lab: min(members[lab])):
+        for lab in sorted(members, key=lambda lab: members[lab][0]):
             yield self._part_data(by_label.get(lab, []), members[lab], places.get(lab, []))
 
     def _part_data(self, tasks: list[int], events: list[int], places: list[int]):
@@ -339,7 +343,8 @@ class _Net:
             p_job=[self.src[p] in self.compute_of for p in places],
             p_cap=self._caps(places),
             compute_task=self._compute_task(tasks, events, local),
-            duration=[int(self.sk.tasks[t].duration * self.scale) for t in names],
+            # int(duration * scale), on ints (a duration is >= 0: floor is truncation)
+            duration=[_floor_scaled(self.sk.tasks[t].duration, self.scale) for t in names],
             priority=[self.platform.priority[t] for t in names], file_index=tasks,
             processor=[procs[self.platform.processor_of[t]] for t in names],
             n_processors=len(procs),
@@ -393,6 +398,31 @@ def _end_event(teg: TimedEventGraph, task: str, local: dict[int, int]) -> int | 
     when it ends with the computation: on processors, when its job finishes."""
     end = activation_end(teg, task)
     return None if end.adds_duration else local[end.event]
+
+
+def _floor_scaled(t: Fraction, scale: int) -> int:
+    """``int(t * scale)`` for a time ``t >= 0``, without building the product Fraction.
+
+    >>> _floor_scaled(Fraction(7, 3), 6), _floor_scaled(Fraction(7, 3), 2)
+    (14, 4)
+    """
+    return t.numerator * scale // t.denominator
+
+
+def _by_label(items: np.ndarray, labels: np.ndarray) -> dict[int, list[int]]:
+    """``items`` (increasing) grouped by their ``labels``, each group still increasing.
+
+    >>> _by_label(np.array([1, 4, 6, 9]), np.array([7, 3, 7, 3]))
+    {3: [4, 9], 7: [1, 6]}
+    """
+    if not len(items):
+        return {}
+    order = np.argsort(labels, kind="stable")
+    sorted_labels = labels[order]
+    cuts = np.flatnonzero(sorted_labels[1:] != sorted_labels[:-1]) + 1
+    firsts = np.concatenate(([0], cuts))
+    return {int(lab): chunk.tolist() for lab, chunk in
+            zip(sorted_labels[firsts].tolist(), np.split(items[order], cuts))}
 
 
 def _reach(out: list[list[int]], start: set[int]) -> set[int]:
@@ -464,8 +494,7 @@ class _Outcome:
                                  "length": None})
             for t in names:
                 self.tasks[t].decided = True
-            for e in events:
-                self._rate(e, None)
+            self._rates(events, None)
             return
         self._regime(r, d, names, events, places)
 
@@ -493,9 +522,18 @@ class _Outcome:
                 self._rate(e, v.period[owner[0]])
 
     def _rate(self, event: int, value: Fraction | None) -> None:
-        tasks = self.net.teg.transition_attrs[event].get("tasks")
-        if tasks:
-            self.rate.setdefault(self.net.group_of[tasks[0]], set()).add(value)
+        self._rates([event], value)
+
+    def _rates(self, events: list[int], value: Fraction | None) -> None:
+        """The cycle time ``value`` for the groups of these events (a clock's has none)."""
+        attrs, group_of = self.net.teg.transition_attrs, self.net.group_of
+        groups = set()
+        for event in events:
+            tasks = attrs[event].get("tasks")
+            if tasks:
+                groups.add(group_of[tasks[0]])
+        for g in groups:
+            self.rate.setdefault(g, set()).add(value)
 
     def _regime(self, r: PartResult, d: PartData, names: list[str], events: list[int],
                 places: list[int]) -> None:
@@ -506,12 +544,16 @@ class _Outcome:
                              "length": self._fraction(length)})
         fired = [b - a for a, b in zip(old.fired, new.fired)]
         # The period of an event firing n times a regime: one Fraction per count
-        # (a part of 10,000 tasks has a few counts and some 30,000 events).
+        # (a part of 10,000 tasks has a few counts and some 30,000 events), and each
+        # group's set of them filled once per count (not a Fraction hash per event).
         period: dict[int, Fraction | None] = {0: None}
         for n in set(fired) - {0}:
             period[n] = Fraction(length, n * self.net.scale)
+        counts: dict[int, list[int]] = {}
         for e, n in enumerate(fired):
-            self._rate(events[e], period[n])
+            counts.setdefault(n, []).append(events[e])
+        for n, with_n in counts.items():
+            self._rates(with_n, period[n])
         for p, per in growing.items():
             self._grow(places[p], per)
         compute_of = {j: e for e, j in enumerate(d.compute_task) if j >= 0}

@@ -116,7 +116,7 @@ class Skeleton:
         """
         loc = locator if locator is not None else Locator(file=source)
         sk = cls(**skeleton_fields(data, default_name=name, source=source, locator=loc))
-        check_skeleton(sk, loc)
+        check_skeleton(sk, loc, values_checked=True)
         return sk
 
     def validate(self) -> Skeleton:

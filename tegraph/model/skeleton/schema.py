@@ -33,6 +33,7 @@ TASK_KEYS = ("duration", "clock", "period", "phase", "inputs", "outputs", "prior
              "processor")
 LINK_KEYS = ("from", "to", "protocol")
 _PROTOCOLS = ", ".join(p.value for p in Protocol)
+_PROTOCOL_OF = {p.value: p for p in Protocol}
 _NUMBER = 'a finite number such as 2, 0.5 or "7/3"'
 _DECIMAL_INT = re.compile(r"[+-]?[0-9][0-9_]*")
 
@@ -93,12 +94,14 @@ def _text(value: Any, path: KeyPath, what: str, loc: Locator) -> str:
 
 def _time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locator) -> Fraction:
     bound = "> 0" if positive else ">= 0"
-    if path in loc.raw:
+    if loc.raw and path in loc.raw:
         # The text the user wrote is exact ("0.1", "010" is ten); YAML's float or
         # octal reading of it is not. Words like .inf fall through to the checks.
         value = _from_text(loc.raw[path].replace("_", ""), value)
     detail = None
-    if value is None or isinstance(value, (bool, Mapping, list, tuple)):
+    # An int or a text (what a file mostly holds) is no Mapping: no abstract-class check.
+    if value is None or isinstance(value, (bool, list, tuple)) or (
+            type(value) is not int and type(value) is not str and isinstance(value, Mapping)):
         detail = _kind(value)
     elif isinstance(value, float) and not math.isfinite(value):
         detail = "NaN" if math.isnan(value) else "infinity"
@@ -115,9 +118,21 @@ def _time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locator) ->
             detail = f"{value!r}, which has a zero denominator" if zero else _kind(value)
     if detail is not None:
         raise loc.error(f"expected {what} {bound}: {_NUMBER}, got {detail}", path)
-    if result < 0 or (positive and result == 0):
+    # The sign of a Fraction is its numerator's (an int comparison, not Fraction's).
+    if result.numerator < 0 or (positive and result.numerator == 0):
         raise loc.error(f"expected {what} {bound}, got {_time_text(result)}", path)
     return result
+
+
+_NO_PHASE = Fraction(0)
+
+
+def _phase(body: Mapping[Any, Any], path: KeyPath, loc: Locator) -> Fraction:
+    """The phase of a clock (or of a task's private clock): 0 when not given (most
+    clocks; no number to read)."""
+    if "phase" not in body:
+        return _NO_PHASE
+    return _time(body["phase"], (*path, "phase"), "a phase", False, loc)
 
 
 def _from_text(text: str, parsed: Any) -> Any:
@@ -163,7 +178,7 @@ def _clock(key: str, body: Any, loc: Locator) -> Clock:
     if "period" not in body:
         raise loc.error("missing; expected a period > 0 for every clock", (*path, "period"))
     period = _time(body["period"], (*path, "period"), "a period", True, loc)
-    phase = _time(body.get("phase", 0), (*path, "phase"), "a phase", False, loc)
+    phase = _phase(body, path, loc)
     return Clock(key, period, phase)
 
 
@@ -197,7 +212,7 @@ def _task(key: str, body: Any, declared: Mapping[str, Clock], loc: Locator
                 (*path, "period"),
             )
         period = _time(body["period"], (*path, "period"), "a period", True, loc)
-        phase = _time(body.get("phase", 0), (*path, "phase"), "a phase", False, loc)
+        phase = _phase(body, path, loc)
         private = Clock(clock, period, phase, private=True)
     elif "phase" in body:
         raise loc.error(
@@ -229,6 +244,9 @@ def _protocol(value: Any, path: KeyPath, loc: Locator) -> Protocol:
     if isinstance(value, Protocol):
         return value
     text = _text(value, path, f"a protocol ({_PROTOCOLS})", loc)
+    protocol = _PROTOCOL_OF.get(text)  # as written in the spec, the common case
+    if protocol is not None:
+        return protocol
     spelled = "".join(text.split()).upper().replace("-", "/")
     for protocol in Protocol:
         if protocol.value == spelled:
@@ -240,12 +258,15 @@ def _protocol(value: Any, path: KeyPath, loc: Locator) -> Protocol:
     )
 
 
+_LINK_PARTS = (("from", 'the writer "TASK:PORT"'), ("to", 'the reader "TASK:PORT"'),
+               ("protocol", f"one of {_PROTOCOLS}"))
+
+
 def _link(body: Any, i: int, loc: Locator) -> Link:
     path: KeyPath = ("links", i)
     body = _mapping(body, path, "a mapping with 'from', 'to' and 'protocol'", loc)
     _known_keys(body, LINK_KEYS, path, loc)
-    for key, expected in (("from", 'the writer "TASK:PORT"'), ("to", 'the reader "TASK:PORT"'),
-                          ("protocol", f"one of {_PROTOCOLS}")):
+    for key, expected in _LINK_PARTS:
         if key not in body:
             raise loc.error(f"missing; expected {expected} in every link", (*path, key))
     return Link(_endpoint(body["from"], (*path, "from"), loc),
