@@ -160,7 +160,7 @@ def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000,
     n_places, n_trans = C.shape
     Y, R = _contract_series_transitions(C)
     if method == "dense" or (method == "auto" and n_places * n_trans <= DENSE_LIMIT):
-        return _farkas_dense(Y.toarray(), R.toarray(), budget)
+        return _farkas_dense(Y, R.toarray(), budget)
     return _farkas_sparse(Y, R, budget)
 
 
@@ -210,35 +210,61 @@ def _farkas_sparse(Y: sp.csr_matrix, R: sp.csr_matrix, budget: int) -> SemiflowR
     return SemiflowResult(True, finished, budget)
 
 
-def _farkas_dense(Y: np.ndarray, R: np.ndarray, budget: int) -> SemiflowResult:
+def _farkas_dense(Y: sp.csr_matrix, R: np.ndarray, budget: int) -> SemiflowResult:
+    """The Farkas table kept dense, on the rows that are not semiflows yet.
+
+    ``Y`` (rows over places) partitions the places (identity rows, or the paths
+    and circuits of :func:`_contract_series_transitions`), so every later row,
+    a non-negative combination of them, is kept as its coefficients over the
+    rows still open (``R != 0``): its support over places is the disjoint union
+    of theirs, so support containment, support sizes' order and the gcd are
+    those of the coefficients. A row closed from the start (``R = 0``) is never
+    combined, and no combination of open rows can contain its (disjoint)
+    support: it only waits, in order, at the head of the result. This is the
+    table over all places and rows, smaller (a skeleton's batch: 25 open rows
+    of 100 instead of 256 places).
+    """
     n_places = Y.shape[1]
-    done = np.asarray(~R.any(axis=0))  # an array: R is 2-D (the stubs allow a scalar)
-    for _ in range(int((~done).sum())):
+    is_open = R.any(axis=1)
+    columns = np.flatnonzero(R.any(axis=0))  # the others need no step
+    R = R[is_open][:, columns]
+    n_open = R.shape[0]
+    X = np.eye(n_open, dtype=np.int64)  # coefficients over the open rows of Y
+    finished: list[np.ndarray] = []  # closed combinations, in the order they were made
+    done = np.zeros(len(columns), dtype=bool)
+    for _ in range(len(columns)):
         cost = (R > 0).sum(axis=0) * (R < 0).sum(axis=0)
         cost[done] = np.iinfo(np.int64).max
         j = int(np.argmin(cost))
         done[j] = True
         col = R[:, j]
         pos, neg, zero = np.flatnonzero(col > 0), np.flatnonzero(col < 0), np.flatnonzero(col == 0)
-        # Rows already closed (R = 0) are semiflows, not candidates: as in the sparse table.
-        open_rows = len(zero) - int((~R[zero].any(axis=1)).sum())
-        if open_rows + len(pos) * len(neg) > budget:
+        # Only open rows are candidates (closed ones are semiflows): as in the sparse table.
+        if len(zero) + len(pos) * len(neg) > budget:
             return SemiflowResult(False, sp.csr_matrix((0, n_places), dtype=np.int64), budget)
         if len(pos) == 0 or len(neg) == 0:
-            Y, R = Y[zero], R[zero]
+            X, R = X[zero], R[zero]
             continue
         a = np.repeat(pos, len(neg))
         b = np.tile(neg, len(pos))
         fa, fb = -col[b][:, None], col[a][:, None]
-        new_Y = fa * Y[a] + fb * Y[b]
+        new_X = fa * X[a] + fb * X[b]
         new_R = fa * R[a] + fb * R[b]
-        g = np.gcd.reduce(new_Y, axis=1)
+        g = np.gcd.reduce(new_X, axis=1)
         g = np.where(g == 0, 1, g)[:, None]
-        new_Y, new_R = new_Y // g, new_R // g
-        keep = _minimal_new_rows_dense(Y[zero], new_Y)
-        Y = np.vstack([Y[zero], new_Y[keep]])
-        R = np.vstack([R[zero], new_R[keep]])
-    return SemiflowResult(True, sp.csr_matrix(Y), budget)
+        new_X, new_R = new_X // g, new_R // g
+        keep = _minimal_new_rows_dense(np.vstack([X[zero], *finished]), new_X)
+        new_X, new_R = new_X[keep], new_R[keep]
+        closed = ~new_R.any(axis=1)
+        finished.append(new_X[closed])
+        X = np.vstack([X[zero], new_X[~closed]])
+        R = np.vstack([R[zero], new_R[~closed]])
+    made = sp.csr_matrix(np.vstack([np.zeros((0, n_open), dtype=np.int64), *finished]))
+    rows = sp.vstack([Y[np.flatnonzero(~is_open)], made @ Y[np.flatnonzero(is_open)]],
+                     format="csr", dtype=np.int64)
+    rows.eliminate_zeros()
+    rows.sort_indices()
+    return SemiflowResult(True, rows, budget)
 
 
 def _minimal_new_rows_dense(old: np.ndarray, new: np.ndarray) -> np.ndarray:

@@ -175,3 +175,58 @@ def test_transition_without_places_and_source_sink(method):
     # weighted: 2 p0 = p1 around t0/t1
     C = np.array([[2, -2], [-1, 1]])
     assert [y.tolist() for y in minimal_semiflows(C, method=method).semiflows] == [[1, 2]]
+
+
+def _farkas_over_all_places(C: np.ndarray, budget: int):
+    """The dense Farkas table as it was before the open-rows table: every row,
+    over every place (kept here as the reference the faster table must equal
+    row for row, in order, and in its budget verdict)."""
+    from tegraph.analysis.invariants import _contract_series_transitions
+
+    C = sp.csr_matrix(C, dtype=np.int64)
+    C.eliminate_zeros()
+    Y, R = (m.toarray() for m in _contract_series_transitions(C))
+    done = ~R.any(axis=0)
+    for _ in range(int((~done).sum())):
+        cost = (R > 0).sum(axis=0) * (R < 0).sum(axis=0)
+        cost[done] = np.iinfo(np.int64).max
+        j = int(np.argmin(cost))
+        done[j] = True
+        col = R[:, j]
+        pos, neg, zero = np.flatnonzero(col > 0), np.flatnonzero(col < 0), np.flatnonzero(col == 0)
+        if len(zero) - int((~R[zero].any(axis=1)).sum()) + len(pos) * len(neg) > budget:
+            return None
+        if len(pos) == 0 or len(neg) == 0:
+            Y, R = Y[zero], R[zero]
+            continue
+        a, b = np.repeat(pos, len(neg)), np.tile(neg, len(pos))
+        fa, fb = -col[b][:, None], col[a][:, None]
+        new_Y, new_R = fa * Y[a] + fb * Y[b], fa * R[a] + fb * R[b]
+        g = np.gcd.reduce(new_Y, axis=1)
+        g = np.where(g == 0, 1, g)[:, None]
+        new_Y, new_R = new_Y // g, new_R // g
+        S_old, S_new = (Y[zero] > 0).astype(int), (new_Y > 0).astype(int)
+        size = S_new.sum(axis=1)
+        bad = ((S_new @ S_old.T) == S_old.sum(axis=1)[None, :]).any(axis=1)
+        contains = (S_new @ S_new.T) == size[None, :]
+        np.fill_diagonal(contains, False)
+        strict = (contains & (size[None, :] < size[:, None])).any(axis=1)
+        earlier_equal = np.triu((contains & (size[None, :] == size[:, None])).T, k=1).any(axis=0)
+        keep = ~bad & ~strict & ~earlier_equal
+        Y, R = np.vstack([Y[zero], new_Y[keep]]), np.vstack([R[zero], new_R[keep]])
+    return Y
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.one_of(nets.map(lambda rows: np.array(rows, dtype=np.int64).reshape(len(rows), -1)),
+                 marked_graphs().map(lambda graph: np.array(
+                     [[(k == a) - (k == b) for k in range(graph[0])] for a, b in graph[1]]))),
+       st.integers(0, 40))
+def test_dense_table_equals_the_table_over_all_places(C, budget):
+    # The dense table keeps only open rows, as coefficients over them; its rows,
+    # their order and its budget verdict are those of the full table.
+    expected = _farkas_over_all_places(C, budget)
+    got = minimal_semiflows(C, budget, method="dense")
+    assert got.computed == (expected is not None)
+    if expected is not None:
+        assert got.matrix.toarray().tolist() == expected.tolist()
