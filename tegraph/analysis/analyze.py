@@ -42,7 +42,7 @@ from fractions import Fraction
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order, connected_components
+from scipy.sparse.csgraph import connected_components
 
 from maxplus import CycleRatioResult, max_cycle_ratio
 from maxplus.scalar import display_text
@@ -170,6 +170,8 @@ class _EventGraph:
     task_group: dict[str, int]
     events_of_group: list[np.ndarray]
     places_of_group: list[np.ndarray]
+    position: np.ndarray
+    """Each event's index in ``events_of_group`` of its group."""
     structure: Structure
 
     @classmethod
@@ -181,10 +183,15 @@ class _EventGraph:
         group_of_event = structure.group_of_event(teg)
         # Events and places of each group, split once (groups can be thousands).
         n_groups = len(structure.groups)
+        events_of_group = _split_by(group_of_event, n_groups)
+        position = np.zeros(teg.n_transitions, dtype=np.int64)
+        if events_of_group:
+            position[np.concatenate(events_of_group)] = np.concatenate(
+                [np.arange(len(e)) for e in events_of_group])
         return cls(skeleton, teg, a.src, a.dst, a.tokens, a.holding, a.initial, a.scale,
                    teg.n_transitions, teg.transition_names, teg.places,
                    [list(g) for g in structure.groups], group_of_event, dict(structure.group_of),
-                   _split_by(group_of_event, n_groups), _split_by(group_of_event[a.src], n_groups),
+                   events_of_group, _split_by(group_of_event[a.src], n_groups), position,
                    structure)
 
     def compute(self, task: str) -> int:
@@ -486,21 +493,29 @@ def _closure(g: _EventGraph, ct: list[Fraction | None], local_graphs: dict[int, 
              group: int, last: int, period: Fraction, max_steps: int):
     """Upstream closure of ``last`` in its group, and the proven start of its regime.
 
-    ``local_graphs`` caches each group's relabelled reverse graph across the
-    tasks of one analysis.
+    ``local_graphs`` caches each group's relabelled graph (its places' ends
+    numbered inside the group, and each event's predecessors) across the tasks
+    of one analysis.
     """
     if group not in local_graphs:
         events = g.events_of_group[group]
         places = g.places_of_group[group]
-        local = {int(e): i for i, e in enumerate(events.tolist())}
-        ls = np.array([local[int(e)] for e in g.src[places].tolist()], dtype=np.int64)
-        ld = np.array([local[int(e)] for e in g.dst[places].tolist()], dtype=np.int64)
-        reverse = sp.csr_matrix((np.ones(len(places), dtype=np.int8), (ld, ls)),
-                                shape=(len(events), len(events)))
-        local_graphs[group] = (events, places, local, ls, ld, reverse)
-    events, places, local, ls, ld, reverse = local_graphs[group]
-    up_local = np.sort(breadth_first_order(reverse, local[last], directed=True,
-                                           return_predecessors=False))
+        ls, ld = g.position[g.src[places]], g.position[g.dst[places]]
+        # A group is a few dozen events: a breadth-first search in Python costs
+        # less than building a sparse graph for scipy's.
+        before: list[list[int]] = [[] for _ in range(len(events))]
+        for a, b in zip(ls.tolist(), ld.tolist()):
+            before[b].append(a)
+        local_graphs[group] = (events, places, ls, ld, before)
+    events, places, ls, ld, before = local_graphs[group]
+    start = int(g.position[last])
+    seen, stack = {start}, [start]
+    while stack:
+        for e in before[stack.pop()]:
+            if e not in seen:
+                seen.add(e)
+                stack.append(e)
+    up_local = np.array(sorted(seen), dtype=np.int64)
     found = autonomous_from(up_local, [ct[e] for e in events.tolist()], period, ls, ld,
                             g.tokens[places], g.holding[places], g.initial[places],
                             g.scale, len(events), max_steps)
