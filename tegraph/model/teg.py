@@ -189,7 +189,10 @@ class TimedEventGraph:
         self.transition_attrs: list[dict[str, Any]] = []
         self._names: list[str] = []
         self._index: dict[str, int] = {}
-        self._places: list[Place] = []
+        # Each place's fields as a plain tuple, in Place order: a Place object each is
+        # made only when `places` is read (a built skeleton of 10,000 tasks has
+        # 70,000 places, and array kernels need only the numbers).
+        self._rows: list[tuple[Any, ...]] = []
         self._cache: dict[str, Any] = {}
 
     def __repr__(self) -> str:
@@ -209,11 +212,11 @@ class TimedEventGraph:
             raise ModelError("an event name must be a non-empty string", repr(name))
         if name in self._index:
             raise ModelError("duplicate event name", name)
-        self._index[name] = len(self._names)
+        index = self._index[name] = len(self._names)
         self._names.append(name)
-        self.transition_attrs.append(dict(attrs))
+        self.transition_attrs.append(attrs)  # a fresh dict already (keyword arguments)
         self._cache.clear()
-        return self._index[name]
+        return index
 
     def add_place(self, src: str | int, dst: str | int, tokens: int = 0, holding: Any = 0,
                   initial: Any = 0, kind: str = "", name: str | None = None,
@@ -255,20 +258,23 @@ class TimedEventGraph:
                 and type(initial) is Fraction and initial.numerator >= 0):
             # The builder's own places (events by name, exact times, counts in range)
             # need none of the checks below, nor the words of their errors.
-            self._places.append(Place(index[src], index[dst], tokens, holding, initial,
-                                      str(kind or ""), label, origin))
-            self._cache.clear()
-            return len(self._places) - 1
+            return self._append(index[src], index[dst], tokens, holding, initial,
+                                str(kind or ""), label, origin)
         s = self._resolve(src, f"place {label}")
         d = self._resolve(dst, f"place {label}")
         if name is None:
             label = f"{self._names[s]} -> {self._names[d]}"
         where = f"place {label}"
-        place = Place(s, d, _check_tokens(tokens, where), _check_time(holding, "holding", where),
-                      _check_time(initial, "initial", where), str(kind or ""), label, origin)
-        self._places.append(place)
+        return self._append(s, d, _check_tokens(tokens, where),
+                            _check_time(holding, "holding", where),
+                            _check_time(initial, "initial", where), str(kind or ""), label,
+                            origin)
+
+    def _append(self, *fields: Any) -> int:
+        """Append one place, its fields in :class:`Place` order, already checked."""
+        self._rows.append(fields)
         self._cache.clear()
-        return len(self._places) - 1
+        return len(self._rows) - 1
 
     def _resolve(self, ref: str | int, where: str) -> int:
         if isinstance(ref, str):
@@ -284,7 +290,8 @@ class TimedEventGraph:
     # ---------------------------------------------------------------- access
     def index(self, name: str) -> int:
         """Index of the event called ``name`` (:class:`ModelError` if unknown)."""
-        return self._resolve(name, "event")
+        found = self._index.get(name) if type(name) is str else None
+        return found if found is not None else self._resolve(name, "event")
 
     @property
     def n_transitions(self) -> int:
@@ -294,7 +301,7 @@ class TimedEventGraph:
     @property
     def n_places(self) -> int:
         """Number of places."""
-        return len(self._places)
+        return len(self._rows)
 
     @property
     def transition_names(self) -> tuple[str, ...]:
@@ -311,7 +318,7 @@ class TimedEventGraph:
         """The places, in index order."""
         places = self._cache.get("places")
         if places is None:
-            places = self._cache["places"] = tuple(self._places)
+            places = self._cache["places"] = tuple(Place(*row) for row in self._rows)
         return places
 
     def arrays(self) -> TEGArrays:
@@ -326,16 +333,18 @@ class TimedEventGraph:
         (6, [3, 4], [0, 1], [0, 1])
         """
         if "arrays" not in self._cache:
-            ps = self._places
+            columns = list(zip(*self._rows)) or [()] * 8
+            src, dst, tokens, holding, initial = columns[:5]
             # Few distinct denominators: the lcm of the set, and each time scaled by
             # integer arithmetic (a Fraction product per place costs a gcd).
-            scale = math.lcm(1, *{t.denominator for p in ps for t in (p.holding, p.initial)})
+            scale = math.lcm(1, *{t.denominator for t in holding},
+                             *{t.denominator for t in initial})
             self._cache["arrays"] = TEGArrays(
-                src=np.array([p.src for p in ps], dtype=np.int64),
-                dst=np.array([p.dst for p in ps], dtype=np.int64),
-                tokens=np.array([p.tokens for p in ps], dtype=np.int64),
-                holding=int_array([_scaled(p.holding, scale) for p in ps]),
-                initial=int_array([_scaled(p.initial, scale) for p in ps]),
+                src=np.array(src, dtype=np.int64),
+                dst=np.array(dst, dtype=np.int64),
+                tokens=np.array(tokens, dtype=np.int64),
+                holding=int_array([_scaled(t, scale) for t in holding]),
+                initial=int_array([_scaled(t, scale) for t in initial]),
                 scale=scale, n_transitions=self.n_transitions)
         return self._cache["arrays"]
 
@@ -391,9 +400,9 @@ class TimedEventGraph:
         [[[-inf, -inf], [Fraction(2, 1), -inf]], [[-inf, Fraction(3, 1)], [-inf, -inf]]]
         """
         n = self.n_transitions
-        top = max((p.tokens for p in self._places), default=0)
+        top = max((row[2] for row in self._rows), default=0)
         mats = [np.full((n, n), EPS, dtype=object) for _ in range(top + 1)]
-        for p in self._places:
+        for p in self.places:
             mats[p.tokens][p.dst, p.src] = max(mats[p.tokens][p.dst, p.src], p.holding)
         return mats
 
@@ -421,7 +430,7 @@ class TimedEventGraph:
         G.graph["name"] = self.name
         for name, attrs in zip(self._names, self.transition_attrs):
             G.add_node(name, **copy.deepcopy(attrs))
-        for i, p in enumerate(self._places):
+        for i, p in enumerate(self.places):
             G.add_edge(self._names[p.src], self._names[p.dst], key=i, tokens=p.tokens,
                        holding=p.holding, initial=p.initial, kind=p.kind, name=p.name,
                        origin=copy.deepcopy(p.origin))
