@@ -208,6 +208,8 @@ class _Periods:
     mcr: CycleRatioResult
     verified: bool
     cycle_times: list[Fraction | None]
+    rank: np.ndarray
+    """Each event's cycle time as its rank among the distinct ones, -1 for None."""
     live_event: np.ndarray
     live_places: np.ndarray
 
@@ -281,8 +283,28 @@ def _cycle_times(g: _EventGraph, dead_groups: set[int]) -> _Periods:
     lp = np.flatnonzero(live_event[g.src] & live_event[g.dst])
     mcr = max_cycle_ratio(g.src[lp], g.dst[lp], g.holding[lp], g.tokens[lp], n_nodes=g.n)
     verified = mcr.verify()
-    cycle_times = [None if c is None else c / g.scale for c in mcr.cycle_times]
-    return _Periods(mcr, verified, cycle_times, live_event, lp)
+    # One Fraction per distinct cycle time (a group's events share a few): 30,000
+    # divisions, each with its gcd, cost more than the analysis around them.
+    distinct: dict[tuple[int, int], int] = {}
+    values: list[Fraction] = []
+    slot = np.full(g.n, -1, dtype=np.int64)  # each event's value in `values`, -1 for None
+    for e, (num, den) in enumerate(zip(mcr.cycle_time_num.tolist(),
+                                       mcr.cycle_time_den.tolist())):
+        if den == 0:  # no circuit reaches the event
+            continue
+        k = distinct.get((num, den))
+        if k is None:
+            k = distinct[num, den] = len(values)
+            values.append(Fraction(num, den * g.scale))
+        slot[e] = k
+    cycle_times = [None if k < 0 else values[k] for k in slot.tolist()]
+    # The rank of each event's cycle time among the distinct ones (-1 for None):
+    # a group's slowest event by one argmax, not by comparing Fractions.
+    rank_of_slot = np.empty(len(values), dtype=np.int64)
+    rank_of_slot[sorted(range(len(values)), key=values.__getitem__)] = np.arange(len(values))
+    rank = np.full(g.n, -1, dtype=np.int64)
+    rank[slot >= 0] = rank_of_slot[slot[slot >= 0]]
+    return _Periods(mcr, verified, cycle_times, rank, live_event, lp)
 
 
 def unbounded_mask(num: np.ndarray, den: np.ndarray, src: np.ndarray, dst: np.ndarray
@@ -355,7 +377,7 @@ def _group_reports(g: _EventGraph, periods: _Periods, dead_groups: set[int],
         if live:
             events = g.events_of_group[index]
             cycle_times = {t: ct[g.compute(t)] for t in tasks}
-            slowest = max(events.tolist(), key=lambda e: ct[e])
+            slowest = int(events[np.argmax(periods.rank[events])])  # the first of the slowest
             mcr = periods.mcr
             arcs = mcr.policy_circuit(slowest)
             circuit = [g.names[int(mcr.src[a])] for a in arcs.tolist()]
