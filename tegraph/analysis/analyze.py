@@ -164,7 +164,6 @@ class _EventGraph:
     scale: int
     n: int
     names: tuple[str, ...]
-    places: tuple[Place, ...]
     group_tasks: list[list[str]]
     group_of_event: np.ndarray
     task_group: dict[str, int]
@@ -189,10 +188,15 @@ class _EventGraph:
             position[np.concatenate(events_of_group)] = np.concatenate(
                 [np.arange(len(e)) for e in events_of_group])
         return cls(skeleton, teg, a.src, a.dst, a.tokens, a.holding, a.initial, a.scale,
-                   teg.n_transitions, teg.transition_names, teg.places,
+                   teg.n_transitions, teg.transition_names,
                    [list(g) for g in structure.groups], group_of_event, dict(structure.group_of),
                    events_of_group, _split_by(group_of_event[a.src], n_groups), position,
                    structure)
+
+    @property
+    def places(self) -> tuple[Place, ...]:
+        """The places as objects, made only when read (only for an unbounded place)."""
+        return self.teg.places
 
     def compute(self, task: str) -> int:
         return self.teg.attrs["compute"][task]

@@ -334,17 +334,17 @@ class TimedEventGraph:
         """
         if "arrays" not in self._cache:
             columns = list(zip(*self._rows)) or [()] * 8
-            src, dst, tokens, holding, initial = columns[:5]
+            src, dst, tokens = columns[:3]
+            holding, initial = _Times(columns[3]), _Times(columns[4])
             # Few distinct denominators: the lcm of the set, and each time scaled by
             # integer arithmetic (a Fraction product per place costs a gcd).
-            scale = math.lcm(1, *{t.denominator for t in holding},
-                             *{t.denominator for t in initial})
+            scale = math.lcm(1, *{t.denominator for t in holding.distinct},
+                             *{t.denominator for t in initial.distinct})
             self._cache["arrays"] = TEGArrays(
                 src=np.array(src, dtype=np.int64),
                 dst=np.array(dst, dtype=np.int64),
                 tokens=np.array(tokens, dtype=np.int64),
-                holding=int_array([_scaled(t, scale) for t in holding]),
-                initial=int_array([_scaled(t, scale) for t in initial]),
+                holding=holding.scaled(scale), initial=initial.scaled(scale),
                 scale=scale, n_transitions=self.n_transitions)
         return self._cache["arrays"]
 
@@ -605,6 +605,27 @@ class TimedEventGraph:
 def _scaled(t: Fraction, scale: int) -> int:
     """``t * scale`` for a ``scale`` that ``t.denominator`` divides, exactly."""
     return t.numerator * (scale // t.denominator)
+
+
+class _Times:
+    """A column of times (Fractions), each distinct object read once.
+
+    A built graph's places share a few Fraction objects (0, each task's duration,
+    each clock's period): scaling each object once, then indexing, costs a dict
+    lookup a place instead of a Fraction's numerator and denominator. Objects are
+    told apart by ``id``, which is sound while the column holds them (it does).
+    """
+
+    def __init__(self, times: tuple[Fraction, ...]) -> None:
+        ids = list(map(id, times))
+        first = dict(zip(ids, times))  # one entry per distinct object
+        slot = {k: i for i, k in enumerate(first)}
+        self.distinct = list(first.values())
+        self.index = np.fromiter(map(slot.__getitem__, ids), dtype=np.int64, count=len(ids))
+
+    def scaled(self, scale: int) -> np.ndarray:
+        """``t * scale`` for each time of the column, as :func:`int_array` makes it."""
+        return int_array([_scaled(t, scale) for t in self.distinct])[self.index]
 
 
 def _check_tokens(value: Any, where: str) -> int:
