@@ -578,7 +578,13 @@ def _invariants(g: _EventGraph, live: bool, budget: int, max_places: int) -> Inv
     count = unmarked = 0
     for places in batches:
         events = np.unique(np.concatenate([g.src[places], g.dst[places]]))
-        result = minimal_semiflows(incidence[places][:, events], budget)
+        # The batch's rows touch only its events: renumbering their columns is the
+        # column selection, without the pass over every event of the graph that
+        # scipy's `[:, events]` makes (1,200 batches x 290,000 events at 100k tasks).
+        rows = incidence[places]
+        block = sp.csr_matrix((rows.data, np.searchsorted(events, rows.indices), rows.indptr),
+                              shape=(len(places), len(events)))
+        result = minimal_semiflows(block, budget)
         if not result.computed:
             return InvariantCheck(False, None, None, reason=(
                 f"more than {budget} candidate semiflows among the circuits "
