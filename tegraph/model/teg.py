@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from numbers import Integral, Rational
@@ -252,12 +253,7 @@ class TimedEventGraph:
         """
         label = f"{src} -> {dst}" if name is None else name
         index = self._index
-        if (type(src) is str and type(dst) is str and src in index and dst in index
-                and type(tokens) is int and 0 <= tokens <= MAX_COUNT
-                and type(holding) is Fraction and holding.numerator >= 0
-                and type(initial) is Fraction and initial.numerator >= 0):
-            # The builder's own places (events by name, exact times, counts in range)
-            # need none of the checks below, nor the words of their errors.
+        if _trusted(index, src, dst, tokens, holding, initial):
             return self._append(index[src], index[dst], tokens, holding, initial,
                                 str(kind or ""), label, origin)
         s = self._resolve(src, f"place {label}")
@@ -269,6 +265,30 @@ class TimedEventGraph:
                             _check_time(holding, "holding", where),
                             _check_time(initial, "initial", where), str(kind or ""), label,
                             origin)
+
+    def add_places(self, places: Iterable[tuple[Any, ...]]) -> None:
+        """Add places ``(src, dst, tokens, holding, initial, kind, origin)``, in order.
+
+        The same as :meth:`add_place` on each (same checks, same errors), at less
+        cost a place for the builder's own (events by name, exact times): a
+        skeleton of 10,000 tasks has 70,000 places.
+
+        Examples
+        --------
+        >>> g = TimedEventGraph(); _ = g.add_transition("a")
+        >>> g.add_places([("a", "a", 1, Fraction(2), Fraction(0), "loop", None),
+        ...               ("a", "a", 0, "1/2", 0, "", None)])
+        >>> [(p.name, p.tokens, str(p.holding)) for p in g.places]
+        [('a -> a', 1, '2'), ('a -> a', 0, '1/2')]
+        """
+        index, rows = self._index, self._rows
+        for src, dst, tokens, holding, initial, kind, origin in places:
+            if _trusted(index, src, dst, tokens, holding, initial):
+                rows.append((index[src], index[dst], tokens, holding, initial,
+                             str(kind or ""), f"{src} -> {dst}", origin))
+            else:
+                self.add_place(src, dst, tokens, holding, initial, kind, origin=origin)
+        self._cache.clear()
 
     def _append(self, *fields: Any) -> int:
         """Append one place, its fields in :class:`Place` order, already checked."""
@@ -600,6 +620,16 @@ class TimedEventGraph:
                 np.maximum.at(row, g_dst, row[g_src] + g_hold)
             times[k - 1] = row
         return Daters(times, a.scale, self.transition_names)
+
+
+def _trusted(index: dict[str, int], src: Any, dst: Any, tokens: Any, holding: Any,
+             initial: Any) -> bool:
+    """Whether a place needs none of :meth:`TimedEventGraph.add_place`'s checks, nor the
+    words of their errors: the builder's own (events by name, exact times, counts in range)."""
+    return (type(src) is str and type(dst) is str and src in index and dst in index
+            and type(tokens) is int and 0 <= tokens <= MAX_COUNT
+            and type(holding) is Fraction and holding.numerator >= 0
+            and type(initial) is Fraction and initial.numerator >= 0)
 
 
 def _scaled(t: Fraction, scale: int) -> int:
