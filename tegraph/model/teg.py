@@ -254,8 +254,9 @@ class TimedEventGraph:
         label = f"{src} -> {dst}" if name is None else name
         index = self._index
         if _trusted(index, src, dst, tokens, holding, initial):
-            return self._append(index[src], index[dst], tokens, holding, initial,
-                                str(kind or ""), label, origin)
+            # Type: _trusted checked that both ends are names of events.
+            return self._append(index[src], index[dst],  # type: ignore[index]
+                                tokens, holding, initial, str(kind or ""), label, origin)
         s = self._resolve(src, f"place {label}")
         d = self._resolve(dst, f"place {label}")
         if name is None:
