@@ -37,6 +37,9 @@ References
 from __future__ import annotations
 
 import dataclasses
+import gc
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -122,32 +125,53 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
     >>> r.live, r.consistent, r.tasks["A"].period, r.tasks["A"].slack
     (True, True, Fraction(10, 1), Fraction(8, 1))
     """
-    structure = Structure.of(skeleton) if structure is None else structure
-    graph = _EventGraph.of(skeleton, structure)
-    deadlocks, dead_groups = _deadlocks(graph)
-    live = not deadlocks
-    reorder = None if live else _reorder(skeleton, deadlocks, graph)
-    periods = _cycle_times(graph, dead_groups)
-    unbounded = _unbounded_places(graph, periods)
-    groups = _group_reports(graph, periods, dead_groups, unbounded)
-    tasks = _task_reports(graph, groups)
-    _slack(graph, periods, groups, tasks)
-    steps, notes = _dynamics(graph, periods, groups, tasks, max_steps)
-    invariants = _invariants(graph, live, semiflow_budget, semiflow_max_places)
-    overrun = any(t.overrun_at is not None for t in tasks.values())
-    consistent = live and not unbounded and not overrun
-    methods = _methods(deadlocks, groups, periods, invariants, tasks, steps)
-    schedule = None
-    if processors:  # on the groups and the event graph computed above, not again
-        schedule = schedule_on_processors(skeleton, graph.teg, groups, max_events=max_events,
-                                          intervals=False)  # the timeline draws its own
-        methods["schedule"] = schedule.method
-    return Report(
-        name=skeleton.name, unit=skeleton.unit, live=live, consistent=consistent,
-        deadlocks=deadlocks, reorder=reorder, groups=groups, tasks=tasks,
-        unbounded_places=unbounded, invariants=invariants, methods=methods,
-        notes=notes, source=skeleton.source, schedule=schedule, structure=structure,
-    )
+    with _cyclic_gc_paused():
+        structure = Structure.of(skeleton) if structure is None else structure
+        graph = _EventGraph.of(skeleton, structure)
+        deadlocks, dead_groups = _deadlocks(graph)
+        live = not deadlocks
+        reorder = None if live else _reorder(skeleton, deadlocks, graph)
+        periods = _cycle_times(graph, dead_groups)
+        unbounded = _unbounded_places(graph, periods)
+        groups = _group_reports(graph, periods, dead_groups, unbounded)
+        tasks = _task_reports(graph, groups)
+        _slack(graph, periods, groups, tasks)
+        steps, notes = _dynamics(graph, periods, groups, tasks, max_steps)
+        invariants = _invariants(graph, live, semiflow_budget, semiflow_max_places)
+        overrun = any(t.overrun_at is not None for t in tasks.values())
+        consistent = live and not unbounded and not overrun
+        methods = _methods(deadlocks, groups, periods, invariants, tasks, steps)
+        schedule = None
+        if processors:  # on the groups and the event graph computed above, not again
+            schedule = schedule_on_processors(skeleton, graph.teg, groups, max_events=max_events,
+                                              intervals=False)  # the timeline draws its own
+            methods["schedule"] = schedule.method
+        return Report(
+            name=skeleton.name, unit=skeleton.unit, live=live, consistent=consistent,
+            deadlocks=deadlocks, reorder=reorder, groups=groups, tasks=tasks,
+            unbounded_places=unbounded, invariants=invariants, methods=methods,
+            notes=notes, source=skeleton.source, schedule=schedule, structure=structure,
+        )
+
+
+@contextmanager
+def _cyclic_gc_paused() -> Iterator[None]:
+    """Pause Python's cyclic garbage collector for the analysis (reference counting
+    still frees every object as soon as it is unused).
+
+    The analysis makes hundreds of thousands of long-lived containers (events,
+    places, Fractions, small arrays) and no reference cycles to speak of, and
+    each pass of the collector walks them again: 40 % of the time at 10,000
+    tasks (2.5 -> 1.5 s CPU on groups-10k), 26.5 -> 18.2 s at 100,000, for the
+    same peak memory. The collector is left as it was found (nested calls too).
+    """
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 @dataclass(frozen=True)
