@@ -285,8 +285,9 @@ class TimedEventGraph:
         index, rows = self._index, self._rows
         for src, dst, tokens, holding, initial, kind, origin in places:
             if _trusted(index, src, dst, tokens, holding, initial):
+                # The name "SRC -> DST" is made when the Place is (None until then).
                 rows.append((index[src], index[dst], tokens, holding, initial,
-                             str(kind or ""), f"{src} -> {dst}", origin))
+                             str(kind or ""), None, origin))
             else:
                 self.add_place(src, dst, tokens, holding, initial, kind, origin=origin)
         self._cache.clear()
@@ -339,7 +340,11 @@ class TimedEventGraph:
         """The places, in index order."""
         places = self._cache.get("places")
         if places is None:
-            places = self._cache["places"] = tuple(Place(*row) for row in self._rows)
+            names = self._names
+            places = self._cache["places"] = tuple(
+                Place(*row) if row[6] is not None
+                else Place(*row[:6], f"{names[row[0]]} -> {names[row[1]]}", row[7])
+                for row in self._rows)
         return places
 
     def arrays(self) -> TEGArrays:
