@@ -342,9 +342,9 @@ class TimedEventGraph:
         if places is None:
             names = self._names
             places = self._cache["places"] = tuple(
-                Place(*row) if row[6] is not None
-                else Place(*row[:6], f"{names[row[0]]} -> {names[row[1]]}", row[7])
-                for row in self._rows)
+                Place(s, d, tokens, holding, initial, kind,
+                      f"{names[s]} -> {names[d]}" if name is None else name, origin)
+                for s, d, tokens, holding, initial, kind, name, origin in self._rows)
         return places
 
     def arrays(self) -> TEGArrays:
