@@ -124,10 +124,19 @@ class CycleRatioResult:
     def cycle_times(self) -> list[Fraction | None]:
         """Cycle time of every node (Fraction), None where no circuit reaches it."""
         if self._cycle_times is None:
-            self._cycle_times = [
-                None if d == 0 else Fraction(int(n), int(d))
-                for n, d in zip(self.cycle_time_num.tolist(), self.cycle_time_den.tolist())
-            ]
+            # One Fraction per distinct value (nodes of a component share theirs):
+            # a Fraction per node costs a gcd each, on graphs of 100,000 nodes.
+            distinct: dict[tuple[int, int], Fraction] = {}
+            times: list[Fraction | None] = []
+            for n, d in zip(self.cycle_time_num.tolist(), self.cycle_time_den.tolist()):
+                if d == 0:
+                    times.append(None)
+                    continue
+                value = distinct.get((n, d))
+                if value is None:
+                    value = distinct[n, d] = Fraction(int(n), int(d))
+                times.append(value)
+            self._cycle_times = times
         return self._cycle_times
 
     @property

@@ -162,6 +162,10 @@ _THIN = 32
 thin (a long chain), levels cost more as numpy calls than places as Python."""
 
 
+_FEW = 256
+"""Up to this many 0-token places, levels are found by :func:`_kahn_levels` at once."""
+
+
 def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.ndarray):
     """Group 0-token places by the topological level of their output event.
 
@@ -171,7 +175,9 @@ def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.nd
     n = len(active)
     order = np.argsort(src, kind="stable")
     s_sorted, d_by_src = src[order], dst[order]
-    level = _breadth_levels(n, s_sorted, d_by_src, dst, active)
+    # A few hundred places: Python's pass costs less than numpy's fixed cost per
+    # level (an upstream closure of regime_bounds: ~20 events, 500 of them at 10k tasks).
+    level = _breadth_levels(n, s_sorted, d_by_src, dst, active) if len(dst) > _FEW else None
     if level is None:
         level = _kahn_levels(n, s_sorted, d_by_src, dst, active)
     if (active & (level < 0)).any():

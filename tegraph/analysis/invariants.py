@@ -34,7 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-__all__ = ["SemiflowResult", "minimal_semiflows"]
+__all__ = ["SemiflowCensus", "SemiflowResult", "minimal_semiflows", "semiflow_census"]
 
 
 @dataclass(frozen=True)
@@ -160,8 +160,118 @@ def minimal_semiflows(incidence: np.ndarray | sp.spmatrix, budget: int = 5000,
     n_places, n_trans = C.shape
     Y, R = _contract_series_transitions(C)
     if method == "dense" or (method == "auto" and n_places * n_trans <= DENSE_LIMIT):
-        return _farkas_dense(Y.toarray(), R.toarray(), budget)
+        return _farkas_dense(Y, R.toarray(), budget)
     return _farkas_sparse(Y, R, budget)
+
+
+@dataclass(frozen=True)
+class SemiflowCensus:
+    """How many minimal p-semiflows the blocks of a net have, and how many carry no token.
+
+    Attributes
+    ----------
+    computed : bool
+        False when the enumeration of block ``failed`` ran out of budget.
+    count, unmarked : int
+        Summed over the blocks (up to the failed one, excluded).
+    failed : int or None
+        Index of the first block whose enumeration ran out of budget.
+    """
+
+    computed: bool
+    count: int
+    unmarked: int
+    failed: int | None = None
+
+
+def semiflow_census(incidence: sp.spmatrix, blocks: list[tuple[np.ndarray, np.ndarray]],
+                    marking: np.ndarray, budget: int) -> SemiflowCensus:
+    """:func:`minimal_semiflows` of each block, counted, stopping at the first out of budget.
+
+    Parameters
+    ----------
+    incidence : scipy.sparse matrix
+        ``places × transitions`` of a whole net.
+    blocks : list of (rows, columns)
+        Disjoint sets of places, each with the transitions its rows touch
+        (sorted): block ``b`` is ``incidence[rows][:, columns]``; no transition
+        may touch places of two blocks.
+    marking : numpy.ndarray of int
+        Tokens per place (row of ``incidence``), >= 0.
+    budget : int
+        As in :func:`minimal_semiflows`, for each block.
+
+    Returns
+    -------
+    SemiflowCensus
+        Equal, block by block, to ``minimal_semiflows(block, budget)``: its
+        ``count`` and the number of its semiflows unmarked under ``marking``.
+
+    Notes
+    -----
+    The same Farkas tables, made cheaper for many small blocks: the series
+    transitions of every block are contracted at once (a transition's input
+    and output places lie in its block, so each block's paths and circuits are
+    the same, in the same order), and a block with no open row after that (its
+    places only form circuits) needs no table at all.
+
+    Examples
+    --------
+    Two blocks: a circuit of two transitions through places 0 and 1 (place 1
+    marked), and a circuit of one transition (place 2, no token):
+
+    >>> C = sp.csr_matrix(np.array([[-1, 1, 0], [1, -1, 0], [0, 0, 0]]))
+    >>> semiflow_census(C, [(np.array([0, 1]), np.array([0, 1])),
+    ...                     (np.array([2]), np.array([2]))], np.array([0, 1, 0]), 10)
+    SemiflowCensus(computed=True, count=2, unmarked=1, failed=None)
+    """
+    C = sp.csr_matrix(incidence, dtype=np.int64)
+    order = np.concatenate([rows for rows, _ in blocks] + [np.zeros(0, dtype=np.int64)])
+    C = C[order]
+    C.eliminate_zeros()
+    if not _marked_graph_rows(C):  # weighted rows: each block's own table, as it was
+        count = unmarked = 0
+        for b, (rows, columns) in enumerate(blocks):
+            result = minimal_semiflows(sp.csr_matrix(incidence)[rows][:, columns], budget)
+            if not result.computed:
+                return SemiflowCensus(False, count, unmarked, b)
+            count += result.count
+            unmarked += len(result.unmarked(marking[rows]))
+        return SemiflowCensus(True, count, unmarked)
+    member, R = _contract_series_transitions(C)
+    row_tokens = member @ np.asarray(marking, dtype=np.int64)[order]
+    is_open = R.getnnz(axis=1) > 0
+    # The rows of each block are consecutive (rows are numbered by their first place).
+    block_of_place = np.repeat(np.arange(len(blocks)), [len(rows) for rows, _ in blocks])
+    row_block = block_of_place[member.indices[member.indptr[:-1]]]
+    bounds = np.searchsorted(row_block, np.arange(len(blocks) + 1)).tolist()
+    count = unmarked = 0
+    for b, (rows, columns) in enumerate(blocks):
+        first, end = bounds[b], bounds[b + 1]
+        if len(rows) * len(columns) > DENSE_LIMIT:  # the sparse table, as minimal_semiflows
+            result = minimal_semiflows(sp.csr_matrix(incidence)[rows][:, columns], budget)
+            if not result.computed:
+                return SemiflowCensus(False, count, unmarked, b)
+            count += result.count
+            unmarked += len(result.unmarked(marking[rows]))
+            continue
+        opened = first + np.flatnonzero(is_open[first:end])
+        closed_tokens = row_tokens[first:end][~is_open[first:end]]
+        count += len(closed_tokens)
+        unmarked += int((closed_tokens == 0).sum())
+        if len(opened) == 0:
+            continue
+        part = R[opened]
+        touched = np.unique(part.indices)  # in the block's column order (both sorted)
+        table = sp.csr_matrix((part.data, np.searchsorted(touched, part.indices), part.indptr),
+                              shape=(len(opened), len(touched))).toarray()
+        made = _combine_open_rows(table, budget)
+        if made is None:
+            return SemiflowCensus(False, count - len(closed_tokens),
+                                  unmarked - int((closed_tokens == 0).sum()), b)
+        count += len(made)
+        unmarked += int((made @ row_tokens[opened] == 0).sum())
+    return SemiflowCensus(True, count, unmarked)
 
 
 def _farkas_sparse(Y: sp.csr_matrix, R: sp.csr_matrix, budget: int) -> SemiflowResult:
@@ -210,35 +320,71 @@ def _farkas_sparse(Y: sp.csr_matrix, R: sp.csr_matrix, budget: int) -> SemiflowR
     return SemiflowResult(True, finished, budget)
 
 
-def _farkas_dense(Y: np.ndarray, R: np.ndarray, budget: int) -> SemiflowResult:
+def _farkas_dense(Y: sp.csr_matrix, R: np.ndarray, budget: int) -> SemiflowResult:
+    """The Farkas table kept dense, on the rows that are not semiflows yet.
+
+    ``Y`` (rows over places) partitions the places (identity rows, or the paths
+    and circuits of :func:`_contract_series_transitions`), so every later row,
+    a non-negative combination of them, is kept as its coefficients over the
+    rows still open (``R != 0``): its support over places is the disjoint union
+    of theirs, so support containment, support sizes' order and the gcd are
+    those of the coefficients. A row closed from the start (``R = 0``) is never
+    combined, and no combination of open rows can contain its (disjoint)
+    support: it only waits, in order, at the head of the result. This is the
+    table over all places and rows, smaller (a skeleton's batch: 25 open rows
+    of 100 instead of 256 places).
+    """
     n_places = Y.shape[1]
-    done = np.asarray(~R.any(axis=0))  # an array: R is 2-D (the stubs allow a scalar)
-    for _ in range(int((~done).sum())):
+    is_open = R.any(axis=1)
+    made = _combine_open_rows(R[is_open], budget)
+    if made is None:
+        return SemiflowResult(False, sp.csr_matrix((0, n_places), dtype=np.int64), budget)
+    rows = sp.vstack([Y[np.flatnonzero(~is_open)],
+                      sp.csr_matrix(made) @ Y[np.flatnonzero(is_open)]],
+                     format="csr", dtype=np.int64)
+    rows.eliminate_zeros()
+    rows.sort_indices()
+    return SemiflowResult(True, rows, budget)
+
+
+def _combine_open_rows(R: np.ndarray, budget: int) -> np.ndarray | None:
+    """Farkas on the open rows ``R`` (each row a start row of the table, over the
+    transitions): the minimal closed combinations, as coefficients over these rows
+    in the order they were made; None when the budget ran out."""
+    n_open = R.shape[0]
+    columns = np.flatnonzero(R.any(axis=0))  # the others need no step
+    R = R[:, columns]
+    X = np.eye(n_open, dtype=np.int64)  # coefficients over the open rows
+    finished: list[np.ndarray] = [np.zeros((0, n_open), dtype=np.int64)]
+    done = np.zeros(len(columns), dtype=bool)
+    for _ in range(len(columns)):
         cost = (R > 0).sum(axis=0) * (R < 0).sum(axis=0)
         cost[done] = np.iinfo(np.int64).max
         j = int(np.argmin(cost))
         done[j] = True
         col = R[:, j]
         pos, neg, zero = np.flatnonzero(col > 0), np.flatnonzero(col < 0), np.flatnonzero(col == 0)
-        # Rows already closed (R = 0) are semiflows, not candidates: as in the sparse table.
-        open_rows = len(zero) - int((~R[zero].any(axis=1)).sum())
-        if open_rows + len(pos) * len(neg) > budget:
-            return SemiflowResult(False, sp.csr_matrix((0, n_places), dtype=np.int64), budget)
+        # Only open rows are candidates (closed ones are semiflows): as in the sparse table.
+        if len(zero) + len(pos) * len(neg) > budget:
+            return None
         if len(pos) == 0 or len(neg) == 0:
-            Y, R = Y[zero], R[zero]
+            X, R = X[zero], R[zero]
             continue
         a = np.repeat(pos, len(neg))
         b = np.tile(neg, len(pos))
         fa, fb = -col[b][:, None], col[a][:, None]
-        new_Y = fa * Y[a] + fb * Y[b]
+        new_X = fa * X[a] + fb * X[b]
         new_R = fa * R[a] + fb * R[b]
-        g = np.gcd.reduce(new_Y, axis=1)
+        g = np.gcd.reduce(new_X, axis=1)
         g = np.where(g == 0, 1, g)[:, None]
-        new_Y, new_R = new_Y // g, new_R // g
-        keep = _minimal_new_rows_dense(Y[zero], new_Y)
-        Y = np.vstack([Y[zero], new_Y[keep]])
-        R = np.vstack([R[zero], new_R[keep]])
-    return SemiflowResult(True, sp.csr_matrix(Y), budget)
+        new_X, new_R = new_X // g, new_R // g
+        keep = _minimal_new_rows_dense(np.vstack([X[zero], *finished]), new_X)
+        new_X, new_R = new_X[keep], new_R[keep]
+        closed = ~new_R.any(axis=1)
+        finished.append(new_X[closed])
+        X = np.vstack([X[zero], new_X[~closed]])
+        R = np.vstack([R[zero], new_R[~closed]])
+    return np.vstack(finished)
 
 
 def _minimal_new_rows_dense(old: np.ndarray, new: np.ndarray) -> np.ndarray:
@@ -267,13 +413,8 @@ def _contract_series_transitions(C: sp.csr_matrix) -> tuple[sp.csr_matrix, sp.cs
     transitions (the eliminated columns are 0 in R).
     """
     n_places, n_trans = C.shape
-    per_row = C.getnnz(axis=1)
-    positive_per_row = np.bincount(np.repeat(np.arange(n_places), per_row)[C.data > 0],
-                                   minlength=n_places)
-    marked_graph = (np.abs(C.data).max(initial=0) <= 1
-                    and (np.isin(per_row, (0, 2)) & (positive_per_row * 2 == per_row)).all())
     identity = sp.identity(n_places, dtype=np.int64, format="csr")
-    if not marked_graph or n_places == 0:
+    if not _marked_graph_rows(C) or n_places == 0:
         return identity, C.copy()
     coo = C.tocoo()
     ins = np.bincount(coo.col[coo.data < 0], minlength=n_trans)
@@ -296,6 +437,15 @@ def _contract_series_transitions(C: sp.csr_matrix) -> tuple[sp.csr_matrix, sp.cs
     R = (member @ C).tocsr()
     R.eliminate_zeros()
     return member, R
+
+
+def _marked_graph_rows(C: sp.csr_matrix) -> bool:
+    """Whether each row of ``C`` (no stored zeros) is one +1 and one -1, or all zero."""
+    per_row = C.getnnz(axis=1)
+    positive_per_row = np.bincount(np.repeat(np.arange(C.shape[0]), per_row)[C.data > 0],
+                                   minlength=C.shape[0])
+    return bool(np.abs(C.data).max(initial=0) <= 1
+                and (np.isin(per_row, (0, 2)) & (positive_per_row * 2 == per_row)).all())
 
 
 def _minimal_new_rows(old: sp.csr_matrix, new: sp.csr_matrix) -> np.ndarray:

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from numbers import Integral, Rational
@@ -189,7 +190,10 @@ class TimedEventGraph:
         self.transition_attrs: list[dict[str, Any]] = []
         self._names: list[str] = []
         self._index: dict[str, int] = {}
-        self._places: list[Place] = []
+        # Each place's fields as a plain tuple, in Place order: a Place object each is
+        # made only when `places` is read (a built skeleton of 10,000 tasks has
+        # 70,000 places, and array kernels need only the numbers).
+        self._rows: list[tuple[Any, ...]] = []
         self._cache: dict[str, Any] = {}
 
     def __repr__(self) -> str:
@@ -209,11 +213,11 @@ class TimedEventGraph:
             raise ModelError("an event name must be a non-empty string", repr(name))
         if name in self._index:
             raise ModelError("duplicate event name", name)
-        self._index[name] = len(self._names)
+        index = self._index[name] = len(self._names)
         self._names.append(name)
-        self.transition_attrs.append(dict(attrs))
+        self.transition_attrs.append(attrs)  # a fresh dict already (keyword arguments)
         self._cache.clear()
-        return self._index[name]
+        return index
 
     def add_place(self, src: str | int, dst: str | int, tokens: int = 0, holding: Any = 0,
                   initial: Any = 0, kind: str = "", name: str | None = None,
@@ -249,26 +253,50 @@ class TimedEventGraph:
         """
         label = f"{src} -> {dst}" if name is None else name
         index = self._index
-        if (type(src) is str and type(dst) is str and src in index and dst in index
-                and type(tokens) is int and 0 <= tokens <= MAX_COUNT
-                and type(holding) is Fraction and holding.numerator >= 0
-                and type(initial) is Fraction and initial.numerator >= 0):
-            # The builder's own places (events by name, exact times, counts in range)
-            # need none of the checks below, nor the words of their errors.
-            self._places.append(Place(index[src], index[dst], tokens, holding, initial,
-                                      str(kind or ""), label, origin))
-            self._cache.clear()
-            return len(self._places) - 1
+        if _trusted(index, src, dst, tokens, holding, initial):
+            # Type: _trusted checked that both ends are names of events.
+            return self._append(index[src], index[dst],  # type: ignore[index]
+                                tokens, holding, initial, str(kind or ""), label, origin)
         s = self._resolve(src, f"place {label}")
         d = self._resolve(dst, f"place {label}")
         if name is None:
             label = f"{self._names[s]} -> {self._names[d]}"
         where = f"place {label}"
-        place = Place(s, d, _check_tokens(tokens, where), _check_time(holding, "holding", where),
-                      _check_time(initial, "initial", where), str(kind or ""), label, origin)
-        self._places.append(place)
+        return self._append(s, d, _check_tokens(tokens, where),
+                            _check_time(holding, "holding", where),
+                            _check_time(initial, "initial", where), str(kind or ""), label,
+                            origin)
+
+    def add_places(self, places: Iterable[tuple[Any, ...]]) -> None:
+        """Add places ``(src, dst, tokens, holding, initial, kind, origin)``, in order.
+
+        The same as :meth:`add_place` on each (same checks, same errors), at less
+        cost a place for the builder's own (events by name, exact times): a
+        skeleton of 10,000 tasks has 70,000 places.
+
+        Examples
+        --------
+        >>> g = TimedEventGraph(); _ = g.add_transition("a")
+        >>> g.add_places([("a", "a", 1, Fraction(2), Fraction(0), "loop", None),
+        ...               ("a", "a", 0, "1/2", 0, "", None)])
+        >>> [(p.name, p.tokens, str(p.holding)) for p in g.places]
+        [('a -> a', 1, '2'), ('a -> a', 0, '1/2')]
+        """
+        index, rows = self._index, self._rows
+        for src, dst, tokens, holding, initial, kind, origin in places:
+            if _trusted(index, src, dst, tokens, holding, initial):
+                # The name "SRC -> DST" is made when the Place is (None until then).
+                rows.append((index[src], index[dst], tokens, holding, initial,
+                             str(kind or ""), None, origin))
+            else:
+                self.add_place(src, dst, tokens, holding, initial, kind, origin=origin)
         self._cache.clear()
-        return len(self._places) - 1
+
+    def _append(self, *fields: Any) -> int:
+        """Append one place, its fields in :class:`Place` order, already checked."""
+        self._rows.append(fields)
+        self._cache.clear()
+        return len(self._rows) - 1
 
     def _resolve(self, ref: str | int, where: str) -> int:
         if isinstance(ref, str):
@@ -284,7 +312,8 @@ class TimedEventGraph:
     # ---------------------------------------------------------------- access
     def index(self, name: str) -> int:
         """Index of the event called ``name`` (:class:`ModelError` if unknown)."""
-        return self._resolve(name, "event")
+        found = self._index.get(name) if type(name) is str else None
+        return found if found is not None else self._resolve(name, "event")
 
     @property
     def n_transitions(self) -> int:
@@ -294,7 +323,7 @@ class TimedEventGraph:
     @property
     def n_places(self) -> int:
         """Number of places."""
-        return len(self._places)
+        return len(self._rows)
 
     @property
     def transition_names(self) -> tuple[str, ...]:
@@ -311,7 +340,11 @@ class TimedEventGraph:
         """The places, in index order."""
         places = self._cache.get("places")
         if places is None:
-            places = self._cache["places"] = tuple(self._places)
+            names = self._names
+            places = self._cache["places"] = tuple(
+                Place(s, d, tokens, holding, initial, kind,
+                      f"{names[s]} -> {names[d]}" if name is None else name, origin)
+                for s, d, tokens, holding, initial, kind, name, origin in self._rows)
         return places
 
     def arrays(self) -> TEGArrays:
@@ -326,16 +359,18 @@ class TimedEventGraph:
         (6, [3, 4], [0, 1], [0, 1])
         """
         if "arrays" not in self._cache:
-            ps = self._places
+            columns = list(zip(*self._rows)) or [()] * 8
+            src, dst, tokens = columns[:3]
+            holding, initial = _Times(columns[3]), _Times(columns[4])
             # Few distinct denominators: the lcm of the set, and each time scaled by
             # integer arithmetic (a Fraction product per place costs a gcd).
-            scale = math.lcm(1, *{t.denominator for p in ps for t in (p.holding, p.initial)})
+            scale = math.lcm(1, *{t.denominator for t in holding.distinct},
+                             *{t.denominator for t in initial.distinct})
             self._cache["arrays"] = TEGArrays(
-                src=np.array([p.src for p in ps], dtype=np.int64),
-                dst=np.array([p.dst for p in ps], dtype=np.int64),
-                tokens=np.array([p.tokens for p in ps], dtype=np.int64),
-                holding=int_array([_scaled(p.holding, scale) for p in ps]),
-                initial=int_array([_scaled(p.initial, scale) for p in ps]),
+                src=np.array(src, dtype=np.int64),
+                dst=np.array(dst, dtype=np.int64),
+                tokens=np.array(tokens, dtype=np.int64),
+                holding=holding.scaled(scale), initial=initial.scaled(scale),
                 scale=scale, n_transitions=self.n_transitions)
         return self._cache["arrays"]
 
@@ -391,9 +426,9 @@ class TimedEventGraph:
         [[[-inf, -inf], [Fraction(2, 1), -inf]], [[-inf, Fraction(3, 1)], [-inf, -inf]]]
         """
         n = self.n_transitions
-        top = max((p.tokens for p in self._places), default=0)
+        top = max((row[2] for row in self._rows), default=0)
         mats = [np.full((n, n), EPS, dtype=object) for _ in range(top + 1)]
-        for p in self._places:
+        for p in self.places:
             mats[p.tokens][p.dst, p.src] = max(mats[p.tokens][p.dst, p.src], p.holding)
         return mats
 
@@ -421,7 +456,7 @@ class TimedEventGraph:
         G.graph["name"] = self.name
         for name, attrs in zip(self._names, self.transition_attrs):
             G.add_node(name, **copy.deepcopy(attrs))
-        for i, p in enumerate(self._places):
+        for i, p in enumerate(self.places):
             G.add_edge(self._names[p.src], self._names[p.dst], key=i, tokens=p.tokens,
                        holding=p.holding, initial=p.initial, kind=p.kind, name=p.name,
                        origin=copy.deepcopy(p.origin))
@@ -593,9 +628,40 @@ class TimedEventGraph:
         return Daters(times, a.scale, self.transition_names)
 
 
+def _trusted(index: dict[str, int], src: Any, dst: Any, tokens: Any, holding: Any,
+             initial: Any) -> bool:
+    """Whether a place needs none of :meth:`TimedEventGraph.add_place`'s checks, nor the
+    words of their errors: the builder's own (events by name, exact times, counts in range)."""
+    return (type(src) is str and type(dst) is str and src in index and dst in index
+            and type(tokens) is int and 0 <= tokens <= MAX_COUNT
+            and type(holding) is Fraction and holding.numerator >= 0
+            and type(initial) is Fraction and initial.numerator >= 0)
+
+
 def _scaled(t: Fraction, scale: int) -> int:
     """``t * scale`` for a ``scale`` that ``t.denominator`` divides, exactly."""
     return t.numerator * (scale // t.denominator)
+
+
+class _Times:
+    """A column of times (Fractions), each distinct object read once.
+
+    A built graph's places share a few Fraction objects (0, each task's duration,
+    each clock's period): scaling each object once, then indexing, costs a dict
+    lookup a place instead of a Fraction's numerator and denominator. Objects are
+    told apart by ``id``, which is sound while the column holds them (it does).
+    """
+
+    def __init__(self, times: tuple[Fraction, ...]) -> None:
+        ids = list(map(id, times))
+        first = dict(zip(ids, times))  # one entry per distinct object
+        slot = {k: i for i, k in enumerate(first)}
+        self.distinct = list(first.values())
+        self.index = np.fromiter(map(slot.__getitem__, ids), dtype=np.int64, count=len(ids))
+
+    def scaled(self, scale: int) -> np.ndarray:
+        """``t * scale`` for each time of the column, as :func:`int_array` makes it."""
+        return int_array([_scaled(t, scale) for t in self.distinct])[self.index]
 
 
 def _check_tokens(value: Any, where: str) -> int:

@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import gc
 from fractions import Fraction
 
+import pytest
+
+import tegraph.analysis.analyze as analyze_module
 from tegraph import analyze
 from tegraph.model.build import build_teg, last_event
 from tegraph.model.skeleton import Skeleton
@@ -163,3 +167,31 @@ def test_methods_when_overruns_stay_undecided():
     assert r.methods["timing"].endswith(
         "the overrun of 1 clocked task(s) decided (the first one seen, or none up to a proven "
         "periodic regime); 1 overrun(s) undecided within the budget")
+
+
+def test_the_cyclic_collector_is_paused_during_the_analysis_and_restored(monkeypatch):
+    # analyze_skeleton pauses the cyclic garbage collector while it runs (a speed-up
+    # only): it must be off inside, and left as found after, even on an error.
+    seen = []
+    real = analyze_module._slack
+
+    def spy(*args):
+        seen.append(gc.isenabled())
+        return real(*args)
+
+    monkeypatch.setattr(analyze_module, "_slack", spy)
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 10}}})
+    was = gc.isenabled()
+    try:
+        for state in (True, False):
+            (gc.enable if state else gc.disable)()
+            assert analyze_module.analyze_skeleton(sk).live
+            assert gc.isenabled() is state
+        monkeypatch.setattr(analyze_module, "_slack", lambda *a: 1 / 0)
+        gc.enable()
+        with pytest.raises(ZeroDivisionError):
+            analyze_module.analyze_skeleton(sk)
+        assert gc.isenabled()
+    finally:
+        (gc.enable if was else gc.disable)()
+    assert seen == [False, False]

@@ -11,7 +11,7 @@ import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tegraph.analysis.invariants import minimal_semiflows
+from tegraph.analysis.invariants import minimal_semiflows, semiflow_census
 
 
 @st.composite
@@ -175,3 +175,112 @@ def test_transition_without_places_and_source_sink(method):
     # weighted: 2 p0 = p1 around t0/t1
     C = np.array([[2, -2], [-1, 1]])
     assert [y.tolist() for y in minimal_semiflows(C, method=method).semiflows] == [[1, 2]]
+
+
+def _farkas_over_all_places(C: np.ndarray, budget: int):
+    """The dense Farkas table as it was before the open-rows table: every row,
+    over every place (kept here as the reference the faster table must equal
+    row for row, in order, and in its budget verdict)."""
+    from tegraph.analysis.invariants import _contract_series_transitions
+
+    C = sp.csr_matrix(C, dtype=np.int64)
+    C.eliminate_zeros()
+    Y, R = (m.toarray() for m in _contract_series_transitions(C))
+    done = ~R.any(axis=0)
+    for _ in range(int((~done).sum())):
+        cost = (R > 0).sum(axis=0) * (R < 0).sum(axis=0)
+        cost[done] = np.iinfo(np.int64).max
+        j = int(np.argmin(cost))
+        done[j] = True
+        col = R[:, j]
+        pos, neg, zero = np.flatnonzero(col > 0), np.flatnonzero(col < 0), np.flatnonzero(col == 0)
+        if len(zero) - int((~R[zero].any(axis=1)).sum()) + len(pos) * len(neg) > budget:
+            return None
+        if len(pos) == 0 or len(neg) == 0:
+            Y, R = Y[zero], R[zero]
+            continue
+        a, b = np.repeat(pos, len(neg)), np.tile(neg, len(pos))
+        fa, fb = -col[b][:, None], col[a][:, None]
+        new_Y, new_R = fa * Y[a] + fb * Y[b], fa * R[a] + fb * R[b]
+        g = np.gcd.reduce(new_Y, axis=1)
+        g = np.where(g == 0, 1, g)[:, None]
+        new_Y, new_R = new_Y // g, new_R // g
+        S_old, S_new = (Y[zero] > 0).astype(int), (new_Y > 0).astype(int)
+        size = S_new.sum(axis=1)
+        bad = ((S_new @ S_old.T) == S_old.sum(axis=1)[None, :]).any(axis=1)
+        contains = (S_new @ S_new.T) == size[None, :]
+        np.fill_diagonal(contains, False)
+        strict = (contains & (size[None, :] < size[:, None])).any(axis=1)
+        earlier_equal = np.triu((contains & (size[None, :] == size[:, None])).T, k=1).any(axis=0)
+        keep = ~bad & ~strict & ~earlier_equal
+        Y, R = np.vstack([Y[zero], new_Y[keep]]), np.vstack([R[zero], new_R[keep]])
+    return Y
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.one_of(nets.map(lambda rows: np.array(rows, dtype=np.int64).reshape(len(rows), -1)),
+                 marked_graphs().map(lambda graph: np.array(
+                     [[(k == a) - (k == b) for k in range(graph[0])] for a, b in graph[1]]))),
+       st.integers(0, 40))
+def test_dense_table_equals_the_table_over_all_places(C, budget):
+    # The dense table keeps only open rows, as coefficients over them; its rows,
+    # their order and its budget verdict are those of the full table.
+    expected = _farkas_over_all_places(C, budget)
+    got = minimal_semiflows(C, budget, method="dense")
+    assert got.computed == (expected is not None)
+    if expected is not None:
+        assert got.matrix.toarray().tolist() == expected.tolist()
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.one_of(
+    nets.map(lambda rows: np.array(rows, dtype=np.int64).reshape(len(rows), -1)),
+    marked_graphs().map(lambda graph: np.array(
+        [[(k == a) - (k == b) for k in range(graph[0])] for a, b in graph[1]]))),
+    min_size=1, max_size=4), st.integers(0, 12), st.randoms(use_true_random=False))
+def test_census_equals_each_blocks_own_semiflows(parts, budget, random):
+    # Several nets side by side (rows and columns shuffled), as the blocks of one
+    # net: the census must count what minimal_semiflows finds block by block, and
+    # stop at the same block when the budget runs out.
+    n_rows = sum(len(p) for p in parts)
+    n_cols = sum(p.shape[1] for p in parts)
+    row_at, col_at = list(range(n_rows)), list(range(n_cols))
+    random.shuffle(row_at)
+    random.shuffle(col_at)
+    C = np.zeros((n_rows, n_cols), dtype=np.int64)
+    marking = np.array([random.randint(0, 1) for _ in range(n_rows)])
+    blocks, r0, c0 = [], 0, 0
+    for p in parts:
+        rows = np.array(row_at[r0:r0 + len(p)], dtype=np.int64)
+        cols = np.sort(np.array(col_at[c0:c0 + p.shape[1]], dtype=np.int64))
+        C[np.ix_(rows, cols)] = p
+        blocks.append((rows, cols))
+        r0, c0 = r0 + len(p), c0 + p.shape[1]
+    count = unmarked = 0
+    failed = None
+    for b, (rows, cols) in enumerate(blocks):
+        result = minimal_semiflows(C[np.ix_(rows, cols)], budget)
+        if not result.computed:
+            failed = b
+            break
+        count += result.count
+        unmarked += len(result.unmarked(marking[rows]))
+    census = semiflow_census(sp.csr_matrix(C), blocks, marking, budget)
+    assert census.failed == failed and census.computed == (failed is None)
+    if failed is None:
+        assert (census.count, census.unmarked) == (count, unmarked)
+
+
+@pytest.mark.parametrize("budget", [35, 36])
+def test_census_budget_at_the_edge(budget):
+    # Block 0: a circuit of one place; block 1: two transitions joined by 6 places
+    # each way (36 circuits, 36 candidate rows at the first step: within a budget
+    # of 36, not of 35), as minimal_semiflows decides.
+    C = sp.block_diag([np.array([[0]]), np.array([[1, -1]] * 6 + [[-1, 1]] * 6)], format="csr")
+    blocks = [(np.array([0]), np.array([0])), (np.arange(1, 13), np.array([1, 2]))]
+    census = semiflow_census(C, blocks, np.zeros(13, dtype=np.int64), budget)
+    alone = minimal_semiflows(C[1:, 1:], budget)
+    assert census.computed == alone.computed == (budget == 36)
+    assert census.failed == (None if budget == 36 else 1)
+    if census.computed:
+        assert census.count == census.unmarked == 37

@@ -125,6 +125,28 @@ def test_arrays_scale_and_object_fallback():
     assert g.arrays().holding.tolist() == [3, 8, 12]
 
 
+times = st.fractions(min_value=0, max_value=2**70, max_denominator=50)
+
+
+@given(st.lists(st.tuples(times, times, st.booleans()), max_size=12))
+def test_arrays_scale_each_place_exactly_shared_objects_or_not(rows):
+    # arrays() scales each distinct time object once: places sharing one object
+    # (`share`: the previous place's holding object) or holding equal values in
+    # distinct objects all get t * scale, checked place by place against the Place.
+    g = make(["a"], [])
+    previous = None
+    for holding, initial, share in rows:
+        g.add_place("a", "a", 1, previous if share and previous is not None else holding, initial)
+        previous = g.places[-1].holding
+    a = g.arrays()
+    assert a.holding.tolist() == [p.holding * a.scale for p in g.places]
+    assert a.initial.tolist() == [p.initial * a.scale for p in g.places]
+    assert all(p.holding * a.scale % 1 == 0 for p in g.places)
+    wide = max([abs(v) for v in a.holding.tolist() + a.initial.tolist()], default=0) >= 2**62
+    assert (a.holding.dtype == object) == (max(map(abs, a.holding.tolist()), default=0) >= 2**62)
+    assert wide or (a.holding.dtype == a.initial.dtype == np.int64)
+
+
 # --------------------------------------------------------------------------- state equations
 def test_state_equations_hand_example():
     # Places: a->b (0 tok, 2), a->b (0 tok, 5: the max wins), b->c (1 tok, 1),
