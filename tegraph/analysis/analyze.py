@@ -359,7 +359,7 @@ def _unbounded_places(g: _EventGraph, periods: _Periods) -> list[UnboundedPlace]
     out = []
     for k in lp[slower].tolist():
         a, b = int(g.src[k]), int(g.dst[k])
-        kind = unbounded_kind(g.places[k].kind)
+        kind = unbounded_kind(g.teg.place(k).kind)
         out.append(UnboundedPlace(
             # Type: the ends of a live place lie downstream of a circuit: cycle times set.
             g.names[a], g.names[b], kind, ct[a], ct[b],  # type: ignore[arg-type]

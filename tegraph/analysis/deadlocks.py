@@ -56,7 +56,7 @@ def skeleton_deadlocks(teg: TimedEventGraph) -> list[Deadlock]:
     (['A.read:b', 'A.compute', 'A.write:a', 'B.read:a', 'B.compute', 'B.write:b'], ['A', 'B'])
     """
     a = teg.arrays()
-    names, places = teg.transition_names, teg.places
+    names = teg.transition_names
     out = []
     for circuit in token_free_circuits(a.src, a.dst, a.tokens, teg.n_transitions):
         events = [names[int(a.src[p])] for p in circuit]
@@ -65,7 +65,8 @@ def skeleton_deadlocks(teg: TimedEventGraph) -> list[Deadlock]:
             for t in teg.transition_attrs[int(a.src[p])].get("tasks", ()):
                 if t not in tasks:
                     tasks.append(t)
-        links = [places[p].origin["link"] for p in circuit
-                 if places[p].kind in ("asyn-syn", "syn-asyn")]
+        # One place at a time (TimedEventGraph.place): a circuit names a few.
+        links = [place.origin["link"] for place in map(teg.place, circuit)
+                 if place.kind in ("asyn-syn", "syn-asyn")]
         out.append(Deadlock(events, tasks, links, ""))
     return out
