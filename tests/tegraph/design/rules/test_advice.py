@@ -247,13 +247,9 @@ def test_the_in_place_check_equals_a_full_recheck(rng: random.Random):
     check_the_check(Skeleton.from_dict(random_skeleton(rng, max_tasks=6)))
 
 
-@pytest.mark.parametrize("components_from", [200, 0], ids=["union-find", "scipy"])
-def test_the_in_place_check_on_the_examples_and_corpus(monkeypatch, components_from):
-    # Both ways of re-forming the groups (by size: a union-find or scipy's connected
-    # components) against the full re-check.
-    import tegraph.design.rules.advice as advice
-
-    monkeypatch.setattr(advice, "_COMPONENTS_FROM", components_from)
+def test_the_in_place_check_on_the_examples_and_corpus():
+    # The groups re-formed in place (a union-find over the touched groups' own joins,
+    # but for the edited links and clocks) against the full re-check.
     compared = sum(check_the_check(load_skeleton(p)) for p in sorted(EXAMPLES.glob("*.yaml")))
     compared += sum(check_the_check(Skeleton.from_dict(random_skeleton(random.Random(seed))))
                     for seed in range(60))
