@@ -118,10 +118,13 @@ class Advisor(Candidates):
         finding outside them.
     structure : Structure, optional
         ``Structure.of(skeleton)``, if known.
+    live : bool, optional
+        Whether ``skeleton`` is live (no token-free circuit), if known: a live
+        skeleton has no dead group to search for (:meth:`_dead_groups`).
     """
 
     def __init__(self, skeleton: Skeleton, findings: list[RuleFinding],
-                 structure: Structure | None = None) -> None:
+                 structure: Structure | None = None, live: bool | None = None) -> None:
         super().__init__(skeleton, structure)
         self.periods = self.structure.periods
         self._group_clocks: dict[int, tuple[dict[str, int], list[tuple[Fraction, str]]]] = {}
@@ -150,7 +153,8 @@ class Advisor(Candidates):
                 members = self.groups[self.group_of[key[0]]]
                 if members == key:
                     self._rule3[id(members)] = kind
-        self._dead: set[int] | None = None  # token-free circuits in the skeleton (on demand)
+        # The groups with a token-free circuit (on demand; none in a live skeleton).
+        self._dead: set[int] | None = set() if live else None
         self._live: dict[Change, bool] = {}
         self._real: dict[tuple, _Rates] = {}
         self.periods_spent = 0
