@@ -144,6 +144,8 @@ class Advisor(Candidates):
                                      list[tuple[str, str]]]] = {}
         self.keys = {f.identity for f in findings}
         self._after: tuple[Edits, tuple[list[int], dict, Any]] | None = None
+        self._change: tuple[Edits, Change] | None = None
+        self._rates_after: tuple[Edits, int, _Rates | None] | None = None
         # The Rule 3 finding of each group, by the group's own tuple: :meth:`brings`
         # need not hash all the tasks of a group that stays as it was to see that its
         # finding is not new (a group of 10,000 tasks, once per finding of its tasks).
@@ -245,8 +247,8 @@ class Advisor(Candidates):
         (:meth:`real_periods`), :data:`DEAD` where its group is dead. A task that loses its
         clock counts against its clock's period too: the designed rate is the clock's.
         """
-        groups, _, root_of = self._groups_after(edits)
-        real = self.real_periods(groups, self.change_of(edits), root_of)
+        groups, _, _ = self._groups_after(edits)
+        real = self._periods_after(edits)
         if real is None:
             return []
         out = []
@@ -262,11 +264,26 @@ class Advisor(Candidates):
 
     def inconsistent(self, edits: Edits) -> int:
         """How many groups touched by ``edits`` are not rate-consistent afterwards."""
-        groups, part, root_of = self._groups_after(edits)
-        real = self.real_periods(groups, self.change_of(edits), root_of)
+        _, part, _ = self._groups_after(edits)
+        real = self._periods_after(edits)
         if real is None:
             return 0
         return sum(members[0] in real.mixed for members, _, _ in part.values())
+
+    def _periods_after(self, edits: Edits) -> _Rates | None:
+        """:meth:`real_periods` of the touched groups once ``edits`` are made.
+
+        Remembered for the last edits asked about while nothing more is solved (the
+        answer then stays the same): ranking a candidate and wording it ask up to
+        three times, and each time the key of the cache would hash the change anew.
+        """
+        known = self._rates_after
+        if known is not None and known[0] is edits and known[1] == self.periods_spent:
+            return known[2]
+        groups, _, root_of = self._groups_after(edits)
+        real = self.real_periods(groups, self.change_of(edits), root_of)
+        self._rates_after = (edits, self.periods_spent, real)
+        return real
 
     def real_periods(self, groups: list[int], change: Change, roots: Mapping[str, Any]
                      ) -> _Rates | None:
@@ -381,9 +398,9 @@ class Advisor(Candidates):
         afterwards is named.
         """
         u = self.sk.unit
-        groups, part, root_of = self._groups_after(edits)
+        groups, part, _ = self._groups_after(edits)
         # The change first: it is solved only when the periods before fit the budget too.
-        real = self.real_periods(groups, self.change_of(edits), root_of)
+        real = self._periods_after(edits)
         now = None if real is None else self.real_periods(groups, Change(), self.group_of)
         if now is None or real is None:
             return (f"periods before -> after not computed: the advice's budget of "
@@ -618,7 +635,18 @@ class Advisor(Candidates):
         return known
 
     def change_of(self, edits: Edits) -> Change:
-        """The :class:`Change` of ``edits`` (links in skeleton order, tasks in file order)."""
+        """The :class:`Change` of ``edits`` (links in skeleton order, tasks in file order).
+
+        Remembered for the last edits asked about (ranking and wording a candidate ask
+        for it up to five times).
+        """
+        if self._change is not None and self._change[0] is edits:
+            return self._change[1]
+        change = self._change_of(edits)
+        self._change = (edits, change)
+        return change
+
+    def _change_of(self, edits: Edits) -> Change:
         final: dict[Link, Protocol] = {}
         for link, protocol in edits.protocol:
             final[link] = protocol
