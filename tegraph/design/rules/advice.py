@@ -49,6 +49,7 @@ from ...model.structure import Structure, label_events
 from .candidates import CANDIDATE_LIMIT, SPLIT, Candidates, Edits
 from .change import Change, apply_change
 from .findings import FindingKey, FindingKind, RuleFinding, link_key
+from .regroup import Regrouping
 
 __all__ = ["CANDIDATE_LIMIT", "PERIODS_BUDGET", "SPLIT", "Advisor", "Choice"]
 
@@ -135,13 +136,6 @@ class Advisor(Candidates):
             self.threads_of.setdefault(self.group_of[thread[0]], []).append(thread)
         periods = [c.period for c in skeleton.clocks.values()]
         self.fresh = max(periods, default=Fraction(0)) + 1  # a period no group has
-        # The clocks' periods, slowest last, and each clock's rank among them: the
-        # fastest of many clocks is the least of their ranks (ints, not Fractions).
-        self.by_rank = sorted(set(periods))
-        rank_of = {period: i for i, period in enumerate(self.by_rank)}
-        self.clock_rank = {c: rank_of[k.period] for c, k in skeleton.clocks.items()}
-        self._joins: dict[int, tuple[list[Link], list[tuple[str, list[str]]],
-                                     list[tuple[str, str]]]] = {}
         self.keys = {f.identity for f in findings}
         self._after: tuple[Edits, tuple[list[int], dict, Any]] | None = None
         self._change: tuple[Edits, Change] | None = None
@@ -170,6 +164,8 @@ class Advisor(Candidates):
         self.links_from: list[list[Link]] = [[] for _ in self.groups]
         for link in skeleton.links:
             self.links_from[self.group_of[link.writer[0]]].append(link)
+        self.regrouping = Regrouping(skeleton, self.groups, self.links_from, self.threads_of,
+                                     self.order, self.fresh)
         # The ASYN/ASYN links each group has: Rule 2 re-reads them when the group changes.
         self.asyn: list[list[Link]] = [[] for _ in self.groups]
         for link in skeleton.links:
@@ -507,95 +503,7 @@ class Advisor(Candidates):
                 and all(self.clock_users[self.sk.tasks[t].clock] == 1  # type: ignore[index]
                         for t in edits.drop)):
             return self._same_groups(groups, edits)
-        tasks = [t for g in groups for t in self.groups[g]]
-        if len(groups) > 1:  # each group is in file order already, not their union
-            tasks.sort(key=self.order.__getitem__)
-        clock_of, root_of = self._joined_after(tasks, groups, edits)
-        return self._counted(tasks, root_of, clock_of), root_of
-
-    def _joined_after(self, tasks: list[str], groups: list[int], edits: Edits
-                      ) -> tuple[dict[str, str | None], dict[str, str]]:
-        """Each task's clock once ``edits`` are made, and the root of its group then: the
-        tasks joined by a shared clock, a synchronizing link or a thread (spec §4).
-
-        A union-find over the tasks of ``groups``, whose joins are those of the
-        groups as they are (cached per group) but for what the edits touch: the
-        edited links, and the clocks of the edited tasks. (scipy's connected
-        components cost more in set-up than this loop below thousands of tasks, and
-        as much above: the Python lists of pairs they need are the cost.)
-        """
-        parent = {t: t for t in tasks}
-        edited = {id(link): p for link, p in edits.protocol}  # the last edit of each link
-        changed = edits.drop | edits.add
-        # Type: a task whose clock is dropped has one (and one added may have had one).
-        moved = {self.sk.tasks[t].clock for t in changed} - {None}
-        clock_of: dict[str, str | None] = {}
-        for t in tasks:
-            clock_of[t] = self.sk.tasks[t].clock
-        for t in edits.drop:
-            clock_of[t] = None
-        for t in edits.add:
-            clock_of[t] = f"{t}\0new"  # a clock of its own: it joins nothing
-        for g in groups:
-            links, clocks, threads = self._joins_of_group(g)
-            for link in links:  # the synchronizing links, unless edited
-                if id(link) not in edited:
-                    _join(parent, link.writer[0], link.reader[0])
-            for clock, users in clocks:
-                if clock in moved:
-                    users = [t for t in users if t not in changed]
-                for t in users[1:]:
-                    _join(parent, users[0], t)
-            for a, b in threads:
-                _join(parent, a, b)
-        for link, p in edits.protocol:
-            if p.synchronizing and edited[id(link)] is p:
-                _join(parent, link.writer[0], link.reader[0])
-        return clock_of, {t: _root(parent, t) for t in tasks}
-
-    def _joins_of_group(self, g: int) -> tuple[list[Link], list[tuple[str, list[str]]],
-                                                list[tuple[str, str]]]:
-        """What joins the tasks of group ``g`` as it is (cached): its synchronizing
-        links, the users of each of its clocks (in file order), its threads' pairs."""
-        known = self._joins.get(g)
-        if known is None:
-            links = [link for link in self.links_from[g] if link.protocol.synchronizing]
-            users: dict[str, list[str]] = {}
-            for t in self.groups[g]:
-                clock = self.sk.tasks[t].clock
-                if clock:
-                    users.setdefault(clock, []).append(t)
-            threads = [(thread[0], t) for thread in self.threads_of.get(g, ())
-                       for t in thread[1:]]
-            known = self._joins[g] = (links, list(users.items()), threads)
-        return known
-
-    def _counted(self, tasks: list[str], root_of: dict[str, str],
-                 clock_of: dict[str, str | None]
-                 ) -> dict[str, tuple[list[str], int, Fraction | None]]:
-        """Each re-formed group by its root: its tasks in file order, how many clocks,
-        and its design period (the fastest of its clocks, a new clock's included).
-
-        ``tasks`` are in file order. The fastest clock is found by its rank among the
-        periods (:attr:`clock_rank`, an int), not by comparing Fractions: a group of
-        10,000 clocks compares 10,000 of them per candidate.
-        """
-        part: dict[str, tuple[list[str], set[str]]] = {}
-        for t in tasks:
-            entry = part.get(root_of[t])
-            if entry is None:
-                entry = part[root_of[t]] = ([], set())
-            entry[0].append(t)
-            if clock := clock_of[t]:
-                entry[1].add(clock)
-        rank, fresh = self.clock_rank, len(self.by_rank)
-        counted: dict[str, tuple[list[str], int, Fraction | None]] = {}
-        for root, (members, clocks) in part.items():
-            fastest = min((rank.get(c, fresh) for c in clocks), default=None)
-            period = (None if fastest is None
-                      else self.fresh if fastest == fresh else self.by_rank[fastest])
-            counted[root] = (members, len(clocks), period)
-        return counted
+        return self.regrouping.after(groups, edits)
 
     def _same_groups(self, groups: list[int], edits: Edits) -> tuple[dict, _Roots]:
         """:meth:`_regroup` when no link starts or stops synchronizing and no shared
@@ -674,21 +582,6 @@ class Advisor(Candidates):
                          f"other group has, e.g. {display_text(self.fresh)} {self.sk.unit})")
         return "; ".join(parts)
 
-
-
-def _root(parent: dict[str, str], task: str) -> str:
-    """The root of ``task`` in a union-find's ``parent`` map (halving the path to it)."""
-    while (up := parent[task]) != task:
-        parent[task] = parent[up]
-        task = parent[task]
-    return task
-
-
-def _join(parent: dict[str, str], a: str, b: str) -> None:
-    """Join the parts of ``a`` and ``b`` in a union-find's ``parent`` map."""
-    a, b = _root(parent, a), _root(parent, b)
-    if a != b:
-        parent[a] = b
 
 
 def _group_text(tasks: tuple[str, ...] | list[str]) -> str:

@@ -247,9 +247,14 @@ def test_the_in_place_check_equals_a_full_recheck(rng: random.Random):
     check_the_check(Skeleton.from_dict(random_skeleton(rng, max_tasks=6)))
 
 
-def test_the_in_place_check_on_the_examples_and_corpus():
-    # The groups re-formed in place (a union-find over the touched groups' own joins,
-    # but for the edited links and clocks) against the full re-check.
+@pytest.mark.parametrize("arrays_from", [500, 0], ids=["union-find", "scipy"])
+def test_the_in_place_check_on_the_examples_and_corpus(monkeypatch, arrays_from):
+    # Both ways of re-forming the groups in place (by size: a union-find over the
+    # touched groups' own joins but for the edited links and clocks, or scipy's
+    # connected components over arrays of them) against the full re-check.
+    import tegraph.design.rules.regroup as regroup
+
+    monkeypatch.setattr(regroup, "ARRAYS_FROM", arrays_from)
     compared = sum(check_the_check(load_skeleton(p)) for p in sorted(EXAMPLES.glob("*.yaml")))
     compared += sum(check_the_check(Skeleton.from_dict(random_skeleton(random.Random(seed))))
                     for seed in range(60))
