@@ -61,7 +61,7 @@ class Regrouping:
         self.by_rank = sorted({c.period for c in skeleton.clocks.values()})
         rank_of = {period: i for i, period in enumerate(self.by_rank)}
         self.clock_rank = {c: rank_of[k.period] for c, k in skeleton.clocks.items()}
-        self._joins: dict[int, tuple[list[Link], list[tuple[str, list[str]]],
+        self._joins: dict[int, tuple[list[tuple[str, str, int]], list[tuple[str, list[str]]],
                                      list[tuple[str, str]]]] = {}
         self._arrays: dict[int, _GroupArrays] = {}
 
@@ -98,30 +98,48 @@ class Regrouping:
             clock_of[t] = None
         for t in edits.add:
             clock_of[t] = f"{t}\0new"  # a clock of its own: it joins nothing
+        pairs: list[tuple[str, str]] = []
         for g in groups:
             links, clocks, threads = self._joins_of_group(g)
-            for link in links:  # the synchronizing links, unless edited
-                if id(link) not in edited:
-                    _join(parent, link.writer[0], link.reader[0])
+            # The synchronizing links, unless edited.
+            pairs += [(w, r) for w, r, key in links if key not in edited]
             for clock, users in clocks:
                 if clock in moved:
                     users = [t for t in users if t not in changed]
-                for t in users[1:]:
-                    _join(parent, users[0], t)
-            for a, b in threads:
-                _join(parent, a, b)
-        for link, p in edits.protocol:
-            if p.synchronizing and edited[id(link)] is p:
-                _join(parent, link.writer[0], link.reader[0])
-        return clock_of, {t: _root(parent, t) for t in tasks}
+                pairs += [(users[0], t) for t in users[1:]]
+            pairs += threads
+        pairs += [(link.writer[0], link.reader[0]) for link, p in edits.protocol
+                  if p.synchronizing and edited[id(link)] is p]
+        # A union-find, its finds written out (halving the path): a call per find
+        # cost as much as the rest of the loop.
+        for a, b in pairs:
+            while (up := parent[a]) != a:
+                parent[a] = parent[up]
+                a = parent[a]
+            while (up := parent[b]) != b:
+                parent[b] = parent[up]
+                b = parent[b]
+            if a != b:
+                parent[a] = b
+        root_of = {}
+        for t in tasks:
+            a = t
+            while (up := parent[a]) != a:
+                parent[a] = parent[up]
+                a = parent[a]
+            root_of[t] = a
+        return clock_of, root_of
 
-    def _joins_of_group(self, g: int) -> tuple[list[Link], list[tuple[str, list[str]]],
+    def _joins_of_group(self, g: int) -> tuple[list[tuple[str, str, int]],
+                                                list[tuple[str, list[str]]],
                                                 list[tuple[str, str]]]:
         """What joins the tasks of group ``g`` as it is (cached): its synchronizing
-        links, the users of each of its clocks (in file order), its threads' pairs."""
+        links (writer, reader, the link's ``id``), the users of each of its clocks (in
+        file order), its threads' pairs."""
         known = self._joins.get(g)
         if known is None:
-            links = [link for link in self.links_from[g] if link.protocol.synchronizing]
+            links = [(link.writer[0], link.reader[0], id(link)) for link in self.links_from[g]
+                     if link.protocol.synchronizing]
             users: dict[str, list[str]] = {}
             for t in self.groups[g]:
                 clock = self.sk.tasks[t].clock
@@ -246,18 +264,3 @@ class _GroupArrays:
         self.n_clocks = len(clocks)
         ranks = [owner.clock_rank[c] for c in clocks]
         self.rank = np.array(ranks, dtype=np.int64)
-
-
-def _root(parent: dict[str, str], task: str) -> str:
-    """The root of ``task`` in a union-find's ``parent`` map (halving the path to it)."""
-    while (up := parent[task]) != task:
-        parent[task] = parent[up]
-        task = parent[task]
-    return task
-
-
-def _join(parent: dict[str, str], a: str, b: str) -> None:
-    """Join the parts of ``a`` and ``b`` in a union-find's ``parent`` map."""
-    a, b = _root(parent, a), _root(parent, b)
-    if a != b:
-        parent[a] = b
