@@ -139,10 +139,7 @@ def advised(finding: RuleFinding, advisor: Advisor, on: ScheduleAdvice | None = 
                   "finding makes it live (see the deadlock's own advice).")
     elif choice.live:
         words += " This also makes the skeleton live."
-    # Made field by field: dataclasses.replace reads the fields anew for each of
-    # thousands of findings, and costs more than the finding's own words.
-    return RuleFinding(finding.kind, finding.key, finding.tasks, finding.ports, finding.links,
-                       finding.message, words, change, effect)
+    return dataclasses.replace(finding, advice=words, change=change, schedule=effect)
 
 
 def rule1(sk: Skeleton, structure: Structure) -> list[RuleFinding]:
