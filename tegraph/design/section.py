@@ -117,6 +117,7 @@ def design_section(skeleton: Skeleton, report: Report,
     return DesignSection(
         name=skeleton.name, unit=skeleton.unit,
         rules=check_rules(skeleton, report.structure, processors=(
-            report.schedule is not None if processors is None else processors)),
+            report.schedule is not None if processors is None else processors),
+            live=report.live),
         schedulability=sched,
         latency=[chain_latency(skeleton, c, report, sched, path) for c, path in named])

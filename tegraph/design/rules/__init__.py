@@ -47,6 +47,9 @@ Modules, and where a change goes
 ``candidates``
     The candidate edits for a finding of Rules 1-3, best first, by kind.
     A new way to repair a finding goes here.
+``regroup``
+    :class:`~.regroup.Regrouping`: the groups a candidate's edits leave, re-formed
+    on the groups it touches only.
 ``advice``
     :class:`~.advice.Advisor`: checks each candidate where it can change the
     rules (what it would bring, liveness, the periods it changes) and

@@ -49,6 +49,7 @@ from ...model.structure import Structure, label_events
 from .candidates import CANDIDATE_LIMIT, SPLIT, Candidates, Edits
 from .change import Change, apply_change
 from .findings import FindingKey, FindingKind, RuleFinding, link_key
+from .regroup import Regrouping
 
 __all__ = ["CANDIDATE_LIMIT", "PERIODS_BUDGET", "SPLIT", "Advisor", "Choice"]
 
@@ -60,13 +61,6 @@ cost 10^8 (hours); 10,000 is about a second of solving. A change is solved only
 while the periods before it fit too (they are worded side by side). Past it, the
 advice states no period before -> after and says so; the choice then falls back
 to the smallest change bringing no finding."""
-
-_COMPONENTS_FROM = 200
-"""Groups of this many tasks and more are re-formed by scipy's connected components,
-smaller ones by a union-find: scipy's set-up (about 50 µs a call) costs more than
-a union-find's Python loop below about 200 tasks (measured on the generated
-skeletons: groups of 3-30 tasks 2x faster by union-find, a 10,000-task group 2x
-faster by scipy)."""
 
 _SOLVE_COST = 30
 """What one solve costs at least, in tasks: the fixed cost of a build and a solve."""
@@ -125,15 +119,19 @@ class Advisor(Candidates):
         finding outside them.
     structure : Structure, optional
         ``Structure.of(skeleton)``, if known.
+    live : bool, optional
+        Whether ``skeleton`` is live (no token-free circuit), if known: a live
+        skeleton has no dead group to search for (:meth:`_dead_groups`).
     """
 
     def __init__(self, skeleton: Skeleton, findings: list[RuleFinding],
-                 structure: Structure | None = None) -> None:
+                 structure: Structure | None = None, live: bool | None = None) -> None:
         super().__init__(skeleton, structure)
         self.periods = self.structure.periods
         self._group_clocks: dict[int, tuple[dict[str, int], list[tuple[Fraction, str]]]] = {}
         self.order = {t: i for i, t in enumerate(skeleton.tasks)}
         self.link_order = {id(link): i for i, link in enumerate(skeleton.links)}
+        self.clock_order = {c: i for i, c in enumerate(skeleton.clocks)}
         self.threads_of: dict[int, list[tuple[str, ...]]] = {}
         for thread in skeleton.threads:
             self.threads_of.setdefault(self.group_of[thread[0]], []).append(thread)
@@ -141,6 +139,8 @@ class Advisor(Candidates):
         self.fresh = max(periods, default=Fraction(0)) + 1  # a period no group has
         self.keys = {f.identity for f in findings}
         self._after: tuple[Edits, tuple[list[int], dict, Any]] | None = None
+        self._change: tuple[Edits, Change] | None = None
+        self._rates_after: tuple[Edits, int, _Rates | None] | None = None
         # The Rule 3 finding of each group, by the group's own tuple: :meth:`brings`
         # need not hash all the tasks of a group that stays as it was to see that its
         # finding is not new (a group of 10,000 tasks, once per finding of its tasks).
@@ -150,7 +150,8 @@ class Advisor(Candidates):
                 members = self.groups[self.group_of[key[0]]]
                 if members == key:
                     self._rule3[id(members)] = kind
-        self._dead: set[int] | None = None  # token-free circuits in the skeleton (on demand)
+        # The groups with a token-free circuit (on demand; none in a live skeleton).
+        self._dead: set[int] | None = set() if live else None
         self._live: dict[Change, bool] = {}
         self._real: dict[tuple, _Rates] = {}
         self.periods_spent = 0
@@ -164,6 +165,8 @@ class Advisor(Candidates):
         self.links_from: list[list[Link]] = [[] for _ in self.groups]
         for link in skeleton.links:
             self.links_from[self.group_of[link.writer[0]]].append(link)
+        self.regrouping = Regrouping(skeleton, self.groups, self.links_from, self.threads_of,
+                                     self.order, self.fresh)
         # The ASYN/ASYN links each group has: Rule 2 re-reads them when the group changes.
         self.asyn: list[list[Link]] = [[] for _ in self.groups]
         for link in skeleton.links:
@@ -241,8 +244,8 @@ class Advisor(Candidates):
         (:meth:`real_periods`), :data:`DEAD` where its group is dead. A task that loses its
         clock counts against its clock's period too: the designed rate is the clock's.
         """
-        groups, _, root_of = self._groups_after(edits)
-        real = self.real_periods(groups, self.change_of(edits), root_of)
+        groups, _, _ = self._groups_after(edits)
+        real = self._periods_after(edits)
         if real is None:
             return []
         out = []
@@ -258,11 +261,26 @@ class Advisor(Candidates):
 
     def inconsistent(self, edits: Edits) -> int:
         """How many groups touched by ``edits`` are not rate-consistent afterwards."""
-        groups, part, root_of = self._groups_after(edits)
-        real = self.real_periods(groups, self.change_of(edits), root_of)
+        _, part, _ = self._groups_after(edits)
+        real = self._periods_after(edits)
         if real is None:
             return 0
         return sum(members[0] in real.mixed for members, _, _ in part.values())
+
+    def _periods_after(self, edits: Edits) -> _Rates | None:
+        """:meth:`real_periods` of the touched groups once ``edits`` are made.
+
+        Remembered for the last edits asked about while nothing more is solved (the
+        answer then stays the same): ranking a candidate and wording it ask up to
+        three times, and each time the key of the cache would hash the change anew.
+        """
+        known = self._rates_after
+        if known is not None and known[0] is edits and known[1] == self.periods_spent:
+            return known[2]
+        groups, _, root_of = self._groups_after(edits)
+        real = self.real_periods(groups, self.change_of(edits), root_of)
+        self._rates_after = (edits, self.periods_spent, real)
+        return real
 
     def real_periods(self, groups: list[int], change: Change, roots: Mapping[str, Any]
                      ) -> _Rates | None:
@@ -332,15 +350,34 @@ class Advisor(Candidates):
         return self._live[change]
 
     def _within(self, groups: list[int] | set[int]) -> Skeleton:
-        """The skeleton cut down to the tasks of ``groups`` (their links, clocks, threads)."""
+        """The skeleton cut down to the tasks of ``groups`` (their links, clocks, threads).
+
+        Only the clocks of those tasks are kept: another clock would be a tick alone
+        on its part, which no task's period reads, but which the timed event graph
+        would build and the solver solve (a skeleton of 637 private clocks made each
+        solve of a 25-task group 700 events, not 100). The names a clock added to one
+        of the tasks would take (``T.clock``, then ``T.clock'``...) are kept too, so
+        that :func:`.apply_change` names it as on the whole skeleton.
+        """
         chosen = set(groups)
         tasks = sorted((t for g in chosen for t in self.groups[g]), key=self.order.__getitem__)
         links = sorted((x for g in chosen for x in self.links_from[g]
                         if self.group_of[x.reader[0]] in chosen),
                        key=lambda x: self.link_order[id(x)])
         threads = [th for g in sorted(chosen) for th in self.threads_of.get(g, [])]
-        return dataclasses.replace(self.sk, tasks={t: self.sk.tasks[t] for t in tasks},
-                                   links=links, threads=threads, chains=[])
+        clocks = self.sk.clocks
+        kept = set()
+        for t in tasks:
+            if (clock := self.sk.tasks[t].clock) is not None:
+                kept.add(clock)
+            name = f"{t}.clock"
+            while name in clocks:
+                kept.add(name)
+                name += "'"
+        return dataclasses.replace(
+            self.sk, tasks={t: self.sk.tasks[t] for t in tasks},
+            clocks={c: clocks[c] for c in sorted(kept, key=self.clock_order.__getitem__)},
+            links=links, threads=threads, chains=[])
 
     def _dead_groups(self) -> set[int]:
         """The groups that hold a token-free circuit (spec §4 deadlocks).
@@ -377,9 +414,9 @@ class Advisor(Candidates):
         afterwards is named.
         """
         u = self.sk.unit
-        groups, part, root_of = self._groups_after(edits)
+        groups, part, _ = self._groups_after(edits)
         # The change first: it is solved only when the periods before fit the budget too.
-        real = self.real_periods(groups, self.change_of(edits), root_of)
+        real = self._periods_after(edits)
         now = None if real is None else self.real_periods(groups, Change(), self.group_of)
         if now is None or real is None:
             return (f"periods before -> after not computed: the advice's budget of "
@@ -486,49 +523,7 @@ class Advisor(Candidates):
                 and all(self.clock_users[self.sk.tasks[t].clock] == 1  # type: ignore[index]
                         for t in edits.drop)):
             return self._same_groups(groups, edits)
-        tasks = [t for g in groups for t in self.groups[g]]
-        clock_of, pairs = self._joins_after(tasks, groups, edits)
-        root_of = (_union_find if len(tasks) < _COMPONENTS_FROM else _components)(tasks, pairs)
-        return self._counted(tasks, root_of, clock_of), root_of
-
-    def _joins_after(self, tasks: list[str], groups: list[int], edits: Edits
-                     ) -> tuple[dict[str, str | None], list[tuple[str, str]]]:
-        """Each task's clock once ``edits`` are made, and the pairs of tasks that join
-        (a shared clock, a synchronizing link, a thread), as in spec §4."""
-        first_of: dict[str, str] = {}
-        clock_of: dict[str, str | None] = {}
-        pairs: list[tuple[str, str]] = []
-        for t in tasks:
-            clock = None if t in edits.drop else self.sk.tasks[t].clock
-            if t in edits.add:
-                clock = f"{t}\0new"  # a clock of its own: it joins nothing
-            clock_of[t] = clock
-            if clock:
-                pairs.append((t, first_of.setdefault(clock, t)))
-            pairs += [(t, link.writer[0]) for link in self.inputs(t)
-                      if edits.get(link).synchronizing]
-        for g in groups:
-            for thread in self.threads_of.get(g, ()):
-                pairs += [(thread[0], t) for t in thread[1:]]
-        return clock_of, pairs
-
-    def _counted(self, tasks: list[str], root_of: dict[str, str],
-                 clock_of: dict[str, str | None]
-                 ) -> dict[str, tuple[list[str], int, Fraction | None]]:
-        """Each re-formed group by its root: its tasks in file order, how many clocks,
-        and its design period (the fastest of its clocks, a new clock's included)."""
-        part: dict[str, tuple[list[str], set[str]]] = {}
-        for t in sorted(tasks, key=self.order.__getitem__):
-            entry = part.setdefault(root_of[t], ([], set()))
-            entry[0].append(t)
-            if clock := clock_of[t]:
-                entry[1].add(clock)
-        counted: dict[str, tuple[list[str], int, Fraction | None]] = {}
-        for root, (members, clocks) in part.items():
-            period = min((self.fresh if c.endswith("\0new") else self.sk.clocks[c].period
-                          for c in clocks), default=None)
-            counted[root] = (members, len(clocks), period)
-        return counted
+        return self.regrouping.after(groups, edits)
 
     def _same_groups(self, groups: list[int], edits: Edits) -> tuple[dict, _Roots]:
         """:meth:`_regroup` when no link starts or stops synchronizing and no shared
@@ -568,7 +563,18 @@ class Advisor(Candidates):
         return known
 
     def change_of(self, edits: Edits) -> Change:
-        """The :class:`Change` of ``edits`` (links in skeleton order, tasks in file order)."""
+        """The :class:`Change` of ``edits`` (links in skeleton order, tasks in file order).
+
+        Remembered for the last edits asked about (ranking and wording a candidate ask
+        for it up to five times).
+        """
+        if self._change is not None and self._change[0] is edits:
+            return self._change[1]
+        change = self._change_of(edits)
+        self._change = (edits, change)
+        return change
+
+    def _change_of(self, edits: Edits) -> Change:
         final: dict[Link, Protocol] = {}
         for link, protocol in edits.protocol:
             final[link] = protocol
@@ -596,36 +602,6 @@ class Advisor(Candidates):
                          f"other group has, e.g. {display_text(self.fresh)} {self.sk.unit})")
         return "; ".join(parts)
 
-
-
-def _union_find(tasks: list[str], pairs: list[tuple[str, str]]) -> dict[str, str]:
-    """The root of each task once ``pairs`` are joined, by networkx's union-find."""
-    # networkx (some 300 modules) is imported only where groups are re-formed, so a
-    # plain `tegraph analyze` does not pay for it at start-up.
-    from networkx.utils import UnionFind
-
-    joined = UnionFind(tasks)
-    for a, b in pairs:
-        joined.union(a, b)
-    return {t: joined[t] for t in tasks}
-
-
-def _components(tasks: list[str], pairs: list[tuple[str, str]]) -> dict[str, str]:
-    """The root of each task once ``pairs`` are joined (its part's first task), by
-    scipy's connected components."""
-    index = {t: i for i, t in enumerate(tasks)}
-    for pair in pairs:  # a writer from outside the tasks joins them all the same
-        for t in pair:
-            index.setdefault(t, len(index))
-    rows = [index[a] for a, _ in pairs]
-    cols = [index[b] for _, b in pairs]
-    n = len(index)
-    graph = sp.coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
-    label = connected_components(graph, directed=False)[1]
-    _, first = np.unique(label, return_index=True)
-    names = list(index)
-    root = first[label].tolist()
-    return {t: names[root[i]] for i, t in enumerate(tasks)}
 
 
 def _group_text(tasks: tuple[str, ...] | list[str]) -> str:

@@ -97,7 +97,7 @@ class Candidates:
         """What ``task`` waits for once ``edits`` are made, in chain order."""
         has_clock = (self.sk.tasks[task].clock is not None and task not in edits.drop
                      or task in edits.add)
-        return waits_for(has_clock, self.inputs(task), self.outputs(task), edits.get)
+        return waits_for(has_clock, self.inputs(task), self.outputs(task), edits.by_id())
 
     def needs_one(self, task: str, edits: Edits) -> bool:
         """Rule 1 would warn: no synchronization and no thread."""

@@ -31,7 +31,7 @@ _ORDER = {"error": 0, "warning": 1, "info": 2}
 
 
 def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
-                processors: bool = True) -> list[RuleFinding]:
+                processors: bool = True, live: bool | None = None) -> list[RuleFinding]:
     """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
 
     Parameters
@@ -45,6 +45,9 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
         (spec §4b, :mod:`.on_processors`: ``RuleFinding.schedule`` and a clause of
         the advice); False: every task has a processor of its own, where the
         periods the advice states say it.
+    live : bool, optional
+        Whether the skeleton is live (``Report.live`` of its analysis), if known:
+        the advice then need not look for token-free circuits itself.
 
     Returns
     -------
@@ -85,7 +88,7 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
     """
     structure = Structure.of(skeleton) if structure is None else structure
     structural = structural_findings(skeleton, structure)
-    advisor = Advisor(skeleton, structural, structure)
+    advisor = Advisor(skeleton, structural, structure, live)
     on = (ScheduleAdvice(skeleton, structure.groups, structure.group_of, advisor.fresh)
           if processors else None)
     findings = [advised(f, advisor, on) for f in structural]

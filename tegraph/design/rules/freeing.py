@@ -20,7 +20,7 @@ the order, it says so and the caller makes the whole list.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 
 from ...model.skeleton import Link, Protocol
 from .synchronization import READER_BLOCKS, WRITER_BLOCKS
@@ -44,12 +44,13 @@ class Edits:
     (<Protocol.ASYN_ASYN: 'ASYN/ASYN'>, 2)
     """
 
-    __slots__ = ("protocol", "drop", "add", "kept")
+    __slots__ = ("protocol", "drop", "add", "kept", "_by_id")
 
     def __init__(self, protocol: tuple[tuple[Link, Protocol], ...] = (),
                  drop: frozenset[str] = frozenset(), add: frozenset[str] = frozenset(),
                  kept: str = "") -> None:
         self.protocol, self.drop, self.add, self.kept = protocol, drop, add, kept
+        self._by_id: dict[int, Protocol] | None = None
 
     def set(self, link: Link, protocol: Protocol) -> Edits:
         return Edits(self.protocol + ((link, protocol),), self.drop, self.add, self.kept)
@@ -68,6 +69,12 @@ class Edits:
             if known is link:
                 return protocol
         return link.protocol
+
+    def by_id(self) -> dict[int, Protocol]:
+        """The last protocol given to each edited link, by the link's ``id`` (made once)."""
+        if self._by_id is None:
+            self._by_id = {id(link): protocol for link, protocol in self.protocol}
+        return self._by_id
 
     def size(self) -> int:
         """How much the edits change: links edited, clocks removed and clocks added.
@@ -88,20 +95,33 @@ again); what the candidates say they keep (:attr:`Edits.kept`)."""
 
 
 def waits_for(has_clock: bool, inputs: list[Link], outputs: list[Link],
-              protocol: Callable[[Link], Protocol]) -> list[Sync]:
+              edited: Mapping[int, Protocol]) -> list[Sync]:
     """A task's synchronizations, in chain order: its clock, the inputs it reads
-    blocking, the outputs it posts blocking (``protocol``: each link's, edited).
+    blocking, the outputs it posts blocking (``edited``: the protocol of each edited
+    link, by its ``id``; the others keep theirs).
+
+    A map, not a function of the link: this runs for every step of every search
+    of :class:`Freeing`, and a call per link cost more than the rest of it.
 
     Examples
     --------
     >>> from tegraph.model.skeleton import Link, Protocol
     >>> link = Link(("A", "x"), ("B", "y"), Protocol.ASYN_SYN)
-    >>> [kind for kind, _ in waits_for(True, [link], [], lambda x: x.protocol)]
+    >>> [kind for kind, _ in waits_for(True, [link], [], {})]
     ['clock', 'input']
+    >>> [kind for kind, _ in waits_for(True, [link], [], {id(link): Protocol.ASYN_ASYN})]
+    ['clock']
     """
     out: list[Sync] = [("clock", None)] if has_clock else []
-    out += [("input", link) for link in inputs if protocol(link) in READER_BLOCKS]
-    out += [("output", link) for link in outputs if protocol(link) in WRITER_BLOCKS]
+    if edited:
+        get = edited.get
+        out += [("input", link) for link in inputs
+                if get(id(link), link.protocol) in READER_BLOCKS]
+        out += [("output", link) for link in outputs
+                if get(id(link), link.protocol) in WRITER_BLOCKS]
+    else:
+        out += [("input", link) for link in inputs if link.protocol in READER_BLOCKS]
+        out += [("output", link) for link in outputs if link.protocol in WRITER_BLOCKS]
     return out
 
 
@@ -270,11 +290,9 @@ class Freeing:
 
     def _syncs(self, task: str) -> list[Sync]:
         """What ``task`` waits for with the edits so far (as :meth:`.Candidates.syncs`)."""
-        proto = self._proto
         has_clock = (self.clock(task) is not None and task not in self._drop
                      or task in self._add)
-        return waits_for(has_clock, self.inputs(task), self.outputs(task),
-                         lambda link: proto.get(id(link), link.protocol))
+        return waits_for(has_clock, self.inputs(task), self.outputs(task), self._proto)
 
     def _edits(self) -> Edits:
         return Edits(self._base.protocol + tuple(self._sets), frozenset(self._drop),

@@ -247,13 +247,14 @@ def test_the_in_place_check_equals_a_full_recheck(rng: random.Random):
     check_the_check(Skeleton.from_dict(random_skeleton(rng, max_tasks=6)))
 
 
-@pytest.mark.parametrize("components_from", [200, 0], ids=["union-find", "scipy"])
-def test_the_in_place_check_on_the_examples_and_corpus(monkeypatch, components_from):
-    # Both ways of re-forming the groups (by size: a union-find or scipy's connected
-    # components) against the full re-check.
-    import tegraph.design.rules.advice as advice
+@pytest.mark.parametrize("arrays_from", [500, 0], ids=["union-find", "scipy"])
+def test_the_in_place_check_on_the_examples_and_corpus(monkeypatch, arrays_from):
+    # Both ways of re-forming the groups in place (by size: a union-find over the
+    # touched groups' own joins but for the edited links and clocks, or scipy's
+    # connected components over arrays of them) against the full re-check.
+    import tegraph.design.rules.regroup as regroup
 
-    monkeypatch.setattr(advice, "_COMPONENTS_FROM", components_from)
+    monkeypatch.setattr(regroup, "ARRAYS_FROM", arrays_from)
     compared = sum(check_the_check(load_skeleton(p)) for p in sorted(EXAMPLES.glob("*.yaml")))
     compared += sum(check_the_check(Skeleton.from_dict(random_skeleton(random.Random(seed))))
                     for seed in range(60))
@@ -490,6 +491,41 @@ def _dead_and_one_more(extra: dict, links: list) -> dict:
     return fig7b
 
 
+def test_the_clocks_cut_away_change_no_period_nor_the_name_of_an_added_clock():
+    # The advisor solves a group cut out with its own clocks only: the other clocks
+    # are ticks alone on their parts. Each group, as it is and with a clock added to
+    # each of its unclocked tasks, solved as cut and with every clock of the skeleton
+    # (as it was solved before the cut): same periods, same rates in words.
+    import dataclasses
+
+    from tegraph.design.rules.advice import _cycle_times
+
+    # A declared clock named "B.clock" used by A: a clock added to B, in another
+    # group, is named "B.clock'" on the whole skeleton, and so in the cut too.
+    named = Skeleton.from_dict({"clocks": {"B.clock": {"period": 3}}, "tasks": {
+        "A": {"duration": 1, "clock": "B.clock"},
+        "B": {"duration": 1, "inputs": ["i"]}, "C": {"duration": 1, "outputs": ["o"]}},
+        "links": [{"from": "C:o", "to": "B:i", "protocol": "ASYN/SYN"}]})
+    advisor = Advisor(named, [])
+    assert "B.clock" in advisor._within([advisor.group_of["B"]]).clocks
+    cases = [named] + [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]
+    cases += [Skeleton.from_dict(random_skeleton(random.Random(seed))) for seed in range(80)]
+    compared = 0
+    for sk in cases:
+        advisor = Advisor(sk, [])
+        for g, members in enumerate(advisor.groups):
+            bare = tuple(t for t in members if sk.tasks[t].clock is None)
+            for change in {Change(), Change(add_clock=bare)}:
+                cut = advisor._within([g])
+                whole = dataclasses.replace(cut, clocks=sk.clocks)
+                rates = [_cycle_times(apply_change(x, change, advisor.fresh), advisor.group_of)
+                         for x in (cut, whole)]
+                assert rates[0].period == rates[1].period, sk.to_dict()
+                assert rates[0].mixed == rates[1].mixed, sk.to_dict()
+                compared += 1
+    assert compared > 150, compared
+
+
 def test_advice_under_a_deadlock_makes_it_live_or_says_it_does_not():
     # Figure 7b is dead (MT2 reads c before meeting MT1 on a). MT2's Rule 1 advice used to
     # make MT1:a -> MT2:a SYN/ASYN, which keeps the circuit MT2.read:c -> MT2.read:a ->
@@ -541,8 +577,20 @@ def test_the_dead_groups_of_the_advisor_are_those_analyze_finds():
         report = analyze(sk, design=False)
         expected = {advisor.group_of[t] for d in report.deadlocks for t in d.tasks}
         assert advisor._dead_groups() == expected, sk.to_dict()
+        # So a live report (what check_rules(live=...) is told) means no dead group.
+        assert report.live == (not expected)
         dead_seen += bool(expected)
     assert dead_seen > 10
+
+
+def test_told_the_skeleton_is_live_the_advice_is_the_same():
+    # check_rules(live=report.live) skips the advisor's own search for token-free
+    # circuits: the findings (advice and changes included) are those found without it.
+    cases = [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]
+    cases += [Skeleton.from_dict(random_skeleton(random.Random(seed))) for seed in range(100)]
+    for sk in cases:
+        live = analyze(sk, design=False).live
+        assert check_rules(sk, live=live) == check_rules(sk), sk.to_dict()
 
 
 # ------------------------------------------------------------ words are for people
