@@ -58,6 +58,7 @@ from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
 from ...model.skeleton import Skeleton
 from ...model.structure import Structure, design_period
+from .group_graph import GroupGraph
 from .space import DesignSpace
 
 __all__ = ["IncrementalJudge", "judge_of"]
@@ -147,7 +148,8 @@ class IncrementalJudge:
         self.chosen_clock = {c.name: k for k, c in enumerate(space.clocks)}
         self.rates: dict[tuple, GroupRates] = {}
         self.reports: dict[tuple, Report] = {}
-        self.structures: dict[int, Structure] = {}
+        self.structures: dict[tuple[bool, ...], Structure] = {}
+        self.graphs: dict[tuple[str, ...], GroupGraph] = {}
 
     def variant_skeleton(self, variant: int) -> Skeleton:
         """The skeleton of ``variant``, not validated again (:meth:`DesignSpace.build`)."""
@@ -176,7 +178,7 @@ class IncrementalJudge:
             included).
         """
         sk = self.variant_skeleton(variant)
-        structure = self.structure(sk, self.space.split(variant)[0])
+        structure = self.structure(sk, variant)
         keys = [self.key(sk, g) for g in structure.groups]
         rates = [self._rates(sk, g, k) for g, k in zip(structure.groups, keys)]
         if not all(r.live for r in rates):
@@ -202,20 +204,33 @@ class IncrementalJudge:
                         source=sk.source, structure=structure)
         return Composed(sk, structure, report=report)
 
-    def structure(self, skeleton: Skeleton, protocol_index: int) -> Structure:
-        """``Structure.of(skeleton)``, ``skeleton`` the variant: the groups depend on the
-        protocols only (clocks join by name, not by period), so they are found once per
-        protocol assignment; the design periods are those of this variant's clocks."""
-        found = self.structures.get(protocol_index)
+    def structure(self, skeleton: Skeleton, variant: int) -> Structure:
+        """``Structure.of(skeleton)``, ``skeleton`` the skeleton of ``variant``.
+
+        The groups depend only on which chosen links synchronize (clocks join by name,
+        not by period; every protocol but ASYN/ASYN joins its two tasks), so they are
+        found once per such pattern; a variant of a known pattern takes its groups and
+        puts in its own chosen links (``by_reader``, ``by_writer``: each in the place
+        of the same link of the variant that found them) and, when clocks are chosen,
+        its design periods."""
+        pattern = tuple(p.synchronizing for p in self.space.protocols(variant))
+        found = self.structures.get(pattern)
         if found is None:
             found = Structure.of(skeleton)
             if len(self.structures) >= MAX_CACHED:
                 self.structures.clear()
-            self.structures[protocol_index] = found
-        elif self.space.clocks:
-            found = replace(found, periods=tuple(design_period(skeleton, g)
-                                                 for g in found.groups))
-        return found
+            self.structures[pattern] = found
+            return found
+        by_reader, by_writer = dict(found.by_reader), dict(found.by_writer)
+        for choice in self.space.links:
+            link = skeleton.links[choice.index]
+            for ports, port in ((by_reader, link.reader), (by_writer, link.writer)):
+                # A port's links in file order: the chosen one where it was, by its ends.
+                ports[port] = tuple(link if (x.writer, x.reader) == (link.writer, link.reader)
+                                    else x for x in ports[port])
+        periods = (tuple(design_period(skeleton, g) for g in found.groups)
+                   if self.space.clocks else found.periods)
+        return replace(found, periods=periods, by_reader=by_reader, by_writer=by_writer)
 
     # ------------------------------------------------------------------ stages
 
@@ -238,26 +253,51 @@ class IncrementalJudge:
             self.rates[key] = found
         return found
 
-    def _compute_rates(self, skeleton: Skeleton, tasks: Sequence[str]) -> GroupRates:
+    def _compute_rates(self, skeleton: Skeleton, tasks: Sequence[str], *,
+                       template: bool = True) -> GroupRates:
+        """The group's first stage, on its graph made from the group's template
+        (:class:`~.group_graph.GroupGraph`), or built (``template`` False, or an edit
+        the template does not recognise): the same figures."""
         part, links, threads = self._part(skeleton, tasks)
-        teg = build_teg(part)
-        a = teg.arrays()
-        n = teg.n_transitions
+        arrays = self._arrays(skeleton, tuple(tasks), part, links) if template else None
+        if arrays is None:
+            teg = build_teg(part)
+            a = teg.arrays()
+            src, dst, holding, tokens = a.src, a.dst, a.holding, a.tokens
+            n, names, place_of = teg.n_transitions, teg.transition_names, teg.places.__getitem__
+        else:
+            src, dst, holding, tokens = arrays.src, arrays.dst, arrays.holding, arrays.tokens
+            n, names, place_of = arrays.n_nodes, arrays.names, arrays.place
         try:  # the kernel refuses a token-free circuit: the group is dead (Commoner)
-            mcr = max_cycle_ratio(a.src, a.dst, a.holding, a.tokens, n_nodes=n)
+            mcr = max_cycle_ratio(src, dst, holding, tokens, n_nodes=n)
         except ZeroTokenCircuitError:
             return GroupRates(False)
         slower = np.flatnonzero(unbounded_mask(mcr.cycle_time_num, mcr.cycle_time_den,
-                                               a.src, a.dst))
+                                               src, dst))
         if not len(slower):
             return GroupRates(True)
         k = int(slower[0])
-        place = teg.places[k]
+        place = place_of(k)
         first = (*self._owner(place.origin, links, threads), k)
-        names = teg.transition_names
         kind = unbounded_kind(place.kind)
         return GroupRates(True, len(slower), first,
-                          f"{kind} at {names[place.src]} -> {names[place.dst]}")
+                          f"{kind} at {names[int(src[k])]} -> {names[int(dst[k])]}")
+
+    def _arrays(self, skeleton: Skeleton, tasks: tuple[str, ...], part: Skeleton,
+                links: list[int]):
+        """The arrays of the group's graph from its template (None: build it)."""
+        chosen = {i: self.space.links[self.chosen_link[f]] for i, f in enumerate(links)
+                  if f in self.chosen_link}
+        used = {part.tasks[t].clock for t in tasks}
+        clocks = [c.name for c in self.space.clocks if c.name in used]
+        graph = self.graphs.get(tasks)
+        if graph is None:
+            if len(self.graphs) >= MAX_CACHED:
+                self.graphs.clear()
+            graph = self.graphs[tasks] = GroupGraph(
+                part, {i: c.protocols for i, c in chosen.items()}, clocks)
+        return graph.arrays({i: part.links[i].protocol for i in chosen},
+                            {c: part.clocks[c].period for c in clocks})
 
     def _owner(self, origin: dict[str, Any], links: list[int], threads: list[int]
                ) -> tuple[int, int]:
