@@ -45,7 +45,7 @@ others' (see ``docs/explore.md``).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -58,7 +58,7 @@ from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
 from ...model.skeleton import Skeleton
 from ...model.structure import Structure, design_period
-from .group_graph import GroupGraph
+from .group_graph import GroupArrays, GroupGraph, LinkEdit, link_edit
 from .space import DesignSpace
 
 __all__ = ["IncrementalJudge", "judge_of"]
@@ -150,6 +150,7 @@ class IncrementalJudge:
         self.reports: dict[tuple, Report] = {}
         self.structures: dict[tuple[bool, ...], Structure] = {}
         self.graphs: dict[tuple[str, ...], GroupGraph] = {}
+        self.edits: dict[tuple[int, Any], LinkEdit | None] = {}
 
     def variant_skeleton(self, variant: int) -> Skeleton:
         """The skeleton of ``variant``, not validated again (:meth:`DesignSpace.build`)."""
@@ -259,15 +260,16 @@ class IncrementalJudge:
         (:class:`~.group_graph.GroupGraph`), or built (``template`` False, or an edit
         the template does not recognise): the same figures."""
         part, links, threads = self._part(skeleton, tasks)
-        arrays = self._arrays(skeleton, tuple(tasks), part, links) if template else None
+        arrays = (self._arrays(skeleton, tuple(tasks), part, links, threads) if template
+                  else None)
         if arrays is None:
             teg = build_teg(part)
             a = teg.arrays()
             src, dst, holding, tokens = a.src, a.dst, a.holding, a.tokens
-            n, names, place_of = teg.n_transitions, teg.transition_names, teg.places.__getitem__
+            n, names = teg.n_transitions, teg.transition_names
         else:
             src, dst, holding, tokens = arrays.src, arrays.dst, arrays.holding, arrays.tokens
-            n, names, place_of = arrays.n_nodes, arrays.names, arrays.place
+            n, names = arrays.n_nodes, arrays.names
         try:  # the kernel refuses a token-free circuit: the group is dead (Commoner)
             mcr = max_cycle_ratio(src, dst, holding, tokens, n_nodes=n)
         except ZeroTokenCircuitError:
@@ -277,17 +279,30 @@ class IncrementalJudge:
         if not len(slower):
             return GroupRates(True)
         k = int(slower[0])
-        place = place_of(k)
-        first = (*self._owner(place.origin, links, threads), k)
-        kind = unbounded_kind(place.kind)
+        if arrays is None:
+            place = teg.places[k]
+            owner, kind = self._owner(place.origin, links, threads), place.kind
+        else:
+            owner, kind = arrays.owners[k], arrays.kinds[k]
+        first = (*owner, k)
+        kind = unbounded_kind(kind)
         return GroupRates(True, len(slower), first,
                           f"{kind} at {names[int(src[k])]} -> {names[int(dst[k])]}")
 
     def _arrays(self, skeleton: Skeleton, tasks: tuple[str, ...], part: Skeleton,
-                links: list[int]):
-        """The arrays of the group's graph from its template (None: build it)."""
-        chosen = {i: self.space.links[self.chosen_link[f]] for i, f in enumerate(links)
-                  if f in self.chosen_link}
+                links: list[int], threads: list[int]) -> GroupArrays | None:
+        """The arrays of the group's graph from its template and its chosen links'
+        edits (:mod:`.group_graph`); None when an edit is not recognised (build it)."""
+        edits = []
+        for f in links:
+            if f in self.chosen_link:
+                edit = self._edit(f, skeleton.links[f].protocol)
+                if edit is None:
+                    return None
+                edits.append(((_LINK, f), edit))
+        targets = {b for _, e in edits for b in e.merge.values()}
+        if any(a in targets for _, e in edits for a in e.merge):
+            return None  # a merge into a merged event: not one edit per link
         used = {part.tasks[t].clock for t in tasks}
         clocks = [c.name for c in self.space.clocks if c.name in used]
         graph = self.graphs.get(tasks)
@@ -295,20 +310,21 @@ class IncrementalJudge:
             if len(self.graphs) >= MAX_CACHED:
                 self.graphs.clear()
             graph = self.graphs[tasks] = GroupGraph(
-                part, {i: c.protocols for i, c in chosen.items()}, clocks)
-        return graph.arrays({i: part.links[i].protocol for i in chosen},
-                            {c: part.clocks[c].period for c in clocks})
+                part, {i for i, f in enumerate(links) if f in self.chosen_link}, clocks,
+                lambda p: self._owner(p.origin, links, threads))
+        return graph.arrays(edits, {c: part.clocks[c].period for c in clocks})
+
+    def _edit(self, link: int, protocol: Any) -> LinkEdit | None:
+        """What the chosen ``link`` (its index in the file) at ``protocol`` changes in a
+        group's graph (:func:`~.group_graph.link_edit`), read once per space."""
+        key = (link, protocol)
+        if key not in self.edits:
+            self.edits[key] = link_edit(self.space.skeleton, link, protocol, self.chosen_link)
+        return self.edits[key]
 
     def _owner(self, origin: dict[str, Any], links: list[int], threads: list[int]
                ) -> tuple[int, int]:
-        """Which part of the whole graph's place order a place of a group's graph is in."""
-        if "thread" in origin:
-            return _THREAD, threads[origin["thread"]]
-        if "link_index" in origin:
-            return _LINK, links[origin["link_index"]]
-        if "task" in origin:
-            return _TASK, self.task_index[origin["task"]]
-        return _CLOCK, self.clock_index[origin["clock"]]
+        return place_owner(origin, self.task_index, self.clock_index, links, threads)
 
     def _report(self, skeleton: Skeleton, tasks: Sequence[str], key: tuple) -> Report:
         """The group's own report (its one group numbered 0; the caller renumbers copies:
@@ -323,6 +339,23 @@ class IncrementalJudge:
                 self.reports.clear()
             self.reports[key] = found
         return found
+
+
+def place_owner(origin: dict[str, Any], task_index: Mapping[str, int],
+                clock_index: Mapping[str, int], links: Sequence[int], threads: Sequence[int]
+                ) -> tuple[int, int]:
+    """Which part of the whole graph's place order a place of a group's graph is in:
+    ``(owner kind, owner's index in the file)``, from the place's origin
+    (:mod:`tegraph.model.build`); ``links`` and ``threads`` give the file index of the
+    group's links and threads, ``task_index`` and ``clock_index`` that of a task or a
+    clock."""
+    if "thread" in origin:
+        return _THREAD, threads[origin["thread"]]
+    if "link_index" in origin:
+        return _LINK, links[origin["link_index"]]
+    if "task" in origin:
+        return _TASK, task_index[origin["task"]]
+    return _CLOCK, clock_index[origin["clock"]]
 
 
 _LAST: list[IncrementalJudge] = []
