@@ -13,7 +13,12 @@ walk that comes back to a configuration pays nothing.
 
 The groups of a variant are those of :class:`~tegraph.model.structure.Structure`
 (the one definition: a protocol that becomes synchronizing joins two groups, one that
-becomes ASYN/ASYN may split one), so a key names the group's tasks.
+becomes ASYN/ASYN may split one), so a key names the group's tasks. They are found
+once per pattern of synchronizing chosen links (:meth:`IncrementalJudge.structure`).
+
+A group's graph is not built for each configuration of its choices: it is its
+template's, with each chosen link's edit read once per space from ``build_teg``
+(:mod:`.group_graph`); the figures are those of the built graph.
 
 Composed from the groups, exactly as :func:`~.evaluate.evaluate_variant` reads the
 report of the whole variant:
@@ -56,7 +61,7 @@ from maxplus import ZeroTokenCircuitError, max_cycle_ratio
 from ...analysis.analyze import analyze_skeleton, unbounded_mask
 from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
-from ...model.skeleton import Skeleton
+from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure, design_period
 from .group_graph import GroupArrays, GroupGraph, LinkEdit, link_edit
 from .space import DesignSpace
@@ -150,7 +155,7 @@ class IncrementalJudge:
         self.reports: dict[tuple, Report] = {}
         self.structures: dict[tuple[bool, ...], Structure] = {}
         self.graphs: dict[tuple[str, ...], GroupGraph] = {}
-        self.edits: dict[tuple[int, Any], LinkEdit | None] = {}
+        self.edits: dict[tuple[int, Protocol], LinkEdit | None] = {}
 
     def variant_skeleton(self, variant: int) -> Skeleton:
         """The skeleton of ``variant``, not validated again (:meth:`DesignSpace.build`)."""
@@ -314,7 +319,7 @@ class IncrementalJudge:
                 lambda p: self._owner(p.origin, links, threads))
         return graph.arrays(edits, {c: part.clocks[c].period for c in clocks})
 
-    def _edit(self, link: int, protocol: Any) -> LinkEdit | None:
+    def _edit(self, link: int, protocol: Protocol) -> LinkEdit | None:
         """What the chosen ``link`` (its index in the file) at ``protocol`` changes in a
         group's graph (:func:`~.group_graph.link_edit`), read once per space."""
         key = (link, protocol)
