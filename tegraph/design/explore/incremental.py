@@ -310,6 +310,8 @@ class IncrementalJudge:
             return None  # a merge into a merged event: not one edit per link
         used = {part.tasks[t].clock for t in tasks}
         clocks = [c.name for c in self.space.clocks if c.name in used]
+        if not edits and not clocks:
+            return None  # no choice inside: one configuration, built once for the space
         graph = self.graphs.get(tasks)
         if graph is None:
             if len(self.graphs) >= MAX_CACHED:
