@@ -13,7 +13,12 @@ walk that comes back to a configuration pays nothing.
 
 The groups of a variant are those of :class:`~tegraph.model.structure.Structure`
 (the one definition: a protocol that becomes synchronizing joins two groups, one that
-becomes ASYN/ASYN may split one), so a key names the group's tasks.
+becomes ASYN/ASYN may split one), so a key names the group's tasks. They are found
+once per pattern of synchronizing chosen links (:meth:`IncrementalJudge.structure`).
+
+A group's graph is not built for each configuration of its choices: it is its
+template's, with each chosen link's edit read once per space from ``build_teg``
+(:mod:`.group_graph`); the figures are those of the built graph.
 
 Composed from the groups, exactly as :func:`~.evaluate.evaluate_variant` reads the
 report of the whole variant:
@@ -45,7 +50,7 @@ others' (see ``docs/explore.md``).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -56,8 +61,9 @@ from maxplus import ZeroTokenCircuitError, max_cycle_ratio
 from ...analysis.analyze import analyze_skeleton, unbounded_mask
 from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
-from ...model.skeleton import Skeleton
+from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure, design_period
+from .group_graph import GroupArrays, GroupGraph, LinkEdit, link_edit
 from .space import DesignSpace
 
 __all__ = ["IncrementalJudge", "judge_of"]
@@ -147,7 +153,9 @@ class IncrementalJudge:
         self.chosen_clock = {c.name: k for k, c in enumerate(space.clocks)}
         self.rates: dict[tuple, GroupRates] = {}
         self.reports: dict[tuple, Report] = {}
-        self.structures: dict[int, Structure] = {}
+        self.structures: dict[tuple[bool, ...], Structure] = {}
+        self.graphs: dict[tuple[str, ...], GroupGraph] = {}
+        self.edits: dict[tuple[int, Protocol], LinkEdit | None] = {}
 
     def variant_skeleton(self, variant: int) -> Skeleton:
         """The skeleton of ``variant``, not validated again (:meth:`DesignSpace.build`)."""
@@ -176,7 +184,7 @@ class IncrementalJudge:
             included).
         """
         sk = self.variant_skeleton(variant)
-        structure = self.structure(sk, self.space.split(variant)[0])
+        structure = self.structure(sk, variant)
         keys = [self.key(sk, g) for g in structure.groups]
         rates = [self._rates(sk, g, k) for g, k in zip(structure.groups, keys)]
         if not all(r.live for r in rates):
@@ -202,20 +210,33 @@ class IncrementalJudge:
                         source=sk.source, structure=structure)
         return Composed(sk, structure, report=report)
 
-    def structure(self, skeleton: Skeleton, protocol_index: int) -> Structure:
-        """``Structure.of(skeleton)``, ``skeleton`` the variant: the groups depend on the
-        protocols only (clocks join by name, not by period), so they are found once per
-        protocol assignment; the design periods are those of this variant's clocks."""
-        found = self.structures.get(protocol_index)
+    def structure(self, skeleton: Skeleton, variant: int) -> Structure:
+        """``Structure.of(skeleton)``, ``skeleton`` the skeleton of ``variant``.
+
+        The groups depend only on which chosen links synchronize (clocks join by name,
+        not by period; every protocol but ASYN/ASYN joins its two tasks), so they are
+        found once per such pattern; a variant of a known pattern takes its groups and
+        puts in its own chosen links (``by_reader``, ``by_writer``: each in the place
+        of the same link of the variant that found them) and, when clocks are chosen,
+        its design periods."""
+        pattern = tuple(p.synchronizing for p in self.space.protocols(variant))
+        found = self.structures.get(pattern)
         if found is None:
             found = Structure.of(skeleton)
             if len(self.structures) >= MAX_CACHED:
                 self.structures.clear()
-            self.structures[protocol_index] = found
-        elif self.space.clocks:
-            found = replace(found, periods=tuple(design_period(skeleton, g)
-                                                 for g in found.groups))
-        return found
+            self.structures[pattern] = found
+            return found
+        by_reader, by_writer = dict(found.by_reader), dict(found.by_writer)
+        for choice in self.space.links:
+            link = skeleton.links[choice.index]
+            for ports, port in ((by_reader, link.reader), (by_writer, link.writer)):
+                # A port's links in file order: the chosen one where it was, by its ends.
+                ports[port] = tuple(link if (x.writer, x.reader) == (link.writer, link.reader)
+                                    else x for x in ports[port])
+        periods = (tuple(design_period(skeleton, g) for g in found.groups)
+                   if self.space.clocks else found.periods)
+        return replace(found, periods=periods, by_reader=by_reader, by_writer=by_writer)
 
     # ------------------------------------------------------------------ stages
 
@@ -238,37 +259,79 @@ class IncrementalJudge:
             self.rates[key] = found
         return found
 
-    def _compute_rates(self, skeleton: Skeleton, tasks: Sequence[str]) -> GroupRates:
+    def _compute_rates(self, skeleton: Skeleton, tasks: Sequence[str], *,
+                       template: bool = True) -> GroupRates:
+        """The group's first stage, on its graph made from the group's template
+        (:class:`~.group_graph.GroupGraph`), or built (``template`` False, or an edit
+        the template does not recognise): the same figures."""
         part, links, threads = self._part(skeleton, tasks)
-        teg = build_teg(part)
-        a = teg.arrays()
-        n = teg.n_transitions
+        arrays = (self._arrays(skeleton, tuple(tasks), part, links, threads) if template
+                  else None)
+        if arrays is None:
+            teg = build_teg(part)
+            a = teg.arrays()
+            src, dst, holding, tokens = a.src, a.dst, a.holding, a.tokens
+            n, names = teg.n_transitions, teg.transition_names
+        else:
+            src, dst, holding, tokens = arrays.src, arrays.dst, arrays.holding, arrays.tokens
+            n, names = arrays.n_nodes, arrays.names
         try:  # the kernel refuses a token-free circuit: the group is dead (Commoner)
-            mcr = max_cycle_ratio(a.src, a.dst, a.holding, a.tokens, n_nodes=n)
+            mcr = max_cycle_ratio(src, dst, holding, tokens, n_nodes=n)
         except ZeroTokenCircuitError:
             return GroupRates(False)
         slower = np.flatnonzero(unbounded_mask(mcr.cycle_time_num, mcr.cycle_time_den,
-                                               a.src, a.dst))
+                                               src, dst))
         if not len(slower):
             return GroupRates(True)
         k = int(slower[0])
-        place = teg.places[k]
-        first = (*self._owner(place.origin, links, threads), k)
-        names = teg.transition_names
-        kind = unbounded_kind(place.kind)
+        if arrays is None:
+            place = teg.places[k]
+            owner, kind = self._owner(place.origin, links, threads), place.kind
+        else:
+            owner, kind = arrays.owners[k], arrays.kinds[k]
+        first = (*owner, k)
+        kind = unbounded_kind(kind)
         return GroupRates(True, len(slower), first,
-                          f"{kind} at {names[place.src]} -> {names[place.dst]}")
+                          f"{kind} at {names[int(src[k])]} -> {names[int(dst[k])]}")
+
+    def _arrays(self, skeleton: Skeleton, tasks: tuple[str, ...], part: Skeleton,
+                links: list[int], threads: list[int]) -> GroupArrays | None:
+        """The arrays of the group's graph from its template and its chosen links'
+        edits (:mod:`.group_graph`); None when an edit is not recognised (build it)."""
+        edits = []
+        for f in links:
+            if f in self.chosen_link:
+                edit = self._edit(f, skeleton.links[f].protocol)
+                if edit is None:
+                    return None
+                edits.append(((_LINK, f), edit))
+        targets = {b for _, e in edits for b in e.merge.values()}
+        if any(a in targets for _, e in edits for a in e.merge):
+            return None  # a merge into a merged event: not one edit per link
+        used = {part.tasks[t].clock for t in tasks}
+        clocks = [c.name for c in self.space.clocks if c.name in used]
+        if not edits and not clocks:
+            return None  # no choice inside: one configuration, built once for the space
+        graph = self.graphs.get(tasks)
+        if graph is None:
+            if len(self.graphs) >= MAX_CACHED:
+                self.graphs.clear()
+            graph = self.graphs[tasks] = GroupGraph(
+                part, {i for i, f in enumerate(links) if f in self.chosen_link}, clocks,
+                lambda p: self._owner(p.origin, links, threads))
+        return graph.arrays(edits, {c: part.clocks[c].period for c in clocks})
+
+    def _edit(self, link: int, protocol: Protocol) -> LinkEdit | None:
+        """What the chosen ``link`` (its index in the file) at ``protocol`` changes in a
+        group's graph (:func:`~.group_graph.link_edit`), read once per space."""
+        key = (link, protocol)
+        if key not in self.edits:
+            self.edits[key] = link_edit(self.space.skeleton, link, protocol, self.chosen_link)
+        return self.edits[key]
 
     def _owner(self, origin: dict[str, Any], links: list[int], threads: list[int]
                ) -> tuple[int, int]:
-        """Which part of the whole graph's place order a place of a group's graph is in."""
-        if "thread" in origin:
-            return _THREAD, threads[origin["thread"]]
-        if "link_index" in origin:
-            return _LINK, links[origin["link_index"]]
-        if "task" in origin:
-            return _TASK, self.task_index[origin["task"]]
-        return _CLOCK, self.clock_index[origin["clock"]]
+        return place_owner(origin, self.task_index, self.clock_index, links, threads)
 
     def _report(self, skeleton: Skeleton, tasks: Sequence[str], key: tuple) -> Report:
         """The group's own report (its one group numbered 0; the caller renumbers copies:
@@ -283,6 +346,23 @@ class IncrementalJudge:
                 self.reports.clear()
             self.reports[key] = found
         return found
+
+
+def place_owner(origin: dict[str, Any], task_index: Mapping[str, int],
+                clock_index: Mapping[str, int], links: Sequence[int], threads: Sequence[int]
+                ) -> tuple[int, int]:
+    """Which part of the whole graph's place order a place of a group's graph is in:
+    ``(owner kind, owner's index in the file)``, from the place's origin
+    (:mod:`tegraph.model.build`); ``links`` and ``threads`` give the file index of the
+    group's links and threads, ``task_index`` and ``clock_index`` that of a task or a
+    clock."""
+    if "thread" in origin:
+        return _THREAD, threads[origin["thread"]]
+    if "link_index" in origin:
+        return _LINK, links[origin["link_index"]]
+    if "task" in origin:
+        return _TASK, task_index[origin["task"]]
+    return _CLOCK, clock_index[origin["clock"]]
 
 
 _LAST: list[IncrementalJudge] = []

@@ -18,6 +18,7 @@ from tegraph.design.explore.evaluate import evaluate_variant
 from tegraph.design.explore.incremental import IncrementalJudge, judge_of
 from tegraph.design.explore.search import ParetoFront
 from tegraph.design.explore.space import design_space, link_text
+from tegraph.model.structure import Structure
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton
 
@@ -71,6 +72,14 @@ def _walk_agrees(space, rng: random.Random, steps: int) -> int:
     fresh_front, front = ParetoFront(space.objectives), ParetoFront(space.objectives)
     variant, composed = rng.randrange(space.size), 0
     for _ in range(steps):
+        # The groups of a known pattern of synchronizing links, with this variant's own
+        # links and periods, are Structure.of's; a group's first stage from its template
+        # graph (group_graph) is that of the group's graph built afresh.
+        sk = space.build(variant, validate=False)
+        structure = Structure.of(sk)
+        assert judge.structure(sk, variant) == structure
+        for g in structure.groups:
+            assert judge._compute_rates(sk, g) == judge._compute_rates(sk, g, template=False)
         found = judge.judge(variant)
         composed += found is not None
         if found is not None and found.report is not None:
