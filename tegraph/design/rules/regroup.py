@@ -183,10 +183,9 @@ class Regrouping:
     def _by_arrays(self, g: int, edits: Edits) -> tuple[dict[str, Part], dict[str, str]]:
         """:meth:`after` for the one group ``g``, by scipy's connected components over
         a graph of its tasks and clocks (a task joins the node of its clock)."""
-        known = self._arrays.get(g)
-        if known is None:
-            known = self._arrays[g] = _GroupArrays(self, g)
-        a = known
+        a = self._arrays.get(g)
+        if a is None:
+            a = self._arrays[g] = _GroupArrays(self, g)
         n = len(a.names)
         keep = np.ones(len(a.links), dtype=bool)
         rows, cols = [], []
