@@ -283,12 +283,24 @@ def analyze(
     if json_out:
         from .report import to_json
 
-        typer.echo(to_json(report), nl=True)
+        _echo_document(to_json(report))
     else:
         from .report import render_text
 
         typer.echo(_cli_words(render_text(report)), nl=False)
     raise typer.Exit(report.exit_status)
+
+
+def _echo_document(text: str) -> None:
+    """Print a JSON document and a newline, as ``typer.echo`` would.
+
+    ``typer.echo`` copies the text to append the newline and, off a terminal, scans it
+    for ANSI colour codes to strip: a JSON text holds none (its control characters are
+    escaped), and the report of 10,000 tasks is 16 to 26 MB (0.06 s against 0.035 s).
+    """
+    sys.stdout.write(text)
+    sys.stdout.write("\n")
+    sys.stdout.flush()
 
 
 # Further commands (reach, cycle-time, convert, fix, rules, timeline) are added
