@@ -58,8 +58,8 @@ def test_reading_a_skeleton_loads_no_other_format():
                      "load_skeleton('examples/computed_torque.yaml')")
     assert not [m for m in loaded if m.startswith(("tegraph.io.", "tegraph.model.petri",
                                                    "tegraph.model.sdf"))
-                and m not in ("tegraph.io.skeleton_file", "tegraph.io._detect",
-                              "tegraph.io._files")]
+                and m not in ("tegraph.io.skeleton_file", "tegraph.io._skeleton_yaml",
+                              "tegraph.io._detect", "tegraph.io._files")]
 
 
 def test_a_json_report_loads_no_text_report():
@@ -70,3 +70,20 @@ def test_a_json_report_loads_no_text_report():
     for module in ("tabulate", "tegraph.report.text", "tegraph.report.tables",
                    "tegraph.report.dot", "tegraph.io.dot"):
         assert module not in loaded, module
+
+
+def test_a_json_skeleton_is_read_without_pyyaml(tmp_path):
+    """PyYAML is imported for YAML text only (and for the lines of a refused JSON file)."""
+    path = tmp_path / "s.json"
+    path.write_text('{"tasks": {"A": {"duration": 1, "period": 3, "outputs": ["x"]},'
+                    ' "B": {"duration": "1/2", "inputs": ["x"]}},'
+                    ' "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]}')
+    done = subprocess.run(
+        [sys.executable, "-c", "import sys; sys.path.insert(0, '.')\n"
+         "from tegraph.api import analyze\n"
+         "from tegraph.report import to_json\n"
+         f"to_json(analyze({str(path)!r}))\n"
+         "print('yaml' in sys.modules)"],
+        cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["False"]
