@@ -141,9 +141,11 @@ _SHORT = 40  # the texts (and 64-bit ints) whose time is remembered
 def _short_time(value: str | int, positive: bool) -> Fraction | None:
     """The time of a short text or an int, or None when :func:`_time` refuses it.
 
-    A file repeats few values (durations of a few digits, a handful of periods):
-    each is read once (10,000 tasks: 29 ms down to 8 ms). The checks of
-    :func:`_time` word every refusal; a Fraction is immutable, so sharing one is safe.
+    A file repeats its values (a handful of periods; the generated chain of 10,000
+    tasks has 100 durations): each is read once (that chain's fields: 146 -> 102 ms;
+    a file of 60 % distinct durations neither gains nor loses). At most 16,384 values
+    of at most 40 characters are kept (a few MB). The checks of :func:`_time` word
+    every refusal; a Fraction is immutable, so sharing one is safe.
     """
     if size_problem(value) is not None:
         return None
