@@ -10,7 +10,7 @@ The package knows nothing of tasks or files: arrays and matrices in, exact
 results out.
 """
 
-from importlib.metadata import PackageNotFoundError, version
+from typing import Any
 
 from .certificate import CycleRatioCertificate
 from .cycle_ratio import CycleRatioResult, max_cycle_ratio
@@ -50,10 +50,21 @@ from .spectral import (
 )
 from .transient import TrajectoryPeriodicity, trajectory_transient, transient
 
-try:
-    __version__ = version("tegraph")
-except PackageNotFoundError:  # a checkout used without installing it
-    __version__ = "0+unknown"
+
+def __getattr__(name: str) -> Any:
+    # The look-up of the installed distribution costs some 5 ms (and importing
+    # importlib.metadata some 40 ms when nothing else has): paid when the version is
+    # asked for, not by every import, as tegraph.__version__.
+    if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            value = version("tegraph")
+        except PackageNotFoundError:  # a checkout used without installing it
+            value = "0+unknown"
+        globals()[name] = value  # later lookups skip this function
+        return value
+    raise AttributeError(f"module 'maxplus' has no attribute {name!r}")
 
 __all__ = [
     # scalars

@@ -21,7 +21,6 @@ from maxplus.errors import MaxPlusError
 from . import io
 from .analysis.analyze import analyze_skeleton
 from .analysis.results import Report
-from .analysis.sensitivity.margins import duration_margins
 from .design.section import DesignSection, design_section
 from .errors import InputError, TegraphError
 from .model.budgets import (
@@ -32,7 +31,6 @@ from .model.budgets import (
     MAX_EVENTS,
 )
 from .model.skeleton import Skeleton
-from .report.dot import highlights
 
 if TYPE_CHECKING:  # imported when called: `analyze` need not load them (some 30 ms)
     from .analysis.cycle_time import CycleTimeResult
@@ -215,6 +213,9 @@ def _add_duration_margins(skeleton: Skeleton, report: Report, max_tasks: int) ->
             f"not computed: {n:,} tasks, more than {max_tasks:,} (they would cost about as "
             "much as the analysis again); the sensitivity analysis computes them")
         return
+    # Imported here: above max_tasks (the 10,000-task files) the module is not used.
+    from .analysis.sensitivity.margins import duration_margins
+
     margins = duration_margins(skeleton, report)
     for name, task in report.tasks.items():
         if name not in margins:
@@ -442,6 +443,8 @@ def write(obj: Any, path: str | os.PathLike[str], format: str | None = None,
     fmt = format or io.format_for_writing(obj, os.fspath(path))
     marks = None
     if fmt in ("dot", "teg-dot"):
+        from .report.dot import highlights  # a drawing's colours: only drawings need them
+
         marks = highlights(_figures_for_drawing(obj))
     return io.write(obj, path, fmt, overwrite, highlights=marks)
 
@@ -481,6 +484,7 @@ def to_dot(obj: Any, view: str | None = None) -> str:
     '  label="ring: period 5 (critical circuit in red)"; rankdir=LR;'
     """
     from .io.dot import dot_text
+    from .report.dot import highlights
 
     return dot_text(obj, view, highlights(_figures_for_drawing(obj)))
 

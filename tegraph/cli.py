@@ -261,7 +261,6 @@ def analyze(
     from .api import analyze as run_analysis
     from .design.latency import parse_chain
     from .io import load_skeleton
-    from .report import render_text, to_json, write_csv
 
     if csv_dir is not None:
         _output_directory(csv_dir)
@@ -270,15 +269,38 @@ def analyze(
         chains = [parse_chain(c) for c in chain or []]
         report = run_analysis(skeleton, max_steps=max_steps, chains=chains, design=design,
                               processors=processors, max_events=max_events)
+    # Each renderer is imported when used: --json needs neither the text report nor
+    # the tables (their modules and tabulate, some 20 ms).
     if csv_dir is not None:
+        from .report import write_csv
+
         try:
             write_csv(report, csv_dir, overwrite=force)
         except FileExistsError as exc:  # which of the two files: the library names it
             _exists(exc.filename)
         except OSError as exc:
             _fail(f"cannot write CSV files to {csv_dir}: {exc.strerror}")
-    typer.echo(to_json(report) if json_out else _cli_words(render_text(report)), nl=json_out)
+    if json_out:
+        from .report import to_json
+
+        _echo_document(to_json(report))
+    else:
+        from .report import render_text
+
+        typer.echo(_cli_words(render_text(report)), nl=False)
     raise typer.Exit(report.exit_status)
+
+
+def _echo_document(text: str) -> None:
+    """Print a JSON document and a newline, as ``typer.echo`` would.
+
+    ``typer.echo`` copies the text to append the newline and, off a terminal, scans it
+    for ANSI colour codes to strip: a JSON text holds none (its control characters are
+    escaped), and the report of 10,000 tasks is 16 to 26 MB (0.06 s against 0.035 s).
+    """
+    sys.stdout.write(text)
+    sys.stdout.write("\n")
+    sys.stdout.flush()
 
 
 # Further commands (reach, cycle-time, convert, fix, rules, timeline) are added

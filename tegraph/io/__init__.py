@@ -36,18 +36,35 @@ what a model means is the job of :mod:`tegraph.analysis`.
 
 from __future__ import annotations
 
+import importlib
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError, ModelError
-from ..model.sdf import SDFGraph
 from ..model.skeleton import Skeleton
-from . import dot, edges, pnml, sdf3, tpne
 from ._detect import FORMATS, detect_format, sniff_format
 from ._files import DEFAULT_MAX_BYTES, check_size
 from .skeleton_file import dump_skeleton, load_skeleton
+
+if TYPE_CHECKING:  # static tools see the format modules; at run time see __getattr__
+    from . import dot, edges, pnml, sdf3, tpne  # noqa: F401  (attributes of the package)
+
+# The modules of the other formats (and the nets and SDF graphs they hold) are
+# imported when a file of theirs is read or written: a skeleton's analysis uses
+# none of them (some 25 ms of every `tegraph analyze`).
+_FORMAT_MODULES = ("dot", "edges", "pnml", "sdf3", "tpne")
+
+
+def __getattr__(name: str) -> Any:
+    if name in _FORMAT_MODULES:  # `tegraph.io.pnml` after `import tegraph.io`, as before
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_FORMAT_MODULES})
 
 __all__ = [
     "DEFAULT_MAX_BYTES",
@@ -68,12 +85,16 @@ __all__ = [
 
 
 def _readers() -> dict[str, Callable[..., Any]]:
+    from . import edges, pnml, sdf3, tpne
+
     return {"pnml": pnml.read_pnml, "sdf3": sdf3.read_sdf3, "edges": edges.read_edges,
             "tpne-json": tpne.read_tpne_json, "tpne-teg": tpne.read_tpne_teg,
             "skeleton": _read_skeleton}  # DOT: no reader
 
 
 def _writers() -> dict[str, Callable[..., Any]]:
+    from . import dot, edges, pnml, sdf3, tpne
+
     return {"pnml": pnml.write_pnml, "sdf3": sdf3.write_sdf3, "edges": edges.write_edges,
             "tpne-json": tpne.write_tpne_json, "tpne-teg": tpne.write_tpne_teg,
             "dot": dot.write_dot, "teg-dot": dot.write_teg_dot, "skeleton": _write_skeleton}
@@ -185,6 +206,8 @@ def format_for_writing(obj: Any, file: str) -> str:
     if ext == ".json":
         return "skeleton" if isinstance(obj, Skeleton) else "tpne-json"
     if ext == ".xml":
+        from ..model.sdf import SDFGraph
+
         return "sdf3" if isinstance(obj, SDFGraph) else "pnml"
     for name, exts in FORMATS.items():
         if ext in exts:

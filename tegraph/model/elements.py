@@ -12,8 +12,6 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 
-import yaml
-
 __all__ = ["Clock", "Link", "LinkLabel", "Protocol", "Task", "flow_list"]
 
 
@@ -28,6 +26,8 @@ def flow_list(names: Iterable[str]) -> str:
     >>> flow_list(["a", "c"]), flow_list([]), flow_list(["x, y"])
     ('[a, c]', '[]', "['x, y']")
     """
+    import yaml  # here: a JSON skeleton's reading and analysis need no PyYAML (15 ms)
+
     return yaml.safe_dump(list(names), default_flow_style=True, width=float("inf")).strip()
 
 

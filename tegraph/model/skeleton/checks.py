@@ -221,6 +221,13 @@ def _check_task(key: Any, task: Task, sk: SkeletonShape, loc: Locator,
                 "'period'); expected a clock declared under clocks to share one",
                 (*path, "clock"),
             )
+    inputs, outputs = task.inputs, task.outputs
+    if values_checked and type(inputs) is tuple and type(outputs) is tuple:
+        # Names already checked: all that is left is their uniqueness, which sets tell
+        # without a key path per port (the loop below words a duplicate).
+        ins, outs = set(inputs), set(outputs)
+        if len(ins) == len(inputs) and len(outs) == len(outputs) and ins.isdisjoint(outs):
+            return ins, outs
     seen: dict[str, KeyPath] = {}
     sides: list[set[str]] = []
     for side in ("inputs", "outputs"):
@@ -288,6 +295,10 @@ def _check_links(sk: SkeletonShape, ports: dict[str, tuple[set[str], set[str]]],
                  loc: Locator) -> None:
     writers: dict[tuple[str, str], int] = {}
     for i, link in enumerate(sk.links):
+        if _plain_link(link, ports, writers):
+            writers[link.reader] = i
+            continue
+        # Not the common case: every rule in turn, the first broken one raised.
         if not isinstance(link, Link):
             raise loc.error(f"expected a Link, got {type(link).__name__}", ("links", i))
         if not isinstance(link.protocol, Protocol):
@@ -313,6 +324,31 @@ def _check_links(sk: SkeletonShape, ports: dict[str, tuple[set[str], set[str]]],
                 ("links", i, "to"),
             )
         writers[reader] = i
+
+
+def _plain_link(link: Any, ports: dict[str, tuple[set[str], set[str]]],
+                writers: dict[tuple[str, str], int]) -> bool:
+    """Whether ``link`` keeps every rule of :func:`_check_links`, in one expression.
+
+    True only for a :class:`Link` of two (task, port) pairs of texts, from an
+    output port to an input port of another task that has no writer yet; anything
+    else (a refusal or an unusual type) goes through the rules one by one.
+    """
+    if type(link) is not Link or type(link.protocol) is not Protocol:
+        return False
+    writer, reader = link.writer, link.reader
+    if type(writer) is not tuple or type(reader) is not tuple or len(writer) != 2 \
+            or len(reader) != 2:
+        return False
+    (w_task, w_port), (r_task, r_port) = writer, reader
+    if type(w_task) is not str or type(w_port) is not str or type(r_task) is not str \
+            or type(r_port) is not str or w_task == r_task or reader in writers:
+        return False
+    # A port among a task's outputs is none of its inputs (port names are unique within
+    # a task, checked before the links): one membership test per end.
+    w_ports, r_ports = ports.get(w_task), ports.get(r_task)
+    return (w_ports is not None and r_ports is not None and w_port in w_ports[1]
+            and r_port in r_ports[0])
 
 
 def _check_threads(sk: SkeletonShape, loc: Locator) -> None:

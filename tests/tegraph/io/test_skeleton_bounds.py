@@ -13,6 +13,7 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
+import tegraph.io._skeleton_yaml as _skeleton_yaml
 import tegraph.io.skeleton_file as skeleton_file
 from tegraph import Skeleton
 from tegraph.cli import app
@@ -39,10 +40,10 @@ def test_an_ordinary_file_above_the_alias_budget_is_read(tmp_path, monkeypatch):
     path.write_text(yaml.safe_dump(json.loads(generated.read_text()), sort_keys=False))
     assert "&" not in path.read_text() and "*" not in path.read_text()
     expected = load_skeleton(path)
-    monkeypatch.setattr(skeleton_file, "_MAX_ELEMENTS", 4_000)
+    monkeypatch.setattr(_skeleton_yaml, "_MAX_ELEMENTS", 4_000)
     assert load_skeleton(path) == expected and len(expected.tasks) == 300
-    loader = skeleton_file._Loader(path.read_text())
-    distinct, built = skeleton_file._expansion(loader.get_single_node())
+    loader = _skeleton_yaml._Loader(path.read_text())
+    distinct, built = _skeleton_yaml._expansion(loader.get_single_node())
     loader.dispose()
     assert distinct == built > 4_000  # every node once: nothing added by aliases
     # JSON text in a .yaml file goes to the JSON parser: the same skeleton, faster
@@ -95,7 +96,7 @@ def test_aliases_below_the_budget_still_build_and_above_it_are_refused(tmp_path,
     path.write_text(billion_laughs(3))
     with pytest.raises(SkeletonError, match="unknown key 'a0'"):  # built, then refused
         load_skeleton(path)
-    monkeypatch.setattr(skeleton_file, "_MAX_ELEMENTS", 1_000)
+    monkeypatch.setattr(_skeleton_yaml, "_MAX_ELEMENTS", 1_000)
     with pytest.raises(SkeletonError, match="aliases add more than 1000 elements"):
         load_skeleton(path)
 
