@@ -34,6 +34,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from .semiflow_tables import combine_tables
+
 __all__ = ["SemiflowCensus", "SemiflowResult", "minimal_semiflows", "semiflow_census"]
 
 
@@ -245,6 +247,20 @@ def semiflow_census(incidence: sp.spmatrix, blocks: list[tuple[np.ndarray, np.nd
     block_of_place = np.repeat(np.arange(len(blocks)), [len(rows) for rows, _ in blocks])
     row_block = block_of_place[member.indices[member.indptr[:-1]]]
     bounds = np.searchsorted(row_block, np.arange(len(blocks) + 1)).tolist()
+    # The open rows of each small block as its own table, all combined at once.
+    tables: dict[int, np.ndarray] = {}
+    for b, (rows, columns) in enumerate(blocks):
+        opened = bounds[b] + np.flatnonzero(is_open[bounds[b]:bounds[b + 1]])
+        if len(rows) * len(columns) <= DENSE_LIMIT and len(opened):
+            part = R[opened]
+            touched = np.unique(part.indices)  # in the block's column order (both sorted)
+            tables[b] = sp.csr_matrix(
+                (part.data, np.searchsorted(touched, part.indices), part.indptr),
+                shape=(len(opened), len(touched))).toarray()
+    combined, left = combine_tables(list(tables.values()), budget)
+    made_of = dict(zip(tables, combined))
+    for k in left:  # grown too large to be combined with the others
+        made_of[list(tables)[k]] = _combine_open_rows(list(tables.values())[k], budget)
     count = unmarked = 0
     for b, (rows, columns) in enumerate(blocks):
         first, end = bounds[b], bounds[b + 1]
@@ -261,11 +277,7 @@ def semiflow_census(incidence: sp.spmatrix, blocks: list[tuple[np.ndarray, np.nd
         unmarked += int((closed_tokens == 0).sum())
         if len(opened) == 0:
             continue
-        part = R[opened]
-        touched = np.unique(part.indices)  # in the block's column order (both sorted)
-        table = sp.csr_matrix((part.data, np.searchsorted(touched, part.indices), part.indptr),
-                              shape=(len(opened), len(touched))).toarray()
-        made = _combine_open_rows(table, budget)
+        made = made_of[b]
         if made is None:
             return SemiflowCensus(False, count - len(closed_tokens),
                                   unmarked - int((closed_tokens == 0).sum()), b)
