@@ -492,6 +492,8 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
     watched: list[str] = []
     closure_regime: dict[bytes, int | None] = {}
     local_graphs: dict[int, tuple] = {}
+    # Cycle times compared by their ranks (ints), not as Fractions: 10,000 clocked tasks.
+    rank = periods.rank.tolist()
     for name, t in tasks.items():
         clock = g.sk.tasks[name].clock
         if clock is None or not groups[t.group].live:
@@ -503,7 +505,7 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         else:
             period = ct[tick]
             proven = None
-            if ct[last] == period:
+            if rank[last] == rank[tick]:  # both live: ranks >= 0
                 upstream, found = _closure(g, ct, local_graphs, t.group, last, period, max_steps)
                 key = upstream.tobytes()
                 if key not in closure_regime:
@@ -514,7 +516,7 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
                 proven = closure_regime[key]
             # Without a proven regime, only an overrun ends the search; it
             # must come when the task is slower than its clock.
-            certain = ct[last] > period
+            certain = rank[last] > rank[tick]
             watches.append(OverrunWatch(last, tick, proven, certain=certain, end_offset=offset))
         watched.append(name)
     notes: list[str] = []

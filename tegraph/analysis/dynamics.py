@@ -519,17 +519,19 @@ def certain_overrun(graph: tuple, active: np.ndarray, last: int, tick: int,
     >>> certain_overrun(g, np.ones(2, dtype=bool), last=1, tick=0, end_offset=11)
     2
     """
-    src, dst, tokens, holding, initial = (np.asarray(a) for a in graph)
     if context is None:
         context = PowerContext.of(graph, active)
     loop = context.loop.get(tick, [])
-    if len(loop) != 1 or int(tokens[loop[0]]) != 1:
+    if len(loop) != 1 or int(graph[2][loop[0]]) != 1:
         return None
-    period, phase = int(holding[loop[0]]), int(initial[loop[0]])
     into = context.into
+    # Most calls end here (a closure too large for powers, often known at once):
+    # the arrays are read only past it.
     closure = _upstream(last, into, context.source, context.too_large)
     if closure is None:
         return None
+    src, dst, tokens, holding, initial = (np.asarray(a) for a in graph)
+    period, phase = int(holding[loop[0]]), int(initial[loop[0]])
     places = [p for e in closure for p in into[e]]
     depth = max(1, max(int(tokens[p]) for p in places))
     events = sorted(closure)

@@ -34,6 +34,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from .semiflow_tables import combine_tables
+
 __all__ = ["SemiflowCensus", "SemiflowResult", "minimal_semiflows", "semiflow_census"]
 
 
@@ -245,6 +247,20 @@ def semiflow_census(incidence: sp.spmatrix, blocks: list[tuple[np.ndarray, np.nd
     block_of_place = np.repeat(np.arange(len(blocks)), [len(rows) for rows, _ in blocks])
     row_block = block_of_place[member.indices[member.indptr[:-1]]]
     bounds = np.searchsorted(row_block, np.arange(len(blocks) + 1)).tolist()
+    # The open rows of each small block as its own table, all combined at once.
+    tables: dict[int, np.ndarray] = {}
+    for b, (rows, columns) in enumerate(blocks):
+        opened = bounds[b] + np.flatnonzero(is_open[bounds[b]:bounds[b + 1]])
+        if len(rows) * len(columns) <= DENSE_LIMIT and len(opened):
+            part = R[opened]
+            touched = np.unique(part.indices)  # in the block's column order (both sorted)
+            tables[b] = sp.csr_matrix(
+                (part.data, np.searchsorted(touched, part.indices), part.indptr),
+                shape=(len(opened), len(touched))).toarray()
+    combined, left = combine_tables(list(tables.values()), budget)
+    made_of = dict(zip(tables, combined))
+    for k in left:  # grown too large to be combined with the others
+        made_of[list(tables)[k]] = _combine_open_rows(list(tables.values())[k], budget)
     count = unmarked = 0
     for b, (rows, columns) in enumerate(blocks):
         first, end = bounds[b], bounds[b + 1]
@@ -261,11 +277,7 @@ def semiflow_census(incidence: sp.spmatrix, blocks: list[tuple[np.ndarray, np.nd
         unmarked += int((closed_tokens == 0).sum())
         if len(opened) == 0:
             continue
-        part = R[opened]
-        touched = np.unique(part.indices)  # in the block's column order (both sorted)
-        table = sp.csr_matrix((part.data, np.searchsorted(touched, part.indices), part.indptr),
-                              shape=(len(opened), len(touched))).toarray()
-        made = _combine_open_rows(table, budget)
+        made = made_of[b]
         if made is None:
             return SemiflowCensus(False, count - len(closed_tokens),
                                   unmarked - int((closed_tokens == 0).sum()), b)
@@ -350,59 +362,83 @@ def _farkas_dense(Y: sp.csr_matrix, R: np.ndarray, budget: int) -> SemiflowResul
 def _combine_open_rows(R: np.ndarray, budget: int) -> np.ndarray | None:
     """Farkas on the open rows ``R`` (each row a start row of the table, over the
     transitions): the minimal closed combinations, as coefficients over these rows
-    in the order they were made; None when the budget ran out."""
+    in the order they were made; None when the budget ran out.
+
+    The tables are small (a skeleton's batch: 20 to 40 rows, 1,400 steps in all
+    at 10,000 tasks), so a step costs what its numpy calls cost, whatever their
+    size: coefficients and transition part travel as one table ``[X | R]``, the
+    rows of a column split by one stable sort of its signs, and new rows are
+    checked for minimality by one product (:func:`_minimal_new_supports`).
+    """
     n_open = R.shape[0]
     columns = np.flatnonzero(R.any(axis=0))  # the others need no step
-    R = R[:, columns]
-    X = np.eye(n_open, dtype=np.int64)  # coefficients over the open rows
+    # [X | R]: X the coefficients over the open rows, R the transition part.
+    table = np.hstack([np.eye(n_open, dtype=np.int64), R[:, columns]])
     finished: list[np.ndarray] = [np.zeros((0, n_open), dtype=np.int64)]
+    closed_support = np.zeros((0, n_open))
     done = np.zeros(len(columns), dtype=bool)
     for _ in range(len(columns)):
-        cost = (R > 0).sum(axis=0) * (R < 0).sum(axis=0)
+        R = table[:, n_open:]
+        n_pos, n_neg = (R > 0).sum(axis=0), (R < 0).sum(axis=0)
+        cost = n_pos * n_neg
         cost[done] = np.iinfo(np.int64).max
         j = int(np.argmin(cost))
         done[j] = True
-        col = R[:, j]
-        pos, neg, zero = np.flatnonzero(col > 0), np.flatnonzero(col < 0), np.flatnonzero(col == 0)
+        p, q, rows = int(n_pos[j]), int(n_neg[j]), len(table)
         # Only open rows are candidates (closed ones are semiflows): as in the sparse table.
-        if len(zero) + len(pos) * len(neg) > budget:
+        if rows - p - q + p * q > budget:
             return None
-        if len(pos) == 0 or len(neg) == 0:
-            X, R = X[zero], R[zero]
+        if p + q == 0:
+            continue  # no row touches the column
+        col = table[:, n_open + j]
+        # Rows by sign, each part in table order: negative, zero, positive.
+        by_sign = np.argsort(np.sign(col), kind="stable")
+        neg, zero, pos = by_sign[:q], by_sign[q:rows - p], by_sign[rows - p:]
+        if p == 0 or q == 0:
+            table = table[zero]
             continue
-        a = np.repeat(pos, len(neg))
-        b = np.tile(neg, len(pos))
-        fa, fb = -col[b][:, None], col[a][:, None]
-        new_X = fa * X[a] + fb * X[b]
-        new_R = fa * R[a] + fb * R[b]
-        g = np.gcd.reduce(new_X, axis=1)
-        g = np.where(g == 0, 1, g)[:, None]
-        new_X, new_R = new_X // g, new_R // g
-        keep = _minimal_new_rows_dense(np.vstack([X[zero], *finished]), new_X)
-        new_X, new_R = new_X[keep], new_R[keep]
-        closed = ~new_R.any(axis=1)
-        finished.append(new_X[closed])
-        X = np.vstack([X[zero], new_X[~closed]])
-        R = np.vstack([R[zero], new_R[~closed]])
+        a = np.repeat(pos, q)
+        b = np.tile(neg, p)
+        new = (-col[b])[:, None] * table[a] + col[a][:, None] * table[b]
+        g = np.gcd.reduce(new[:, :n_open], axis=1)  # > 0: X rows are >= 0 and not 0
+        new //= g[:, None]
+        new_support = (new[:, :n_open] > 0).astype(np.float64)
+        old_support = np.vstack([(table[zero, :n_open] > 0).astype(np.float64), closed_support])
+        keep = _minimal_new_supports(old_support, new_support)
+        new, new_support = new[keep], new_support[keep]
+        closed = ~new[:, n_open:].any(axis=1)
+        if closed.any():
+            finished.append(new[closed, :n_open])
+            closed_support = np.vstack([closed_support, new_support[closed]])
+        table = np.vstack([table[zero], new[~closed]])
     return np.vstack(finished)
 
 
-def _minimal_new_rows_dense(old: np.ndarray, new: np.ndarray) -> np.ndarray:
-    """:func:`_minimal_new_rows` on dense rows."""
-    if len(new) == 0:
+def _minimal_new_supports(old: np.ndarray, new: np.ndarray) -> np.ndarray:
+    """:func:`_minimal_new_rows` on supports given as 0/1 float rows.
+
+    Products of 0/1 rows count common places exactly in float64 (far fewer than
+    2**53), through BLAS; one product compares each new row with the old and the
+    new rows at once.
+
+    >>> old = np.array([[1., 1, 0, 0, 0]])
+    >>> new = np.array([[1., 1, 1, 0, 0], [0, 0, 1, 1, 0], [0, 0, 1, 1, 0], [0, 0, 0, 0, 1],
+    ...                 [0, 0, 1, 1, 1]])
+    >>> _minimal_new_supports(old, new).tolist()  # 0 holds old 0, 2 equals 1, 4 holds 1 and 3
+    [1, 3]
+    """
+    k, m = len(new), len(old)
+    if k == 0:
         return np.zeros(0, dtype=np.int64)
-    S_new = (new > 0).astype(np.int32)
-    size_new = S_new.sum(axis=1)
-    bad = np.zeros(len(new), dtype=bool)
-    if len(old):
-        S_old = (old > 0).astype(np.int32)
-        bad |= ((S_new @ S_old.T) == S_old.sum(axis=1)[None, :]).any(axis=1)
-    contains = (S_new @ S_new.T) == size_new[None, :]  # [i, k]: support k within support i
-    np.fill_diagonal(contains, False)
-    strict = contains & (size_new[None, :] < size_new[:, None])
-    equal = contains & (size_new[None, :] == size_new[:, None])
-    earlier_equal = np.triu(equal.T, k=1).any(axis=0)
-    return np.flatnonzero(~bad & ~strict.any(axis=1) & ~earlier_equal)
+    both = np.vstack([old, new])
+    size = both.sum(axis=1)
+    contains = (new @ both.T) == size[None, :]  # [i, l]: support l within new support i
+    # A new support is dropped when it contains an old one, or a new one that is
+    # smaller or of equal size and earlier: a smaller key (size, index), itself excluded.
+    key = size[m:] * k + np.arange(k)
+    smaller = key[None, :] < key[:, None]
+    bad = contains[:, :m].any(axis=1) | (contains[:, m:] & smaller).any(axis=1)
+    return np.flatnonzero(~bad)
 
 
 def _contract_series_transitions(C: sp.csr_matrix) -> tuple[sp.csr_matrix, sp.csr_matrix]:

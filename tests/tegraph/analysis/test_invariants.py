@@ -11,7 +11,8 @@ import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tegraph.analysis.invariants import minimal_semiflows, semiflow_census
+from tegraph.analysis import semiflow_tables
+from tegraph.analysis.invariants import _combine_open_rows, minimal_semiflows, semiflow_census
 
 
 @st.composite
@@ -284,3 +285,28 @@ def test_census_budget_at_the_edge(budget):
     assert census.failed == (None if budget == 36 else 1)
     if census.computed:
         assert census.count == census.unmarked == 37
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.integers(1, 5).flatmap(lambda t: st.lists(
+    st.lists(st.integers(-2, 2), min_size=t, max_size=t), min_size=1, max_size=8)),
+    min_size=1, max_size=6), st.integers(-1, 40), st.sampled_from([(2, 8), (6, 64), (64, 1 << 22)]))
+def test_tables_combined_together_equal_each_alone(tables, budget, limits):
+    # combine_tables takes one step of every table at once, in chunks, and leaves
+    # the tables that grow past MAX_ROWS (small limits here force both): each
+    # result must be the one-table routine's, rows, order and budget verdict.
+    tables = [np.array(t, dtype=np.int64) for t in tables]
+    saved = semiflow_tables.MAX_ROWS, semiflow_tables.CHUNK_ENTRIES
+    semiflow_tables.MAX_ROWS, semiflow_tables.CHUNK_ENTRIES = limits
+    try:
+        results, left = semiflow_tables.combine_tables(tables, budget)
+    finally:
+        semiflow_tables.MAX_ROWS, semiflow_tables.CHUNK_ENTRIES = saved
+    for k, table in enumerate(tables):
+        alone = _combine_open_rows(table, budget)
+        if k in left:
+            assert results[k] is None
+            continue
+        assert (results[k] is None) == (alone is None)
+        if alone is not None:
+            assert results[k].tolist() == alone.tolist()
