@@ -83,3 +83,15 @@ def test_the_public_names_still_resolve_to_the_class():
     from tegraph.model.skeleton import Protocol as P
 
     assert tegraph.Skeleton is Skeleton and C is Clock and P is Protocol
+
+
+def test_a_links_label_is_made_once_and_leaves_equality_alone():
+    # The label is cached in the instance (elements.Link.label); a link that
+    # was asked for it must still equal, hash and replace like one that was not.
+    asked = Link(("A", "x"), ("B", "y"), Protocol.SYN_SYN)
+    fresh = Link(("A", "x"), ("B", "y"), Protocol.SYN_SYN)
+    assert asked.label is asked.label
+    assert asked.label == "A:x -> B:y (SYN/SYN)"  # the text by hand
+    assert asked == fresh and hash(asked) == hash(fresh)
+    changed = dataclasses.replace(asked, protocol=Protocol.ASYN_ASYN)
+    assert changed.label == "A:x -> B:y (ASYN/ASYN)"
