@@ -394,8 +394,8 @@ def test_a_change_is_solved_only_when_the_periods_before_fit_too(monkeypatch):
 
     solved = []
     monkeypatch.setattr(advice, "PERIODS_BUDGET", 45)
-    monkeypatch.setattr(advice, "_cycle_times",
-                        lambda sk, roots, solve=advice._cycle_times:
+    monkeypatch.setattr(advice, "task_rates",
+                        lambda sk, roots, solve=advice.task_rates:
                         solved.append(sk) or solve(sk, roots))
     findings = [f for f in check_rules(Skeleton.from_dict(CTRL_GAINS)) if f.rule in (1, 3)]
     assert findings and solved == []
@@ -498,7 +498,7 @@ def test_the_clocks_cut_away_change_no_period_nor_the_name_of_an_added_clock():
     # (as it was solved before the cut): same periods, same rates in words.
     import dataclasses
 
-    from tegraph.design.rules.advice import _cycle_times
+    from tegraph.design.rules.rates import task_rates
 
     # A declared clock named "B.clock" used by A: a clock added to B, in another
     # group, is named "B.clock'" on the whole skeleton, and so in the cut too.
@@ -518,7 +518,7 @@ def test_the_clocks_cut_away_change_no_period_nor_the_name_of_an_added_clock():
             for change in {Change(), Change(add_clock=bare)}:
                 cut = advisor._within([g])
                 whole = dataclasses.replace(cut, clocks=sk.clocks)
-                rates = [_cycle_times(apply_change(x, change, advisor.fresh), advisor.group_of)
+                rates = [task_rates(apply_change(x, change, advisor.fresh), advisor.group_of)
                          for x in (cut, whole)]
                 assert rates[0].period == rates[1].period, sk.to_dict()
                 assert rates[0].mixed == rates[1].mixed, sk.to_dict()
