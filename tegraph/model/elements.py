@@ -10,8 +10,8 @@ from __future__ import annotations
 import enum
 from collections.abc import Iterable
 from dataclasses import dataclass
-from functools import cached_property
 from fractions import Fraction
+from functools import cached_property
 
 __all__ = ["Clock", "Link", "LinkLabel", "Protocol", "Task", "flow_list"]
 
