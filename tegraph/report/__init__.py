@@ -3,7 +3,7 @@
 Nothing here computes a figure: each function renders the result it is given.
 """
 
-from .document import SCHEMA_VERSION, json_report, to_document, to_json
+from .document import SCHEMA_VERSION, json_report, to_document, to_json, to_json_bytes
 from .dot import highlights
 from .tables import write_csv
 from .text import render_text
@@ -15,5 +15,6 @@ __all__ = [
     "render_text",
     "to_document",
     "to_json",
+    "to_json_bytes",
     "write_csv",
 ]

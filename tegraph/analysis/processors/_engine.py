@@ -327,19 +327,22 @@ class _Part:
                 return now
             now = nxt
 
-    def ends(self, task: int) -> int:
-        last = self.d.end_event[task]
-        return self.finished[task] if last is None else self.fired[last]
-
     def _check_ticks(self, now: int) -> None:
-        # After the whole instant: an activation ending at the tick is in time (§4).
+        """The slack of each clocked task at its clock's ticks of this instant.
+
+        After the whole instant: an activation ending at the tick is in time (§4).
+        On locals: at 10,000 tasks on their own clocks, 10,000 tasks per instant.
+        """
+        fired, finished, end_event = self.fired, self.finished, self.d.end_event
+        watched, log, overrun_at = self.d.watched, self.result.tick_log, self.result.overrun_at
         for e in self.ticked:
-            k = self.fired[e]
-            for task in self.d.watched[e]:
-                slack = self.ends(task) - (k - 1)
-                self.result.tick_log.setdefault(task, []).append((now, k, slack))
-                if slack < 0 and task not in self.result.overrun_at:
-                    self.result.overrun_at[task] = k
+            k = fired[e]
+            for task in watched[e]:
+                last = end_event[task]  # None: its activation ends with its job
+                slack = (finished[task] if last is None else fired[last]) - (k - 1)
+                log.setdefault(task, []).append((now, k, slack))
+                if slack < 0 and task not in overrun_at:
+                    overrun_at[task] = k
         self.ticked.clear()
 
     # ------------------------------------------------------------ processors
