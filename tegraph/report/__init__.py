@@ -18,6 +18,7 @@ _WHERE = {
     "render_text": "tegraph.report.text",
     "to_document": "tegraph.report.document",
     "to_json": "tegraph.report.document",
+    "to_json_bytes": "tegraph.report.document",
     "write_csv": "tegraph.report.tables",
 }
 
@@ -28,6 +29,7 @@ __all__ = [
     "render_text",
     "to_document",
     "to_json",
+    "to_json_bytes",
     "write_csv",
 ]
 
@@ -45,7 +47,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # static tools see the names where they are defined
-    from .document import SCHEMA_VERSION, json_report, to_document, to_json
+    from .document import SCHEMA_VERSION, json_report, to_document, to_json, to_json_bytes
     from .dot import highlights
     from .tables import write_csv
     from .text import render_text

@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from maxplus.scalar import display_text
 
@@ -70,7 +70,9 @@ class JobInterval:
     k: int
 
 
-@dataclass
+# Slots: one per task, 100,000 of them in a report of 100,000 tasks (80 bytes each
+# against some 250 with a ``__dict__``).
+@dataclass(slots=True)
 class TaskOnProcessors:
     """The §4b figures of one task (None where undefined or undecided)."""
 
@@ -249,47 +251,58 @@ def _why_part(sk: Skeleton, tasks: list[str], hyper: Fraction | None, ticks: int
 
 
 class _Net:
-    """The graph as Python lists, the zero-period events and the parts."""
+    """The graph as arrays, the zero-period events and the parts."""
 
     def __init__(self, sk: Skeleton, teg: TimedEventGraph, groups: Sequence[Any],
                  platform: Platform) -> None:
         a = teg.arrays()
         self.sk, self.teg, self.groups, self.platform = sk, teg, groups, platform
         self.scale = a.scale
-        self.src, self.dst = a.src.tolist(), a.dst.tolist()
-        self.tokens = a.tokens.tolist()
-        self.hold = [int(v) for v in a.holding.tolist()]
-        self.init = [int(v) for v in a.initial.tolist()]
+        # numpy arrays, not lists: the loops over places are numpy's (a list of
+        # 400,000 Python ints costs 10 MB, at 100,000 tasks, for each column).
+        self.src, self.dst, self.tokens = a.src, a.dst, a.tokens
+        self.hold, self.init = a.holding, a.initial
         self.n = teg.n_transitions
         self.tasks = list(sk.tasks)
         self.compute = teg.attrs["compute"]
-        self.compute_of = {self.compute[t]: i for i, t in enumerate(self.tasks)}
+        self.is_compute = np.zeros(self.n, dtype=bool)
+        self.is_compute[np.fromiter(self.compute.values(), np.int64, len(self.compute))] = True
         self.group_of = {t: g for g, group in enumerate(groups) for t in group.tasks}
-        self.zero = self._zero_period()
+        self.zero_mask = self._zero_period()
+        self.zero = set(np.flatnonzero(self.zero_mask).tolist())
         graph = sp.csr_matrix((np.ones(len(self.src), dtype=np.int8), (a.src, a.dst)),
                               shape=(self.n, self.n))
-        self.scc = connected_components(graph, directed=True, connection="strong")[1].tolist()
+        self.scc = connected_components(graph, directed=True, connection="strong")[1]
 
-    def _zero_period(self) -> set[int]:
-        """Events that fire infinitely often at time 0 (see the module docstring)."""
-        out: list[list[int]] = [[] for _ in range(self.n)]
-        for s, d in zip(self.src, self.dst):
-            out[s].append(d)
-        timed = _reach(out, {d for d, h, a in zip(self.dst, self.hold, self.init) if h or a})
-        zero = set(range(self.n)) - timed
+    def _zero_period(self) -> np.ndarray:
+        """Events that fire infinitely often at time 0 (see the module docstring), as a mask."""
+        src, dst = self.src, self.dst
+        timed = self._reach(dst[(self.hold != 0) | (self.init != 0)])
+        zero = ~timed
         # Without any time upstream, every firing is at 0; finitely many when a
         # circuit without token lies upstream (it stops them), else infinitely many.
-        z_src = [p for p, (s, d) in enumerate(zip(self.src, self.dst))
-                 if s in zero and d in zero and not self.tokens[p]]
-        if not z_src:
+        z_src = np.flatnonzero(zero[src] & zero[dst] & (self.tokens == 0))
+        if not len(z_src):
             return zero
-        rows = [self.src[p] for p in z_src]
-        cols = [self.dst[p] for p in z_src]
+        rows, cols = src[z_src], dst[z_src]
         g = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(self.n, self.n))
         _, label = connected_components(g, directed=True, connection="strong")
         sizes = np.bincount(label)
-        stuck = {e for e in zero if sizes[label[e]] > 1} | {r for r, c in zip(rows, cols) if r == c}
-        return zero - _reach(out, stuck)
+        stuck = zero & (sizes[label] > 1)
+        stuck[rows[rows == cols]] = True
+        return zero & ~self._reach(np.flatnonzero(stuck))
+
+    def _reach(self, start: np.ndarray) -> np.ndarray:
+        """Mask of the events reachable from the events ``start`` (included) along places:
+        a breadth-first search from one more node, linked to each of them."""
+        n = self.n
+        rows = np.concatenate((self.src, np.full(len(start), n, dtype=np.int64)))
+        cols = np.concatenate((self.dst, np.asarray(start, dtype=np.int64)))
+        graph = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)),
+                              shape=(n + 1, n + 1))
+        seen = np.zeros(n + 1, dtype=bool)
+        seen[breadth_first_order(graph, n, directed=True, return_predecessors=False)] = True
+        return seen[:n]
 
     def _union_parts(self) -> list[int]:
         """Part label of each task: tasks joined by a group or a processor."""
@@ -312,9 +325,7 @@ class _Net:
         part = np.full(self.n, -1, dtype=np.int64)
         part[np.fromiter(part_of_event, np.int64, len(part_of_event))] = np.fromiter(
             part_of_event.values(), np.int64, len(part_of_event))
-        zero = np.zeros(self.n, dtype=bool)
-        zero[np.fromiter(self.zero, np.int64, len(self.zero))] = True
-        src, dst = self.teg.arrays().src, self.teg.arrays().dst
+        zero, src, dst = self.zero_mask, self.src, self.dst
         events = np.flatnonzero((part >= 0) & ~zero)
         members = _by_label(events, part[events])
         kept = np.flatnonzero((part[src] >= 0) & ~zero[src] & ~zero[dst])
@@ -323,40 +334,47 @@ class _Net:
         for i, t in enumerate(self.tasks):
             if self.compute[t] not in self.zero:
                 by_label.setdefault(label[i], []).append(i)
+        no_place = np.zeros(0, dtype=np.int64)
         for lab in sorted(members, key=lambda lab: members[lab][0]):
-            yield self._part_data(by_label.get(lab, []), members[lab], places.get(lab, []))
+            yield self._part_data(by_label.get(lab, []), members[lab],
+                                  places.get(lab, no_place))
 
-    def _part_data(self, tasks: list[int], events: list[int], places: list[int]):
-        """The part of these global tasks, events and places, re-indexed locally for
-        the engine (:class:`PartData`), with them."""
-        local = {e: i for i, e in enumerate(events)}
+    def _part_data(self, tasks: list[int], events: np.ndarray, places: np.ndarray):
+        """The part of these global tasks, events (increasing) and places, re-indexed
+        locally for the engine (:class:`PartData`), with them."""
+        event_list = events.tolist()  # freed on return
+        local = dict(zip(event_list, range(len(event_list))))  # for the tasks' events
         names = [self.tasks[i] for i in tasks]
         procs: dict[str, int] = {}  # its processors, numbered in the order of its tasks
         for t in names:
             procs.setdefault(self.platform.processor_of[t], len(procs))
         watched, slowest_tick = self._watched(names, local)
+        # The columns of its places by numpy: a local event is its rank among the
+        # part's events (increasing), its index in ``events``.
+        src, dst = self.src[places], self.dst[places]
+        tokens = self.tokens[places]
+        caps = np.where(self.scc[src] == self.scc[dst], -1, tokens + 2).tolist()
         data = PartData(
-            n_events=len(events),
-            p_src=[local[self.src[p]] for p in places], p_dst=[local[self.dst[p]] for p in places],
-            p_tokens=[self.tokens[p] for p in places], p_hold=[self.hold[p] for p in places],
-            p_init=[self.init[p] for p in places],
-            p_job=[self.src[p] in self.compute_of for p in places],
-            p_cap=self._caps(places),
-            compute_task=self._compute_task(tasks, events, local),
+            n_events=len(event_list),
+            p_src=np.searchsorted(events, src).tolist(),
+            p_dst=np.searchsorted(events, dst).tolist(),
+            p_tokens=tokens.tolist(), p_hold=_ints(self.hold[places]),
+            p_init=_ints(self.init[places]),
+            p_job=self.is_compute[src].tolist(),
+            # None (counted exactly) on a circuit, where the circuit's tokens bound
+            # its count; else its initial tokens + 2.
+            p_cap=[None if c < 0 else c for c in caps],
+            compute_task=self._compute_task(tasks, event_list, local),
             # int(duration * scale), on ints (a duration is >= 0: floor is truncation)
             duration=[_floor_scaled(self.sk.tasks[t].duration, self.scale) for t in names],
             priority=[self.platform.priority[t] for t in names], file_index=tasks,
             processor=[procs[self.platform.processor_of[t]] for t in names],
             n_processors=len(procs),
             end_event=[_end_event(self.teg, t, local) for t in names],
-            watched=watched, snapshot_place=self._snapshot_place(places, events, slowest_tick))
+            watched=watched, snapshot_place=self._snapshot_place(src, dst, events, slowest_tick))
+        # Its events and places stay arrays: kept for the figures until the part is
+        # simulated, they cost 8 bytes each, not the 36 of a list of ints.
         return data, names, events, places
-
-    def _caps(self, places: list[int]) -> list[int | None]:
-        """``PartData.p_cap`` of each place: None (counted exactly) on a circuit, where
-        the circuit's tokens bound its count; else its initial tokens + 2."""
-        return [None if self.scc[self.src[p]] == self.scc[self.dst[p]] else self.tokens[p] + 2
-                for p in places]
 
     def _compute_task(self, tasks: list[int], events: list[int],
                       local: dict[int, int]) -> list[int]:
@@ -383,14 +401,15 @@ class _Net:
                     slowest = (period, tick)
         return watched, None if slowest is None else slowest[1]
 
-    def _snapshot_place(self, places: list[int], events: list[int],
+    def _snapshot_place(self, src: np.ndarray, dst: np.ndarray, events: np.ndarray,
                         tick: int | None) -> int | None:
         """``PartData.snapshot_place``: the local self-loop place of the local ``tick``
-        (the slowest clock's), None when there is no clock."""
+        (the slowest clock's), None when there is no clock; ``src`` and ``dst`` are
+        the global events of the part's places."""
         if tick is None:
             return None
-        return next(i for i, p in enumerate(places)
-                    if self.src[p] == self.dst[p] == events[tick])
+        e = events[tick]
+        return int(np.flatnonzero((src == e) & (dst == e))[0])
 
 
 def _end_event(teg: TimedEventGraph, task: str, local: dict[int, int]) -> int | None:
@@ -409,10 +428,20 @@ def _floor_scaled(t: Fraction, scale: int) -> int:
     return t.numerator * scale // t.denominator
 
 
-def _by_label(items: np.ndarray, labels: np.ndarray) -> dict[int, list[int]]:
+def _ints(column: np.ndarray) -> list[int]:
+    """The Python ints of an integer column (``int64``, or ``object`` past 64 bits).
+
+    >>> _ints(np.array([3, 0])), _ints(np.array([2**70], dtype=object))
+    ([3, 0], [1180591620717411303424])
+    """
+    return [int(v) for v in column] if column.dtype == object else column.tolist()
+
+
+def _by_label(items: np.ndarray, labels: np.ndarray) -> dict[int, np.ndarray]:
     """``items`` (increasing) grouped by their ``labels``, each group still increasing.
 
-    >>> _by_label(np.array([1, 4, 6, 9]), np.array([7, 3, 7, 3]))
+    >>> {lab: group.tolist() for lab, group in
+    ...  _by_label(np.array([1, 4, 6, 9]), np.array([7, 3, 7, 3])).items()}
     {3: [4, 9], 7: [1, 6]}
     """
     if not len(items):
@@ -421,20 +450,8 @@ def _by_label(items: np.ndarray, labels: np.ndarray) -> dict[int, list[int]]:
     sorted_labels = labels[order]
     cuts = np.flatnonzero(sorted_labels[1:] != sorted_labels[:-1]) + 1
     firsts = np.concatenate(([0], cuts))
-    return {int(lab): chunk.tolist() for lab, chunk in
+    return {int(lab): chunk for lab, chunk in
             zip(sorted_labels[firsts].tolist(), np.split(items[order], cuts))}
-
-
-def _reach(out: list[list[int]], start: set[int]) -> set[int]:
-    """Events reachable from ``start`` (included) along places."""
-    seen = set(start)
-    stack = list(start)
-    while stack:
-        for d in out[stack.pop()]:
-            if d not in seen:
-                seen.add(d)
-                stack.append(d)
-    return seen
 
 
 class _Outcome:
@@ -459,9 +476,10 @@ class _Outcome:
         for t in net.tasks:
             if net.compute[t] in net.zero:
                 self.tasks[t] = TaskOnProcessors(Fraction(0), None, Fraction(0), False, True)
-        for p, (s, d) in enumerate(zip(net.src, net.dst)):
-            if s in net.zero and d not in net.zero:
-                self._grow(p, None)
+        # The places from a zero-period event to the rest: unbounded at time 0.
+        zero = net.zero_mask
+        for p in np.flatnonzero(zero[net.src] & ~zero[net.dst]).tolist():
+            self._grow(p, None)
 
     def _fraction(self, v: int) -> Fraction:
         return Fraction(v, self.net.scale)
@@ -469,16 +487,18 @@ class _Outcome:
     def _grow(self, p: int, per: int | None) -> None:
         net = self.net
         place = net.teg.places[p]
-        owner = net.teg.transition_attrs[net.dst[p]].get("tasks") or \
-            net.teg.transition_attrs[net.src[p]].get("tasks")
+        src, dst = int(net.src[p]), int(net.dst[p])
+        # The task of its destination, else of its source (a clock's tick has none).
+        owner = net.teg.transition_attrs[dst].get("tasks") or \
+            net.teg.transition_attrs[src]["tasks"]
         group = net.group_of[owner[0]]
         self.grows.add(group)
         self.unbounded.append(GrowingPlace(
-            p, net.teg.transition_names[net.src[p]], net.teg.transition_names[net.dst[p]],
+            p, net.teg.transition_names[src], net.teg.transition_names[dst],
             unbounded_kind(place.kind), group, per))
 
-    def add(self, r: PartResult, d: PartData, names: list[str], events: list[int],
-            places: list[int]) -> None:
+    def add(self, r: PartResult, d: PartData, names: list[str], events: np.ndarray,
+            places: np.ndarray) -> None:
         self.events += r.fired
         self.after_overrun += r.after_overrun is not None
         procs = list(dict.fromkeys(self.net.platform.processor_of[t] for t in names))
@@ -494,11 +514,11 @@ class _Outcome:
                                  "length": None})
             for t in names:
                 self.tasks[t].decided = True
-            self._rates(events, None)
+            self._rates(events.tolist(), None)
             return
         self._regime(r, d, names, events, places)
 
-    def add_independent(self, v: IndependentVerdict, names: list[str], events: list[int],
+    def add_independent(self, v: IndependentVerdict, names: list[str], events: np.ndarray,
                         hyper: Fraction | None, look: PartResult) -> None:
         """A part decided by the critical instant: its figures, and the intervals of a
         quick look at its start (``regimes`` says ``"by": "critical instant"``)."""
@@ -516,7 +536,7 @@ class _Outcome:
         met = {t for t in v.period}
         self.regimes.append({"tasks": names, "start": None if v.late else Fraction(0),
                              "length": None if v.late else hyper, "by": "critical instant"})
-        for e in events:  # _rate reads the task events (a clock's has no task)
+        for e in events.tolist():  # _rate reads the task events (a clock's has no task)
             owner = self.net.teg.transition_attrs[e].get("tasks")
             if owner and owner[0] in met:
                 self._rate(e, v.period[owner[0]])
@@ -535,8 +555,8 @@ class _Outcome:
         for g in groups:
             self.rate.setdefault(g, set()).add(value)
 
-    def _regime(self, r: PartResult, d: PartData, names: list[str], events: list[int],
-                places: list[int]) -> None:
+    def _regime(self, r: PartResult, d: PartData, names: list[str], events: np.ndarray,
+                places: np.ndarray) -> None:
         # Type: called only for a part whose regime was found.
         t1, t2, old, new, growing = r.regime  # type: ignore[misc]
         length = t2 - t1
@@ -550,12 +570,12 @@ class _Outcome:
         for n in set(fired) - {0}:
             period[n] = Fraction(length, n * self.net.scale)
         counts: dict[int, list[int]] = {}
-        for e, n in enumerate(fired):
-            counts.setdefault(n, []).append(events[e])
+        for e, n in zip(events.tolist(), fired):
+            counts.setdefault(n, []).append(e)
         for n, with_n in counts.items():
             self._rates(with_n, period[n])
         for p, per in growing.items():
-            self._grow(places[p], per)
+            self._grow(int(places[p]), per)
         compute_of = {j: e for e, j in enumerate(d.compute_task) if j >= 0}
         tick_of = {j: e for e, ts in d.watched.items() for j in ts}
         for j, t in enumerate(names):
