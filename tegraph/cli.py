@@ -281,9 +281,9 @@ def analyze(
         except OSError as exc:
             _fail(f"cannot write CSV files to {csv_dir}: {exc.strerror}")
     if json_out:
-        from .report import to_json
+        from .report import to_json_bytes
 
-        _echo_document(to_json(report))
+        _echo_document(to_json_bytes(report))
     else:
         from .report import render_text
 
@@ -291,16 +291,25 @@ def analyze(
     raise typer.Exit(report.exit_status)
 
 
-def _echo_document(text: str) -> None:
-    """Print a JSON document and a newline, as ``typer.echo`` would.
+def _echo_document(data: bytes) -> None:
+    """Print a JSON document's UTF-8 bytes and a newline, as ``typer.echo`` prints bytes.
 
-    ``typer.echo`` copies the text to append the newline and, off a terminal, scans it
-    for ANSI colour codes to strip: a JSON text holds none (its control characters are
-    escaped), and the report of 10,000 tasks is 16 to 26 MB (0.06 s against 0.035 s).
+    ``typer.echo`` of the text would copy it to append the newline and, off a terminal,
+    scan it for ANSI colour codes to strip: a JSON text holds none (its control
+    characters are escaped), and the report of 10,000 tasks is 16 to 26 MB (0.06 s
+    against 0.035 s). The bytes go to the binary stream as they are, so a report of
+    100,000 tasks (160 MB) is never held as text as well (its peak: 1,154 -> 1,016 MiB).
     """
-    sys.stdout.write(text)
-    sys.stdout.write("\n")
-    sys.stdout.flush()
+    sys.stdout.flush()  # whatever the text layer holds goes first
+    out = getattr(sys.stdout, "buffer", None)
+    if out is None:  # a text-only stream (an embedding program's): decode once
+        sys.stdout.write(data.decode())
+        sys.stdout.write("\n")
+        sys.stdout.flush()
+        return
+    out.write(data)
+    out.write(b"\n")
+    out.flush()
 
 
 # Further commands (reach, cycle-time, convert, fix, rules, timeline) are added

@@ -1,11 +1,14 @@
 """The analyze command prints its JSON document byte for byte as ``typer.echo`` did.
 
 ``_echo_document`` skips click's scan for ANSI colour codes: a JSON text has none,
-since JSON escapes every control character (ESC included). Both are compared on
-documents holding what could matter: escapes, non-ASCII names, a lone CR.
+since JSON escapes every control character (ESC included), and writes the UTF-8
+bytes of the document to the binary stream. Both are compared on documents
+holding what could matter: escapes, non-ASCII names, a lone CR.
 """
 
+import io
 import json
+import sys
 
 import pytest
 import typer
@@ -19,10 +22,20 @@ DOCUMENTS = [
 
 
 @pytest.mark.parametrize("doc", DOCUMENTS)
-def test_a_document_prints_as_typer_echo_prints_it(doc, capsys):
+def test_a_document_prints_as_typer_echo_prints_it(doc, capsysbinary):
     text = json.dumps(doc, indent=2, ensure_ascii=False)
     assert "\x1b" not in text  # JSON escapes it: nothing for click to strip
-    typer.echo(text)
-    by_typer = capsys.readouterr().out
-    _echo_document(text)
-    assert capsys.readouterr().out == by_typer == text + "\n"
+    typer.echo(text.encode())
+    by_typer_bytes = capsysbinary.readouterr().out
+    _echo_document(text.encode())
+    assert capsysbinary.readouterr().out == by_typer_bytes == (text + "\n").encode()
+
+
+@pytest.mark.parametrize("doc", DOCUMENTS)
+def test_a_text_only_stream_gets_the_same_text(doc, monkeypatch):
+    # An embedding program may put a plain text stream in sys.stdout (no .buffer).
+    text = json.dumps(doc, indent=2, ensure_ascii=False)
+    stream = io.StringIO()
+    monkeypatch.setattr(sys, "stdout", stream)
+    _echo_document(text.encode())
+    assert stream.getvalue() == text + "\n"
