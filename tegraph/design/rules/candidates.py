@@ -77,6 +77,9 @@ class Candidates:
         self.threaded = {t for thread in skeleton.threads for t in thread}
         self._inputs: dict[str, list[Link]] = {}
         self._outputs: dict[str, list[Link]] = {}
+        # One search for every :meth:`ranked`'s first (it runs to its end at once, so
+        # no other walk is ever left half-way in it): not one made per finding.
+        self._first_search = self._freeing()
 
     # ------------------------------------------------------------ synchronizations
     def inputs(self, task: str) -> list[Link]:
@@ -147,7 +150,7 @@ class Candidates:
         making the others, and the others are made if it is not taken.
         """
         runs = self._runs(finding)
-        first = None if runs is None else self._freeing().first(runs, CANDIDATE_LIMIT)
+        first = None if runs is None else self._first_search.first(runs, CANDIDATE_LIMIT)
         if first is not None:
             yield first
         ranked = sorted(itertools.islice(self.candidates(finding), CANDIDATE_LIMIT),
@@ -167,12 +170,14 @@ class Candidates:
     def _several_syncs(self, task: str) -> list[Run]:
         """Rule 1, several synchronizations: keep one, each in turn, footnote 6's first."""
         empty = Edits()
-        syncs = self.syncs(task, empty)
+        syncs = waits_for(self.sk.tasks[task].clock is not None, self.inputs(task),
+                          self.outputs(task), {})
         inputs = [s for s in syncs if s[0] == "input"]
         outputs = [s for s in syncs if s[0] == "output"]
         first = ([inputs[0]] if inputs else []) + [s for s in syncs if s[0] == "clock"] \
             + ([outputs[-1]] if outputs else [])
-        return [(empty, task, keep, frozenset({task}), sync_label(keep))
+        seen = frozenset({task})
+        return [(empty, task, keep, seen, sync_label(keep))
                 for keep in first + [s for s in syncs if s not in first]]
 
     def _no_sync(self, task: str) -> Iterator[Edits]:
