@@ -63,9 +63,11 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
     -----
     Dijkstra's algorithm [1]_ from each source, restricted to the source's strongly
     connected component (a circuit cannot leave it) and to distances up to
-    ``upper``. scipy's Dijkstra runs on blocks of sources when every distance
-    stays below 2**53, where float64 is exact; otherwise an exact heap
-    Dijkstra in Python stops once no shorter circuit can be found.
+    ``upper``. scipy's Dijkstra runs (one source of each component at a time,
+    or blocks of sources of a large component) when every distance stays below
+    2**53, where float64 is exact; otherwise an exact heap Dijkstra in Python
+    stops once no shorter circuit can be found. The cost is each component's
+    size times its sources (linear in a chain of small groups).
     :meth:`tegraph.analysis.Analysis` calls it with Johnson's reduced weights
     [2]_ (Howard's potentials [3]_ make every weight non-negative), so that the
     lightest circuit is the slack of a task's compute event.
@@ -88,25 +90,23 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
     ...                           np.array([2, 1, 1, 3]), [3, 4, 9, 0], [1, 2, 3])
     [7, 7, None]
     """
-    local = {int(e): i for i, e in enumerate(events.tolist())}
-    n = len(local)
-    ls = np.array([local[int(a)] for a in s.tolist()], dtype=np.int64)
-    ld = np.array([local[int(b)] for b in d.tolist()], dtype=np.int64)
-    heads = np.array([local[c] for c in sources], dtype=np.int64)
-    # The places into each source: (source index, place) pairs.
+    n = len(events)
+    ls, ld, heads = (_positions(events, x) for x in (s, d, np.asarray(sources, dtype=np.int64)))
+    # The places into each source: (source index, place) pairs, by source.
     order = np.argsort(ld, kind="stable")
     first = np.searchsorted(ld[order], heads)
     last = np.searchsorted(ld[order], heads, side="right")
     pair_source = np.repeat(np.arange(len(sources)), last - first)
-    pair_place = order[np.concatenate([np.arange(a, b) for a, b in zip(first, last)]
-                                      or [np.zeros(0, dtype=np.int64)])]
+    pair_place = order[_ranges(first, last)]
     result: list[int | None] = [None] * len(sources)
     if len(weights) and max(weights) * max(n, 1) < 2**53:
         bound = np.array([np.inf if u is None else float(u)
                           for u in (upper if upper is not None else [None] * len(heads))])
         best = _circuits_by_component(n, ls, ld, np.array(weights, dtype=np.float64), heads,
                                       pair_source, pair_place, bound)
-        return [None if not np.isfinite(v) else int(v) for v in best.tolist()]
+        # (A ufunc per element would cost more than the whole search.)
+        return [int(v) if finite else None
+                for v, finite in zip(best.tolist(), np.isfinite(best).tolist())]
     adjacency: list[list[tuple[int, int]]] = [[] for _ in range(n)]
     for a, b, wt in zip(ls.tolist(), ld.tolist(), weights):
         adjacency[a].append((b, wt))
@@ -137,52 +137,112 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
     return result
 
 
+def _positions(events: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The index of each of ``x`` in ``events`` (each one of them, ``events`` distinct)."""
+    if not len(x):
+        return np.zeros(0, dtype=np.int64)
+    order = np.argsort(events, kind="stable")
+    at = order[np.minimum(np.searchsorted(events[order], x), len(events) - 1)] \
+        if len(events) else np.zeros(0, dtype=np.int64)
+    if len(at) != len(x) or not np.array_equal(events[at], x):
+        raise KeyError("an arc or a source is not among the events")
+    return at.astype(np.int64)
+
+
+def _ranges(first: np.ndarray, last: np.ndarray) -> np.ndarray:
+    """``first[0]..last[0]-1, first[1]..last[1]-1, ...`` concatenated (no loop per range)."""
+    count = last - first
+    total = int(count.sum())
+    starts = np.repeat(first - (np.cumsum(count) - count), count)
+    return (starts + np.arange(total)).astype(np.int64)
+
+
+_ROUNDS = 32
+"""Components with at most this many sources are searched by rounds (one source of
+each per search); the others by blocks of sources (:func:`_circuits_by_component`)."""
+
+
 def _circuits_by_component(n: int, ls: np.ndarray, ld: np.ndarray, wf: np.ndarray,
                            heads: np.ndarray, pair_source: np.ndarray, pair_place: np.ndarray,
                            bound: np.ndarray) -> np.ndarray:
-    """Float kernel of :func:`_shortest_circuits_through` (exact below 2**53).
+    """Float kernel of :func:`shortest_circuits_through` (exact below 2**53).
 
-    A circuit stays inside one strongly connected component, so each source
-    is searched in its own component only, with scipy's Dijkstra on a few
-    small components at a time: a chain of many small components costs in
-    proportion to its size, not to sources × events.
+    A circuit stays inside one strongly connected component, so only the arcs
+    inside components are kept, and each source is searched in its own
+    component. Components with few sources (a chain of many small groups) are
+    searched in rounds: round r takes the r-th source of each, all at once
+    (scipy's ``min_only``: no arc joins two components, so each event's
+    distance is from its own component's source); the cost is each
+    component's size times its sources, in at most :data:`_ROUNDS` calls.
+    Components with many sources (one large group) are searched by blocks of
+    sources, each a dense matrix of distances over its component.
     """
     arcs = sp.csr_matrix((np.ones(len(ls)), (ls, ld)), shape=(n, n))
     _, label = connected_components(arcs, directed=True, connection="strong")
     inside = label[ls] == label[ld]
+    best = np.full(len(heads), np.inf)
+    if not inside.any():
+        return best  # no circuit at all
+    # Parallel arcs: the lightest only (a sparse matrix would add them up).
+    a, b, w = ls[inside], ld[inside], wf[inside]
+    key = np.lexsort((w, b, a))
+    keep = key[np.r_[True, (a[key][1:] != a[key][:-1]) | (b[key][1:] != b[key][:-1])]]
+    graph = sp.csr_matrix((w[keep], (a[keep], b[keep])), shape=(n, n))
+    valid = inside[pair_place]
+    pair_source, pair_place = pair_source[valid], pair_place[valid]
+    # The pairs of each source, a contiguous range (pair_source is sorted).
+    pair_first = np.searchsorted(pair_source, np.arange(len(heads)))
+    pair_last = np.searchsorted(pair_source, np.arange(len(heads)), side="right")
+    comp = label[heads]
+    # Each source's rank among its component's sources, and how many those are.
+    by_comp = np.argsort(comp, kind="stable")
+    sorted_comp = comp[by_comp]
+    comp_first = np.searchsorted(sorted_comp, sorted_comp)
+    rank = np.empty(len(heads), dtype=np.int64)
+    rank[by_comp] = np.arange(len(heads)) - comp_first
+    many = np.bincount(comp, minlength=n)[comp] > _ROUNDS
+    few = np.flatnonzero(~many)
+    for r in range(int(rank[few].max()) + 1 if len(few) else 0):
+        mine = few[rank[few] == r]
+        dist = dijkstra(graph, directed=True, indices=heads[mine], min_only=True,
+                        limit=float(bound[mine].max()))
+        pairs = _ranges(pair_first[mine], pair_last[mine])
+        ps, pp = pair_source[pairs], pair_place[pairs]
+        np.minimum.at(best, ps, dist[ls[pp]] + wf[pp])
+    if many.any():
+        _by_blocks(graph, label, np.flatnonzero(many), heads, ls, wf, pair_source, pair_place,
+                   pair_first, pair_last, bound, best)
+    return best
+
+
+def _by_blocks(graph: sp.csr_matrix, label: np.ndarray, mine: np.ndarray, heads: np.ndarray,
+               ls: np.ndarray, wf: np.ndarray, pair_source: np.ndarray, pair_place: np.ndarray,
+               pair_first: np.ndarray, pair_last: np.ndarray, bound: np.ndarray,
+               best: np.ndarray) -> None:
+    """The sources ``mine`` (of components with many sources), component by component,
+    by blocks of sources: a dense matrix of some 2,000,000 distances per search."""
+    n = graph.shape[0]
     # Number the events component by component, so that each is a contiguous range.
     by_label = np.argsort(label, kind="stable")
     new = np.empty(n, dtype=np.int64)
     new[by_label] = np.arange(n)
-    best = np.full(len(heads), np.inf)
-    if not inside.any():
-        return best  # no circuit at all
-    a, b, w = new[ls[inside]], new[ld[inside]], wf[inside]
-    key = np.lexsort((w, b, a))
-    keep = key[np.r_[True, (a[key][1:] != a[key][:-1]) | (b[key][1:] != b[key][:-1])]]
-    graph = sp.csr_matrix((w[keep], (a[keep], b[keep])), shape=(n, n))
-    comp_start = np.searchsorted(label[by_label], label[by_label], side="left")
-    comp_end = np.searchsorted(label[by_label], label[by_label], side="right")
-    valid = inside[pair_place]
-    pair_source, pair_place = pair_source[valid], pair_place[valid]
+    sorted_label = label[by_label]
+    graph = graph[by_label][:, by_label].tocsr()
     head_new = new[heads]
-    # Batches: the components whose first event falls in the same window of events.
-    window = 4096
-    batch = comp_start[head_new] // window
-    for key_batch in np.unique(batch).tolist():
-        mine = np.flatnonzero(batch == key_batch)
-        lo = int(comp_start[head_new[mine]].min())
-        hi = int(comp_end[head_new[mine]].max())
+    comp_start = np.searchsorted(sorted_label, label[heads], side="left")
+    comp_end = np.searchsorted(sorted_label, label[heads], side="right")
+    # Component by component, similar bounds together (they share a search).
+    mine = mine[np.lexsort((bound[mine], comp_start[mine]))]
+    splits = np.flatnonzero(np.diff(comp_start[mine])) + 1
+    for part in np.split(mine, splits):
+        lo, hi = int(comp_start[part[0]]), int(comp_end[part[0]])
         sub = graph[lo:hi, lo:hi]
         block = max(1, 2_000_000 // (hi - lo))
-        mine = mine[np.argsort(bound[mine], kind="stable")]  # similar bounds share a search
-        for k in range(0, len(mine), block):
-            chunk = mine[k:k + block]
+        for k in range(0, len(part), block):
+            chunk = part[k:k + block]
             dist = dijkstra(sub, directed=True, indices=head_new[chunk] - lo,
                             limit=float(bound[chunk].max()))
-            row = np.full(len(heads), -1, dtype=np.int64)
-            row[chunk] = np.arange(len(chunk))
-            take = row[pair_source] >= 0
-            ps, pp = pair_source[take], pair_place[take]
-            np.minimum.at(best, ps, dist[row[ps], new[ls[pp]] - lo] + wf[pp])
-    return best
+            pairs = _ranges(pair_first[chunk], pair_last[chunk])
+            rows = np.repeat(np.arange(len(chunk)), pair_last[chunk] - pair_first[chunk])
+            ps, pp = pair_source[pairs], pair_place[pairs]
+            np.minimum.at(best, ps, dist[rows, new[ls[pp]] - lo] + wf[pp])

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from unittest import mock
+
 import networkx as nx
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from tegraph.analysis import slack
 from tegraph.analysis.slack import shortest_circuits_through
 
 
@@ -46,6 +49,10 @@ def test_both_kernels_equal_circuit_enumeration(graph):
     expected = [brute_force(n, arcs, c) for c in sources]
     heads = [int(events[c]) for c in sources]
     assert shortest_circuits_through(events, s, d, weights, heads) == expected
+    # Every component by blocks of sources, or by rounds of one source each: the same.
+    for rounds in (0, 1):
+        with mock.patch.object(slack, "_ROUNDS", rounds):
+            assert shortest_circuits_through(events, s, d, weights, heads) == expected
     # A bound at least the answer (here: the answer plus up to 3) changes nothing.
     upper = [None if e is None or k % 3 == 0 else e + k % 4 for k, e in enumerate(expected)]
     assert shortest_circuits_through(events, s, d, weights, heads, upper) == expected
