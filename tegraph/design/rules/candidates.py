@@ -221,7 +221,8 @@ class Candidates:
         # is left without a synchronization when its clock goes is told once, not once
         # per clock kept (a group bound by n clocks would cost n^2).
         bare = [t for users in clocks.values() for t in users
-                if self.needs_one(t, Edits(drop=frozenset({t})))]
+                if t not in self.threaded  # needs_one without its clock, no Edits made
+                and not waits_for(False, self.inputs(t), self.outputs(t), {})]
         for keep in clocks:
             # One task at a time, breadth first: a group bound by thousands of clocks
             # would nest a generator per task (Python's recursion limit). Only the first

@@ -72,6 +72,8 @@ class Edits:
 
     def by_id(self) -> dict[int, Protocol]:
         """The last protocol given to each edited link, by the link's ``id`` (made once)."""
+        if not self.protocol:
+            return {}  # most candidates of a group's clocks edit no link: no map to make
         if self._by_id is None:
             self._by_id = {id(link): protocol for link, protocol in self.protocol}
         return self._by_id
