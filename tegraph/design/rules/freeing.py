@@ -44,13 +44,14 @@ class Edits:
     (<Protocol.ASYN_ASYN: 'ASYN/ASYN'>, 2)
     """
 
-    __slots__ = ("protocol", "drop", "add", "kept", "_by_id")
+    __slots__ = ("protocol", "drop", "add", "kept", "_by_id", "_size")
 
     def __init__(self, protocol: tuple[tuple[Link, Protocol], ...] = (),
                  drop: frozenset[str] = frozenset(), add: frozenset[str] = frozenset(),
                  kept: str = "") -> None:
         self.protocol, self.drop, self.add, self.kept = protocol, drop, add, kept
         self._by_id: dict[int, Protocol] | None = None
+        self._size: int | None = None  # known when made by the search (it counts as it goes)
 
     def set(self, link: Link, protocol: Protocol) -> Edits:
         return Edits(self.protocol + ((link, protocol),), self.drop, self.add, self.kept)
@@ -83,7 +84,10 @@ class Edits:
 
         The advice prefers the smallest (:class:`Freeing` counts the same as it goes).
         """
-        return len({id(link) for link, _ in self.protocol}) + len(self.drop) + len(self.add)
+        if self._size is None:
+            self._size = len({id(link) for link, _ in self.protocol}) + len(self.drop) \
+                + len(self.add)
+        return self._size
 
 
 Sync = tuple[str, Link | None]
@@ -175,8 +179,10 @@ class Freeing:
     def candidates(self, runs: Sequence[Run]) -> Iterator[Edits]:
         """Every candidate of ``runs``, one run after the other, in the order of preference."""
         self._bound, self._cap = None, None
-        for _ in self._walk(runs):
-            yield self._edits()
+        for size in self._walk(runs):
+            edits = self._edits()
+            edits._size = size  # what ranking sorts by, counted on the way
+            yield edits
 
     def first(self, runs: Sequence[Run], limit: int) -> Edits | None:
         """The smallest of the first ``limit`` candidates (the earliest among equals).
