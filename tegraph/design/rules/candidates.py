@@ -147,13 +147,21 @@ class Candidates:
 
         Made one at a time: the advice mostly takes the first. Where the candidates
         are searched (:class:`~.freeing.Freeing`), the first is found without
-        making the others, and the others are made if it is not taken.
+        making the others; elsewhere a first candidate of size 1 is the smallest
+        (every candidate edits something), and the earliest such. The others are
+        made if it is not taken.
         """
         runs = self._runs(finding)
-        first = None if runs is None else self._first_search.first(runs, CANDIDATE_LIMIT)
+        made = self.candidates(finding)
+        if runs is not None:
+            first = self._first_search.first(runs, CANDIDATE_LIMIT)
+            known: list[Edits] = []
+        else:
+            known = list(itertools.islice(made, 1))
+            first = known[0] if known and known[0].size() <= 1 else None
         if first is not None:
             yield first
-        ranked = sorted(itertools.islice(self.candidates(finding), CANDIDATE_LIMIT),
+        ranked = sorted(known + list(itertools.islice(made, CANDIDATE_LIMIT - len(known))),
                         key=Edits.size)
         # The sort is stable, so its first is the one already given.
         yield from ranked[1:] if first is not None else ranked
