@@ -157,6 +157,18 @@ def _ranges(first: np.ndarray, last: np.ndarray) -> np.ndarray:
     return (starts + np.arange(total)).astype(np.int64)
 
 
+def _lightest(a: np.ndarray, b: np.ndarray, w: np.ndarray, n: int) -> sp.csr_matrix:
+    """The graph of arcs ``a -> b`` of weights ``w``, the lightest of parallel arcs only
+    (a sparse matrix would add them up)."""
+    key = np.lexsort((w, b, a))
+    keep = key[np.r_[True, (a[key][1:] != a[key][:-1]) | (b[key][1:] != b[key][:-1])]]
+    return sp.csr_matrix((w[keep], (a[keep], b[keep])), shape=(n, n))
+
+
+_DENSE = 2_000_000
+"""Distances in one dense search (sources x events): a graph this small is searched
+at once, a larger one component by component."""
+
 _ROUNDS = 32
 """Components with at most this many sources are searched by rounds (one source of
 each per search); the others by blocks of sources (:func:`_circuits_by_component`)."""
@@ -169,80 +181,77 @@ def _circuits_by_component(n: int, ls: np.ndarray, ld: np.ndarray, wf: np.ndarra
 
     A circuit stays inside one strongly connected component, so only the arcs
     inside components are kept, and each source is searched in its own
-    component. Components with few sources (a chain of many small groups) are
-    searched in rounds: round r takes the r-th source of each, all at once
-    (scipy's ``min_only``: no arc joins two components, so each event's
-    distance is from its own component's source); the cost is each
-    component's size times its sources, in at most :data:`_ROUNDS` calls.
-    Components with many sources (one large group) are searched by blocks of
-    sources, each a dense matrix of distances over its component.
+    component. Many components with few sources each (a chain of many small
+    groups) are searched in rounds: round r takes the r-th source of each, all
+    at once (scipy's ``min_only``: no arc joins two components, so each
+    event's distance is from its own component's source), in at most
+    :data:`_ROUNDS` calls; the cost is each component's size times its
+    sources. The other components (one large group, or a few small ones,
+    where rounds would merge nothing) are searched component by component, by
+    blocks of sources, each a dense matrix of distances over its component.
     """
+    best = np.full(len(heads), np.inf)
+    if not len(heads):
+        return best
+    if n * len(heads) <= _DENSE:
+        # One search of every source over the whole graph: an arc into a source from
+        # an event it reaches closes a circuit, whichever component (a small group).
+        dist = dijkstra(_lightest(ls, ld, wf, n), directed=True, indices=heads,
+                        limit=float(bound.max(initial=0)))
+        np.minimum.at(best, pair_source,
+                      dist[pair_source, ls[pair_place]] + wf[pair_place])
+        return best
     arcs = sp.csr_matrix((np.ones(len(ls)), (ls, ld)), shape=(n, n))
     _, label = connected_components(arcs, directed=True, connection="strong")
     inside = label[ls] == label[ld]
-    best = np.full(len(heads), np.inf)
     if not inside.any():
         return best  # no circuit at all
-    # Parallel arcs: the lightest only (a sparse matrix would add them up).
-    a, b, w = ls[inside], ld[inside], wf[inside]
-    key = np.lexsort((w, b, a))
-    keep = key[np.r_[True, (a[key][1:] != a[key][:-1]) | (b[key][1:] != b[key][:-1])]]
-    graph = sp.csr_matrix((w[keep], (a[keep], b[keep])), shape=(n, n))
+    # Number the events component by component, so that each is a contiguous range.
+    by_label = np.argsort(label, kind="stable")
+    new = np.empty(n, dtype=np.int64)
+    new[by_label] = np.arange(n)
+    sorted_label = label[by_label]
+    graph = _lightest(new[ls[inside]], new[ld[inside]], wf[inside], n)
     valid = inside[pair_place]
-    pair_source, pair_place = pair_source[valid], pair_place[valid]
+    pair_source = pair_source[valid]
+    pair_tail, pair_weight = new[ls[pair_place[valid]]], wf[pair_place[valid]]
     # The pairs of each source, a contiguous range (pair_source is sorted).
     pair_first = np.searchsorted(pair_source, np.arange(len(heads)))
     pair_last = np.searchsorted(pair_source, np.arange(len(heads)), side="right")
     comp = label[heads]
     # Each source's rank among its component's sources, and how many those are.
     by_comp = np.argsort(comp, kind="stable")
-    sorted_comp = comp[by_comp]
-    comp_first = np.searchsorted(sorted_comp, sorted_comp)
+    comp_first = np.searchsorted(comp[by_comp], comp[by_comp])
     rank = np.empty(len(heads), dtype=np.int64)
     rank[by_comp] = np.arange(len(heads)) - comp_first
-    many = np.bincount(comp, minlength=n)[comp] > _ROUNDS
-    few = np.flatnonzero(~many)
-    for r in range(int(rank[few].max()) + 1 if len(few) else 0):
+    few = np.flatnonzero(np.bincount(comp, minlength=n)[comp] <= _ROUNDS)
+    rounds = int(rank[few].max()) + 1 if len(few) else 0
+    if len(np.unique(comp[few])) <= rounds:
+        few = few[:0]  # as many searches either way: by components, fewer made
+    head_new = new[heads]
+    for r in range(rounds if len(few) else 0):
         mine = few[rank[few] == r]
-        dist = dijkstra(graph, directed=True, indices=heads[mine], min_only=True,
+        dist = dijkstra(graph, directed=True, indices=head_new[mine], min_only=True,
                         limit=float(bound[mine].max()))
         pairs = _ranges(pair_first[mine], pair_last[mine])
-        ps, pp = pair_source[pairs], pair_place[pairs]
-        np.minimum.at(best, ps, dist[ls[pp]] + wf[pp])
-    if many.any():
-        _by_blocks(graph, label, np.flatnonzero(many), heads, ls, wf, pair_source, pair_place,
-                   pair_first, pair_last, bound, best)
-    return best
-
-
-def _by_blocks(graph: sp.csr_matrix, label: np.ndarray, mine: np.ndarray, heads: np.ndarray,
-               ls: np.ndarray, wf: np.ndarray, pair_source: np.ndarray, pair_place: np.ndarray,
-               pair_first: np.ndarray, pair_last: np.ndarray, bound: np.ndarray,
-               best: np.ndarray) -> None:
-    """The sources ``mine`` (of components with many sources), component by component,
-    by blocks of sources: a dense matrix of some 2,000,000 distances per search."""
-    n = graph.shape[0]
-    # Number the events component by component, so that each is a contiguous range.
-    by_label = np.argsort(label, kind="stable")
-    new = np.empty(n, dtype=np.int64)
-    new[by_label] = np.arange(n)
-    sorted_label = label[by_label]
-    graph = graph[by_label][:, by_label].tocsr()
-    head_new = new[heads]
-    comp_start = np.searchsorted(sorted_label, label[heads], side="left")
-    comp_end = np.searchsorted(sorted_label, label[heads], side="right")
+        np.minimum.at(best, pair_source[pairs], dist[pair_tail[pairs]] + pair_weight[pairs])
+    rest = np.setdiff1d(np.arange(len(heads)), few)
     # Component by component, similar bounds together (they share a search).
-    mine = mine[np.lexsort((bound[mine], comp_start[mine]))]
-    splits = np.flatnonzero(np.diff(comp_start[mine])) + 1
-    for part in np.split(mine, splits):
+    comp_start = np.searchsorted(sorted_label, comp, side="left")
+    comp_end = np.searchsorted(sorted_label, comp, side="right")
+    rest = rest[np.lexsort((bound[rest], comp_start[rest]))]
+    for part in np.split(rest, np.flatnonzero(np.diff(comp_start[rest])) + 1):
+        if not len(part):
+            continue
         lo, hi = int(comp_start[part[0]]), int(comp_end[part[0]])
         sub = graph[lo:hi, lo:hi]
-        block = max(1, 2_000_000 // (hi - lo))
+        block = max(1, _DENSE // (hi - lo))
         for k in range(0, len(part), block):
             chunk = part[k:k + block]
             dist = dijkstra(sub, directed=True, indices=head_new[chunk] - lo,
                             limit=float(bound[chunk].max()))
             pairs = _ranges(pair_first[chunk], pair_last[chunk])
             rows = np.repeat(np.arange(len(chunk)), pair_last[chunk] - pair_first[chunk])
-            ps, pp = pair_source[pairs], pair_place[pairs]
-            np.minimum.at(best, ps, dist[rows, new[ls[pp]] - lo] + wf[pp])
+            np.minimum.at(best, pair_source[pairs],
+                          dist[rows, pair_tail[pairs] - lo] + pair_weight[pairs])
+    return best
