@@ -63,9 +63,11 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
     -----
     Dijkstra's algorithm [1]_ from each source, restricted to the source's strongly
     connected component (a circuit cannot leave it) and to distances up to
-    ``upper``. scipy's Dijkstra runs on blocks of sources when every distance
-    stays below 2**53, where float64 is exact; otherwise an exact heap
-    Dijkstra in Python stops once no shorter circuit can be found.
+    ``upper``. scipy's Dijkstra runs (one source of each component at a time,
+    or blocks of sources of a large component) when every distance stays below
+    2**53, where float64 is exact; otherwise an exact heap Dijkstra in Python
+    stops once no shorter circuit can be found. The cost is each component's
+    size times its sources (linear in a chain of small groups).
     :meth:`tegraph.analysis.Analysis` calls it with Johnson's reduced weights
     [2]_ (Howard's potentials [3]_ make every weight non-negative), so that the
     lightest circuit is the slack of a task's compute event.
@@ -88,25 +90,23 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
     ...                           np.array([2, 1, 1, 3]), [3, 4, 9, 0], [1, 2, 3])
     [7, 7, None]
     """
-    local = {int(e): i for i, e in enumerate(events.tolist())}
-    n = len(local)
-    ls = np.array([local[int(a)] for a in s.tolist()], dtype=np.int64)
-    ld = np.array([local[int(b)] for b in d.tolist()], dtype=np.int64)
-    heads = np.array([local[c] for c in sources], dtype=np.int64)
-    # The places into each source: (source index, place) pairs.
+    n = len(events)
+    ls, ld, heads = (_positions(events, x) for x in (s, d, np.asarray(sources, dtype=np.int64)))
+    # The places into each source: (source index, place) pairs, by source.
     order = np.argsort(ld, kind="stable")
     first = np.searchsorted(ld[order], heads)
     last = np.searchsorted(ld[order], heads, side="right")
     pair_source = np.repeat(np.arange(len(sources)), last - first)
-    pair_place = order[np.concatenate([np.arange(a, b) for a, b in zip(first, last)]
-                                      or [np.zeros(0, dtype=np.int64)])]
+    pair_place = order[_ranges(first, last)]
     result: list[int | None] = [None] * len(sources)
     if len(weights) and max(weights) * max(n, 1) < 2**53:
         bound = np.array([np.inf if u is None else float(u)
                           for u in (upper if upper is not None else [None] * len(heads))])
         best = _circuits_by_component(n, ls, ld, np.array(weights, dtype=np.float64), heads,
                                       pair_source, pair_place, bound)
-        return [None if not np.isfinite(v) else int(v) for v in best.tolist()]
+        # (A ufunc per element would cost more than the whole search.)
+        return [int(v) if finite else None
+                for v, finite in zip(best.tolist(), np.isfinite(best).tolist())]
     adjacency: list[list[tuple[int, int]]] = [[] for _ in range(n)]
     for a, b, wt in zip(ls.tolist(), ld.tolist(), weights):
         adjacency[a].append((b, wt))
@@ -137,52 +137,121 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
     return result
 
 
+def _positions(events: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The index of each of ``x`` in ``events`` (each one of them, ``events`` distinct)."""
+    if not len(x):
+        return np.zeros(0, dtype=np.int64)
+    order = np.argsort(events, kind="stable")
+    at = order[np.minimum(np.searchsorted(events[order], x), len(events) - 1)] \
+        if len(events) else np.zeros(0, dtype=np.int64)
+    if len(at) != len(x) or not np.array_equal(events[at], x):
+        raise KeyError("an arc or a source is not among the events")
+    return at.astype(np.int64)
+
+
+def _ranges(first: np.ndarray, last: np.ndarray) -> np.ndarray:
+    """``first[0]..last[0]-1, first[1]..last[1]-1, ...`` concatenated (no loop per range)."""
+    count = last - first
+    total = int(count.sum())
+    starts = np.repeat(first - (np.cumsum(count) - count), count)
+    return (starts + np.arange(total)).astype(np.int64)
+
+
+def _lightest(a: np.ndarray, b: np.ndarray, w: np.ndarray, n: int) -> sp.csr_matrix:
+    """The graph of arcs ``a -> b`` of weights ``w``, the lightest of parallel arcs only
+    (a sparse matrix would add them up)."""
+    key = np.lexsort((w, b, a))
+    keep = key[np.r_[True, (a[key][1:] != a[key][:-1]) | (b[key][1:] != b[key][:-1])]]
+    return sp.csr_matrix((w[keep], (a[keep], b[keep])), shape=(n, n))
+
+
+_DENSE = 2_000_000
+"""Distances in one dense search (sources x events): a graph this small is searched
+at once, a larger one component by component."""
+
+_ROUNDS = 32
+"""Components with at most this many sources are searched by rounds (one source of
+each per search); the others by blocks of sources (:func:`_circuits_by_component`)."""
+
+
 def _circuits_by_component(n: int, ls: np.ndarray, ld: np.ndarray, wf: np.ndarray,
                            heads: np.ndarray, pair_source: np.ndarray, pair_place: np.ndarray,
                            bound: np.ndarray) -> np.ndarray:
-    """Float kernel of :func:`_shortest_circuits_through` (exact below 2**53).
+    """Float kernel of :func:`shortest_circuits_through` (exact below 2**53).
 
-    A circuit stays inside one strongly connected component, so each source
-    is searched in its own component only, with scipy's Dijkstra on a few
-    small components at a time: a chain of many small components costs in
-    proportion to its size, not to sources × events.
+    A circuit stays inside one strongly connected component, so only the arcs
+    inside components are kept, and each source is searched in its own
+    component. Many components with few sources each (a chain of many small
+    groups) are searched in rounds: round r takes the r-th source of each, all
+    at once (scipy's ``min_only``: no arc joins two components, so each
+    event's distance is from its own component's source), in at most
+    :data:`_ROUNDS` calls; the cost is each component's size times its
+    sources. The other components (one large group, or a few small ones,
+    where rounds would merge nothing) are searched component by component, by
+    blocks of sources, each a dense matrix of distances over its component.
     """
+    best = np.full(len(heads), np.inf)
+    if not len(heads):
+        return best
+    if n * len(heads) <= _DENSE:
+        # One search of every source over the whole graph: an arc into a source from
+        # an event it reaches closes a circuit, whichever component (a small group).
+        dist = dijkstra(_lightest(ls, ld, wf, n), directed=True, indices=heads,
+                        limit=float(bound.max(initial=0)))
+        np.minimum.at(best, pair_source,
+                      dist[pair_source, ls[pair_place]] + wf[pair_place])
+        return best
     arcs = sp.csr_matrix((np.ones(len(ls)), (ls, ld)), shape=(n, n))
     _, label = connected_components(arcs, directed=True, connection="strong")
     inside = label[ls] == label[ld]
+    if not inside.any():
+        return best  # no circuit at all
     # Number the events component by component, so that each is a contiguous range.
     by_label = np.argsort(label, kind="stable")
     new = np.empty(n, dtype=np.int64)
     new[by_label] = np.arange(n)
-    best = np.full(len(heads), np.inf)
-    if not inside.any():
-        return best  # no circuit at all
-    a, b, w = new[ls[inside]], new[ld[inside]], wf[inside]
-    key = np.lexsort((w, b, a))
-    keep = key[np.r_[True, (a[key][1:] != a[key][:-1]) | (b[key][1:] != b[key][:-1])]]
-    graph = sp.csr_matrix((w[keep], (a[keep], b[keep])), shape=(n, n))
-    comp_start = np.searchsorted(label[by_label], label[by_label], side="left")
-    comp_end = np.searchsorted(label[by_label], label[by_label], side="right")
+    sorted_label = label[by_label]
+    graph = _lightest(new[ls[inside]], new[ld[inside]], wf[inside], n)
     valid = inside[pair_place]
-    pair_source, pair_place = pair_source[valid], pair_place[valid]
+    pair_source = pair_source[valid]
+    pair_tail, pair_weight = new[ls[pair_place[valid]]], wf[pair_place[valid]]
+    # The pairs of each source, a contiguous range (pair_source is sorted).
+    pair_first = np.searchsorted(pair_source, np.arange(len(heads)))
+    pair_last = np.searchsorted(pair_source, np.arange(len(heads)), side="right")
+    comp = label[heads]
+    # Each source's rank among its component's sources, and how many those are.
+    by_comp = np.argsort(comp, kind="stable")
+    comp_first = np.searchsorted(comp[by_comp], comp[by_comp])
+    rank = np.empty(len(heads), dtype=np.int64)
+    rank[by_comp] = np.arange(len(heads)) - comp_first
+    few = np.flatnonzero(np.bincount(comp, minlength=n)[comp] <= _ROUNDS)
+    rounds = int(rank[few].max()) + 1 if len(few) else 0
+    if len(np.unique(comp[few])) <= rounds:
+        few = few[:0]  # as many searches either way: by components, fewer made
     head_new = new[heads]
-    # Batches: the components whose first event falls in the same window of events.
-    window = 4096
-    batch = comp_start[head_new] // window
-    for key_batch in np.unique(batch).tolist():
-        mine = np.flatnonzero(batch == key_batch)
-        lo = int(comp_start[head_new[mine]].min())
-        hi = int(comp_end[head_new[mine]].max())
+    for r in range(rounds if len(few) else 0):
+        mine = few[rank[few] == r]
+        dist = dijkstra(graph, directed=True, indices=head_new[mine], min_only=True,
+                        limit=float(bound[mine].max()))
+        pairs = _ranges(pair_first[mine], pair_last[mine])
+        np.minimum.at(best, pair_source[pairs], dist[pair_tail[pairs]] + pair_weight[pairs])
+    rest = np.setdiff1d(np.arange(len(heads)), few)
+    # Component by component, similar bounds together (they share a search).
+    comp_start = np.searchsorted(sorted_label, comp, side="left")
+    comp_end = np.searchsorted(sorted_label, comp, side="right")
+    rest = rest[np.lexsort((bound[rest], comp_start[rest]))]
+    for part in np.split(rest, np.flatnonzero(np.diff(comp_start[rest])) + 1):
+        if not len(part):
+            continue
+        lo, hi = int(comp_start[part[0]]), int(comp_end[part[0]])
         sub = graph[lo:hi, lo:hi]
-        block = max(1, 2_000_000 // (hi - lo))
-        mine = mine[np.argsort(bound[mine], kind="stable")]  # similar bounds share a search
-        for k in range(0, len(mine), block):
-            chunk = mine[k:k + block]
+        block = max(1, _DENSE // (hi - lo))
+        for k in range(0, len(part), block):
+            chunk = part[k:k + block]
             dist = dijkstra(sub, directed=True, indices=head_new[chunk] - lo,
                             limit=float(bound[chunk].max()))
-            row = np.full(len(heads), -1, dtype=np.int64)
-            row[chunk] = np.arange(len(chunk))
-            take = row[pair_source] >= 0
-            ps, pp = pair_source[take], pair_place[take]
-            np.minimum.at(best, ps, dist[row[ps], new[ls[pp]] - lo] + wf[pp])
+            pairs = _ranges(pair_first[chunk], pair_last[chunk])
+            rows = np.repeat(np.arange(len(chunk)), pair_last[chunk] - pair_first[chunk])
+            np.minimum.at(best, pair_source[pairs],
+                          dist[rows, pair_tail[pairs] - lo] + pair_weight[pairs])
     return best

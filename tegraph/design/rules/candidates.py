@@ -77,6 +77,9 @@ class Candidates:
         self.threaded = {t for thread in skeleton.threads for t in thread}
         self._inputs: dict[str, list[Link]] = {}
         self._outputs: dict[str, list[Link]] = {}
+        # One search for every :meth:`ranked`'s first (it runs to its end at once, so
+        # no other walk is ever left half-way in it): not one made per finding.
+        self._first_search = self._freeing()
 
     # ------------------------------------------------------------ synchronizations
     def inputs(self, task: str) -> list[Link]:
@@ -144,13 +147,21 @@ class Candidates:
 
         Made one at a time: the advice mostly takes the first. Where the candidates
         are searched (:class:`~.freeing.Freeing`), the first is found without
-        making the others, and the others are made if it is not taken.
+        making the others; elsewhere a first candidate of size 1 is the smallest
+        (every candidate edits something), and the earliest such. The others are
+        made if it is not taken.
         """
         runs = self._runs(finding)
-        first = None if runs is None else self._freeing().first(runs, CANDIDATE_LIMIT)
+        made = self.candidates(finding)
+        if runs is not None:
+            first = self._first_search.first(runs, CANDIDATE_LIMIT)
+            known: list[Edits] = []
+        else:
+            known = list(itertools.islice(made, 1))
+            first = known[0] if known and known[0].size() <= 1 else None
         if first is not None:
             yield first
-        ranked = sorted(itertools.islice(self.candidates(finding), CANDIDATE_LIMIT),
+        ranked = sorted(known + list(itertools.islice(made, CANDIDATE_LIMIT - len(known))),
                         key=Edits.size)
         # The sort is stable, so its first is the one already given.
         yield from ranked[1:] if first is not None else ranked
@@ -167,12 +178,14 @@ class Candidates:
     def _several_syncs(self, task: str) -> list[Run]:
         """Rule 1, several synchronizations: keep one, each in turn, footnote 6's first."""
         empty = Edits()
-        syncs = self.syncs(task, empty)
+        syncs = waits_for(self.sk.tasks[task].clock is not None, self.inputs(task),
+                          self.outputs(task), {})
         inputs = [s for s in syncs if s[0] == "input"]
         outputs = [s for s in syncs if s[0] == "output"]
         first = ([inputs[0]] if inputs else []) + [s for s in syncs if s[0] == "clock"] \
             + ([outputs[-1]] if outputs else [])
-        return [(empty, task, keep, frozenset({task}), sync_label(keep))
+        seen = frozenset({task})
+        return [(empty, task, keep, seen, sync_label(keep))
                 for keep in first + [s for s in syncs if s not in first]]
 
     def _no_sync(self, task: str) -> Iterator[Edits]:
@@ -216,7 +229,8 @@ class Candidates:
         # is left without a synchronization when its clock goes is told once, not once
         # per clock kept (a group bound by n clocks would cost n^2).
         bare = [t for users in clocks.values() for t in users
-                if self.needs_one(t, Edits(drop=frozenset({t})))]
+                if t not in self.threaded  # needs_one without its clock, no Edits made
+                and not waits_for(False, self.inputs(t), self.outputs(t), {})]
         for keep in clocks:
             # One task at a time, breadth first: a group bound by thousands of clocks
             # would nest a generator per task (Python's recursion limit). Only the first

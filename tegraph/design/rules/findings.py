@@ -59,15 +59,16 @@ class FindingKind(enum.Enum):
     RULE4_AUTOMATON_BELOW = (4, "error", "automaton not highest")
     """The Robot-task automaton is not above every control task of its processor."""
 
-    @property
-    def rule(self) -> int:
-        """1 to 4."""
-        return self.value[0]
+    rule: int
+    """1 to 4."""
+    severity: str
+    """``"error"``, ``"warning"`` or ``"info"``."""
 
-    @property
-    def severity(self) -> str:
-        """``"error"``, ``"warning"`` or ``"info"``."""
-        return self.value[1]
+    def __init__(self, rule: int, severity: str, _words: str) -> None:
+        # Plain attributes, set once per member: an enum property reads ``value``
+        # through enum's descriptor, which cost more than the rest of sorting
+        # 10,000 findings by rule and severity.
+        self.rule, self.severity = rule, severity
 
 
 FindingKey = tuple[FindingKind, Any]

@@ -44,13 +44,14 @@ class Edits:
     (<Protocol.ASYN_ASYN: 'ASYN/ASYN'>, 2)
     """
 
-    __slots__ = ("protocol", "drop", "add", "kept", "_by_id")
+    __slots__ = ("protocol", "drop", "add", "kept", "_by_id", "_size")
 
     def __init__(self, protocol: tuple[tuple[Link, Protocol], ...] = (),
                  drop: frozenset[str] = frozenset(), add: frozenset[str] = frozenset(),
                  kept: str = "") -> None:
         self.protocol, self.drop, self.add, self.kept = protocol, drop, add, kept
         self._by_id: dict[int, Protocol] | None = None
+        self._size: int | None = None  # known when made by the search (it counts as it goes)
 
     def set(self, link: Link, protocol: Protocol) -> Edits:
         return Edits(self.protocol + ((link, protocol),), self.drop, self.add, self.kept)
@@ -72,6 +73,8 @@ class Edits:
 
     def by_id(self) -> dict[int, Protocol]:
         """The last protocol given to each edited link, by the link's ``id`` (made once)."""
+        if not self.protocol:
+            return {}  # most candidates of a group's clocks edit no link: no map to make
         if self._by_id is None:
             self._by_id = {id(link): protocol for link, protocol in self.protocol}
         return self._by_id
@@ -81,7 +84,10 @@ class Edits:
 
         The advice prefers the smallest (:class:`Freeing` counts the same as it goes).
         """
-        return len({id(link) for link, _ in self.protocol}) + len(self.drop) + len(self.add)
+        if self._size is None:
+            self._size = len({id(link) for link, _ in self.protocol}) + len(self.drop) \
+                + len(self.add)
+        return self._size
 
 
 Sync = tuple[str, Link | None]
@@ -163,13 +169,20 @@ class Freeing:
         self._cap: int | None = None
         self._found = self._skipped = 0
         self.kept = ""
+        # The synchronizations of the last run's task under its base (:meth:`_least`):
+        # the runs of one finding share them.
+        self._least_base: Edits | None = None
+        self._least_task = ""
+        self._least_syncs: list[Sync] = []
 
     # ------------------------------------------------------------ the walk
     def candidates(self, runs: Sequence[Run]) -> Iterator[Edits]:
         """Every candidate of ``runs``, one run after the other, in the order of preference."""
         self._bound, self._cap = None, None
-        for _ in self._walk(runs):
-            yield self._edits()
+        for size in self._walk(runs):
+            edits = self._edits()
+            edits._size = size  # what ranking sorts by, counted on the way
+            yield edits
 
     def first(self, runs: Sequence[Run], limit: int) -> Edits | None:
         """The smallest of the first ``limit`` candidates (the earliest among equals).
@@ -193,6 +206,14 @@ class Freeing:
         (the edits are then in ``self``'s state)."""
         self._found = self._skipped = 0
         for base, task, keep, seen, kept in runs:
+            if self._bound is not None and self._least(base, task, keep) >= self._bound:
+                # A whole run no smaller than the best so far (a Rule 1 finding's other
+                # runs, once the first run's candidate is found): skipped before it is
+                # set up, and counted as one branch (it holds a candidate at least).
+                self._skipped += 1
+                if self._cap is not None and self._found + self._skipped >= self._cap:
+                    return
+                continue
             self._start(base)
             self.kept = kept
             # Goals to reach, as a linked list (goal, rest): the rest is shared by the
@@ -251,6 +272,28 @@ class Freeing:
                             goals))
         self._set(link, Protocol.ASYN_ASYN)
         return goals
+
+    def _least(self, base: Edits, task: str, keep: Sync) -> int:
+        """No candidate of the run (``base``, ``task``, ``keep``) is smaller than this.
+
+        Each synchronization of ``task`` but ``keep`` goes, so each of their links
+        gets another protocol and the clock, if one of them, is dropped; the walk
+        only adds links and dropped clocks (it may only take a task out of the
+        added clocks, which are not counted here): the edited links and dropped
+        clocks of ``base``, with those, are a lower bound.
+        """
+        if base is not self._least_base or task != self._least_task:
+            has_clock = (self.clock(task) is not None and task not in base.drop
+                         or task in base.add)
+            self._least_base, self._least_task = base, task
+            self._least_syncs = waits_for(has_clock, self.inputs(task), self.outputs(task),
+                                          base.by_id())
+        edited = base.by_id()
+        links = {id(link) for kind, link in self._least_syncs
+                 if kind != "clock" and (kind, link) != keep and id(link) not in edited}
+        drops = len(base.drop) + (keep != ("clock", None) and task not in base.drop
+                                  and any(kind == "clock" for kind, _ in self._least_syncs))
+        return len(edited) + len(links) + drops
 
     # ------------------------------------------------------------ the edits so far
     def _start(self, base: Edits) -> None:

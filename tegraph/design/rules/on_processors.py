@@ -122,6 +122,8 @@ class ScheduleAdvice:
         """Event firings charged so far (:data:`ADVICE_EVENTS`)."""
         self._known: dict[Any, _Verdict] = {}
         self._part_tasks: dict[tuple, tuple[tuple[str, ...], tuple[str, ...]]] = {}
+        # The effect of any change on each part too large to simulate (it is the same).
+        self._too_large: dict[tuple, ScheduleEffect] = {}
 
     def _parts(self) -> list[int]:
         """The part of each group on the processors (once, so that a change costs its
@@ -136,11 +138,13 @@ class ScheduleAdvice:
         ScheduleEffect
             Its ``text`` is the advice's clause.
         """
-        touched = {w.split(":")[0] for w, _, _ in change.protocols}
-        touched |= {r.split(":")[0] for _, r, _ in change.protocols}
-        touched |= set(change.drop_clock) | set(change.add_clock)
+        touched = {port.split(":")[0] for w, r, _ in change.protocols for port in (w, r)}
+        touched.update(change.drop_clock, change.add_clock)
         parts = {self.part_of[self.group_of[t]] for t in touched}
         key = tuple(sorted(parts))
+        unsimulated = self._too_large.get(key)
+        if unsimulated is not None:
+            return unsimulated  # one large part, a finding per task: its words once
         if key not in self._part_tasks:  # many changes touch one large part: once
             tasks = tuple(sorted((t for p in parts for t in self.members[p]),
                                  key=self.order.__getitem__))
@@ -152,7 +156,9 @@ class ScheduleAdvice:
             why = (f"not simulated: the processors it touches run {len(tasks):,} tasks, more "
                    f"than the advice simulates per change ({PART_TASKS:,}; tegraph analyze on "
                    "the changed file decides it)")
-            return ScheduleEffect(tasks, processors, None, None, why, head + why)
+            effect = self._too_large[key] = ScheduleEffect(tasks, processors, None, None, why,
+                                                           head + why)
+            return effect
         # Both or neither: a verdict before alone would say nothing of the change.
         cost = _MIN_COST + _TASK_COST * len(tasks)
         needed = cost * sum((key, c) not in self._known for c in (Change(), change))

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from unittest import mock
+
 import networkx as nx
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from tegraph.analysis import slack
 from tegraph.analysis.slack import shortest_circuits_through
 
 
@@ -45,9 +48,15 @@ def test_both_kernels_equal_circuit_enumeration(graph):
     weights = [w for _, _, w in arcs]
     expected = [brute_force(n, arcs, c) for c in sources]
     heads = [int(events[c]) for c in sources]
-    assert shortest_circuits_through(events, s, d, weights, heads) == expected
     # A bound at least the answer (here: the answer plus up to 3) changes nothing.
     upper = [None if e is None or k % 3 == 0 else e + k % 4 for k, e in enumerate(expected)]
+    assert shortest_circuits_through(events, s, d, weights, heads) == expected
+    # The whole graph at once (above: it is small), or component by component: by
+    # blocks of sources, or in rounds of one source of each: the same.
+    for rounds in (0, 1, 32):
+        with mock.patch.object(slack, "_DENSE", 0), mock.patch.object(slack, "_ROUNDS", rounds):
+            assert shortest_circuits_through(events, s, d, weights, heads) == expected
+            assert shortest_circuits_through(events, s, d, weights, heads, upper) == expected
     assert shortest_circuits_through(events, s, d, weights, heads, upper) == expected
     # Weights beyond 2**53 take the exact Python path: the same circuits, scaled.
     big = 2**60

@@ -1,4 +1,5 @@
-"""The slack kernel on graphs large enough to batch components across its 4096-event window.
+"""The slack kernel on graphs of thousands of small components (searched by rounds, one
+source of each at a time) and a few large ones (searched by blocks of sources).
 
 Reference: scipy's Dijkstra from every source over the whole graph (no
 component restriction, no bound, no batching), zero weights lifted

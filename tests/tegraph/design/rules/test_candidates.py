@@ -146,6 +146,9 @@ def compare(sk: Skeleton, enough: int = 3 * CANDIDATE_LIMIT) -> int:
         old = list(itertools.islice(advisor.reference(f), enough))
         assert len(new) == len(old) and all(map(same, new, old)), f.identity
         assert all(e.size() == size(e) for e in new)
+        # What ranked's first relies on where it is not searched: every candidate edits
+        # something, so a first of size 1 is the smallest.
+        assert all(size(e) >= 1 for e in old)
         ranked, expected = list(advisor.ranked(f)), advisor.ranked_reference(f)
         assert len(ranked) == len(expected) and all(map(same, ranked, expected)), f.identity
         # The advice mostly takes the first only: alone, it is the same.

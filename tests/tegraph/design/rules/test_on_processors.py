@@ -124,10 +124,12 @@ def test_the_budget_per_simulation_spent_is_said(monkeypatch):
 
 def test_a_part_too_large_is_not_simulated(monkeypatch):
     monkeypatch.setattr(on_processors, "PART_TASKS", 1)
-    (f, _) = _advised(check_rules(load_skeleton(FIG12)))
-    assert f.advice.endswith("before -> after: not simulated: the processors it touches run "
-                             "2 tasks, more than the advice simulates per change (1; "
-                             "tegraph analyze on the changed file decides it)]"), f.advice
+    # Both findings touch the one part: the second's words are the first's, kept.
+    for f in _advised(check_rules(load_skeleton(FIG12))):
+        assert f.advice.endswith("before -> after: not simulated: the processors it touches "
+                                 "run 2 tasks, more than the advice simulates per change (1; "
+                                 "tegraph analyze on the changed file decides it)]"), f.advice
+        assert f.schedule.tasks == ("MT1", "MT2") and f.schedule.before is None
 
 
 def test_without_processors_the_advice_leaves_it_out():
