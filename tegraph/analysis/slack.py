@@ -30,7 +30,7 @@ __all__ = ["shortest_circuits_through"]
 
 
 def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
-                               weights: list[int], sources: list[int],
+                               weights: list[int] | np.ndarray, sources: list[int],
                                upper: Sequence[int | None] | None = None) -> list[int | None]:
     """Length of the lightest circuit through each source (non-negative integer weights).
 
@@ -40,7 +40,7 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
         The nodes (event numbers, any integers) of the graph.
     s, d : numpy.ndarray of int
         Tail and head event of every arc (place).
-    weights : list of int
+    weights : list of int or numpy.ndarray of int
         Non-negative integer weight of every arc.
     sources : list of int
         Events whose lightest circuit is wanted.
@@ -99,7 +99,9 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
     pair_source = np.repeat(np.arange(len(sources)), last - first)
     pair_place = order[_ranges(first, last)]
     result: list[int | None] = [None] * len(sources)
-    if len(weights) and max(weights) * max(n, 1) < 2**53:
+    top = (int(weights.max()) if isinstance(weights, np.ndarray) else max(weights)) \
+        if len(weights) else 0
+    if len(weights) and top * max(n, 1) < 2**53:
         bound = np.array([np.inf if u is None else float(u)
                           for u in (upper if upper is not None else [None] * len(heads))])
         best = _circuits_by_component(n, ls, ld, np.array(weights, dtype=np.float64), heads,
@@ -107,6 +109,8 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
         # (A ufunc per element would cost more than the whole search.)
         return [int(v) if finite else None
                 for v, finite in zip(best.tolist(), np.isfinite(best).tolist())]
+    if isinstance(weights, np.ndarray):
+        weights = weights.tolist()  # Python ints: sums of any size
     adjacency: list[list[tuple[int, int]]] = [[] for _ in range(n)]
     for a, b, wt in zip(ls.tolist(), ld.tolist(), weights):
         adjacency[a].append((b, wt))
