@@ -63,6 +63,8 @@ to the smallest change bringing no finding."""
 _SOLVE_COST = 30
 """What one solve costs at least, in tasks: the fixed cost of a build and a solve."""
 
+_NO_CHANGE = Change()
+
 
 class _Roots:
     """The root task of each task of some groups, as a read-only mapping (built on demand)."""
@@ -151,7 +153,9 @@ class Advisor(Candidates):
         # The groups with a token-free circuit (on demand; none in a live skeleton).
         self._dead: set[int] | None = set() if live else None
         self._live: dict[Change, bool] = {}
-        self._real: dict[tuple, Rates] = {}
+        # Real periods by the groups solved, then by change: a group that was never
+        # solved and does not fit the budget is refused before its change is formed.
+        self._real: dict[tuple[int, ...], dict[Change, Rates]] = {}
         self.periods_spent = 0
         """Tasks rebuilt and solved so far for real periods (:data:`PERIODS_BUDGET`)."""
         self.clock_users: dict[str, int] = {}
@@ -276,7 +280,13 @@ class Advisor(Candidates):
         if known is not None and known[0] is edits and known[1] == self.periods_spent:
             return known[2]
         groups, _, root_of = self._groups_after(edits)
-        real = self.real_periods(groups, self.change_of(edits), root_of)
+        if (tuple(groups) not in self._real and self.periods_spent + self._cost(groups)
+                * (1 if _changes_nothing(edits) else 2) > PERIODS_BUDGET):
+            # What real_periods would answer, without forming and hashing the change: a
+            # group past the budget is asked about once per finding of its tasks (10,000).
+            real = None
+        else:
+            real = self.real_periods(groups, self.change_of(edits), root_of)
         self._rates_after = (edits, self.periods_spent, real)
         return real
 
@@ -294,22 +304,26 @@ class Advisor(Candidates):
         with a token-free circuit have none. Cached by change. None once
         :data:`PERIODS_BUDGET` is spent.
         """
-        key = (tuple(groups), change)
-        known = self._real.get(key)
+        solved = self._real.get(tuple(groups), {})
+        known = solved.get(change)
         if known is None:
-            cost = max(_SOLVE_COST, sum(len(self.groups[g]) for g in groups))
+            cost = self._cost(groups)
             # A change's periods are worded beside those before it: solve it only
             # when the periods before can be solved too (else a group as large as
             # the budget would spend it all on periods nobody reads).
-            before = (tuple(groups), Change())
-            pair = cost if change == Change() or before in self._real else 2 * cost
+            pair = cost if change == _NO_CHANGE or _NO_CHANGE in solved else 2 * cost
             if self.periods_spent + pair > PERIODS_BUDGET:
                 return None
             self.periods_spent += cost
             edited = apply_change(self._within(groups), change,
                                   self.fresh if change.add_clock else None)
-            known = self._real[key] = task_rates(edited, roots)
+            known = solved[change] = task_rates(edited, roots)
+            self._real[tuple(groups)] = solved
         return known
+
+    def _cost(self, groups: list[int]) -> int:
+        """What solving ``groups`` costs against :data:`PERIODS_BUDGET`, in tasks."""
+        return max(_SOLVE_COST, sum(len(self.groups[g]) for g in groups))
 
     def _groups_text(self, members: list[tuple[str, ...]], real: Rates) -> str:
         u = self.sk.unit
@@ -491,12 +505,13 @@ class Advisor(Candidates):
         once ``edits`` are made (``part``, ``root_of``: the groups re-formed)."""
         after: set[FindingKey] = set()
         seen: set[int] = set()
-        for link in [link for link, _ in edits.protocol] + [
-                link for g in groups for link in self.asyn[g]]:
+        edited = edits.by_id()  # each link's last edit, by a lookup, not a scan per link
+        for link in itertools.chain([link for link, _ in edits.protocol],
+                                    *(self.asyn[g] for g in groups)):
             if id(link) in seen:
                 continue
             seen.add(id(link))
-            now = edits.get(link)
+            now = edited.get(id(link), link.protocol)
             if now is Protocol.SYN_SYN:
                 after.add((FindingKind.RULE2_RENDEZVOUS, link_key(link.writer, link.reader)))
             elif now is Protocol.ASYN_ASYN:
@@ -531,17 +546,25 @@ class Advisor(Candidates):
         has a finding per task, and each is checked here.
         """
         part: dict[str, tuple[tuple[str, ...], int, Fraction | None]] = {}
+        changed = edits.drop | edits.add
+        tasks = self.sk.tasks
         for g in groups:
             members = self.groups[g]
             users, by_period = self._clocks_of_group(g)
-            edited = [t for t in edits.drop | edits.add if self.group_of[t] == g]
             losing: dict[str, int] = {}
-            for t in edited:
-                if clock := self.sk.tasks[t].clock:
+            added = 0
+            for t in changed:
+                if self.group_of[t] != g:
+                    continue
+                added += t in edits.add
+                if clock := tasks[t].clock:
                     losing[clock] = losing.get(clock, 0) + 1
             gone = {c for c, n in losing.items() if n == users[c]}
-            added = sum(t in edits.add for t in edited)
-            period = next((length for length, c in by_period if c not in gone), None)
+            period = None
+            for length, c in by_period:  # the fastest clock left
+                if c not in gone:
+                    period = length
+                    break
             if added:
                 period = self.fresh if period is None else min(period, self.fresh)
             part[members[0]] = (members, len(users) - len(gone) + added, period)
@@ -602,6 +625,14 @@ class Advisor(Candidates):
             parts.append(f"give {t} a clock of its own (a period of your choice that no "
                          f"other group has, e.g. {display_text(self.fresh)} {self.sk.unit})")
         return "; ".join(parts)
+
+
+def _changes_nothing(edits: Edits) -> bool:
+    """Whether the :class:`Change` of ``edits`` is empty (each link's last edit counts)."""
+    if edits.drop or edits.add:
+        return False
+    final = {id(link): (link, p) for link, p in edits.protocol}
+    return all(p is link.protocol for link, p in final.values())
 
 
 def _group_text(tasks: tuple[str, ...] | list[str]) -> str:

@@ -407,6 +407,36 @@ def test_a_change_is_solved_only_when_the_periods_before_fit_too(monkeypatch):
     assert any("periods (max cycle ratio), before -> after" in f.advice for f in findings)
 
 
+@pytest.mark.parametrize("budget", [29, 30, 59, 60, 61, 90, 150])
+def test_a_group_past_the_budget_is_refused_as_real_periods_would(monkeypatch, budget):
+    # _periods_after refuses a never-solved group past the budget before forming the
+    # change: it must answer what real_periods answers, candidate after candidate
+    # (one advisor takes the shortcut, a twin asks real_periods itself), with the same
+    # budget spent. Budgets about one solve (30) and its pair (60) sit on both sides of
+    # the shortcut's test, where a wrong factor would refuse what fits.
+    import tegraph.design.rules.advice as advice
+
+    monkeypatch.setattr(advice, "PERIODS_BUDGET", budget)
+    cases = [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]
+    cases += [Skeleton.from_dict(random_skeleton(random.Random(seed))) for seed in range(30)]
+    refused = solved = 0
+    for sk in cases:
+        findings = [f for f in check_rules(sk) if f.rule < 4]
+        short, plain = Advisor(sk, findings), Advisor(sk, findings)
+        for f in findings:
+            for edits in itertools.islice(short.candidates(f), 6):
+                got = short._periods_after(edits)
+                groups, _, root_of = plain._groups_after(edits)
+                want = plain.real_periods(groups, plain.change_of(edits), root_of)
+                assert (got is None) == (want is None), (f.identity, budget)
+                if want is not None:
+                    assert got.period == want.period and got.mixed == want.mixed
+                assert short.periods_spent == plain.periods_spent
+                refused += want is None
+                solved += want is not None
+    assert refused and (solved or budget < 60), (refused, solved)  # a pair: 2 x 30
+
+
 def test_dropping_a_clock_says_the_new_sampling_period():
     # The candidate that keeps CTRL's input and drops its clock is not chosen (the cut
     # is), but its words must say what it does to CTRL's rate.
