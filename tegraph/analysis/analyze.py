@@ -539,7 +539,10 @@ def _circuit_weights_int64(s: np.ndarray, d: np.ndarray, holding: np.ndarray,
     if largest * max(int(lengths.max()), 1) >= 2**63 or n >= 2**31:  # n * n < 2**63
         return None
     s64, d64 = s.astype(np.int64), d.astype(np.int64)
-    x = X[ends].astype(np.int64)
+    # Only differences of potentials matter: shifted by the least, they fit in
+    # int64 by the bound above even when the potentials themselves do not (a
+    # downstream group's may lie past 2**63, close together).
+    x = (X[ends] - X[ends].min()).astype(np.int64)
     reduced = -(holding.astype(np.int64) * T - W * tokens.astype(np.int64)
                 + x[:len(s)] - x[len(s):])
     # The lightest place of each (input, output) pair, keyed by one int64 each.

@@ -39,6 +39,18 @@ def test_by_hand():
     assert fast[1] == exact[1] == [0, None]
 
 
+def test_potentials_past_int64_but_close_together():
+    # The same circuit as by hand, every potential shifted by 2**70: only their
+    # differences enter a reduced weight, so the answer is the same and the int64
+    # path must give it (it once cast the potentials themselves and overflowed).
+    shift = 2**70
+    fast, exact = both([0, 1, 0], [1, 0, 1], [3, 2, 1], [0, 1, 0], [shift, shift + 3], 5, 1,
+                       [[0, 1], [1]])
+    assert fast is not None
+    assert fast[0].tolist() == exact[0] == [0, 0, 2]
+    assert fast[1] == exact[1] == [0, None]
+
+
 @st.composite
 def weight_problems(draw):
     n = draw(st.integers(1, 6))
