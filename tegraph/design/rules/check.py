@@ -118,7 +118,7 @@ def advised(finding: RuleFinding, advisor: Advisor, on: ScheduleAdvice | None = 
             advice += (f" without another finding of Rules 1-3: {said} would bring "
                        + "; ".join(key_text(k) for k in sorted(choice.brought, key=naming_order))
                        + f" [{choice.periods}]")
-        return _with_advice(finding, advice)
+        return _with_advice(finding, advice, finding.change, finding.schedule)
     words = advisor.describe(change)
     if finding.kind is FindingKind.RULE1_SEVERAL_SYNCS:
         words = (f"keep only its {said}" + (" (footnote 6: the synchronizing port is best the "
@@ -141,8 +141,8 @@ def advised(finding: RuleFinding, advisor: Advisor, on: ScheduleAdvice | None = 
     return _with_advice(finding, words, change, effect)
 
 
-def _with_advice(finding: RuleFinding, advice: str, change: Change | None = None,
-                 schedule: ScheduleEffect | None = None) -> RuleFinding:
+def _with_advice(finding: RuleFinding, advice: str, change: Change | None,
+                 schedule: ScheduleEffect | None) -> RuleFinding:
     """``finding`` with its advice (its own fields, named here rather than copied by
     ``dataclasses.replace``, which inspects the class's fields at each call: a tenth of
     the advice's own time over 10,000 findings)."""
