@@ -10,7 +10,7 @@ are kept in one array, grouped by table, each table eliminating its own column
 :func:`~tegraph.analysis.invariants._combine_open_rows`), so the tables cost
 about as many numpy passes as the longest of them has steps.
 
-A table that grows past a few hundred rows is left to the one-table routine
+A table that grows past ``MAX_ROWS`` (64) rows is left to the one-table routine
 (reported in ``left``): the products that test minimality are padded to the
 largest table of the pass.
 """

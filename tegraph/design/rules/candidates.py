@@ -77,8 +77,9 @@ class Candidates:
         self.threaded = {t for thread in skeleton.threads for t in thread}
         self._inputs: dict[str, list[Link]] = {}
         self._outputs: dict[str, list[Link]] = {}
-        # One search for every :meth:`ranked`'s first (it runs to its end at once, so
-        # no other walk is ever left half-way in it): not one made per finding.
+        # One search for every :meth:`ranked`'s first, not one made per finding: a
+        # walk may stop half-way (a run that cannot beat the best is skipped), and
+        # the next finding's walk starts by resetting the search's state.
         self._first_search = self._freeing()
 
     # ------------------------------------------------------------ synchronizations
