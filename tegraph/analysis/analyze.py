@@ -538,6 +538,8 @@ def _circuit_weights_int64(s: np.ndarray, d: np.ndarray, holding: np.ndarray,
     n = max(int(ends.max()), int(flat.max(initial=0))) + 1
     if largest * max(int(lengths.max()), 1) >= 2**63 or n >= 2**31:  # n * n < 2**63
         return None
+    if max(abs(int(tokens.max())), abs(int(tokens.min()))) >= 2**63:
+        return None  # with W = 0 the bound above holds, but the tokens are read as int64
     s64, d64 = s.astype(np.int64), d.astype(np.int64)
     # Only differences of potentials matter: shifted by the least, they fit in
     # int64 by the bound above even when the potentials themselves do not (a
