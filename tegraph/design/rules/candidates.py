@@ -42,7 +42,7 @@ from collections.abc import Callable, Iterator
 from ...model.skeleton import Link, Protocol, Skeleton
 from ...model.structure import Structure
 from .findings import FindingKind, RuleFinding
-from .freeing import Edits, Freeing, Run, Sync, waits_for
+from .freeing import Edits, Freeing, Run, Sync, clocked_after, waits_for
 
 __all__ = ["CANDIDATE_LIMIT", "SPLIT", "Candidates", "Edits", "Sync", "sync_label"]
 
@@ -99,8 +99,8 @@ class Candidates:
 
     def syncs(self, task: str, edits: Edits) -> list[Sync]:
         """What ``task`` waits for once ``edits`` are made, in chain order."""
-        has_clock = (self.sk.tasks[task].clock is not None and task not in edits.drop
-                     or task in edits.add)
+        has_clock = clocked_after(task, self.sk.tasks[task].clock is not None, edits.drop,
+                                  edits.add)
         return waits_for(has_clock, self.inputs(task), self.outputs(task), edits.by_id())
 
     def needs_one(self, task: str, edits: Edits) -> bool:

@@ -20,12 +20,12 @@ the order, it says so and the caller makes the whole list.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterator, Mapping, Sequence
 
 from ...model.skeleton import Link, Protocol
 from .synchronization import READER_BLOCKS, WRITER_BLOCKS
 
-__all__ = ["Edits", "Freeing", "Run", "Sync", "waits_for"]
+__all__ = ["Edits", "Freeing", "Run", "Sync", "clocked_after", "waits_for"]
 
 
 class Edits:
@@ -98,6 +98,20 @@ Run = tuple[Edits, str, Sync, frozenset[str], str]
 synchronization and nothing else; the tasks already seen (never pulled into
 again); what the candidates say they keep (:attr:`Edits.kept`)."""
 
+
+
+def clocked_after(task: str, own_clock: bool, drop: Collection[str], add: Collection[str]
+                  ) -> bool:
+    """Whether ``task`` has a clock once the clocks in ``drop`` go and those in ``add`` come.
+
+    Its own clock (``own_clock``) stays unless dropped; an added one counts either way.
+
+    Examples
+    --------
+    >>> clocked_after("A", True, {"A"}, ()), clocked_after("A", False, (), {"A"})
+    (False, True)
+    """
+    return own_clock and task not in drop or task in add
 
 
 def waits_for(has_clock: bool, inputs: list[Link], outputs: list[Link],
@@ -283,8 +297,7 @@ class Freeing:
         clocks of ``base``, with those, are a lower bound.
         """
         if base is not self._least_base or task != self._least_task:
-            has_clock = (self.clock(task) is not None and task not in base.drop
-                         or task in base.add)
+            has_clock = clocked_after(task, self.clock(task) is not None, base.drop, base.add)
             self._least_base, self._least_task = base, task
             self._least_syncs = waits_for(has_clock, self.inputs(task), self.outputs(task),
                                           base.by_id())
@@ -333,8 +346,7 @@ class Freeing:
 
     def _syncs(self, task: str) -> list[Sync]:
         """What ``task`` waits for with the edits so far (as :meth:`.Candidates.syncs`)."""
-        has_clock = (self.clock(task) is not None and task not in self._drop
-                     or task in self._add)
+        has_clock = clocked_after(task, self.clock(task) is not None, self._drop, self._add)
         return waits_for(has_clock, self.inputs(task), self.outputs(task), self._proto)
 
     def _edits(self) -> Edits:
