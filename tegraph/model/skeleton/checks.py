@@ -175,13 +175,20 @@ def check_skeleton(sk: SkeletonShape, loc: Locator, *, values_checked: bool = Fa
         check_chain(sk, chain, ("chains", i), loc)
 
 
+def _check_entry(key: Any, entry: Any, kind: type[Clock] | type[Task], path: KeyPath,
+                 loc: Locator) -> None:
+    """A clock's or task's key: a valid name, holding a ``kind`` of that name."""
+    word = kind.__name__.lower()
+    check_name(key, path, f"{word} name", loc)
+    if not isinstance(entry, kind):
+        raise loc.error(f"expected a {kind.__name__}, got {type(entry).__name__}", path)
+    if entry.name != key:
+        raise loc.error(f"the key {key!r} holds the {word} named {entry.name!r}", path)
+
+
 def _check_clock(key: Any, clock: Clock, sk: SkeletonShape, loc: Locator) -> None:
     path: KeyPath = ("clocks", str(key))
-    check_name(key, path, "clock name", loc)
-    if not isinstance(clock, Clock):
-        raise loc.error(f"expected a Clock, got {type(clock).__name__}", path)
-    if clock.name != key:
-        raise loc.error(f"the key {key!r} holds the clock named {clock.name!r}", path)
+    _check_entry(key, clock, Clock, path, loc)
     _check_time(clock.period, (*path, "period"), "a period", True, loc)
     _check_time(clock.phase, (*path, "phase"), "a phase", False, loc)
     if clock.private:
@@ -200,11 +207,7 @@ def _check_task(key: Any, task: Task, sk: SkeletonShape, loc: Locator,
                 values_checked: bool = False) -> tuple[set[str], set[str]]:
     path: KeyPath = ("tasks", str(key))
     if not values_checked:
-        check_name(key, path, "task name", loc)
-        if not isinstance(task, Task):
-            raise loc.error(f"expected a Task, got {type(task).__name__}", path)
-        if task.name != key:
-            raise loc.error(f"the key {key!r} holds the task named {task.name!r}", path)
+        _check_entry(key, task, Task, path, loc)
         _check_time(task.duration, (*path, "duration"), "a duration", False, loc)
     if task.clock is not None:
         clock = sk.clocks.get(task.clock) if isinstance(task.clock, str) else None
