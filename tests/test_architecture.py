@@ -23,7 +23,7 @@ def _run(*command: str) -> subprocess.CompletedProcess:
 def test_floors_and_independence_hold():
     """import-linter: no import upwards, io and analysis independent, maxplus apart."""
     tool = shutil.which("lint-imports")
-    assert tool, "lint-imports is part of the test extra: pip install '.[test]'"
+    assert tool, "lint-imports is part of the test extra: pip install -e '.[test]'"
     # The checkout, not an installed copy, is what the contracts must hold for.
     done = _run(sys.executable, "-c",
                 "import sys; sys.path.insert(0, '.'); "
