@@ -197,9 +197,36 @@ def covers(d) -> bool:
     """Whether the compiled loop simulates ``d`` (else the Python loop does).
 
     Every time a Python int (not a bool, not a Fraction or an affine time) in
-    [0, 2**62]; priorities and file indices ints within [-2**62, 2**62].
+    [0, 2**62]; priorities and file indices ints within [-2**62, 2**62]; and
+    the part well formed: every list of its length, every index in range, job
+    places only out of compute events (the loop reads C arrays: where the
+    Python loop would raise an error, or read index -1, it is left to do so).
     """
     cdef object x
+    n, n_tasks, n_procs, n_places = d.n_events, len(d.duration), d.n_processors, len(d.p_src)
+    if any(len(x) != n_places for x in (d.p_dst, d.p_tokens, d.p_hold, d.p_init, d.p_job,
+                                         d.p_cap)):
+        return False
+    if len(d.compute_task) != n or any(len(x) != n_tasks for x in (
+            d.priority, d.file_index, d.processor, d.end_event)):
+        return False
+    if not all(0 <= x < n for values in (d.p_src, d.p_dst) for x in values):
+        return False
+    if not all(-1 <= x < n_tasks for x in d.compute_task):
+        return False
+    if not all(0 <= x < n_procs for x in d.processor):
+        return False
+    if not all(x is None or 0 <= x < n for x in d.end_event):
+        return False
+    if not all(0 <= e < n and all(0 <= x < n_tasks for x in tasks)
+               for e, tasks in d.watched.items()):
+        return False
+    if d.snapshot_place is not None and not 0 <= d.snapshot_place < n_places:
+        return False
+    if not all(d.compute_task[s] >= 0 for s, job in zip(d.p_src, d.p_job) if job):
+        return False
+    if not all(type(x) is int and x >= 0 for x in d.p_tokens):
+        return False
     for values in (d.p_init, d.p_hold, d.duration):
         for x in values:
             if type(x) is not int or not 0 <= x <= LIMIT:
