@@ -22,11 +22,18 @@ import heapq
 from collections import deque
 from collections.abc import MutableSequence, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
-try:  # the compiled loop (setup.py); without it every part runs the Python loop
+# The compiled loops (setup.py), on int64 times and on 192-bit ones; without them
+# every part runs the Python loop.
+try:
     from . import _engine_kernel
 except ImportError:  # pragma: no cover - depends on the build
     _engine_kernel = None  # type: ignore[assignment]
+try:
+    from . import _engine_kernel_wide
+except ImportError:  # pragma: no cover - depends on the build
+    _engine_kernel_wide = None  # type: ignore[assignment]
 
 __all__ = ["AFTER_OVERRUN", "PartData", "PartResult", "simulate_part"]
 
@@ -477,17 +484,18 @@ class _Part(_States):
 
 
 class _CompiledPart(_States):
-    """A part under the compiled loop (``_engine_kernel.Kernel``): the same rules and
-    figures as :class:`_Part`, on int64 times; the states are compared here, in Python."""
+    """A part under a compiled loop (the ``Kernel`` of ``module``, one of
+    ``_engine_kernel`` and ``_engine_kernel_wide``): the same rules and figures as
+    :class:`_Part`, on int64 or 192-bit times; the states are compared here, in Python."""
 
-    def __init__(self, d: PartData, keep_intervals: bool) -> None:
-        assert _engine_kernel is not None
+    def __init__(self, module: Any, d: PartData, keep_intervals: bool) -> None:
         self.d = d
         self.result = PartResult(jobs=[[] for _ in d.duration])
-        self.kernel = _engine_kernel.Kernel(d, self.result, keep_intervals)
+        self.kernel = module.Kernel(d, self.result, keep_intervals)
 
     def run(self, budget: int) -> int | None:
-        """:meth:`_Part.run`; None when a time would pass int64's bound (start again in Python)."""
+        """:meth:`_Part.run`; None when a time would pass the loop's bound (start again
+        with more room)."""
         seen: dict[tuple, list[Snapshot]] = {}
         return self.kernel.run(budget, AFTER_OVERRUN, lambda now: _compare(self, seen, now))
 
@@ -529,10 +537,11 @@ def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> Part
     """
     part: _Part | _CompiledPart | None = None
     now = None
-    if _engine_kernel is not None and _engine_kernel.covers(d):
-        part = _CompiledPart(d, keep_intervals)
-        now = part.run(budget)
-    if now is None:  # not int64 times, or one would pass the bound: on Python ints
+    for module in (_engine_kernel, _engine_kernel_wide):
+        if now is None and module is not None and module.covers(d):
+            part = _CompiledPart(module, d, keep_intervals)
+            now = part.run(budget)
+    if now is None:  # times no compiled loop covers, or one passed its bound: Python ints
         part = _Part(d)
         part.keep_intervals = keep_intervals
         now = part.run(budget)

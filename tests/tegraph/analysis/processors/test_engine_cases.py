@@ -1,9 +1,9 @@
 """The §4b engine on parts built by hand, each figure derived by hand in the comments.
 
-Every case runs on both loops (``conftest.py``); on the compiled one the part must
-run there to its end (the Python loop is refused). Last, the cases the compiled
-loop leaves to the Python one: times past its int64 bound, Fractions, affine
-times, bools, negative times.
+Every case runs on each loop (``conftest.py``); on a compiled one the part must
+run there to its end (the Python loop is refused). Last, the times each compiled
+loop leaves to the next: past its bound (2**62, 2**189), Fractions, affine times,
+bools, negative times.
 """
 
 from __future__ import annotations
@@ -16,13 +16,15 @@ import pytest
 from tegraph.analysis.processors import _engine
 from tegraph.analysis.processors._engine import PartData, PartResult, simulate_part
 from tegraph.analysis.sensitivity.affine import Cut, lin
+from tests.tegraph.analysis.processors.engine_loops import built, compiled_module
 
 
 def simulate(d: PartData, budget: int, keep: bool = True) -> PartResult:
-    """``simulate_part`` on the loop of the run: the compiled one must take the part."""
+    """``simulate_part`` on the loop of the run: a compiled one must take the part."""
+    module = _engine._engine_kernel or _engine._engine_kernel_wide
     with pytest.MonkeyPatch.context() as mp:
-        if _engine._engine_kernel is not None:
-            assert _engine._engine_kernel.covers(d)
+        if module is not None:
+            assert module.covers(d)
             mp.setattr(_engine, "_Part", _refuse)
         return simulate_part(d, budget, keep)
 
@@ -153,7 +155,8 @@ def test_a_queue_grows_past_its_room(engine_loop):
     d = dataclasses.replace(two_clocks(), p_cap=[None] * 4)
     r = simulate(d, 1000)
     assert r.budget_spent and r.fired == 1000 and r.regime is None
-    state = _engine._CompiledPart(d, True) if engine_loop == "compiled" else _engine._Part(d)
+    state = (_engine._Part(d) if engine_loop == "python"
+             else _engine._CompiledPart(compiled_module(engine_loop), d, True))
     assert state.run(1000) == 500 and state.lengths() == [1, 1, 250, 0]
 
 
@@ -162,9 +165,11 @@ def test_a_queue_grows_past_its_room(engine_loop):
 @pytest.mark.parametrize("times", [
     pytest.param(lambda x: x * 2 ** 60, id="past-2**62"),
     pytest.param(lambda x: Fraction(x, 3), id="fraction"),
-    pytest.param(lambda x: x * 10 ** 30, id="huge")])
-def test_times_the_compiled_loop_leaves_give_the_same_figures(times):
-    # The overrun case with every time scaled: the same figures, scaled.
+    pytest.param(lambda x: x * 10 ** 30, id="huge"),
+    pytest.param(lambda x: x * 2 ** 187, id="past-2**189")])
+def test_scaled_times_give_the_scaled_figures(times):
+    # The overrun case with every time scaled: the same figures, scaled, whichever
+    # loop takes the part (or takes it over from another).
     d = clocked_overrun(1)
     d = dataclasses.replace(d, p_hold=[times(h) for h in d.p_hold], duration=[times(3)])
     r = simulate_part(d, 100)
@@ -174,26 +179,35 @@ def test_times_the_compiled_loop_leaves_give_the_same_figures(times):
     assert [t for t, _, _ in r.tick_log[0]] == [times(t) for t in range(0, 12, 2)]
 
 
-def test_a_time_past_the_bound_falls_back_within_the_run():
-    # Times of 2**60: the first ones fit int64's bound (2**62), the tick at 2**62 + ...
-    # does not: the compiled loop stops and says so, the Python loop runs the part.
-    if _engine._engine_kernel is None:
-        pytest.skip("the compiled loop is not built")
-    d = clocked_overrun(1)
-    d = dataclasses.replace(d, p_hold=[2 * 2 ** 60, 0, 0], duration=[3 * 2 ** 60])
-    assert _engine._engine_kernel.covers(d)
-    assert _engine._CompiledPart(d, True).run(100) is None
-    assert simulate_part(d, 100).regime[:2] == (6 * 2 ** 60, 12 * 2 ** 60)
+BOUND = {"int64": 2 ** 62, "wide": 2 ** 189}
 
 
+@pytest.mark.parametrize("loop", list(BOUND))
+def test_a_time_past_the_bound_stops_the_compiled_loop(loop):
+    # Times of bound / 4: the first ones fit the loop's bound, the tick at 6 / 4 of
+    # it does not: the compiled loop stops and says so (the next loop runs the part).
+    if not built(loop):
+        pytest.skip(f"the {loop} loop is not built")
+    unit = BOUND[loop] // 4
+    d = dataclasses.replace(clocked_overrun(1), p_hold=[2 * unit, 0, 0], duration=[3 * unit])
+    assert compiled_module(loop).covers(d)
+    assert _engine._CompiledPart(compiled_module(loop), d, True).run(100) is None
+    assert simulate_part(d, 100).regime[:2] == (6 * unit, 12 * unit)
+
+
+@pytest.mark.parametrize("loop", list(BOUND))
 @pytest.mark.parametrize("change", [
-    pytest.param(dict(p_hold=[True, 0, 0]), id="bool"),
-    pytest.param(dict(p_init=[-1, 0, 0]), id="negative"),
-    pytest.param(dict(p_hold=[2 ** 62 + 1, 0, 0]), id="past-the-bound"),
-    pytest.param(dict(duration=[lin(3, 1, Cut(Fraction(0), 0))]), id="affine"),
-    pytest.param(dict(priority=[2 ** 63]), id="priority")])
-def test_what_the_compiled_loop_does_not_cover(change):
-    if _engine._engine_kernel is None:
-        pytest.skip("the compiled loop is not built")
-    assert _engine._engine_kernel.covers(clocked_overrun(1))
-    assert not _engine._engine_kernel.covers(dataclasses.replace(clocked_overrun(1), **change))
+    pytest.param(lambda bound: dict(p_hold=[True, 0, 0]), id="bool"),
+    pytest.param(lambda bound: dict(p_init=[-1, 0, 0]), id="negative"),
+    pytest.param(lambda bound: dict(p_hold=[bound + 1, 0, 0]), id="past-the-bound"),
+    pytest.param(lambda bound: dict(duration=[lin(3, 1, Cut(Fraction(0), 0))]), id="affine"),
+    pytest.param(lambda bound: dict(duration=[Fraction(3)]), id="fraction"),
+    pytest.param(lambda bound: dict(priority=[2 ** 63]), id="priority"),
+    pytest.param(lambda bound: dict(compute_task=[-1, 1]), id="no-such-task")])
+def test_what_a_compiled_loop_does_not_cover(loop, change):
+    if not built(loop):
+        pytest.skip(f"the {loop} loop is not built")
+    module = compiled_module(loop)
+    assert module.covers(clocked_overrun(1))
+    assert module.covers(dataclasses.replace(clocked_overrun(1), p_hold=[BOUND[loop], 0, 0]))
+    assert not module.covers(dataclasses.replace(clocked_overrun(1), **change(BOUND[loop])))

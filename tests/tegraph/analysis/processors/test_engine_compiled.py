@@ -1,12 +1,12 @@
-"""The compiled loop of the §4b engine against the Python loop, on random parts.
+"""The compiled loops of the §4b engine against the Python loop, on random parts.
 
-Both loops must give the same :class:`PartResult` (compared by ``repr``, so an int
+Each loop must give the same :class:`PartResult` (compared by ``repr``, so an int
 is not a bool or a Fraction) and compare the same states at the same instants
 (every call of ``_compare`` recorded: the instant, the key and the snapshot).
 The random parts are built directly (any graph, holds, caps, clocks, watched
 ticks, processors, durations 0), and from random skeletons through the whole
-schedule. This module picks the loops itself: under the directory's ``python``
-run (``conftest.py``) it would compare the Python loop with itself, so it skips.
+schedule. This module picks the loops itself (``engine_loops``): it runs once,
+under the directory's first loop (``conftest.py``), and skips under the others.
 """
 
 from __future__ import annotations
@@ -22,29 +22,36 @@ from tegraph.analysis.processors import _engine, schedule_on_processors
 from tegraph.analysis.processors._engine import PartData, simulate_part
 from tegraph.model.build import build_teg
 from tegraph.model.skeleton import Skeleton
+from tests.tegraph.analysis.processors.engine_loops import (
+    LOOPS,
+    built,
+    compiled_module,
+    use_loop,
+)
 from tests.tegraph.skeleton_corpus import random_skeleton
 
-pytestmark = pytest.mark.skipif(_engine._engine_kernel is None,
-                                reason="the compiled loop is not built")
+pytestmark = pytest.mark.skipif(not all(map(built, LOOPS)),
+                                reason="the compiled loops are not built")
+COMPILED = [loop for loop in LOOPS if loop != "python"]
 
 PROPS = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 @pytest.fixture(autouse=True, scope="module")
 def _once(engine_loop):
-    if engine_loop == "python":
-        pytest.skip("this module runs both loops itself")
+    if engine_loop != LOOPS[0]:
+        pytest.skip("this module runs every loop itself")
 
 
 def _refuse(*args, **kwargs):
     raise AssertionError("the compiled loop fell back to the Python loop")
 
 
-def run_on(loop: str, d: PartData, budget: int, keep: bool, fall_back: bool = False):
+def run_on(loop: str, d: PartData, budget: int, keep: bool):
     """The result of ``simulate_part`` on one loop, and every state it compared.
 
-    On ``compiled``, the part must run on the compiled loop to its end (unless
-    ``fall_back``): the Python loop is then refused.
+    On a compiled loop, the part must run there to its end: the Python loop (and
+    the loops after this one) are refused.
     """
     states = []
     original = _engine._compare
@@ -57,20 +64,23 @@ def run_on(loop: str, d: PartData, budget: int, keep: bool, fall_back: bool = Fa
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(_engine, "_compare", spy)
-        if loop == "python":
-            mp.setattr(_engine, "_engine_kernel", None)
-        elif not fall_back:
-            assert _engine._engine_kernel.covers(d)
+        use_loop(mp, loop)
+        if loop != "python":
+            assert compiled_module(loop).covers(d)
             mp.setattr(_engine, "_Part", _refuse)
+            if loop == "int64":
+                mp.setattr(_engine, "_engine_kernel_wide", None)
         result = simulate_part(d, budget, keep)
     return result, states
 
 
-def assert_same(d: PartData, budget: int, keep: bool) -> None:
-    compiled, python = run_on("compiled", d, budget, keep), run_on("python", d, budget, keep)
-    assert repr(compiled[0]) == repr(python[0])
-    assert compiled[0] == python[0]
-    assert repr(compiled[1]) == repr(python[1])
+def assert_same(d: PartData, budget: int, keep: bool, loops=COMPILED) -> None:
+    python = run_on("python", d, budget, keep)
+    for loop in loops:
+        compiled = run_on(loop, d, budget, keep)
+        assert repr(compiled[0]) == repr(python[0]), loop
+        assert compiled[0] == python[0], loop
+        assert repr(compiled[1]) == repr(python[1]), loop
 
 
 @st.composite
@@ -183,6 +193,15 @@ def test_large_times_within_int64(d, budget):
     assert_same(d, budget, True)
 
 
+@settings(PROPS, max_examples=100)
+@given(st.one_of(parts(scale=10**40 + 7), clocked_tasks(scale=10**40 + 7)), st.integers(1, 120))
+def test_times_past_int64_on_the_wide_loop(d, budget):
+    # Times of some 2**133 (as the group benchmarks' scaled times), all three words
+    # of a wide time used: the int64 loop takes no part with such a time, the wide
+    # loop takes them all.
+    assert_same(d, budget, True, loops=["wide"])
+
+
 @settings(PROPS, max_examples=60)
 @given(st.randoms(use_true_random=False), st.sampled_from([0, 2, 99]))
 def test_random_skeletons_schedule_the_same(rng, processors):
@@ -195,12 +214,11 @@ def test_random_skeletons_schedule_the_same(rng, processors):
     sk = Skeleton.from_dict(data)
     teg, groups = build_teg(sk), analyze_skeleton(sk).groups
     schedules = []
-    for loop in ("compiled", "python"):
+    for loop in LOOPS:
         with pytest.MonkeyPatch.context() as mp:
-            if loop == "python":
-                mp.setattr(_engine, "_engine_kernel", None)
+            use_loop(mp, loop)
             schedules.append(repr(schedule_on_processors(sk, teg, groups)))
-    assert schedules[0] == schedules[1]
+    assert schedules[0] == schedules[1] == schedules[2]
 
 
 def test_corpus_seeds_schedule_the_same():
@@ -209,6 +227,7 @@ def test_corpus_seeds_schedule_the_same():
         sk = Skeleton.from_dict(random_skeleton(random.Random(seed)))
         teg, groups = build_teg(sk), analyze_skeleton(sk).groups
         compiled = repr(schedule_on_processors(sk, teg, groups))
-        with pytest.MonkeyPatch.context() as mp:
-            mp.setattr(_engine, "_engine_kernel", None)
-            assert repr(schedule_on_processors(sk, teg, groups)) == compiled, seed
+        for loop in LOOPS[1:]:
+            with pytest.MonkeyPatch.context() as mp:
+                use_loop(mp, loop)
+                assert repr(schedule_on_processors(sk, teg, groups)) == compiled, (seed, loop)
