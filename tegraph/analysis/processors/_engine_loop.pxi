@@ -682,6 +682,22 @@ cdef class Kernel:
         cdef Py_ssize_t k
         return [t_py(q.buf[(q.head + k) % q.cap]) for k in range(q.size)]
 
+    def ahead(self, list places, now) -> tuple:
+        """``_States.ahead``: the tokens of each of ``places``, relative to ``now`` (0 when
+        available)."""
+        cdef Time at = t_of(now), zero = t_small(0), x
+        cdef Queue* q
+        cdef Py_ssize_t p, k
+        out = []
+        for p in places:
+            q = &self.queues[p]
+            row = []
+            for k in range(q.size):
+                x = t_sub(q.buf[(q.head + k) % q.cap], at)
+                row.append(t_py(x) if t_lt(zero, x) else 0)
+            out.append(tuple(row))
+        return tuple(out)
+
     def ready_jobs(self) -> list:
         """Per processor, its pending jobs as ``_Part.heaps`` holds them (in no order)."""
         cdef Py_ssize_t proc, k
