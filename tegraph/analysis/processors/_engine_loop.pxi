@@ -221,6 +221,15 @@ def covers(d) -> bool:
     if len(d.compute_task) != n or any(len(x) != n_tasks for x in (
             d.priority, d.file_index, d.processor, d.end_event)):
         return False
+    # The times first: a part of large times leaves the int64 loop at its first one.
+    for values in (d.p_init, d.p_hold, d.duration):
+        for x in values:
+            if type(x) is not int or not 0 <= x <= LIMIT_INT:
+                return False
+    for values in (d.priority, d.file_index):
+        for x in values:
+            if type(x) is not int or not -INDEX_LIMIT <= x <= INDEX_LIMIT:
+                return False
     if not all(0 <= x < n for values in (d.p_src, d.p_dst) for x in values):
         return False
     if not all(-1 <= x < n_tasks for x in d.compute_task):
@@ -238,14 +247,6 @@ def covers(d) -> bool:
         return False
     if not all(type(x) is int and x >= 0 for x in d.p_tokens):
         return False
-    for values in (d.p_init, d.p_hold, d.duration):
-        for x in values:
-            if type(x) is not int or not 0 <= x <= LIMIT_INT:
-                return False
-    for values in (d.priority, d.file_index):
-        for x in values:
-            if type(x) is not int or not -INDEX_LIMIT <= x <= INDEX_LIMIT:
-                return False
     return True
 
 
