@@ -14,6 +14,13 @@ instant: the jobs that end deliver their tokens, then every event whose input
 places all hold an available token fires (as often as it can), compute events
 release jobs (a job of duration 0 ends at once), then each processor takes
 its most urgent pending job.
+
+:meth:`_Part.run` is the loop written in Python, on any numbers the rules can
+add and compare. Where setup.py built them, :func:`simulate_part` runs the same
+loop compiled (``_engine_loop.pxi``): on int64 times (``_engine_kernel``), else
+on 192-bit ones (``_engine_kernel_wide``), with the same order of firings and
+the same result, some eight times faster; the Python loop serves the rest (the
+affine times of the sensitivity analysis, Fractions, times past 2**189).
 """
 
 from __future__ import annotations
