@@ -19,7 +19,7 @@ its most urgent pending job.
 add and compare. Where setup.py built them, :func:`simulate_part` runs the same
 loop compiled (``_engine_loop.pxi``): on int64 times (``_engine_kernel``), else
 on 192-bit ones (``_engine_kernel_wide``), with the same order of firings and
-the same result, some eight times faster; the Python loop serves the rest (the
+the same result, six to nine times faster; the Python loop serves the rest (the
 affine times of the sensitivity analysis, Fractions, times past 2**189).
 """
 
@@ -128,8 +128,9 @@ class _States:
 
     A loop provides ``d``, ``result`` and the readings :meth:`pending`,
     :meth:`lengths`, :meth:`tokens`, :meth:`ready_jobs`, :meth:`fired_counts`,
-    :meth:`finished_counts` and :meth:`tight_times`; the key, the snapshot and
-    the proof of a repeat are made from them here, once for both.
+    :meth:`finished_counts` and :meth:`tight_times` (and :meth:`ahead`, made from
+    :meth:`tokens` unless the loop writes it out); the key, the snapshot and the
+    proof of a repeat are made from them here, once for both.
     """
 
     d: PartData
