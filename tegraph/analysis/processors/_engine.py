@@ -25,11 +25,9 @@ affine times of the sensitivity analysis, Fractions, times past 2**189).
 
 from __future__ import annotations
 
-import gc
 import heapq
 from collections import deque
-from collections.abc import Iterator, MutableSequence, Sequence
-from contextlib import contextmanager
+from collections.abc import MutableSequence, Sequence
 from dataclasses import dataclass, field
 from operator import itemgetter
 from typing import Any
@@ -505,17 +503,14 @@ class _CompiledPart(_States):
 
     def __init__(self, module: Any, d: PartData, keep_intervals: bool) -> None:
         self.d = d
-        with _no_collection():
-            self.result = PartResult(jobs=[[] for _ in d.duration])
-            self.kernel = module.Kernel(d, self.result, keep_intervals)
+        self.result = PartResult(jobs=[[] for _ in d.duration])
+        self.kernel = module.Kernel(d, self.result, keep_intervals)
 
     def run(self, budget: int) -> int | None:
         """:meth:`_Part.run`; None when a time would pass the loop's bound (start again
         with more room)."""
         seen: dict[tuple, list[Snapshot]] = {}
-        with _no_collection():
-            return self.kernel.run(budget, AFTER_OVERRUN,
-                                   lambda now: _compare(self, seen, now))
+        return self.kernel.run(budget, AFTER_OVERRUN, lambda now: _compare(self, seen, now))
 
     @property
     def count(self) -> int:
@@ -549,26 +544,6 @@ class _CompiledPart(_States):
     def tight_times(self) -> Sequence[int]:
         return self.kernel.tight_times()
 
-
-@contextmanager
-def _no_collection() -> Iterator[None]:
-    """Python's cyclic garbage collection paused (if it ran), and resumed after.
-
-    The compiled loop makes only the objects of the result (a list per job, a
-    tuple per watched tick, a list per task), which form no cycle: there is
-    nothing to collect, but every 700 new objects the collector would look over
-    the young ones, and now and then over every object of the process (millions
-    beside a skeleton of 100,000 tasks). That was 0.18 s of the 0.47 s the part
-    of groups-100k took in a process holding only the part.
-    """
-    if not gc.isenabled():
-        yield
-        return
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.enable()
 
 def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> PartResult:
     """Simulate one part until its state repeats, nothing more happens, or ``budget`` firings

@@ -9,7 +9,6 @@ bools, negative times.
 from __future__ import annotations
 
 import dataclasses
-import gc
 from fractions import Fraction
 
 import pytest
@@ -212,32 +211,3 @@ def test_what_a_compiled_loop_does_not_cover(loop, change):
     assert module.covers(clocked_overrun(1))
     assert module.covers(dataclasses.replace(clocked_overrun(1), p_hold=[BOUND[loop], 0, 0]))
     assert not module.covers(dataclasses.replace(clocked_overrun(1), **change(BOUND[loop])))
-
-
-def test_the_garbage_collector_is_paused_only_within_a_compiled_run(engine_loop):
-    # The compiled loops pause it during the run (no cycle to collect there) and
-    # leave it as they found it: on, off, or on again after an error in the run.
-    d = clocked_overrun(1)
-    assert gc.isenabled()
-    seen = []
-    with pytest.MonkeyPatch.context() as mp:
-        original = _engine._compare
-
-        def spy(part, states, now):
-            seen.append(gc.isenabled())
-            return original(part, states, now)
-
-        mp.setattr(_engine, "_compare", spy)
-        assert simulate_part(d, 100).regime[:2] == (6, 12)
-    assert gc.isenabled() and set(seen) == {engine_loop == "python"}
-    gc.disable()
-    try:
-        simulate_part(d, 100)
-        assert not gc.isenabled()
-    finally:
-        gc.enable()
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(_engine, "_compare", _refuse)
-        with pytest.raises(AssertionError, match="fell back"):
-            simulate_part(d, 100)
-    assert gc.isenabled()
