@@ -77,14 +77,15 @@ Without the output, the activation ends 3 after ``T.compute``:
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, Literal, TypeAlias
 
+import numpy as np
+
 from ..errors import ModelError
 from .skeleton import Protocol, Skeleton, Task
-from .teg import TimedEventGraph
+from .teg import TimeCodes, TimedEventGraph
 
 __all__ = [
     "PLACE_KINDS",
@@ -236,114 +237,221 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
     >>> [str(t) for t in g.simulate(3)["T.compute"]]
     ['1', '5', '9']
     """
-    tasks, clocks = skeleton.tasks, skeleton.clocks
     _check_references(skeleton)
-    merged = {link.reader: f"{link.writer[0]}.write:{link.writer[1]}"
-              for link in skeleton.links if link.protocol is Protocol.SYN_SYN}
-    chains = {name: _chain(t, merged) for name, t in tasks.items()}
     teg = TimedEventGraph(skeleton.name)
     teg.attrs["unit"] = skeleton.unit
-    _add_events(teg, skeleton, chains, merged)
-    places = _Places(teg, skeleton)
-    for c, clock in clocks.items():
-        places.add(f"{c}.tick", f"{c}.tick", HoldingSource("period", c), tokens=1,
-                   initial=clock.phase, kind="clock", origin={"clock": c})
-    for name, chain in chains.items():
-        _add_chain(places, tasks[name], [ev for ev, _ in chain])
-    _add_links(places, skeleton)
-    _add_threads(places, skeleton, chains)
-    places.into()
-    idx = teg.index
-    teg.attrs["chains"] = {t: tuple(idx(ev) for ev, _ in chain) for t, chain in chains.items()}
-    teg.attrs["compute"] = {t: idx(f"{t}.compute") for t in tasks}
-    teg.attrs["clocks"] = {c: idx(f"{c}.tick") for c in clocks}
+    events = _Events(skeleton)
+    teg.add_transitions(events.names, events.attrs)
+    places = _Places(skeleton, events)
+    teg.add_place_columns(np.array(places.src, dtype=np.int64),
+                          np.array(places.dst, dtype=np.int64),
+                          np.array(places.tokens, dtype=np.int64),
+                          TimeCodes(places.times, places.holding),
+                          TimeCodes(places.times, places.initial), places.kind, places.origin)
+    tasks = skeleton.tasks
+    chains = events.chains
+    teg.attrs["chains"] = chains
+    teg.attrs["compute"] = events.compute
+    teg.attrs["clocks"] = {c: i for i, c in enumerate(skeleton.clocks)}
     teg.attrs["holding_source"] = tuple(places.sources)
     # The activation ends with the last event of the chain: the last write, or
     # T.compute without outputs, and then only when the computation ends (spec §4).
     teg.attrs["activation_end"] = {
-        t: ActivationEnd(idx(chain[-1][0]), not tasks[t].outputs,
-                         Fraction(0) if tasks[t].outputs else tasks[t].duration)
+        t: ActivationEnd(chain[-1], not tasks[t].outputs,
+                         _ZERO if tasks[t].outputs else tasks[t].duration)
         for t, chain in chains.items()}
     return teg
 
 
+class _Events:
+    """The events of the graph, numbered as the module docstring says, and their provenance.
+
+    Attributes
+    ----------
+    names : list of str
+    attrs : list of dict
+        ``teg.transition_attrs``, in event order.
+    chains : dict
+        Task -> tuple of its chain's event indices.
+    compute : dict
+        Task -> index of ``T.compute``.
+    """
+
+    def __init__(self, skeleton: Skeleton) -> None:
+        # A SYN/SYN read is the writer's event: one event on both chains (a rendezvous).
+        merged = {link.reader: f"{link.writer[0]}.write:{link.writer[1]}"
+                  for link in skeleton.links if link.protocol is Protocol.SYN_SYN}
+        writer = {merged[link.reader]: link.writer for link in skeleton.links
+                  if link.protocol is Protocol.SYN_SYN}
+        self.names = [f"{c}.tick" for c in skeleton.clocks]
+        self.attrs: list[dict[str, Any]] = [
+            {"role": "tick", "tasks": (), "ports": (), "clock": c} for c in skeleton.clocks]
+        self.index = {name: i for i, name in enumerate(self.names)}
+        self._ticks = len(self.names)
+        # A rendezvous' owners (file order) and ports (the writer's, then the readers'
+        # in file and port order), completed once every chain is known.
+        self._owners: dict[int, list[str]] = {}
+        self._ports: dict[int, list[tuple[str, str]]] = {}
+        self.chains: dict[str, tuple[int, ...]] = {}
+        self.compute: dict[str, int] = {}
+        for name, task in skeleton.tasks.items():
+            own = (name,)
+            chain = []
+            if task.clock is not None:
+                chain.append(self._new(f"{name}.activate", "activate", own, (), task.clock))
+            for q in task.inputs:
+                ev = merged.get((name, q))
+                chain.append(self._new(f"{name}.read:{q}", "read", own, ((name, q),), None)
+                             if ev is None else self._shared(ev, "read", name, (name, q)))
+            compute = self.compute[name] = self._new(f"{name}.compute", "compute", own, (), None)
+            chain.append(compute)
+            for p in task.outputs:
+                ev = f"{name}.write:{p}"
+                chain.append(self._shared(ev, "write", name, None) if ev in writer
+                             else self._new(ev, "write", own, ((name, p),), None))
+            self.chains[name] = tuple(chain)
+        for e, owners in self._owners.items():
+            ports = (writer[self.names[e]], *self._ports[e])
+            attrs = self.attrs[e]
+            attrs["tasks"], attrs["ports"] = tuple(owners), ports
+            if len(ports) > 1:
+                attrs["role"] = "rendezvous"
+
+    def _new(self, name: str, role: str, tasks: tuple[str, ...],
+             ports: tuple[tuple[str, str], ...], clock: str | None) -> int:
+        """A new event of one task's chain."""
+        e = self.index.setdefault(name, len(self.names))
+        if e < len(self.names):
+            self._met_again(name, e)
+            return e
+        self.names.append(name)
+        self.attrs.append({"role": role, "tasks": tasks, "ports": ports, "clock": clock})
+        return e
+
+    def _shared(self, name: str, role: str, task: str, port: tuple[str, str] | None) -> int:
+        """The event of a SYN/SYN link, made by the first task that meets it."""
+        e = self.index.get(name)
+        if e is None:
+            e = self._new(name, role, (), (), None)
+            self._owners[e], self._ports[e] = [], []
+        owners = self._owners[e]
+        if task not in owners:
+            owners.append(task)
+        if port is not None:
+            self._ports[e].append(port)
+        return e
+
+    def _met_again(self, name: str, e: int) -> None:
+        """An event name made twice: a clock's tick is refused as a duplicate event; a
+        task's event is that one event (names with ':', which validation refuses, can
+        name two events alike: the first one's attributes stay)."""
+        if e < self._ticks:
+            raise ModelError("duplicate event name", name)
+
+
 class _Places:
-    """Collects each place with the holding time its source gives, and records the source;
-    :meth:`into` adds them all to the graph at once (one call, not one a place)."""
+    """The places of the graph as columns, in the order of the module docstring, with
+    each one's holding source (:class:`HoldingSource`).
 
-    def __init__(self, teg: TimedEventGraph, skeleton: Skeleton) -> None:
-        self.teg, self.skeleton = teg, skeleton
-        self.rows: list[tuple[Any, ...]] = []
+    Times are indices in ``times``, the few distinct times of the skeleton (0,
+    each task's duration, each clock's period and phase).
+    """
+
+    def __init__(self, skeleton: Skeleton, events: _Events) -> None:
+        self.src: list[int] = []
+        self.dst: list[int] = []
+        self.tokens: list[int] = []
+        self.holding: list[int] = []
+        self.initial: list[int] = []
+        self.kind: list[str] = []
+        self.origin: list[Any] = []
         self.sources: list[HoldingSource] = []
+        self.times: list[Fraction] = [_ZERO]
+        self._time_slot: dict[int, int] = {id(_ZERO): 0}  # by object: a skeleton's times
+        for i, (c, clock) in enumerate(skeleton.clocks.items()):
+            self._add(i, i, 1, HoldingSource("period", c), clock.period, clock.phase, "clock",
+                      {"clock": c})
+        tick = {c: i for i, c in enumerate(skeleton.clocks)}
+        for name, task in skeleton.tasks.items():
+            chain = events.chains[name]
+            if task.clock is not None:
+                self._add(tick[task.clock], chain[0], 0, _NO_PARAMETER, _ZERO, _ZERO,
+                          "activation", {"clock": task.clock, "task": name})
+            self._chain(task, chain, events.compute[name])
+        index = events.index
+        for i, link in enumerate(skeleton.links):
+            w = f"{link.writer[0]}.write:{link.writer[1]}"
+            r = f"{link.reader[0]}.read:{link.reader[1]}"
+            origin = {"link": link.label, "link_index": i}
+            if link.protocol is Protocol.ASYN_SYN:
+                self._add(_event(index, w, r, w), _event(index, w, r, r), 0, _NO_PARAMETER,
+                          _ZERO, _ZERO, "asyn-syn", origin)
+            elif link.protocol is Protocol.SYN_ASYN:
+                self._add(_event(index, r, w, r), _event(index, r, w, w), 0, _NO_PARAMETER,
+                          _ZERO, _ZERO, "syn-asyn", origin)
+            # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
+        self._threads(skeleton, events)
 
-    def add(self, src: str, dst: str, source: HoldingSource = _NO_PARAMETER, *,
-            tokens: int = 0, initial: Fraction = _ZERO, kind: str,
-            origin: dict) -> None:
-        self.rows.append((src, dst, tokens, source.value(self.skeleton), initial, kind, origin))
+    def _time(self, t: Fraction) -> int:
+        k = self._time_slot.get(id(t))
+        if k is None:
+            k = self._time_slot[id(t)] = len(self.times)
+            self.times.append(t)
+        return k
+
+    def _add(self, src: int, dst: int, tokens: int, source: HoldingSource, holding: Fraction,
+             initial: Fraction, kind: str, origin: Any) -> None:
+        self.src.append(src)
+        self.dst.append(dst)
+        self.tokens.append(tokens)
+        self.holding.append(self._time(holding))
+        self.initial.append(self._time(initial))
+        self.kind.append(kind)
+        self.origin.append(origin)
         self.sources.append(source)
 
-    def into(self) -> None:
-        """Add the places collected, in order."""
-        self.teg.add_places(self.rows)
+    def _chain(self, task: Task, chain: tuple[int, ...], compute: int) -> None:
+        """The chain places in chain order, then the return place (the last event back to
+        the first, one token); the places leaving ``T.compute`` hold ``duration(T)``."""
+        n = len(chain)
+        self.src.extend(chain)
+        self.dst.extend(chain[1:])
+        self.dst.append(chain[0])
+        self.tokens += [0] * (n - 1)
+        self.tokens.append(1)
+        self.kind += ["chain"] * (n - 1)
+        self.kind.append("return")
+        # One origin for the task's chain and return places: origins are read-only
+        # (Place.origin), and a dict a place was 80 MB at 100,000 tasks.
+        self.origin += [{"task": task.name}] * n
+        self.initial += [0] * n
+        leaving = [e == compute for e in chain]
+        duration = self._time(task.duration)
+        self.holding += [duration if left else 0 for left in leaving]
+        source = HoldingSource("duration", task.name)
+        self.sources += [source if left else _NO_PARAMETER for left in leaving]
+
+    def _threads(self, skeleton: Skeleton, events: _Events) -> None:
+        """Each thread's places: one task's last event to the next one's first, the
+        return to the first task holding the token."""
+        chains, compute = events.chains, events.compute
+        for i, thread in enumerate(skeleton.threads):
+            for j, name in enumerate(thread):
+                nxt, last = thread[(j + 1) % len(thread)], j == len(thread) - 1
+                end = chains[name][-1]
+                leaves_compute = end == compute[name]
+                self._add(end, chains[nxt][0], 1 if last else 0,
+                          HoldingSource("duration", name) if leaves_compute else _NO_PARAMETER,
+                          skeleton.tasks[name].duration if leaves_compute else _ZERO, _ZERO,
+                          "thread-return" if last else "thread",
+                          {"thread": i, "from": name, "to": nxt})
 
 
-def _add_events(teg: TimedEventGraph, skeleton: Skeleton,
-                chains: dict[str, list[tuple[str, str]]], merged: dict[tuple[str, str], str]
-                ) -> None:
-    """The clocks' ticks, then each task's events in chain order, a rendezvous once
-    (with the ports it stands for: the writer's first, then the SYN/SYN readers)."""
-    tasks = skeleton.tasks
-    ports: dict[str, list[tuple[str, str]]] = {}
-    for t in tasks.values():
-        for p in t.outputs:
-            ports[f"{t.name}.write:{p}"] = [(t.name, p)]
-    for t in tasks.values():
-        for q in t.inputs:
-            ports.setdefault(merged.get((t.name, q), f"{t.name}.read:{q}"), []).append((t.name, q))
-    owners: dict[str, list[str]] = {}
-    for name, chain in chains.items():
-        for ev, _ in chain:
-            if name not in owners.setdefault(ev, []):
-                owners[ev].append(name)
-    for c in skeleton.clocks:
-        teg.add_transition(f"{c}.tick", role="tick", tasks=(), ports=(), clock=c)
-    made: set[str] = set()
-    for name, chain in chains.items():
-        for ev, role in chain:
-            if ev in made:  # a rendezvous, already made by an earlier task
-                continue
-            made.add(ev)
-            if len(ports.get(ev, ())) > 1:
-                role = "rendezvous"
-            teg.add_transition(ev, role=role, tasks=tuple(owners[ev]),
-                               ports=tuple(ports.get(ev, ())),
-                               clock=tasks[name].clock if role == "activate" else None)
-
-
-def _add_links(places: _Places, skeleton: Skeleton) -> None:
-    """The place of each ASYN/SYN and SYN/ASYN link (spec §2)."""
-    for i, link in enumerate(skeleton.links):
-        w = f"{link.writer[0]}.write:{link.writer[1]}"
-        r = f"{link.reader[0]}.read:{link.reader[1]}"
-        origin = {"link": link.label, "link_index": i}
-        if link.protocol is Protocol.ASYN_SYN:
-            places.add(w, r, kind="asyn-syn", origin=origin)
-        elif link.protocol is Protocol.SYN_ASYN:
-            places.add(r, w, kind="syn-asyn", origin=origin)
-        # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
-
-
-def _add_threads(places: _Places, skeleton: Skeleton,
-                 chains: dict[str, list[tuple[str, str]]]) -> None:
-    """Each thread's places: one task's last event to the next one's first, the
-    return to the first task holding the token."""
-    ends = {name: (chain[0][0], chain[-1][0]) for name, chain in chains.items()}
-    for i, thread in enumerate(skeleton.threads):
-        for j, name in enumerate(thread):
-            nxt, last = thread[(j + 1) % len(thread)], j == len(thread) - 1
-            places.add(ends[name][1], ends[nxt][0], _leaving(name, ends[name][1]),
-                       tokens=1 if last else 0, kind="thread-return" if last else "thread",
-                       origin={"thread": i, "from": name, "to": nxt})
+def _event(index: dict[str, int], src: str, dst: str, name: str) -> int:
+    """The event called ``name``, an end of the place ``src -> dst``."""
+    if name not in index:
+        raise ModelError(f"unknown event {name!r}", f"place {src} -> {dst}")
+    return index[name]
 
 
 def _check_references(skeleton: Skeleton) -> None:
@@ -362,38 +470,6 @@ def _check_references(skeleton: Skeleton) -> None:
         for name in thread:
             if name not in tasks:
                 raise ModelError(f"unknown task {name!r}", f"threads[{i}]")
-
-
-def _chain(task: Task, merged: dict[tuple[str, str], str]) -> list[tuple[str, str]]:
-    """(event, role) of the chain of ``task``; a SYN/SYN read is the writer's event."""
-    t = task.name
-    chain = [(f"{t}.activate", "activate")] if task.clock is not None else []
-    chain += [(merged.get((t, q), f"{t}.read:{q}"), "read") for q in task.inputs]
-    chain.append((f"{t}.compute", "compute"))
-    chain += [(f"{t}.write:{p}", "write") for p in task.outputs]
-    return chain
-
-
-def _leaving(task: str, event: str) -> HoldingSource:
-    """The source of a place of ``task`` leaving ``event``: "the place that leaves
-    T.compute holds duration(T)" (spec §2), every other place of a chain 0."""
-    return HoldingSource("duration", task) if event == f"{task}.compute" else _NO_PARAMETER
-
-
-def _add_chain(places: _Places, task: Task, chain: list[str]) -> None:
-    """Activation place, chain places, return place; duration on the place leaving compute."""
-    t = task.name
-    if task.clock is not None:
-        places.add(f"{task.clock}.tick", chain[0], kind="activation",
-                   origin={"clock": task.clock, "task": t})
-    # One origin for the task's chain and return places: origins are read-only
-    # (Place.origin), and a dict a place was 80 MB at 100,000 tasks.
-    origin = {"task": t}
-    for a, b in itertools.pairwise(chain):
-        places.add(a, b, _leaving(t, a), kind="chain", origin=origin)
-    # The return place (a self-loop on T.compute when the chain is that one event).
-    places.add(chain[-1], chain[0], _leaving(t, chain[-1]), tokens=1, kind="return",
-               origin=origin)
 
 
 # ------------------------------------------------------------- chain helpers
