@@ -486,6 +486,55 @@ class TimedEventGraph:
                 scale=scale, n_transitions=self.n_transitions)
         return self._cache["arrays"]
 
+    def scaled_by_part(self, part: np.ndarray, n_parts: int
+                       ) -> tuple[np.ndarray, np.ndarray, list[int]]:
+        """Holding and initial times scaled by a scale of each part of the places.
+
+        :meth:`arrays` scales every time by one common denominator; parts of the
+        graph that no place joins (a skeleton's groups) need only their own: the
+        lcm of the denominators of their places' times. Two hundred groups of
+        periods with denominators up to 30 have a common scale of 39 digits, past
+        int64, while each group's fits.
+
+        Parameters
+        ----------
+        part : numpy.ndarray of int
+            The part of each place, in ``0 .. n_parts-1``.
+        n_parts : int
+
+        Returns
+        -------
+        holding, initial : numpy.ndarray
+            ``time * scales[part]`` of each place: int64, or object dtype (Python
+            ints) when a value reaches 2**62 (as :meth:`arrays`).
+        scales : list of int
+            Each part's scale (1 for a part without places).
+
+        Examples
+        --------
+        >>> g = TimedEventGraph(); _ = g.add_transition("a"); _ = g.add_transition("b")
+        >>> _ = g.add_place("a", "a", 1, "1/2"); _ = g.add_place("b", "b", 1, "2/3", "1/5")
+        >>> h, i, scales = g.scaled_by_part(np.array([0, 1]), 2)
+        >>> h.tolist(), i.tolist(), scales, g.arrays().scale
+        ([1, 10], [0, 3], [2, 15], 30)
+        """
+        part = np.asarray(part, dtype=np.int64)
+        scales = [1] * n_parts
+        found = []
+        for column in (self._holding, self._initial):
+            width = max(len(column.values), 1)
+            # Each (part, distinct time) once: a few per task, not one per place.
+            pairs, inverse = np.unique(part * width + np.asarray(column.codes, dtype=np.int64),
+                                       return_inverse=True)
+            used = [(p, column.values[c]) for p, c in (divmod(k, width) for k in pairs.tolist())]
+            for p, t in used:
+                if t.denominator != 1:
+                    scales[p] = math.lcm(scales[p], t.denominator)
+            found.append((used, inverse))
+        holding, initial = (int_array([_scaled(t, scales[p]) for p, t in used])[inverse]
+                            for used, inverse in found)
+        return holding, initial, scales
+
     def incidence_matrix(self) -> sp.csr_matrix:
         """The incidence matrix ``W`` (places x events), as the paper's ``W(p, t)``.
 
