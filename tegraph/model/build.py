@@ -77,14 +77,15 @@ Without the output, the activation ends 3 after ``T.compute``:
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Literal, TypeAlias
+from typing import Any, Literal, NamedTuple, TypeAlias
 
 import numpy as np
 
 from ..errors import ModelError
-from .skeleton import Protocol, Skeleton, Task
+from .skeleton import Protocol, Skeleton
 from .teg import TimeCodes, TimedEventGraph
 
 __all__ = [
@@ -243,9 +244,7 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
     events = _Events(skeleton)
     teg.add_transitions(events.names, events.attrs)
     places = _Places(skeleton, events)
-    teg.add_place_columns(np.array(places.src, dtype=np.int64),
-                          np.array(places.dst, dtype=np.int64),
-                          np.array(places.tokens, dtype=np.int64),
+    teg.add_place_columns(places.src, places.dst, places.tokens,
                           TimeCodes(places.times, places.holding),
                           TimeCodes(places.times, places.initial), places.kind, places.origin)
     tasks = skeleton.tasks
@@ -353,98 +352,153 @@ class _Places:
     """The places of the graph as columns, in the order of the module docstring, with
     each one's holding source (:class:`HoldingSource`).
 
-    Times are indices in ``times``, the few distinct times of the skeleton (0,
-    each task's duration, each clock's period and phase).
+    Times are indices in ``times``: 0, then each clock's period and phase, then each
+    task's duration. The tasks' places (most of them: a chain place per event) are
+    laid out by array arithmetic over all chains at once, not one by one.
     """
 
     def __init__(self, skeleton: Skeleton, events: _Events) -> None:
-        self.src: list[int] = []
-        self.dst: list[int] = []
-        self.tokens: list[int] = []
-        self.holding: list[int] = []
-        self.initial: list[int] = []
-        self.kind: list[str] = []
-        self.origin: list[Any] = []
-        self.sources: list[HoldingSource] = []
-        self.times: list[Fraction] = [_ZERO]
-        self._time_slot: dict[int, int] = {id(_ZERO): 0}  # by object: a skeleton's times
-        for i, (c, clock) in enumerate(skeleton.clocks.items()):
-            self._add(i, i, 1, HoldingSource("period", c), clock.period, clock.phase, "clock",
-                      {"clock": c})
+        clocks, tasks = skeleton.clocks, skeleton.tasks
+        n_clocks = len(clocks)
+        self.times: list[Fraction] = [_ZERO, *(c.period for c in clocks.values()),
+                                      *(c.phase for c in clocks.values()),
+                                      *(t.duration for t in tasks.values())]
+        # The clocks' self-loops, one token each, available at the phase.
+        parts = [_Section(np.arange(n_clocks), np.arange(n_clocks), np.ones(n_clocks, np.int64),
+                          np.arange(1, n_clocks + 1), np.arange(n_clocks + 1, 2 * n_clocks + 1),
+                          ["clock"] * n_clocks, [{"clock": c} for c in clocks],
+                          [HoldingSource("period", c) for c in clocks]),
+                 self._tasks(skeleton, events, 2 * n_clocks + 1),
+                 self._links(skeleton, events.index),
+                 self._threads(skeleton, events)]
+        self.src, self.dst, self.tokens, self.holding, self.initial = (
+            np.concatenate([getattr(part, f) for part in parts]).astype(np.int64)
+            for f in ("src", "dst", "tokens", "holding", "initial"))
+        self.kind = [k for part in parts for k in part.kind]
+        self.origin = [o for part in parts for o in part.origin]
+        self.sources = [h for part in parts for h in part.sources]
+
+    @staticmethod
+    def _tasks(skeleton: Skeleton, events: _Events, first_duration: int) -> _Section:
+        """Task by task: the activation place (clocked tasks), the chain places in
+        chain order, the return place (the last event back to the first, one token);
+        the place leaving ``T.compute`` holds ``duration(T)``."""
+        tasks = list(skeleton.tasks.values())
+        chains = list(events.chains.values())
+        n = len(tasks)
+        length = np.fromiter(map(len, chains), dtype=np.int64, count=n)
+        flat = np.fromiter(itertools.chain.from_iterable(chains), dtype=np.int64,
+                           count=int(length.sum()))
+        clocked = np.fromiter((t.clock is not None for t in tasks), dtype=bool, count=n)
+        reads = np.fromiter((len(t.inputs) for t in tasks), dtype=np.int64, count=n)
+        size = length + clocked  # places of each task
+        start = np.cumsum(size) - size  # its first place
+        first = np.cumsum(length) - length  # its first event in flat
+        total = int(size.sum())
+        src, dst = np.empty(total, np.int64), np.empty(total, np.int64)
+        kind = np.ones(total, np.int64)  # _TASK_KINDS
+        activation = start[clocked]
+        # Chain place j of a task leaves its j-th event for the next one, the last
+        # (the return place) for the first: every place but the activations, in order.
+        chain = np.ones(total, dtype=bool)
+        chain[activation] = False
+        chain_at = np.flatnonzero(chain)
+        following = np.arange(1, len(flat) + 1)
+        following[first + length - 1] = first
+        src[chain_at], dst[chain_at] = flat, flat[following]
+        returns = start + clocked + length - 1
+        tokens = np.zeros(total, np.int64)
+        tokens[returns], kind[returns] = 1, 2
         tick = {c: i for i, c in enumerate(skeleton.clocks)}
-        for name, task in skeleton.tasks.items():
-            chain = events.chains[name]
-            if task.clock is not None:
-                self._add(tick[task.clock], chain[0], 0, _NO_PARAMETER, _ZERO, _ZERO,
-                          "activation", {"clock": task.clock, "task": name})
-            self._chain(task, chain, events.compute[name])
-        index = events.index
+        src[activation] = np.fromiter((tick[t.clock] for t in tasks if t.clock is not None),
+                                      dtype=np.int64, count=len(activation))
+        dst[activation], kind[activation] = flat[first[clocked]], 0
+        # T.compute comes after the activation and the reads: the place leaving it.
+        leaving = start + clocked + clocked + reads
+        holding = np.zeros(total, np.int64)
+        holding[leaving] = first_duration + np.arange(n)
+        sources = np.full(total, _NO_PARAMETER, dtype=object)
+        sources[leaving] = _objects([HoldingSource("duration", t.name) for t in tasks])
+        # One origin for a task's chain and return places: origins are read-only
+        # (Place.origin), and a dict a place was 80 MB at 100,000 tasks.
+        origin = np.empty(total, dtype=object)
+        origin[chain_at] = np.repeat(_objects([{"task": t.name} for t in tasks]), length)
+        origin[activation] = _objects([{"clock": t.clock, "task": t.name}
+                                       for t in tasks if t.clock is not None])
+        return _Section(src, dst, tokens, holding, np.zeros(total, np.int64),
+                        _TASK_KINDS[kind].tolist(), origin.tolist(), sources.tolist())
+
+    @staticmethod
+    def _links(skeleton: Skeleton, index: dict[str, int]) -> _Section:
+        """The place of each ASYN/SYN and SYN/ASYN link (spec §2)."""
+        src, dst, kind, origin = [], [], [], []
         for i, link in enumerate(skeleton.links):
             w = f"{link.writer[0]}.write:{link.writer[1]}"
             r = f"{link.reader[0]}.read:{link.reader[1]}"
-            origin = {"link": link.label, "link_index": i}
             if link.protocol is Protocol.ASYN_SYN:
-                self._add(_event(index, w, r, w), _event(index, w, r, r), 0, _NO_PARAMETER,
-                          _ZERO, _ZERO, "asyn-syn", origin)
+                src.append(_event(index, w, r, w))
+                dst.append(_event(index, w, r, r))
+                kind.append("asyn-syn")
             elif link.protocol is Protocol.SYN_ASYN:
-                self._add(_event(index, r, w, r), _event(index, r, w, w), 0, _NO_PARAMETER,
-                          _ZERO, _ZERO, "syn-asyn", origin)
-            # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
-        self._threads(skeleton, events)
+                src.append(_event(index, r, w, r))
+                dst.append(_event(index, r, w, w))
+                kind.append("syn-asyn")
+            else:  # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
+                continue
+            origin.append({"link": link.label, "link_index": i})
+        n = len(src)
+        zeros = np.zeros(n, np.int64)
+        return _Section(np.array(src, np.int64), np.array(dst, np.int64), zeros, zeros, zeros,
+                        kind, origin, [_NO_PARAMETER] * n)
 
-    def _time(self, t: Fraction) -> int:
-        k = self._time_slot.get(id(t))
-        if k is None:
-            k = self._time_slot[id(t)] = len(self.times)
-            self.times.append(t)
-        return k
-
-    def _add(self, src: int, dst: int, tokens: int, source: HoldingSource, holding: Fraction,
-             initial: Fraction, kind: str, origin: Any) -> None:
-        self.src.append(src)
-        self.dst.append(dst)
-        self.tokens.append(tokens)
-        self.holding.append(self._time(holding))
-        self.initial.append(self._time(initial))
-        self.kind.append(kind)
-        self.origin.append(origin)
-        self.sources.append(source)
-
-    def _chain(self, task: Task, chain: tuple[int, ...], compute: int) -> None:
-        """The chain places in chain order, then the return place (the last event back to
-        the first, one token); the places leaving ``T.compute`` hold ``duration(T)``."""
-        n = len(chain)
-        self.src.extend(chain)
-        self.dst.extend(chain[1:])
-        self.dst.append(chain[0])
-        self.tokens += [0] * (n - 1)
-        self.tokens.append(1)
-        self.kind += ["chain"] * (n - 1)
-        self.kind.append("return")
-        # One origin for the task's chain and return places: origins are read-only
-        # (Place.origin), and a dict a place was 80 MB at 100,000 tasks.
-        self.origin += [{"task": task.name}] * n
-        self.initial += [0] * n
-        leaving = [e == compute for e in chain]
-        duration = self._time(task.duration)
-        self.holding += [duration if left else 0 for left in leaving]
-        source = HoldingSource("duration", task.name)
-        self.sources += [source if left else _NO_PARAMETER for left in leaving]
-
-    def _threads(self, skeleton: Skeleton, events: _Events) -> None:
+    @staticmethod
+    def _threads(skeleton: Skeleton, events: _Events) -> _Section:
         """Each thread's places: one task's last event to the next one's first, the
         return to the first task holding the token."""
         chains, compute = events.chains, events.compute
+        first_duration = 2 * len(skeleton.clocks) + 1  # _Places.times
+        duration = ({t: first_duration + k for k, t in enumerate(skeleton.tasks)}
+                    if skeleton.threads else {})
+        rows = []
         for i, thread in enumerate(skeleton.threads):
             for j, name in enumerate(thread):
                 nxt, last = thread[(j + 1) % len(thread)], j == len(thread) - 1
                 end = chains[name][-1]
                 leaves_compute = end == compute[name]
-                self._add(end, chains[nxt][0], 1 if last else 0,
-                          HoldingSource("duration", name) if leaves_compute else _NO_PARAMETER,
-                          skeleton.tasks[name].duration if leaves_compute else _ZERO, _ZERO,
-                          "thread-return" if last else "thread",
-                          {"thread": i, "from": name, "to": nxt})
+                rows.append((end, chains[nxt][0], 1 if last else 0,
+                             duration[name] if leaves_compute else 0,
+                             "thread-return" if last else "thread",
+                             {"thread": i, "from": name, "to": nxt},
+                             HoldingSource("duration", name) if leaves_compute
+                             else _NO_PARAMETER))
+        src, dst, tokens, holding, kind, origin, sources = (
+            [list(column) for column in zip(*rows)] if rows else [[] for _ in range(7)])
+        return _Section(np.array(src, np.int64), np.array(dst, np.int64),
+                        np.array(tokens, np.int64), np.array(holding, np.int64),
+                        np.zeros(len(rows), np.int64), kind, origin, sources)
+
+
+class _Section(NamedTuple):
+    """Consecutive places as columns (:class:`_Places`)."""
+
+    src: np.ndarray
+    dst: np.ndarray
+    tokens: np.ndarray
+    holding: np.ndarray
+    initial: np.ndarray
+    kind: list[str]
+    origin: list[Any]
+    sources: list[HoldingSource]
+
+
+_TASK_KINDS = np.array(["activation", "chain", "return"], dtype=object)
+
+
+def _objects(values: list[Any]) -> np.ndarray:
+    """An object array of ``values`` (dicts and dataclasses kept as objects)."""
+    out = np.empty(len(values), dtype=object)
+    out[:] = values
+    return out
 
 
 def _event(index: dict[str, int], src: str, dst: str, name: str) -> int:
