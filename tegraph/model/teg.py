@@ -817,12 +817,12 @@ class TimeCodes(NamedTuple):
     values : sequence of Fraction
         The distinct times (a built graph's places share a few: 0, each task's
         duration, each clock's period and phase).
-    codes : sequence of int
+    codes : array_like of int
         Each entry's index in ``values``.
     """
 
     values: Sequence[Fraction]
-    codes: Sequence[int]
+    codes: Sequence[int] | np.ndarray
 
 
 class _TimeColumn:
