@@ -380,21 +380,34 @@ def _unbounded_places(g: _EventGraph, periods: _Periods) -> list[UnboundedPlace]
     slower = unbounded_mask(periods.mcr.cycle_time_num, periods.mcr.cycle_time_den,
                             g.src[lp], g.dst[lp])
     ct = periods.cycle_times
+    # The text of each distinct cycle time once (10,000 clocked tasks slower than
+    # their clocks share a few); the values are shared objects, told apart by id.
+    texts: dict[int, str] = {}
+
+    def text(value: Fraction) -> str:
+        found = texts.get(id(value))
+        if found is None:
+            found = texts[id(value)] = display_text(value)
+        return found
+
     out = []
-    for k in lp[slower].tolist():
-        a, b = int(g.src[k]), int(g.dst[k])
-        kind = unbounded_kind(g.teg.place(k).kind)
-        out.append(UnboundedPlace(
-            # Type: the ends of a live place lie downstream of a circuit: cycle times set.
-            g.names[a], g.names[b], kind, ct[a], ct[b],  # type: ignore[arg-type]
-            int(g.group_of_event[a]), _unbounded_advice(g, ct, kind, a, b)))
+    places = lp[slower].tolist()
+    for k, a, b in zip(places, g.src[places].tolist(), g.dst[places].tolist()):
+        kind = unbounded_kind(g.teg.place_kind(k))
+        fast, slow = ct[a], ct[b]
+        # The ends of a live place lie downstream of a circuit: their cycle times are set.
+        assert fast is not None and slow is not None
+        out.append(UnboundedPlace(g.names[a], g.names[b], kind, fast, slow,
+                                  int(g.group_of_event[a]),
+                                  _unbounded_advice(g, text(fast), text(slow), kind, a, b)))
     return out
 
 
-def _unbounded_advice(g: _EventGraph, ct: list[Fraction | None], kind: UnboundedKind, a: int,
+def _unbounded_advice(g: _EventGraph, fast: str, slow: str, kind: UnboundedKind, a: int,
                       b: int) -> str:
+    """What to do about an unbounded place ``a -> b``; ``fast`` and ``slow`` are the texts
+    of the cycle times of ``a`` and of ``b``."""
     u = g.sk.unit
-    fast, slow = display_text(ct[a]), display_text(ct[b])
     writer = ", ".join(g.event_tasks(a))
     reader = ", ".join(g.event_tasks(b))
     if kind == "clock-overrun":
@@ -617,9 +630,11 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         if clock is None or not groups[t.group].live:
             continue
         end, tick = activation_end(g.teg, name), g.teg.attrs["clocks"][clock]
-        # spec §4: a dater plus a constant (on the group's scale, of which the duration is a
-        # multiple: the duration is the holding time of the place leaving T.compute).
-        last, offset = end.event, int(end.offset * g.scales[t.group])
+        # spec §4: a dater plus a constant, on the group's scale (a multiple of the
+        # duration's denominator: the duration is the holding time of the place leaving
+        # T.compute), by integer arithmetic (a Fraction product costs a gcd a task).
+        last, o = end.event, end.offset
+        offset = o.numerator * (g.scales[t.group] // o.denominator) if o else 0
         if t.group in group_regime:
             watches.append(OverrunWatch(last, tick, group_regime[t.group], end_offset=offset))
         else:

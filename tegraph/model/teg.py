@@ -461,6 +461,16 @@ class TimedEventGraph:
         return Place(s, d, self._tokens[index], self._holding[index], self._initial[index],
                      self._kind[index], name, self._origin[index])
 
+    def place_kind(self, index: int) -> str:
+        """The :attr:`Place.kind` of this place, without making its :class:`Place`.
+
+        >>> g = TimedEventGraph(); _ = g.add_transition("a")
+        >>> _ = g.add_place("a", "a", 1, kind="loop")
+        >>> g.place_kind(0)
+        'loop'
+        """
+        return self._kind[index]
+
     def arrays(self) -> TEGArrays:
         """The places as numpy arrays of scaled integers (cached until the next change).
 
