@@ -245,8 +245,9 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
     teg.add_transitions(events.names, events.attrs)
     places = _Places(skeleton, events)
     teg.add_place_columns(places.src, places.dst, places.tokens,
-                          TimeCodes(places.times, places.holding),
-                          TimeCodes(places.times, places.initial), places.kind, places.origin)
+                          TimeCodes(places.holding_times, places.holding),
+                          TimeCodes(places.initial_times, places.initial), places.kind,
+                          places.origin)
     tasks = skeleton.tasks
     chains = events.chains
     teg.attrs["chains"] = chains
@@ -352,23 +353,25 @@ class _Places:
     """The places of the graph as columns, in the order of the module docstring, with
     each one's holding source (:class:`HoldingSource`).
 
-    Times are indices in ``times``: 0, then each clock's period and phase, then each
-    task's duration. The tasks' places (most of them: a chain place per event) are
-    laid out by array arithmetic over all chains at once, not one by one.
+    Times are indices in ``holding_times`` (0, each clock's period, each task's
+    duration) and ``initial_times`` (0, each clock's phase). The tasks' places (most
+    of them: a chain place per event) are laid out by array arithmetic over all
+    chains at once, not one by one.
     """
 
     def __init__(self, skeleton: Skeleton, events: _Events) -> None:
         clocks, tasks = skeleton.clocks, skeleton.tasks
         n_clocks = len(clocks)
-        self.times: list[Fraction] = [_ZERO, *(c.period for c in clocks.values()),
-                                      *(c.phase for c in clocks.values()),
-                                      *(t.duration for t in tasks.values())]
+        self.holding_times: list[Fraction] = [_ZERO, *(c.period for c in clocks.values()),
+                                              *(t.duration for t in tasks.values())]
+        self.initial_times: list[Fraction] = [_ZERO, *(c.phase for c in clocks.values())]
         # The clocks' self-loops, one token each, available at the phase.
+        first_clock = np.arange(1, n_clocks + 1)
         parts = [_Section(np.arange(n_clocks), np.arange(n_clocks), np.ones(n_clocks, np.int64),
-                          np.arange(1, n_clocks + 1), np.arange(n_clocks + 1, 2 * n_clocks + 1),
-                          ["clock"] * n_clocks, [{"clock": c} for c in clocks],
+                          first_clock, first_clock, ["clock"] * n_clocks,
+                          [{"clock": c} for c in clocks],
                           [HoldingSource("period", c) for c in clocks]),
-                 self._tasks(skeleton, events, 2 * n_clocks + 1),
+                 self._tasks(skeleton, events, n_clocks + 1),
                  self._links(skeleton, events.index),
                  self._threads(skeleton, events)]
         self.src, self.dst, self.tokens, self.holding, self.initial = (
@@ -456,7 +459,7 @@ class _Places:
         """Each thread's places: one task's last event to the next one's first, the
         return to the first task holding the token."""
         chains, compute = events.chains, events.compute
-        first_duration = 2 * len(skeleton.clocks) + 1  # _Places.times
+        first_duration = len(skeleton.clocks) + 1  # _Places.holding_times
         duration = ({t: first_duration + k for k, t in enumerate(skeleton.tasks)}
                     if skeleton.threads else {})
         rows = []

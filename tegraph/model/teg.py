@@ -315,7 +315,7 @@ class TimedEventGraph:
         first = len(self._names)
         index = dict(zip(names, range(first, first + len(names))))
         if (len(index) != len(names) or not index.keys().isdisjoint(self._index)
-                or not all(type(name) is str and name for name in index)):
+                or not set(map(type, index)) <= {str} or "" in index):
             for name, more in zip(names, attrs):  # the first bad name raises as it would
                 self.add_transition(name, **more)
             return
@@ -541,7 +541,7 @@ class TimedEventGraph:
                 if t.denominator != 1:
                     scales[p] = math.lcm(scales[p], t.denominator)
             found.append((used, inverse))
-        holding, initial = (int_array([_scaled(t, scales[p]) for p, t in used])[inverse]
+        holding, initial = (_scaled([t for _, t in used], [scales[p] for p, _ in used])[inverse]
                             for used, inverse in found)
         return holding, initial, scales
 
@@ -814,9 +814,25 @@ def _within(values: np.ndarray, low: int, high: int) -> bool:
     return not len(values) or (int(values.min()) >= low and int(values.max()) <= high)
 
 
-def _scaled(t: Fraction, scale: int) -> int:
-    """``t * scale`` for a ``scale`` that ``t.denominator`` divides, exactly."""
-    return t.numerator * (scale // t.denominator)
+def _scaled(times: list[Fraction], scales: list[int]) -> np.ndarray:
+    """``times[i] * scales[i]`` for scales that the times' denominators divide, exactly,
+    as :func:`int_array` makes it (int64 when every value is below 2**62, else objects).
+
+    >>> _scaled([Fraction(1, 2), Fraction(3)], [4, 4]).tolist()
+    [2, 12]
+    >>> _scaled([Fraction(1, 2), Fraction(3)], [2**70, 2**70]).dtype
+    dtype('O')
+    >>> _scaled([Fraction(0)], [2**70]).tolist(), _scaled([], []).dtype
+    ([0], dtype('int64'))
+    """
+    nums = [t.numerator for t in times]
+    dens = [t.denominator for t in times]
+    # The scales themselves must fit too (all times 0 under a scale past int64).
+    largest = max(max(map(abs, nums), default=1), 1) * max(max(scales, default=1), 1)
+    if largest < INT64_SAFE:  # every product below 2**62: int64 arithmetic is exact
+        return (np.array(nums, dtype=np.int64)
+                * (np.array(scales, dtype=np.int64) // np.array(dens, dtype=np.int64)))
+    return int_array([n * (k // d) for n, d, k in zip(nums, dens, scales)])
 
 
 class TimeCodes(NamedTuple):
@@ -886,7 +902,7 @@ class _TimeColumn:
 
         int64 or object as the distinct values need (as for the whole column).
         """
-        return int_array([_scaled(t, scale) for t in self.values])[
+        return _scaled(self.values, [scale] * len(self.values))[
             np.asarray(self.codes, dtype=np.int64)]
 
 

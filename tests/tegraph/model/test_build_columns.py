@@ -198,3 +198,35 @@ def test_columns_added_twice_read_as_places_added_one_by_one():
     assert g.places == h.places
     assert g.arrays().holding.tolist() == h.arrays().holding.tolist() == [3, 18, 4]
     assert g.arrays().initial.tolist() == [0, 6, 0]
+
+
+times = st.fractions(min_value=0, max_denominator=10**6) | st.builds(
+    F, st.integers(0, 2**80), st.integers(1, 2**70))
+
+
+@SETTINGS
+@given(st.lists(st.tuples(times, times, st.integers(0, 3)), min_size=1, max_size=12))
+def test_scaled_times_are_the_exact_products(rows):
+    """arrays() and scaled_by_part() scale in int64 when every product fits, else in
+    Python ints: either way each value is ``time * scale`` exactly, and the dtype is
+    int64 exactly when every value of the column lies below 2**62."""
+    g = TimedEventGraph()
+    g.add_transition("a")
+    for holding, initial, _ in rows:
+        g.add_place("a", "a", 1, holding, initial)
+    a = g.arrays()
+    for column, k in ((a.holding, 0), (a.initial, 1)):
+        exact = [row[k] * a.scale for row in rows]
+        assert all(v.denominator == 1 for v in exact)
+        assert column.tolist() == [int(v) for v in exact]
+        assert (column.dtype == np.int64) == all(abs(v) < 2**62 for v in exact)
+    part = np.array([row[2] for row in rows])
+    holding, initial, scales = g.scaled_by_part(part, 4)
+    for column, k in ((holding, 0), (initial, 1)):
+        exact = [row[k] * scales[row[2]] for row in rows]
+        assert column.tolist() == [int(v) for v in exact]
+        assert (column.dtype == np.int64) == all(abs(v) < 2**62 for v in exact)
+    for p in range(4):
+        mine = [t for row in rows if row[2] == p for t in row[:2]]
+        assert scales[p] == (np.lcm.reduce([t.denominator for t in mine], dtype=object)
+                             if mine else 1)
