@@ -536,13 +536,16 @@ class TimedEventGraph:
             # Each (part, distinct time) once: a few per task, not one per place.
             pairs, inverse = np.unique(part * width + np.asarray(column.codes, dtype=np.int64),
                                        return_inverse=True)
-            used = [(p, column.values[c]) for p, c in (divmod(k, width) for k in pairs.tolist())]
-            for p, t in used:
+            parts, values = (pairs // width).tolist(), column.values
+            times = [values[c] for c in (pairs % width).tolist()]
+            # Most times are whole (durations and periods in whole units): only the
+            # others change their part's scale.
+            for p, t in zip(parts, times):
                 if t.denominator != 1:
                     scales[p] = math.lcm(scales[p], t.denominator)
-            found.append((used, inverse))
-        holding, initial = (_scaled([t for _, t in used], [scales[p] for p, _ in used])[inverse]
-                            for used, inverse in found)
+            found.append((parts, times, inverse))
+        holding, initial = (_scaled(times, [scales[p] for p in parts])[inverse]
+                            for parts, times, inverse in found)
         return holding, initial, scales
 
     def incidence_matrix(self) -> sp.csr_matrix:
