@@ -28,7 +28,7 @@ the (max,+) counterpart of the ORCCAD paper's search for a repeated marking
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
@@ -83,7 +83,7 @@ class DaterSimulation:
         self.active = active
         self.k = 0
         self.depth = int(tokens[keep].max(initial=0))
-        self.history: list[np.ndarray] = []
+        self.history: list[Any] = []  # x(k-depth+1) .. x(k): arrays, or lists (small graphs)
         marked = keep & (tokens > 0)
         order = np.argsort(dst[marked], kind="stable")
         self._m_src = src[marked][order]
@@ -141,7 +141,7 @@ class DaterSimulation:
                 v = xs[p_src] + p_h
                 if v > xs[p_dst]:
                     xs[p_dst] = v
-            x = np.array(xs, dtype=self.dtype)
+            x: np.ndarray = np.array(xs, dtype=self.dtype)
         self.history.append(x)
         if len(self.history) > max(self.depth, 1):
             self.history.pop(0)
@@ -172,7 +172,7 @@ class DaterSimulation:
         history.append(xs)
         if len(history) > max(self.depth, 1):
             history.pop(0)
-        x = np.array(xs, dtype=self.dtype)
+        x: np.ndarray = np.array(xs, dtype=self.dtype)
         if self.dtype is not object and max(xs, default=0) > _INT64_ROOM:
             self._to_python_ints()
         return x
