@@ -141,7 +141,7 @@ class DaterSimulation:
                 v = xs[p_src] + p_h
                 if v > xs[p_dst]:
                     xs[p_dst] = v
-            x: np.ndarray = np.array(xs, dtype=self.dtype)
+            x = np.array(xs, dtype=self.dtype)
         self.history.append(x)
         if len(self.history) > max(self.depth, 1):
             self.history.pop(0)
