@@ -312,6 +312,9 @@ class TimedEventGraph:
         >>> g.transition_names, g.index("b"), g.transition_attrs[0]
         (('a', 'b'), 1, {'role': 'x'})
         """
+        if len(attrs) != len(names):
+            raise ModelError(f"{len(names)} event names but {len(attrs)} attribute dicts",
+                             "add_transitions")
         first = len(self._names)
         index = dict(zip(names, range(first, first + len(names))))
         if (len(index) != len(names) or not index.keys().isdisjoint(self._index)
@@ -355,6 +358,9 @@ class TimedEventGraph:
         [('a -> b', 0, '1/2', 'x'), ('b -> a', 1, '0', 'y')]
         """
         n = len(src)
+        if any(len(column) != n for column in (dst, tokens, holding.codes, initial.codes, kind,
+                                               origin)):
+            raise ModelError("place columns of different lengths", "add_place_columns")
         ints = [np.asarray(column) for column in (src, dst, tokens)]
         if not (all(type(t) is Fraction and t.numerator >= 0
                     for t in (*holding.values, *initial.values))

@@ -230,3 +230,14 @@ def test_scaled_times_are_the_exact_products(rows):
         mine = [t for row in rows if row[2] == p for t in row[:2]]
         assert scales[p] == (np.lcm.reduce([t.denominator for t in mine], dtype=object)
                              if mine else 1)
+
+
+def test_columns_of_different_lengths_are_refused():
+    g = TimedEventGraph()
+    with pytest.raises(ModelError, match="2 event names but 1 attribute dicts"):
+        g.add_transitions(["a", "b"], [{}])
+    g.add_transitions(["a", "b"], [{}, {}])
+    with pytest.raises(ModelError, match="different lengths"):
+        g.add_place_columns([0, 1], [1], [0, 0], TimeCodes([F(0)], [0, 0]),
+                            TimeCodes([F(0)], [0, 0]), ["", ""], [None, None])
+    assert g.n_transitions == 2 and g.n_places == 0
