@@ -76,6 +76,10 @@ from .slack import shortest_circuits_through
 
 __all__ = ["analyze_skeleton", "unbounded_mask"]
 
+_PER_GROUP_SCALE = True
+"""Each group's times on its own scale (False: every group on the common scale of
+all, as :meth:`~tegraph.model.teg.TimedEventGraph.arrays` gives; the tests compare both)."""
+
 
 
 
@@ -184,8 +188,12 @@ class _EventGraph:
     dst: np.ndarray
     tokens: np.ndarray
     holding: np.ndarray
+    """Each place's holding time on its group's scale."""
     initial: np.ndarray
-    scale: int
+    scales: list[int]
+    """Each group's scale: its times' least common denominator (spec §2 builds no place
+    between two groups, so each group's times need only their own); then that of
+    the ticks of clocks in no group."""
     n: int
     names: tuple[str, ...]
     group_tasks: list[list[str]]
@@ -207,11 +215,19 @@ class _EventGraph:
         # Events and places of each group, split once (groups can be thousands).
         n_groups = len(structure.groups)
         events_of_group = _split_by(group_of_event, n_groups)
+        # The times of each group on its own scale (the ticks of clocks in no group
+        # on one more): int64 where the common scale of all groups would not fit.
+        part = group_of_event[a.src]
+        holding, initial, scales = teg.scaled_by_part(
+            np.where(part < 0, n_groups, part) if _PER_GROUP_SCALE else np.zeros_like(part),
+            n_groups + 1)
+        if not _PER_GROUP_SCALE:
+            scales = [scales[0]] * (n_groups + 1)
         position = np.zeros(teg.n_transitions, dtype=np.int64)
         if events_of_group:
             position[np.concatenate(events_of_group)] = np.concatenate(
                 [np.arange(len(e)) for e in events_of_group])
-        return cls(skeleton, teg, a.src, a.dst, a.tokens, a.holding, a.initial, a.scale,
+        return cls(skeleton, teg, a.src, a.dst, a.tokens, holding, initial, scales,
                    teg.n_transitions, teg.transition_names,
                    [list(g) for g in structure.groups], group_of_event, dict(structure.group_of),
                    events_of_group, _split_by(group_of_event[a.src], n_groups), position,
@@ -224,6 +240,10 @@ class _EventGraph:
 
     def compute(self, task: str) -> int:
         return self.teg.attrs["compute"][task]
+
+    def scale_of_event(self) -> list[int]:
+        """Each event's scale: its group's (:attr:`scales`)."""
+        return [self.scales[k] for k in self.group_of_event.tolist()]  # -1: the last one
 
     def event_tasks(self, event: int) -> tuple[str, ...]:
         return self.teg.transition_attrs[event].get("tasks", ())
@@ -313,23 +333,27 @@ def _cycle_times(g: _EventGraph, dead_groups: set[int]) -> _Periods:
     verified = mcr.verify()
     # One Fraction per distinct cycle time (a group's events share a few): 30,000
     # divisions, each with its gcd, cost more than the analysis around them.
-    distinct: dict[tuple[int, int], int] = {}
+    # Each event's cycle time is on its group's scale.
+    distinct: dict[tuple[int, int, int], int] = {}
     values: list[Fraction] = []
     slot = np.full(g.n, -1, dtype=np.int64)  # each event's value in `values`, -1 for None
-    for e, (num, den) in enumerate(zip(mcr.cycle_time_num.tolist(),
-                                       mcr.cycle_time_den.tolist())):
-        if den == 0:  # no circuit reaches the event
+    for e, key in enumerate(zip(mcr.cycle_time_num.tolist(), mcr.cycle_time_den.tolist(),
+                                g.scale_of_event())):
+        if key[1] == 0:  # no circuit reaches the event
             continue
-        k = distinct.get((num, den))
+        k = distinct.get(key)
         if k is None:
-            k = distinct[num, den] = len(values)
-            values.append(Fraction(num, den * g.scale))
+            k = distinct[key] = len(values)
+            values.append(Fraction(key[0], key[1] * key[2]))
         slot[e] = k
     cycle_times = [None if k < 0 else values[k] for k in slot.tolist()]
     # The rank of each event's cycle time among the distinct ones (-1 for None):
     # a group's slowest event by one argmax, not by comparing Fractions.
+    # Equal values rank alike (two groups' scales give one value two slots).
+    order = sorted(range(len(values)), key=values.__getitem__)
     rank_of_slot = np.empty(len(values), dtype=np.int64)
-    rank_of_slot[sorted(range(len(values)), key=values.__getitem__)] = np.arange(len(values))
+    rank_of_slot[order] = np.cumsum([0] + [values[a] != values[b]
+                                           for a, b in zip(order, order[1:])])[:len(order)]
     rank = np.full(g.n, -1, dtype=np.int64)
     rank[slot >= 0] = rank_of_slot[slot[slot >= 0]]
     return _Periods(mcr, verified, cycle_times, rank, live_event, lp)
@@ -356,21 +380,34 @@ def _unbounded_places(g: _EventGraph, periods: _Periods) -> list[UnboundedPlace]
     slower = unbounded_mask(periods.mcr.cycle_time_num, periods.mcr.cycle_time_den,
                             g.src[lp], g.dst[lp])
     ct = periods.cycle_times
+    # The text of each distinct cycle time once (10,000 clocked tasks slower than
+    # their clocks share a few); the values are shared objects, told apart by id.
+    texts: dict[int, str] = {}
+
+    def text(value: Fraction) -> str:
+        found = texts.get(id(value))
+        if found is None:
+            found = texts[id(value)] = display_text(value)
+        return found
+
     out = []
-    for k in lp[slower].tolist():
-        a, b = int(g.src[k]), int(g.dst[k])
-        kind = unbounded_kind(g.teg.place(k).kind)
-        out.append(UnboundedPlace(
-            # Type: the ends of a live place lie downstream of a circuit: cycle times set.
-            g.names[a], g.names[b], kind, ct[a], ct[b],  # type: ignore[arg-type]
-            int(g.group_of_event[a]), _unbounded_advice(g, ct, kind, a, b)))
+    places = lp[slower].tolist()
+    for k, a, b in zip(places, g.src[places].tolist(), g.dst[places].tolist()):
+        kind = unbounded_kind(g.teg.place_kind(k))
+        fast, slow = ct[a], ct[b]
+        # The ends of a live place lie downstream of a circuit: their cycle times are set.
+        assert fast is not None and slow is not None
+        out.append(UnboundedPlace(g.names[a], g.names[b], kind, fast, slow,
+                                  int(g.group_of_event[a]),
+                                  _unbounded_advice(g, text(fast), text(slow), kind, a, b)))
     return out
 
 
-def _unbounded_advice(g: _EventGraph, ct: list[Fraction | None], kind: UnboundedKind, a: int,
+def _unbounded_advice(g: _EventGraph, fast: str, slow: str, kind: UnboundedKind, a: int,
                       b: int) -> str:
+    """What to do about an unbounded place ``a -> b``; ``fast`` and ``slow`` are the texts
+    of the cycle times of ``a`` and of ``b``."""
     u = g.sk.unit
-    fast, slow = display_text(ct[a]), display_text(ct[b])
     writer = ", ".join(g.event_tasks(a))
     reader = ", ".join(g.event_tasks(b))
     if kind == "clock-overrun":
@@ -409,7 +446,7 @@ def _group_reports(g: _EventGraph, periods: _Periods, dead_groups: set[int],
             mcr = periods.mcr
             arcs = mcr.policy_circuit(slowest)
             circuit = [g.names[int(mcr.src[a])] for a in arcs.tolist()]
-            holdings = [Fraction(int(w), g.scale) for w in mcr.weight[arcs].tolist()]
+            holdings = [Fraction(int(w), g.scales[index]) for w in mcr.weight[arcs].tolist()]
             tokens = int(sum(int(t) for t in mcr.tokens[arcs].tolist()))
             if consistent:
                 period = ct[slowest]
@@ -461,7 +498,7 @@ def _slack(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
             assert shortest is not None  # on its own chain circuit (above): a minimum exists
             slack = slack_of.get(shortest)
             if slack is None:
-                slack = slack_of[shortest] = Fraction(shortest, T * g.scale)
+                slack = slack_of[shortest] = Fraction(shortest, T * g.scales[group.index])
             tasks[t].slack = slack
             tasks[t].critical = shortest == 0  # T * scale > 0: the slack is 0 exactly then
 
@@ -483,11 +520,11 @@ def _circuit_weights_exact(s: np.ndarray, d: np.ndarray, holding: np.ndarray,
     s, d : numpy.ndarray of int
         Input and output event of each place of a group.
     holding, tokens : numpy.ndarray of int
-        Holding time (on the common scale) and initial tokens of each place.
+        Holding time (on the group's scale) and initial tokens of each place.
     X : numpy.ndarray of int
         Every event's potential (scaled by the group's ``T``).
     W, T : int
-        The group's cycle time ``W / T`` (on the common scale).
+        The group's cycle time ``W / T`` (on its scale).
     chains : list of list of int
         The events of each task's chain, in order.
 
@@ -522,7 +559,7 @@ def _circuit_weights_int64(s: np.ndarray, d: np.ndarray, holding: np.ndarray,
                            ) -> tuple[np.ndarray, list[int | None]] | None:
     """:func:`_circuit_weights_exact` in int64 arrays, None when a value may not fit.
 
-    Exact: every weight is an integer on the common scale, and the bound
+    Exact: every weight is an integer on the group's scale, and the bound
     below caps each reduced weight and each chain's sum of them (at most one
     place per event of the chain) under 2**63.
     """
@@ -579,7 +616,8 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
             group_regime[group.index] = len(regimes)
             events = g.events_of_group[group.index]
             # Type: a rate-consistent group has its period (both lines).
-            regimes.append(Regime(events, group.period.numerator,  # type: ignore[union-attr]
+            regimes.append(Regime(events, group.period.numerator  # type: ignore[union-attr]
+                                  * g.scales[group.index],
                                   group.period.denominator))  # type: ignore[union-attr]
     watches: list[OverrunWatch] = []
     watched: list[str] = []
@@ -592,7 +630,11 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         if clock is None or not groups[t.group].live:
             continue
         end, tick = activation_end(g.teg, name), g.teg.attrs["clocks"][clock]
-        last, offset = end.event, int(end.offset * g.scale)  # spec §4: a dater plus a constant
+        # spec §4: a dater plus a constant, on the group's scale (a multiple of the
+        # duration's denominator: the duration is the holding time of the place leaving
+        # T.compute), by integer arithmetic (a Fraction product costs a gcd a task).
+        last, o = end.event, end.offset
+        offset = o.numerator * (g.scales[t.group] // o.denominator) if o else 0
         if t.group in group_regime:
             watches.append(OverrunWatch(last, tick, group_regime[t.group], end_offset=offset))
         else:
@@ -604,8 +646,8 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
                 if key not in closure_regime:
                     closure_regime[key] = None if found is None else len(regimes)
                     if found is not None:
-                        regimes.append(Regime(found[0], period.numerator, period.denominator,
-                                              start=found[1]))
+                        regimes.append(Regime(found[0], period.numerator * g.scales[t.group],
+                                              period.denominator, start=found[1]))
                 proven = closure_regime[key]
             # Without a proven regime, only an overrun ends the search; it
             # must come when the task is slower than its clock.
@@ -616,7 +658,8 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
     if not regimes and not watches:
         return 0, notes
     sim = DaterSimulation(g.src, g.dst, g.tokens, g.holding, g.initial, g.n, periods.live_event)
-    steps = explore(sim, g.scale, regimes, watches, max_steps)
+    # Each regime's cycle time is given on its group's scale, as the daters are.
+    steps = explore(sim, 1, regimes, watches, max_steps)
     for index, r in group_regime.items():
         found = regimes[r]
         if found.transient is not None and found.cyclicity is not None:
@@ -663,7 +706,7 @@ def _closure(g: _EventGraph, ct: list[Fraction | None], local_graphs: dict[int, 
     up_local = np.array(sorted(seen), dtype=np.int64)
     found = autonomous_from(up_local, [ct[e] for e in events.tolist()], period, ls, ld,
                             g.tokens[places], g.holding[places], g.initial[places],
-                            g.scale, len(events), max_steps)
+                            g.scales[group], len(events), max_steps)
     upstream = events[up_local]
     if found is None:
         return upstream, None

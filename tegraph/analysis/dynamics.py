@@ -28,7 +28,7 @@ the (max,+) counterpart of the ORCCAD paper's search for a repeated marking
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
@@ -83,7 +83,7 @@ class DaterSimulation:
         self.active = active
         self.k = 0
         self.depth = int(tokens[keep].max(initial=0))
-        self.history: list[np.ndarray] = []
+        self.history: list[Any] = []  # x(k-depth+1) .. x(k): arrays, or lists (small graphs)
         marked = keep & (tokens > 0)
         order = np.argsort(dst[marked], kind="stable")
         self._m_src = src[marked][order]
@@ -93,16 +93,28 @@ class DaterSimulation:
         self._m_a = initial[marked][order]
         self._m_starts, self._m_targets = _segments(self._m_dst)
         free = keep & (tokens == 0)
-        self._levels, self._sequence = _levels(src[free], dst[free], holding[free], active)
+        self._levels, self._sequence = _levels(src[free], dst[free], holding[free], active,
+                                               thin=int(keep.sum()) <= _SMALL)
         # Events with no input place at all fire at time 0 (max over nothing
         # taken as the origin of time); a skeleton never has one.
         has_input = np.zeros(n_events, dtype=bool)
         has_input[dst[keep]] = True
         self._sourceless = active & ~has_input
+        # A small graph (a group's upstream closure: 500 of them at 10,000 tasks) is
+        # stepped in Python lists: numpy's fixed cost a call exceeds the work.
+        self._small: tuple | None = None
+        if self._sequence is not None and int(keep.sum()) <= _SMALL:
+            self._small = (np.flatnonzero(self._sourceless).tolist(),
+                           list(zip(self._m_dst.tolist(), self._m_src.tolist(),
+                                    self._m_tok.tolist(), self._m_h.tolist(),
+                                    self._m_a.tolist())))
+            self.history = []  # rows as lists
 
     def step(self) -> np.ndarray:
         """Compute and return ``x(k)`` for the next ``k`` (inactive events: a huge negative)."""
         self.k += 1
+        if self._small is not None:
+            return self._small_step()
         k = self.k
         x: np.ndarray = np.full(self.n_events, self.none, dtype=self.dtype)
         x[self._sourceless] = 0
@@ -137,6 +149,34 @@ class DaterSimulation:
             self._to_python_ints()
         return x
 
+    def _small_step(self) -> np.ndarray:
+        """:meth:`step` in Python lists: the same maxima of the same exact integers."""
+        assert self._small is not None and self._sequence is not None
+        k, history = self.k, self.history
+        sourceless, marked = self._small
+        xs = [self.none] * self.n_events
+        for e in sourceless:
+            xs[e] = 0
+        # The places with tokens, by output event (x(k - m) is history[-m]).
+        last = -1
+        for d, s, m, h, a in marked:
+            v = a if k <= m else history[-m][s] + h
+            if d != last:
+                xs[d], last = v, d
+            elif v > xs[d]:
+                xs[d] = v
+        for p_src, p_dst, p_h in zip(*self._sequence):
+            v = xs[p_src] + p_h
+            if v > xs[p_dst]:
+                xs[p_dst] = v
+        history.append(xs)
+        if len(history) > max(self.depth, 1):
+            history.pop(0)
+        x: np.ndarray = np.array(xs, dtype=self.dtype)
+        if self.dtype is not object and max(xs, default=0) > _INT64_ROOM:
+            self._to_python_ints()
+        return x
+
     def _to_python_ints(self) -> None:
         def widen(a: np.ndarray) -> np.ndarray:
             out = a.astype(object)
@@ -144,6 +184,10 @@ class DaterSimulation:
             return out
 
         self.dtype, self.none = object, _BIG_NONE
+        if self._small is not None:  # the rows are lists of Python ints already
+            self.history = [[_BIG_NONE if v == _NONE else v for v in row]
+                            for row in self.history]
+            return
         self.history = [widen(row) for row in self.history]
         self._m_h, self._m_a = self._m_h.astype(object), self._m_a.astype(object)
         self._levels = [(e, st, ps, ph.astype(object)) for e, st, ps, ph in self._levels]
@@ -165,12 +209,17 @@ thin (a long chain), levels cost more as numpy calls than places as Python."""
 _FEW = 256
 """Up to this many 0-token places, levels are found by :func:`_kahn_levels` at once."""
 
+_SMALL = 128
+"""Up to this many places, :class:`DaterSimulation` steps in Python lists."""
 
-def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.ndarray):
+
+def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.ndarray,
+            thin: bool = False):
     """Group 0-token places by the topological level of their output event.
 
-    Returns ``(levels, None)``, one numpy step per level, or, for a thin DAG,
-    ``([], (src, dst, holding))``: the places as lists in level order.
+    Returns ``(levels, None)``, one numpy step per level, or, for a thin DAG (or
+    when ``thin`` asks for it), ``([], (src, dst, holding))``: the places as lists
+    in level order.
     """
     n = len(active)
     order = np.argsort(src, kind="stable")
@@ -186,7 +235,7 @@ def _levels(src: np.ndarray, dst: np.ndarray, holding: np.ndarray, active: np.nd
     depth = int(level.max(initial=-1)) + 1
     out: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
     place_level = level[dst]
-    if len(dst) < _THIN * depth:
+    if thin or len(dst) < _THIN * depth:
         by_level = np.lexsort((dst, place_level))
         return out, (src[by_level].tolist(), dst[by_level].tolist(),
                      holding[by_level].tolist())

@@ -80,11 +80,13 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Literal, TypeAlias
+from typing import Any, Literal, NamedTuple, TypeAlias
+
+import numpy as np
 
 from ..errors import ModelError
-from .skeleton import Protocol, Skeleton, Task
-from .teg import TimedEventGraph
+from .skeleton import Protocol, Skeleton
+from .teg import TimeCodes, TimedEventGraph
 
 __all__ = [
     "PLACE_KINDS",
@@ -236,114 +238,277 @@ def build_teg(skeleton: Skeleton) -> TimedEventGraph:
     >>> [str(t) for t in g.simulate(3)["T.compute"]]
     ['1', '5', '9']
     """
-    tasks, clocks = skeleton.tasks, skeleton.clocks
     _check_references(skeleton)
-    merged = {link.reader: f"{link.writer[0]}.write:{link.writer[1]}"
-              for link in skeleton.links if link.protocol is Protocol.SYN_SYN}
-    chains = {name: _chain(t, merged) for name, t in tasks.items()}
     teg = TimedEventGraph(skeleton.name)
     teg.attrs["unit"] = skeleton.unit
-    _add_events(teg, skeleton, chains, merged)
-    places = _Places(teg, skeleton)
-    for c, clock in clocks.items():
-        places.add(f"{c}.tick", f"{c}.tick", HoldingSource("period", c), tokens=1,
-                   initial=clock.phase, kind="clock", origin={"clock": c})
-    for name, chain in chains.items():
-        _add_chain(places, tasks[name], [ev for ev, _ in chain])
-    _add_links(places, skeleton)
-    _add_threads(places, skeleton, chains)
-    places.into()
-    idx = teg.index
-    teg.attrs["chains"] = {t: tuple(idx(ev) for ev, _ in chain) for t, chain in chains.items()}
-    teg.attrs["compute"] = {t: idx(f"{t}.compute") for t in tasks}
-    teg.attrs["clocks"] = {c: idx(f"{c}.tick") for c in clocks}
+    events = _Events(skeleton)
+    teg.add_transitions(events.names, events.attrs)
+    places = _Places(skeleton, events)
+    teg.add_place_columns(places.src, places.dst, places.tokens,
+                          TimeCodes(places.holding_times, places.holding),
+                          TimeCodes(places.initial_times, places.initial), places.kind,
+                          places.origin)
+    tasks = skeleton.tasks
+    chains = events.chains
+    teg.attrs["chains"] = chains
+    teg.attrs["compute"] = events.compute
+    teg.attrs["clocks"] = {c: i for i, c in enumerate(skeleton.clocks)}
     teg.attrs["holding_source"] = tuple(places.sources)
     # The activation ends with the last event of the chain: the last write, or
     # T.compute without outputs, and then only when the computation ends (spec §4).
     teg.attrs["activation_end"] = {
-        t: ActivationEnd(idx(chain[-1][0]), not tasks[t].outputs,
-                         Fraction(0) if tasks[t].outputs else tasks[t].duration)
+        t: ActivationEnd(chain[-1], not tasks[t].outputs,
+                         _ZERO if tasks[t].outputs else tasks[t].duration)
         for t, chain in chains.items()}
     return teg
 
 
+class _Events:
+    """The events of the graph, numbered as the module docstring says, and their provenance.
+
+    Attributes
+    ----------
+    names : list of str
+    attrs : list of dict
+        ``teg.transition_attrs``, in event order.
+    chains : dict
+        Task -> tuple of its chain's event indices.
+    compute : dict
+        Task -> index of ``T.compute``.
+    """
+
+    def __init__(self, skeleton: Skeleton) -> None:
+        # A SYN/SYN read is the writer's event: one event on both chains (a rendezvous).
+        merged = {link.reader: f"{link.writer[0]}.write:{link.writer[1]}"
+                  for link in skeleton.links if link.protocol is Protocol.SYN_SYN}
+        writer = {merged[link.reader]: link.writer for link in skeleton.links
+                  if link.protocol is Protocol.SYN_SYN}
+        self.names = [f"{c}.tick" for c in skeleton.clocks]
+        self.attrs: list[dict[str, Any]] = [
+            {"role": "tick", "tasks": (), "ports": (), "clock": c} for c in skeleton.clocks]
+        self.index = {name: i for i, name in enumerate(self.names)}
+        self._ticks = len(self.names)
+        # A rendezvous' owners (file order) and ports (the writer's, then the readers'
+        # in file and port order), completed once every chain is known.
+        self._owners: dict[int, list[str]] = {}
+        self._ports: dict[int, list[tuple[str, str]]] = {}
+        self.chains: dict[str, tuple[int, ...]] = {}
+        self.compute: dict[str, int] = {}
+        for name, task in skeleton.tasks.items():
+            own = (name,)
+            chain = []
+            if task.clock is not None:
+                chain.append(self._new(f"{name}.activate", "activate", own, (), task.clock))
+            for q in task.inputs:
+                ev = merged.get((name, q))
+                chain.append(self._new(f"{name}.read:{q}", "read", own, ((name, q),), None)
+                             if ev is None else self._shared(ev, "read", name, (name, q)))
+            compute = self.compute[name] = self._new(f"{name}.compute", "compute", own, (), None)
+            chain.append(compute)
+            for p in task.outputs:
+                ev = f"{name}.write:{p}"
+                chain.append(self._shared(ev, "write", name, None) if ev in writer
+                             else self._new(ev, "write", own, ((name, p),), None))
+            self.chains[name] = tuple(chain)
+        for e, owners in self._owners.items():
+            ports = (writer[self.names[e]], *self._ports[e])
+            attrs = self.attrs[e]
+            attrs["tasks"], attrs["ports"] = tuple(owners), ports
+            if len(ports) > 1:
+                attrs["role"] = "rendezvous"
+
+    def _new(self, name: str, role: str, tasks: tuple[str, ...],
+             ports: tuple[tuple[str, str], ...], clock: str | None) -> int:
+        """A new event of one task's chain."""
+        e = self.index.setdefault(name, len(self.names))
+        if e < len(self.names):
+            self._met_again(name, e)
+            return e
+        self.names.append(name)
+        self.attrs.append({"role": role, "tasks": tasks, "ports": ports, "clock": clock})
+        return e
+
+    def _shared(self, name: str, role: str, task: str, port: tuple[str, str] | None) -> int:
+        """The event of a SYN/SYN link, made by the first task that meets it."""
+        e = self.index.get(name)
+        if e is None:
+            e = self._new(name, role, (), (), None)
+            self._owners[e], self._ports[e] = [], []
+        owners = self._owners[e]
+        if task not in owners:
+            owners.append(task)
+        if port is not None:
+            self._ports[e].append(port)
+        return e
+
+    def _met_again(self, name: str, e: int) -> None:
+        """An event name made twice: a clock's tick is refused as a duplicate event; a
+        task's event is that one event (names with ':', which validation refuses, can
+        name two events alike: the first one's attributes stay)."""
+        if e < self._ticks:
+            raise ModelError("duplicate event name", name)
+
+
 class _Places:
-    """Collects each place with the holding time its source gives, and records the source;
-    :meth:`into` adds them all to the graph at once (one call, not one a place)."""
+    """The places of the graph as columns, in the order of the module docstring, with
+    each one's holding source (:class:`HoldingSource`).
 
-    def __init__(self, teg: TimedEventGraph, skeleton: Skeleton) -> None:
-        self.teg, self.skeleton = teg, skeleton
-        self.rows: list[tuple[Any, ...]] = []
-        self.sources: list[HoldingSource] = []
+    Times are indices in ``holding_times`` (0, each clock's period, each task's
+    duration) and ``initial_times`` (0, each clock's phase). The tasks' places (most
+    of them: a chain place per event) are laid out by array arithmetic over all
+    chains at once, not one by one.
+    """
 
-    def add(self, src: str, dst: str, source: HoldingSource = _NO_PARAMETER, *,
-            tokens: int = 0, initial: Fraction = _ZERO, kind: str,
-            origin: dict) -> None:
-        self.rows.append((src, dst, tokens, source.value(self.skeleton), initial, kind, origin))
-        self.sources.append(source)
+    def __init__(self, skeleton: Skeleton, events: _Events) -> None:
+        clocks, tasks = skeleton.clocks, skeleton.tasks
+        n_clocks = len(clocks)
+        self.holding_times: list[Fraction] = [_ZERO, *(c.period for c in clocks.values()),
+                                              *(t.duration for t in tasks.values())]
+        self.initial_times: list[Fraction] = [_ZERO, *(c.phase for c in clocks.values())]
+        # The clocks' self-loops, one token each, available at the phase.
+        first_clock = np.arange(1, n_clocks + 1)
+        parts = [_Section(np.arange(n_clocks), np.arange(n_clocks), np.ones(n_clocks, np.int64),
+                          first_clock, first_clock, ["clock"] * n_clocks,
+                          [{"clock": c} for c in clocks],
+                          [HoldingSource("period", c) for c in clocks]),
+                 self._tasks(skeleton, events, n_clocks + 1),
+                 self._links(skeleton, events.index),
+                 self._threads(skeleton, events)]
+        self.src, self.dst, self.tokens, self.holding, self.initial = (
+            np.concatenate([getattr(part, f) for part in parts]).astype(np.int64)
+            for f in ("src", "dst", "tokens", "holding", "initial"))
+        self.kind = [k for part in parts for k in part.kind]
+        self.origin = [o for part in parts for o in part.origin]
+        self.sources = [h for part in parts for h in part.sources]
 
-    def into(self) -> None:
-        """Add the places collected, in order."""
-        self.teg.add_places(self.rows)
+    @staticmethod
+    def _tasks(skeleton: Skeleton, events: _Events, first_duration: int) -> _Section:
+        """Task by task: the activation place (clocked tasks), the chain places in
+        chain order, the return place (the last event back to the first, one token);
+        the place leaving ``T.compute`` holds ``duration(T)``."""
+        tasks = list(skeleton.tasks.values())
+        chains = list(events.chains.values())
+        n = len(tasks)
+        length = np.fromiter(map(len, chains), dtype=np.int64, count=n)
+        flat = np.fromiter(itertools.chain.from_iterable(chains), dtype=np.int64,
+                           count=int(length.sum()))
+        clocked = np.fromiter((t.clock is not None for t in tasks), dtype=bool, count=n)
+        reads = np.fromiter((len(t.inputs) for t in tasks), dtype=np.int64, count=n)
+        size = length + clocked  # places of each task
+        start = np.cumsum(size) - size  # its first place
+        first = np.cumsum(length) - length  # its first event in flat
+        total = int(size.sum())
+        src, dst = np.empty(total, np.int64), np.empty(total, np.int64)
+        kind = np.ones(total, np.int64)  # _TASK_KINDS
+        activation = start[clocked]
+        # Chain place j of a task leaves its j-th event for the next one, the last
+        # (the return place) for the first: every place but the activations, in order.
+        chain = np.ones(total, dtype=bool)
+        chain[activation] = False
+        chain_at = np.flatnonzero(chain)
+        following = np.arange(1, len(flat) + 1)
+        following[first + length - 1] = first
+        src[chain_at], dst[chain_at] = flat, flat[following]
+        returns = start + clocked + length - 1
+        tokens = np.zeros(total, np.int64)
+        tokens[returns], kind[returns] = 1, 2
+        tick = {c: i for i, c in enumerate(skeleton.clocks)}
+        src[activation] = np.fromiter((tick[t.clock] for t in tasks if t.clock is not None),
+                                      dtype=np.int64, count=len(activation))
+        dst[activation], kind[activation] = flat[first[clocked]], 0
+        # T.compute comes after the activation and the reads: the place leaving it.
+        leaving = start + clocked + clocked + reads
+        holding = np.zeros(total, np.int64)
+        holding[leaving] = first_duration + np.arange(n)
+        sources = np.full(total, _NO_PARAMETER, dtype=object)
+        sources[leaving] = _objects([HoldingSource("duration", t.name) for t in tasks])
+        # One origin for a task's chain and return places: origins are read-only
+        # (Place.origin), and a dict a place was 80 MB at 100,000 tasks.
+        origin = np.empty(total, dtype=object)
+        origin[chain_at] = np.repeat(_objects([{"task": t.name} for t in tasks]), length)
+        origin[activation] = _objects([{"clock": t.clock, "task": t.name}
+                                       for t in tasks if t.clock is not None])
+        return _Section(src, dst, tokens, holding, np.zeros(total, np.int64),
+                        _TASK_KINDS[kind].tolist(), origin.tolist(), sources.tolist())
 
-
-def _add_events(teg: TimedEventGraph, skeleton: Skeleton,
-                chains: dict[str, list[tuple[str, str]]], merged: dict[tuple[str, str], str]
-                ) -> None:
-    """The clocks' ticks, then each task's events in chain order, a rendezvous once
-    (with the ports it stands for: the writer's first, then the SYN/SYN readers)."""
-    tasks = skeleton.tasks
-    ports: dict[str, list[tuple[str, str]]] = {}
-    for t in tasks.values():
-        for p in t.outputs:
-            ports[f"{t.name}.write:{p}"] = [(t.name, p)]
-    for t in tasks.values():
-        for q in t.inputs:
-            ports.setdefault(merged.get((t.name, q), f"{t.name}.read:{q}"), []).append((t.name, q))
-    owners: dict[str, list[str]] = {}
-    for name, chain in chains.items():
-        for ev, _ in chain:
-            if name not in owners.setdefault(ev, []):
-                owners[ev].append(name)
-    for c in skeleton.clocks:
-        teg.add_transition(f"{c}.tick", role="tick", tasks=(), ports=(), clock=c)
-    made: set[str] = set()
-    for name, chain in chains.items():
-        for ev, role in chain:
-            if ev in made:  # a rendezvous, already made by an earlier task
+    @staticmethod
+    def _links(skeleton: Skeleton, index: dict[str, int]) -> _Section:
+        """The place of each ASYN/SYN and SYN/ASYN link (spec §2)."""
+        src, dst, kind, origin = [], [], [], []
+        for i, link in enumerate(skeleton.links):
+            w = f"{link.writer[0]}.write:{link.writer[1]}"
+            r = f"{link.reader[0]}.read:{link.reader[1]}"
+            if link.protocol is Protocol.ASYN_SYN:
+                src.append(_event(index, w, r, w))
+                dst.append(_event(index, w, r, r))
+                kind.append("asyn-syn")
+            elif link.protocol is Protocol.SYN_ASYN:
+                src.append(_event(index, r, w, r))
+                dst.append(_event(index, r, w, w))
+                kind.append("syn-asyn")
+            else:  # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
                 continue
-            made.add(ev)
-            if len(ports.get(ev, ())) > 1:
-                role = "rendezvous"
-            teg.add_transition(ev, role=role, tasks=tuple(owners[ev]),
-                               ports=tuple(ports.get(ev, ())),
-                               clock=tasks[name].clock if role == "activate" else None)
+            origin.append({"link": link.label, "link_index": i})
+        n = len(src)
+        zeros = np.zeros(n, np.int64)
+        return _Section(np.array(src, np.int64), np.array(dst, np.int64), zeros, zeros, zeros,
+                        kind, origin, [_NO_PARAMETER] * n)
+
+    @staticmethod
+    def _threads(skeleton: Skeleton, events: _Events) -> _Section:
+        """Each thread's places: one task's last event to the next one's first, the
+        return to the first task holding the token."""
+        chains, compute = events.chains, events.compute
+        first_duration = len(skeleton.clocks) + 1  # _Places.holding_times
+        duration = ({t: first_duration + k for k, t in enumerate(skeleton.tasks)}
+                    if skeleton.threads else {})
+        rows = []
+        for i, thread in enumerate(skeleton.threads):
+            for j, name in enumerate(thread):
+                nxt, last = thread[(j + 1) % len(thread)], j == len(thread) - 1
+                end = chains[name][-1]
+                leaves_compute = end == compute[name]
+                rows.append((end, chains[nxt][0], 1 if last else 0,
+                             duration[name] if leaves_compute else 0,
+                             "thread-return" if last else "thread",
+                             {"thread": i, "from": name, "to": nxt},
+                             HoldingSource("duration", name) if leaves_compute
+                             else _NO_PARAMETER))
+        src, dst, tokens, holding, kind, origin, sources = (
+            [list(column) for column in zip(*rows)] if rows else [[] for _ in range(7)])
+        return _Section(np.array(src, np.int64), np.array(dst, np.int64),
+                        np.array(tokens, np.int64), np.array(holding, np.int64),
+                        np.zeros(len(rows), np.int64), kind, origin, sources)
 
 
-def _add_links(places: _Places, skeleton: Skeleton) -> None:
-    """The place of each ASYN/SYN and SYN/ASYN link (spec §2)."""
-    for i, link in enumerate(skeleton.links):
-        w = f"{link.writer[0]}.write:{link.writer[1]}"
-        r = f"{link.reader[0]}.read:{link.reader[1]}"
-        origin = {"link": link.label, "link_index": i}
-        if link.protocol is Protocol.ASYN_SYN:
-            places.add(w, r, kind="asyn-syn", origin=origin)
-        elif link.protocol is Protocol.SYN_ASYN:
-            places.add(r, w, kind="syn-asyn", origin=origin)
-        # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
+class _Section(NamedTuple):
+    """Consecutive places as columns (:class:`_Places`)."""
+
+    src: np.ndarray
+    dst: np.ndarray
+    tokens: np.ndarray
+    holding: np.ndarray
+    initial: np.ndarray
+    kind: list[str]
+    origin: list[Any]
+    sources: list[HoldingSource]
 
 
-def _add_threads(places: _Places, skeleton: Skeleton,
-                 chains: dict[str, list[tuple[str, str]]]) -> None:
-    """Each thread's places: one task's last event to the next one's first, the
-    return to the first task holding the token."""
-    ends = {name: (chain[0][0], chain[-1][0]) for name, chain in chains.items()}
-    for i, thread in enumerate(skeleton.threads):
-        for j, name in enumerate(thread):
-            nxt, last = thread[(j + 1) % len(thread)], j == len(thread) - 1
-            places.add(ends[name][1], ends[nxt][0], _leaving(name, ends[name][1]),
-                       tokens=1 if last else 0, kind="thread-return" if last else "thread",
-                       origin={"thread": i, "from": name, "to": nxt})
+_TASK_KINDS = np.array(["activation", "chain", "return"], dtype=object)
+
+
+def _objects(values: list[Any]) -> np.ndarray:
+    """An object array of ``values`` (dicts and dataclasses kept as objects)."""
+    out = np.empty(len(values), dtype=object)
+    out[:] = values
+    return out
+
+
+def _event(index: dict[str, int], src: str, dst: str, name: str) -> int:
+    """The event called ``name``, an end of the place ``src -> dst``."""
+    if name not in index:
+        raise ModelError(f"unknown event {name!r}", f"place {src} -> {dst}")
+    return index[name]
 
 
 def _check_references(skeleton: Skeleton) -> None:
@@ -362,38 +527,6 @@ def _check_references(skeleton: Skeleton) -> None:
         for name in thread:
             if name not in tasks:
                 raise ModelError(f"unknown task {name!r}", f"threads[{i}]")
-
-
-def _chain(task: Task, merged: dict[tuple[str, str], str]) -> list[tuple[str, str]]:
-    """(event, role) of the chain of ``task``; a SYN/SYN read is the writer's event."""
-    t = task.name
-    chain = [(f"{t}.activate", "activate")] if task.clock is not None else []
-    chain += [(merged.get((t, q), f"{t}.read:{q}"), "read") for q in task.inputs]
-    chain.append((f"{t}.compute", "compute"))
-    chain += [(f"{t}.write:{p}", "write") for p in task.outputs]
-    return chain
-
-
-def _leaving(task: str, event: str) -> HoldingSource:
-    """The source of a place of ``task`` leaving ``event``: "the place that leaves
-    T.compute holds duration(T)" (spec §2), every other place of a chain 0."""
-    return HoldingSource("duration", task) if event == f"{task}.compute" else _NO_PARAMETER
-
-
-def _add_chain(places: _Places, task: Task, chain: list[str]) -> None:
-    """Activation place, chain places, return place; duration on the place leaving compute."""
-    t = task.name
-    if task.clock is not None:
-        places.add(f"{task.clock}.tick", chain[0], kind="activation",
-                   origin={"clock": task.clock, "task": t})
-    # One origin for the task's chain and return places: origins are read-only
-    # (Place.origin), and a dict a place was 80 MB at 100,000 tasks.
-    origin = {"task": t}
-    for a, b in itertools.pairwise(chain):
-        places.add(a, b, _leaving(t, a), kind="chain", origin=origin)
-    # The return place (a self-loop on T.compute when the chain is that one event).
-    places.add(chain[-1], chain[0], _leaving(t, chain[-1]), tokens=1, kind="return",
-               origin=origin)
 
 
 # ------------------------------------------------------------- chain helpers
