@@ -60,6 +60,11 @@ from scipy.sparse.csgraph import depth_first_order
 
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
 
+try:  # the compiled kernel (setup.py builds it where a C compiler is found)
+    from . import _howard_kernel
+except ImportError:  # pragma: no cover - no compiler: the numpy kernel alone
+    _howard_kernel = None
+
 __all__ = ["howard_arrays"]
 
 
@@ -163,6 +168,10 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     >>> (sol.ratio_num // sol.ratio_den).tolist(), sol.policy.tolist()
     ([4, 4], [1, 0])
     """
+    if _howard_kernel is not None and _fits_compiled_kernel(w, t, n, len(src)):
+        found = _howard_kernel.howard(src, dst, w, t, n, SWEEP_FEW, SCAN_MIN_SHARE)
+        if found is not None:  # None: a potential near 2**62, run in numpy (Python ints)
+            return HowardSolution(*found)
     arcs = _InArcs(src, dst, w, t, n)
     if w.dtype != object and t.dtype != object:
         try:
@@ -174,6 +183,19 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     except _Revisited:
         raise RuntimeError("internal error: policy iteration revisited a policy "
                            "(it would loop for ever); please report it") from None
+
+
+def _fits_compiled_kernel(w: np.ndarray, t: np.ndarray, n: int, m: int) -> bool:
+    """Whether :mod:`maxplus._howard_kernel` may run: int64 data within its bound.
+
+    The bound is the numpy kernel's own first one (``2 n max(|w|, t) < 2**62``):
+    beyond it both kernels leave int64 from the start, and the result is the
+    numpy kernel's in Python ints. Within it every circuit sum fits int64 and
+    every product of two ratios' terms fits the compiled kernel's 128 bits.
+    """
+    if w.dtype == object or t.dtype == object or n == 0 or max(n, m) >= 2**31:
+        return False
+    return 2 * n * max(abs_max(w), abs_max(t)) < INT64_SAFE
 
 
 class _LeavesInt64(Exception):

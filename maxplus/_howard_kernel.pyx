@@ -1,0 +1,585 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
+"""Howard's policy iteration in C: the iteration of :mod:`maxplus._small_howard`, compiled.
+
+:func:`howard` runs, step for step, the iteration that
+:func:`maxplus.policy_iteration.howard_arrays` runs on numpy arrays and
+:mod:`maxplus._small_howard` on Python lists: the same first policy (each
+node's first heaviest in-arc), the same value determination (a policy circuit
+is rooted at its smallest node, whose potential is kept when its ratio is),
+the same improvement (a ratio step to the first in-arc of largest strictly
+better ratio, passed downstream with the numpy sweep's order of visits and its
+"last write wins"; else a bias step to the first in-arc of largest value) and
+the same candidate nodes after a bias step. It returns the same ratios,
+potentials, policy and iteration count; the property tests of
+``tests/maxplus/test_howard_kernel.py`` check that equality against the numpy
+kernel on random graphs.
+
+As the list kernel, it values again only the nodes whose policy walk passes a
+switched node (the others reach the same circuit by the same path, and that
+circuit keeps its ratio and its root's potential), and after a bias step looks
+only at the nodes whose value changed and their successors: a late iteration
+costs what it changes, not ``O(n + m)``.
+
+Arithmetic is exact: weights, tokens, ratios and potentials are int64, every
+product and sum of them is formed in 128 bits, and a potential that would
+reach ``2**62`` in absolute value stops the run (:func:`howard` returns None
+and the caller runs the numpy kernel, which carries Python ints). The caller
+guarantees ``2 * n * max(|w|, t) < 2**62``, so circuit sums fit int64 and a
+cross-multiplication of two ratios fits 128 bits. A policy seen before (a
+128-bit digest of it) also returns None: by the termination proof of
+``howard_arrays`` it is a bug, which the numpy kernel then reports.
+"""
+
+from libc.stdint cimport int32_t, int64_t, uint64_t
+from libc.stdlib cimport qsort
+
+import numpy as np
+
+cdef extern from *:
+    """
+    typedef __int128 i128;
+    """
+    ctypedef long long i128
+
+cdef int64_t SAFE = (<int64_t>1) << 62
+
+ctypedef struct Raised:
+    int64_t W
+    int64_t T
+    int32_t order
+    int32_t node
+
+
+cdef int _by_ratio_down(const void *a, const void *b) noexcept nogil:
+    """Larger ratio first, then the earlier entry (a stable sort, as numpy's argsort)."""
+    cdef const Raised *x = <const Raised *>a
+    cdef const Raised *y = <const Raised *>b
+    cdef i128 lhs = <i128>x.W * y.T
+    cdef i128 rhs = <i128>y.W * x.T
+    if lhs > rhs:
+        return -1
+    if lhs < rhs:
+        return 1
+    return (x.order > y.order) - (x.order < y.order)
+
+
+cdef int _by_value(const void *a, const void *b) noexcept nogil:
+    cdef int32_t x = (<const int32_t *>a)[0]
+    cdef int32_t y = (<const int32_t *>b)[0]
+    return (x > y) - (x < y)
+
+
+cdef inline uint64_t _mix(uint64_t z) noexcept nogil:
+    """splitmix64's finaliser: a bijection of 64 bits that spreads every input bit."""
+    z = (z ^ (z >> 30)) * <uint64_t>0xBF58476D1CE4E5B9ULL
+    z = (z ^ (z >> 27)) * <uint64_t>0x94D049BB133111EBULL
+    return z ^ (z >> 31)
+
+
+cdef inline int64_t _gcd(int64_t a, int64_t b) noexcept nogil:
+    cdef int64_t r
+    if a < 0:
+        a = -a
+    while b:
+        r = a % b
+        a = b
+        b = r
+    return a
+
+
+cdef inline bint _below(int64_t W1, int64_t T1, int64_t W2, int64_t T2) noexcept nogil:
+    """W1/T1 < W2/T2 (T1, T2 > 0)."""
+    return <i128>W1 * T2 < <i128>W2 * T1
+
+
+cdef class _Run:
+    """The graph (in-arcs by head, out-arcs by tail), the policy, its values and scratch."""
+
+    cdef int32_t n, m
+    cdef int32_t sweep_few, scan_min_share
+    # In-arcs sorted stably by head: tail, head, weight, tokens, index in the caller's arrays.
+    cdef int32_t[::1] in_start, in_src, in_dst, in_arc
+    cdef int64_t[::1] in_w, in_t
+    # The same positions grouped by tail (increasing within a tail), and their heads.
+    cdef int32_t[::1] out_start, out_pos, out_dst
+    cdef int32_t[::1] pol
+    cdef int64_t[::1] W, T, X
+    cdef bint has_prev
+    # Policy children as doubly linked lists: first child, next and previous sibling.
+    cdef int32_t[::1] child, sib_next, sib_prev
+    cdef signed char[::1] state
+    cdef int32_t[::1] path, stamp, mark, done, saved_at
+    cdef int32_t stamp_now, mark_now, done_now, saved_now
+    # Lists, each with its length: changed nodes, candidates, affected nodes.
+    cdef int32_t[::1] changed, cand, affected, level, nxt, kept, rec_node, rec_old
+    cdef int32_t n_changed, n_cand, n_affected, n_rec
+    cdef int64_t[::1] save_W, save_T
+    cdef int32_t[::1] save_node
+    cdef int32_t n_save
+    cdef int32_t[::1] bias_node, bias_pos
+    cdef uint64_t h1, h2
+
+    def __init__(self, src, dst, w, t, int n, int sweep_few, int scan_min_share):
+        cdef int32_t m = len(src)
+        self.n, self.m = n, m
+        self.sweep_few, self.scan_min_share = sweep_few, scan_min_share
+        i32 = np.int32
+        cdef const int32_t[::1] s = np.ascontiguousarray(src, dtype=i32)
+        cdef const int32_t[::1] d = np.ascontiguousarray(dst, dtype=i32)
+        cdef const int64_t[::1] ww = np.ascontiguousarray(w, dtype=np.int64)
+        cdef const int64_t[::1] tt = np.ascontiguousarray(t, dtype=np.int64)
+        self.in_start = np.zeros(n + 1, dtype=i32)
+        self.in_src = np.empty(m, dtype=i32)
+        self.in_dst = np.empty(m, dtype=i32)
+        self.in_arc = np.empty(m, dtype=i32)
+        self.in_w = np.empty(m, dtype=np.int64)
+        self.in_t = np.empty(m, dtype=np.int64)
+        self.out_start = np.zeros(n + 1, dtype=i32)
+        self.out_pos = np.empty(m, dtype=i32)
+        self.out_dst = np.empty(m, dtype=i32)
+        cdef int32_t[::1] fill = np.empty(n + 1, dtype=i32)
+        cdef int32_t a, p, v
+        with nogil:
+            # Counting sorts, stable: by head (the numpy kernel's order), then by tail.
+            for a in range(m):
+                self.in_start[d[a] + 1] += 1
+            for v in range(n):
+                self.in_start[v + 1] += self.in_start[v]
+            for v in range(n + 1):
+                fill[v] = self.in_start[v]
+            for a in range(m):
+                p = fill[d[a]]
+                fill[d[a]] = p + 1
+                self.in_src[p], self.in_dst[p], self.in_arc[p] = s[a], d[a], a
+                self.in_w[p], self.in_t[p] = ww[a], tt[a]
+            for p in range(m):
+                self.out_start[self.in_src[p] + 1] += 1
+            for v in range(n):
+                self.out_start[v + 1] += self.out_start[v]
+            for v in range(n + 1):
+                fill[v] = self.out_start[v]
+            for p in range(m):
+                a = fill[self.in_src[p]]
+                fill[self.in_src[p]] = a + 1
+                self.out_pos[a], self.out_dst[a] = p, self.in_dst[p]
+        self.pol = np.empty(n, dtype=i32)
+        self.W = np.zeros(n, dtype=np.int64)
+        self.T = np.zeros(n, dtype=np.int64)
+        self.X = np.zeros(n, dtype=np.int64)
+        self.child = np.full(n, -1, dtype=i32)
+        self.sib_next = np.full(n, -1, dtype=i32)
+        self.sib_prev = np.full(n, -1, dtype=i32)
+        self.state = np.zeros(n, dtype=np.int8)
+        self.path = np.empty(2 * n + 1, dtype=i32)
+        self.changed = np.empty(2 * n + 1, dtype=i32)
+        self.cand = np.empty(2 * n + 1, dtype=i32)
+        self.affected = np.empty(2 * n + 1, dtype=i32)
+        self.level = np.empty(2 * n + 1, dtype=i32)
+        self.nxt = np.empty(2 * n + 1, dtype=i32)
+        self.rec_node = np.empty(2 * n + 1, dtype=i32)
+        self.rec_old = np.empty(2 * n + 1, dtype=i32)
+        self.save_node = np.empty(2 * n + 1, dtype=i32)
+        self.bias_node = np.empty(2 * n + 1, dtype=i32)
+        self.bias_pos = np.empty(2 * n + 1, dtype=i32)
+        self.kept = np.empty(m + 1, dtype=i32)
+        self.save_W = np.empty(2 * n + 1, dtype=np.int64)
+        self.save_T = np.empty(2 * n + 1, dtype=np.int64)
+        self.stamp = np.zeros(n, dtype=i32)
+        self.mark = np.zeros(n, dtype=i32)
+        self.done = np.zeros(n, dtype=i32)
+        self.saved_at = np.zeros(n, dtype=i32)
+        self.stamp_now = self.mark_now = self.done_now = self.saved_now = 0
+        self.has_prev = False
+
+    # ------------------------------------------------------------------ policy bookkeeping
+
+    cdef void _first_policy(self) noexcept nogil:
+        """Each node's first heaviest in-arc; the policy children and the digest."""
+        cdef int32_t v, p, best
+        self.h1 = self.h2 = 0
+        for v in range(self.n):
+            best = self.in_start[v]
+            for p in range(self.in_start[v], self.in_start[v + 1]):
+                if self.in_w[p] > self.in_w[best]:
+                    best = p
+            self.pol[v] = best
+            self._adopt(v)
+            self._digest(v, best, 1)
+
+    cdef inline void _digest(self, int32_t v, int32_t p, int sign) noexcept nogil:
+        """Add (sign 1) or remove (-1) the term of ``pol[v] == p`` in the two linear digests."""
+        cdef uint64_t key = (<uint64_t>v << 32) | <uint64_t>p
+        cdef uint64_t a = _mix(key ^ <uint64_t>0x6D617870ULL)
+        cdef uint64_t b = _mix(key + <uint64_t>0x9E3779B97F4A7C15ULL)
+        if sign > 0:
+            self.h1 += a
+            self.h2 += b
+        else:
+            self.h1 -= a
+            self.h2 -= b
+
+    cdef inline void _adopt(self, int32_t v) noexcept nogil:
+        """Link ``v`` under the tail of its policy arc."""
+        cdef int32_t u = self.in_src[self.pol[v]]
+        cdef int32_t first = self.child[u]
+        self.sib_prev[v] = -1
+        self.sib_next[v] = first
+        if first >= 0:
+            self.sib_prev[first] = v
+        self.child[u] = v
+
+    cdef inline void _orphan(self, int32_t v, int32_t old_pos) noexcept nogil:
+        """Unlink ``v`` from the tail of its former policy arc ``old_pos``."""
+        cdef int32_t u = self.in_src[old_pos]
+        cdef int32_t prv = self.sib_prev[v], nx = self.sib_next[v]
+        if prv >= 0:
+            self.sib_next[prv] = nx
+        else:
+            self.child[u] = nx
+        if nx >= 0:
+            self.sib_prev[nx] = prv
+
+    cdef inline void _switch(self, int32_t v, int32_t p) noexcept nogil:
+        """``pol[v] = p``, remembering the policy ``v`` had before this step."""
+        if self.saved_at[v] != self.saved_now:
+            self.saved_at[v] = self.saved_now
+            self.rec_node[self.n_rec] = v
+            self.rec_old[self.n_rec] = self.pol[v]
+            self.n_rec += 1
+        self.pol[v] = p
+
+    cdef void _settle(self) noexcept nogil:
+        """After a step: relink switched nodes, update the digest, list the affected nodes.
+
+        The affected nodes are the switched ones and everything below them in
+        the new policy's trees: the nodes whose policy walk passes a switch.
+        """
+        cdef int32_t k, v, old, c, head = 0
+        self.stamp_now += 1
+        self.n_affected = 0
+        for k in range(self.n_rec):
+            v, old = self.rec_node[k], self.rec_old[k]
+            if self.pol[v] == old:
+                continue
+            self._orphan(v, old)
+            self._adopt(v)
+            self._digest(v, old, -1)
+            self._digest(v, self.pol[v], 1)
+            if self.stamp[v] != self.stamp_now:
+                self.stamp[v] = self.stamp_now
+                self.affected[self.n_affected] = v
+                self.n_affected += 1
+        while head < self.n_affected:  # grows while it is walked
+            c = self.child[self.affected[head]]
+            head += 1
+            while c >= 0:
+                if self.stamp[c] != self.stamp_now:
+                    self.stamp[c] = self.stamp_now
+                    self.affected[self.n_affected] = c
+                    self.n_affected += 1
+                c = self.sib_next[c]
+
+    # ------------------------------------------------------------------ value determination
+
+    cdef inline void _set(self, int32_t x, int64_t W, int64_t T, int64_t X) noexcept nogil:
+        if self.has_prev and (self.W[x] != W or self.T[x] != T or self.X[x] != X):
+            self.changed[self.n_changed] = x
+            self.n_changed += 1
+        self.W[x], self.T[x], self.X[x] = W, T, X
+        self.state[x] = 2
+
+    cdef int _values(self, bint every) noexcept nogil:
+        """Ratio and potential of every node (or of the affected ones); -1 past 2**62."""
+        cdef int32_t k, count, v, u, plen, start, i, x, p, r
+        cdef int64_t Wc, Tc, g, x_root
+        cdef i128 acc
+        count = self.n if every else self.n_affected
+        for k in range(count):
+            self.state[k if every else self.affected[k]] = 0
+        self.n_changed = 0
+        for k in range(count):
+            v = k if every else self.affected[k]
+            if self.state[v]:
+                continue
+            plen = 0
+            u = v
+            while self.state[u] == 0:  # backwards along the policy
+                self.state[u] = 1
+                self.path[plen] = u
+                plen += 1
+                u = self.in_src[self.pol[u]]
+            if self.state[u] == 1:
+                # The walk closed a circuit: path[start:], backwards from u.
+                start = plen - 1
+                while self.path[start] != u:
+                    start -= 1
+                Wc = Tc = 0
+                r = start
+                for i in range(start, plen):
+                    x = self.path[i]
+                    Wc += self.in_w[self.pol[x]]
+                    Tc += self.in_t[self.pol[x]]
+                    if x < self.path[r]:
+                        r = i
+                if Tc <= 0:
+                    return -1  # a token-free circuit: refused by the caller, never here
+                g = _gcd(Wc, Tc)
+                Wc, Tc = Wc // g, Tc // g
+                x = self.path[r]  # the root: its smallest node
+                # Its potential is kept when its ratio is (Cochet-Terrasson et al.).
+                x_root = (self.X[x] if self.has_prev and self.W[x] == Wc and self.T[x] == Tc
+                          else 0)
+                self._set(x, Wc, Tc, x_root)
+                acc = x_root
+                # Forwards from the root: positions r-1 down to start, then plen-1 down to r+1.
+                i = r
+                while True:
+                    i = i - 1 if i > start else plen - 1
+                    if i == r:
+                        break
+                    x = self.path[i]
+                    p = self.pol[x]
+                    acc += <i128>self.in_w[p] * Tc - <i128>Wc * self.in_t[p]
+                    if acc >= SAFE or acc <= -SAFE:
+                        return -1
+                    self._set(x, Wc, Tc, <int64_t>acc)
+                plen = start
+            # The rest of the walk reaches u's circuit: its ratio, potentials tight from u's.
+            Wc, Tc = self.W[u], self.T[u]
+            acc = self.X[u]
+            for i in range(plen - 1, -1, -1):
+                x = self.path[i]
+                p = self.pol[x]
+                acc += <i128>self.in_w[p] * Tc - <i128>Wc * self.in_t[p]
+                if acc >= SAFE or acc <= -SAFE:
+                    return -1
+                self._set(x, Wc, Tc, <int64_t>acc)
+        self.has_prev = True
+        return 0
+
+    cdef void _touched(self) noexcept nogil:
+        """Candidates after a bias step: changed nodes and the heads of their out-arcs.
+
+        ``n_cand = -1`` for all nodes (when many changed), as the numpy kernel's
+        candidate arcs (``changed[src] | changed[dst]``).
+        """
+        cdef int32_t k, u, q, v
+        if 8 * <int64_t>self.n_changed >= self.n:
+            self.n_cand = -1
+            return
+        self.mark_now += 1
+        self.n_cand = 0
+        for k in range(self.n_changed):
+            u = self.changed[k]
+            if self.mark[u] != self.mark_now:
+                self.mark[u] = self.mark_now
+                self.cand[self.n_cand] = u
+                self.n_cand += 1
+            for q in range(self.out_start[u], self.out_start[u + 1]):
+                v = self.out_dst[q]
+                if self.mark[v] != self.mark_now:
+                    self.mark[v] = self.mark_now
+                    self.cand[self.n_cand] = v
+                    self.n_cand += 1
+        if 16 * <int64_t>self.n_cand > self.n:  # sorted by a pass over the nodes
+            self.n_cand = 0
+            for v in range(self.n):
+                if self.mark[v] == self.mark_now:
+                    self.cand[self.n_cand] = v
+                    self.n_cand += 1
+        else:
+            qsort(&self.cand[0], self.n_cand, sizeof(int32_t), _by_value)
+
+    # ------------------------------------------------------------------ policy improvement
+
+    cdef int _improve(self, bint every, Raised *front) noexcept nogil:
+        """One improvement at the candidates (or every node): 0 none, 1 ratio, 2 bias."""
+        cdef int32_t count = self.n if every else self.n_cand
+        cdef int32_t k, v, p, s, better, bias, n_front = 0, n_bias = 0
+        cdef int64_t Wv, Tv, bW, bT, Ws, Ts
+        cdef i128 best, value
+        for k in range(count):
+            v = k if every else self.cand[k]
+            Wv, Tv = self.W[v], self.T[v]
+            bW, bT = Wv, Tv
+            best = self.X[v]
+            better = bias = -1
+            for p in range(self.in_start[v], self.in_start[v + 1]):
+                s = self.in_src[p]
+                Ws, Ts = self.W[s], self.T[s]
+                if Ws == Wv and Ts == Tv:  # reduced fractions: the same ratio
+                    if n_front == 0 and better < 0:  # a bias step is still possible
+                        value = (<i128>self.X[s] + <i128>self.in_w[p] * Tv
+                                 - <i128>Wv * self.in_t[p])
+                        if value > best:
+                            best, bias = value, p
+                elif <i128>Ws * bT > <i128>bW * Ts:  # the first arc of largest ratio
+                    better, bW, bT = p, Ws, Ts
+            if better >= 0:
+                front[n_front].W, front[n_front].T = bW, bT
+                front[n_front].order, front[n_front].node = n_front, v
+                self.bias_pos[n_front] = better
+                n_front += 1
+            elif n_front == 0 and bias >= 0:
+                self.bias_node[n_bias], self.bias_pos[n_bias] = v, bias
+                n_bias += 1
+        self.saved_now += 1
+        self.n_rec = 0
+        if n_front:
+            self._ratio_step(front, n_front)
+            return 1
+        for k in range(n_bias):
+            self._switch(self.bias_node[k], self.bias_pos[k])
+        return 2 if n_bias else 0
+
+    cdef inline void _raise_to(self, int32_t v, int64_t W, int64_t T) noexcept nogil:
+        """Give ``v`` a ratio for the sweep, remembering its value (restored after)."""
+        self.save_node[self.n_save] = v
+        self.save_W[self.n_save], self.save_T[self.n_save] = self.W[v], self.T[v]
+        self.n_save += 1
+        self.W[v], self.T[v] = W, T
+
+    cdef void _ratio_step(self, Raised *front, int32_t n_front) noexcept nogil:
+        """Switch the frontier to its better arcs and pass the ratios downstream.
+
+        numpy's ``_sweep_downstream``: the frontier by decreasing ratio (stable),
+        in groups of equal ratio; from each, breadth first, a node switches to
+        an out-arc of the round whose head has a smaller ratio, the last such
+        arc visited winning; the arcs of a round are visited by tail in the
+        round's order, or, for a round of many nodes, by head (the numpy
+        sweep's scan of all arcs); the next round is the raised nodes in the
+        order of their winning arcs.
+        """
+        cdef int32_t k, i, j, v, n_level, n_next, n_kept, q, p, h, u
+        cdef int64_t topW, topT
+        self.n_save = 0
+        for k in range(n_front):  # all chosen first, then written (ratios read before)
+            self._switch(front[k].node, self.bias_pos[k])
+        for k in range(n_front):
+            self._raise_to(front[k].node, front[k].W, front[k].T)
+        qsort(front, n_front, sizeof(Raised), _by_ratio_down)
+        self.done_now += 1
+        i = 0
+        while i < n_front:
+            j = i
+            n_level = 0
+            while j < n_front and front[j].W == front[i].W and front[j].T == front[i].T:
+                v = front[j].node
+                if self.done[v] != self.done_now:
+                    self.level[n_level] = v
+                    n_level += 1
+                j += 1
+            i = j
+            if n_level == 0:
+                continue
+            topW, topT = self.W[self.level[0]], self.T[self.level[0]]
+            for k in range(n_level):
+                self.done[self.level[k]] = self.done_now
+            while n_level:
+                n_kept = 0
+                if (n_level > self.sweep_few
+                        and <int64_t>n_level * self.scan_min_share > self.n):
+                    self.mark_now += 1
+                    for k in range(n_level):
+                        self.mark[self.level[k]] = self.mark_now
+                    for p in range(self.m):
+                        if self.mark[self.in_src[p]] == self.mark_now:
+                            h = self.in_dst[p]
+                            if _below(self.W[h], self.T[h], topW, topT):
+                                self.kept[n_kept] = p
+                                n_kept += 1
+                else:
+                    for k in range(n_level):
+                        u = self.level[k]
+                        for q in range(self.out_start[u], self.out_start[u + 1]):
+                            h = self.out_dst[q]
+                            if _below(self.W[h], self.T[h], topW, topT):
+                                self.kept[n_kept] = self.out_pos[q]
+                                n_kept += 1
+                for k in range(n_kept):
+                    p = self.kept[k]
+                    self._switch(self.in_dst[p], p)
+                n_next = 0
+                for k in range(n_kept):
+                    p = self.kept[k]
+                    h = self.in_dst[p]
+                    if self.pol[h] == p:
+                        self.nxt[n_next] = h
+                        n_next += 1
+                for k in range(n_next):
+                    h = self.nxt[k]
+                    self._raise_to(h, topW, topT)
+                    self.done[h] = self.done_now
+                    self.level[k] = h
+                n_level = n_next
+        for k in range(self.n_save - 1, -1, -1):  # the values of this determination again
+            v = self.save_node[k]
+            self.W[v], self.T[v] = self.save_W[k], self.save_T[k]
+
+    # ------------------------------------------------------------------ the iteration
+
+    def solve(self):
+        """Run the iteration; ``(W, T, X, policy, iterations)`` or None (see the module)."""
+        cdef int step, iterations = 0
+        cdef bint check_all = True, every = True
+        front_array = np.empty(max(1, self.n) * sizeof(Raised), dtype=np.uint8)
+        cdef unsigned char[::1] front_bytes = front_array
+        cdef Raised *front = <Raised *>&front_bytes[0]
+        seen = set()
+        with nogil:
+            self._first_policy()
+        seen.add((self.h1, self.h2))
+        while True:
+            with nogil:
+                if self._values(every) < 0:
+                    step = -1
+                else:
+                    iterations += 1
+                    self.n_cand = -1
+                    if not check_all:
+                        self._touched()
+                    step = self._improve(self.n_cand < 0, front)
+                    if step == 0 and self.n_cand >= 0:
+                        step = self._improve(True, front)  # the last word checks every node
+                    if step > 0:
+                        self._settle()
+            if step < 0:
+                return None
+            if step == 0:
+                arcs = np.asarray(self.in_arc)
+                return (np.asarray(self.W), np.asarray(self.T), np.asarray(self.X),
+                        arcs[np.asarray(self.pol)].astype(np.int64), iterations)
+            key = (self.h1, self.h2)
+            if key in seen:  # impossible by the termination proof: a bug
+                return None
+            seen.add(key)
+            # After a ratio step, gains were not examined: check every node next.
+            check_all = step == 1
+            every = False
+
+
+def howard(src, dst, w, t, int n, int sweep_few, int scan_min_share):
+    """Howard's iteration in C on a graph whose every node has an in-arc.
+
+    Parameters
+    ----------
+    src, dst : numpy.ndarray of int
+        Arcs (fewer than ``2**31`` arcs and nodes).
+    w, t : numpy.ndarray of int64
+        Weights and tokens with ``2 * n * max(|w|, t) < 2**62``, no token-free circuit.
+    n : int
+        Number of nodes.
+    sweep_few, scan_min_share : int
+        The numpy sweep's thresholds (``maxplus.policy_iteration.SWEEP_FEW`` and
+        ``SCAN_MIN_SHARE``), which decide the order of its visits.
+
+    Returns
+    -------
+    tuple or None
+        ``(W, T, X, policy, iterations)`` as
+        :class:`maxplus.policy_iteration.HowardSolution`, or None where a
+        potential would reach ``2**62`` (or a policy repeated): run the numpy kernel.
+    """
+    if n == 0:
+        return None
+    return _Run(src, dst, w, t, n, sweep_few, scan_min_share).solve()
