@@ -52,6 +52,7 @@ References
 from __future__ import annotations
 
 from functools import cmp_to_key
+from types import ModuleType
 from typing import Any, Literal, NamedTuple, TypeAlias
 
 import numpy as np
@@ -60,6 +61,7 @@ from scipy.sparse.csgraph import depth_first_order
 
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
 
+_howard_kernel: ModuleType | None
 try:  # the compiled kernel (setup.py builds it where a C compiler is found)
     from . import _howard_kernel
 except ImportError:  # pragma: no cover - no compiler: the numpy kernel alone
