@@ -43,6 +43,22 @@ cdef extern from *:
 
 cdef int64_t SAFE = (<int64_t>1) << 62
 
+ctypedef struct Arc:
+    # An in-arc, in the order by head: what the improvement reads, in one place.
+    int64_t w
+    int64_t t
+    int32_t src
+    int32_t arc  # its index in the caller's arrays
+
+ctypedef struct Val:
+    # A node's ratio W/T (reduced) and potential X: read together for every arc's tail.
+    int64_t W
+    int64_t T
+    int64_t X
+
+ARC = np.dtype([("w", np.int64), ("t", np.int64), ("src", np.int32), ("arc", np.int32)])
+VAL = np.dtype([("W", np.int64), ("T", np.int64), ("X", np.int64)])
+
 ctypedef struct Raised:
     int64_t W
     int64_t T
@@ -97,13 +113,15 @@ cdef class _Run:
 
     cdef int32_t n, m
     cdef int32_t sweep_few, scan_min_share
-    # In-arcs sorted stably by head: tail, head, weight, tokens, index in the caller's arrays.
-    cdef int32_t[::1] in_start, in_src, in_dst, in_arc
-    cdef int64_t[::1] in_w, in_t
-    # The same positions grouped by tail (increasing within a tail), and their heads.
+    # In-arcs sorted stably by head, and where each head's start.
+    cdef int32_t[::1] in_start
+    cdef Arc[::1] arcs
+    # The same positions grouped by tail (increasing within a tail), and their heads;
+    # built when first needed (a sweep, candidates after a bias step).
     cdef int32_t[::1] out_start, out_pos, out_dst
+    cdef bint has_out
     cdef int32_t[::1] pol
-    cdef int64_t[::1] W, T, X
+    cdef Val[::1] val
     cdef bint has_prev
     # Policy children as doubly linked lists: first child, next and previous sibling.
     cdef int32_t[::1] child, sib_next, sib_prev
@@ -111,7 +129,7 @@ cdef class _Run:
     cdef int32_t[::1] path, stamp, mark, done, saved_at
     cdef int32_t stamp_now, mark_now, done_now, saved_now
     # Lists, each with its length: changed nodes, candidates, affected nodes.
-    cdef int32_t[::1] changed, cand, affected, level, nxt, kept, rec_node, rec_old
+    cdef int32_t[::1] changed, cand, affected, level, nxt, kept, kept_head, rec_node, rec_old
     cdef int32_t n_changed, n_cand, n_affected, n_rec
     cdef int64_t[::1] save_W, save_T
     cdef int32_t[::1] save_node
@@ -129,18 +147,12 @@ cdef class _Run:
         cdef const int64_t[::1] ww = np.ascontiguousarray(w, dtype=np.int64)
         cdef const int64_t[::1] tt = np.ascontiguousarray(t, dtype=np.int64)
         self.in_start = np.zeros(n + 1, dtype=i32)
-        self.in_src = np.empty(m, dtype=i32)
-        self.in_dst = np.empty(m, dtype=i32)
-        self.in_arc = np.empty(m, dtype=i32)
-        self.in_w = np.empty(m, dtype=np.int64)
-        self.in_t = np.empty(m, dtype=np.int64)
-        self.out_start = np.zeros(n + 1, dtype=i32)
-        self.out_pos = np.empty(m, dtype=i32)
-        self.out_dst = np.empty(m, dtype=i32)
+        self.arcs = np.empty(m, dtype=ARC)
         cdef int32_t[::1] fill = np.empty(n + 1, dtype=i32)
         cdef int32_t a, p, v
+        cdef Arc *arc
         with nogil:
-            # Counting sorts, stable: by head (the numpy kernel's order), then by tail.
+            # A counting sort, stable: by head, the numpy kernel's order.
             for a in range(m):
                 self.in_start[d[a] + 1] += 1
             for v in range(n):
@@ -150,22 +162,11 @@ cdef class _Run:
             for a in range(m):
                 p = fill[d[a]]
                 fill[d[a]] = p + 1
-                self.in_src[p], self.in_dst[p], self.in_arc[p] = s[a], d[a], a
-                self.in_w[p], self.in_t[p] = ww[a], tt[a]
-            for p in range(m):
-                self.out_start[self.in_src[p] + 1] += 1
-            for v in range(n):
-                self.out_start[v + 1] += self.out_start[v]
-            for v in range(n + 1):
-                fill[v] = self.out_start[v]
-            for p in range(m):
-                a = fill[self.in_src[p]]
-                fill[self.in_src[p]] = a + 1
-                self.out_pos[a], self.out_dst[a] = p, self.in_dst[p]
+                arc = &self.arcs[p]
+                arc.w, arc.t, arc.src, arc.arc = ww[a], tt[a], s[a], a
+        self.has_out = False
         self.pol = np.empty(n, dtype=i32)
-        self.W = np.zeros(n, dtype=np.int64)
-        self.T = np.zeros(n, dtype=np.int64)
-        self.X = np.zeros(n, dtype=np.int64)
+        self.val = np.zeros(n, dtype=VAL)
         self.child = np.full(n, -1, dtype=i32)
         self.sib_next = np.full(n, -1, dtype=i32)
         self.sib_prev = np.full(n, -1, dtype=i32)
@@ -182,6 +183,7 @@ cdef class _Run:
         self.bias_node = np.empty(2 * n + 1, dtype=i32)
         self.bias_pos = np.empty(2 * n + 1, dtype=i32)
         self.kept = np.empty(m + 1, dtype=i32)
+        self.kept_head = np.empty(m + 1, dtype=i32)
         self.save_W = np.empty(2 * n + 1, dtype=np.int64)
         self.save_T = np.empty(2 * n + 1, dtype=np.int64)
         self.stamp = np.zeros(n, dtype=i32)
@@ -190,6 +192,33 @@ cdef class _Run:
         self.saved_at = np.zeros(n, dtype=i32)
         self.stamp_now = self.mark_now = self.done_now = self.saved_now = 0
         self.has_prev = False
+
+    cdef void _ensure_out(self) noexcept nogil:
+        """Build the out-arcs on first use (:meth:`_build_out`)."""
+        if not self.has_out:
+            with gil:
+                self._build_out()
+
+    cdef void _build_out(self):
+        """The out-arcs: the positions of the in-arcs grouped by tail (a stable counting sort)."""
+        cdef int32_t n = self.n, m = self.m, p, q, v, h
+        self.out_start = np.zeros(n + 1, dtype=np.int32)
+        self.out_pos = np.empty(m, dtype=np.int32)
+        self.out_dst = np.empty(m, dtype=np.int32)
+        cdef int32_t[::1] fill = np.empty(n + 1, dtype=np.int32)
+        with nogil:
+            for p in range(m):
+                self.out_start[self.arcs[p].src + 1] += 1
+            for v in range(n):
+                self.out_start[v + 1] += self.out_start[v]
+            for v in range(n + 1):
+                fill[v] = self.out_start[v]
+            for h in range(n):
+                for p in range(self.in_start[h], self.in_start[h + 1]):
+                    q = fill[self.arcs[p].src]
+                    fill[self.arcs[p].src] = q + 1
+                    self.out_pos[q], self.out_dst[q] = p, h
+        self.has_out = True
 
     # ------------------------------------------------------------------ policy bookkeeping
 
@@ -200,7 +229,7 @@ cdef class _Run:
         for v in range(self.n):
             best = self.in_start[v]
             for p in range(self.in_start[v], self.in_start[v + 1]):
-                if self.in_w[p] > self.in_w[best]:
+                if self.arcs[p].w > self.arcs[best].w:
                     best = p
             self.pol[v] = best
             self._adopt(v)
@@ -220,7 +249,7 @@ cdef class _Run:
 
     cdef inline void _adopt(self, int32_t v) noexcept nogil:
         """Link ``v`` under the tail of its policy arc."""
-        cdef int32_t u = self.in_src[self.pol[v]]
+        cdef int32_t u = self.arcs[self.pol[v]].src
         cdef int32_t first = self.child[u]
         self.sib_prev[v] = -1
         self.sib_next[v] = first
@@ -230,7 +259,7 @@ cdef class _Run:
 
     cdef inline void _orphan(self, int32_t v, int32_t old_pos) noexcept nogil:
         """Unlink ``v`` from the tail of its former policy arc ``old_pos``."""
-        cdef int32_t u = self.in_src[old_pos]
+        cdef int32_t u = self.arcs[old_pos].src
         cdef int32_t prv = self.sib_prev[v], nx = self.sib_next[v]
         if prv >= 0:
             self.sib_next[prv] = nx
@@ -282,10 +311,11 @@ cdef class _Run:
     # ------------------------------------------------------------------ value determination
 
     cdef inline void _set(self, int32_t x, int64_t W, int64_t T, int64_t X) noexcept nogil:
-        if self.has_prev and (self.W[x] != W or self.T[x] != T or self.X[x] != X):
+        cdef Val *old = &self.val[x]
+        if self.has_prev and (old.W != W or old.T != T or old.X != X):
             self.changed[self.n_changed] = x
             self.n_changed += 1
-        self.W[x], self.T[x], self.X[x] = W, T, X
+        old.W, old.T, old.X = W, T, X
         self.state[x] = 2
 
     cdef int _values(self, bint every) noexcept nogil:
@@ -307,7 +337,7 @@ cdef class _Run:
                 self.state[u] = 1
                 self.path[plen] = u
                 plen += 1
-                u = self.in_src[self.pol[u]]
+                u = self.arcs[self.pol[u]].src
             if self.state[u] == 1:
                 # The walk closed a circuit: path[start:], backwards from u.
                 start = plen - 1
@@ -317,8 +347,8 @@ cdef class _Run:
                 r = start
                 for i in range(start, plen):
                     x = self.path[i]
-                    Wc += self.in_w[self.pol[x]]
-                    Tc += self.in_t[self.pol[x]]
+                    Wc += self.arcs[self.pol[x]].w
+                    Tc += self.arcs[self.pol[x]].t
                     if x < self.path[r]:
                         r = i
                 if Tc <= 0:
@@ -327,8 +357,8 @@ cdef class _Run:
                 Wc, Tc = Wc // g, Tc // g
                 x = self.path[r]  # the root: its smallest node
                 # Its potential is kept when its ratio is (Cochet-Terrasson et al.).
-                x_root = (self.X[x] if self.has_prev and self.W[x] == Wc and self.T[x] == Tc
-                          else 0)
+                x_root = (self.val[x].X if self.has_prev and self.val[x].W == Wc
+                          and self.val[x].T == Tc else 0)
                 self._set(x, Wc, Tc, x_root)
                 acc = x_root
                 # Forwards from the root: positions r-1 down to start, then plen-1 down to r+1.
@@ -339,18 +369,18 @@ cdef class _Run:
                         break
                     x = self.path[i]
                     p = self.pol[x]
-                    acc += <i128>self.in_w[p] * Tc - <i128>Wc * self.in_t[p]
+                    acc += <i128>self.arcs[p].w * Tc - <i128>Wc * self.arcs[p].t
                     if acc >= SAFE or acc <= -SAFE:
                         return -1
                     self._set(x, Wc, Tc, <int64_t>acc)
                 plen = start
             # The rest of the walk reaches u's circuit: its ratio, potentials tight from u's.
-            Wc, Tc = self.W[u], self.T[u]
-            acc = self.X[u]
+            Wc, Tc = self.val[u].W, self.val[u].T
+            acc = self.val[u].X
             for i in range(plen - 1, -1, -1):
                 x = self.path[i]
                 p = self.pol[x]
-                acc += <i128>self.in_w[p] * Tc - <i128>Wc * self.in_t[p]
+                acc += <i128>self.arcs[p].w * Tc - <i128>Wc * self.arcs[p].t
                 if acc >= SAFE or acc <= -SAFE:
                     return -1
                 self._set(x, Wc, Tc, <int64_t>acc)
@@ -367,6 +397,7 @@ cdef class _Run:
         if 8 * <int64_t>self.n_changed >= self.n:
             self.n_cand = -1
             return
+        self._ensure_out()
         self.mark_now += 1
         self.n_cand = 0
         for k in range(self.n_changed):
@@ -395,22 +426,24 @@ cdef class _Run:
     cdef int _improve(self, bint every, Raised *front) noexcept nogil:
         """One improvement at the candidates (or every node): 0 none, 1 ratio, 2 bias."""
         cdef int32_t count = self.n if every else self.n_cand
-        cdef int32_t k, v, p, s, better, bias, n_front = 0, n_bias = 0
+        cdef int32_t k, v, p, better, bias, n_front = 0, n_bias = 0
         cdef int64_t Wv, Tv, bW, bT, Ws, Ts
+        cdef Arc *arc
+        cdef Val *tail
         cdef i128 best, value
         for k in range(count):
             v = k if every else self.cand[k]
-            Wv, Tv = self.W[v], self.T[v]
+            Wv, Tv = self.val[v].W, self.val[v].T
             bW, bT = Wv, Tv
-            best = self.X[v]
+            best = self.val[v].X
             better = bias = -1
             for p in range(self.in_start[v], self.in_start[v + 1]):
-                s = self.in_src[p]
-                Ws, Ts = self.W[s], self.T[s]
+                arc = &self.arcs[p]
+                tail = &self.val[arc.src]
+                Ws, Ts = tail.W, tail.T
                 if Ws == Wv and Ts == Tv:  # reduced fractions: the same ratio
                     if n_front == 0 and better < 0:  # a bias step is still possible
-                        value = (<i128>self.X[s] + <i128>self.in_w[p] * Tv
-                                 - <i128>Wv * self.in_t[p])
+                        value = <i128>tail.X + <i128>arc.w * Tv - <i128>Wv * arc.t
                         if value > best:
                             best, bias = value, p
                 elif <i128>Ws * bT > <i128>bW * Ts:  # the first arc of largest ratio
@@ -435,9 +468,9 @@ cdef class _Run:
     cdef inline void _raise_to(self, int32_t v, int64_t W, int64_t T) noexcept nogil:
         """Give ``v`` a ratio for the sweep, remembering its value (restored after)."""
         self.save_node[self.n_save] = v
-        self.save_W[self.n_save], self.save_T[self.n_save] = self.W[v], self.T[v]
+        self.save_W[self.n_save], self.save_T[self.n_save] = self.val[v].W, self.val[v].T
         self.n_save += 1
-        self.W[v], self.T[v] = W, T
+        self.val[v].W, self.val[v].T = W, T
 
     cdef void _ratio_step(self, Raised *front, int32_t n_front) noexcept nogil:
         """Switch the frontier to its better arcs and pass the ratios downstream.
@@ -452,6 +485,7 @@ cdef class _Run:
         """
         cdef int32_t k, i, j, v, n_level, n_next, n_kept, q, p, h, u
         cdef int64_t topW, topT
+        self._ensure_out()
         self.n_save = 0
         for k in range(n_front):  # all chosen first, then written (ratios read before)
             self._switch(front[k].node, self.bias_pos[k])
@@ -472,7 +506,7 @@ cdef class _Run:
             i = j
             if n_level == 0:
                 continue
-            topW, topT = self.W[self.level[0]], self.T[self.level[0]]
+            topW, topT = self.val[self.level[0]].W, self.val[self.level[0]].T
             for k in range(n_level):
                 self.done[self.level[k]] = self.done_now
             while n_level:
@@ -482,27 +516,26 @@ cdef class _Run:
                     self.mark_now += 1
                     for k in range(n_level):
                         self.mark[self.level[k]] = self.mark_now
-                    for p in range(self.m):
-                        if self.mark[self.in_src[p]] == self.mark_now:
-                            h = self.in_dst[p]
-                            if _below(self.W[h], self.T[h], topW, topT):
-                                self.kept[n_kept] = p
+                    for h in range(self.n):  # the arcs by head
+                        if not _below(self.val[h].W, self.val[h].T, topW, topT):
+                            continue
+                        for p in range(self.in_start[h], self.in_start[h + 1]):
+                            if self.mark[self.arcs[p].src] == self.mark_now:
+                                self.kept[n_kept], self.kept_head[n_kept] = p, h
                                 n_kept += 1
                 else:
                     for k in range(n_level):
                         u = self.level[k]
                         for q in range(self.out_start[u], self.out_start[u + 1]):
                             h = self.out_dst[q]
-                            if _below(self.W[h], self.T[h], topW, topT):
-                                self.kept[n_kept] = self.out_pos[q]
+                            if _below(self.val[h].W, self.val[h].T, topW, topT):
+                                self.kept[n_kept], self.kept_head[n_kept] = self.out_pos[q], h
                                 n_kept += 1
                 for k in range(n_kept):
-                    p = self.kept[k]
-                    self._switch(self.in_dst[p], p)
+                    self._switch(self.kept_head[k], self.kept[k])
                 n_next = 0
                 for k in range(n_kept):
-                    p = self.kept[k]
-                    h = self.in_dst[p]
+                    p, h = self.kept[k], self.kept_head[k]
                     if self.pol[h] == p:
                         self.nxt[n_next] = h
                         n_next += 1
@@ -514,7 +547,7 @@ cdef class _Run:
                 n_level = n_next
         for k in range(self.n_save - 1, -1, -1):  # the values of this determination again
             v = self.save_node[k]
-            self.W[v], self.T[v] = self.save_W[k], self.save_T[k]
+            self.val[v].W, self.val[v].T = self.save_W[k], self.save_T[k]
 
     # ------------------------------------------------------------------ the iteration
 
@@ -546,8 +579,9 @@ cdef class _Run:
             if step < 0:
                 return None
             if step == 0:
-                arcs = np.asarray(self.in_arc)
-                return (np.asarray(self.W), np.asarray(self.T), np.asarray(self.X),
+                values = np.asarray(self.val)
+                arcs = np.asarray(self.arcs)["arc"]
+                return (values["W"].copy(), values["T"].copy(), values["X"].copy(),
                         arcs[np.asarray(self.pol)].astype(np.int64), iterations)
             key = (self.h1, self.h2)
             if key in seen:  # impossible by the termination proof: a bug
