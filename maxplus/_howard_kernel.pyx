@@ -43,6 +43,9 @@ cdef extern from *:
 
 cdef int64_t SAFE = (<int64_t>1) << 62
 
+cdef int AFFECTED_SHARE = 4
+"""Once more than one node in this many lies below a switch, every node is valued again."""
+
 ctypedef struct Arc:
     # An in-arc, in the order by head: what the improvement reads, in one place.
     int64_t w
@@ -121,6 +124,9 @@ cdef class _Run:
     cdef int32_t[::1] out_start, out_pos, out_dst
     cdef bint has_out
     cdef int32_t[::1] pol
+    # The tail of each node's policy arc, kept with pol: the walks chase this small array.
+    cdef int32_t[::1] pred
+    cdef bint every_next
     cdef Val[::1] val
     cdef bint has_prev
     # Policy children as doubly linked lists: first child, next and previous sibling.
@@ -166,6 +172,7 @@ cdef class _Run:
                 arc.w, arc.t, arc.src, arc.arc = ww[a], tt[a], s[a], a
         self.has_out = False
         self.pol = np.empty(n, dtype=i32)
+        self.pred = np.empty(n, dtype=i32)
         self.val = np.zeros(n, dtype=VAL)
         self.child = np.full(n, -1, dtype=i32)
         self.sib_next = np.full(n, -1, dtype=i32)
@@ -232,6 +239,7 @@ cdef class _Run:
                 if self.arcs[p].w > self.arcs[best].w:
                     best = p
             self.pol[v] = best
+            self.pred[v] = self.arcs[best].src
             self._adopt(v)
             self._digest(v, best, 1)
 
@@ -249,7 +257,7 @@ cdef class _Run:
 
     cdef inline void _adopt(self, int32_t v) noexcept nogil:
         """Link ``v`` under the tail of its policy arc."""
-        cdef int32_t u = self.arcs[self.pol[v]].src
+        cdef int32_t u = self.pred[v]
         cdef int32_t first = self.child[u]
         self.sib_prev[v] = -1
         self.sib_next[v] = first
@@ -276,16 +284,21 @@ cdef class _Run:
             self.rec_old[self.n_rec] = self.pol[v]
             self.n_rec += 1
         self.pol[v] = p
+        self.pred[v] = self.arcs[p].src
 
     cdef void _settle(self) noexcept nogil:
         """After a step: relink switched nodes, update the digest, list the affected nodes.
 
         The affected nodes are the switched ones and everything below them in
         the new policy's trees: the nodes whose policy walk passes a switch.
+        Once they are more than a share of all nodes (:data:`AFFECTED_SHARE`),
+        the search stops and the next determination values every node: a walk
+        of all nodes costs less than a search of most of them and then the walk.
         """
         cdef int32_t k, v, old, c, head = 0
         self.stamp_now += 1
         self.n_affected = 0
+        self.every_next = False
         for k in range(self.n_rec):
             v, old = self.rec_node[k], self.rec_old[k]
             if self.pol[v] == old:
@@ -299,6 +312,9 @@ cdef class _Run:
                 self.affected[self.n_affected] = v
                 self.n_affected += 1
         while head < self.n_affected:  # grows while it is walked
+            if <int64_t>self.n_affected * AFFECTED_SHARE > self.n:
+                self.every_next = True
+                return
             c = self.child[self.affected[head]]
             head += 1
             while c >= 0:
@@ -337,7 +353,7 @@ cdef class _Run:
                 self.state[u] = 1
                 self.path[plen] = u
                 plen += 1
-                u = self.arcs[self.pol[u]].src
+                u = self.pred[u]
             if self.state[u] == 1:
                 # The walk closed a circuit: path[start:], backwards from u.
                 start = plen - 1
@@ -589,7 +605,7 @@ cdef class _Run:
             seen.add(key)
             # After a ratio step, gains were not examined: check every node next.
             check_all = step == 1
-            every = False
+            every = self.every_next
 
 
 def howard(src, dst, w, t, int n, int sweep_few, int scan_min_share):
