@@ -633,3 +633,52 @@ def howard(src, dst, w, t, int n, int sweep_few, int scan_min_share):
     if n == 0:
         return None
     return _Run(src, dst, w, t, n, sweep_few, scan_min_share).solve()
+
+
+ctypedef fused index_t:
+    int32_t
+    int64_t
+
+
+cdef inline int64_t _step(const int64_t[::1] policy, const index_t[::1] src,
+                          int64_t node) noexcept nogil:
+    """The tail of ``node``'s policy arc; -1 for a node without one."""
+    cdef int64_t arc = policy[node]
+    return src[arc] if arc >= 0 else -1
+
+
+def policy_circuit(int64_t start, const int64_t[::1] policy, const index_t[::1] src):
+    """Arcs of the policy circuit reached backwards from ``start``, in forward order.
+
+    What :func:`maxplus.cycle_ratio._policy_circuit` computes, in ``O(walk)``
+    time and ``O(1)`` memory (Brent's cycle detection: no mark per node, so a
+    call per group of a large graph costs its walk only). None when the walk
+    meets a node without a policy arc (the caller's own walk then decides).
+    """
+    cdef int64_t power = 1, lam = 1, mu = 0, k, tortoise = start, hare
+    with nogil:
+        hare = _step(policy, src, start)
+        while hare != tortoise:  # Brent: the circuit's length lam
+            if hare < 0:
+                break
+            if power == lam:
+                tortoise, power, lam = hare, power * 2, 0
+            hare = _step(policy, src, hare)
+            lam += 1
+        if hare >= 0:
+            tortoise = hare = start
+            for k in range(lam):
+                hare = _step(policy, src, hare)
+            while tortoise != hare:  # the circuit's first node on the walk
+                tortoise = _step(policy, src, tortoise)
+                hare = _step(policy, src, hare)
+                mu += 1
+    if hare < 0:
+        return None
+    out = np.empty(lam, dtype=np.int64)
+    cdef int64_t[::1] arcs = out
+    with nogil:
+        for k in range(lam - 1, -1, -1):  # the circuit backwards from its entry node
+            arcs[k] = policy[tortoise]
+            tortoise = _step(policy, src, tortoise)
+    return out

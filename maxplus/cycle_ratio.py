@@ -47,7 +47,7 @@ import numpy.typing as npt
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, depth_first_order
 
-from . import _small_howard
+from . import _small_howard, policy_iteration
 from ._arrays import (
     INT64_SAFE,
     abs_max,
@@ -626,11 +626,19 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     predecessor of its last node. The walk is followed node by node while it
     is short: it is as long as the circuit and the path to it, whereas a
     graph of all n nodes per call cost O(n) each time (one call per group of
-    a skeleton: quadratic). A walk longer than ``WALK_IN_PYTHON`` steps (a
-    critical circuit through most of the graph: 10^5 steps cost 40 ms in
-    Python) is finished in C by a depth-first search of the policy graph, a
-    cost proportional to n that only a walk of that length pays.
+    a skeleton: quadratic). The compiled kernel walks it in ``O(walk)`` time
+    and no memory per node (:func:`maxplus._howard_kernel.policy_circuit`);
+    without it, a walk longer than ``WALK_IN_PYTHON`` steps (a critical
+    circuit through most of the graph: 10^5 steps cost 40 ms in Python) is
+    finished in C by a depth-first search of the policy graph, a cost
+    proportional to n that only a walk of that length pays.
     """
+    compiled = policy_iteration._howard_kernel
+    if (compiled is not None and policy.dtype == np.int64 and src.dtype in _INDEX_DTYPES
+            and policy.flags.c_contiguous and src.flags.c_contiguous):
+        found: np.ndarray | None = compiled.policy_circuit(int(start), policy, src)
+        if found is not None:
+            return found
     seen: set[int] = set()
     walk_list: list[int] = []
     node = int(start)
@@ -648,6 +656,9 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     cycle_nodes = walk[int(np.flatnonzero(walk == entry)[0]):]
     return policy[cycle_nodes][::-1].copy()
 
+
+_INDEX_DTYPES = (np.dtype(np.int32), np.dtype(np.int64))
+"""The node index types of the compiled walk (those :func:`_validate_arcs` gives)."""
 
 WALK_IN_PYTHON = 4096
 """Steps of a policy walk taken in Python before :func:`_policy_circuit_in_c` takes over."""

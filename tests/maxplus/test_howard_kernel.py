@@ -199,3 +199,50 @@ def test_numpy_path_when_the_kernel_gives_up(monkeypatch):
     with kernel(NUMPY):
         r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
     assert r.ratio == 4 and r.iterations == 1 and r.verify()
+
+
+def walk_both(start, policy, src):
+    from maxplus.cycle_ratio import _policy_circuit
+
+    saved = policy_iteration._howard_kernel
+    try:
+        got = _policy_circuit(start, policy, src)
+        policy_iteration._howard_kernel = None
+        ref = _policy_circuit(start, policy, src)
+    finally:
+        policy_iteration._howard_kernel = saved
+    assert got.tolist() == ref.tolist()
+    return got
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=300)
+@given(st.integers(1, 40).flatmap(lambda n: st.tuples(
+    st.just(n), st.integers(0, n - 1),
+    st.lists(st.integers(0, 2 * n - 1), min_size=n, max_size=n),
+    st.lists(st.integers(0, n - 1), min_size=2 * n, max_size=2 * n),
+    st.sampled_from([np.int32, np.int64]))))
+def test_policy_circuit_walk_same(g):
+    # Brent's walk in C against the walk in Python, from every node of random policies.
+    n, start, policy, src, dtype = g
+    for s in range(n):
+        walk_both(s, np.array(policy, dtype=np.int64), np.array(src, dtype=dtype))
+
+
+def test_policy_circuit_without_policy_arc():
+    # A walk that meets a node without a policy arc: the compiled walk leaves it to Python.
+    # Node 0's policy arc (0) comes from 2, node 2's (1) from 0; node 1 has none.
+    policy, src = np.array([0, -1, 1], dtype=np.int64), np.array([2, 0], dtype=np.int64)
+    assert compiled.policy_circuit(1, policy, src) is None
+    assert compiled.policy_circuit(0, policy, src).tolist() == [1, 0]
+    assert walk_both(2, policy, src).tolist() == [0, 1]
+
+
+def test_policy_circuit_long_walk_same():
+    # A walk of 20,000 steps into a circuit of 7,000 (the Python walk hands over to
+    # its depth-first search in C past 4,096 steps).
+    n = 27000
+    src = np.arange(n, dtype=np.int32) - 1
+    src[0] = 6999  # node k's policy arc comes from k - 1; 0 from 6,999: circuit 0..6,999
+    policy = np.arange(n, dtype=np.int64)
+    arcs = walk_both(n - 1, policy, src)
+    assert len(arcs) == 7000 and arcs[0] == 0 and arcs.tolist() == sorted(arcs.tolist())
