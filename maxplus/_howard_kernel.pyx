@@ -38,10 +38,14 @@ import numpy as np
 cdef extern from *:
     """
     typedef __int128 i128;
+    #define PREFETCH(address) __builtin_prefetch(address)
     """
     ctypedef long long i128
+    void PREFETCH(const void *address) noexcept nogil
 
 cdef int64_t SAFE = (<int64_t>1) << 62
+
+cdef int PREFETCH_ARCS = 16
 
 cdef int AFFECTED_SHARE = 4
 """Once more than one node in this many lies below a switch, every node is valued again."""
@@ -61,6 +65,11 @@ ctypedef struct Val:
 
 ARC = np.dtype([("w", np.int64), ("t", np.int64), ("src", np.int32), ("arc", np.int32)])
 VAL = np.dtype([("W", np.int64), ("T", np.int64), ("X", np.int64)])
+
+ctypedef struct Link:
+    # Weight and tokens of a node's policy arc, by node: the walks read these, not the arcs.
+    int64_t w
+    int64_t t
 
 ctypedef struct Raised:
     int64_t W
@@ -127,6 +136,8 @@ cdef class _Run:
     # The tail of each node's policy arc, kept with pol: the walks chase this small array.
     cdef int32_t[::1] pred
     cdef bint every_next
+    cdef Link[::1] link
+    cdef bint children_ok  # the policy children lists match the policy
     cdef Val[::1] val
     cdef bint has_prev
     # Policy children as doubly linked lists: first child, next and previous sibling.
@@ -173,6 +184,7 @@ cdef class _Run:
         self.has_out = False
         self.pol = np.empty(n, dtype=i32)
         self.pred = np.empty(n, dtype=i32)
+        self.link = np.empty(n, dtype=[("w", np.int64), ("t", np.int64)])
         self.val = np.zeros(n, dtype=VAL)
         self.child = np.full(n, -1, dtype=i32)
         self.sib_next = np.full(n, -1, dtype=i32)
@@ -199,6 +211,7 @@ cdef class _Run:
         self.saved_at = np.zeros(n, dtype=i32)
         self.stamp_now = self.mark_now = self.done_now = self.saved_now = 0
         self.has_prev = False
+        self.children_ok = False
 
     cdef void _ensure_out(self) noexcept nogil:
         """Build the out-arcs on first use (:meth:`_build_out`)."""
@@ -240,7 +253,7 @@ cdef class _Run:
                     best = p
             self.pol[v] = best
             self.pred[v] = self.arcs[best].src
-            self._adopt(v)
+            self.link[v].w, self.link[v].t = self.arcs[best].w, self.arcs[best].t
             self._digest(v, best, 1)
 
     cdef inline void _digest(self, int32_t v, int32_t p, int sign) noexcept nogil:
@@ -285,6 +298,7 @@ cdef class _Run:
             self.n_rec += 1
         self.pol[v] = p
         self.pred[v] = self.arcs[p].src
+        self.link[v].w, self.link[v].t = self.arcs[p].w, self.arcs[p].t
 
     cdef void _settle(self) noexcept nogil:
         """After a step: relink switched nodes, update the digest, list the affected nodes.
@@ -303,14 +317,28 @@ cdef class _Run:
             v, old = self.rec_node[k], self.rec_old[k]
             if self.pol[v] == old:
                 continue
-            self._orphan(v, old)
-            self._adopt(v)
             self._digest(v, old, -1)
             self._digest(v, self.pol[v], 1)
-            if self.stamp[v] != self.stamp_now:
-                self.stamp[v] = self.stamp_now
-                self.affected[self.n_affected] = v
-                self.n_affected += 1
+            self.stamp[v] = self.stamp_now  # rec_node lists each node once
+            self.affected[self.n_affected] = v
+            self.n_affected += 1
+        if <int64_t>self.n_affected * AFFECTED_SHARE > self.n:
+            # Lists of children are relinked (or rebuilt) only when a search needs them.
+            self.children_ok = False
+            self.every_next = True
+            return
+        if self.children_ok:
+            for k in range(self.n_rec):
+                v, old = self.rec_node[k], self.rec_old[k]
+                if self.pol[v] != old:
+                    self._orphan(v, old)
+                    self._adopt(v)
+        else:
+            for v in range(self.n):
+                self.child[v] = -1
+            for v in range(self.n):
+                self._adopt(v)
+            self.children_ok = True
         while head < self.n_affected:  # grows while it is walked
             if <int64_t>self.n_affected * AFFECTED_SHARE > self.n:
                 self.every_next = True
@@ -363,8 +391,8 @@ cdef class _Run:
                 r = start
                 for i in range(start, plen):
                     x = self.path[i]
-                    Wc += self.arcs[self.pol[x]].w
-                    Tc += self.arcs[self.pol[x]].t
+                    Wc += self.link[x].w
+                    Tc += self.link[x].t
                     if x < self.path[r]:
                         r = i
                 if Tc <= 0:
@@ -384,8 +412,7 @@ cdef class _Run:
                     if i == r:
                         break
                     x = self.path[i]
-                    p = self.pol[x]
-                    acc += <i128>self.arcs[p].w * Tc - <i128>Wc * self.arcs[p].t
+                    acc += <i128>self.link[x].w * Tc - <i128>Wc * self.link[x].t
                     if acc >= SAFE or acc <= -SAFE:
                         return -1
                     self._set(x, Wc, Tc, <int64_t>acc)
@@ -395,8 +422,7 @@ cdef class _Run:
             acc = self.val[u].X
             for i in range(plen - 1, -1, -1):
                 x = self.path[i]
-                p = self.pol[x]
-                acc += <i128>self.arcs[p].w * Tc - <i128>Wc * self.arcs[p].t
+                acc += <i128>self.link[x].w * Tc - <i128>Wc * self.link[x].t
                 if acc >= SAFE or acc <= -SAFE:
                     return -1
                 self._set(x, Wc, Tc, <int64_t>acc)
@@ -454,6 +480,9 @@ cdef class _Run:
             best = self.val[v].X
             better = bias = -1
             for p in range(self.in_start[v], self.in_start[v + 1]):
+                if p + PREFETCH_ARCS < self.m:
+                    # The tails' values are scattered: ask for one a few arcs ahead.
+                    PREFETCH(&self.val[self.arcs[p + PREFETCH_ARCS].src])
                 arc = &self.arcs[p]
                 tail = &self.val[arc.src]
                 Ws, Ts = tail.W, tail.T
