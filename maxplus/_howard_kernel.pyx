@@ -23,11 +23,12 @@ costs what it changes, not ``O(n + m)``.
 Arithmetic is exact: weights, tokens, ratios and potentials are int64, every
 product and sum of them is formed in 128 bits, and a potential that would
 reach ``2**62`` in absolute value stops the run (:func:`howard` returns None
-and the caller runs the numpy kernel, which carries Python ints). The caller
-guarantees ``2 * n * max(|w|, t) < 2**62``, so circuit sums fit int64 and a
-cross-multiplication of two ratios fits 128 bits. A policy seen before (a
-128-bit digest of it) also returns None: by the termination proof of
-``howard_arrays`` it is a bug, which the numpy kernel then reports.
+and the caller runs the numpy kernel, which carries Python ints). The run
+needs ``2 * n * max(|w|, t) < 2**62`` (checked while the arcs are sorted;
+None otherwise), so circuit sums fit int64 and a cross-multiplication of two
+ratios fits 128 bits. A policy seen before (a 128-bit digest of it) also
+returns None: by the termination proof of ``howard_arrays`` it is a bug,
+which the numpy kernel then reports.
 """
 
 from libc.stdint cimport int32_t, int64_t, uint64_t
@@ -139,7 +140,7 @@ cdef class _Run:
     cdef Link[::1] link
     cdef bint children_ok  # the policy children lists match the policy
     cdef Val[::1] val
-    cdef bint has_prev
+    cdef bint has_prev, fits
     # Policy children as doubly linked lists: first child, next and previous sibling.
     cdef int32_t[::1] child, sib_next, sib_prev
     cdef signed char[::1] state
@@ -167,6 +168,10 @@ cdef class _Run:
         self.arcs = np.empty(m, dtype=ARC)
         cdef int32_t[::1] fill = np.empty(n + 1, dtype=i32)
         cdef int32_t a, p, v
+        # The bound 2 n max(|w|, t) < 2**62, checked in the same pass (a number beyond
+        # it makes the whole run the numpy kernel's, in Python ints from the start).
+        cdef int64_t limit = (SAFE - 1) // (2 * <int64_t>n), w_a
+        cdef bint fits = True
         cdef Arc *arc
         with nogil:
             # A counting sort, stable: by head, the numpy kernel's order.
@@ -180,7 +185,11 @@ cdef class _Run:
                 p = fill[d[a]]
                 fill[d[a]] = p + 1
                 arc = &self.arcs[p]
-                arc.w, arc.t, arc.src, arc.arc = ww[a], tt[a], s[a], a
+                w_a = ww[a]
+                if w_a > limit or w_a < -limit or tt[a] > limit or tt[a] < 0:
+                    fits = False
+                arc.w, arc.t, arc.src, arc.arc = w_a, tt[a], s[a], a
+        self.fits = fits
         self.has_out = False
         self.pol = np.empty(n, dtype=i32)
         self.pred = np.empty(n, dtype=i32)
@@ -600,6 +609,8 @@ cdef class _Run:
         """Run the iteration; ``(W, T, X, policy, iterations)`` or None (see the module)."""
         cdef int step, iterations = 0
         cdef bint check_all = True, every = True
+        if not self.fits:
+            return None
         front_array = np.empty(max(1, self.n) * sizeof(Raised), dtype=np.uint8)
         cdef unsigned char[::1] front_bytes = front_array
         cdef Raised *front = <Raised *>&front_bytes[0]
@@ -645,7 +656,8 @@ def howard(src, dst, w, t, int n, int sweep_few, int scan_min_share):
     src, dst : numpy.ndarray of int
         Arcs (fewer than ``2**31`` arcs and nodes).
     w, t : numpy.ndarray of int64
-        Weights and tokens with ``2 * n * max(|w|, t) < 2**62``, no token-free circuit.
+        Weights and tokens (no token-free circuit); the run needs
+        ``2 * n * max(|w|, t) < 2**62`` (checked: None otherwise).
     n : int
         Number of nodes.
     sweep_few, scan_min_share : int
@@ -657,7 +669,8 @@ def howard(src, dst, w, t, int n, int sweep_few, int scan_min_share):
     tuple or None
         ``(W, T, X, policy, iterations)`` as
         :class:`maxplus.policy_iteration.HowardSolution`, or None where a
-        potential would reach ``2**62`` (or a policy repeated): run the numpy kernel.
+        number is past the bound, a potential would reach ``2**62`` or a
+        policy repeated: run the numpy kernel.
     """
     if n == 0:
         return None

@@ -338,19 +338,23 @@ def _validate_arcs(src: Any, dst: Any, n_nodes: Any) -> tuple[np.ndarray, np.nda
     limit = 2 * len(src_a) + MAX_SPARE_NODES
     bound = (f"at most {limit} nodes for {len(src_a)} arcs (2 per arc + {MAX_SPARE_NODES}); "
              "number the nodes the arcs use from 0")
-    top = int(max(src_a.max(initial=-1), dst_a.max(initial=-1)))
-    name = "src" if int(src_a.max(initial=-1)) == top else "dst"
-    where = f"{name}[{int(np.argmax(src_a if name == 'src' else dst_a))}]" if top >= 0 else ""
+    src_top, dst_top = int(src_a.max(initial=-1)), int(dst_a.max(initial=-1))
+    top = max(src_top, dst_top)
+
+    def where() -> str:  # the first arc naming the largest node (only for a message)
+        name = "src" if src_top == top else "dst"
+        return f"{name}[{int(np.argmax(src_a if name == 'src' else dst_a))}]" if top >= 0 else ""
+
     if n_nodes is None:
         if top >= limit:
-            raise MaxPlusValueError(f"node {top} is out of range: {bound}", where)
+            raise MaxPlusValueError(f"node {top} is out of range: {bound}", where())
         n = top + 1
     else:
         n = whole_number(n_nodes, "n_nodes")
         if n > limit:
             raise MaxPlusValueError(f"n_nodes={n} is too large: {bound}", "n_nodes")
         if top >= n:
-            raise MaxPlusValueError(f"node {top} is out of range for n_nodes={n}", where)
+            raise MaxPlusValueError(f"node {top} is out of range for n_nodes={n}", where())
     # int32 node indices (when they fit) halve the memory every pass and every
     # gather over the arcs moves; contiguous copies read faster than strided views.
     index = np.int32 if max(n, len(src_a)) < 2**31 else np.int64

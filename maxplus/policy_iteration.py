@@ -188,16 +188,14 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
 
 
 def _fits_compiled_kernel(w: np.ndarray, t: np.ndarray, n: int, m: int) -> bool:
-    """Whether :mod:`maxplus._howard_kernel` may run: int64 data within its bound.
+    """Whether :mod:`maxplus._howard_kernel` may run: int64 data, fewer than 2**31 arcs.
 
-    The bound is the numpy kernel's own first one (``2 n max(|w|, t) < 2**62``):
-    beyond it both kernels leave int64 from the start, and the result is the
-    numpy kernel's in Python ints. Within it every circuit sum fits int64 and
-    every product of two ratios' terms fits the compiled kernel's 128 bits.
+    The kernel checks the numpy kernel's own first bound itself
+    (``2 n max(|w|, t) < 2**62``, in its first pass over the arcs) and gives
+    None beyond it: both kernels would leave int64 from the start, and the
+    result is the numpy kernel's, in Python ints.
     """
-    if w.dtype == object or t.dtype == object or n == 0 or max(n, m) >= 2**31:
-        return False
-    return 2 * n * max(abs_max(w), abs_max(t)) < INT64_SAFE
+    return w.dtype == np.int64 and t.dtype == np.int64 and 0 < n and max(n, m) < 2**31
 
 
 class _LeavesInt64(Exception):

@@ -161,17 +161,28 @@ def howard_direct(src, dst, w, t, n):
 
 
 def test_compiled_kernel_runs_on_int64_data(monkeypatch):
-    # The handle is used whenever the data fit: a kernel that refuses to run is noticed.
+    # The handle is used whenever the data are int64: a kernel that refuses to run is noticed.
     def refuse(*args):
         raise AssertionError("compiled kernel ran")
 
     monkeypatch.setattr(compiled, "howard", refuse)
     with kernel(NUMPY), pytest.raises(AssertionError, match="compiled kernel ran"):
         max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
-    # Weights past the bound (and Python ints) never reach it.
-    with kernel(NUMPY):
-        r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [2**61, 3, 3])
-    assert r.ratio == Fraction(2**61 + 3, 2)
+    with kernel(NUMPY):  # Python ints never reach it
+        r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [2**64, 3, 3])
+    assert r.ratio == Fraction(2**64 + 3, 2)
+
+
+@pytest.mark.parametrize("w, t", [(2**61, 1), (-(2**61), 1), (5, 2**61), (-(2**63), 1),
+                                  (2**62 // 6 + 1, 1)])
+def test_numbers_past_the_bound_left_to_numpy(w, t):
+    # 2 n max(|w|, t) < 2**62 with n = 3 (the numpy kernel's first bound), checked by
+    # the compiled kernel itself: past it (by one, the last case), None.
+    args = ([0, 1, 1, 1], [1, 0, 1, 2], [w, 3, 3, 1], [t, 1, 1, 0])
+    assert howard_direct(*args, 3) is None
+    same_result(*args)
+    w_in = 2**62 // 6 - 1 if w > 0 else -(2**62 // 6 - 1)
+    assert howard_direct([0, 1, 1, 1], [1, 0, 1, 2], [w_in, 3, 3, 1], [1, 1, 1, 0], 3)
 
 
 def test_potentials_past_2_62_hand_over_to_numpy():
