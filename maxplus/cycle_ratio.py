@@ -18,7 +18,9 @@ segmented reductions for the improvement), so the cost per iteration is
 ``O(m + n log n)`` with no Python loop over nodes or arcs. On graphs of at
 most ``SMALL_GRAPH_ARCS`` arcs (:mod:`maxplus._small_howard`), where the fixed
 cost of some 170 numpy calls per solve outweighs the work, the same iteration
-runs on Python lists instead, step for step, with the same result.
+runs on Python lists instead, step for step, with the same result. Where the
+compiled kernel :mod:`maxplus._howard_kernel` is built, int64 data run that
+same iteration in C (the numpy kernel stays the fallback).
 
 The result carries a certificate that :meth:`CycleRatioResult.verify` checks
 independently, in exact arithmetic: the returned circuit attains the ratio,

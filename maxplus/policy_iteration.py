@@ -2,6 +2,13 @@
 
 The kernel behind :func:`maxplus.cycle_ratio.max_cycle_ratio`. Arrays in,
 arrays out; nothing here validates input (that is done once, at the edge).
+Where :mod:`maxplus._howard_kernel` is compiled (``pip install .`` builds it
+with the machine's C compiler), int64 data run there first: the same
+iteration, step for step, with the same result; the numpy kernel below runs
+when it is missing, and where it gives up (numbers past its int64 bounds).
+Only the dtypes may differ, as with the list kernel: int64 whenever the
+compiled kernel finishes, where the numpy kernel may carry the same values as
+Python ints (its bounds are computed before the numbers exist).
 
 A *policy* keeps one in-arc per node; following policy arcs backwards from
 any node ends on a policy circuit. *Value determination* gives every node the
