@@ -11,6 +11,7 @@ that reach ``2**62`` on the way, fall back to the numpy kernel: also tested.
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 from fractions import Fraction
 
 import numpy as np
@@ -32,17 +33,25 @@ from tests.maxplus.test_small_howard import arc_lists, fanned_layers, random_gra
 compiled = pytest.importorskip("maxplus._howard_kernel")
 
 
+@contextmanager
+def numpy_kernel(use_compiled):
+    """max_cycle_ratio on the numpy kernel (whatever the size), compiled or not."""
+    with kernel(NUMPY):  # the handle is set inside: whatever kernel(NUMPY) does with it
+        saved = policy_iteration._howard_kernel
+        policy_iteration._howard_kernel = compiled if use_compiled else None
+        try:
+            yield
+        finally:
+            policy_iteration._howard_kernel = saved
+
+
 def solve(use_compiled, *args, **kwargs):
-    """max_cycle_ratio with the numpy kernel, compiled or not; or the error it raised."""
-    saved = policy_iteration._howard_kernel
-    policy_iteration._howard_kernel = compiled if use_compiled else None
-    try:
-        with kernel(NUMPY):
+    """max_cycle_ratio on the numpy kernel, compiled or not; or the error it raised."""
+    with numpy_kernel(use_compiled):
+        try:
             return max_cycle_ratio(*args, **kwargs)
-    except ZeroTokenCircuitError as e:
-        return e
-    finally:
-        policy_iteration._howard_kernel = saved
+        except ZeroTokenCircuitError as e:
+            return e
 
 
 def assert_same(got, ref):
@@ -166,9 +175,9 @@ def test_compiled_kernel_runs_on_int64_data(monkeypatch):
         raise AssertionError("compiled kernel ran")
 
     monkeypatch.setattr(compiled, "howard", refuse)
-    with kernel(NUMPY), pytest.raises(AssertionError, match="compiled kernel ran"):
+    with numpy_kernel(True), pytest.raises(AssertionError, match="compiled kernel ran"):
         max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
-    with kernel(NUMPY):  # Python ints never reach it
+    with numpy_kernel(True):  # Python ints never reach it
         r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [2**64, 3, 3])
     assert r.ratio == Fraction(2**64 + 3, 2)
 
@@ -207,7 +216,7 @@ def test_numpy_path_when_the_kernel_gives_up(monkeypatch):
     # A compiled run that returns None (past 2**62, or a repeated policy) costs a
     # numpy run, never a wrong or missing answer.
     monkeypatch.setattr(compiled, "howard", lambda *args: None)
-    with kernel(NUMPY):
+    with numpy_kernel(True):
         r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
     assert r.ratio == 4 and r.iterations == 1 and r.verify()
 
