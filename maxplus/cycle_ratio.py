@@ -18,7 +18,9 @@ segmented reductions for the improvement), so the cost per iteration is
 ``O(m + n log n)`` with no Python loop over nodes or arcs. On graphs of at
 most ``SMALL_GRAPH_ARCS`` arcs (:mod:`maxplus._small_howard`), where the fixed
 cost of some 170 numpy calls per solve outweighs the work, the same iteration
-runs on Python lists instead, step for step, with the same result.
+runs on Python lists instead, step for step, with the same result. Where the
+compiled kernel :mod:`maxplus._howard_kernel` is built, int64 data run that
+same iteration in C (the numpy kernel stays the fallback).
 
 The result carries a certificate that :meth:`CycleRatioResult.verify` checks
 independently, in exact arithmetic: the returned circuit attains the ratio,
@@ -47,7 +49,7 @@ import numpy.typing as npt
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, depth_first_order
 
-from . import _small_howard
+from . import _small_howard, policy_iteration
 from ._arrays import (
     INT64_SAFE,
     abs_max,
@@ -338,19 +340,23 @@ def _validate_arcs(src: Any, dst: Any, n_nodes: Any) -> tuple[np.ndarray, np.nda
     limit = 2 * len(src_a) + MAX_SPARE_NODES
     bound = (f"at most {limit} nodes for {len(src_a)} arcs (2 per arc + {MAX_SPARE_NODES}); "
              "number the nodes the arcs use from 0")
-    top = int(max(src_a.max(initial=-1), dst_a.max(initial=-1)))
-    name = "src" if int(src_a.max(initial=-1)) == top else "dst"
-    where = f"{name}[{int(np.argmax(src_a if name == 'src' else dst_a))}]" if top >= 0 else ""
+    src_top, dst_top = int(src_a.max(initial=-1)), int(dst_a.max(initial=-1))
+    top = max(src_top, dst_top)
+
+    def where() -> str:  # the first arc naming the largest node (only for a message)
+        name = "src" if src_top == top else "dst"
+        return f"{name}[{int(np.argmax(src_a if name == 'src' else dst_a))}]" if top >= 0 else ""
+
     if n_nodes is None:
         if top >= limit:
-            raise MaxPlusValueError(f"node {top} is out of range: {bound}", where)
+            raise MaxPlusValueError(f"node {top} is out of range: {bound}", where())
         n = top + 1
     else:
         n = whole_number(n_nodes, "n_nodes")
         if n > limit:
             raise MaxPlusValueError(f"n_nodes={n} is too large: {bound}", "n_nodes")
         if top >= n:
-            raise MaxPlusValueError(f"node {top} is out of range for n_nodes={n}", where)
+            raise MaxPlusValueError(f"node {top} is out of range for n_nodes={n}", where())
     # int32 node indices (when they fit) halve the memory every pass and every
     # gather over the arcs moves; contiguous copies read faster than strided views.
     index = np.int32 if max(n, len(src_a)) < 2**31 else np.int64
@@ -626,11 +632,19 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     predecessor of its last node. The walk is followed node by node while it
     is short: it is as long as the circuit and the path to it, whereas a
     graph of all n nodes per call cost O(n) each time (one call per group of
-    a skeleton: quadratic). A walk longer than ``WALK_IN_PYTHON`` steps (a
-    critical circuit through most of the graph: 10^5 steps cost 40 ms in
-    Python) is finished in C by a depth-first search of the policy graph, a
-    cost proportional to n that only a walk of that length pays.
+    a skeleton: quadratic). The compiled kernel walks it in ``O(walk)`` time
+    and no memory per node (:func:`maxplus._howard_kernel.policy_circuit`);
+    without it, a walk longer than ``WALK_IN_PYTHON`` steps (a critical
+    circuit through most of the graph: 10^5 steps cost 40 ms in Python) is
+    finished in C by a depth-first search of the policy graph, a cost
+    proportional to n that only a walk of that length pays.
     """
+    compiled = policy_iteration._howard_kernel
+    if (compiled is not None and policy.dtype == np.int64 and src.dtype in _INDEX_DTYPES
+            and policy.flags.c_contiguous and src.flags.c_contiguous):
+        found: np.ndarray | None = compiled.policy_circuit(int(start), policy, src)
+        if found is not None:
+            return found
     seen: set[int] = set()
     walk_list: list[int] = []
     node = int(start)
@@ -648,6 +662,9 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     cycle_nodes = walk[int(np.flatnonzero(walk == entry)[0]):]
     return policy[cycle_nodes][::-1].copy()
 
+
+_INDEX_DTYPES = (np.dtype(np.int32), np.dtype(np.int64))
+"""The node index types of the compiled walk (those :func:`_validate_arcs` gives)."""
 
 WALK_IN_PYTHON = 4096
 """Steps of a policy walk taken in Python before :func:`_policy_circuit_in_c` takes over."""

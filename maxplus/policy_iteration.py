@@ -2,6 +2,13 @@
 
 The kernel behind :func:`maxplus.cycle_ratio.max_cycle_ratio`. Arrays in,
 arrays out; nothing here validates input (that is done once, at the edge).
+Where :mod:`maxplus._howard_kernel` is compiled (``pip install .`` builds it
+with the machine's C compiler), int64 data run there first: the same
+iteration, step for step, with the same result; the numpy kernel below runs
+when it is missing, and where it gives up (numbers past its int64 bounds).
+Only the dtypes may differ, as with the list kernel: int64 whenever the
+compiled kernel finishes, where the numpy kernel may carry the same values as
+Python ints (its bounds are computed before the numbers exist).
 
 A *policy* keeps one in-arc per node; following policy arcs backwards from
 any node ends on a policy circuit. *Value determination* gives every node the
@@ -52,6 +59,7 @@ References
 from __future__ import annotations
 
 from functools import cmp_to_key
+from types import ModuleType
 from typing import Any, Literal, NamedTuple, TypeAlias
 
 import numpy as np
@@ -59,6 +67,12 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import depth_first_order
 
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
+
+_howard_kernel: ModuleType | None
+try:  # the compiled kernel (setup.py builds it where a C compiler is found)
+    from . import _howard_kernel
+except ImportError:  # pragma: no cover - no compiler: the numpy kernel alone
+    _howard_kernel = None
 
 __all__ = ["howard_arrays"]
 
@@ -163,6 +177,10 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     >>> (sol.ratio_num // sol.ratio_den).tolist(), sol.policy.tolist()
     ([4, 4], [1, 0])
     """
+    if _howard_kernel is not None and _fits_compiled_kernel(w, t, n, len(src)):
+        found = _howard_kernel.howard(src, dst, w, t, n, SWEEP_FEW, SCAN_MIN_SHARE)
+        if found is not None:  # None: a potential near 2**62, run in numpy (Python ints)
+            return HowardSolution(*found)
     arcs = _InArcs(src, dst, w, t, n)
     if w.dtype != object and t.dtype != object:
         try:
@@ -174,6 +192,17 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     except _Revisited:
         raise RuntimeError("internal error: policy iteration revisited a policy "
                            "(it would loop for ever); please report it") from None
+
+
+def _fits_compiled_kernel(w: np.ndarray, t: np.ndarray, n: int, m: int) -> bool:
+    """Whether :mod:`maxplus._howard_kernel` may run: int64 data, fewer than 2**31 arcs.
+
+    The kernel checks the numpy kernel's own first bound itself
+    (``2 n max(|w|, t) < 2**62``, in its first pass over the arcs) and gives
+    None beyond it: both kernels would leave int64 from the start, and the
+    result is the numpy kernel's, in Python ints.
+    """
+    return w.dtype == np.int64 and t.dtype == np.int64 and 0 < n and max(n, m) < 2**31
 
 
 class _LeavesInt64(Exception):

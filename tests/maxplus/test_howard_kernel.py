@@ -1,0 +1,268 @@
+"""The compiled Howard kernel against the numpy kernel, result for result.
+
+:mod:`maxplus._howard_kernel` claims to run the numpy kernel's iteration step
+for step, so both must give the same ratio, cycle times, policy, potentials,
+critical circuit and iteration count (the outputs of tegraph are built on
+them). The numpy path is forced by setting the module handle
+``maxplus.policy_iteration._howard_kernel`` to None, and the numpy kernel
+rather than the list kernel by the crossover ``SMALL_GRAPH_ARCS``, so both
+paths run at every size. Data past the compiled kernel's bound, or potentials
+that reach ``2**62`` on the way, fall back to the numpy kernel: also tested.
+"""
+from __future__ import annotations
+
+from contextlib import contextmanager
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import maxplus.policy_iteration as policy_iteration
+from maxplus.cycle_ratio import max_cycle_ratio
+from maxplus.errors import ZeroTokenCircuitError
+from tests.maxplus.kernels import NUMPY, kernel
+from tests.maxplus.test_howard_brute_force import (
+    circuits_with_chains,
+    dag_of_blocks,
+    small_multigraphs,
+)
+from tests.maxplus.test_small_howard import arc_lists, fanned_layers, random_graphs
+
+compiled = pytest.importorskip("maxplus._howard_kernel")
+
+
+@contextmanager
+def numpy_kernel(use_compiled):
+    """max_cycle_ratio on the numpy kernel (whatever the size), compiled or not."""
+    with kernel(NUMPY):  # the handle is set inside: whatever kernel(NUMPY) does with it
+        saved = policy_iteration._howard_kernel
+        policy_iteration._howard_kernel = compiled if use_compiled else None
+        try:
+            yield
+        finally:
+            policy_iteration._howard_kernel = saved
+
+
+def solve(use_compiled, *args, **kwargs):
+    """max_cycle_ratio on the numpy kernel, compiled or not; or the error it raised."""
+    with numpy_kernel(use_compiled):
+        try:
+            return max_cycle_ratio(*args, **kwargs)
+        except ZeroTokenCircuitError as e:
+            return e
+
+
+def assert_same(got, ref):
+    """Everything a result carries is equal (int64 or Python ints alike)."""
+    if isinstance(ref, ZeroTokenCircuitError):
+        assert isinstance(got, ZeroTokenCircuitError)
+        assert (str(got), got.circuit, got.nodes) == (str(ref), ref.circuit, ref.nodes)
+        return
+    assert not isinstance(got, Exception)
+    assert got.ratio == ref.ratio
+    assert got.circuit.tolist() == ref.circuit.tolist()
+    assert got.cycle_times == ref.cycle_times
+    assert got.cycle_time_num.tolist() == ref.cycle_time_num.tolist()
+    assert got.cycle_time_den.tolist() == ref.cycle_time_den.tolist()
+    assert got.iterations == ref.iterations
+    gc, rc = got.certificate, ref.certificate
+    assert gc.scale == rc.scale
+    for name in ("ratio_num", "ratio_den", "potential", "policy", "circuit"):
+        assert getattr(gc, name).tolist() == getattr(rc, name).tolist(), name
+    assert got.bias == ref.bias
+    assert got.verify() and ref.verify()
+
+
+def same_result(*args, **kwargs):
+    got, ref = solve(True, *args, **kwargs), solve(False, *args, **kwargs)
+    assert_same(got, ref)
+    return got
+
+
+@st.composite
+def scaled_graphs(draw):
+    """random_graphs with weights and tokens scaled up: some runs leave int64 on the way.
+
+    Weights up to ``50 * 2**55`` and tokens up to ``3 * 2**40``: the compiled
+    kernel's bound (``2 n max(|w|, t) < 2**62``) refuses some graphs outright,
+    and on others the potentials, sums of ``w T - W t``, reach ``2**62``
+    during the iteration, where the compiled kernel hands over to numpy.
+    """
+    n, arcs = draw(random_graphs())
+    w_scale = draw(st.sampled_from([1, 2**20, 2**40, 2**55]))
+    t_scale = draw(st.sampled_from([1, 2**30, 2**40]))
+    return n, [(a, b, w * w_scale if isinstance(w, int) and abs(w) < 2**63 else w,
+                t * t_scale) for a, b, w, t in arcs]
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=300)
+@given(random_graphs())
+def test_random_graphs_same_result(g):
+    n, arcs = g
+    same_result(*arc_lists(arcs), n_nodes=n)
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=100)
+@given(fanned_layers())
+def test_wide_sweeps_same_result(g):
+    n, arcs = g
+    same_result(*arc_lists(arcs), n_nodes=n)
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=150)
+@given(st.one_of(small_multigraphs(), circuits_with_chains(), dag_of_blocks()))
+def test_brute_force_families_same_result(g):
+    n, arcs = g
+    same_result(*arc_lists(arcs), n_nodes=n)
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=150)
+@given(scaled_graphs())
+def test_large_numbers_same_result(g):
+    n, arcs = g
+    same_result(*arc_lists(arcs), n_nodes=n)
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=60)
+@given(random_graphs(), st.sampled_from(["3/7", "0.25"]))
+def test_fractional_weights_same_result(g, factor):
+    from fractions import Fraction
+    n, arcs = g
+    src, dst, w, t = arc_lists(arcs)
+    same_result(src, dst, [str(x * Fraction(factor)) for x in w], t, n_nodes=n)
+
+
+@pytest.mark.parametrize("n", [10, 100, 1000, 5000])
+@pytest.mark.parametrize("seed", [1, 2])
+def test_sprand_same_result(n, seed):
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    from sprand import sprand
+
+    same_result(*sprand(n, seed=seed))
+
+
+def test_equal_weights_and_long_chain_same_result():
+    # All weights equal (every circuit critical, one iteration), then a chain of
+    # 2,000 nodes below a slow and a fast circuit with fans out of it (deep sweeps).
+    rng = np.random.default_rng(5)
+    n = 3000
+    src = np.concatenate([np.arange(n), rng.integers(0, n, 3 * n)])
+    dst = np.concatenate([(np.arange(n) + 1) % n, rng.integers(0, n, 3 * n)])
+    same_result(src, dst, np.full(len(src), 7), np.ones(len(src), dtype=np.int64))
+    L = 2000
+    src, dst, w, t = [0, 1, 0, 1], [0, 1, 2, 2], [1, 100, 1000, 0], [1, 1, 0, 0]
+    for k in range(2, L + 1):
+        src.append(k), dst.append(k + 1), w.append(k % 7), t.append(0)
+    for k in range(2, L + 1, 3):
+        src.append(0), dst.append(k), w.append(5000), t.append(1)
+        src.append(1), dst.append(k), w.append(0), t.append(1)
+    same_result(src, dst, w, t, n_nodes=L + 2)
+
+
+def howard_direct(src, dst, w, t, n):
+    return compiled.howard(np.array(src), np.array(dst), np.array(w, dtype=np.int64),
+                           np.array(t, dtype=np.int64), n, policy_iteration.SWEEP_FEW,
+                           policy_iteration.SCAN_MIN_SHARE)
+
+
+def test_compiled_kernel_runs_on_int64_data(monkeypatch):
+    # The handle is used whenever the data are int64: a kernel that refuses to run is noticed.
+    def refuse(*args):
+        raise AssertionError("compiled kernel ran")
+
+    monkeypatch.setattr(compiled, "howard", refuse)
+    with numpy_kernel(True), pytest.raises(AssertionError, match="compiled kernel ran"):
+        max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
+    with numpy_kernel(True):  # Python ints never reach it
+        r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [2**64, 3, 3])
+    assert r.ratio == Fraction(2**64 + 3, 2)
+
+
+@pytest.mark.parametrize("w, t", [(2**61, 1), (-(2**61), 1), (5, 2**61), (-(2**63), 1),
+                                  (2**62 // 6 + 1, 1)])
+def test_numbers_past_the_bound_left_to_numpy(w, t):
+    # 2 n max(|w|, t) < 2**62 with n = 3 (the numpy kernel's first bound), checked by
+    # the compiled kernel itself: past it (by one, the last case), None.
+    args = ([0, 1, 1, 1], [1, 0, 1, 2], [w, 3, 3, 1], [t, 1, 1, 0])
+    assert howard_direct(*args, 3) is None
+    same_result(*args)
+    w_in = 2**62 // 6 - 1 if w > 0 else -(2**62 // 6 - 1)
+    assert howard_direct([0, 1, 1, 1], [1, 0, 1, 2], [w_in, 3, 3, 1], [1, 1, 1, 0], 3)
+
+
+def test_potentials_past_2_62_hand_over_to_numpy():
+    # Node 2 hangs below the self-loop on 1 (ratio 2**40 - 7) by an arc of 2**40
+    # tokens: its potential is about -(2**40 - 7) * 2**40 = -2**80. The compiled
+    # kernel stops (None); max_cycle_ratio then gives the numpy kernel's result
+    # in Python ints.
+    args = ([0, 1, 1, 1], [1, 0, 1, 2], [2**40, 1, 2**40 - 7, 5], [2**40, 0, 1, 2**40])
+    assert howard_direct(*args, 3) is None
+    r = same_result(*args)
+    assert r.certificate.potential.dtype == object
+
+
+def test_compiled_result_is_the_solution():
+    # The tuple the kernel returns, field by field (policy as the caller's arc indices).
+    W, T, X, policy, iterations = howard_direct([0, 1, 1], [1, 0, 1], [5, 3, 3], [1, 1, 1], 2)
+    assert (W.tolist(), T.tolist(), policy.tolist(), iterations) == ([4, 4], [1, 1], [1, 0], 1)
+    assert X.tolist() == [0, 1]
+
+
+def test_numpy_path_when_the_kernel_gives_up(monkeypatch):
+    # A compiled run that returns None (past 2**62, or a repeated policy) costs a
+    # numpy run, never a wrong or missing answer.
+    monkeypatch.setattr(compiled, "howard", lambda *args: None)
+    with numpy_kernel(True):
+        r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
+    assert r.ratio == 4 and r.iterations == 1 and r.verify()
+
+
+def walk_both(start, policy, src):
+    from maxplus.cycle_ratio import _policy_circuit
+
+    saved = policy_iteration._howard_kernel
+    try:
+        got = _policy_circuit(start, policy, src)
+        policy_iteration._howard_kernel = None
+        ref = _policy_circuit(start, policy, src)
+    finally:
+        policy_iteration._howard_kernel = saved
+    assert got.tolist() == ref.tolist()
+    return got
+
+
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=300)
+@given(st.integers(1, 40).flatmap(lambda n: st.tuples(
+    st.just(n), st.integers(0, n - 1),
+    st.lists(st.integers(0, 2 * n - 1), min_size=n, max_size=n),
+    st.lists(st.integers(0, n - 1), min_size=2 * n, max_size=2 * n),
+    st.sampled_from([np.int32, np.int64]))))
+def test_policy_circuit_walk_same(g):
+    # Brent's walk in C against the walk in Python, from every node of random policies.
+    n, start, policy, src, dtype = g
+    for s in range(n):
+        walk_both(s, np.array(policy, dtype=np.int64), np.array(src, dtype=dtype))
+
+
+def test_policy_circuit_without_policy_arc():
+    # A walk that meets a node without a policy arc: the compiled walk leaves it to Python.
+    # Node 0's policy arc (0) comes from 2, node 2's (1) from 0; node 1 has none.
+    policy, src = np.array([0, -1, 1], dtype=np.int64), np.array([2, 0], dtype=np.int64)
+    assert compiled.policy_circuit(1, policy, src) is None
+    assert compiled.policy_circuit(0, policy, src).tolist() == [1, 0]
+    assert walk_both(2, policy, src).tolist() == [0, 1]
+
+
+def test_policy_circuit_long_walk_same():
+    # A walk of 20,000 steps into a circuit of 7,000 (the Python walk hands over to
+    # its depth-first search in C past 4,096 steps).
+    n = 27000
+    src = np.arange(n, dtype=np.int32) - 1
+    src[0] = 6999  # node k's policy arc comes from k - 1; 0 from 6,999: circuit 0..6,999
+    policy = np.arange(n, dtype=np.int64)
+    arcs = walk_both(n - 1, policy, src)
+    assert len(arcs) == 7000 and arcs[0] == 0 and arcs.tolist() == sorted(arcs.tolist())
