@@ -203,8 +203,11 @@ class Advisor(Candidates):
             if self.brings(key, edits, whole=False) is not None:
                 first = first or edits
                 continue
-            rank = (0 if self.makes_live(edits) is not False else 1,
-                    len(self.resampled(edits)), self.inconsistent(edits))
+            live = 0 if self.makes_live(edits) is not False else 1
+            # Past the periods budget no period is known: none moves, none is mixed
+            # (what resampled and inconsistent would say, without asking them).
+            rank = ((live, 0, 0) if self._periods_after(edits) is None
+                    else (live, len(self.resampled(edits)), self.inconsistent(edits)))
             if best is None or rank < best[0]:
                 best = (rank, edits)
             if rank == (0, 0, 0):
@@ -479,10 +482,10 @@ class Advisor(Candidates):
         touched |= edits.drop | edits.add
         after: set[FindingKey] = set()
         for t in touched:  # the identities of the findings of .check
-            syncs = self.syncs(t, edits)
-            if len(syncs) > 1:
+            n_syncs = self.sync_count(t, edits)
+            if n_syncs > 1:
                 after.add((FindingKind.RULE1_SEVERAL_SYNCS, t))
-            elif not syncs and t not in self.threaded:
+            elif not n_syncs and t not in self.threaded:
                 after.add((FindingKind.RULE1_NO_SYNC, t))
         if not whole and (key in after or not after <= self.keys):
             return (after - self.keys) | ({key} & after)
