@@ -496,21 +496,39 @@ class Advisor(Candidates):
                 if self._rule3.get(id(tasks)) is kind and key != (kind, tasks):
                     continue  # the group as it was, with its finding: nothing new
                 after.add((kind, tuple(tasks)))
-        after |= self._rule2_after(edits, groups, part, root_of)
+        after |= self._rule2_after(edits, groups, part, root_of, key)
         new = after - self.keys
         if key in after:
             new.add(key)
         return new or None
 
-    def _rule2_after(self, edits: Edits, groups: list[int], part: dict, root_of: Any
-                     ) -> set[FindingKey]:
+    def _rule2_after(self, edits: Edits, groups: list[int], part: dict, root_of: Any,
+                     key: FindingKey | None = None) -> set[FindingKey]:
         """The Rule 2 findings on the edited links and the ASYN/ASYN links of ``groups``,
-        once ``edits`` are made (``part``, ``root_of``: the groups re-formed)."""
+        once ``edits`` are made (``part``, ``root_of``: the groups re-formed).
+
+        With ``key`` (the finding judged), the ASYN/ASYN links, not edited, of a group
+        that stays as it was (the same tasks, the same design period) are left out
+        when their other end's group stays too: their finding, or none, is as
+        before, so none is new there, and only ``key`` is read again if it is one
+        of them (a group with many such links is re-read once per candidate).
+        """
         after: set[FindingKey] = set()
         seen: set[int] = set()
         edited = edits.by_id()  # each link's last edit, by a lookup, not a scan per link
-        for link in itertools.chain([link for link, _ in edits.protocol],
-                                    *(self.asyn[g] for g in groups)):
+        if key is None:
+            scanned = [self.asyn[g] for g in groups]
+        else:
+            kept = self._kept_groups(groups, part, root_of)
+            scanned = [self.asyn[g] for g in groups if g not in kept]
+            # A link between a group kept and one changed is scanned with the latter
+            # (it is listed under both); one to a group not touched, which is kept, is not.
+            if key[0] is FindingKind.RULE2_UNSYNCHRONIZED:
+                (w, p), (r, q) = key[1]  # type: ignore[misc]
+                link = self._link((w, p), (r, q))
+                if self.group_of[w] in kept or self.group_of[r] in kept:
+                    scanned.append([link])
+        for link in itertools.chain([link for link, _ in edits.protocol], *scanned):
             if id(link) in seen:
                 continue
             seen.add(id(link))
@@ -526,6 +544,21 @@ class Advisor(Candidates):
                     after.add((FindingKind.RULE2_UNSYNCHRONIZED,
                                link_key(link.writer, link.reader)))
         return after
+
+    def _kept_groups(self, groups: list[int], part: dict, root_of: Any) -> set[int]:
+        """Those of ``groups`` that stay as they were once re-formed (``part``,
+        ``root_of``): the same tasks, the same design period."""
+        kept = set()
+        for g in groups:
+            members = self.groups[g]
+            root = root_of[members[0]]
+            tasks, _, period = part[root]
+            if period != self.periods[g] or len(tasks) != len(members):
+                continue
+            # The same count, and every task of the group in it: the same tasks.
+            if tasks is members or all(root_of[t] == root for t in members):
+                kept.add(g)
+        return kept
 
     def _regroup(self, groups: list[int], edits: Edits
                  ) -> tuple[dict, dict[str, str] | _Roots]:

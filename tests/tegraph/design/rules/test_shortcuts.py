@@ -133,3 +133,23 @@ def test_a_link_edited_twice_counts_by_its_last_edit():
     assert advisor.sync_count("B", edits) == len(advisor.syncs("B", edits)) == 0
     assert advisor.sync_count("A", edits.with_clock("A", True)) == 1
     assert advisor.sync_count("M", edits.with_clock("M", False)) == 1
+
+
+def test_a_rule2_finding_on_groups_that_stay_is_still_found():
+    # A and B run at one rate and A -> B does not synchronize them (Rule 2). Edits that
+    # leave both groups as they were (A2, which reads A, gives up its share of A's
+    # clock) leave the finding: Rule 2 is not read again on groups that stay, but the
+    # finding judged is.
+    sk = Skeleton.from_dict({
+        "clocks": {"c": {"period": 4}},
+        "tasks": {"A": {"duration": 1, "clock": "c", "outputs": ["x", "z"]},
+                  "A2": {"duration": 1, "clock": "c", "inputs": ["z"]},
+                  "B": {"duration": 1, "period": 4, "inputs": ["y"]}},
+        "links": [{"from": "A:x", "to": "B:y", "protocol": "ASYN/ASYN"},
+                  {"from": "A:z", "to": "A2:z", "protocol": "ASYN/SYN"}]})
+    advisor, findings = advisor_of(sk)
+    (finding,) = [f for f in findings if f.kind is FindingKind.RULE2_UNSYNCHRONIZED]
+    edits = Edits().with_clock("A2", False)
+    assert advisor.brings(finding.identity, edits) == {finding.identity}
+    groups, part, root_of = advisor._groups_after(edits)
+    assert advisor._kept_groups(groups, part, root_of) == {advisor.group_of["A"]}
