@@ -524,7 +524,7 @@ class Advisor(Candidates):
             # A link between a group kept and one changed is scanned with the latter
             # (it is listed under both); one to a group not touched, which is kept, is not.
             if key[0] is FindingKind.RULE2_UNSYNCHRONIZED:
-                (w, p), (r, q) = key[1]  # type: ignore[misc]
+                (w, p), (r, q) = key[1]
                 link = self._link((w, p), (r, q))
                 if self.group_of[w] in kept or self.group_of[r] in kept:
                     scanned.append([link])
