@@ -235,9 +235,8 @@ class Advisor(Candidates):
         return self._after[1]
 
     def _form_groups_after(self, edits: Edits) -> tuple[list[int], dict, Any]:
-        touched = {t for link, _ in edits.protocol for t in (link.writer[0], link.reader[0])}
-        touched |= edits.drop | edits.add
-        groups = sorted({self.group_of[t] for t in touched})
+        group_of = self.group_of
+        groups = sorted({group_of[t] for t in edits.touched()})
         part, root_of = self._regroup(groups, edits)
         return groups, part, root_of
 
@@ -478,10 +477,8 @@ class Advisor(Candidates):
         ASYN/ASYN links of those groups. Everything else is as it was.
         (``tests/tegraph/design/rules/test_advice.py`` compares this with a full re-check.)
         """
-        touched = {t for link, _ in edits.protocol for t in (link.writer[0], link.reader[0])}
-        touched |= edits.drop | edits.add
         after: set[FindingKey] = set()
-        for t in touched:  # the identities of the findings of .check
+        for t in edits.touched():  # the identities of the findings of .check
             n_syncs = self.sync_count(t, edits)
             if n_syncs > 1:
                 after.add((FindingKind.RULE1_SEVERAL_SYNCS, t))
@@ -553,7 +550,9 @@ class Advisor(Candidates):
             members = self.groups[g]
             root = root_of[members[0]]
             tasks, _, period = part[root]
-            if period != self.periods[g] or len(tasks) != len(members):
+            before = self.periods[g]
+            # Identity first: a Fraction compared by value costs a call.
+            if (period is not before and period != before) or len(tasks) != len(members):
                 continue
             # The same count, and every task of the group in it: the same tasks.
             if tasks is members or all(root_of[t] == root for t in members):
@@ -639,11 +638,16 @@ class Advisor(Candidates):
         for link, protocol in edits.protocol:
             final[link] = protocol
         protocols = tuple((":".join(link.writer), ":".join(link.reader), p.value)
-                          for link, p in sorted(final.items(),
-                                                key=lambda x: self.link_order[id(x[0])])
+                          for link, p in (sorted(final.items(),
+                                                 key=lambda x: self.link_order[id(x[0])])
+                                          if len(final) > 1 else final.items())
                           if p is not link.protocol)
-        return Change(protocols, tuple(sorted(edits.drop, key=self.order.__getitem__)),
-                      tuple(sorted(edits.add, key=self.order.__getitem__)))
+        order = self.order.__getitem__
+        return Change(protocols,
+                      tuple(sorted(edits.drop, key=order)) if len(edits.drop) > 1
+                      else tuple(edits.drop),
+                      tuple(sorted(edits.add, key=order)) if len(edits.add) > 1
+                      else tuple(edits.add))
 
     def describe(self, change: Change) -> str:
         """The change in words."""

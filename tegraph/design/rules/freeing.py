@@ -44,7 +44,7 @@ class Edits:
     (<Protocol.ASYN_ASYN: 'ASYN/ASYN'>, 2)
     """
 
-    __slots__ = ("protocol", "drop", "add", "kept", "_by_id", "_last", "_size")
+    __slots__ = ("protocol", "drop", "add", "kept", "_by_id", "_last", "_size", "_touched")
 
     def __init__(self, protocol: tuple[tuple[Link, Protocol], ...] = (),
                  drop: frozenset[str] = frozenset(), add: frozenset[str] = frozenset(),
@@ -52,6 +52,7 @@ class Edits:
         self.protocol, self.drop, self.add, self.kept = protocol, drop, add, kept
         self._by_id: dict[int, Protocol] | None = None
         self._last: list[tuple[Link, Protocol]] | None = None
+        self._touched: frozenset[str] | None = None
         self._size: int | None = None  # known when made by the search (it counts as it goes)
 
     def set(self, link: Link, protocol: Protocol) -> Edits:
@@ -89,6 +90,14 @@ class Edits:
                 final = {id(link): (link, p) for link, p in self.protocol}
                 self._last = list(final.values())
         return self._last
+
+    def touched(self) -> frozenset[str]:
+        """The tasks whose links or clock the edits touch (made once)."""
+        if self._touched is None:
+            self._touched = frozenset(t for link, _ in self.protocol
+                                      for t in (link.writer[0], link.reader[0])
+                                      ) | self.drop | self.add
+        return self._touched
 
     def size(self) -> int:
         """How much the edits change: links edited, clocks removed and clocks added.
