@@ -39,7 +39,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Callable, Iterator
 
-from ...model.skeleton import Link, Protocol, Skeleton
+from ...model.skeleton import Link, Protocol, Skeleton, Task
 from ...model.structure import Structure
 from .findings import FindingKind, RuleFinding
 from .freeing import Edits, Freeing, Run, Sync, clocked_after, waits_for
@@ -78,7 +78,8 @@ class Candidates:
         self.threaded = {t for thread in skeleton.threads for t in thread}
         self._inputs: dict[str, list[Link]] = {}
         self._outputs: dict[str, list[Link]] = {}
-        self._blocking: dict[str, int] = {}  # each task's blocking links, as they are
+        # Each task's blocking links as they are, whether it has a clock, and the task.
+        self._blocking: dict[str, tuple[int, bool, Task]] = {}
         # One search for every :meth:`ranked`'s first, not one made per finding: a
         # walk may stop half-way (a run that cannot beat the best is skipped), and
         # the next finding's walk starts by resetting the search's state.
@@ -115,12 +116,13 @@ class Candidates:
         """
         known = self._blocking.get(task)
         if known is None:
-            known = self._blocking[task] = len(waits_for(False, self.inputs(task),
-                                                         self.outputs(task), {}))
-        n = known + clocked_after(task, self.sk.tasks[task].clock is not None, edits.drop,
-                                  edits.add)
-        if edits.protocol:
             spec = self.sk.tasks[task]
+            known = self._blocking[task] = (
+                len(waits_for(False, self.inputs(task), self.outputs(task), {})),
+                spec.clock is not None, spec)
+        n_links, own_clock, spec = known
+        n = n_links + clocked_after(task, own_clock, edits.drop, edits.add)
+        if edits.protocol:
             for link, now in edits.last():
                 was = link.protocol
                 if now is was:
