@@ -15,7 +15,8 @@ candidate would bring.
 The candidates are :mod:`.candidates`. A candidate is checked where it can
 change the rules (:meth:`Advisor.brings`): Rule 1 for the tasks it touches,
 Rule 3 for the groups their tasks form afterwards, Rule 2 for its links and
-the ASYN/ASYN links of those groups. So a check costs the size of the groups
+the ASYN/ASYN links of those groups (but those of a group that stays as it
+was, whose findings are as before). So a check costs the size of the groups
 touched, not of the skeleton. Findings are compared by their identity (kind
 and key, :attr:`~.findings.RuleFinding.identity`), never by their words.
 
