@@ -15,7 +15,8 @@ candidate would bring.
 The candidates are :mod:`.candidates`. A candidate is checked where it can
 change the rules (:meth:`Advisor.brings`): Rule 1 for the tasks it touches,
 Rule 3 for the groups their tasks form afterwards, Rule 2 for its links and
-the ASYN/ASYN links of those groups. So a check costs the size of the groups
+the ASYN/ASYN links of those groups (but those of a group that stays as it
+was, whose findings are as before). So a check costs the size of the groups
 touched, not of the skeleton. Findings are compared by their identity (kind
 and key, :attr:`~.findings.RuleFinding.identity`), never by their words.
 
@@ -203,8 +204,11 @@ class Advisor(Candidates):
             if self.brings(key, edits, whole=False) is not None:
                 first = first or edits
                 continue
-            rank = (0 if self.makes_live(edits) is not False else 1,
-                    len(self.resampled(edits)), self.inconsistent(edits))
+            live = 0 if self.makes_live(edits) is not False else 1
+            # Past the periods budget no period is known: none moves, none is mixed
+            # (what resampled and inconsistent would say, without asking them).
+            rank = ((live, 0, 0) if self._periods_after(edits) is None
+                    else (live, len(self.resampled(edits)), self.inconsistent(edits)))
             if best is None or rank < best[0]:
                 best = (rank, edits)
             if rank == (0, 0, 0):
@@ -232,9 +236,8 @@ class Advisor(Candidates):
         return self._after[1]
 
     def _form_groups_after(self, edits: Edits) -> tuple[list[int], dict, Any]:
-        touched = {t for link, _ in edits.protocol for t in (link.writer[0], link.reader[0])}
-        touched |= edits.drop | edits.add
-        groups = sorted({self.group_of[t] for t in touched})
+        group_of = self.group_of
+        groups = sorted({group_of[t] for t in edits.touched()})
         part, root_of = self._regroup(groups, edits)
         return groups, part, root_of
 
@@ -475,14 +478,12 @@ class Advisor(Candidates):
         ASYN/ASYN links of those groups. Everything else is as it was.
         (``tests/tegraph/design/rules/test_advice.py`` compares this with a full re-check.)
         """
-        touched = {t for link, _ in edits.protocol for t in (link.writer[0], link.reader[0])}
-        touched |= edits.drop | edits.add
         after: set[FindingKey] = set()
-        for t in touched:  # the identities of the findings of .check
-            syncs = self.syncs(t, edits)
-            if len(syncs) > 1:
+        for t in edits.touched():  # the identities of the findings of .check
+            n_syncs = self.sync_count(t, edits)
+            if n_syncs > 1:
                 after.add((FindingKind.RULE1_SEVERAL_SYNCS, t))
-            elif not syncs and t not in self.threaded:
+            elif not n_syncs and t not in self.threaded:
                 after.add((FindingKind.RULE1_NO_SYNC, t))
         if not whole and (key in after or not after <= self.keys):
             return (after - self.keys) | ({key} & after)
@@ -493,21 +494,39 @@ class Advisor(Candidates):
                 if self._rule3.get(id(tasks)) is kind and key != (kind, tasks):
                     continue  # the group as it was, with its finding: nothing new
                 after.add((kind, tuple(tasks)))
-        after |= self._rule2_after(edits, groups, part, root_of)
+        after |= self._rule2_after(edits, groups, part, root_of, key)
         new = after - self.keys
         if key in after:
             new.add(key)
         return new or None
 
-    def _rule2_after(self, edits: Edits, groups: list[int], part: dict, root_of: Any
-                     ) -> set[FindingKey]:
+    def _rule2_after(self, edits: Edits, groups: list[int], part: dict, root_of: Any,
+                     key: FindingKey | None = None) -> set[FindingKey]:
         """The Rule 2 findings on the edited links and the ASYN/ASYN links of ``groups``,
-        once ``edits`` are made (``part``, ``root_of``: the groups re-formed)."""
+        once ``edits`` are made (``part``, ``root_of``: the groups re-formed).
+
+        With ``key`` (the finding judged), the ASYN/ASYN links, not edited, of a group
+        that stays as it was (the same tasks, the same design period) are left out
+        when their other end's group stays too: their finding, or none, is as
+        before, so none is new there, and only ``key`` is read again if it is one
+        of them (a group with many such links is re-read once per candidate).
+        """
         after: set[FindingKey] = set()
         seen: set[int] = set()
         edited = edits.by_id()  # each link's last edit, by a lookup, not a scan per link
-        for link in itertools.chain([link for link, _ in edits.protocol],
-                                    *(self.asyn[g] for g in groups)):
+        if key is None:
+            scanned = [self.asyn[g] for g in groups]
+        else:
+            kept = self._kept_groups(groups, part, root_of)
+            scanned = [self.asyn[g] for g in groups if g not in kept]
+            # A link between a group kept and one changed is scanned with the latter
+            # (it is listed under both); one to a group not touched, which is kept, is not.
+            if key[0] is FindingKind.RULE2_UNSYNCHRONIZED:
+                (w, p), (r, q) = key[1]
+                link = self._link((w, p), (r, q))
+                if self.group_of[w] in kept or self.group_of[r] in kept:
+                    scanned.append([link])
+        for link in itertools.chain([link for link, _ in edits.protocol], *scanned):
             if id(link) in seen:
                 continue
             seen.add(id(link))
@@ -523,6 +542,23 @@ class Advisor(Candidates):
                     after.add((FindingKind.RULE2_UNSYNCHRONIZED,
                                link_key(link.writer, link.reader)))
         return after
+
+    def _kept_groups(self, groups: list[int], part: dict, root_of: Any) -> set[int]:
+        """Those of ``groups`` that stay as they were once re-formed (``part``,
+        ``root_of``): the same tasks, the same design period."""
+        kept = set()
+        for g in groups:
+            members = self.groups[g]
+            root = root_of[members[0]]
+            tasks, _, period = part[root]
+            before = self.periods[g]
+            # Identity first: a Fraction compared by value costs a call.
+            if (period is not before and period != before) or len(tasks) != len(members):
+                continue
+            # The same count, and every task of the group in it: the same tasks.
+            if tasks is members or all(root_of[t] == root for t in members):
+                kept.add(g)
+        return kept
 
     def _regroup(self, groups: list[int], edits: Edits
                  ) -> tuple[dict, dict[str, str] | _Roots]:
@@ -603,11 +639,16 @@ class Advisor(Candidates):
         for link, protocol in edits.protocol:
             final[link] = protocol
         protocols = tuple((":".join(link.writer), ":".join(link.reader), p.value)
-                          for link, p in sorted(final.items(),
-                                                key=lambda x: self.link_order[id(x[0])])
+                          for link, p in (sorted(final.items(),
+                                                 key=lambda x: self.link_order[id(x[0])])
+                                          if len(final) > 1 else final.items())
                           if p is not link.protocol)
-        return Change(protocols, tuple(sorted(edits.drop, key=self.order.__getitem__)),
-                      tuple(sorted(edits.add, key=self.order.__getitem__)))
+        order = self.order.__getitem__
+        return Change(protocols,
+                      tuple(sorted(edits.drop, key=order)) if len(edits.drop) > 1
+                      else tuple(edits.drop),
+                      tuple(sorted(edits.add, key=order)) if len(edits.add) > 1
+                      else tuple(edits.add))
 
     def describe(self, change: Change) -> str:
         """The change in words."""

@@ -39,10 +39,11 @@ from __future__ import annotations
 import itertools
 from collections.abc import Callable, Iterator
 
-from ...model.skeleton import Link, Protocol, Skeleton
+from ...model.skeleton import Link, Protocol, Skeleton, Task
 from ...model.structure import Structure
 from .findings import FindingKind, RuleFinding
 from .freeing import Edits, Freeing, Run, Sync, clocked_after, waits_for
+from .synchronization import READER_BLOCKS, WRITER_BLOCKS
 
 __all__ = ["CANDIDATE_LIMIT", "SPLIT", "Candidates", "Edits", "Sync", "sync_label"]
 
@@ -77,6 +78,8 @@ class Candidates:
         self.threaded = {t for thread in skeleton.threads for t in thread}
         self._inputs: dict[str, list[Link]] = {}
         self._outputs: dict[str, list[Link]] = {}
+        # Each task's blocking links as they are, whether it has a clock, and the task.
+        self._blocking: dict[str, tuple[int, bool, Task]] = {}
         # One search for every :meth:`ranked`'s first, not one made per finding: a
         # walk may stop half-way (a run that cannot beat the best is skipped), and
         # the next finding's walk starts by resetting the search's state.
@@ -103,9 +106,40 @@ class Candidates:
                                   edits.add)
         return waits_for(has_clock, self.inputs(task), self.outputs(task), edits.by_id())
 
+    def sync_count(self, task: str, edits: Edits) -> int:
+        """How many synchronizations ``task`` has once ``edits`` are made (as many as
+        :meth:`syncs` lists).
+
+        Its links' count as they are is kept per task; only the edited links that
+        touch it are read again (a candidate edits a few links, and this is asked
+        for each task it touches, of each candidate of each finding).
+        """
+        known = self._blocking.get(task)
+        if known is None:
+            spec = self.sk.tasks[task]
+            known = self._blocking[task] = (
+                len(waits_for(False, self.inputs(task), self.outputs(task), {})),
+                spec.clock is not None, spec)
+        n_links, own_clock, spec = known
+        n = n_links + clocked_after(task, own_clock, edits.drop, edits.add)
+        if edits.protocol:
+            for link, now in edits.last():
+                was = link.protocol
+                if now is was:
+                    continue
+                # A link is listed among the task's inputs once per port it reads by
+                # that name (once: ports are distinct), and among its outputs alike.
+                if link.reader[0] == task:
+                    n += spec.inputs.count(link.reader[1]) * (
+                        (now in READER_BLOCKS) - (was in READER_BLOCKS))
+                if link.writer[0] == task:
+                    n += spec.outputs.count(link.writer[1]) * (
+                        (now in WRITER_BLOCKS) - (was in WRITER_BLOCKS))
+        return n
+
     def needs_one(self, task: str, edits: Edits) -> bool:
         """Rule 1 would warn: no synchronization and no thread."""
-        return task not in self.threaded and not self.syncs(task, edits)
+        return task not in self.threaded and not self.sync_count(task, edits)
 
     def _gain(self, task: str, seen: frozenset[str], edits: Edits, inputs: bool = True,
               outputs: bool = True) -> Iterator[Edits]:
@@ -152,11 +186,15 @@ class Candidates:
         (every candidate edits something), and the earliest such. The others are
         made if it is not taken.
         """
-        runs = self._runs(finding)
         made = self.candidates(finding)
-        if runs is not None:
-            first = self._first_search.first(runs, CANDIDATE_LIMIT)
+        first = (self._first_kept(finding.key)
+                 if finding.kind is FindingKind.RULE1_SEVERAL_SYNCS else None)
+        runs = None if first is not None else self._runs(finding)
+        if first is not None:
             known: list[Edits] = []
+        elif runs is not None:
+            first = self._first_search.first(runs, CANDIDATE_LIMIT)
+            known = []
         else:
             known = list(itertools.islice(made, 1))
             first = known[0] if known and known[0].size() <= 1 else None
@@ -181,13 +219,45 @@ class Candidates:
         empty = Edits()
         syncs = waits_for(self.sk.tasks[task].clock is not None, self.inputs(task),
                           self.outputs(task), {})
-        inputs = [s for s in syncs if s[0] == "input"]
-        outputs = [s for s in syncs if s[0] == "output"]
-        first = ([inputs[0]] if inputs else []) + [s for s in syncs if s[0] == "clock"] \
-            + ([outputs[-1]] if outputs else [])
+        first = _preferred(syncs)
         seen = frozenset({task})
         return [(empty, task, keep, seen, sync_label(keep))
                 for keep in first + [s for s in syncs if s not in first]]
+
+    def _first_kept(self, task: str) -> Edits | None:
+        """The first candidate of :meth:`_several_syncs`' runs, as :meth:`.Freeing.first`
+        finds it, told at once; None where it cannot be (then the search is made).
+
+        When the task's synchronizations are distinct (no link twice, no two equal
+        links), every candidate of the first run edits each link it gives up, and
+        drops its clock if it gives that up: the first way of each (cut the link, or
+        a rendezvous's other side keeps blocking; no neighbour pulled in) is the
+        smallest, and no other run can be smaller (each gives up as many). This is
+        the walk's first candidate, made without the walk (a task with a clock and an
+        input, 10,000 of them on a chain with a clock per task, is the common case).
+        """
+        syncs = waits_for(self.sk.tasks[task].clock is not None, self.inputs(task),
+                          self.outputs(task), {})
+        links = [id(link) for _, link in syncs if link is not None]
+        if len(set(links)) != len(links) or any(
+                a == b for i, a in enumerate(syncs) for b in syncs[i + 1:]):
+            return None
+        keep = _preferred(syncs)[0]
+        sets: list[tuple[Link, Protocol]] = []
+        drop: frozenset[str] = frozenset()
+        for sync in syncs:
+            if sync == keep:
+                continue
+            kind, link = sync
+            if link is None:
+                drop = frozenset((task,))
+            elif link.protocol is Protocol.SYN_SYN:
+                sets.append((link, Protocol.SYN_ASYN if kind == "input" else Protocol.ASYN_SYN))
+            else:
+                sets.append((link, Protocol.ASYN_ASYN))
+        edits = Edits(tuple(sets), drop, frozenset(), sync_label(keep))
+        edits._size = len(sets) + len(drop)
+        return edits
 
     def _no_sync(self, task: str) -> Iterator[Edits]:
         """Rule 1, no synchronization: read an input, get a clock, or post an output."""
@@ -302,6 +372,15 @@ class Candidates:
         FindingKind.RULE3_NO_CLOCK: _no_clock,
     }
     """The searches of each other kind of finding, from its key."""
+
+
+def _preferred(syncs: list[Sync]) -> list[Sync]:
+    """The synchronizations a task best keeps, best first (footnote 6): its first
+    input read, its clock, its last output posted."""
+    inputs = [s for s in syncs if s[0] == "input"]
+    outputs = [s for s in syncs if s[0] == "output"]
+    return (([inputs[0]] if inputs else []) + [s for s in syncs if s[0] == "clock"]
+            + ([outputs[-1]] if outputs else []))
 
 
 def sync_label(sync: Sync) -> str:

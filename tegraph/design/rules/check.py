@@ -94,7 +94,9 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
     findings += rule4(skeleton, structure)
     index = {t: i for i, t in enumerate(skeleton.tasks)}
     findings.sort(key=lambda f: (f.rule, _ORDER[f.severity],
-                                 min((index[t] for t in f.tasks), default=0)))
+                                 # Most findings name one task: no generator for it.
+                                 index[f.tasks[0]] if len(f.tasks) == 1
+                                 else min((index[t] for t in f.tasks), default=0)))
     return findings
 
 

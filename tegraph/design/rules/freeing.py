@@ -44,13 +44,15 @@ class Edits:
     (<Protocol.ASYN_ASYN: 'ASYN/ASYN'>, 2)
     """
 
-    __slots__ = ("protocol", "drop", "add", "kept", "_by_id", "_size")
+    __slots__ = ("protocol", "drop", "add", "kept", "_by_id", "_last", "_size", "_touched")
 
     def __init__(self, protocol: tuple[tuple[Link, Protocol], ...] = (),
                  drop: frozenset[str] = frozenset(), add: frozenset[str] = frozenset(),
                  kept: str = "") -> None:
         self.protocol, self.drop, self.add, self.kept = protocol, drop, add, kept
         self._by_id: dict[int, Protocol] | None = None
+        self._last: list[tuple[Link, Protocol]] | None = None
+        self._touched: frozenset[str] | None = None
         self._size: int | None = None  # known when made by the search (it counts as it goes)
 
     def set(self, link: Link, protocol: Protocol) -> Edits:
@@ -78,6 +80,24 @@ class Edits:
         if self._by_id is None:
             self._by_id = {id(link): protocol for link, protocol in self.protocol}
         return self._by_id
+
+    def last(self) -> list[tuple[Link, Protocol]]:
+        """Each edited link once, with the last protocol given to it (made once)."""
+        if self._last is None:
+            if len(self.protocol) == 1:
+                self._last = list(self.protocol)
+            else:
+                final = {id(link): (link, p) for link, p in self.protocol}
+                self._last = list(final.values())
+        return self._last
+
+    def touched(self) -> frozenset[str]:
+        """The tasks whose links or clock the edits touch (made once)."""
+        if self._touched is None:
+            self._touched = frozenset(t for link, _ in self.protocol
+                                      for t in (link.writer[0], link.reader[0])
+                                      ) | self.drop | self.add
+        return self._touched
 
     def size(self) -> int:
         """How much the edits change: links edited, clocks removed and clocks added.

@@ -64,6 +64,7 @@ class Regrouping:
         self._joins: dict[int, tuple[list[tuple[str, str, int]], list[tuple[str, list[str]]],
                                      list[tuple[str, str]]]] = {}
         self._arrays: dict[int, _GroupArrays] = {}
+        self._task_clocks: dict[int, dict[str, str | None]] = {}
 
     def after(self, groups: list[int], edits: Edits) -> tuple[dict[str, Part], dict[str, str]]:
         """The groups that the tasks of ``groups`` form once ``edits`` are made.
@@ -88,12 +89,15 @@ class Regrouping:
         groups as they are (cached per group) but for what the edits touch: the
         edited links, and the clocks of the edited tasks.
         """
-        parent = {t: t for t in tasks}
-        edited = {id(link): p for link, p in edits.protocol}  # the last edit of each link
+        parent = dict(zip(tasks, tasks))
+        edited = edits.by_id()  # the last edit of each link
         changed = edits.drop | edits.add
         # A task whose clock is dropped has one (and one given a clock may have had one).
         moved = {self.sk.tasks[t].clock for t in changed} - {None}
-        clock_of: dict[str, str | None] = {t: self.sk.tasks[t].clock for t in tasks}
+        # Each task's clock as it is, copied from each group's (kept once per group).
+        clock_of: dict[str, str | None] = {}
+        for g in groups:
+            clock_of.update(self._clocks_of_tasks(g))
         for t in edits.drop:
             clock_of[t] = None
         for t in edits.add:
@@ -129,6 +133,14 @@ class Regrouping:
                 a = parent[a]
             root_of[t] = a
         return clock_of, root_of
+
+    def _clocks_of_tasks(self, g: int) -> dict[str, str | None]:
+        """Each task of group ``g`` and its clock, as they are (cached)."""
+        known = self._task_clocks.get(g)
+        if known is None:
+            tasks = self.sk.tasks
+            known = self._task_clocks[g] = {t: tasks[t].clock for t in self.groups[g]}
+        return known
 
     def _joins_of_group(self, g: int) -> tuple[list[tuple[str, str, int]],
                                                 list[tuple[str, list[str]]],
