@@ -32,12 +32,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from types import ModuleType
 from typing import Any
 
 import numpy as np
 
 from ._arrays import INT64_SAFE, abs_max, argmax_ratio, compare_ratios, find_circuit, gcd_arrays
 from .errors import CertificateError
+
+_certificate_kernel: ModuleType | None
+try:  # the compiled arc checks (setup.py builds them where a C compiler is found)
+    from . import _certificate_kernel
+except ImportError:  # pragma: no cover - no compiler: the numpy checks alone
+    _certificate_kernel = None
 
 __all__ = ["CycleRatioCertificate", "CycleRatioClaim", "verify_cycle_ratio"]
 
@@ -194,6 +201,10 @@ def verify_cycle_ratio(src: Any, dst: Any, weight: Any, tokens: Any,
     c = claim.certificate
     src, dst, weight, tokens = _arc_arrays(src, dst, weight, tokens)
     n = _node_count(src, dst, claim)
+    one_ratio = _compiled_checks(src, dst, weight, tokens, c)
+    if one_ratio is not None:  # every arc and policy check below holds: the circuit is left
+        _verify_circuit(src, dst, weight, tokens, claim, one_ratio)
+        return
     W, T, X, w, t = (np.asarray(a) for a in (c.ratio_num, c.ratio_den, c.potential,
                                              weight, tokens))
     live = T != 0
@@ -265,6 +276,29 @@ def verify_cycle_ratio(src: Any, dst: Any, weight: Any, tokens: Any,
             k = int(nodes[bad[0]])
             raise CertificateError(f"the policy arc of node {k} is not tight")
     _verify_circuit(src, dst, weight, tokens, claim, one_ratio)
+
+
+def _compiled_checks(src: np.ndarray, dst: np.ndarray, weight: np.ndarray, tokens: np.ndarray,
+                     c: CycleRatioCertificate) -> bool | None:
+    """The arc and policy checks of :func:`verify_cycle_ratio` in one compiled pass.
+
+    None when they were not made (no compiled module, arrays not all of signed
+    integers, a node without cycle time, products that may leave int64) or one
+    fails: the numpy checks then run and name what fails. Otherwise whether
+    every node has the same cycle time (what :func:`_verify_circuit` asks).
+    """
+    if _certificate_kernel is None:
+        return None
+    arrays = [np.asarray(a) for a in (src, dst, weight, tokens, c.ratio_num, c.ratio_den,
+                                      c.potential, c.policy)]
+    if any(a.dtype.kind != "i" for a in arrays):  # object arrays hold big integers
+        return None
+    # The ends stay int32 where the solver keeps them so (a copy of 4 m entries less).
+    ends = np.int32 if src.dtype == dst.dtype == np.int32 else np.int64
+    held = _certificate_kernel.arc_checks(
+        *(np.ascontiguousarray(a, dtype=ends) for a in arrays[:2]),
+        *(np.ascontiguousarray(a, dtype=np.int64) for a in arrays[2:]))
+    return None if not held else held == _certificate_kernel.ONE_RATIO
 
 
 def _arc_arrays(src: Any, dst: Any, weight: Any, tokens: Any) -> tuple[np.ndarray, ...]:
