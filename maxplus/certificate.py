@@ -30,9 +30,9 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
-from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -40,11 +40,13 @@ import numpy as np
 from ._arrays import INT64_SAFE, abs_max, argmax_ratio, compare_ratios, find_circuit, gcd_arrays
 from .errors import CertificateError
 
-_certificate_kernel: ModuleType | None
-try:  # the compiled arc checks (setup.py builds them where a C compiler is found)
-    from . import _certificate_kernel
+_arc_checks: Callable[..., int] | None
+try:  # the compiled arc checks (setup.py builds them where a C compiler is found); imported
+    # by name: import-linter reads `from . import` as an import of the package, the solver's
+    from ._certificate_kernel import ONE_RATIO as _ONE_RATIO
+    from ._certificate_kernel import arc_checks as _arc_checks
 except ImportError:  # pragma: no cover - no compiler: the numpy checks alone
-    _certificate_kernel = None
+    _arc_checks = None
 
 __all__ = ["CycleRatioCertificate", "CycleRatioClaim", "verify_cycle_ratio"]
 
@@ -287,7 +289,7 @@ def _compiled_checks(src: np.ndarray, dst: np.ndarray, weight: np.ndarray, token
     fails: the numpy checks then run and name what fails. Otherwise whether
     every node has the same cycle time (what :func:`_verify_circuit` asks).
     """
-    if _certificate_kernel is None:
+    if _arc_checks is None:
         return None
     arrays = [np.asarray(a) for a in (src, dst, weight, tokens, c.ratio_num, c.ratio_den,
                                       c.potential, c.policy)]
@@ -295,10 +297,10 @@ def _compiled_checks(src: np.ndarray, dst: np.ndarray, weight: np.ndarray, token
         return None
     # The ends stay int32 where the solver keeps them so (a copy of 4 m entries less).
     ends = np.int32 if src.dtype == dst.dtype == np.int32 else np.int64
-    held = _certificate_kernel.arc_checks(
+    held = _arc_checks(
         *(np.ascontiguousarray(a, dtype=ends) for a in arrays[:2]),
         *(np.ascontiguousarray(a, dtype=np.int64) for a in arrays[2:]))
-    return None if not held else held == _certificate_kernel.ONE_RATIO
+    return None if not held else held == _ONE_RATIO
 
 
 def _arc_arrays(src: Any, dst: Any, weight: Any, tokens: Any) -> tuple[np.ndarray, ...]:

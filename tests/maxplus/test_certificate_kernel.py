@@ -34,7 +34,7 @@ def _outcome(arcs, claim, compiled: bool) -> str | None:
     """None when the claim is proven, else the checker's message."""
     with pytest.MonkeyPatch.context() as m:
         if not compiled:
-            m.setattr(certificate, "_certificate_kernel", None)
+            m.setattr(certificate, "_arc_checks", None)
         try:
             verify_cycle_ratio(*arcs, claim)
         except CertificateError as exc:
@@ -204,7 +204,7 @@ def test_the_compiled_pass_holds_exactly_when_the_numpy_arc_and_policy_checks_ho
                                   policy=policy, circuit=np.array([0]))
     claim = CycleRatioClaim(Fraction(0), np.array([0]), W, T, proof)
     with pytest.MonkeyPatch.context() as m:
-        m.setattr(certificate, "_certificate_kernel", None)
+        m.setattr(certificate, "_arc_checks", None)
         m.setattr(certificate, "_verify_circuit", lambda *args: None)  # the arcs and policy only
         try:
             verify_cycle_ratio(src, dst, w, t, claim)
