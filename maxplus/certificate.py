@@ -30,6 +30,7 @@ References
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
@@ -41,10 +42,11 @@ from ._arrays import INT64_SAFE, abs_max, argmax_ratio, compare_ratios, find_cir
 from .errors import CertificateError
 
 _arc_checks: Callable[..., int] | None
-try:  # the compiled arc checks (setup.py builds them where a C compiler is found); imported
-    # by name: import-linter reads `from . import` as an import of the package, the solver's
-    from ._certificate_kernel import ONE_RATIO as _ONE_RATIO
-    from ._certificate_kernel import arc_checks as _arc_checks
+try:  # the compiled arc checks (setup.py builds them where a C compiler is found). By
+    # importlib: they have no Python source for the import checks to read, and those read
+    # `from . import` as an import of the package, which holds the solver.
+    _compiled = importlib.import_module("._certificate_kernel", __package__)
+    _arc_checks, _ONE_RATIO = _compiled.arc_checks, _compiled.ONE_RATIO
 except ImportError:  # pragma: no cover - no compiler: the numpy checks alone
     _arc_checks = None
 

@@ -58,6 +58,7 @@ References
 
 from __future__ import annotations
 
+import importlib
 from functools import cmp_to_key
 from types import ModuleType
 from typing import Any, Literal, NamedTuple, TypeAlias
@@ -69,8 +70,10 @@ from scipy.sparse.csgraph import depth_first_order
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
 
 _howard_kernel: ModuleType | None
-try:  # the compiled kernel (setup.py builds it where a C compiler is found)
-    from . import _howard_kernel
+try:  # the compiled kernel (setup.py builds it where a C compiler is found). By importlib:
+    # it has no Python source for the import checks to read, and they read `from . import`
+    # as an import of the package, the whole of maxplus (a cycle through this module).
+    _howard_kernel = importlib.import_module("._howard_kernel", __package__)
 except ImportError:  # pragma: no cover - no compiler: the numpy kernel alone
     _howard_kernel = None
 
