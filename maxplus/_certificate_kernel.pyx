@@ -106,7 +106,9 @@ cdef int checks(const index_t[::1] src, const index_t[::1] dst, const int64_t[::
     big_value = <u128>mX + <u128>mw * mT + <u128>mW * mt
     top = max(mW, mT, mX, mw, mt)
     big = max(big_ratio, big_value, <u128>top)
-    if 2 * big >= SAFE:
+    # 2 * big < SAFE, without the doubling: big reaches 2**127 (w, W, X and t all
+    # -2**63, T 2**63 - 1), whose double wraps to 0 in 128 bits.
+    if big >= SAFE >> 1:
         return 0
     W0, T0 = W[0], T[0]
     for k in range(n):

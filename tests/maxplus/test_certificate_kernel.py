@@ -231,3 +231,19 @@ def test_a_policy_arc_into_another_node_is_declined_though_it_would_be_tight():
     claim = CycleRatioClaim(Fraction(1), np.array([0]), arrays[4], arrays[5], proof)
     with pytest.raises(CertificateError, match="a policy arc does not end at its node"):
         verify_cycle_ratio(*arrays[:4], claim)
+
+
+def test_the_bound_itself_cannot_wrap_around():
+    # Found by review: w, W and X at -2**63 and T at 2**63 - 1 with a token count of
+    # -2**63 make |X| + |w| |T| + |W| |t| exactly 2**127, whose double wraps to 0 in
+    # 128 bits. The numpy checks refuse the claim: arc 2 (1 -> 0) would need
+    # X0 >= X1 + 0 * T - W * 2 = -2**63 + 2**64 > X0 = -2**63.
+    low, high = -2**63, 2**63 - 1
+    arrays = _arrays([0, 0, 1], [0, 1, 0], [low, 0, 0], [high, low, 2], [low, low],
+                     [high, high], [low, low], [0, 1])
+    assert kernel.arc_checks(*arrays) == 0
+    proof = CycleRatioCertificate(scale=1, ratio_num=arrays[4], ratio_den=arrays[5],
+                                  potential=arrays[6], policy=arrays[7], circuit=np.array([0]))
+    claim = CycleRatioClaim(Fraction(low, high), np.array([0]), arrays[4], arrays[5], proof)
+    with pytest.raises(CertificateError, match="arc 2 .* violates the potential inequality"):
+        verify_cycle_ratio(*arrays[:4], claim)
