@@ -41,6 +41,22 @@ _BIG_NONE = -(2**256)
 _INT64_ROOM = 2**60
 
 
+def _step_room(tokens: np.ndarray, holding: np.ndarray, initial: np.ndarray) -> int:
+    """The most one step of :class:`DaterSimulation` adds to the daters it starts from.
+
+    A dater is an initial availability time, or a dater of the history plus a
+    marked place's holding time, then plus the holding times along a path of
+    token-free places (each place once: they form no circuit). Python ints, exact.
+
+    >>> _step_room(np.array([1, 0, 0]), np.array([4, 2**62, 3]), np.array([1, 0, 0]))
+    4611686018427387912
+    """
+    marked = tokens > 0
+    return (sum(map(abs, holding[~marked].tolist()))
+            + max(map(abs, holding[marked].tolist()), default=0)
+            + max(map(abs, initial[marked].tolist()), default=0))
+
+
 class DaterSimulation:
     """Step-by-step exact daters ``x(1), x(2), ...`` of the events in ``active``.
 
@@ -74,11 +90,16 @@ class DaterSimulation:
         # Scaled times are exact int64 until they near 2**60; then (or when
         # the scaled inputs are already huge) the same code runs on Python ints.
         self.dtype: type = object if object in (holding.dtype, initial.dtype) else np.int64
+        keep = active[src] & active[dst]
+        if self.dtype is not object and _INT64_ROOM + _step_room(
+                tokens[keep], holding[keep], initial[keep]) >= 2**62:
+            # One step may add a whole token-free path's holding times to daters up to
+            # _INT64_ROOM (checked after each step): in int64 that step could wrap.
+            self.dtype = object
         self.none = _BIG_NONE if self.dtype is object else _NONE
         # The graph as given, for the exact overrun of a task slower than its clock.
         self.graph = (src, dst, tokens, holding, initial)
         holding, initial = holding.astype(self.dtype), initial.astype(self.dtype)
-        keep = active[src] & active[dst]
         self.n_events = n_events
         self.active = active
         self.k = 0
