@@ -26,6 +26,7 @@ affine times of the sensitivity analysis, Fractions, times past 2**189).
 from __future__ import annotations
 
 import heapq
+from abc import ABC, abstractmethod
 from collections import deque
 from collections.abc import MutableSequence, Sequence
 from dataclasses import dataclass, field
@@ -121,44 +122,47 @@ class Snapshot:
     """Remaining work of each task's job, -1 without one."""
 
 
-class _States:
+class _States(ABC):
     """The state of a part as :func:`_compare` reads it at an instant, on either loop.
 
     A loop provides ``d``, ``result`` and the readings :meth:`pending`,
     :meth:`lengths`, :meth:`tokens`, :meth:`ready_jobs`, :meth:`fired_counts`,
     :meth:`finished_counts` and :meth:`tight_times` (and :meth:`ahead`, made from
     :meth:`tokens` unless the loop writes it out); the key, the snapshot and the
-    proof of a repeat are made from them here, once for both.
+    proof of a repeat are made from them here, once for both. The readings are
+    abstract: a loop that lacks one cannot be made.
     """
 
     d: PartData
     result: PartResult
 
+    @abstractmethod
     def pending(self, now: int) -> list[int]:
         """Remaining work of each task's job at ``now``, -1 without one."""
-        raise NotImplementedError
 
+    @abstractmethod
     def lengths(self) -> list[int]:
         """The token count of every place."""
-        raise NotImplementedError
 
+    @abstractmethod
     def tokens(self, p: int) -> Sequence[int]:
         """The tokens of place ``p`` (the times they are available), oldest first."""
-        raise NotImplementedError
 
+    @abstractmethod
     def ready_jobs(self) -> Sequence[Sequence[tuple[int, int, int, int]]]:
         """Per processor, its pending jobs (-priority, release, file index, task), any order."""
-        raise NotImplementedError
 
+    @abstractmethod
     def fired_counts(self) -> Sequence[int]:
-        raise NotImplementedError
+        """How many times each event has fired."""
 
+    @abstractmethod
     def finished_counts(self) -> Sequence[int]:
-        raise NotImplementedError
+        """How many jobs of each task have ended."""
 
+    @abstractmethod
     def tight_times(self) -> Sequence[int]:
         """Per place, the last instant a token was taken there the instant it came (or -1)."""
-        raise NotImplementedError
 
     def key(self, now: int, pending: list[int], lengths: list[int]) -> tuple:
         """The state compared at ``now``, ``lengths`` the token count of each place."""

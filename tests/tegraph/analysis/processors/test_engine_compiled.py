@@ -5,8 +5,8 @@ is not a bool or a Fraction) and compare the same states at the same instants
 (every call of ``_compare`` recorded: the instant, the key and the snapshot).
 The random parts are built directly (any graph, holds, caps, clocks, watched
 ticks, processors, durations 0), and from random skeletons through the whole
-schedule. This module picks the loops itself (``engine_loops``): it runs once,
-under the directory's first loop (``conftest.py``), and skips under the others.
+schedule. This module picks the loops itself (``engine_loops``): ``EVERY_LOOP``
+tells ``conftest.py`` to run it once rather than once per loop.
 """
 
 from __future__ import annotations
@@ -37,10 +37,8 @@ COMPILED = [loop for loop in LOOPS if loop != "python"]
 PROPS = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _once(engine_loop):
-    if engine_loop != LOOPS[0]:
-        pytest.skip("this module runs every loop itself")
+EVERY_LOOP = True
+"""This module picks the loops itself: ``conftest.py`` runs it once, on no loop of its own."""
 
 
 def _refuse(*args, **kwargs):
