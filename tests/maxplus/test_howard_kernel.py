@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 import maxplus.policy_iteration as policy_iteration
 from maxplus.cycle_ratio import max_cycle_ratio
 from maxplus.errors import ZeroTokenCircuitError
-from tests.maxplus.kernels import NUMPY, kernel
+from tests.maxplus.kernels import NUMPY, assert_same, kernel
 from tests.maxplus.test_howard_brute_force import (
     circuits_with_chains,
     dag_of_blocks,
@@ -52,27 +52,6 @@ def solve(use_compiled, *args, **kwargs):
             return max_cycle_ratio(*args, **kwargs)
         except ZeroTokenCircuitError as e:
             return e
-
-
-def assert_same(got, ref):
-    """Everything a result carries is equal (int64 or Python ints alike)."""
-    if isinstance(ref, ZeroTokenCircuitError):
-        assert isinstance(got, ZeroTokenCircuitError)
-        assert (str(got), got.circuit, got.nodes) == (str(ref), ref.circuit, ref.nodes)
-        return
-    assert not isinstance(got, Exception)
-    assert got.ratio == ref.ratio
-    assert got.circuit.tolist() == ref.circuit.tolist()
-    assert got.cycle_times == ref.cycle_times
-    assert got.cycle_time_num.tolist() == ref.cycle_time_num.tolist()
-    assert got.cycle_time_den.tolist() == ref.cycle_time_den.tolist()
-    assert got.iterations == ref.iterations
-    gc, rc = got.certificate, ref.certificate
-    assert gc.scale == rc.scale
-    for name in ("ratio_num", "ratio_den", "potential", "policy", "circuit"):
-        assert getattr(gc, name).tolist() == getattr(rc, name).tolist(), name
-    assert got.bias == ref.bias
-    assert got.verify() and ref.verify()
 
 
 def same_result(*args, **kwargs):

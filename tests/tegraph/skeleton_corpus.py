@@ -164,3 +164,26 @@ def write_corpus(directory: Path, count: int) -> list[Path]:
         path.write_text(json.dumps(data, indent=1))
         paths.append(path)
     return paths
+
+
+def side_by_side(parts: list[dict]) -> dict:
+    """Several corpus skeletons as one (each part's clocks and tasks renamed ``g<k>...``),
+    so one analysis sees many groups."""
+    data: dict = {"clocks": {}, "tasks": {}, "links": [], "threads": []}
+    for k, part in enumerate(parts):
+        rename = {t: f"g{k}{t}" for t in part["tasks"]}
+        for c, clock in part["clocks"].items():
+            data["clocks"][f"g{k}{c}"] = clock
+        for t, spec in part["tasks"].items():
+            spec = dict(spec)
+            if "clock" in spec:
+                spec["clock"] = f"g{k}{spec['clock']}"
+            data["tasks"][rename[t]] = spec
+        for link in part["links"]:
+            link = dict(link)
+            for end in ("from", "to"):
+                task, port = link[end].split(":")
+                link[end] = f"{rename[task]}:{port}"
+            data["links"].append(link)
+        data["threads"] += [[rename[t] for t in thread] for thread in part.get("threads", [])]
+    return data

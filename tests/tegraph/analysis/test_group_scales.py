@@ -24,7 +24,7 @@ from tegraph.model.build import build_teg
 from tegraph.model.skeleton import Skeleton
 from tegraph.model.teg import TimedEventGraph
 from tegraph.report.document import to_json
-from tests.tegraph.skeleton_corpus import random_skeleton
+from tests.tegraph.skeleton_corpus import random_skeleton, side_by_side
 
 SETTINGS = settings(max_examples=60, deadline=None,
                     suppress_health_check=[HealthCheck.too_slow,
@@ -33,24 +33,7 @@ SETTINGS = settings(max_examples=60, deadline=None,
 
 def groups_of(parts: list[dict]) -> Skeleton:
     """One skeleton of several corpus skeletons side by side (each one group or more)."""
-    data: dict = {"clocks": {}, "tasks": {}, "links": [], "threads": []}
-    for k, part in enumerate(parts):
-        rename = {t: f"g{k}{t}" for t in part["tasks"]}
-        for c, clock in part["clocks"].items():
-            data["clocks"][f"g{k}{c}"] = clock
-        for t, spec in part["tasks"].items():
-            spec = dict(spec)
-            if "clock" in spec:
-                spec["clock"] = f"g{k}{spec['clock']}"
-            data["tasks"][rename[t]] = spec
-        for link in part["links"]:
-            link = dict(link)
-            for end in ("from", "to"):
-                task, port = link[end].split(":")
-                link[end] = f"{rename[task]}:{port}"
-            data["links"].append(link)
-        data["threads"] += [[rename[t] for t in thread] for thread in part.get("threads", [])]
-    return Skeleton.from_dict(data)
+    return Skeleton.from_dict(side_by_side(parts))
 
 
 def both_scales(sk: Skeleton, monkeypatch) -> tuple[str, str]:

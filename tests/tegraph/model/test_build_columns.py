@@ -21,7 +21,7 @@ from tegraph.model.build import build_teg
 from tegraph.model.skeleton import Clock, Link, Protocol, Skeleton, Task
 from tegraph.model.teg import TimeCodes, TimedEventGraph
 from tests.tegraph.model._element_build import element_build
-from tests.tegraph.skeleton_corpus import random_skeleton
+from tests.tegraph.skeleton_corpus import random_skeleton, side_by_side
 
 SETTINGS = settings(max_examples=150, deadline=None,
                     suppress_health_check=[HealthCheck.too_slow])
@@ -94,24 +94,7 @@ def test_columns_build_the_graph_of_the_element_path_on_the_corpus_generator(rng
 def test_a_benchmark_shape_is_built_alike():
     """A thousand tasks of the corpus generator, one skeleton: many groups' numbering."""
     rng = random.Random(3)
-    data = {"clocks": {}, "tasks": {}, "links": []}
-    for k in range(60):
-        part = random_skeleton(rng)
-        rename = {t: f"g{k}{t}" for t in part["tasks"]}
-        for c, clock in part["clocks"].items():
-            data["clocks"][f"g{k}{c}"] = clock
-        for t, spec in part["tasks"].items():
-            spec = dict(spec)
-            if "clock" in spec:
-                spec["clock"] = f"g{k}{spec['clock']}"
-            data["tasks"][rename[t]] = spec
-        for link in part["links"]:
-            link = dict(link)
-            for end in ("from", "to"):
-                task, port = link[end].split(":")
-                link[end] = f"{rename[task]}:{port}"
-            data["links"].append(link)
-    sk = Skeleton.from_dict(data)
+    sk = Skeleton.from_dict(side_by_side([random_skeleton(rng) for _ in range(60)]))
     assert_same_graph(build_teg(sk), element_build(sk))
 
 
