@@ -140,6 +140,9 @@ cdef class _Run:
     cdef Link[::1] link
     cdef bint children_ok  # the policy children lists match the policy
     cdef Val[::1] val
+    # The numpy arrays under ``arcs`` and ``val``, read back by solve(): np.asarray of a
+    # memoryview of structs parses its buffer format in Python, dearer than a small solve.
+    cdef object arcs_array, val_array
     cdef bint has_prev, fits
     # Policy children as doubly linked lists: first child, next and previous sibling.
     cdef int32_t[::1] child, sib_next, sib_prev
@@ -165,7 +168,8 @@ cdef class _Run:
         cdef const int64_t[::1] ww = np.ascontiguousarray(w, dtype=np.int64)
         cdef const int64_t[::1] tt = np.ascontiguousarray(t, dtype=np.int64)
         self.in_start = np.zeros(n + 1, dtype=i32)
-        self.arcs = np.empty(m, dtype=ARC)
+        self.arcs_array = np.empty(m, dtype=ARC)
+        self.arcs = self.arcs_array
         cdef int32_t[::1] fill = np.empty(n + 1, dtype=i32)
         cdef int32_t a, p, v
         # The bound 2 n max(|w|, t) < 2**62, checked in the same pass (a number beyond
@@ -194,7 +198,8 @@ cdef class _Run:
         self.pol = np.empty(n, dtype=i32)
         self.pred = np.empty(n, dtype=i32)
         self.link = np.empty(n, dtype=[("w", np.int64), ("t", np.int64)])
-        self.val = np.zeros(n, dtype=VAL)
+        self.val_array = np.zeros(n, dtype=VAL)
+        self.val = self.val_array
         self.child = np.full(n, -1, dtype=i32)
         self.sib_next = np.full(n, -1, dtype=i32)
         self.sib_prev = np.full(n, -1, dtype=i32)
@@ -636,8 +641,8 @@ cdef class _Run:
             if step < 0:
                 return None
             if step == 0:
-                values = np.asarray(self.val)
-                arcs = np.asarray(self.arcs)["arc"]
+                values = self.val_array
+                arcs = self.arcs_array["arc"]
                 return (values["W"].copy(), values["T"].copy(), values["X"].copy(),
                         arcs[np.asarray(self.pol)].astype(np.int64), iterations)
             key = (self.h1, self.h2)
@@ -725,3 +730,69 @@ def policy_circuit(int64_t start, const int64_t[::1] policy, const index_t[::1] 
             arcs[k] = policy[tortoise]
             tortoise = _step(policy, src, tortoise)
     return out
+
+
+def off_circuits(const index_t[::1] src, const index_t[::1] dst, int64_t n, tokens=None):
+    """Per node, whether no circuit reaches it (Kahn's algorithm); with ``tokens``, no
+    circuit of token-free arcs.
+
+    Repeatedly drops a node without in-arc (among the arcs considered): a node
+    drops exactly when every backward walk from it ends. What
+    :func:`maxplus.cycle_ratio._nodes_reached_by_circuits` (all arcs) and the
+    zero-token refusal (token-free arcs) find with scipy's strong components,
+    in one pass without a sparse matrix: their fixed cost dominates a small
+    solve. Returns a boolean array and how many nodes dropped.
+    """
+    cdef int64_t m = src.shape[0], a, k, u, v, head = 0, tail = 0
+    cdef const int64_t[::1] tt
+    cdef bint all_arcs = tokens is None
+    if not all_arcs:
+        tt = tokens
+    indegree_array = np.zeros(n + 1, dtype=np.int64)
+    start_array = np.zeros(n + 2, dtype=np.int64)
+    out_array = np.empty(max(m, 1), dtype=np.int64)
+    dropped_array = np.zeros(n, dtype=np.uint8)
+    queue_array = np.empty(max(n, 1), dtype=np.int64)
+    cdef int64_t[::1] indegree = indegree_array, start = start_array, out = out_array
+    cdef int64_t[::1] queue = queue_array
+    cdef unsigned char[::1] dropped = dropped_array
+    with nogil:
+        for a in range(m):  # out-arcs by tail (a counting sort), in-degrees
+            if all_arcs or tt[a] == 0:
+                start[src[a] + 2] += 1
+                indegree[dst[a]] += 1
+        for k in range(2, n + 2):
+            start[k] += start[k - 1]
+        for a in range(m):
+            if all_arcs or tt[a] == 0:
+                out[start[src[a] + 1]] = dst[a]
+                start[src[a] + 1] += 1
+        for v in range(n):
+            if indegree[v] == 0:
+                queue[tail] = v
+                tail += 1
+        while head < tail:  # grows while it is walked
+            u = queue[head]
+            head += 1
+            dropped[u] = True
+            for k in range(start[u], start[u + 1]):
+                v = out[k]
+                indegree[v] -= 1
+                if indegree[v] == 0:
+                    queue[tail] = v
+                    tail += 1
+    return dropped_array.view(np.bool_), tail
+
+
+def first_largest_ratio(const int64_t[::1] num, const int64_t[::1] den):
+    """Index of the first largest ``num/den`` (all ``den > 0``), compared exactly in 128 bits.
+
+    :func:`maxplus._arrays.argmax_ratio` on int64 arrays, without its float
+    shortlist and tournament (a dozen numpy calls, dearer than a small solve).
+    """
+    cdef int64_t k, best = 0, n = num.shape[0]
+    with nogil:
+        for k in range(1, n):
+            if <i128>num[k] * den[best] > <i128>num[best] * den[k]:
+                best = k
+    return best
