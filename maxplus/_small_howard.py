@@ -28,7 +28,7 @@ from __future__ import annotations
 from math import gcd
 from typing import Literal, NamedTuple, TypeAlias
 
-from . import policy_iteration
+from . import _kernels
 
 __all__ = ["SMALL_GRAPH_ARCS", "downstream_of_circuits", "has_circuit", "howard_lists"]
 
@@ -366,6 +366,7 @@ class _Iteration:
         src, dst, out_arcs = self.src, self.dst, self.out_arcs
         n_live = len(self.nodes)
         done = [False] * self.n
+        choice = _kernels.current()
         pending = sorted(frontier, key=lambda v: -rank[v])  # stable, as numpy's argsort
         groups: list[list[int]] = []  # by rank, cut before the sweep raises any of them
         for v in pending:
@@ -382,9 +383,9 @@ class _Iteration:
                 done[v] = True
             while level:
                 # The numpy sweep's thresholds decide the order of its visits, hence
-                # which of several equal choices it keeps: read from it, at each call.
-                if (len(level) > policy_iteration.SWEEP_FEW
-                        and len(level) * policy_iteration.SCAN_MIN_SHARE > n_live):
+                # which of several equal choices it keeps: read from the switch.
+                if (len(level) > choice.sweep_few
+                        and len(level) * choice.scan_min_share > n_live):
                     in_level = set(level)
                     gathered = [a for v in self.nodes for a in self.in_arcs[v]
                                 if src[a] in in_level]

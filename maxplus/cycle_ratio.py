@@ -49,7 +49,7 @@ import numpy.typing as npt
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, depth_first_order
 
-from . import _small_howard, policy_iteration
+from . import _kernels, _small_howard
 from ._arrays import (
     INT64_SAFE,
     abs_max,
@@ -315,7 +315,9 @@ def max_cycle_ratio(
     src_a, dst_a, n = _validate_arcs(src, dst, n_nodes)
     w_int, scale = _validate_weights(weight, len(src_a))
     t_int = _validate_tokens(tokens, len(src_a))
-    if len(src_a) <= _small_howard.SMALL_GRAPH_ARCS:
+    choice = _kernels.current()
+    if choice.kernel == "lists" or (choice.kernel == "auto"
+                                    and len(src_a) <= choice.small_graph_arcs):
         return _solve_small(src_a, dst_a, w_int, t_int, scale, n)
     _refuse_zero_token_circuits(src_a, dst_a, t_int, n)
     return _solve(src_a, dst_a, w_int, t_int, scale, n)
@@ -469,6 +471,11 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
 
 def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray,
                                 n: int) -> None:
+    compiled = _kernels.howard_kernel()
+    if compiled is not None and tokens.dtype == np.int64 and src.dtype in _INDEX_DTYPES:
+        # Kahn's algorithm in C says whether there is one; only then is it found and named.
+        if compiled.off_circuits(src, dst, n, tokens)[1] == n:
+            return
     zero = np.flatnonzero(tokens == 0)
     circuit = find_circuit(src, dst, n, zero)
     if circuit:
@@ -510,7 +517,11 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         den[nodes] = solution.ratio_den
         potential[nodes] = solution.potential
         policy[nodes] = s_pol
-        best = argmax_ratio(solution.ratio_num, solution.ratio_den)
+        compiled = _kernels.howard_kernel()
+        if compiled is not None and solution.ratio_num.dtype == np.int64:
+            best = compiled.first_largest_ratio(solution.ratio_num, solution.ratio_den)
+        else:
+            best = argmax_ratio(solution.ratio_num, solution.ratio_den)
         if isinstance(nodes, np.ndarray):  # relabelled (live is not None): the caller's node
             best = int(nodes[best])
         circuit = _policy_circuit(best, policy, src)
@@ -594,6 +605,10 @@ def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.n
     """
     if len(src) == 0:
         return np.zeros(n, dtype=bool)
+    compiled = _kernels.howard_kernel()
+    if compiled is not None and src.dtype in _INDEX_DTYPES:
+        off, count = compiled.off_circuits(src, dst, n)
+        return None if count == 0 else ~off
     if n and np.bincount(dst, minlength=n).min() > 0:
         return None
     graph = sp.csr_matrix((np.ones(len(src), dtype=np.int8), (src, dst)), shape=(n, n))
@@ -634,12 +649,12 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     graph of all n nodes per call cost O(n) each time (one call per group of
     a skeleton: quadratic). The compiled kernel walks it in ``O(walk)`` time
     and no memory per node (:func:`maxplus._howard_kernel.policy_circuit`);
-    without it, a walk longer than ``WALK_IN_PYTHON`` steps (a critical
+    without it, a walk longer than ``walk_in_python`` steps (a critical
     circuit through most of the graph: 10^5 steps cost 40 ms in Python) is
     finished in C by a depth-first search of the policy graph, a cost
     proportional to n that only a walk of that length pays.
     """
-    compiled = policy_iteration._howard_kernel
+    compiled = _kernels.howard_kernel()
     if (compiled is not None and policy.dtype == np.int64 and src.dtype in _INDEX_DTYPES
             and policy.flags.c_contiguous and src.flags.c_contiguous):
         found: np.ndarray | None = compiled.policy_circuit(int(start), policy, src)
@@ -648,8 +663,9 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     seen: set[int] = set()
     walk_list: list[int] = []
     node = int(start)
+    walk_in_python = _kernels.current().walk_in_python
     while node not in seen:
-        if len(walk_list) == WALK_IN_PYTHON:
+        if len(walk_list) == walk_in_python:
             return _policy_circuit_in_c(start, policy, src)
         seen.add(node)
         walk_list.append(node)
@@ -665,9 +681,6 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
 
 _INDEX_DTYPES = (np.dtype(np.int32), np.dtype(np.int64))
 """The node index types of the compiled walk (those :func:`_validate_arcs` gives)."""
-
-WALK_IN_PYTHON = 4096
-"""Steps of a policy walk taken in Python before :func:`_policy_circuit_in_c` takes over."""
 
 
 def _policy_circuit_in_c(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarray:

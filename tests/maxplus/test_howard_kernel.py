@@ -3,15 +3,13 @@
 :mod:`maxplus._howard_kernel` claims to run the numpy kernel's iteration step
 for step, so both must give the same ratio, cycle times, policy, potentials,
 critical circuit and iteration count (the outputs of tegraph are built on
-them). The numpy path is forced by setting the module handle
-``maxplus.policy_iteration._howard_kernel`` to None, and the numpy kernel
-rather than the list kernel by the crossover ``SMALL_GRAPH_ARCS``, so both
-paths run at every size. Data past the compiled kernel's bound, or potentials
-that reach ``2**62`` on the way, fall back to the numpy kernel: also tested.
+them). Each kernel is chosen by the switch ``maxplus._kernels`` (``kernel``
+here), so both run at every size. Data past the compiled kernel's bound, or
+potentials that reach ``2**62`` on the way, fall back to the numpy kernel:
+also tested.
 """
 from __future__ import annotations
 
-from contextlib import contextmanager
 from fractions import Fraction
 
 import numpy as np
@@ -19,10 +17,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import maxplus.policy_iteration as policy_iteration
+from maxplus import _kernels
 from maxplus.cycle_ratio import max_cycle_ratio
 from maxplus.errors import ZeroTokenCircuitError
-from tests.maxplus.kernels import NUMPY, assert_same, kernel
+from tests.maxplus.kernels import COMPILED, NUMPY, assert_same, kernel
 from tests.maxplus.test_howard_brute_force import (
     circuits_with_chains,
     dag_of_blocks,
@@ -33,16 +31,9 @@ from tests.maxplus.test_small_howard import arc_lists, fanned_layers, random_gra
 compiled = pytest.importorskip("maxplus._howard_kernel")
 
 
-@contextmanager
 def numpy_kernel(use_compiled):
-    """max_cycle_ratio on the numpy kernel (whatever the size), compiled or not."""
-    with kernel(NUMPY):  # the handle is set inside: whatever kernel(NUMPY) does with it
-        saved = policy_iteration._howard_kernel
-        policy_iteration._howard_kernel = compiled if use_compiled else None
-        try:
-            yield
-        finally:
-            policy_iteration._howard_kernel = saved
+    """max_cycle_ratio on the compiled kernel or on the numpy kernel, whatever the size."""
+    return kernel(COMPILED if use_compiled else NUMPY)
 
 
 def solve(use_compiled, *args, **kwargs):
@@ -144,8 +135,8 @@ def test_equal_weights_and_long_chain_same_result():
 
 def howard_direct(src, dst, w, t, n):
     return compiled.howard(np.array(src), np.array(dst), np.array(w, dtype=np.int64),
-                           np.array(t, dtype=np.int64), n, policy_iteration.SWEEP_FEW,
-                           policy_iteration.SCAN_MIN_SHARE)
+                           np.array(t, dtype=np.int64), n, _kernels.current().sweep_few,
+                           _kernels.current().scan_min_share)
 
 
 def test_compiled_kernel_runs_on_int64_data(monkeypatch):
@@ -203,13 +194,9 @@ def test_numpy_path_when_the_kernel_gives_up(monkeypatch):
 def walk_both(start, policy, src):
     from maxplus.cycle_ratio import _policy_circuit
 
-    saved = policy_iteration._howard_kernel
-    try:
-        got = _policy_circuit(start, policy, src)
-        policy_iteration._howard_kernel = None
+    got = _policy_circuit(start, policy, src)
+    with kernel(NUMPY):
         ref = _policy_circuit(start, policy, src)
-    finally:
-        policy_iteration._howard_kernel = saved
     assert got.tolist() == ref.tolist()
     return got
 
