@@ -39,9 +39,9 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass, replace
 from types import ModuleType
-from typing import Literal, NamedTuple, TypeAlias
+from typing import Literal, TypeAlias
 
-__all__ = ["COMPILED", "Kernel", "KernelChoice", "certificate_kernel", "current",
+__all__ = ["COMPILED", "Kernel", "KernelChoice", "certificate_kernel", "compiled", "current",
            "howard_kernel", "use"]
 
 Kernel: TypeAlias = Literal["auto", "compiled", "numpy", "lists"]
@@ -60,37 +60,31 @@ def _load(name: str) -> ModuleType | None:
         return None
 
 
-class CompiledModule(NamedTuple):
-    """One compiled module of maxplus: its name, what it computes, whether it was built."""
+COMPILED: dict[str, ModuleType | None] = {
+    name: _load(name) for name in ("maxplus._howard_kernel", "maxplus._certificate_kernel")}
+"""Every compiled module of maxplus (``setup.py`` builds one per ``.pyx``): None where
+it is not built. ``_howard_kernel`` runs Howard's iteration, ``_certificate_kernel``
+the certificate's arc and policy checks."""
 
-    name: str
-    computes: str
-    fallback: str
-    module: ModuleType | None
-
-    @property
-    def built(self) -> bool:
-        return self.module is not None
+_HOWARD, _CERTIFICATE = COMPILED.values()
 
 
-COMPILED: tuple[CompiledModule, ...] = (
-    CompiledModule("maxplus._howard_kernel", "Howard's policy iteration",
-                   "the numpy kernel", _load("maxplus._howard_kernel")),
-    CompiledModule("maxplus._certificate_kernel", "the cycle-time certificate's checks",
-                   "the numpy checks", _load("maxplus._certificate_kernel")),
-)
-"""Every compiled module of maxplus (``setup.py`` builds one per ``.pyx``), built or not."""
+def compiled() -> dict[str, bool]:
+    """Per compiled module of maxplus, whether it is built (what ``tegraph --version`` says).
 
-_HOWARD, _CERTIFICATE = (c.module for c in COMPILED)
+    >>> sorted(compiled())
+    ['maxplus._certificate_kernel', 'maxplus._howard_kernel']
+    """
+    return {name: module is not None for name, module in COMPILED.items()}
 
 
 @dataclass(frozen=True)
 class KernelChoice:
     """The kernel and the crossovers between the numpy kernel's strategies.
 
-    Each crossover is a size at which a strategy starts to pay; they are
-    measured by ``benchmarks/bench_cycle_ratio.py`` (figures in
-    ``benchmarks/results/``). 0 or a huge value forces one side at every size.
+    Each crossover is a size at which a strategy starts to pay, measured by
+    the benchmarks of ``benchmarks/`` (figures in ``benchmarks/results/``). 0
+    or a huge value forces one side at every size.
     """
 
     kernel: Kernel = "auto"
@@ -193,7 +187,7 @@ def use(kernel: Kernel | None = None, **crossovers: int | bool) -> Iterator[Kern
         if kernel not in KERNELS:
             raise ValueError(f"unknown kernel {kernel!r}; expected one of {', '.join(KERNELS)}")
         if kernel == "compiled":
-            missing = [c.name for c in COMPILED if not c.built]
+            missing = [name for name, built in compiled().items() if not built]
             if missing:
                 raise RuntimeError(f"the compiled kernel is not built ({', '.join(missing)} "
                                    "missing): python setup.py build_ext --inplace")

@@ -12,7 +12,7 @@ from maxplus.errors import ZeroTokenCircuitError
 
 NUMPY, LISTS, COMPILED = "numpy", "lists", "compiled"
 
-BUILT = all(c.built for c in _kernels.COMPILED)
+BUILT = all(_kernels.compiled().values())
 """Whether the compiled modules of maxplus are built (``setup.py build_ext``)."""
 
 KERNELS = [NUMPY, LISTS] + ([COMPILED] if BUILT else [])

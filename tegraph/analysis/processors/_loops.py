@@ -26,7 +26,7 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any, Literal, NamedTuple, TypeAlias
+from typing import Any, Literal, TypeAlias
 
 # The compiled loops (setup.py); without them every part runs the Python loop.
 try:
@@ -38,8 +38,8 @@ try:
 except ImportError:  # pragma: no cover - depends on the build
     _engine_kernel_wide = None  # type: ignore[assignment]
 
-__all__ = ["COMPILED", "LOOPS", "Loop", "LoopChoice", "compiled_loops", "current", "python_loop",
-           "use"]
+__all__ = ["COMPILED", "LOOPS", "Loop", "LoopChoice", "compiled", "compiled_loops", "current",
+           "python_loop", "use"]
 
 Loop: TypeAlias = Literal["int64", "wide", "python"]
 """The loops, in the order the engine tries them."""
@@ -47,29 +47,21 @@ Loop: TypeAlias = Literal["int64", "wide", "python"]
 LOOPS: tuple[Loop, ...] = ("int64", "wide", "python")
 
 
-class CompiledModule(NamedTuple):
-    """One compiled loop: its module's name, what it runs on, whether it was built."""
-
-    name: str
-    computes: str
-    fallback: str
-    module: ModuleType | None
-
-    @property
-    def built(self) -> bool:
-        return self.module is not None
-
+COMPILED: dict[Loop, ModuleType | None] = {"int64": _engine_kernel, "wide": _engine_kernel_wide}
+"""The module of each compiled loop (``setup.py`` builds one per ``.pyx``): None where it
+is not built."""
 
 _PACKAGE = __name__.rpartition(".")[0]
 
-COMPILED: dict[Loop, CompiledModule] = {
-    "int64": CompiledModule(f"{_PACKAGE}._engine_kernel", "the schedule on processors (int64)",
-                            "the Python loop", _engine_kernel),
-    "wide": CompiledModule(f"{_PACKAGE}._engine_kernel_wide",
-                           "the schedule on processors (192-bit)", "the Python loop",
-                           _engine_kernel_wide),
-}
-"""Every compiled loop (``setup.py`` builds one per ``.pyx``), built or not."""
+
+def compiled() -> dict[str, bool]:
+    """Per compiled module of the engine, whether it is built (what ``tegraph --version`` says).
+
+    >>> [name.rpartition(".")[2] for name in compiled()]
+    ['_engine_kernel', '_engine_kernel_wide']
+    """
+    return {f"{_PACKAGE}._engine_kernel": _engine_kernel is not None,
+            f"{_PACKAGE}._engine_kernel_wide": _engine_kernel_wide is not None}
 
 
 @dataclass(frozen=True)
@@ -118,9 +110,8 @@ def use(first: Loop, *, only: bool = False) -> Iterator[LoopChoice]:
     """
     if first not in LOOPS:
         raise ValueError(f"unknown loop {first!r}; expected one of {', '.join(LOOPS)}")
-    if first in COMPILED and not COMPILED[first].built:
-        raise RuntimeError(f"the {first} loop is not built ({COMPILED[first].name} missing): "
-                           "python setup.py build_ext --inplace")
+    if first in COMPILED and COMPILED[first] is None:
+        raise RuntimeError(f"the {first} loop is not built: python setup.py build_ext --inplace")
     token = _CHOICE.set(LoopChoice(first, only))
     try:
         yield _CHOICE.get()
@@ -137,11 +128,11 @@ def compiled_loops(d: Any) -> Iterator[Any]:
     choice = current()
     start = LOOPS.index(choice.first)
     for loop in LOOPS[start:start + 1] if choice.only else LOOPS[start:]:
-        record = COMPILED.get(loop)
-        if record is None or record.module is None:
+        module = COMPILED.get(loop)
+        if module is None:
             continue
-        if record.module.covers(d):
-            yield record.module
+        if module.covers(d):
+            yield module
         elif choice.only:
             raise RuntimeError(f"the {loop} loop does not cover this part")
 

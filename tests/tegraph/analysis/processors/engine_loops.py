@@ -18,9 +18,9 @@ use_loop = _loops.use
 
 def built(loop: str) -> bool:
     """Whether ``loop`` can run here (the compiled ones need ``setup.py build_ext``)."""
-    return loop not in _loops.COMPILED or _loops.COMPILED[loop].built
+    return loop not in _loops.COMPILED or _loops.COMPILED[loop] is not None
 
 
 def compiled_module(loop: str):
     """The kernel module of a compiled loop."""
-    return _loops.COMPILED[loop].module
+    return _loops.COMPILED[loop]
