@@ -121,6 +121,14 @@ cdef inline bint _below(int64_t W1, int64_t T1, int64_t W2, int64_t T2) noexcept
     return <i128>W1 * T2 < <i128>W2 * T1
 
 
+cdef inline int32_t[::1] _cut(int32_t[::1] block, Py_ssize_t *at, Py_ssize_t size,
+                              Py_ssize_t room):
+    """``size`` slots of ``block`` from ``at[0]``, which then moves on by ``room``."""
+    cdef int32_t[::1] piece = block[at[0]:at[0] + size]
+    at[0] += room
+    return piece
+
+
 cdef class _Run:
     """The graph (in-arcs by head, out-arcs by tail), the policy, its values and scratch."""
 
@@ -140,9 +148,9 @@ cdef class _Run:
     cdef Link[::1] link
     cdef bint children_ok  # the policy children lists match the policy
     cdef Val[::1] val
-    # The numpy arrays under ``arcs`` and ``val``, read back by solve(): np.asarray of a
-    # memoryview of structs parses its buffer format in Python, dearer than a small solve.
-    cdef object arcs_array, val_array
+    # The numpy arrays under ``arcs``, ``val`` and ``pol``, read back by solve(): np.asarray
+    # of a memoryview of structs parses its buffer format in Python, dearer than a small solve.
+    cdef object arcs_array, val_array, pol_array
     cdef bint has_prev, fits
     # Policy children as doubly linked lists: first child, next and previous sibling.
     cdef int32_t[::1] child, sib_next, sib_prev
@@ -167,11 +175,55 @@ cdef class _Run:
         cdef const int32_t[::1] d = np.ascontiguousarray(dst, dtype=i32)
         cdef const int64_t[::1] ww = np.ascontiguousarray(w, dtype=np.int64)
         cdef const int64_t[::1] tt = np.ascontiguousarray(t, dtype=np.int64)
-        self.in_start = np.zeros(n + 1, dtype=i32)
+        # Every int32 array in one block, cut into slices: an array and its memoryview
+        # apiece cost more than a small solve. 17 slices of n + 1 slots (n used by some),
+        # 2 n + 1 saved nodes, 2 of m + 1 arcs, 4 counters of n.
+        cdef Py_ssize_t at = 0, N = n + 1, M = m + 1
+        cdef Py_ssize_t total = 17 * N + (2 * n + 1) + 2 * M + 4 * n
+        block_array = np.empty(total, dtype=i32)
+        cdef int32_t[::1] block = block_array
+        cdef int32_t[::1] fill, counters
+        self.in_start = _cut(block, &at, N, N)
+        fill = _cut(block, &at, N, N)
+        self.pol_array = block_array[at:at + n]
+        self.pol = _cut(block, &at, n, N)
+        self.pred = _cut(block, &at, n, N)
+        self.child = _cut(block, &at, n, N)
+        self.sib_next = _cut(block, &at, n, N)
+        self.sib_prev = _cut(block, &at, n, N)
+        self.path = _cut(block, &at, N, N)
+        self.changed = _cut(block, &at, N, N)
+        self.cand = _cut(block, &at, N, N)
+        self.affected = _cut(block, &at, N, N)
+        self.level = _cut(block, &at, N, N)
+        self.nxt = _cut(block, &at, N, N)
+        self.rec_node = _cut(block, &at, N, N)
+        self.rec_old = _cut(block, &at, N, N)
+        # A node is saved at most twice per step: on the frontier, then raised by the sweep.
+        self.save_node = _cut(block, &at, 2 * n + 1, 2 * n + 1)
+        self.bias_node = _cut(block, &at, N, N)
+        self.bias_pos = _cut(block, &at, N, N)
+        self.kept = _cut(block, &at, M, M)
+        self.kept_head = _cut(block, &at, M, M)
+        self.stamp = _cut(block, &at, n, n)
+        self.mark = _cut(block, &at, n, n)
+        self.done = _cut(block, &at, n, n)
+        self.saved_at = _cut(block, &at, n, n)
+        if at != total:
+            raise AssertionError("internal error: the kernel's arrays do not fill their block")
+        counters = block[total - 4 * n:]
+        cdef int64_t[::1] saves = np.empty(2 * (2 * n + 1), dtype=np.int64)
+        self.save_W = saves[:2 * n + 1]
+        self.save_T = saves[2 * n + 1:]
         self.arcs_array = np.empty(m, dtype=ARC)
         self.arcs = self.arcs_array
-        cdef int32_t[::1] fill = np.empty(n + 1, dtype=i32)
         cdef int32_t a, p, v
+        with nogil:
+            self.in_start[:] = 0
+            self.child[:] = -1
+            self.sib_next[:] = -1
+            self.sib_prev[:] = -1
+            counters[:] = 0
         # The bound 2 n max(|w|, t) < 2**62, checked in the same pass (a number beyond
         # it makes the whole run the numpy kernel's, in Python ints from the start).
         cdef int64_t limit = (SAFE - 1) // (2 * <int64_t>n), w_a
@@ -195,35 +247,10 @@ cdef class _Run:
                 arc.w, arc.t, arc.src, arc.arc = w_a, tt[a], s[a], a
         self.fits = fits
         self.has_out = False
-        self.pol = np.empty(n, dtype=i32)
-        self.pred = np.empty(n, dtype=i32)
         self.link = np.empty(n, dtype=[("w", np.int64), ("t", np.int64)])
         self.val_array = np.zeros(n, dtype=VAL)
         self.val = self.val_array
-        self.child = np.full(n, -1, dtype=i32)
-        self.sib_next = np.full(n, -1, dtype=i32)
-        self.sib_prev = np.full(n, -1, dtype=i32)
         self.state = np.zeros(n, dtype=np.int8)
-        self.path = np.empty(n + 1, dtype=i32)
-        self.changed = np.empty(n + 1, dtype=i32)
-        self.cand = np.empty(n + 1, dtype=i32)
-        self.affected = np.empty(n + 1, dtype=i32)
-        self.level = np.empty(n + 1, dtype=i32)
-        self.nxt = np.empty(n + 1, dtype=i32)
-        self.rec_node = np.empty(n + 1, dtype=i32)
-        self.rec_old = np.empty(n + 1, dtype=i32)
-        # A node is saved at most twice per step: on the frontier, then raised by the sweep.
-        self.save_node = np.empty(2 * n + 1, dtype=i32)
-        self.bias_node = np.empty(n + 1, dtype=i32)
-        self.bias_pos = np.empty(n + 1, dtype=i32)
-        self.kept = np.empty(m + 1, dtype=i32)
-        self.kept_head = np.empty(m + 1, dtype=i32)
-        self.save_W = np.empty(2 * n + 1, dtype=np.int64)
-        self.save_T = np.empty(2 * n + 1, dtype=np.int64)
-        self.stamp = np.zeros(n, dtype=i32)
-        self.mark = np.zeros(n, dtype=i32)
-        self.done = np.zeros(n, dtype=i32)
-        self.saved_at = np.zeros(n, dtype=i32)
         self.stamp_now = self.mark_now = self.done_now = self.saved_now = 0
         self.has_prev = False
         self.children_ok = False
@@ -644,7 +671,7 @@ cdef class _Run:
                 values = self.val_array
                 arcs = self.arcs_array["arc"]
                 return (values["W"].copy(), values["T"].copy(), values["X"].copy(),
-                        arcs[np.asarray(self.pol)].astype(np.int64), iterations)
+                        arcs[self.pol_array].astype(np.int64), iterations)
             key = (self.h1, self.h2)
             if key in seen:  # impossible by the termination proof: a bug
                 return None
