@@ -1,24 +1,23 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
-"""Howard's policy iteration in C: the iteration of :mod:`maxplus._small_howard`, compiled.
+"""Howard's policy iteration in C: the iteration of the numpy kernel, compiled.
 
 :func:`howard` runs, step for step, the iteration that
-:func:`maxplus.policy_iteration.howard_arrays` runs on numpy arrays and
-:mod:`maxplus._small_howard` on Python lists: the same first policy (each
-node's first heaviest in-arc), the same value determination (a policy circuit
-is rooted at its smallest node, whose potential is kept when its ratio is),
-the same improvement (a ratio step to the first in-arc of largest strictly
-better ratio, passed downstream with the numpy sweep's order of visits and its
-"last write wins"; else a bias step to the first in-arc of largest value) and
-the same candidate nodes after a bias step. It returns the same ratios,
-potentials, policy and iteration count; the property tests of
-``tests/maxplus/test_howard_kernel.py`` check that equality against the numpy
-kernel on random graphs.
+:func:`maxplus.policy_iteration.howard_arrays` runs on numpy arrays: the same
+first policy (each node's first heaviest in-arc), the same value
+determination (a policy circuit is rooted at its smallest node, whose
+potential is kept when its ratio is), the same improvement (a ratio step to
+the first in-arc of largest strictly better ratio, passed downstream with the
+numpy sweep's order of visits and its "last write wins"; else a bias step to
+the first in-arc of largest value) and the same candidate nodes after a bias
+step. It returns the same ratios, potentials, policy and iteration count; the
+property tests of ``tests/maxplus/test_howard_kernel.py`` check that equality
+against the numpy kernel on random graphs.
 
-As the list kernel, it values again only the nodes whose policy walk passes a
-switched node (the others reach the same circuit by the same path, and that
-circuit keeps its ratio and its root's potential), and after a bias step looks
-only at the nodes whose value changed and their successors: a late iteration
-costs what it changes, not ``O(n + m)``.
+It values again only the nodes whose policy walk passes a switched node (the
+others reach the same circuit by the same path, and that circuit keeps its
+ratio and its root's potential), and after a bias step looks only at the
+nodes whose value changed and their successors: a late iteration costs what
+it changes, not ``O(n + m)``.
 
 Arithmetic is exact: weights, tokens, ratios and potentials are int64, every
 product and sum of them is formed in 128 bits, and a potential that would

@@ -44,10 +44,10 @@ from typing import Literal, TypeAlias
 __all__ = ["COMPILED", "Kernel", "KernelChoice", "certificate_kernel", "compiled", "current",
            "howard_kernel", "use"]
 
-Kernel: TypeAlias = Literal["auto", "compiled", "numpy", "lists"]
+Kernel: TypeAlias = Literal["auto", "compiled", "numpy"]
 """The kernels :func:`use` accepts (see the module's docstring)."""
 
-KERNELS: tuple[Kernel, ...] = ("auto", "compiled", "numpy", "lists")
+KERNELS: tuple[Kernel, ...] = ("auto", "compiled", "numpy")
 
 
 def _load(name: str) -> ModuleType | None:
@@ -88,10 +88,6 @@ class KernelChoice:
     """
 
     kernel: Kernel = "auto"
-
-    small_graph_arcs: int = 350
-    """Up to this many arcs, ``"auto"`` runs Howard on Python lists
-    (:mod:`maxplus._small_howard`)."""
 
     sweep_few: int = 16
     """Sweep rounds from at most this many nodes are walked in Python (the

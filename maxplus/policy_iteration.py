@@ -8,9 +8,9 @@ iteration, step for step, with the same result; the numpy kernel below runs
 when it is missing, and where it gives up (numbers past its int64 bounds).
 Which kernel runs, and the sizes at which the numpy kernel below changes
 strategy, are read from :mod:`maxplus._kernels`, the one switch of maxplus.
-Only the dtypes may differ, as with the list kernel: int64 whenever the
-compiled kernel finishes, where the numpy kernel may carry the same values as
-Python ints (its bounds are computed before the numbers exist).
+Only the dtypes may differ: int64 whenever the compiled kernel finishes, where
+the numpy kernel may carry the same values as Python ints (its bounds are
+computed before the numbers exist).
 
 A *policy* keeps one in-arc per node; following policy arcs backwards from
 any node ends on a policy circuit. *Value determination* gives every node the

@@ -1,21 +1,20 @@
 """The kernels of max_cycle_ratio a test can run on, through the switch ``maxplus._kernels``.
 
-``numpy`` is the reference; ``compiled`` the C kernel (where setup.py built it:
-``COMPILED`` lists it only then, so a test over ``KERNELS`` compares what is there);
-``lists`` the iteration on Python lists. :func:`kernel` runs a block on one of them
-at every size.
+``numpy`` is the reference; ``compiled`` the C kernel, where setup.py built it
+(``KERNELS`` lists it only then, so a test over ``KERNELS`` compares what is there).
+:func:`kernel` runs a block on one of them at every size.
 """
 from __future__ import annotations
 
 from maxplus import _kernels
 from maxplus.errors import ZeroTokenCircuitError
 
-NUMPY, LISTS, COMPILED = "numpy", "lists", "compiled"
+NUMPY, COMPILED = "numpy", "compiled"
 
 BUILT = all(_kernels.compiled().values())
 """Whether the compiled modules of maxplus are built (``setup.py build_ext``)."""
 
-KERNELS = [NUMPY, LISTS] + ([COMPILED] if BUILT else [])
+KERNELS = [NUMPY] + ([COMPILED] if BUILT else [])
 """Every kernel that can run here, the reference first."""
 
 kernel = _kernels.use

@@ -20,7 +20,7 @@ from tests.maxplus.kernels import kernel
 from .test_howard_brute_force import check, circuits_with_chains, small_multigraphs
 
 # These tests reach the numpy kernel's own strategies (thresholds, caches, fallbacks):
-# on graphs this small max_cycle_ratio would run the list kernel instead.
+# where it is built, max_cycle_ratio would run the compiled kernel instead.
 pytestmark = pytest.mark.usefixtures("numpy_kernel")
 
 
