@@ -99,7 +99,7 @@ class KernelChoice:
 
     rows_min_level: int = 4096
     """From this many nodes on, a sweep round gathers their out-arcs by scipy's
-    row selection (one C pass, about twice as fast as numpy's repeat-and-gather,
+    row selection (one C pass, faster than numpy's repeat-and-gather,
     which has less overhead on small rounds)."""
 
     max_degree_blocks: int = 64
