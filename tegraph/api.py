@@ -36,7 +36,8 @@ if TYPE_CHECKING:  # imported when called: `analyze` need not load them (some 30
     from .analysis.cycle_time import CycleTimeResult
     from .design.explore import Exploration
 
-__all__ = ["analyze", "cycle_time", "explore", "reach", "rules", "to_dot", "write"]
+__all__ = ["analyze", "compiled_kernels", "cycle_time", "explore", "reach", "rules", "to_dot",
+           "write"]
 
 #: Above this many tasks ``analyze`` leaves the duration margins to ``sensitivity``:
 #: measured (benchmarks/results/sensitivity.md), they cost about as much as
@@ -193,6 +194,35 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
     """
     skeleton = _skeleton(skeleton)
     return design_section(skeleton, analyze_skeleton(skeleton), chains, processors=processors)
+
+
+def compiled_kernels() -> dict[str, bool]:
+    """Per compiled kernel (an extension module ``setup.py`` builds), whether it is built here.
+
+    Each one is optional: where it was not built (no C compiler, no Cython, or
+    it failed to compile), its reference runs instead, with the same results,
+    slower (the numpy Howard kernel and certificate checks, the Python loop of
+    the schedule on processors). ``tegraph --version`` prints this.
+
+    Returns
+    -------
+    dict of str to bool
+        The module names, ``maxplus``'s first, the schedule engine's after.
+
+    See Also
+    --------
+    maxplus.max_cycle_ratio : runs Howard's kernel.
+
+    Examples
+    --------
+    >>> list(compiled_kernels())[:2]
+    ['maxplus._howard_kernel', 'maxplus._certificate_kernel']
+    """
+    from maxplus import _kernels
+
+    from .analysis.processors import _loops
+
+    return {**_kernels.compiled(), **_loops.compiled()}
 
 
 def _skeleton(skeleton: Any) -> Skeleton:

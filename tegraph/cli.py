@@ -43,14 +43,26 @@ def _version(value: bool) -> None:
     if value:
         from importlib.metadata import version
 
+        from .api import compiled_kernels
+
+        built = compiled_kernels()
+        width = max(map(len, built))
         typer.echo(f"tegraph {version('tegraph')}")
+        typer.echo(f"compiled kernels: {sum(built.values())} of {len(built)} built")
+        for name, is_built in built.items():
+            typer.echo(f"  {name:<{width}}  {'built' if is_built else 'NOT BUILT'}")
+        if not all(built.values()):
+            typer.echo("(without a kernel its reference runs: the same results, slower; "
+                       "build them where a C compiler is found: pip install -e . in a checkout, "
+                       "or python setup.py build_ext --inplace)")
         raise typer.Exit()
 
 
 @app.callback()
 def _commands(
     version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
-                                          help="Print the version and exit.")] = False,
+                                          help="Print the version and which compiled "
+                                               "kernels are built, and exit.")] = False,
 ) -> None:
     """Deadlocks, periods and overruns of synchronized real-time task sets.
 

@@ -220,6 +220,25 @@ def test_every_spec_refusal_exits_2_through_the_cli(tmp_path, text, key_path, su
         assert f"{key_path}: " in message
 
 
+def test_version_says_which_compiled_kernels_are_built(monkeypatch):
+    # Every compiled module of both packages, one line each; one not built is said so,
+    # with what runs instead and how to build it.
+    from tegraph import api
+
+    names = list(api.compiled_kernels())
+    assert len(names) == 4 and names[0] == "maxplus._howard_kernel"
+    monkeypatch.setattr(api, "compiled_kernels", lambda: dict.fromkeys(names, True))
+    lines = invoke("--version").stdout.splitlines()
+    assert lines[1] == "compiled kernels: 4 of 4 built"
+    assert [line.split() for line in lines[2:]] == [[name, "built"] for name in names]
+    monkeypatch.setattr(api, "compiled_kernels", lambda: {**dict.fromkeys(names, True),
+                                                          names[0]: False})
+    lines = invoke("--version").stdout.splitlines()
+    assert lines[1] == "compiled kernels: 3 of 4 built"
+    assert lines[2].split() == [names[0], "NOT", "BUILT"]
+    assert "its reference runs" in lines[-1] and "build_ext --inplace" in lines[-1]
+
+
 def test_end_to_end_version_is_the_package_metadata():
     from importlib.metadata import entry_points, version
 
@@ -227,7 +246,7 @@ def test_end_to_end_version_is_the_package_metadata():
     import tegraph
 
     out = run("--version")
-    assert out.returncode == 0 and out.stdout.strip() == f"tegraph {version('tegraph')}"
+    assert out.returncode == 0 and out.stdout.splitlines()[0] == f"tegraph {version('tegraph')}"
     assert tegraph.__version__ == maxplus.__version__ == version("tegraph")
     # The console script is main(), which `python -m tegraph.cli` runs above.
     (script,) = entry_points(group="console_scripts", name="tegraph")
