@@ -442,7 +442,8 @@ def write(obj: Any, path: str | os.PathLike[str], format: str | None = None,
     """
     fmt = format or io.format_for_writing(obj, os.fspath(path))
     marks = None
-    if fmt in ("dot", "teg-dot"):
+    record = io.FORMATS.get(fmt)
+    if record is not None and record.draws:
         from .report.dot import highlights  # a drawing's colours: only drawings need them
 
         marks = highlights(_figures_for_drawing(obj))

@@ -22,6 +22,7 @@ from typing import Annotated, NoReturn
 import typer
 
 from .errors import InputError, TegraphError
+from .io.formats import FORMATS, readable, writable
 from .model.budgets import (
     DEFAULT_MAX_BYTES,
     DEFAULT_MAX_FIRINGS,
@@ -344,7 +345,7 @@ def reach(
 
     memory = _size(max_memory, "--max-memory")
     with _refusals(file):
-        model = (load_skeleton(file) if file.suffix.lower() in (".yaml", ".yml")
+        model = (load_skeleton(file) if file.suffix.lower() in FORMATS["skeleton"].suffixes
                  else read(file))
 
     # Ctrl-C asks the search to stop at its next batch; the partial counts are printed.
@@ -501,12 +502,11 @@ def timeline(
 @app.command("cycle-time")
 def cycle_time_command(
     file: Annotated[Path, typer.Argument(
-        help="Any timed event graph tegraph reads: .pnml, SDF3 XML, .edges, "
-             "TimedPetriNetEditor .json/.teg, a skeleton.")],
+        help="A timed event graph in any format tegraph reads: "
+             f"{', '.join(FORMATS[name].holds for name in readable())}.")],
     json_out: JsonFlag = False,
     fmt: Annotated[str | None, typer.Option(
-        "--format", help="Force the input format (pnml, sdf3, edges, tpne-json, tpne-teg, "
-                         "skeleton).")] = None,
+        "--format", help=f"Force the input format ({', '.join(readable())}).")] = None,
     max_size: MaxSize = _MAX_SIZE,
     default_holding: Annotated[str | None, typer.Option(
         "--default-holding", help="Holding time of every place of a net that carries no "
@@ -539,13 +539,13 @@ def cycle_time_command(
 def convert(
     source: Annotated[Path, typer.Argument(help="Input file (format detected from it).")],
     target: Annotated[Path, typer.Argument(
-        help="Output file (format from its extension: .pnml, .xml/.sdf3, .edges, .json, "
-             ".teg, .dot, .yaml).")],
+        help="Output file (format from its extension: "
+             f"{', '.join(dict.fromkeys(e for f in FORMATS.values() for e in f.extensions()))}"
+             ").")],
     from_fmt: Annotated[str | None, typer.Option("--from",
                                                  help="Force the input format.")] = None,
     to_fmt: Annotated[str | None, typer.Option(
-        "--to", help="Force the output format (pnml, sdf3, edges, tpne-json, tpne-teg, dot, "
-                     "teg-dot, skeleton).")] = None,
+        "--to", help=f"Force the output format ({', '.join(writable())}).")] = None,
     force: Annotated[bool, _force("an existing output file")] = False,
     max_size: MaxSize = _MAX_SIZE,
 ) -> None:
