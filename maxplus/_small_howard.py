@@ -1,9 +1,9 @@
 """Howard's policy iteration on Python lists: the kernel for small graphs.
 
-:func:`maxplus.policy_iteration.howard_arrays` spends a few microseconds on
-each of its ~170 numpy calls per solve whatever the graph's size: 1.5 ms for
-a graph of 86 nodes and 116 arcs (one group of a generated skeleton), which
-plain Python walks in a third of that. Up to :data:`SMALL_GRAPH_ARCS` arcs,
+:func:`maxplus.policy_iteration.howard_arrays` makes some 170 numpy calls per
+solve whatever the graph's size, each with a fixed cost; on a small graph (one
+group of a skeleton) plain Python walks the arcs in less. Up to
+:data:`SMALL_GRAPH_ARCS` arcs,
 :func:`maxplus.cycle_ratio.max_cycle_ratio` runs this module instead.
 
 It is the *same* iteration, step for step, not merely another exact
@@ -36,16 +36,11 @@ __all__ = ["SMALL_GRAPH_ARCS", "downstream_of_circuits", "has_circuit", "howard_
 SMALL_GRAPH_ARCS = 350
 """Up to this many arcs, :func:`maxplus.cycle_ratio.max_cycle_ratio` runs this module.
 
-Measured by ``python benchmarks/bench_cycle_ratio.py --crossover --runs 5``
-(2 cores shared with other work, load ~4; time per solve, lists / numpy):
-SPRAND (m = 4n), the same with equal weights, a ring with chords and a
-controller-like graph (a 2-event circuit per task, token-free links, a slow
-clock per 10 tasks) gave 0.07-0.15 at 6-30 arcs, 0.18-0.29 at 77-100,
-0.29-0.67 at 230-300, 0.47-1.08 at 390-500 (the ring and controller-like
-families cross first; an earlier run of the same gave up to 1.21 there),
-0.95-1.31 at 540-700, 1.0-1.5 at 770-1,000 and 2.2-2.5 at 1,550-2,000:
-Python costs ~0.3 us per arc and iteration, numpy about 1-2 ms per solve
-whatever the size. The constant sits below where the first families cross.
+Set by ``python benchmarks/bench_cycle_ratio.py --crossover`` on four families
+(SPRAND, equal weights, a ring with chords, a controller-like graph): Python's
+cost grows with the arcs and iterations, numpy's is nearly fixed per solve, and
+the constant sits below where the first family crosses
+(``benchmarks/results/constants.md`` has the figures).
 """
 
 

@@ -32,16 +32,15 @@ from .model.budgets import (
 )
 from .model.skeleton import Skeleton
 
-if TYPE_CHECKING:  # imported when called: `analyze` need not load them (some 30 ms)
+if TYPE_CHECKING:  # imported when called: `analyze` need not load them
     from .analysis.cycle_time import CycleTimeResult
     from .design.explore import Exploration
 
 __all__ = ["analyze", "cycle_time", "explore", "reach", "rules", "to_dot", "write"]
 
 #: Above this many tasks ``analyze`` leaves the duration margins to ``sensitivity``:
-#: measured (benchmarks/results/sensitivity.md), they cost about as much as
-#: the analysis itself on generated skeletons (0.21 s beside 0.44 s at 1,000 tasks,
-#: 3.9 s beside 2.9 s at 10,000).
+#: measured (benchmarks/results/sensitivity.md), they cost about as much as the
+#: analysis itself on generated skeletons, and more than it as they grow.
 MARGINS_MAX_TASKS = 2_000
 
 

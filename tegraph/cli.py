@@ -271,7 +271,7 @@ def analyze(
         report = run_analysis(skeleton, max_steps=max_steps, chains=chains, design=design,
                               processors=processors, max_events=max_events)
     # Each renderer is imported when used: --json needs neither the text report nor
-    # the tables (their modules and tabulate, some 20 ms).
+    # the tables (their modules and tabulate).
     if csv_dir is not None:
         from .report import write_csv
 
@@ -297,9 +297,9 @@ def _echo_document(data: bytes) -> None:
 
     ``typer.echo`` of the text would copy it to append the newline and, off a terminal,
     scan it for ANSI colour codes to strip: a JSON text holds none (its control
-    characters are escaped), and the report of 10,000 tasks is 16 to 26 MB (0.06 s
-    against 0.035 s). The bytes go to the binary stream as they are, so a report of
-    100,000 tasks (160 MB) is never held as text as well (its peak: 1,154 -> 1,016 MiB).
+    characters are escaped), and the report of 10,000 tasks is tens of megabytes. The
+    bytes go to the binary stream as they are, so a report of 100,000 tasks is never
+    held as text as well.
     """
     sys.stdout.flush()  # whatever the text layer holds goes first
     out = getattr(sys.stdout, "buffer", None)
@@ -855,8 +855,8 @@ def _end(code: object) -> NoReturn:
     """End the process with ``code`` as :func:`sys.exit` would, without the teardown.
 
     Tearing down numpy's, scipy's and typer's ~700 modules and an analysis's
-    objects costs about 0.15 s of every command (measured on a 1,000-task
-    analysis and on a bare import), for memory the system reclaims at once.
+    objects is a noticeable share of every command, for memory the system
+    reclaims at once.
     What a normal exit does that matters still happens: the exit handlers run
     (a Dask cluster's, logging's, temporary directories'), then the output
     streams are flushed.

@@ -31,7 +31,7 @@ SKELETON_EXTENSIONS = FORMATS["skeleton"].extensions()
 
 def _read_yaml(text: str, loc: Locator) -> Any:
     # PyYAML is imported for YAML text only: a JSON skeleton's reading (and its
-    # analysis) does without it (some 15 ms of every command on a JSON file).
+    # analysis) does without importing it.
     from ._skeleton_yaml import read_yaml
 
     return read_yaml(text, loc)
@@ -44,8 +44,8 @@ class _DuplicateKey(Exception):
 
 
 def _unique_pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    # dict() builds the object in C; a duplicate shows as a shorter dict (some 20,000
-    # objects in a 10,000-task file: its parse 31 -> 25 ms).
+    # dict() builds the object in C; a duplicate shows as a shorter dict (a
+    # 10,000-task file holds some 20,000 objects).
     out = dict(pairs)
     if len(out) < len(pairs):
         seen: set[str] = set()

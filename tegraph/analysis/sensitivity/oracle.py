@@ -411,8 +411,8 @@ def longest_paths(blocks: Sequence[tuple]) -> list[tuple[list[int | None], list[
     # value is the weight of a walk of at most (rounds) arcs from a start, so it
     # lies within ±bound, bound = the largest |start| + (n + 2) × the largest
     # |weight|; -4·bound is out of reach (and int64 holds 4·bound below 2**62).
-    # A fixed -2**62 was not out of reach: with a period of 1e30 (scaled) real
-    # values fell below it and were taken for "unreached" (issue 21).
+    # A fixed sentinel such as -2**62 is not out of reach: with a period of 1e30
+    # (scaled) real values fall below it and would be taken for "unreached".
     n_max = max(b[0] for b in blocks)
     bound = 1 + max((abs(v) for b in blocks for v in b[5] if v is not None), default=0) + (
         n_max + 2) * max((abs(w) for b in blocks for w in b[4]), default=0)

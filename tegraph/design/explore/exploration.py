@@ -249,7 +249,7 @@ def scheduler_address(address: str) -> str:
     (``HOST:PORT`` means tcp, as in Dask).
 
     A malformed address is refused here rather than handed to Dask, whose client,
-    once half-built, waits 20 s at garbage collection before failing with a
+    once half-built, waits for its own timeout at garbage collection before failing with a
     traceback; ``tls://`` is refused too, since it needs certificates this
     command does not take.
 
