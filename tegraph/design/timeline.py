@@ -33,6 +33,7 @@ from fractions import Fraction
 
 from maxplus.scalar import display_text
 
+from ..analysis import notebook
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.processors import MAX_EVENTS, JobInterval, ProcessorSchedule, schedule_on_processors
 from ..analysis.results import Deadlock
@@ -109,6 +110,10 @@ class Timeline:
     (a quick look) is drawn."""
     notes: list[str] = field(default_factory=list)
     """What the drawing leaves out."""
+
+    def _repr_html_(self) -> str:
+        """Its drawing (SVG) as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
 
     @property
     def processors(self) -> list[str]:

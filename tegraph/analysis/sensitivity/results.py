@@ -13,6 +13,7 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
+from .. import notebook
 from .parametric import Parameter, ParametricGroup
 
 __all__ = ["PER_TASK", "PROCESSORS", "Check", "GroupFormulaReport", "Limit", "Margin",
@@ -324,6 +325,10 @@ class SensitivityResult:
     """The live groups' parametric event graphs by group index
     (:class:`~.parametric.ParametricGroup`), for drawings that ask the oracle
     again (:func:`~.region.consistent_region`); not part of the JSON."""
+
+    def _repr_html_(self) -> str:
+        """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
 
     @property
     def checks(self) -> list[Check]:

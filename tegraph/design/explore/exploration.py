@@ -36,6 +36,7 @@ from typing import Any
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_text, exact_time
 
+from ...analysis import notebook
 from ...errors import InputError
 from ...model.limits import shown
 from .evaluate import ANALYZED, FAILED, PRUNED, REJECTIONS, VariantResult, rejection
@@ -107,6 +108,10 @@ class Exploration:
     notes: list[str] = field(default_factory=list)
     local_optimum_at: int | None = None
     """Local search: the analyses done when the front first was a Pareto local optimum."""
+
+    def _repr_html_(self) -> str:
+        """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
 
     def count(self, judged: str) -> int:
         return sum(1 for r in self.results.values() if r.judged == judged)
