@@ -117,10 +117,12 @@ class Timeline:
 
     @property
     def processors(self) -> list[str]:
+        """The processors, one lane each, in the platform's order."""
         return [p.name for p in self.schedule.platform.processors]
 
     @property
     def priorities(self) -> dict[str, int]:
+        """Each task's priority on its processor (larger is more urgent)."""
         return self.schedule.platform.priority
 
     @property
@@ -132,6 +134,7 @@ class Timeline:
 
     @property
     def schedulable(self) -> bool | None:
+        """The §4b verdict (None: undecided within the budget)."""
         return self.schedule.schedulable
 
     @property
@@ -161,6 +164,7 @@ class Timeline:
 
     @property
     def late_jobs(self) -> list[Job]:
+        """The jobs of an overrun's late activation."""
         return [j for j in self.jobs if j.late]
 
     def order_of_execution(self, processor: str | None = None

@@ -73,6 +73,7 @@ class Affine:
         return sum((c * direction.get(j, Fraction(0)) for j, c in self.coef), Fraction(0))
 
     def coefficient(self, j: int) -> int:
+        """The coefficient of parameter ``j`` (0 when it does not appear)."""
         return dict(self.coef).get(j, 0)
 
 
@@ -100,6 +101,7 @@ class Circuit:
     tokens: int
 
     def ratio(self, values: Mapping[int, Fraction]) -> Fraction:
+        """The circuit's holding time over its tokens at ``values``."""
         return self.holding(values) / self.tokens
 
     def key(self) -> tuple:
@@ -143,14 +145,17 @@ class PointResult:
 
     @property
     def cycle_time_max(self) -> Fraction:
+        """The largest cycle time of the group's events at this point."""
         return max(self.cycle_time)
 
     @property
     def rate_consistent(self) -> bool:
+        """Every event of the group has the same cycle time at this point."""
         return min(self.cycle_time) == max(self.cycle_time)
 
     @property
     def consistent(self) -> bool:
+        """Rate-consistent and without a violated overrun condition at this point."""
         return self.rate_consistent and not self.violations
 
     def circuit(self, event: int) -> Circuit:

@@ -114,6 +114,7 @@ class Exploration:
         return notebook.html(self)
 
     def count(self, judged: str) -> int:
+        """How many variants were judged that way (``judged``: analyzed, pruned, ...)."""
         return sum(1 for r in self.results.values() if r.judged == judged)
 
     @property
