@@ -571,7 +571,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     -------
     Exploration
         :func:`tegraph.report.explore_text.render_exploration` gives its text,
-        :func:`tegraph.report.explore_text.explore_document` its JSON document.
+        :func:`tegraph.report.to_json` its JSON document.
 
     Raises
     ------

@@ -18,7 +18,7 @@ How each figure is obtained:
   with the Howard potentials (which are exactly the feasible potentials
   needed).
 
-Each step is a function of the graph (:class:`_EventGraph`, built once) and
+Each step is a function of the graph (``_EventGraph``, built once) and
 of the results of the steps before it.
 
 References

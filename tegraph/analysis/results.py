@@ -213,7 +213,7 @@ class Report:
     """The skeleton on its processors (spec §4b); None: every task on a processor
     of its own (``processors=False``), where the figures of §4 decide."""
     structure: Structure | None = field(default=None, repr=False, compare=False)
-    """The skeleton's groups (numbered as :attr:`groups`), clocks, design periods and
+    """The skeleton's groups (numbered as ``groups``), clocks, design periods and
     links by port, computed once by the analysis: what follows it (design rules,
     margins) reads these instead of finding the groups again."""
 

@@ -2,20 +2,21 @@
 
 Every reader returns the model its format holds, most faithfully:
 
-=============  ==============================  =========================================
-format         files                           :func:`read` returns
-=============  ==============================  =========================================
-``skeleton``   ``.yaml``, ``.yml``, ``.json``  :class:`~tegraph.model.skeleton.Skeleton`
-``pnml``       ``.pnml``, ``.xml``             :class:`~tegraph.model.petri.PetriNet`
-``sdf3``       ``.sdf3``, ``.xml``             :class:`~tegraph.model.sdf.SDFGraph`
-``edges``      ``.edges``                      :class:`~tegraph.model.arcs.ArcList`
-``tpne-json``  ``.json`` (TimedPetriNetEditor)  :class:`~tegraph.model.petri.PetriNet`
-``tpne-teg``   ``.teg`` (TimedPetriNetEditor)   :class:`~tegraph.model.teg.TimedEventGraph`
-``dot``        ``.dot``, ``.gv`` (write only)   --
-``teg-dot``    (write only)                     --
-=============  ==============================  =========================================
+=============  ================================  =========================================
+format         files                             :func:`read` returns
+=============  ================================  =========================================
+``skeleton``   ``.yaml``, ``.yml``, ``.json``    :class:`~tegraph.model.skeleton.Skeleton`
+``pnml``       ``.pnml``, ``.xml``               :class:`~tegraph.model.petri.PetriNet`
+``sdf3``       ``.sdf3``, ``.xml``               :class:`~tegraph.model.sdf.SDFGraph`
+``edges``      ``.edges``                        :class:`~tegraph.model.arcs.ArcList`
+``tpne-json``  ``.json`` (TimedPetriNetEditor)   :class:`~tegraph.model.petri.PetriNet`
+``tpne-teg``   ``.teg`` (TimedPetriNetEditor)    :class:`~tegraph.model.teg.TimedEventGraph`
+``dot``        ``.dot``, ``.gv`` (write only)    --
+``teg-dot``    (write only)                      --
+=============  ================================  =========================================
 
-:func:`write` accepts any of these models (and a :class:`TimedEventGraph`)
+:func:`write` accepts any of these models (and a
+:class:`~tegraph.model.teg.TimedEventGraph`)
 wherever the target can hold the content: a skeleton becomes a timed event
 graph, never the other way round; a P/T net that is not a marked graph can
 only go to net formats (PNML, TimedPetriNetEditor JSON, DOT).

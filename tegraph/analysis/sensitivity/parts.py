@@ -143,7 +143,7 @@ class ProcessorLine:
     use_theorem: bool = True
     """Decide independent parts by Lehoczky, Sha and Ding (False: simulate them too)."""
     used: set[str] = field(default_factory=set)
-    """How the parts evaluated were decided (:data:`THEOREM`, :data:`SCHEDULE`)."""
+    """How the parts evaluated were decided (``THEOREM``, ``SCHEDULE``)."""
     budget: Budget | None = None
     """Default ``Budget(max_events)``."""
     nominal_outcomes: list[Outcome] = field(default_factory=list)

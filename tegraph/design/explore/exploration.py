@@ -14,7 +14,7 @@ Pareto front of the objectives (chain latencies, period, processor load).
 - The execution, in this process or on Dask ``distributed``: :mod:`.run`,
   :mod:`.dask_engine`.
 
-The results file is :mod:`.results` (written as verdicts arrive, by
+The results file is :mod:`tegraph.design.explore.results` (written as verdicts arrive, by
 :func:`tegraph.explore`); rendering is done above this floor
 (:mod:`tegraph.report.explore_text`).
 

@@ -1,8 +1,8 @@
 """A group's timed event graph in every configuration of its chosen links, from few builds.
 
 The variants of a design space differ in the protocols of a few links and the periods
-of a few clocks. Inside one group (a fixed set of tasks), :func:`~tegraph.model.build.
-build_teg` of a configuration differs from that of the *template* (every chosen link
+of a few clocks. Inside one group (a fixed set of tasks), :func:`~tegraph.model.build.build_teg`
+of a configuration differs from that of the *template* (every chosen link
 of the group ASYN/ASYN, which adds no place and merges no event) only by what each
 chosen link's own protocol contributes (spec §2): a place of the link (ASYN/SYN,
 SYN/ASYN), or the reader's read event merged into the writer's write event

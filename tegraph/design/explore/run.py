@@ -43,7 +43,9 @@ __all__ = ["LOCAL_CLUSTER_WORTH_SECONDS", "TARGET_BATCH_SECONDS", "Progress", "R
            "run_search"]
 
 TARGET_BATCH_SECONDS = 0.5
+"""Seconds of work a batch of variants aims at (see the module's account)."""
 LOCAL_CLUSTER_WORTH_SECONDS = 6.0
+"""Remaining work, in seconds, above which a local Dask cluster is worth starting."""
 MAX_BATCH = 512
 
 

@@ -190,7 +190,7 @@ class ParetoLocalSearch:
 
     @property
     def finished(self) -> bool:
-        """The search has stopped (:attr:`stopped` says why)."""
+        """The search has stopped (``stopped`` says why)."""
         return bool(self.stopped)
 
     @property

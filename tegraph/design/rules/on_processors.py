@@ -23,7 +23,7 @@ chosen for a finding:
   time; once the budget is spent, the advice says so.
 
 A clock the change adds gets the period the advisor assumed (a period no group
-has, :attr:`~.advice.Advisor.fresh`); the words say so.
+has, ``Advisor.fresh``); the words say so.
 """
 
 from __future__ import annotations

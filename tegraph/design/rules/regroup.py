@@ -40,7 +40,7 @@ class Regrouping:
     ----------
     skeleton : Skeleton
     groups : sequence of tuple of str
-        Its groups, tasks in file order (:attr:`Structure.groups`).
+        Its groups, tasks in file order (``Structure.groups``).
     links_from : sequence of list of Link
         The links whose writer is in each group.
     threads_of : mapping of int to list of tuple of str
