@@ -10,6 +10,7 @@ xdist it then runs beside the others instead of after them.
 from __future__ import annotations
 
 import importlib.util
+import re
 import subprocess
 import sys
 from html.parser import HTMLParser
@@ -63,3 +64,14 @@ def _text(path) -> str:
     parser = _Text()
     parser.feed(path.read_text(encoding="utf-8"))
     return " ".join(" ".join(parser.parts).split())
+
+
+def test_the_tutorial_shows_its_files_as_they_are():
+    """The tutorial's YAML blocks (which a reader of the plain Markdown sees too) are the
+    files of docs/tutorial/ it runs, in its order."""
+
+    text = (DOCS / "tutorial.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"```yaml\n(.*?)\n```", text, re.S)
+    files = ["controller.yaml", "controller_deadlock.yaml", "controller_cpu.yaml"]
+    assert blocks == [(DOCS / "tutorial" / f).read_text(encoding="utf-8").rstrip()
+                      for f in files]
