@@ -1,6 +1,6 @@
 """Benchmark of ``tegraph.sensitivity`` against the naive alternative, a grid of analyses.
 
-Three measurements (issue 14, "Speed"):
+Three measurements:
 
 1. **Period formula and keep-pace region** for 2 and 4 parameters (durations
    of the largest group, plus one clock period with 4), on the examples and

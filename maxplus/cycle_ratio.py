@@ -592,7 +592,7 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     a skeleton: quadratic). The compiled kernel walks it in ``O(walk)`` time
     and no memory per node (:func:`maxplus._howard_kernel.policy_circuit`);
     without it, a walk longer than ``walk_in_python`` steps (a critical
-    circuit through most of the graph: 10^5 steps cost 40 ms in Python) is
+    circuit through most of the graph, a step of Python per node) is
     finished in C by a depth-first search of the policy graph, a cost
     proportional to n that only a walk of that length pays.
     """

@@ -228,9 +228,8 @@ def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
              else np.int64)
     positions = np.arange(m, dtype=index)
     if _coo_tocsr is not None and choice.scipy_coo_tocsr:
-        # The conversion itself, without the sparse array's checks and copies
-        # (2.5 times faster: 0.11 against 0.27 ms for 4 * 10^4 keys, 3 against
-        # 7.5 ms for 4 * 10^5).
+        # The conversion itself, without the sparse array's checks and copies, which
+        # cost more than the conversion (benchmarks/results/constants.md).
         starts, order = np.empty(n + 1, dtype=index), np.empty(m, dtype=index)
         ones = np.ones(m, dtype=np.int8)
         _coo_tocsr(n, m, m, keys.astype(index, copy=False), positions, ones, starts, order,
@@ -443,8 +442,7 @@ class _PolicyDigest:
     ``d[i]``; ``v < 31`` for int32 indices). Two independent rows make a
     collision about ``2**-66`` per pair of policies; a collision would only
     restart the run in Python ints (:func:`howard_arrays`). One matrix-vector
-    product: 0.15 ms for 10^5 nodes, where blake2b of the policy's bytes took
-    0.5 ms (20 ms of a 40-iteration solve).
+    product, cheaper than hashing the policy's bytes (blake2b) at every iteration.
     """
 
     def __init__(self, n: int) -> None:
@@ -466,7 +464,7 @@ class _ArcTerms:
     keys never leave this class (:meth:`best_values` uses them), :meth:`terms`
     always gives terms, so that no caller can take one for the other (reading
     keys as terms made up gains, and the iteration switched between two
-    policies for ever: issue 21).
+    policies for ever).
     """
 
     def __init__(self, arcs: _InArcs, bounds: _Bounds) -> None:
@@ -554,8 +552,8 @@ class _ArcTerms:
         in-arcs, then their second ones, ... (a ``d x k`` array, one column per
         node), so that the maximum over each node's in-arcs is a maximum of
         ``d`` rows, elementwise and contiguous. ``np.maximum.reduceat`` does
-        the same per node with a per-segment overhead: 1.5 ms against about
-        0.4 ms for 4 * 10^5 arcs. Only when the degrees take few values
+        the same per node with a per-segment overhead, which costs more than
+        the blocks on large graphs. Only when the degrees take few values
         (each block is one numpy call).
         """
         arcs = self.arcs
@@ -1080,8 +1078,8 @@ def _walk_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _W
     ``c + i -> (i, c + i + 1)``, not by one virtual node joined to all: scipy's
     search rescans a node's neighbours from the first each time it comes back
     to it, so one node of c neighbours cost O(c) per circuit, quadratic with
-    many short circuits (thousands of groups: 42 of 68 s of the cycle times at
-    100,000 tasks). The virtual nodes are dropped from the order.
+    many short circuits (a skeleton of thousands of groups has thousands). The
+    virtual nodes are dropped from the order.
     """
     c = len(back)
     index = back.dtype

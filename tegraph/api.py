@@ -32,7 +32,7 @@ from .model.budgets import (
 )
 from .model.skeleton import Skeleton
 
-if TYPE_CHECKING:  # imported when called: `analyze` need not load them (some 30 ms)
+if TYPE_CHECKING:  # imported when called: `analyze` need not load them
     from .analysis.cycle_time import CycleTimeResult
     from .design.explore import Exploration
 
@@ -40,9 +40,8 @@ __all__ = ["analyze", "compiled_kernels", "cycle_time", "explore", "reach", "rul
            "write"]
 
 #: Above this many tasks ``analyze`` leaves the duration margins to ``sensitivity``:
-#: measured (benchmarks/results/sensitivity.md), they cost about as much as
-#: the analysis itself on generated skeletons (0.21 s beside 0.44 s at 1,000 tasks,
-#: 3.9 s beside 2.9 s at 10,000).
+#: measured (benchmarks/results/sensitivity.md), they cost about as much as the
+#: analysis itself on generated skeletons, and more than it as they grow.
 MARGINS_MAX_TASKS = 2_000
 
 
@@ -472,7 +471,8 @@ def write(obj: Any, path: str | os.PathLike[str], format: str | None = None,
     """
     fmt = format or io.format_for_writing(obj, os.fspath(path))
     marks = None
-    if fmt in ("dot", "teg-dot"):
+    record = io.FORMATS.get(fmt)
+    if record is not None and record.draws:
         from .report.dot import highlights  # a drawing's colours: only drawings need them
 
         marks = highlights(_figures_for_drawing(obj))
@@ -601,7 +601,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     -------
     Exploration
         :func:`tegraph.report.explore_text.render_exploration` gives its text,
-        :func:`tegraph.report.explore_text.explore_document` its JSON document.
+        :func:`tegraph.report.to_json` its JSON document.
 
     Raises
     ------

@@ -22,6 +22,7 @@ from typing import Annotated, NoReturn
 import typer
 
 from .errors import InputError, TegraphError
+from .io.formats import FORMATS, readable, writable
 from .model.budgets import (
     DEFAULT_MAX_BYTES,
     DEFAULT_MAX_FIRINGS,
@@ -282,7 +283,7 @@ def analyze(
         report = run_analysis(skeleton, max_steps=max_steps, chains=chains, design=design,
                               processors=processors, max_events=max_events)
     # Each renderer is imported when used: --json needs neither the text report nor
-    # the tables (their modules and tabulate, some 20 ms).
+    # the tables (their modules and tabulate).
     if csv_dir is not None:
         from .report import write_csv
 
@@ -308,9 +309,9 @@ def _echo_document(data: bytes) -> None:
 
     ``typer.echo`` of the text would copy it to append the newline and, off a terminal,
     scan it for ANSI colour codes to strip: a JSON text holds none (its control
-    characters are escaped), and the report of 10,000 tasks is 16 to 26 MB (0.06 s
-    against 0.035 s). The bytes go to the binary stream as they are, so a report of
-    100,000 tasks (160 MB) is never held as text as well (its peak: 1,154 -> 1,016 MiB).
+    characters are escaped), and the report of 10,000 tasks is tens of megabytes. The
+    bytes go to the binary stream as they are, so a report of 100,000 tasks is never
+    held as text as well.
     """
     sys.stdout.flush()  # whatever the text layer holds goes first
     out = getattr(sys.stdout, "buffer", None)
@@ -356,7 +357,7 @@ def reach(
 
     memory = _size(max_memory, "--max-memory")
     with _refusals(file):
-        model = (load_skeleton(file) if file.suffix.lower() in (".yaml", ".yml")
+        model = (load_skeleton(file) if file.suffix.lower() in FORMATS["skeleton"].suffixes
                  else read(file))
 
     # Ctrl-C asks the search to stop at its next batch; the partial counts are printed.
@@ -513,12 +514,11 @@ def timeline(
 @app.command("cycle-time")
 def cycle_time_command(
     file: Annotated[Path, typer.Argument(
-        help="Any timed event graph tegraph reads: .pnml, SDF3 XML, .edges, "
-             "TimedPetriNetEditor .json/.teg, a skeleton.")],
+        help="A timed event graph in any format tegraph reads: "
+             f"{', '.join(FORMATS[name].holds for name in readable())}.")],
     json_out: JsonFlag = False,
     fmt: Annotated[str | None, typer.Option(
-        "--format", help="Force the input format (pnml, sdf3, edges, tpne-json, tpne-teg, "
-                         "skeleton).")] = None,
+        "--format", help=f"Force the input format ({', '.join(readable())}).")] = None,
     max_size: MaxSize = _MAX_SIZE,
     default_holding: Annotated[str | None, typer.Option(
         "--default-holding", help="Holding time of every place of a net that carries no "
@@ -551,13 +551,13 @@ def cycle_time_command(
 def convert(
     source: Annotated[Path, typer.Argument(help="Input file (format detected from it).")],
     target: Annotated[Path, typer.Argument(
-        help="Output file (format from its extension: .pnml, .xml/.sdf3, .edges, .json, "
-             ".teg, .dot, .yaml).")],
+        help="Output file (format from its extension: "
+             f"{', '.join(dict.fromkeys(e for f in FORMATS.values() for e in f.extensions()))}"
+             ").")],
     from_fmt: Annotated[str | None, typer.Option("--from",
                                                  help="Force the input format.")] = None,
     to_fmt: Annotated[str | None, typer.Option(
-        "--to", help="Force the output format (pnml, sdf3, edges, tpne-json, tpne-teg, dot, "
-                     "teg-dot, skeleton).")] = None,
+        "--to", help=f"Force the output format ({', '.join(writable())}).")] = None,
     force: Annotated[bool, _force("an existing output file")] = False,
     max_size: MaxSize = _MAX_SIZE,
 ) -> None:
@@ -867,8 +867,8 @@ def _end(code: object) -> NoReturn:
     """End the process with ``code`` as :func:`sys.exit` would, without the teardown.
 
     Tearing down numpy's, scipy's and typer's ~700 modules and an analysis's
-    objects costs about 0.15 s of every command (measured on a 1,000-task
-    analysis and on a bare import), for memory the system reclaims at once.
+    objects is a noticeable share of every command, for memory the system
+    reclaims at once.
     What a normal exit does that matters still happens: the exit handlers run
     (a Dask cluster's, logging's, temporary directories'), then the output
     streams are flushed.

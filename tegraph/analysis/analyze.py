@@ -18,7 +18,7 @@ How each figure is obtained:
   with the Howard potentials (which are exactly the feasible potentials
   needed).
 
-Each step is a function of the graph (:class:`_EventGraph`, built once) and
+Each step is a function of the graph (``_EventGraph``, built once) and
 of the results of the steps before it.
 
 References
@@ -165,9 +165,9 @@ def _cyclic_gc_paused() -> Iterator[None]:
 
     The analysis makes hundreds of thousands of long-lived containers (events,
     places, Fractions, small arrays) and no reference cycles to speak of, and
-    each pass of the collector walks them again: 40 % of the time at 10,000
-    tasks (2.5 -> 1.5 s CPU on groups-10k), 26.5 -> 18.2 s at 100,000, for the
-    same peak memory. The collector is left as it was found (nested calls too).
+    each pass of the collector walks them again, a large share of the time on
+    large skeletons, for the same peak memory. The collector is left as it was
+    found (nested calls too).
     """
     enabled = gc.isenabled()
     gc.disable()
@@ -506,8 +506,7 @@ def _slack(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
 _SLACK_ARRAYS = 128
 """Places from which a group's circuit weights are computed as arrays: below, the
 fixed cost of the numpy calls exceeds the Python loops (measured on random groups:
-22 places 26 us in Python, 75 us in arrays; even near 100; 1,024 places 1.07 ms,
-0.23 ms)."""
+``benchmarks/results/constants.md``)."""
 
 
 def _circuit_weights_exact(s: np.ndarray, d: np.ndarray, holding: np.ndarray,

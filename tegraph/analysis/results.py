@@ -16,6 +16,7 @@ from maxplus.scalar import exact_text
 
 from ..model.build import UnboundedKind
 from ..model.structure import Structure
+from . import notebook
 from .processors.schedule import ProcessorSchedule
 
 if TYPE_CHECKING:  # annotations only: a report loads no more modules for them
@@ -212,9 +213,13 @@ class Report:
     """The skeleton on its processors (spec §4b); None: every task on a processor
     of its own (``processors=False``), where the figures of §4 decide."""
     structure: Structure | None = field(default=None, repr=False, compare=False)
-    """The skeleton's groups (numbered as :attr:`groups`), clocks, design periods and
+    """The skeleton's groups (numbered as ``groups``), clocks, design periods and
     links by port, computed once by the analysis: what follows it (design rules,
     margins) reads these instead of finding the groups again."""
+
+    def _repr_html_(self) -> str:
+        """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
 
     @property
     def schedulable(self) -> bool | None:

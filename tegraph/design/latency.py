@@ -147,6 +147,7 @@ class ChainLatency:
         return None if self.value is None or not period else self.value / period
 
     def to_dict(self) -> dict[str, Any]:
+        """The chain's latency as the JSON report holds it."""
         return {
             "chain": self.chain, "latency": exact_text(self.value), "kind": self.kind,
             "periods": exact_text(self.in_periods),

@@ -358,6 +358,7 @@ class UnitVerdict:
         return self.bounds is not None and self.schedulable is None
 
     def to_dict(self) -> dict[str, Any]:
+        """The unit's verdict as the JSON report holds it."""
         bounds = None if self.bounds is None else [exact_text(b) for b in self.bounds]
         return {"processor": self.processor, "group": self.group, "tasks": self.tasks,
                 "priority": self.priority, "period": exact_text(self.period),
@@ -394,6 +395,7 @@ class ProcessorVerdict:
         return all(verdicts) if verdicts else None
 
     def to_dict(self) -> dict[str, Any]:
+        """The processor's verdict as the JSON report holds it."""
         return {"processor": self.processor, "priority_source": self.priority_source,
                 "hyperperiod": exact_text(self.hyperperiod), "demand": exact_text(self.demand),
                 "condition": PAPER_TEST, "condition_holds": self.condition_holds,
@@ -416,6 +418,7 @@ class ThreadVerdict:
     margin: Fraction | None
 
     def to_dict(self) -> dict[str, Any]:
+        """The thread's verdict as the JSON report holds it."""
         return {"index": self.index, "tasks": self.tasks, "load": exact_text(self.load),
                 "period": exact_text(self.period), "pace": exact_text(self.pace),
                 "fits": self.fits, "margin": exact_text(self.margin)}
@@ -455,6 +458,7 @@ class Schedulability:
         return None
 
     def to_dict(self) -> dict[str, Any]:
+        """The schedulability section as the JSON report holds it."""
         return {"schedulable": self.schedulable, "priorities": self.priorities,
                 "threads": [t.to_dict() for t in self.threads],
                 "processors": [p.to_dict() for p in self.processors], "notes": self.notes}

@@ -33,6 +33,7 @@ from fractions import Fraction
 
 from maxplus.scalar import display_text
 
+from ..analysis import notebook
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.processors import MAX_EVENTS, JobInterval, ProcessorSchedule, schedule_on_processors
 from ..analysis.results import Deadlock
@@ -110,12 +111,18 @@ class Timeline:
     notes: list[str] = field(default_factory=list)
     """What the drawing leaves out."""
 
+    def _repr_html_(self) -> str:
+        """Its drawing (SVG) as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
+
     @property
     def processors(self) -> list[str]:
+        """The processors, one lane each, in the platform's order."""
         return [p.name for p in self.schedule.platform.processors]
 
     @property
     def priorities(self) -> dict[str, int]:
+        """Each task's priority on its processor (larger is more urgent)."""
         return self.schedule.platform.priority
 
     @property
@@ -127,6 +134,7 @@ class Timeline:
 
     @property
     def schedulable(self) -> bool | None:
+        """The §4b verdict (None: undecided within the budget)."""
         return self.schedule.schedulable
 
     @property
@@ -156,6 +164,7 @@ class Timeline:
 
     @property
     def late_jobs(self) -> list[Job]:
+        """The jobs of an overrun's late activation."""
         return [j for j in self.jobs if j.late]
 
     def order_of_execution(self, processor: str | None = None

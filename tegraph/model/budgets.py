@@ -19,7 +19,7 @@ __all__ = ["DEFAULT_MAX_BYTES", "DEFAULT_MAX_FIRINGS", "DEFAULT_MAX_MEMORY",
 
 MAX_EVENTS = 1_000_000
 """Default budget of :func:`~tegraph.analysis.processors.schedule_on_processors`: event
-firings simulated in all (some 2 to 5 s) before the figures still unproven are left
+firings simulated in all (seconds, not minutes) before the figures still unproven are left
 null. Parts (tasks joined by a group or a processor) are simulated smallest first, each
 with an equal share of what is left, so what a small part does not use goes to the
 larger ones."""

@@ -423,7 +423,7 @@ class _Places:
         sources = np.full(total, _NO_PARAMETER, dtype=object)
         sources[leaving] = _objects([HoldingSource("duration", t.name) for t in tasks])
         # One origin for a task's chain and return places: origins are read-only
-        # (Place.origin), and a dict a place was 80 MB at 100,000 tasks.
+        # (Place.origin), and a dict a place would hold tens of megabytes at 100,000 tasks.
         origin = np.empty(total, dtype=object)
         origin[chain_at] = np.repeat(_objects([{"task": t.name} for t in tasks]), length)
         origin[activation] = _objects([{"clock": t.clock, "task": t.name}

@@ -5,23 +5,23 @@ names the value and the limit, never approximated and never left to exhaust
 the machine. Every reader of a file (:mod:`tegraph.io`) and every model built
 in code applies the same bounds:
 
-==========================  ==============  ============================================
-limit                       value           why
-==========================  ==============  ============================================
-:data:`MAX_DIGITS`          4300            digits of each integer of a number's text
-                                            and of its exact value's numerator and
-                                            denominator (Python's own limit on
-                                            converting text to an int); it bounds the
-                                            exponent too: ``1e999999999`` is refused
-                                            from its text, never expanded
-:data:`MAX_COUNT`           2**63 - 1       tokens, markings, arc weights and rates are
-                                            counted in 64-bit integers
-:data:`FREE_NODES`          2**20           nodes that no arc names (a declared count,
-                                            a skipped index) beyond the file's size in
-                                            bytes
-:data:`DEFAULT_MAX_FIRINGS` 10**7           firings of an SDF graph's homogeneous
-                                            expansion (a parameter, ``max_firings``)
-==========================  ==============  ============================================
+===========================  ==============  ============================================
+limit                        value           why
+===========================  ==============  ============================================
+:data:`MAX_DIGITS`           4300            digits of each integer of a number's text
+                                             and of its exact value's numerator and
+                                             denominator (Python's own limit on
+                                             converting text to an int); it bounds the
+                                             exponent too: ``1e999999999`` is refused
+                                             from its text, never expanded
+:data:`MAX_COUNT`            2**63 - 1       tokens, markings, arc weights and rates are
+                                             counted in 64-bit integers
+:data:`FREE_NODES`           2**20           nodes that no arc names (a declared count,
+                                             a skipped index) beyond the file's size in
+                                             bytes
+:data:`DEFAULT_MAX_FIRINGS`  10**7           firings of an SDF graph's homogeneous
+                                             expansion (a parameter, ``max_firings``)
+===========================  ==============  ============================================
 
 Times are exact rationals of any size within the first bound (a time of
 4300 digits, or ``1e4299``, is held exactly). The bound is defined once, with the

@@ -150,7 +150,7 @@ def render_latency(result: ChainLatency, unit: str = "ms") -> str:
 
 
 def render_fix(result: FixResult, name: str = "skeleton") -> str:
-    """What :func:`fix_ports` found, as text for the terminal.
+    """What :func:`~tegraph.analysis.repair.fix_ports` found, as text for the terminal.
 
     >>> from tegraph import Skeleton, fix_ports
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}})

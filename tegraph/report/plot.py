@@ -22,10 +22,13 @@ from ..errors import InputError, TegraphError
 
 __all__ = [
     "INSTALL_HINT", "PlotUnavailableError", "draw_timeline", "matplotlib_available", "save_figure",
+    "timeline_figure", "timeline_svg",
 ]
 
 INSTALL_HINT = "pip install 'tegraph[plot]'"
 _FORMATS = (".svg", ".png")
+_REPRODUCIBLE: dict[Any, Any] = {"svg.fonttype": "none", "svg.hashsalt": "tegraph"}
+"""SVG text stays text, and the same figure gives the same bytes."""
 _LATE, _WAIT = "#d62728", "#9a9a9a"
 
 
@@ -103,6 +106,48 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
     True
     """
     target = _target(path)
+    return save_figure(timeline_figure(timeline), target, overwrite)
+
+
+def timeline_svg(timeline: Timeline) -> str:
+    """The drawing of :func:`draw_timeline` as SVG text, for a notebook or a page.
+
+    Raises
+    ------
+    PlotUnavailableError
+        matplotlib is not installed (the message says how to install it).
+
+    Examples
+    --------
+    >>> from tegraph.model.skeleton import Skeleton
+    >>> from tegraph.design.timeline import simulate_timeline
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}})
+    >>> try:
+    ...     svg = timeline_svg(simulate_timeline(sk))
+    ... except PlotUnavailableError:
+    ...     svg = "<svg>"  # no matplotlib
+    >>> "<svg" in svg
+    True
+    """
+    import io
+
+    import matplotlib
+
+    fig = timeline_figure(timeline)
+    out = io.StringIO()
+    with matplotlib.rc_context(_REPRODUCIBLE):
+        fig.savefig(out, format="svg", metadata={"Date": None})
+    return out.getvalue()
+
+
+def timeline_figure(timeline: Timeline) -> Any:
+    """The matplotlib figure of :func:`draw_timeline`, not yet written anywhere.
+
+    Raises
+    ------
+    PlotUnavailableError
+        matplotlib is not installed (the message says how to install it).
+    """
     Figure = _matplotlib()
     tl = timeline
     lanes = tl.processors
@@ -125,7 +170,7 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
     ax.set_title(_title(tl))
     fig.legend(handles=_legend_handles(tl, colour), loc="outside lower center", ncol=4,
                fontsize="small", frameon=False)
-    return save_figure(fig, target, overwrite)
+    return fig
 
 
 def _target(path: str | os.PathLike[str]) -> Path:
@@ -247,7 +292,7 @@ def save_figure(fig: Any, target: Path, overwrite: bool = False) -> Path:
     suffix = target.suffix.lower()
     metadata = {"Date": None} if suffix == ".svg" else {"Software": "tegraph"}
     try:
-        with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "tegraph"}), \
+        with matplotlib.rc_context(_REPRODUCIBLE), \
                 open(target, "wb" if overwrite else "xb") as out:
             fig.savefig(out, format=suffix[1:], metadata=metadata)
     except FileExistsError:

@@ -1,8 +1,8 @@
-"""A budget of nothing is refused in one line naming its option (issue 21 review, item 2).
+"""A budget of nothing is refused in one line naming its option.
 
-``reach --max-states 0`` answered "inconclusive, budget 0 states" with exit 0, and
-``timeline --max-jobs 0`` printed typer's multi-line usage error: both now give the
-library's one-line refusal, exit status 2, like ``--max-memory 0``.
+``reach --max-states 0`` is not "inconclusive, budget 0 states" with exit 0, nor
+``timeline --max-jobs 0`` typer's multi-line usage error: both give the library's
+one-line refusal, exit status 2, like ``--max-memory 0``.
 """
 
 from __future__ import annotations

@@ -474,7 +474,7 @@ def test_overrun_daters_match_report_for_every_clocked_example():
 
 # ------------------------------------------- the Autoware reference system
 
-# From ros-realtime/reference-system at de8f3bc0 (the file's header cites the paths):
+# From ros-realtime/reference-system (the file's header cites the revision and paths):
 # autoware_system_builder.hpp builds 6 sensors, 9 transforms, 5 fusions, 1 cyclic node,
 # 1 intersection node (two callbacks, two tasks here) and 2 command nodes: 25 tasks;
 # its subscriptions number 9 + 5*2 + 6 + 2 + 2 = 29 links, the cyclic node's 6 ASYN/ASYN.

@@ -300,6 +300,7 @@ class ParametricGroup:
 
     @property
     def n_events(self) -> int:
+        """The number of events of the group's graph."""
         return len(self.names)
 
     def values(self, theta: Mapping[int, Fraction], nominal: Sequence[Fraction]
@@ -313,10 +314,12 @@ class ParametricGroup:
                 for c, j in zip(self.const, self.param.tolist())]
 
     def period(self, clock: str, values: Mapping[int, Fraction]) -> Fraction:
+        """The period of ``clock`` at ``values`` (its parameter's value, else its constant)."""
         info = self.clocks[clock]
         return info.period if info.period_param < 0 else values[info.period_param]
 
     def offset(self, watch: Watch, values: Mapping[int, Fraction]) -> Fraction:
+        """The offset of ``watch`` at ``values`` (its parameter's value, else its constant)."""
         return watch.offset if watch.offset_param < 0 else values[watch.offset_param]
 
 

@@ -82,9 +82,11 @@ class Budget:
 
     @property
     def run_left(self) -> int:
+        """The event firings the whole run may still spend."""
         return max(self.total - self.spent, 0)
 
     def start_figure(self) -> None:
+        """Give the next figure its own share of event firings."""
         self.figure_left = self.max_events
 
     def cap(self) -> tuple[int, str]:
@@ -101,9 +103,11 @@ class Budget:
         return out
 
     def cap_text(self) -> str:
+        """What a figure left undecided by this budget says."""
         return f"no periodic regime within {self.max_events:,} event firings (`max_events`)"
 
     def spend(self, fired: int) -> None:
+        """Count ``fired`` event firings against the run and the current figure."""
         self.spent += fired
         if self.figure_left is not None:
             self.figure_left = max(self.figure_left - fired, 0)
@@ -139,7 +143,7 @@ class ProcessorLine:
     use_theorem: bool = True
     """Decide independent parts by Lehoczky, Sha and Ding (False: simulate them too)."""
     used: set[str] = field(default_factory=set)
-    """How the parts evaluated were decided (:data:`THEOREM`, :data:`SCHEDULE`)."""
+    """How the parts evaluated were decided (``THEOREM``, ``SCHEDULE``)."""
     budget: Budget | None = None
     """Default ``Budget(max_events)``."""
     nominal_outcomes: list[Outcome] = field(default_factory=list)

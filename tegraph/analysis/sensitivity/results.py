@@ -13,6 +13,7 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
+from .. import notebook
 from .parametric import Parameter, ParametricGroup
 
 __all__ = ["PER_TASK", "PROCESSORS", "Check", "GroupFormulaReport", "Limit", "Margin",
@@ -55,6 +56,7 @@ class Limit:
     """The tasks whose events ``events`` are, in order."""
 
     def to_dict(self) -> dict[str, Any]:
+        """The limit as the JSON report holds it."""
         return {"kind": self.kind, "group": self.group, "task": self.task, "clock": self.clock,
                 "tasks": self.tasks,
                 "activation": self.activation, "certificate": self.certificate,
@@ -74,9 +76,11 @@ class Check:
 
     @property
     def agrees(self) -> bool:
+        """Whether the analysis found what the sensitivity expected."""
         return self.found == self.expected
 
     def to_dict(self) -> dict[str, Any]:
+        """The check as the JSON report holds it."""
         return {"what": self.what, "value": exact_text(self.value), "expected": self.expected,
                 "found": self.found}
 
@@ -118,6 +122,7 @@ class Scaling:
     or "undecided: ..." naming the budget); None: searched."""
 
     def to_dict(self) -> dict[str, Any]:
+        """The scaling factor as the JSON report holds it."""
         out = {
             "parameters": self.parameters,
             "nominal_consistent": self.nominal_consistent,
@@ -175,6 +180,7 @@ class Margin:
     """As :attr:`Scaling.not_searched`, for its own part(s)."""
 
     def to_dict(self) -> dict[str, Any]:
+        """The margin as the JSON report holds it."""
         out = self._dict()
         out.update({"semantics": self.semantics, "exact": self.exact,
                     "bounds": None if self.bounds is None
@@ -217,6 +223,7 @@ class Term:
     circuit: list[str]
 
     def to_dict(self) -> dict[str, Any]:
+        """The term as the JSON report holds it."""
         return {"constant": exact_text(self.constant),
                 "coefficients": {p: str(c) for p, c in self.coefficients.items()},
                 "tokens": self.tokens, "circuit": self.circuit}
@@ -233,6 +240,7 @@ class PaceReport:
     blocking: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
+        """The keep-pace region as the JSON report holds it."""
         return {"clock": self.clock, "empty": self.empty, "blocking_circuit": self.blocking,
                 "inequalities": [{"coefficients": {p: exact_text(c) for p, c in co.items()},
                                   "bound": exact_text(b), "circuit": circ}
@@ -268,6 +276,7 @@ class GroupFormulaReport:
         return sympy.Max(*parts) if len(parts) > 1 else parts[0]
 
     def to_dict(self) -> dict[str, Any]:
+        """The group's formula as the JSON report holds it."""
         return {
             "group": self.group,
             "tasks": self.tasks,
@@ -325,8 +334,13 @@ class SensitivityResult:
     (:class:`~.parametric.ParametricGroup`), for drawings that ask the oracle
     again (:func:`~.region.consistent_region`); not part of the JSON."""
 
+    def _repr_html_(self) -> str:
+        """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
+
     @property
     def checks(self) -> list[Check]:
+        """Every cross-check against the analysis, the scaling factor's then each margin's."""
         out = list(self.scaling.checks) if self.scaling else []
         for m in self.margins.values():
             out += m.checks
@@ -341,6 +355,7 @@ class SensitivityResult:
         return 0 if self.consistent else 1
 
     def to_dict(self) -> dict[str, Any]:
+        """The body of the JSON report (``docs/report.schema.json``, ``$defs/sensitivity``)."""
         scaling = self.scaling
         return {
             "name": self.name,

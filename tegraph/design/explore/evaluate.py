@@ -23,7 +23,7 @@ the same result as the whole analysis):
    kept as a cross-check (``rta``) and for the latency bounds;
 4. the objectives:
 
-   - ``latency:A,B,C``: :attr:`ChainLatency.value` of
+   - ``latency:A,B,C``: :attr:`~tegraph.design.latency.ChainLatency.value` of
      :func:`~tegraph.design.latency.chain_latency`, exact inside one
      synchronized group, the smallest published bound across asynchronous hops
      (its kind, ``exact`` or ``bound``, is kept beside it). It is the timed

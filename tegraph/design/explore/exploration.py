@@ -14,7 +14,7 @@ Pareto front of the objectives (chain latencies, period, processor load).
 - The execution, in this process or on Dask ``distributed``: :mod:`.run`,
   :mod:`.dask_engine`.
 
-The results file is :mod:`.results` (written as verdicts arrive, by
+The results file is :mod:`tegraph.design.explore.results` (written as verdicts arrive, by
 :func:`tegraph.explore`); rendering is done above this floor
 (:mod:`tegraph.report.explore_text`).
 
@@ -36,6 +36,7 @@ from typing import Any
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_text, exact_time
 
+from ...analysis import notebook
 from ...errors import InputError
 from ...model.limits import shown
 from .evaluate import ANALYZED, FAILED, PRUNED, REJECTIONS, VariantResult, rejection
@@ -108,7 +109,12 @@ class Exploration:
     local_optimum_at: int | None = None
     """Local search: the analyses done when the front first was a Pareto local optimum."""
 
+    def _repr_html_(self) -> str:
+        """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
+
     def count(self, judged: str) -> int:
+        """How many variants were judged that way (``judged``: analyzed, pruned, ...)."""
         return sum(1 for r in self.results.values() if r.judged == judged)
 
     @property
@@ -249,7 +255,7 @@ def scheduler_address(address: str) -> str:
     (``HOST:PORT`` means tcp, as in Dask).
 
     A malformed address is refused here rather than handed to Dask, whose client,
-    once half-built, waits 20 s at garbage collection before failing with a
+    once half-built, waits for its own timeout at garbage collection before failing with a
     traceback; ``tls://`` is refused too, since it needs certificates this
     command does not take.
 

@@ -43,7 +43,9 @@ __all__ = ["LOCAL_CLUSTER_WORTH_SECONDS", "TARGET_BATCH_SECONDS", "Progress", "R
            "run_search"]
 
 TARGET_BATCH_SECONDS = 0.5
+"""Seconds of work a batch of variants aims at (see the module's account)."""
 LOCAL_CLUSTER_WORTH_SECONDS = 6.0
+"""Remaining work, in seconds, above which a local Dask cluster is worth starting."""
 MAX_BATCH = 512
 
 
@@ -78,25 +80,33 @@ class Engine(Protocol):
 
     # Read only: run_search never sets them (DaskEngine counts its workers live).
     @property
-    def kind(self) -> str: ...
+    def kind(self) -> str:
+        """The engine's name, as the report states it."""
 
     @property
-    def address(self) -> str | None: ...
+    def address(self) -> str | None:
+        """The scheduler's address (None in process)."""
 
     @property
-    def workers(self) -> int: ...
+    def workers(self) -> int:
+        """The workers that judge variants."""
 
     @property
-    def in_flight(self) -> int: ...
+    def in_flight(self) -> int:
+        """Batches submitted and not yet returned."""
 
     @property
-    def capacity(self) -> int: ...
+    def capacity(self) -> int:
+        """Batches worth keeping in flight at once."""
 
-    def submit(self, variants: list[int]) -> None: ...
+    def submit(self, variants: list[int]) -> None:
+        """Start judging one batch of variants."""
 
-    def wait(self) -> list[VariantResult]: ...
+    def wait(self) -> list[VariantResult]:
+        """The verdicts of the next batch that finishes."""
 
-    def close(self) -> None: ...
+    def close(self) -> None:
+        """Release what the engine holds."""
 
 
 class InProcessEngine:
@@ -112,6 +122,7 @@ class InProcessEngine:
 
     @property
     def in_flight(self) -> int:
+        """Batches submitted and not yet judged."""
         return len(self._queue)
 
     @property
@@ -120,12 +131,15 @@ class InProcessEngine:
         return 1
 
     def submit(self, variants: list[int]) -> None:
+        """Queue one batch of variants."""
         self._queue.append(variants)
 
     def wait(self) -> list[VariantResult]:
+        """Judge the oldest queued batch, here, and return its verdicts."""
         return evaluate_batch(self.space, self._queue.popleft())
 
     def close(self) -> None:
+        """Drop the batches not yet judged."""
         self._queue.clear()
 
 

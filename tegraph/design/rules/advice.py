@@ -246,7 +246,7 @@ class Advisor(Candidates):
         period once ``edits`` are made: (task, its clock's period, its period after).
 
         The period after is the task's cycle time in the edited skeleton
-        (:meth:`real_periods`), :data:`DEAD` where its group is dead. A task that loses its
+        (:meth:`real_periods`), ``DEAD`` where its group is dead. A task that loses its
         clock counts against its clock's period too: the designed rate is the clock's.
         """
         groups, _, _ = self._groups_after(edits)
@@ -298,7 +298,7 @@ class Advisor(Candidates):
         """The period of each task of ``groups`` once ``change`` is made (None: dead).
 
         ``roots``: the group of each of their tasks once ``change`` is made (any
-        label per group: :meth:`_regroup`'s root task, or :attr:`group_of` for no change).
+        label per group: :meth:`_regroup`'s root task, or ``group_of`` for no change).
 
         Only the touched groups are rebuilt, edited and solved: the cycle time of
         each task's compute event is the max cycle ratio of the timed event graph

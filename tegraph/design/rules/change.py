@@ -48,7 +48,8 @@ class Change:
 class ScheduleEffect:
     """What a change does to the skeleton on its processors (spec §4b), before -> after.
 
-    Decided on the part the change touches (:mod:`.on_processors`): the groups it
+    Decided on the part the change touches
+    (:mod:`tegraph.design.rules.on_processors`): the groups it
     touches and every group sharing a processor with them.
 
     Attributes

@@ -41,7 +41,8 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
         ``Structure.of(skeleton)``, if known (its groups are the synchronized groups).
     processors : bool
         Also say what each advised change does to the skeleton on its processors
-        (spec §4b, :mod:`.on_processors`: ``RuleFinding.schedule`` and a clause of
+        (spec §4b, :mod:`tegraph.design.rules.on_processors`: ``RuleFinding.schedule``
+        and a clause of
         the advice); False: every task has a processor of its own, where the
         periods the advice states say it.
     live : bool, optional

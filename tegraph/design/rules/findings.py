@@ -111,7 +111,7 @@ class RuleFinding:
 
     See Also
     --------
-    check_rules : makes them.
+    tegraph.design.rules.check.check_rules : makes them.
 
     Examples
     --------

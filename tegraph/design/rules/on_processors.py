@@ -23,7 +23,7 @@ chosen for a finding:
   time; once the budget is spent, the advice says so.
 
 A clock the change adds gets the period the advisor assumed (a period no group
-has, :attr:`~.advice.Advisor.fresh`); the words say so.
+has, ``Advisor.fresh``); the words say so.
 """
 
 from __future__ import annotations
@@ -57,11 +57,11 @@ PART_TASKS = 500
 
 _MIN_COST = 500
 """What one simulation costs at least, in firings: the fixed cost of building and
-analyzing the part (some 5 ms, as 500 firings of the simulation)."""
+analyzing the part, counted as the firings of the simulation it takes as long as."""
 
 _TASK_COST = 100
-"""What building and analyzing a part costs per task, in firings (measured: some
-0.6 ms a task, as 100 firings), so that the advice adds a second or two at most."""
+"""What building and analyzing a part costs per task, in firings (measured, and
+counted as the firings that take as long), so that the advice's budget bounds its time."""
 
 _SHOWN = 4
 """Groups named in a verdict's figures; more are counted."""

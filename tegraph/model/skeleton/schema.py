@@ -142,8 +142,8 @@ def _short_time(value: str | int, positive: bool) -> Fraction | None:
     """The time of a short text or an int, or None when :func:`_time` refuses it.
 
     A file repeats its values (a handful of periods; the generated chain of 10,000
-    tasks has 100 durations): each is read once (that chain's fields: 146 -> 102 ms;
-    a file of 60 % distinct durations neither gains nor loses). At most 16,384 values
+    tasks has 100 durations): each is read once (a file of mostly distinct durations
+    neither gains nor loses). At most 16,384 values
     of at most 40 characters are kept (a few MB). The checks of :func:`_time` word
     every refusal; a Fraction is immutable, so sharing one is safe.
     """

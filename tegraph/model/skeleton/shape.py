@@ -30,28 +30,37 @@ class SkeletonShape(typing.Protocol):
     """
 
     @property
-    def name(self) -> str: ...
+    def name(self) -> str:
+        """The skeleton's name."""
 
     @property
-    def unit(self) -> str: ...
+    def unit(self) -> str:
+        """The unit of every time (``ms`` by default)."""
 
     @property
-    def tasks(self) -> Mapping[str, Task]: ...
+    def tasks(self) -> Mapping[str, Task]:
+        """Task name -> task, in file order."""
 
     @property
-    def clocks(self) -> Mapping[str, Clock]: ...
+    def clocks(self) -> Mapping[str, Clock]:
+        """Clock name -> clock."""
 
     @property
-    def links(self) -> Sequence[Link]: ...
+    def links(self) -> Sequence[Link]:
+        """The links between ports, in file order."""
 
     @property
-    def threads(self) -> Sequence[Sequence[str]]: ...
+    def threads(self) -> Sequence[Sequence[str]]:
+        """The declared threads, each a list of task names."""
 
     @property
-    def chains(self) -> Sequence[Sequence[str]]: ...
+    def chains(self) -> Sequence[Sequence[str]]:
+        """The declared chains, each a list of task names."""
 
     @property
-    def source(self) -> str | None: ...
+    def source(self) -> str | None:
+        """The file it was read from (None: built in code)."""
 
     @property
-    def extra(self) -> Mapping[str, Any]: ...
+    def extra(self) -> Mapping[str, Any]:
+        """Keys of the file this version does not read, kept as given."""

@@ -92,8 +92,8 @@ def test_computed_torque_on_one_cpu_is_figure_17():
 
 
 def test_doubled_durations_overrun_on_one_cpu_as_analyze_says():
-    # Issue 19: every duration x2 (0.2, 0.2, 0.4, 0.6, 2.4): analyze (one processor per
-    # task) said "consistent", the old timeline "MOD.DYN overruns at activation 2".
+    # Every duration x2 (0.2, 0.2, 0.4, 0.6, 2.4): with one processor per task the
+    # skeleton is consistent, and MOD.DYN's overrun at activation 2 is the one CPU's.
     # By hand, one CPU, the same priorities: OBS.JL#1 0-0.2, TG.JS 0.2-0.4, TF.TT.JS
     # 0.4-0.8, CO.JS 0.8-1 (0.2 of 0.6), preempted by OBS.JL#2 1-1.2, CO.JS 1.2-1.6,
     # MOD.DYN 1.6-2 (0.4 of 2.4). Each 2 ms cycle repeats this: MOD.DYN also gets
@@ -188,7 +188,7 @@ def test_drifting_clocks_end_at_once_naming_the_hyperperiod(tmp_path):
 
 
 def test_drifting_clocks_released_together_end_at_once(tmp_path):
-    # The same four sensors in phase (issue 19's file): whatever decides them (the
+    # The same four sensors in phase: whatever decides them (the
     # exact simulation's budget, or a theorem), the answer comes in seconds, its
     # verdict line carries the exit status and the report says how it was obtained.
     f = tmp_path / "sensors.yaml"

@@ -294,7 +294,7 @@ def test_json_refusal(tmp_path: Path, text: str, key_path: str, wording: str,
 
 # YAML 1.1 reads these plain scalars as numbers (0x1A is 26, 0b11 is 3, 1:30 is 90,
 # 1__0 is 10, .inf is infinity); the number grammar of docs/skeleton.md has none of
-# them, so each is refused at its key path, with the text as written (issue 21).
+# them, so each is refused at its key path, with the text as written.
 OUTSIDE_THE_GRAMMAR = ["0x1A", "-0x1A", "0x_1A", "0b11", "+0b1_1", "0o17", "1:30",
                        "-1:30", "1:30.5", "190:20:30", ".inf", "-.Inf", "+.INF", ".nan",
                        ".NaN", "1__0", "1_", "1_.5"]

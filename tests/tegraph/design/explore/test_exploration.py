@@ -5,8 +5,8 @@ The reference front is rebuilt here from the public :func:`tegraph.analyze` alon
 each variant is made with ``dataclasses.replace``, analyzed (and, when only its port
 order deadlocks, reordered as the report's ``reorder`` says and analyzed again), kept
 when live, consistent and schedulable on its processors (the report's §4b verdict,
-issue 19: before it, the design section's response-time test decided, with a processor
-per task); its latency comes from the report's design section, its period ratio and
+not the design section's response-time test, which assumes a processor per task
+and is a cross-check); its latency comes from the report's design section, its period ratio and
 loads from the figures on processors, and the front from an O(n²) dominance loop.
 """
 
@@ -51,7 +51,7 @@ def reference(skeleton, links, clocks, chains):
         fastest = min((skeleton.clocks[c].period for c in g.clocks), default=None)
         for t in g.tasks:
             designed[t] = fastest
-    # A task's own clock is its designed rate (issue 21: a task that leaves a faster
+    # A task's own clock is its designed rate (a task that leaves a faster
     # group for its own slower clock is not charged against the group it left).
     for name, task in skeleton.tasks.items():
         if task.clock:

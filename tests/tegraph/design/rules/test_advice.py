@@ -31,7 +31,7 @@ from tests.tegraph.skeleton_corpus import random_skeleton
 
 EXAMPLES = REPO / "examples"
 # A 2 ms control loop that also waits (ASYN/SYN) for gains computed every 5 ms
-# (issue 21): two synchronizations on CTRL (Rule 1), two clocks in one group (Rule 3).
+# two synchronizations on CTRL (Rule 1), two clocks in one group (Rule 3).
 CTRL_GAINS = {"tasks": {
     "GAINS": {"duration": 1, "period": 5, "outputs": ["k"]},
     "CTRL": {"duration": "1/2", "period": 2, "inputs": ["k"], "outputs": ["u"]}},
@@ -455,8 +455,8 @@ def test_dropping_a_clock_says_the_new_sampling_period():
 
 
 def test_the_stated_periods_agree_with_the_analysis_on_the_examples_and_corpus():
-    # Issue 21 review: the advice stated design periods (each group's fastest clock),
-    # which the skeleton need not run at: on m1 below "R is sampled every 60 ms" while R
+    # Design periods (each group's fastest clock) are not what a skeleton need run at,
+    # and an advice that stated them would mislead: on m1 below "R is sampled every 60 ms" while R
     # ran at 100 ms, on CTRL/GAINS SYN/SYN "every clocked task keeps its clock's period"
     # while CTRL (2 ms clock) ran at 5 ms. Each advised change, applied with this file's
     # applier and analysed in full (the timed event graph of the whole skeleton): each
@@ -584,7 +584,7 @@ def test_advice_under_a_deadlock_makes_it_live_or_says_it_does_not():
 
 
 def test_every_structural_advice_states_the_periods():
-    # Issue 21: every advice of Rules 1-3, with a change or without one (then of the first
+    # Every advice of Rules 1-3, with a change or without one (then of the first
     # candidate), says what it does to each group's design period; an advice that names
     # no change at all (no candidate) has nothing to state.
     cases = [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]

@@ -69,12 +69,12 @@ def test_rule1_double_synchronization_of_figure_12():
     assert "2 synchronizations" in f.message
     # Two one-edit changes remove it with nothing new: keep the input read first (footnote
     # 6) and drop MT2's 4 ms clock, which makes MT2 run at MT1's 10 ms; or keep the clock
-    # and read y ASYN/ASYN, which keeps both sampling periods (issue 21): preferred.
+    # and read y ASYN/ASYN, which keeps both sampling periods: preferred.
     assert f.advice.startswith("keep only its clock")
     assert "make MT1:y -> MT2:y ASYN/ASYN" in f.advice
     # Before, MT2 waits for MT1's 10 ms message: it runs every 10 ms while its 4 ms clock
-    # ticks on (the ticks queue): the group runs at two rates (issue 21 review: the
-    # advice states the periods the skeleton runs at, not the fastest clock's).
+    # ticks on (the ticks queue): the group runs at two rates (the advice states the
+    # periods the skeleton runs at, not the fastest clock's).
     assert ("{MT1, MT2} not rate-consistent (clock rtc 10 ms, clock MT2.clock 4 ms) -> "
             "{MT1} 10 ms, {MT2} 4 ms") in f.advice
     assert f.change == Change((("MT1:y", "MT2:y", "ASYN/ASYN"),))
