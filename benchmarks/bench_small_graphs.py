@@ -5,7 +5,7 @@ circuit: the whole call a caller pays) on each kernel of the switch
 ``maxplus._kernels``, on graphs of 6 to 2,000 arcs of four families
 (:func:`families`: SPRAND with m = 4n, the same with equal weights, a ring
 with chords, a controller-like graph). The kernels run interleaved, A B C A B
-C, each sample a batch of solves of about 20 ms; the table gives the median
+C, each sample a batch of solves lasting about ``BATCH_SECONDS``; the table gives the median
 time per solve and the spread (min-max) over the samples, and each kernel's
 time over the compiled kernel's.
 
@@ -46,6 +46,10 @@ def _checkout(argv: list[str]) -> Path:
 
 
 sys.path.insert(0, str(_checkout(sys.argv)))  # a checkout, not an installed copy
+
+BATCH_SECONDS = 0.02
+"""Each sample times a batch of solves this long: timer resolution and call
+overhead stay small beside it."""
 
 SIZES = (10, 30, 60, 100, 200, 350, 500, 1000, 2000)
 """About this many arcs per graph (each family rounds it its own way)."""
@@ -122,9 +126,9 @@ def _batch(graph, kernel: str, repeat: int) -> float:
 def measure(graph, kernels: list[str], runs: int) -> dict[str, list[float]]:
     """Per kernel, ``runs`` samples of the time per solve, the kernels interleaved."""
     repeat = {}
-    for kernel in kernels:  # warm up, and size each batch to about 20 ms
+    for kernel in kernels:  # warm up, and size each batch to BATCH_SECONDS
         once = max(_batch(graph, kernel, 1), _batch(graph, kernel, 1), 1e-6)
-        repeat[kernel] = max(1, int(0.02 / once))
+        repeat[kernel] = max(1, int(BATCH_SECONDS / once))
     samples: dict[str, list[float]] = {k: [] for k in kernels}
     for _ in range(runs):
         for kernel in kernels:

@@ -33,6 +33,10 @@ source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
 exclude_patterns = ["_build", "**/_build", "README.md"]
 
+# Quotes and ellipses only: "--max-events" stays two hyphens (an en dash would
+# not be the option a reader copies).
+smartquotes_action = "qe"
+
 myst_enable_extensions = ["colon_fence", "deflist", "dollarmath"]
 myst_heading_anchors = 4
 

@@ -4,7 +4,12 @@
 help, then for each command its usage line, its help and each argument and option
 with typer's own help record (the default, the metavar, whether it is required).
 The text is set as plain text, not parsed: a help string's backquotes and
-asterisks read as the terminal shows them.
+asterisks read as the terminal shows them; option names are set as literals.
+
+The tree is taken once, when the builder starts, before autodoc reads any module:
+autodoc's ``autodoc_preserve_defaults`` gives each documented function a
+``__signature__`` of unevaluated annotations, in which typer would no longer find
+the options' ``Annotated`` declarations.
 """
 
 from __future__ import annotations
@@ -32,9 +37,7 @@ class TegraphCli(SphinxDirective):
     """``.. tegraph-cli::``: a section per command of ``tegraph``."""
 
     def run(self) -> list[nodes.Node]:
-        from tegraph.cli import app
-
-        group = typer.main.get_command(app)
+        group = self.env.app.tegraph_cli_group  # type: ignore[attr-defined]
         context = group.context_class(group, info_name="tegraph")
         out: list[nodes.Node] = [*_paragraphs(group.help or ""),
                                  nodes.literal_block(text=group.get_usage(context))]
@@ -50,7 +53,7 @@ class TegraphCli(SphinxDirective):
                     continue
                 term, help_text = record
                 item = nodes.definition_list_item()
-                item += nodes.term(text=term)
+                item += nodes.term("", "", nodes.literal(text=term))
                 definition = nodes.definition()
                 definition += _paragraphs(help_text) or [nodes.paragraph(text="")]
                 item += definition
@@ -60,6 +63,13 @@ class TegraphCli(SphinxDirective):
         return out
 
 
+def _command_tree(app: Sphinx) -> None:
+    from tegraph.cli import app as cli_app
+
+    app.tegraph_cli_group = typer.main.get_command(cli_app)  # type: ignore[attr-defined]
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
+    app.connect("builder-inited", _command_tree)
     app.add_directive("tegraph-cli", TegraphCli)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

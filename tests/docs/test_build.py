@@ -39,6 +39,8 @@ def test_the_documentation_builds_with_warnings_as_errors(tmp_path):
     cli = _text(out / "reference" / "cli.html")
     for command in ("tegraph analyze", "tegraph sensitivity", "tegraph explore", "--max-events"):
         assert command in cli, command
+    # each option with its own help, as --help prints it (not a bare parameter name)
+    assert "--json Print the JSON report" in " ".join(cli.split()), "options lost their help"
 
 
 def test_the_benchmarks_page_is_the_current_tables():
