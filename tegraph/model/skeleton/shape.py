@@ -14,9 +14,10 @@ from __future__ import annotations
 # protocol of spec §1 (tegraph.model.elements.Protocol).
 import typing
 from collections.abc import Mapping, Sequence
+from fractions import Fraction
 from typing import Any
 
-from ..elements import Clock, Link, Task
+from ..elements import Clock, Link, Processor, Task
 
 __all__ = ["SkeletonShape"]
 
@@ -55,3 +56,9 @@ class SkeletonShape(typing.Protocol):
 
     @property
     def extra(self) -> Mapping[str, Any]: ...
+
+    @property
+    def processors(self) -> Mapping[str, Processor]: ...
+
+    @property
+    def network_delay(self) -> Fraction | None: ...
