@@ -334,6 +334,8 @@ def _draw(s: ProcessorSchedule, by_part: dict[str, list[JobInterval]], ends: dic
             if cut is not None:
                 notes.append(f"the part of {first}: its regime is repeated up to "
                              f"{_time(cut, unit)} only ({MAX_DRAWN:,} intervals)")
+        elif r.get("by") == "not computed":
+            notes.append(f"{r['why']}: not drawn")
         elif r["start"] is None and ends[first] < horizon:
             notes.append(f"the part of {first}: simulated up to {_time(ends[first], unit)} "
                          "only (undecided within `max_events`)")

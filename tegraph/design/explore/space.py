@@ -611,7 +611,7 @@ def _latency_bounds(skeleton: Skeleton, bounds: Sequence[Any]
 def _objective_names(objectives: Sequence[str] | None, chains: Sequence[tuple[str, ...]],
                      skeleton: Skeleton) -> tuple[str, ...]:
     if objectives is None:
-        processors = {t.processor for t in skeleton.tasks.values()}
+        processors = {t.runs_on for t in skeleton.tasks.values()}
         wanted = [o for o in OBJECTIVES if (o != "latency" or chains)
                   and (o != "utilization" or len(processors) > 1)]
     else:
