@@ -53,7 +53,7 @@ def replaced_priorities(report: Report) -> list[str]:
     >>> print(replaced_priorities(r)[0])  # doctest: +NORMALIZE_WHITESPACE
     priorities:  REPLACED on default: 1 of its 2 tasks declare a priority (B does not); a
     processor's priorities are all declared or none (spec §4b), so all run at the
-    rate-monotonic proposal: A 5 -> 2 (declare every task's priority to keep yours;
+    rate-monotonic proposal: A 5 -> 1 (declare every task's priority to keep yours;
     `tegraph rules` gives the change)
     """
     if report.platform is None:
