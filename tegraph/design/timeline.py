@@ -291,6 +291,8 @@ def _part_ends(skeleton: Skeleton, s: ProcessorSchedule, by_part: dict[str, list
             unsimulated.append(first)
         elif r["start"] is None:  # undecided: drawn as far as it was simulated
             ends[first] = max((i.end for i in by_part.get(first, [])), default=Fraction(0))
+            if r.get("by") == "not computed":  # no budget stopped it: no hyperperiod to blame
+                continue
             hyper[first] = hyperperiod(clocks[c].period for c in
                                        {tasks[t].clock for t in r["tasks"]} if c)
         else:

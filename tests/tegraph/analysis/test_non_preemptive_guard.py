@@ -124,6 +124,7 @@ def test_the_timeline_draws_nothing_it_did_not_compute(tmp_path):
     assert [i.task for i in tl.intervals if i.processor == "cpu"]
     text = render_text(tl)
     assert f"not computed ({NON_PREEMPTIVE})" in text and "raise `max_events`" not in text
+    assert "hyperperiod" not in text.splitlines()[-1]  # no budget is to blame
 
 
 def test_the_command_line_exits_1_with_the_reason(tmp_path):

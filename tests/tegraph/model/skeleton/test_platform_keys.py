@@ -153,3 +153,12 @@ def test_restricted_keeps_the_platform_of_its_tasks():
     part = s.restricted_to(["A"])
     assert part.processors == {"p": Processor("p", False)} and part.network_delay == 1
     part.validate()
+
+
+def test_a_chain_entry_that_is_no_task_name(tmp_path):
+    # The other chain refusals of §1 (unknown task, twice, no link, empty, not a list)
+    # are tests/tegraph/design/rules/test_rules.py::test_chain_refusals.
+    err = refused(tmp_path, BASE.replace("outputs: [a]", "outputs: [a]") +
+                  "links:\n  - {from: 'W:a', to: 'R:a', protocol: ASYN/SYN}\n"
+                  "chains:\n  - [W, [R]]\n")
+    assert err.where == "chains[0][1]" and "expected a task name" in err.reason
