@@ -158,7 +158,7 @@ def test_restricted_keeps_the_platform_of_its_tasks():
 def test_a_chain_entry_that_is_no_task_name(tmp_path):
     # The other chain refusals of §1 (unknown task, twice, no link, empty, not a list)
     # are tests/tegraph/design/rules/test_rules.py::test_chain_refusals.
-    err = refused(tmp_path, BASE.replace("outputs: [a]", "outputs: [a]") +
+    err = refused(tmp_path, BASE +
                   "links:\n  - {from: 'W:a', to: 'R:a', protocol: ASYN/SYN}\n"
                   "chains:\n  - [W, [R]]\n")
     assert err.where == "chains[0][1]" and "expected a task name" in err.reason
