@@ -52,6 +52,7 @@ from maxplus.scalar import display_text
 
 from ..model.build import UnboundedKind, activation_end, build_teg, task_chain, unbounded_kind
 from ..model.elements import flow_list
+from ..model.platform import platform_of
 from ..model.skeleton import Skeleton
 from ..model.structure import Structure
 from ..model.teg import Place, TimedEventGraph
@@ -145,9 +146,12 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         overrun = any(t.overrun_at is not None for t in tasks.values())
         consistent = live and not unbounded and not overrun
         methods = _methods(deadlocks, groups, periods, invariants, tasks, steps)
+        # The platform once, for the schedule, its cross-checks and the rules (report.platform).
+        platform = platform_of(skeleton, structure)
         schedule = None
         if processors:  # on the groups and the event graph computed above, not again
-            schedule = schedule_on_processors(skeleton, graph.teg, groups, max_events=max_events,
+            schedule = schedule_on_processors(skeleton, graph.teg, groups, platform=platform,
+                                              max_events=max_events,
                                               intervals=False)  # the timeline draws its own
             methods["schedule"] = schedule.method
         return Report(
@@ -155,6 +159,7 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
             deadlocks=deadlocks, reorder=reorder, groups=groups, tasks=tasks,
             unbounded_places=unbounded, invariants=invariants, methods=methods,
             notes=notes, source=skeleton.source, schedule=schedule, structure=structure,
+            platform=platform,
         )
 
 

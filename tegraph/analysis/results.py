@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from maxplus.scalar import exact_text
 
 from ..model.build import UnboundedKind
+from ..model.platform import Platform
 from ..model.structure import Structure
 from . import notebook
 from .processors.schedule import ProcessorSchedule
@@ -216,6 +217,10 @@ class Report:
     """The skeleton's groups (numbered as ``groups``), clocks, design periods and
     links by port, computed once by the analysis: what follows it (design rules,
     margins) reads these instead of finding the groups again."""
+    platform: Platform | None = field(default=None, repr=False, compare=False)
+    """Each task's processor and priority, each processor's kind (spec §4b, §4d),
+    computed once by the analysis (:func:`~tegraph.model.platform.platform_of`): the
+    schedule, the response-time cross-check and Rule 4 read this one."""
 
     def _repr_html_(self) -> str:
         """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
@@ -277,7 +282,8 @@ class Report:
         if self.schedule is None:
             return []
         return [{"name": p.name, "tasks": list(p.tasks), "priorities": dict(p.priorities),
-                 "priority_source": p.priority_source}
+                 "priority_source": p.priority_source, "preemptive": p.preemptive,
+                 "replaced_priorities": dict(p.replaced)}
                 for p in self.schedule.platform.processors]
 
     def _group_period_on_processors(self, index: int) -> str | None:

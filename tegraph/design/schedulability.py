@@ -30,6 +30,13 @@ is followed). Units of equal priority are counted as interfering with each
 other (their order is unknown). Not modelled: release jitter across
 processors, blocking on shared resources, context-switch costs.
 
+The recurrence has no blocking term: it holds under preemption only. On a
+processor declared ``preemptive: false`` (spec §4d) a less urgent job already
+running delays a more urgent one, which it does not count, so there it is not
+applied (:data:`NOT_PREEMPTIVE`): its units are left undecided, never judged by it.
+The priorities are the platform's (:func:`tegraph.model.platform.platform_of`,
+``report.platform``): the ones the exact schedule runs.
+
 References
 ----------
 .. [1] D. Simon et al., "Design and analysis of synchronization for
@@ -55,11 +62,12 @@ from maxplus.scalar import display_text, exact_text
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.results import Report
 from ..errors import InputError, TegraphError
+from ..model.platform import Platform, hyperperiod, is_automaton, platform_of
 from ..model.skeleton import Skeleton
 from ..model.structure import Structure, design_period
-from .rules import is_automaton, proposed_priorities
 
 __all__ = [
+    "NOT_PREEMPTIVE",
     "PAPER_TEST",
     "RTA_BUDGET",
     "RTA_TEST",
@@ -81,39 +89,10 @@ PAPER_TEST = "utilization over the hyperperiod, sum D_i*T/tau_i <= T (ORCCAD sec
 RTA_BUDGET = 1_000_000
 """Most terms ``ceil(t/T_j)*C_j`` the recurrence evaluates for one unit (about a
 second): past it the unit's test is "undecided (budget)", with proven bounds."""
-
-
-def hyperperiod(periods: Iterable[Fraction]) -> Fraction:
-    """Least common multiple of positive rationals: ``lcm(numerators)/gcd(denominators)``.
-
-    Parameters
-    ----------
-    periods : iterable of Fraction
-        Positive periods (ints and Fractions alike).
-
-    Returns
-    -------
-    Fraction
-        The least positive rational that every period divides an integer
-        number of times; 1 for no period.
-
-    See Also
-    --------
-    schedulability : uses it for the paper's utilization condition.
-
-    Examples
-    --------
-    >>> hyperperiod([Fraction(1), Fraction(2), Fraction(6)])
-    Fraction(6, 1)
-    >>> hyperperiod([Fraction(3, 2), Fraction(5, 4)])
-    Fraction(15, 2)
-    """
-    num, den = 1, 0
-    for p in periods:
-        p = Fraction(p)
-        num = math.lcm(num, p.numerator)
-        den = math.gcd(den, p.denominator)
-    return Fraction(num, den or 1)
+NOT_PREEMPTIVE = ("not applied: the recurrence holds under preemption only (on a "
+                  "non-preemptive processor a less urgent job already running blocks this "
+                  "one, spec §4d)")
+"""The note of every unit on a processor declared ``preemptive: false``."""
 
 
 @dataclass(frozen=True)
@@ -382,6 +361,8 @@ class ProcessorVerdict:
     condition_margin: Fraction | None
     """``T - demand``."""
     units: list[UnitVerdict] = field(default_factory=list)
+    preemptive: bool = True
+    """False: declared ``preemptive: false`` (§4d); the response-time test is not applied."""
 
     @property
     def schedulable(self) -> bool | None:
@@ -397,6 +378,7 @@ class ProcessorVerdict:
     def to_dict(self) -> dict[str, Any]:
         """The processor's verdict as the JSON report holds it."""
         return {"processor": self.processor, "priority_source": self.priority_source,
+                "preemptive": self.preemptive,
                 "hyperperiod": exact_text(self.hyperperiod), "demand": exact_text(self.demand),
                 "condition": PAPER_TEST, "condition_holds": self.condition_holds,
                 "condition_margin": exact_text(self.condition_margin),
@@ -440,9 +422,14 @@ class Schedulability:
         verdicts = [p.schedulable for p in self.processors if p.schedulable is not None]
         if False in verdicts:
             return False
-        if self.undecided:
+        if self.undecided or self.not_applied:
             return None
         return all(verdicts) if verdicts else None
+
+    @property
+    def not_applied(self) -> list[ProcessorVerdict]:
+        """The non-preemptive processors with work, where the test does not apply."""
+        return [p for p in self.processors if not p.preemptive and p.units]
 
     @property
     def undecided(self) -> list[UnitVerdict]:
@@ -464,13 +451,14 @@ class Schedulability:
                 "processors": [p.to_dict() for p in self.processors], "notes": self.notes}
 
 
-def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
-                         ) -> tuple[dict[str, int], dict[str | None, str]]:
+def effective_priorities(skeleton: Skeleton, structure: Structure | None = None, *,
+                         platform: Platform | None = None
+                         ) -> tuple[dict[str, int], dict[str, str]]:
     """The priority of every task, and where it comes from on each processor.
 
-    A processor whose tasks all declare a ``priority`` uses them; otherwise
-    all its tasks get the rate-monotonic proposal of
-    :func:`tegraph.design.rules.proposed_priorities` (and the source says so).
+    The platform's (:func:`tegraph.model.platform.platform_of`), which the exact
+    schedule runs: a processor whose tasks all declare a ``priority`` uses them;
+    otherwise all its tasks get the rate-monotonic proposal (and the source says so).
 
     Parameters
     ----------
@@ -478,6 +466,8 @@ def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
         Tasks with their processors and optional declared priorities.
     structure : Structure, optional
         ``Structure.of(skeleton)``, if known (the proposal reads its groups).
+    platform : Platform, optional
+        ``report.platform``, if known: read, not computed again.
 
     Returns
     -------
@@ -487,7 +477,7 @@ def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
 
     See Also
     --------
-    tegraph.design.rules.proposed_priorities : the rate-monotonic proposal
+    tegraph.model.platform.rate_monotonic : the rate-monotonic proposal
         (ORCCAD rule 4 [1]_, after Liu and Layland [2]_).
 
     References
@@ -504,21 +494,11 @@ def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 4},
     ...                                    "B": {"duration": 1, "period": 2}}})
     >>> effective_priorities(sk)
-    ({'A': 1, 'B': 2}, {None: 'rate-monotonic'})
+    ({'A': 1, 'B': 2}, {'default': 'rate-monotonic'})
     """
-    proposal = proposed_priorities(skeleton, structure)
-    on: dict[str | None, list[str]] = {}
-    for name, task in skeleton.tasks.items():
-        on.setdefault(task.processor, []).append(name)
-    priorities: dict[str, int] = {}
-    source: dict[str | None, str] = {}
-    for processor, tasks in on.items():
-        declared = all(skeleton.tasks[t].priority is not None for t in tasks)
-        source[processor] = "declared" if declared else "rate-monotonic"
-        for t in tasks:
-            # Type: declared: every task of this processor has a priority.
-            priorities[t] = skeleton.tasks[t].priority if declared else proposal[t]  # type: ignore[assignment]
-    return {t: priorities[t] for t in skeleton.tasks}, source
+    if platform is None:
+        platform = platform_of(skeleton, structure)
+    return dict(platform.priority), {p.name: p.priority_source for p in platform.processors}
 
 
 def schedulability(skeleton: Skeleton, report: Report | None = None, *,
@@ -584,15 +564,17 @@ def schedulability(skeleton: Skeleton, report: Report | None = None, *,
     budget = _budget(budget)
     if report is None:
         report = analyze_skeleton(skeleton)
-    priorities, source = effective_priorities(skeleton, report.structure)
+    platform = report.platform if report.platform is not None else platform_of(
+        skeleton, report.structure if report.structure is not None else report.groups)
+    priorities, source = effective_priorities(skeleton, platform=platform)
     notes: list[str] = []
-    units: dict[str | None, list[UnitVerdict]] = {p: [] for p in source}
+    units: dict[str, list[UnitVerdict]] = {p: [] for p in source}
     for g in report.groups:
         parts: dict[tuple, list[str]] = {}
         for t in g.tasks:
             task = skeleton.tasks[t]
             rate = g.period if g.rate_consistent else report.tasks[t].period
-            parts.setdefault((task.processor, priorities[t], rate), []).append(t)
+            parts.setdefault((task.runs_on, priorities[t], rate), []).append(t)
         if g.live and not g.rate_consistent:
             notes.append(f"group {g.index} ({', '.join(g.tasks)}) is not rate-consistent: its "
                          "tasks are analyzed at their own cycle times")
@@ -609,13 +591,14 @@ def schedulability(skeleton: Skeleton, report: Report | None = None, *,
                                                 tasks=tasks, priority=priority, period=rate,
                                                 cost=Fraction(cost), response_time=None,
                                                 schedulable=None, margin=None, note=note))
-    processors = [_processor(p, source[p], us, skeleton.unit, budget)
+    processors = [_processor(p, source[p], us, skeleton.unit, budget,
+                             preemptive=platform.preemptive(p))
                   for p, us in units.items()]
     return Schedulability(processors, _threads(skeleton, report), priorities, notes)
 
 
-def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: str,
-               budget: int | None = None) -> ProcessorVerdict:
+def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
+               budget: int | None = None, *, preemptive: bool = True) -> ProcessorVerdict:
     active = [u for u in units if u.period]  # dead groups and zero periods are left out
     # Load of each priority level and of everything above it, so that a unit left no
     # time is settled without the recurrence (many groups on one processor stay cheap).
@@ -635,6 +618,9 @@ def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: st
             if not u.note:
                 u.note = "no time passes in its period: not analyzed"
             continue
+        if not preemptive:  # the recurrence's hypothesis: it does not apply here
+            _add_note(u, NOT_PREEMPTIVE)
+            continue
         load = above[u.priority] + level[u.priority] - u.cost / u.period
         if load >= 1 and u.cost > 0:
             result = ResponseTime("no time", None, None, None, 0)
@@ -649,11 +635,11 @@ def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: st
                          "unit(s), counted as interference")
     units.sort(key=lambda u: (-u.priority, u.group))
     if not active:
-        return ProcessorVerdict(name, source, None, None, None, None, units)
+        return ProcessorVerdict(name, source, None, None, None, None, units, preemptive)
     # Type: `active` units have a period (None and 0 are left out above; both lines).
     T = hyperperiod(u.period for u in active)  # type: ignore[misc]
     demand = sum((u.cost * (T / u.period) for u in active), Fraction(0))  # type: ignore[operator]
-    return ProcessorVerdict(name, source, T, demand, demand <= T, T - demand, units)
+    return ProcessorVerdict(name, source, T, demand, demand <= T, T - demand, units, preemptive)
 
 
 def _add_note(u: UnitVerdict, text: str) -> None:

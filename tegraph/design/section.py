@@ -118,6 +118,6 @@ def design_section(skeleton: Skeleton, report: Report,
         name=skeleton.name, unit=skeleton.unit,
         rules=check_rules(skeleton, report.structure, processors=(
             report.schedule is not None if processors is None else processors),
-            live=report.live),
+            live=report.live, platform=report.platform),
         schedulability=sched,
         latency=[chain_latency(skeleton, c, report, sched, path) for c, path in named])

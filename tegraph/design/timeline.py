@@ -300,6 +300,8 @@ def _part_ends(skeleton: Skeleton, s: ProcessorSchedule, by_part: dict[str, list
             unsimulated.append(first)
         elif r["start"] is None:  # undecided: drawn as far as it was simulated
             ends[first] = max((i.end for i in by_part.get(first, [])), default=Fraction(0))
+            if r.get("by") == "not computed":  # no budget stopped it: no hyperperiod to blame
+                continue
             hyper[first] = hyperperiod(clocks[c].period for c in
                                        {tasks[t].clock for t in r["tasks"]} if c)
         else:
@@ -343,6 +345,8 @@ def _draw(s: ProcessorSchedule, by_part: dict[str, list[JobInterval]], ends: dic
             if cut is not None:
                 notes.append(f"the part of {first}: its regime is repeated up to "
                              f"{_time(cut, unit)} only ({MAX_DRAWN:,} intervals)")
+        elif r.get("by") == "not computed":
+            notes.append(f"{r['why']}: not drawn")
         elif r["start"] is None and ends[first] < horizon:
             notes.append(f"the part of {first}: simulated up to {_time(ends[first], unit)} "
                          "only (undecided within `max_events`)")

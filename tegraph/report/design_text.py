@@ -11,6 +11,7 @@ from ..design.latency import ChainLatency
 from ..design.rules import RuleFinding
 from ..design.schedulability import PAPER_TEST, RTA_TEST, Schedulability
 from ..design.section import DesignSection
+from ..model.platform import DEFAULT_PROCESSOR
 from ._format import count, number
 
 __all__ = [
@@ -66,6 +67,10 @@ def render_design(section: DesignSection) -> str:
         verdict = "; ".join(problems)
     else:
         sched_text = ("schedulable" if sched.schedulable
+                      else "schedulability not decided (the response-time test does not apply "
+                           "to the non-preemptive processor "
+                           f"{', '.join(str(p.processor) for p in sched.not_applied)})"
+                      if sched.not_applied
                       else "schedulability not decided (a group is not live)")
         verdict = f"design rules followed, {sched_text}"
     return text + f"\nverdict: {verdict} (exit status {section.exit_status})\n"
@@ -92,8 +97,10 @@ def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
             lines.append(f"  thread {t.index} [{', '.join(t.tasks)}]: load {display_text(t.load)} "
                          f"{unit}, period {display_text(t.period) or '-'} {unit}: {verdict}")
     for p in result.processors:
-        name = "default processor" if p.processor is None else f"processor {p.processor}"
-        lines.append(f"schedulability on the {name} (preemptive fixed priorities, "
+        name = ("default processor" if p.processor in (None, DEFAULT_PROCESSOR)
+                else f"processor {p.processor}")
+        kind = "preemptive" if p.preemptive else "NON-PREEMPTIVE"
+        lines.append(f"schedulability on the {name} ({kind} fixed priorities, "
                      f"{p.priority_source} priorities; larger is more urgent):")
         if p.hyperperiod is not None:
             holds = "holds" if p.condition_holds else "FAILS"

@@ -61,7 +61,9 @@ def render_exploration(result: Exploration) -> str:
     for c in space.links:
         lines.append(f"  link {c.label}: {', '.join(p.value for p in c.protocols)}"
                      + (" (narrowed by `links`; `all_links` gives the other links every "
-                        "protocol not forbidden)" if c.narrowed else ""))
+                        "protocol not forbidden)" if c.narrowed else "")
+                     + (f" (not SYN/SYN: its delay of {display_text(c.delay)} {sk.unit}, "
+                        "spec §4d)" if c.delay else ""))
     for k in space.clocks:
         # Decimals as the user wrote them (5.43, 2.715), a fraction only when one does not
         # terminate; the JSON report keeps its exact strings.

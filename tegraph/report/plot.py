@@ -238,9 +238,14 @@ def _draw_regimes(ax: Any, tl: Timeline) -> None:
 
 def _title(tl: Timeline) -> str:
     """The title: what is drawn, over which span, and the verdict it shows."""
+    computed = not any(r.get("by") == "not computed" for r in tl.schedule.regimes)
     verdict = {True: "schedulable (proven)", False: "NOT schedulable",
-               None: "undecided within the budget"}[tl.schedulable]
-    return (f"{tl.name} on its processors (preemptive fixed priorities), 0-{float(tl.horizon):g} "
+               None: "undecided within the budget" if computed
+               else "undecided (non-preemptive processors not computed)"}[tl.schedulable]
+    kind = ("preemptive fixed priorities"
+            if all(p.preemptive for p in tl.schedule.platform.processors)
+            else "fixed priorities, some processors non-preemptive")
+    return (f"{tl.name} on its processors ({kind}), 0-{float(tl.horizon):g} "
             f"{tl.unit}: {verdict}")
 
 

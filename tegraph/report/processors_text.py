@@ -15,11 +15,12 @@ from __future__ import annotations
 
 from tabulate import tabulate
 
+from ..analysis.processors.schedule import NON_PREEMPTIVE
 from ..analysis.results import Report
 from ._format import count, human
 
 __all__ = ["processors_headline", "processors_problem", "render_processors",
-           "response_test_disagreements"]
+           "replaced_priorities", "response_test_disagreements"]
 
 
 def processors_headline(report: Report) -> str:
@@ -41,6 +42,39 @@ def processors_headline(report: Report) -> str:
             f"({where}) — {s.method}")
 
 
+def replaced_priorities(report: Report) -> list[str]:
+    """Lines for the top of the report: on each processor where only some tasks declare
+    a priority, which declared priorities were replaced, and why (all or none, §4b).
+
+    >>> from tegraph import Skeleton, analyze
+    >>> r = analyze(Skeleton.from_dict({"tasks": {
+    ...     "A": {"duration": 1, "period": 10, "priority": 5},
+    ...     "B": {"duration": 1, "period": 5}}}), design=False)
+    >>> print(replaced_priorities(r)[0])  # doctest: +NORMALIZE_WHITESPACE
+    priorities:  REPLACED on default: 1 of its 2 tasks declare a priority (B does not); a
+    processor's priorities are all declared or none (spec §4b), so all run at the
+    rate-monotonic proposal: A 5 -> 1 (declare every task's priority to keep yours;
+    `tegraph rules` gives the change)
+    """
+    if report.platform is None:
+        return []
+    out = []
+    for p in report.platform.replaced:
+        missing = [t for t in p.tasks if t not in p.replaced]
+        shown = ", ".join(missing[:_NAMED]) + (f" and {len(missing) - _NAMED} more"
+                                               if len(missing) > _NAMED else "")
+        changes = [f"{t} {v} -> {p.priorities[t]}" for t, v in p.replaced.items()]
+        listed = ", ".join(changes[:12]) + (f" and {len(changes) - 12} more"
+                                            if len(changes) > 12 else "")
+        out.append(f"priorities:  REPLACED on {p.name}: {len(p.replaced)} of its "
+                   f"{len(p.tasks)} tasks declare a priority ({shown} "
+                   f"{'does' if len(missing) == 1 else 'do'} not); a processor's priorities "
+                   "are all declared or none (spec §4b), so all run at the rate-monotonic "
+                   f"proposal: {listed} (declare every task's priority to keep yours; "
+                   "`tegraph rules` gives the change)")
+    return out
+
+
 _NAMED = 4
 """Processors named one by one in the header line; past that, grouped by where their
 priorities come from (a hundred processors would fill a screen)."""
@@ -60,7 +94,9 @@ def _priority_sources(processors) -> str:
     'rate-monotonic priorities on cpu0, cpu1, cpu2 and 2 more; declared priorities on cpu4'
     """
     if len(processors) <= _NAMED:
-        return ", ".join(f"{p.name}: {p.priority_source} priorities" for p in processors)
+        return ", ".join(f"{p.name}: {p.priority_source} priorities"
+                         + ("" if getattr(p, "preemptive", True) else ", non-preemptive")
+                         for p in processors)
     by_source: dict[str, list[str]] = {}
     for p in processors:
         by_source.setdefault(p.priority_source, []).append(p.name)
@@ -93,7 +129,10 @@ def render_processors(report: Report) -> list[str]:
             overrun = "never" if f.decided else "undecided (budget)"
         rows.append([name, s.platform.processor_of[name], s.platform.priority[name],
                      human(f.period, u), overrun, human(f.response, u)])
-    lines = ["", "on its processors (spec §4b: preemptive fixed priorities, larger is more "
+    lazy = [p.name for p in s.platform.processors if not p.preemptive]
+    kind = ("preemptive fixed priorities" if not lazy else
+            f"fixed priorities, preemptive but on {', '.join(lazy)} (non-preemptive, §4d)")
+    lines = ["", f"on its processors (spec §4b: {kind}, larger is more "
              "urgent; the figures above assume a processor per task):",
              tabulate(rows, headers=["task", "processor", "priority", "period", "overrun",
                                      "response"]),
@@ -115,6 +154,8 @@ def processors_problem(report: Report) -> str | None:
     if s is None or s.schedulable is True:
         return None
     if s.schedulable is None:
+        if s.why_undecided and s.why_undecided.startswith("not computed"):
+            return f"schedulability on its processors UNDECIDED: {NON_PREEMPTIVE} (see above)"
         return "schedulability on its processors UNDECIDED within the budget (see above)"
     found = [f"{t} starved (a job never ends)" for t in s.starved]
     late = [(f.overrun_at, t) for t, f in s.tasks.items() if f.overrun_at is not None]
@@ -158,7 +199,7 @@ def response_test_disagreements(report: Report) -> list[str]:
                 test = "meets" if unit.schedulable else "misses"
                 truth = "meets it" if exact else "does not"
                 out.append(f"group {unit.group} ({', '.join(unit.tasks)}) on "
-                           f"{unit.processor or 'default'}: the response-time test says it "
+                           f"{unit.processor}: the response-time test says it "
                            f"{test} its period ({human(unit.period, report.unit)}); the exact "
                            f"schedule {truth} (the schedule decides the verdict)")
     return out

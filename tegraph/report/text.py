@@ -19,7 +19,12 @@ from ..model.elements import flow_list
 from ._format import count, human
 from .design_text import render_latency, render_rules, render_schedulability
 from .graph_text import ratio_text
-from .processors_text import processors_headline, processors_problem, render_processors
+from .processors_text import (
+    processors_headline,
+    processors_problem,
+    render_processors,
+    replaced_priorities,
+)
 from .registry import Renderers
 
 __all__ = ["render_report", "render_text"]
@@ -47,6 +52,7 @@ def render_report(report: Report) -> str:
     lines.append(f"timing:      {consistent} — {report.methods.get('timing', '')}")
     lines.append(f"periods:     {report.methods.get('periods', '')}")
     lines.append(processors_headline(report))
+    lines += replaced_priorities(report)
     lines += _deadlocks(report)
     lines += _groups(report)
     lines += _tasks(report)

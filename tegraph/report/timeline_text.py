@@ -7,6 +7,7 @@ from fractions import Fraction
 
 from maxplus.scalar import display_text
 
+from ..analysis.processors.schedule import NON_PREEMPTIVE
 from ..design.timeline import Timeline
 from ._format import count
 
@@ -160,7 +161,9 @@ def _findings(tl: Timeline) -> list[str]:
     lines = []
     for r in s.regimes:
         on = ", ".join(r["tasks"][:4]) + (" ..." if len(r["tasks"]) > 4 else "")
-        if r["start"] is None:
+        if r.get("by") == "not computed":
+            lines.append(f"{on}: not computed ({NON_PREEMPTIVE})")
+        elif r["start"] is None:
             hyper = tl.hyperperiods.get(r["tasks"][0])
             lines.append(f"{on}: no periodic regime within the budget"
                          + (f" (their clocks' hyperperiod is {display_text(hyper)} {u})"
@@ -220,7 +223,8 @@ def _verdict(tl: Timeline) -> str:
             why += "; the clocks' hyperperiod is " + " and ".join(
                 f"{display_text(h)} {u}" for h in hyper)
         why = why.removeprefix("undecided ")  # the engine's reason begins "undecided within"
-        return f"verdict: UNDECIDED {why} (raise `max_events` to look further){status}"
+        more = "" if "within the budget" not in why else " (raise `max_events` to look further)"
+        return f"verdict: UNDECIDED {why}{more}{status}"
     found = []
     if tl.deadlocks:
         found.append(f"DEADLOCK ({count(len(tl.deadlocks), 'token-free circuit')}; "

@@ -6,7 +6,7 @@ preemptive fixed-priority schedule exactly (``docs/analysis.md``, *The
 schedule on processors*).
 """
 
-from .platform import (
+from ...model.platform import (
     DEFAULT_PROCESSOR,
     Platform,
     ProcessorInfo,

@@ -78,6 +78,10 @@ class PartData:
     snapshot_place: int | None
     """The self-loop place of the slowest clock: states are compared at its ticks
     (every instant when the part has no clock)."""
+    preemptive: list[bool] = field(default_factory=list)
+    """Per processor (§4d): False where a running job is never interrupted. The loops
+    here schedule preemptively; ``schedule.py`` hands them no part with a False here
+    (empty: every processor preemptive)."""
 
 
 @dataclass

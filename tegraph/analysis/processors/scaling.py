@@ -1,8 +1,11 @@
 """The critical scaling factor of Lehoczky, Sha and Ding, exact, for independent units.
 
 For a part that satisfies the hypotheses of :mod:`.critical_instant`
-(independent periodic tasks released together on one processor, deadline =
-period, distinct priorities), Lehoczky, Sha and Ding's exact test [1]_ reads:
+(independent periodic tasks released together on one preemptive processor,
+deadline = period, distinct priorities: ``critical_instant._independent`` is the
+one test of them, and declines a non-preemptive processor, where a running job
+blocks a more urgent one and no scheduling point below counts it), Lehoczky,
+Sha and Ding's exact test [1]_ reads:
 task i meets every deadline iff there is a *scheduling point*
 ``t in S_i = {k T_j : j at least as urgent as i, k = 1 .. floor(T_i / T_j)}``
 (``T_i`` is one of them) with ``W_i(t) <= t``, where

@@ -32,7 +32,6 @@ rest of the graph are unbounded (tokens pile up at once).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -47,11 +46,17 @@ from maxplus.scalar import display_text
 from ...errors import InputError, ModelError
 from ...model.budgets import MAX_EVENTS
 from ...model.build import UnboundedKind, activation_end, unbounded_kind
+from ...model.platform import (
+    Platform,
+    check_groups,
+    clock_hyperperiod,
+    platform_of,
+    processor_parts,
+)
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
 from ._engine import AFTER_OVERRUN, PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
-from .platform import Platform, check_groups, platform_of, processor_parts
 
 __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
            "schedule_on_processors"]
@@ -155,7 +160,7 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         ``analyze_skeleton(skeleton).groups`` (``tasks``, ``clocks``, ``live``
         are read): the groups are computed once, by the caller.
     platform : Platform, optional
-        Default :func:`~tegraph.analysis.processors.platform.platform_of`.
+        Default :func:`~tegraph.model.platform.platform_of` (``report.platform``).
     max_events : int
         Budget of event firings in all (:data:`MAX_EVENTS`), shared among the parts.
     intervals : bool
@@ -200,8 +205,13 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     parts = sorted(net.parts(), key=lambda part: part[0].n_events)
     left = max_events
     for i, (data, local_tasks, local_events, local_places) in enumerate(parts):
+        if not all(data.preemptive):
+            # The engine schedules preemptively: on a non-preemptive processor its
+            # answer would be another schedule's. Nothing is claimed for the part.
+            out.add_not_computed(local_tasks, local_events)
+            continue
         share = max(left // (len(parts) - i), 1)
-        hyper, ticks = _hyperperiod(skeleton, local_tasks)
+        hyper, ticks = clock_hyperperiod(skeleton, local_tasks)
         # A regime holds a whole number of periods of every clock: it cannot be
         # proven before each clock has ticked over one hyperperiod. Past the
         # share, look only for an early overrun, and say why at once.
@@ -228,16 +238,8 @@ QUICK_LOOK = 10_000
 exceeds its share of the budget."""
 
 
-def _hyperperiod(sk: Skeleton, tasks: list[str]) -> tuple[Fraction | None, int]:
-    """The least common multiple of the part's clock periods, and its ticks over it."""
-    periods = {sk.clocks[c].period for c in {sk.tasks[t].clock for t in tasks} if c}
-    if not periods:
-        return None, 0
-    num, den = 1, 0
-    for p in periods:
-        num, den = math.lcm(num, p.numerator), math.gcd(den, p.denominator)
-    hyper = Fraction(num, den)
-    return hyper, sum(int(hyper / p) for p in periods)
+NON_PREEMPTIVE = "non-preemptive processors: not implemented in the schedule engine"
+"""Why a part with a processor declared ``preemptive: false`` (§4d) is not decided."""
 
 
 def _why_part(sk: Skeleton, tasks: list[str], hyper: Fraction | None, ticks: int,
@@ -371,7 +373,8 @@ class _Net:
             processor=[procs[self.platform.processor_of[t]] for t in names],
             n_processors=len(procs),
             end_event=[_end_event(self.teg, t, local) for t in names],
-            watched=watched, snapshot_place=self._snapshot_place(src, dst, events, slowest_tick))
+            watched=watched, snapshot_place=self._snapshot_place(src, dst, events, slowest_tick),
+            preemptive=[self.platform.preemptive(p) for p in procs])
         # Its events and places stay arrays: kept for the figures until the part is
         # simulated, they cost 8 bytes each, not the 36 of a list of ints.
         return data, names, events, places
@@ -465,6 +468,8 @@ class _Outcome:
         self.intervals: list[tuple[str, int, int, str, int]] = []
         self.regimes: list[dict[str, Any]] = []
         self.undecided: list[str] = []
+        self.not_computed: list[str] = []
+        """The parts on a non-preemptive processor (:data:`NON_PREEMPTIVE`), as words."""
         self.by_theorem = 0
         """Parts decided by the critical instant (``critical_instant.py``)."""
         self.after_overrun = 0
@@ -517,6 +522,19 @@ class _Outcome:
             self._rates(events.tolist(), None)
             return
         self._regime(r, d, names, events, places)
+
+    def add_not_computed(self, names: list[str], events: np.ndarray) -> None:
+        """A part the engine cannot schedule (:data:`NON_PREEMPTIVE`): no figure, no
+        regime; ``regimes`` says ``"by": "not computed"`` and why."""
+        platform = self.net.platform
+        kinds = [p for p in dict.fromkeys(platform.processor_of[t] for t in names)
+                 if not platform.preemptive(p)]
+        shown = ", ".join(names[:3]) + (" ..." if len(names) > 3 else "")
+        why = (f"the part of {shown}: {NON_PREEMPTIVE} (processor "
+               f"{', '.join(kinds)} is declared preemptive: false)")
+        self.not_computed.append(why)
+        self.regimes.append({"tasks": names, "start": None, "length": None,
+                             "by": "not computed", "why": why})
 
     def add_independent(self, v: IndependentVerdict, names: list[str], events: np.ndarray,
                         hyper: Fraction | None, look: PartResult) -> None:
@@ -614,7 +632,7 @@ class _Outcome:
         unbounded.sort(key=lambda u: u.place)
         verdict, why = self._verdict(live, unbounded)
         parts = len(self.regimes)
-        simulated = parts - self.by_theorem
+        simulated = parts - self.by_theorem - len(self.not_computed)
         method = (f"exact event-driven simulation of the schedule on processors (§4b), "
                   f"{self.events} event firings in {simulated} independent part(s); "
                   + self._proofs(simulated)) if simulated or not parts else ""
@@ -624,6 +642,10 @@ class _Outcome:
                        "together on one processor, whose hyperperiod is too long to "
                        "simulate, decided by the critical instant (Liu and Layland 1973) "
                        "and the exact response-time test (Lehoczky, Sha and Ding 1989)")
+        if self.not_computed:
+            method += ("; " if method else "schedule on processors (§4b): ") + (
+                       f"{len(self.not_computed)} part(s) on a non-preemptive processor not "
+                       f"computed ({NON_PREEMPTIVE})")
         return ProcessorSchedule(platform=net.platform, schedulable=verdict,
                                  exact=verdict is not None, method=method, why_undecided=why,
                                  tasks=self.tasks, group_periods=group_periods,
@@ -661,10 +683,15 @@ class _Outcome:
             f.overrun_at is not None or f.starved for f in self.tasks.values()))
         if found:
             return False, None
+        why = []
+        if self.not_computed:
+            why.append("not computed: " + "; ".join(self.not_computed))
         if self.undecided:
-            return None, (f"undecided within the budget of {self.budget:,} event firings "
-                          f"(shared among {len(self.regimes)} independent part(s)): "
-                          + "; ".join(self.undecided))
+            why.append(f"undecided within the budget of {self.budget:,} event firings "
+                       f"(shared among {len(self.regimes)} independent part(s)): "
+                       + "; ".join(self.undecided))
+        if why:
+            return None, "; ".join(why)
         return True, None
 
 

@@ -644,7 +644,8 @@ def _nominal_on_processors(ctx: _Context, result: SensitivityResult,
     report = analyze_skeleton(ctx.skeleton, semiflow_max_places=0, structure=ctx.structure)
     result.processors = True
     ctx.max_events = max_events
-    on = ProcessorLine(ctx.skeleton, ctx.params, ctx.nominal, report.groups, max_events)
+    on = ProcessorLine(ctx.skeleton, ctx.params, ctx.nominal, report.groups, max_events,
+                       nominal_platform=report.platform)
     ctx.schedulable, ctx.unschedulable = on.decide_nominal(report.live)
     result.schedulable = ctx.schedulable
     return on

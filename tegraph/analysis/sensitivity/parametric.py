@@ -352,8 +352,12 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter],
         own = [skeleton.tasks[t] for t in tasks]
         clocks = {c: skeleton.clocks[c] for c in dict.fromkeys(
             task.clock for task in own if task.clock is not None)}
+        # The processors and the network go with the group: its links' delays (§4d).
         sub = Skeleton(skeleton.name, {t: skeleton.tasks[t] for t in tasks}, clocks, links[g],
-                       threads[g], skeleton.unit)
+                       threads[g], skeleton.unit,
+                       processors={p: q for p, q in skeleton.processors.items()
+                                   if any(task.runs_on == p for task in own)},
+                       network_delay=skeleton.network_delay)
         local = sorted([(by_owner[("duration", t)], "duration", t) for t in tasks
                         if ("duration", t) in by_owner]
                        + [(by_owner[("period", c)], "period", c) for c in clocks

@@ -29,15 +29,15 @@ from fractions import Fraction
 from typing import Any
 
 from ...model.build import build_teg
+from ...model.platform import Platform, clock_hyperperiod, platform_of
 from ...model.skeleton import Skeleton
 from ..processors._engine import PartData, PartResult, simulate_part
 from ..processors.critical_instant import _independent, independent_tasks
-from ..processors.platform import Platform, platform_of
 from ..processors.scaling import ScalingLimit, critical_scaling_factor, duration_margin
 from ..processors.schedule import (
     MAX_EVENTS,
+    NON_PREEMPTIVE,
     QUICK_LOOK,
-    _hyperperiod,
     _Net,
     _overrun_to_come,
 )
@@ -121,6 +121,8 @@ class _Part:
     places: list[int]
     independent: bool
     too_long: str | None = None
+    not_computed: str | None = None
+    """Why the engine cannot decide the part (a non-preemptive processor), or None."""
 
 
 @dataclass
@@ -150,6 +152,8 @@ class ProcessorLine:
     """Each part's outcome at the nominal values (:meth:`decide_nominal`)."""
     progress: Any = None
     """Called with no argument after each simulation (the CLI redraws its bar)."""
+    nominal_platform: Platform | None = None
+    """The platform (``report.platform``); default ``platform_of(skeleton, groups)``."""
 
     def __post_init__(self) -> None:
         # The budget in use, typed for what follows (the field is None by default).
@@ -157,12 +161,16 @@ class ProcessorLine:
         self.budget = self.spend
         sk = self.skeleton
         self.teg = build_teg(sk)
-        self.platform: Platform = platform_of(sk, self.groups)
+        self.platform: Platform = (platform_of(sk, self.groups) if self.nominal_platform is None
+                                   else self.nominal_platform)
         self.net = _Net(sk, self.teg, self.groups, self.platform)
         for data, names, events, places in self.net.parts():
-            hyper, ticks = _hyperperiod(sk, names)
+            hyper, ticks = clock_hyperperiod(sk, names)
             part = _Part(data, names, events, places,
                          _independent(sk, names, self.platform))
+            if not all(data.preemptive):  # the engine and the theorems are preemptive
+                part.not_computed = (f"the part of {', '.join(names[:3])}"
+                                     f"{' ...' if len(names) > 3 else ''}: {NON_PREEMPTIVE}")
             if ticks > self.max_events:
                 part.too_long = (f"the hyperperiod of the part of {', '.join(names[:3])}"
                                  f"{' ...' if len(names) > 3 else ''} is {hyper} {sk.unit} "
@@ -220,6 +228,8 @@ class ProcessorLine:
         self.evaluations += 1
         part = self.parts[part_index]
         cut = Cut(at, side)
+        if part.not_computed:
+            return Outcome(None, cut, ("undecided", part.not_computed))
         periods_move = any(k and self.params[j].kind == "period" for j, k in direction.items())
         if part.independent and self.use_theorem and not periods_move:
             return self._theorem(part, base, direction, cut)
@@ -334,6 +344,8 @@ class ProcessorLine:
 
     def _nominal_part(self, part: _Part) -> Outcome:
         cut = Cut(Fraction(0), 0)
+        if part.not_computed:
+            return Outcome(None, cut, ("undecided", part.not_computed))
         if part.independent and self.use_theorem:
             verdict = independent_tasks(self.skeleton, part.names, self.platform)
             if verdict is not None:

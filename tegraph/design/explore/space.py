@@ -30,6 +30,7 @@ from maxplus.scalar import exact_text, exact_time
 
 from ...analysis.processors.schedule import MAX_EVENTS
 from ...errors import InputError
+from ...model.platform import link_delay
 from ...model.skeleton import Protocol, Skeleton
 from ...model.skeleton.checks import Locator, check_chain
 from ...model.structure import Structure
@@ -114,6 +115,9 @@ class LinkChoice:
     narrowed: bool = field(default=False, compare=False)
     """Given by ``links`` with fewer protocols than ``all_links`` gives the other links
     (the report says so; not part of the fingerprint)."""
+    delay: Fraction = field(default=Fraction(0), compare=False)
+    """The link's delay (spec §4d) where it left SYN/SYN out of ``protocols`` (a
+    rendezvous is one event, which no delay separates; the report says so); else 0."""
 
 
 @dataclass(frozen=True)
@@ -510,6 +514,16 @@ def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] 
                 chosen[i] = replace(c, narrowed=True)
         for i, link in enumerate(skeleton.links):
             chosen.setdefault(i, LinkChoice(i, link_text(link.writer, link.reader), left))
+    for i, c in chosen.items():
+        delay = link_delay(skeleton, skeleton.links[i])
+        if delay and Protocol.SYN_SYN in c.protocols:
+            kept = tuple(p for p in c.protocols if p is not Protocol.SYN_SYN)
+            if not kept:
+                raise InputError(
+                    f"the link {c.label!r} has a delay of {exact_text(delay)} {skeleton.unit} "
+                    "(spec §4d), which a rendezvous cannot have (it is one event of both "
+                    "tasks); expected a protocol besides SYN/SYN", "links")
+            chosen[i] = replace(c, protocols=kept, delay=delay)
     for i, link in enumerate(skeleton.links):
         if i not in chosen and link.protocol in forbidden:
             raise InputError(f"the link {link_text(link.writer, link.reader)!r} is "
@@ -611,7 +625,7 @@ def _latency_bounds(skeleton: Skeleton, bounds: Sequence[Any]
 def _objective_names(objectives: Sequence[str] | None, chains: Sequence[tuple[str, ...]],
                      skeleton: Skeleton) -> tuple[str, ...]:
     if objectives is None:
-        processors = {t.processor for t in skeleton.tasks.values()}
+        processors = {t.runs_on for t in skeleton.tasks.values()}
         wanted = [o for o in OBJECTIVES if (o != "latency" or chains)
                   and (o != "utilization" or len(processors) > 1)]
     else:

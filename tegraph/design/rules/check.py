@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from maxplus.scalar import display_text
 
+from ...model.platform import Platform
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from .advice import CANDIDATE_LIMIT, SPLIT, Advisor
@@ -30,7 +31,8 @@ _ORDER = {"error": 0, "warning": 1, "info": 2}
 
 
 def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
-                processors: bool = True, live: bool | None = None) -> list[RuleFinding]:
+                processors: bool = True, live: bool | None = None,
+                platform: Platform | None = None) -> list[RuleFinding]:
     """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
 
     Parameters
@@ -48,6 +50,8 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
     live : bool, optional
         Whether the skeleton is live (``Report.live`` of its analysis), if known:
         the advice then need not look for token-free circuits itself.
+    platform : Platform, optional
+        ``report.platform``, if known (Rule 4 reads its priorities and processors).
 
     Returns
     -------
@@ -92,7 +96,7 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
     on = (ScheduleAdvice(skeleton, structure.groups, structure.group_of, advisor.fresh)
           if processors else None)
     findings = [advised(f, advisor, on) for f in structural]
-    findings += rule4(skeleton, structure)
+    findings += rule4(skeleton, structure, platform)
     index = {t: i for i, t in enumerate(skeleton.tasks)}
     findings.sort(key=lambda f: (f.rule, _ORDER[f.severity],
                                  # Most findings name one task: no generator for it.

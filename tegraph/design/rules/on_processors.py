@@ -34,8 +34,8 @@ from typing import Any
 
 from maxplus.scalar import display_text
 
-from ...analysis.processors.platform import processor_of, processor_parts
 from ...model.budgets import MAX_EVENTS
+from ...model.platform import processor_of, processor_parts
 from ...model.skeleton import Skeleton
 from .advice import _group_text
 from .change import Change, ScheduleEffect, apply_change

@@ -14,9 +14,10 @@ from __future__ import annotations
 # protocol of spec §1 (tegraph.model.elements.Protocol).
 import typing
 from collections.abc import Mapping, Sequence
+from fractions import Fraction
 from typing import Any
 
-from ..elements import Clock, Link, Task
+from ..elements import Clock, Link, Processor, Task
 
 __all__ = ["SkeletonShape"]
 
@@ -64,3 +65,11 @@ class SkeletonShape(typing.Protocol):
     @property
     def extra(self) -> Mapping[str, Any]:
         """Keys of the file this version does not read, kept as given."""
+
+    @property
+    def processors(self) -> Mapping[str, Processor]:
+        """Processor name -> its declared properties (``processors:``)."""
+
+    @property
+    def network_delay(self) -> Fraction | None:
+        """``network.delay``: the delay of a link across processors (None: not declared)."""

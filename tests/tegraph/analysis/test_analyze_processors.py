@@ -99,7 +99,8 @@ def test_the_response_time_test_is_only_a_cross_check():
     doc = r.to_dict()
     assert doc["processors"] == [{"name": "default", "tasks": list(r.tasks),
                                   "priorities": dict(r.schedule.platform.priority),
-                                  "priority_source": "rate-monotonic"}]
+                                  "priority_source": "rate-monotonic", "preemptive": True,
+                                  "replaced_priorities": {}}]
     assert [g["period_on_processors"] for g in doc["groups"]] == ["1", "2", "6"]
     assert doc["tasks"]["CO.JS"]["on_processors"] == {
         "period": "2", "overrun_at": None, "response": "3/10", "starved": False,

@@ -127,7 +127,7 @@ def test_processors_do_not_interfere():
     assert [u.response_time for p in s.processors for u in p.units] == [3, 3]
     assert effective_priorities(Skeleton.from_dict({"tasks": {
         "A": {"duration": 1, "period": 4, "priority": 7},
-        "B": {"duration": 1, "period": 2}}})) == ({"A": 1, "B": 2}, {None: "rate-monotonic"})
+        "B": {"duration": 1, "period": 2}}})) == ({"A": 1, "B": 2}, {"default": "rate-monotonic"})
 
 
 def test_threads_of_the_example():

@@ -42,8 +42,8 @@ REFUSALS = [
     pytest.param(y("tasks:", "  A:", "    duration: 1", "    wcet: 3"), "tasks.A.wcet",
                  "unknown key 'wcet'; expected one of: duration, clock, period, phase, "
                  "inputs, outputs", 4, id="unknown-task-key"),
-    pytest.param(y(*TWO, *link("A:x", "B:x"), "    delay: 1"), "links[0].delay",
-                 "unknown key 'delay'; expected one of: from, to, protocol", 8,
+    pytest.param(y(*TWO, *link("A:x", "B:x"), "    latency: 1"), "links[0].latency",
+                 "unknown key 'latency'; expected one of: from, to, protocol, delay", 8,
                  id="unknown-link-key"),
     # -- a task, port or clock named by a link, a thread or `clock:` does not exist ---
     pytest.param(y(*TWO, *link("C:x", "B:x")), "links[0].from",

@@ -19,6 +19,7 @@ from tegraph import SkeletonError, analyze, load_skeleton
 from tegraph.design.rules import (
     Change,
     FindingKind,
+    apply_change,
     check_rules,
     is_automaton,
     proposed_priorities,
@@ -269,10 +270,16 @@ def test_rule4_every_inverted_slower_group_is_reported():
 
 
 def test_rule4_some_priorities_missing():
+    # Four of five tasks on the one processor declare: all or none (spec §4b), so all
+    # five run rate-monotonic (3, 2, 2, 2, 1) and the four declared are replaced. An
+    # error, whose change keeps them: MOD.DYN (6 ms, the slowest) goes below the 2 ms
+    # group's 20, at 19.
     s = computed_torque(OBS_JL=30, TG_JS=20, TF_TT_JS=20, CO_JS=20)
     (f,) = of_rule(check_rules(s), 4)
-    assert (f.severity, f.tasks) == ("warning", ("MOD.DYN",))
-    assert "MOD.DYN: 1" in f.advice
+    assert (f.severity, f.tasks) == ("error", ("MOD.DYN",))
+    assert f.change is not None and f.change.priorities == (("MOD.DYN", 19),)
+    assert "OBS.JL 30 -> 3" in f.message and "MOD.DYN: 19" in f.advice
+    assert of_rule(check_rules(apply_change(s, f.change)), 4) == []
 
 
 def test_rule4_automaton_highest():
