@@ -230,7 +230,7 @@ class Platform:
 
 
 def group_tasks(groups: Groups) -> list[Sequence[str]]:
-    """The task names of each group, whatever form ``groups`` has (:data:`Groups`)."""
+    """The task names of each group, whatever form ``groups`` has."""
     if isinstance(groups, Structure):
         return list(groups.groups)
     return [g.tasks if hasattr(g, "tasks") else g for g in groups]
