@@ -114,6 +114,15 @@ def _draw(draw: Callable[..., object], result: object, path: Path, force: bool) 
         _fail(f"{path}: {exc.reason}")
 
 
+def _need_matplotlib(drawing: str, without: str) -> None:
+    """Refuse, before any work, a drawing where matplotlib is not installed: one line
+    naming the extra that installs it (exit 2)."""
+    from .report.plot import matplotlib_available, plot_unavailable
+
+    if not matplotlib_available():
+        _fail(str(plot_unavailable(drawing, without)))
+
+
 def _output_file(path: Path, force: bool, *, source: Path | None = None) -> None:
     """Refuse, before any work, an output file that cannot or must not be written."""
     parent = path.parent if str(path.parent) else Path(".")
@@ -177,6 +186,67 @@ def _size_text(size: int) -> str:
     return str(size)
 
 
+def _integer(text: str, option: str, least: int | None = None) -> int:
+    """An integer option's value in the number grammar of every number (README): an
+    integer, a decimal or one fraction whose value is whole (``1e3`` is 1000); anything
+    else is one line naming the option, exit 2.
+
+    >>> _integer("1e3", "--max-events"), _integer("10/2", "--width"), _integer("1_000", "--x")
+    (1000, 5, 1000)
+    """
+    from maxplus.errors import MaxPlusValueError
+    from maxplus.scalar import exact_time
+
+    from .model.limits import shown
+
+    expected = f"{option}: expected an integer such as 1000 or 1e6"
+    if least is not None:
+        expected += f" (at least {least})"
+    try:  # the one number parser: 1e999999999 is refused by its size, not expanded
+        value = exact_time(text)
+    except MaxPlusValueError as exc:
+        reason = str(exc).removeprefix("value: ")
+        _fail(f"{expected}; {reason}" if "digits" in reason
+              else f"{expected}, got {shown(text)}")
+    if value.denominator != 1:
+        _fail(f"{expected}, got {shown(text)}, which is not a whole number")
+    if least is not None and value.numerator < least:
+        _fail(f"{expected}, got {shown(text)}")
+    return value.numerator
+
+
+def _whole(option: str, least: int | None = None) -> Callable[[object], int]:
+    """The parser of an integer option (typer's ``parser=``): :func:`_integer`; its
+    default, an int already, is kept as it is. A budget (``least`` None) is refused
+    below 1 by the library, in one line naming the option."""
+    def parse(value: object) -> int:
+        if isinstance(value, int) and not isinstance(value, bool):
+            return value
+        return _integer(str(value), option, least)
+    return parse
+
+
+def _seconds(value: object) -> float | None:
+    """The parser of ``--max-seconds``: a time >= 0 in the number grammar (``1/2``, ``1e3``)."""
+    if value is None or isinstance(value, float):
+        return value
+    from maxplus.errors import MaxPlusValueError
+    from maxplus.scalar import exact_time
+
+    from .model.limits import shown
+
+    expected = "--max-seconds: expected a time in seconds >= 0 such as 30, 2.5 or 1/2"
+    try:
+        seconds = exact_time(str(value))
+    except MaxPlusValueError as exc:
+        reason = str(exc).removeprefix("value: ")
+        _fail(f"{expected}; {reason}" if "digits" in reason
+              else f"{expected}, got {shown(str(value))}")
+    if seconds < 0:
+        _fail(f"{expected}, got {shown(str(value))}")
+    return float(seconds)
+
+
 # The options that several commands share, each declared once. Budgets take their
 # defaults from the library's constants (tegraph.model.budgets imports nothing,
 # so --help loads no numpy); a budget of nothing is refused by the library in one
@@ -185,21 +255,22 @@ SkeletonFile = Annotated[Path, typer.Argument(help="Skeleton file (.yaml, .yml o
 JsonFlag = Annotated[bool, typer.Option("--json",
                                         help="Print the JSON report (docs/report.schema.json).")]
 MaxStates = Annotated[int, typer.Option(
-    "--max-states", help="State budget of the search (>= 1); beyond it the answer is "
-                         "inconclusive.")]
+    "--max-states", parser=_whole("--max-states"), metavar="N",
+    help="State budget of the search (>= 1); beyond it the answer is inconclusive.")]
 _MAX_MEMORY = _size_text(DEFAULT_MAX_MEMORY)
 MaxMemory = Annotated[str, typer.Option(
     "--max-memory", help="Memory budget of the markings the untimed reachability search "
                          "stores (e.g. 512M, 4G).")]
 MaxFirings = Annotated[int, typer.Option(
-    "--max-firings", min=1, help="Largest homogeneous expansion of an SDF graph (firings "
-                                 "per iteration).")]
+    "--max-firings", parser=_whole("--max-firings", 1), metavar="N",
+    help="Largest homogeneous expansion of an SDF graph (firings per iteration).")]
 _MAX_SIZE = _size_text(DEFAULT_MAX_BYTES)
 MaxSize = Annotated[str, typer.Option(
     "--max-size", help="Refuse larger input files (e.g. 1G; at least 1 byte: 0 is refused, "
                        "there is no \"no limit\").")]
 MaxSeconds = Annotated[float | None, typer.Option(
-    "--max-seconds", min=0, help="Time budget of the search, in seconds.")]
+    "--max-seconds", parser=_seconds, metavar="SECONDS",
+    help="Time budget of the search, in seconds.")]
 Processors = Annotated[bool, typer.Option(
     "--processors/--no-processors",
     help="Answer on the skeleton's processors (preemptive fixed priorities, "
@@ -221,8 +292,9 @@ def _chain(use: str) -> typer.models.OptionInfo:
 
 def _max_events(of: str, past: str) -> typer.models.OptionInfo:
     """The ``--max-events`` budget; its help names what it bounds and what happens past it."""
-    return typer.Option("--max-events", help=f"Budget of event firings of {of}; past it, "
-                                             f"{past}.")
+    return typer.Option("--max-events", parser=_whole("--max-events"), metavar="N",
+                        help=f"Budget of event firings of {of}, from 1 to 2**63 - 1; past "
+                             f"it, {past}.")
 
 
 @app.command()
@@ -234,7 +306,7 @@ def analyze(
         help="Write tasks.csv and groups.csv into this existing directory.")] = None,
     force: Annotated[bool, _force("existing CSV files")] = False,
     max_steps: Annotated[int, typer.Option(
-        "--max-steps", min=1,
+        "--max-steps", parser=_whole("--max-steps", 1), metavar="N",
         help="Budget on the firing index of the dater simulation.")] = 100_000,
     chain: Annotated[list[str] | None, _chain("Report the latency of")] = None,
     design: Annotated[bool, typer.Option(
@@ -448,12 +520,13 @@ def timeline(
     file: SkeletonFile,
     output: Annotated[Path | None, typer.Option(
         "-o", "--output", help="Also draw the diagram into this .svg or .png file (needs "
-                               "matplotlib: pip install 'tegraph[plot]').")] = None,
+                               "matplotlib: pip install '.[plot]').")] = None,
     horizon: Annotated[str | None, typer.Option(
         "--horizon", help="End of the DRAWING, e.g. 12 or 7/3 (default: until the proof: the "
                           "periodic regime, or the first overrun). The verdict never depends "
                           "on it.")] = None,
-    width: Annotated[int, typer.Option("--width", min=10,
+    width: Annotated[int, typer.Option("--width", parser=_whole("--width", 10),
+                                       metavar="COLUMNS",
                                        help="Columns of the text diagram.")] = 96,
     force: Annotated[bool, _force("an existing drawing")] = False,
     max_events: Annotated[int, _max_events(
@@ -487,6 +560,8 @@ def timeline(
             _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, got {horizon!r}")
     if output is not None:
         _output_file(output, force)
+        _need_matplotlib("-o: drawing a timing diagram",
+                         "the text diagram needs nothing: leave out -o")
     with _refusals(file):
         skeleton = load_skeleton(file)
         result = simulate_timeline(skeleton, end, max_events=max_events)
@@ -610,8 +685,9 @@ def explore(
     scheduler: Annotated[str | None, typer.Option(
         "--scheduler", help="Run on this Dask scheduler, e.g. tcp://HOST:8786.")] = None,
     workers: Annotated[int | None, typer.Option(
-        "--workers", min=0, help="Local Dask worker processes (0: this process; default: "
-                                 "decided from the measured cost).")] = None,
+        "--workers", parser=_whole("--workers", 0), metavar="N",
+        help="Local Dask worker processes (0: this process; default: decided from the "
+             "measured cost).")] = None,
     output: Annotated[Path | None, typer.Option(
         "-o", "--output", help="Write every judged variant to this .csv or .parquet file as "
                                "results arrive.")] = None,
@@ -620,13 +696,14 @@ def explore(
     force: Annotated[bool, _force("an existing -o or --plot file")] = False,
     plot: Annotated[Path | None, typer.Option(
         "--plot", help="Draw the front into this .svg or .png file (needs matplotlib: "
-                       "pip install 'tegraph[plot]').")] = None,
+                       "pip install '.[plot]').")] = None,
     max_variants: Annotated[int, typer.Option(
-        "--max-variants", min=1, help="Search exhaustively up to this many variants; beyond, "
-                                      "Pareto local search analyzes at most this "
-                                      "many.")] = 10_000,
+        "--max-variants", parser=_whole("--max-variants", 1), metavar="N",
+        help="Search exhaustively up to this many variants; beyond, Pareto local search "
+             "analyzes at most this many.")] = 10_000,
     batch_size: Annotated[int | None, typer.Option(
-        "--batch-size", min=1, help="Variants per batch (default adaptive).")] = None,
+        "--batch-size", parser=_whole("--batch-size", 1), metavar="N",
+        help="Variants per batch (default adaptive).")] = None,
     timeout: Annotated[str, typer.Option(  # text: the library's exact parser reads it
         "--timeout", help="Seconds to wait for the scheduler to answer, e.g. 30 or 5/2 (> 0, "
                           "at most 86400).")] = "10",
@@ -648,14 +725,11 @@ def explore(
     from .io import load_skeleton
     from .report import render_text, to_json
     from .report.explore_plot import draw_front
-    from .report.plot import matplotlib_available
 
     if plot is not None:
         _plot_suffix(plot)
         _output_file(plot, force)
-        if not matplotlib_available():
-            _fail("--plot: drawing the front needs matplotlib, which is not installed; "
-                  "install it with: pip install 'tegraph[plot]'")
+        _need_matplotlib("--plot: drawing the front", "the text and JSON reports need nothing")
     # Lists, not dicts: a link or clock given twice is refused by the library, naming
     # both occurrences, instead of the second silently replacing the first.
     links = list(link or [])
@@ -722,7 +796,7 @@ def sensitivity_command(
     plot: Annotated[Path | None, typer.Option(
         "--plot", metavar="OUT.svg|png",
         help="Also draw it (one parameter: the periods against it; two: the map of the "
-             "regions); needs matplotlib: pip install 'tegraph[plot]'.")] = None,
+             "regions); needs matplotlib: pip install '.[plot]'.")] = None,
     force: Annotated[bool, _force("an existing drawing")] = False,
     formulas: Annotated[bool, typer.Option(
         "--formulas/--no-formulas", help="Compute each group's period as a formula.")] = True,
@@ -749,7 +823,6 @@ def sensitivity_command(
     from .analysis.sensitivity import sensitivity
     from .io import load_skeleton
     from .report import render_text, to_json
-    from .report.plot import matplotlib_available
     from .report.sensitivity_plot import draw_sensitivity
 
     if plot is not None:
@@ -759,9 +832,7 @@ def sensitivity_command(
                   f"(given: {len(vary or ())})")
         if not formulas:
             _fail("--plot draws the periods from their formulas; leave out --no-formulas")
-        if not matplotlib_available():
-            _fail("--plot needs matplotlib, which is not installed; install it with: "
-                  "pip install 'tegraph[plot]'")
+        _need_matplotlib("--plot: drawing the sensitivity", "the text report needs nothing")
         _output_file(plot, force)
     import time
 

@@ -38,7 +38,7 @@ from ..analysis.processors import MAX_EVENTS, JobInterval, ProcessorSchedule, sc
 from ..analysis.results import Deadlock
 from ..errors import InputError
 from ..model.build import activation_end, build_teg
-from ..model.limits import shown
+from ..model.limits import event_budget_problem, shown
 from ..model.skeleton import Skeleton
 from .schedulability import hyperperiod
 
@@ -236,9 +236,9 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
 def _checked(skeleton: Skeleton, horizon: Fraction | int | str | None, max_events: int
              ) -> Fraction | None:
     """The horizon as a Fraction; both parameters refused before the analysis."""
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected an integer >= 1, got {shown(repr(max_events), quote=False)}",
-                         "max_events")
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
     if horizon is None:
         return None
     value = Fraction(horizon)

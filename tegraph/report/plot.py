@@ -21,16 +21,33 @@ from ..design.timeline import Timeline
 from ..errors import InputError, TegraphError
 
 __all__ = [
-    "INSTALL_HINT", "PlotUnavailableError", "draw_timeline", "matplotlib_available", "save_figure",
+    "INSTALL_HINT", "PlotUnavailableError", "draw_timeline", "matplotlib_available",
+    "plot_unavailable", "save_figure",
 ]
 
-INSTALL_HINT = "pip install 'tegraph[plot]'"
+INSTALL_HINT = "pip install '.[plot]'"
+"""How to install matplotlib with tegraph: its ``plot`` extra, from the source directory
+(where ``pip install .`` installed tegraph)."""
 _FORMATS = (".svg", ".png")
 _LATE, _WAIT = "#d62728", "#9a9a9a"
 
 
 class PlotUnavailableError(TegraphError):
     """Drawing needs matplotlib, which is not installed."""
+
+
+def plot_unavailable(drawing: str, without: str) -> PlotUnavailableError:
+    """The one message of a drawing that needs matplotlib where it is not installed:
+    what needs it, the extra that installs it, and what works without it.
+
+    >>> print(plot_unavailable("drawing a timing diagram", "leave out -o"))
+    drawing a timing diagram needs matplotlib, which is not installed; install tegraph's \
+plot extra: pip install '.[plot]' in tegraph's source directory (or: pip install \
+matplotlib); leave out -o
+    """
+    return PlotUnavailableError(
+        f"{drawing} needs matplotlib, which is not installed; install tegraph's plot extra: "
+        f"{INSTALL_HINT} in tegraph's source directory (or: pip install matplotlib); {without}")
 
 
 def matplotlib_available() -> bool:
@@ -51,10 +68,8 @@ def _matplotlib() -> Any:
         import matplotlib  # noqa: F401  (first: a missing package fails here)
         from matplotlib.figure import Figure
     except ImportError:
-        raise PlotUnavailableError(
-            f"drawing a timing diagram needs matplotlib, which is not installed; install it "
-            f"with: {INSTALL_HINT}  (or: pip install matplotlib); the text diagram needs "
-            "nothing: leave out -o") from None
+        raise plot_unavailable("drawing a timing diagram",
+                               "the text diagram needs nothing: leave out -o") from None
     return Figure
 
 

@@ -30,6 +30,7 @@ from maxplus.scalar import exact_text, exact_time
 
 from ...analysis.processors.schedule import MAX_EVENTS
 from ...errors import InputError
+from ...model.limits import event_budget_problem
 from ...model.skeleton import Protocol, Skeleton
 from ...model.skeleton.checks import Locator, check_chain
 from ...model.structure import Structure
@@ -453,9 +454,9 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     >>> space.size, space.describe(3)
     (4, ({'A:x -> B:x': 'SYN/SYN'}, {'rtc': '10'}))
     """
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected a number of event firings, an integer >= 1, got "
-                         f"{max_events!r}", "max_events")
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
     forbidden = tuple(dict.fromkeys(parse_protocol(p, f"forbid[{k}]")
                                     for k, p in enumerate(forbid)))
     chosen = _link_choices(skeleton, links, all_links, forbidden)

@@ -342,7 +342,7 @@ def test_refusals():
         simulate_timeline(sk, horizon="-2.5")
     assert info.value.where == "horizon"
     for bad in (0, -1, True, 1.5):
-        with pytest.raises(InputError, match="expected an integer >= 1") as info:
+        with pytest.raises(InputError, match=r"expected an integer from 1 to 2\*\*63 - 1") as info:
             simulate_timeline(sk, max_events=bad)
         assert info.value.where == "max_events"
 
@@ -354,7 +354,8 @@ def test_cli_refuses_a_budget_of_nothing_in_one_line(tmp_path, value):
     out = CliRunner().invoke(app, ["timeline", str(path), "--max-events", value])
     assert out.exit_code == 2
     (line,) = out.output.strip().splitlines()
-    assert line.startswith("tegraph: error: --max-events") and "expected an integer >= 1" in line
+    assert line.startswith("tegraph: error: --max-events")
+    assert "expected an integer from 1 to 2**63 - 1" in line
 
 
 def test_drawing_or_how_to_install(tmp_path):
@@ -388,12 +389,12 @@ def test_without_matplotlib_the_message_says_how_to_install(tmp_path, monkeypatc
     tl = simulate_timeline(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}}))
     with pytest.raises(PlotUnavailableError) as info:
         draw_timeline(tl, tmp_path / "a.svg")
-    assert "pip install 'tegraph[plot]'" in str(info.value)
+    assert "pip install '.[plot]'" in str(info.value)
     src = tmp_path / "a.yaml"
     src.write_text("tasks:\n  A: {duration: 1, period: 2}\n")
     result = CliRunner().invoke(app, ["timeline", str(src), "-o", str(tmp_path / "a.svg")])
     assert result.exit_code == 2
-    assert "pip install 'tegraph[plot]'" in result.output
+    assert "pip install '.[plot]'" in result.output
     assert not (tmp_path / "a.svg").exists()
 
 
