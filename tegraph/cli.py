@@ -123,27 +123,51 @@ def _need_matplotlib(drawing: str, without: str) -> None:
         _fail(str(plot_unavailable(drawing, without)))
 
 
-def _output_file(path: Path, force: bool, *, source: Path | None = None) -> None:
-    """Refuse, before any work, an output file that cannot or must not be written."""
+def _output_file(path: Path, force: bool, where: str, source: Path, *,
+                 replaces_input: bool = False) -> None:
+    """Refuse, before any work, an output file that cannot or must not be written.
+
+    ``where`` names the option that gave ``path`` (a library parameter name, shown as
+    its option); ``source`` is the command's input. An output that is the input is
+    refused whatever the flags (:func:`tegraph.io.input_as_output`), except where
+    ``replaces_input`` (``fix``, whose output is the repaired input): there only
+    ``--force`` replaces it.
+    """
+    from .io import input_as_output, same_file
+
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
         _fail(f"{path}: the directory {parent} does not exist; create it first "
               "(tegraph creates no directory)")
     if path.is_dir():
         _fail(f"{path}: is a directory; expected a file name")
-    if source is not None and path.exists() and path.resolve() == source.resolve() and not force:
-        _fail(f"{path}: this is the input file; pass --force to replace it (its comments "
-              "are not copied)")
+    if replaces_input:
+        if same_file(path, source) and not force:
+            _fail(f"{path}: this is the input file; pass --force to replace it (its comments "
+                  "are not copied)")
+    else:
+        try:
+            input_as_output(path, [source], where)
+        except InputError as exc:
+            _fail(_located(exc))
     if path.exists() and not force:
         _exists(path)
 
 
-def _output_directory(path: Path) -> None:
-    """Refuse, before any work, a directory for output files that is not one."""
+def _output_directory(path: Path, source: Path) -> None:
+    """Refuse, before any work, a directory for the CSV files that is not one, or whose
+    tasks.csv or groups.csv is the input ``source`` (whatever the flags)."""
+    from .io import input_as_output
+
     if path.is_file():
         _fail(f"{path}: is a file; expected a directory for tasks.csv and groups.csv")
     if not path.is_dir():
         _fail(f"{path}: no such directory; create it first (tegraph creates no directory)")
+    try:
+        for name in ("tasks.csv", "groups.csv"):
+            input_as_output(path / name, [source], "--csv")
+    except InputError as exc:
+        _fail(_located(exc))
 
 
 def _located(exc: InputError) -> str:
@@ -335,7 +359,7 @@ def analyze(
     from .io import load_skeleton
 
     if csv_dir is not None:
-        _output_directory(csv_dir)
+        _output_directory(csv_dir, file)
     with _refusals(file):
         skeleton = load_skeleton(file)
         chains = [parse_chain(c) for c in chain or []]
@@ -466,7 +490,7 @@ def fix(
     from .report.design_text import fix_verdict, render_fix
 
     if output is not None:
-        _output_file(output, force, source=file)
+        _output_file(output, force, "output", file, replaces_input=True)
     with _refusals(file):
         skeleton = load_skeleton(file)
         result = fix_ports(skeleton)
@@ -559,7 +583,7 @@ def timeline(
         if end <= 0:
             _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, got {horizon!r}")
     if output is not None:
-        _output_file(output, force)
+        _output_file(output, force, "output", file)
         _need_matplotlib("-o: drawing a timing diagram",
                          "the text diagram needs nothing: leave out -o")
     with _refusals(file):
@@ -636,7 +660,7 @@ def convert(
     from .api import write
     from .io import read
 
-    _output_file(target, force)
+    _output_file(target, force, "TARGET", source)
     try:
         with _writing(target):
             model = read(source, from_fmt, max_bytes=_size(max_size, "--max-size"))
@@ -726,9 +750,16 @@ def explore(
     from .report import render_text, to_json
     from .report.explore_plot import draw_front
 
+    if output is not None:  # the library checks the rest (--resume, --force) itself
+        from .io import input_as_output
+
+        try:
+            input_as_output(output, [file], "output")
+        except InputError as exc:
+            _fail(_located(exc))
     if plot is not None:
         _plot_suffix(plot)
-        _output_file(plot, force)
+        _output_file(plot, force, "plot", file)
         _need_matplotlib("--plot: drawing the front", "the text and JSON reports need nothing")
     # Lists, not dicts: a link or clock given twice is refused by the library, naming
     # both occurrences, instead of the second silently replacing the first.
@@ -833,7 +864,7 @@ def sensitivity_command(
         if not formulas:
             _fail("--plot draws the periods from their formulas; leave out --no-formulas")
         _need_matplotlib("--plot: drawing the sensitivity", "the text report needs nothing")
-        _output_file(plot, force)
+        _output_file(plot, force, "plot", file)
     import time
 
     bar = _ProgressBar()

@@ -45,7 +45,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import InputError, ModelError
 from ..model.skeleton import Skeleton
 from ._detect import FORMATS, detect_format, sniff_format
-from ._files import DEFAULT_MAX_BYTES, check_size
+from ._files import DEFAULT_MAX_BYTES, check_size, input_as_output, same_file
 from .skeleton_file import dump_skeleton, load_skeleton
 
 if TYPE_CHECKING:  # static tools see the format modules; at run time see __getattr__
@@ -71,6 +71,8 @@ __all__ = [
     "FORMATS",
     "detect_format",
     "format_for_writing",
+    "input_as_output",
+    "same_file",
     "sniff_format",
     "dump_skeleton",
     "load_skeleton",
