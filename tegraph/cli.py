@@ -71,7 +71,8 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
           "max_jobs": "--max-jobs", "horizon": "--horizon"}
 _FLAGS.update({"requires": "--require", "max_latency": "--max-latency", "forbid": "--forbid",
                "timeout": "--timeout", "all_links": "--all-links",
-               "max_events": "--max-events", "processors": "--no-processors"})
+               "max_events": "--max-events", "processors": "--no-processors",
+               "free_running": "--free-running"})
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -710,8 +711,10 @@ def explore(
         "--scheduler", help="Run on this Dask scheduler, e.g. tcp://HOST:8786.")] = None,
     workers: Annotated[int | None, typer.Option(
         "--workers", parser=_whole("--workers", 0), metavar="N",
-        help="Local Dask worker processes (0: this process; default: decided from the "
-             "measured cost).")] = None,
+        help=f"Local Dask worker processes, from 0 (judge in this process) to "
+             f"{os.cpu_count() or 1} (this machine's cores; more run on a cluster: "
+             "--scheduler); default: this process, until the measured work pays for a "
+             "local cluster (docs/explore.md).")] = None,
     output: Annotated[Path | None, typer.Option(
         "-o", "--output", help="Write every judged variant to this .csv or .parquet file as "
                                "results arrive.")] = None,
@@ -735,6 +738,13 @@ def explore(
         "each variant's schedule on processors (docs/skeleton.md §4b)",
         "the variant is rejected as undecided; a decided variant stops at its proof (a few "
         "hundred firings for a small pipe-line)")] = MAX_EVENTS,
+    free_running: Annotated[bool, typer.Option(
+        "--free-running", help="Keep designs where a task runs free (no clock in its "
+                               "group: as often as its processor lets it) that the input "
+                               "design runs on a clock; by default they are rejected.")] = False,
+    all_ties: Annotated[bool, typer.Option(
+        "--all-ties", help="List every design of the front; by default one row per "
+                           "distinct objective vector, with its count of ties.")] = False,
     json_out: JsonFlag = False,
 ) -> None:
     """Search link protocols and clock periods for the Pareto front of live, consistent,
@@ -747,8 +757,9 @@ def explore(
     from .api import explore as run_exploration
     from .design.latency import parse_chain
     from .io import load_skeleton
-    from .report import render_text, to_json
+    from .report import to_json
     from .report.explore_plot import draw_front
+    from .report.explore_text import render_exploration
 
     if output is not None:  # the library checks the rest (--resume, --force) itself
         from .io import input_as_output
@@ -781,10 +792,12 @@ def explore(
                 scheduler=scheduler, workers=workers, output=output, resume=resume,
                 overwrite=force, max_variants=max_variants, batch_size=batch_size,
                 progress=progress, timeout=timeout, requires=require or [],
-                max_latency=max_latency or [], forbid=forbid or [], max_events=max_events)
+                max_latency=max_latency or [], forbid=forbid or [], max_events=max_events,
+                free_running=free_running)
     finally:
         bar.erase()
-    text = to_json(result) + "\n" if json_out else _cli_words(render_text(result))
+    text = to_json(result) + "\n" if json_out else _cli_words(
+        render_exploration(result, all_ties=all_ties))
     # (a JSON document ends with one newline, as a text report does)
     if plot is not None:
         _draw(draw_front, result, plot, force)
