@@ -547,9 +547,12 @@ def timeline(
         "-o", "--output", help="Also draw the diagram into this .svg or .png file (needs "
                                "matplotlib: pip install '.[plot]').")] = None,
     horizon: Annotated[str | None, typer.Option(
-        "--horizon", help="End of the DRAWING, e.g. 12 or 7/3 (default: until the proof: the "
-                          "periodic regime, or the first overrun). The verdict never depends "
-                          "on it.")] = None,
+        "--horizon", metavar="END|START..END",
+        help="What the DRAWING shows: until END (e.g. 12 or 7/3), or the window "
+             "START..END (e.g. 40..50). Default: 10 periods of the fastest clock around "
+             "the first problem (overrun, deadlock, starved job) or from the periodic "
+             "regime, or the whole proof when it fits; the report says which and how to see "
+             "more. The verdict never depends on it.")] = None,
     width: Annotated[int, typer.Option("--width", parser=_whole("--width", 10),
                                        metavar="COLUMNS",
                                        help="Columns of the text diagram.")] = 96,
@@ -574,22 +577,29 @@ def timeline(
     from .report.plot import draw_timeline
     from .report.timeline_text import render_timeline
 
-    end = None
+    end = begin = None
     if horizon is not None:
-        try:  # the one number parser: 1e999999999 is refused by its size, not expanded
-            end = exact_time(horizon)
-        except MaxPlusValueError as exc:
-            _fail(f"--horizon: expected a time > 0 such as 12 or 7/3; "
-                  f"{str(exc).removeprefix('value: ')}")
-        if end <= 0:
-            _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, got {horizon!r}")
+        first, dots, last = horizon.partition("..")
+        texts = [first, last] if dots else [horizon]
+        times = []
+        for text in texts:
+            try:  # the one number parser: 1e999999999 is refused by its size, not expanded
+                times.append(exact_time(text))
+            except MaxPlusValueError as exc:
+                _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, or a window "
+                      f"START..END such as 40..50; {str(exc).removeprefix('value: ')}")
+        end = times[-1]
+        begin = times[0] if dots else None
+        if end <= 0 or (begin is not None and not 0 <= begin < end):
+            _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, or a window "
+                  f"START..END with 0 <= START < END such as 40..50, got {horizon!r}")
     if output is not None:
         _output_file(output, force, "output", file)
         _need_matplotlib("-o: drawing a timing diagram",
                          "the text diagram needs nothing: leave out -o")
     with _refusals(file):
         skeleton = load_skeleton(file)
-        result = simulate_timeline(skeleton, end, max_events=max_events)
+        result = simulate_timeline(skeleton, end, max_events=max_events, start=begin)
     if output is not None:
         _draw(draw_timeline, result, output, force)
     typer.echo(_cli_words(render_timeline(result, width)), nl=False)
