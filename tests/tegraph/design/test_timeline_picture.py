@@ -10,14 +10,18 @@ from __future__ import annotations
 from fractions import Fraction as F
 
 import pytest
+from hypothesis import HealthCheck, assume, given, settings
 from typer.testing import CliRunner
 
-from tegraph import Skeleton
+from tegraph import Skeleton, analyze
 from tegraph.cli import app
 from tegraph.design.timeline import simulate_timeline
+from tegraph.design.timeline_waits import replay_daters
 from tegraph.io import load_skeleton
+from tegraph.model.build import build_teg, task_chain
 from tegraph.report.plot import _LATE, matplotlib_available, timeline_figure
 from tests.paths import REPO
+from tests.tegraph.analysis.test_analysis_properties import skeleton_data
 
 EXAMPLES = REPO / "examples"
 needs_matplotlib = pytest.mark.skipif(not matplotlib_available(), reason="matplotlib")
@@ -179,3 +183,41 @@ def test_the_overrun_tick_at_the_end_of_the_drawing_is_inside_the_frame():
     red = [line for line in ax.lines if line.get_color() == _LATE]
     assert [list(line.get_xdata()) for line in red if len(line.get_xdata())] == [[16.0]]
     assert all(not line.get_clip_on() for line in red)
+
+
+# ------------------------------------------------------------------ the daters replayed
+
+@settings(max_examples=40, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(skeleton_data(threads=False))  # a thread is one processor's
+def test_the_replayed_daters_are_section_3_with_a_processor_per_task(data):
+    # With every task alone on its processor, f_T(k) = x_T.compute(k) + duration(T) and
+    # §4b is §3 (docs/skeleton.md §4b): the daters replayed from the drawn jobs' ends must
+    # be the §3 daters of TimedEventGraph.simulate, a different algorithm (vectorized by
+    # firing index), firing for firing.
+    for name, spec in data["tasks"].items():
+        spec["processor"] = f"P_{name}"
+    sk = Skeleton.from_dict(data, name="random")
+    assume(analyze(sk, design=False).live)
+    horizon = F(30)
+    tl = simulate_timeline(sk, horizon)
+    teg = build_teg(sk)
+    zero = [t for t, f in tl.schedule.tasks.items() if f.period == 0]
+    skip = frozenset(e for t in zero for e in task_chain(teg, t))
+    finish = {}
+    for job in tl.jobs:
+        if job.finish is not None:
+            finish.setdefault(job.task, {})[job.index] = job.finish
+    x, cut = replay_daters(teg, finish, tl.durations, horizon, skip)
+    assert not cut
+    n = max((len(v) for v in x), default=0)
+    reference = teg.simulate(n)
+    names = teg.transition_names
+    for e, times in enumerate(x):
+        if e not in skip:
+            assert times == list(reference[names[e]][:len(times)]), names[e]
+    for name, c in sk.clocks.items():  # a clock never waits: each tick up to the horizon
+        if f"{name}.tick" in names:
+            expected = [c.phase + j * c.period for j in range(int((horizon - c.phase) / c.period)
+                                                                 + 1)] if c.phase <= horizon else []
+            assert x[names.index(f"{name}.tick")] == expected
