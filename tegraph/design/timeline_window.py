@@ -39,7 +39,8 @@ def default_window(skeleton: Skeleton, s: ProcessorSchedule, full: Fraction,
     unit = skeleton.unit
     used = {task.clock for task in skeleton.tasks.values() if task.clock is not None}
     if not used:  # no clock gives a scale: the proof, and past a deadlock a fifth more
-        end = full if problem is None else max(full, problem[0] + max(problem[0] / 4, 1))
+        end = full if problem is None else max(full, problem[0] + max(problem[0] / 4,
+                                                                      Fraction(1)))
         return Fraction(0), end, None
     fastest = min(used, key=lambda c: (skeleton.clocks[c].period, list(skeleton.clocks).index(c)))
     clock = skeleton.clocks[fastest]

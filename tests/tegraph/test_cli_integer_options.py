@@ -152,8 +152,8 @@ def test_a_negative_decimal_is_echoed_as_written(tmp_path, args, text):
 def test_a_negative_time_in_a_file_is_echoed_as_written(tmp_path, key, written):
     body = {"duration": "1", "phase": "0"}
     body[key] = written
-    path = _file(tmp_path, "tasks:\n  A: {period: 4, duration: %s, phase: %s}\n"
-                 % (body["duration"], body["phase"]))
+    path = _file(tmp_path, f"tasks:\n  A: {{period: 4, duration: {body['duration']}, "
+                           f"phase: {body['phase']}}}\n")
     result = _run("analyze", path)
     assert result.exit_code == 2
     assert f"got {written}" in result.output and "3/20" not in result.output

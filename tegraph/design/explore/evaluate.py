@@ -337,8 +337,9 @@ def evaluate_variant(space: DesignSpace, variant: int,
             result.reason = (f"undecided within max_events ({space.max_events:,} event "
                              f"firings): {why}")
     _objectives(space, skeleton, report, sched, schedule, result)
+    structure = composed.structure if composed is not None else report.structure
     free = [] if space.constraints.free_running else free_running(
-        space, composed.structure if composed is not None else report.structure)
+        space, Structure.of(skeleton) if structure is None else structure)
     if free:  # not kept unless asked: a rate that nobody chose
         result.meets = False
         if not result.reason:
