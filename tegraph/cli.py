@@ -211,7 +211,7 @@ def _size_text(size: int) -> str:
     return str(size)
 
 
-def _integer(text: str, option: str, least: int | None = None) -> int:
+def _integer(text: str, option: str, least: int | None = None, most: int | None = None) -> int:
     """An integer option's value in the number grammar of every number (README): an
     integer, a decimal or one fraction whose value is whole (``1e3`` is 1000); anything
     else is one line naming the option, exit 2.
@@ -225,7 +225,9 @@ def _integer(text: str, option: str, least: int | None = None) -> int:
     from .model.limits import shown
 
     expected = f"{option}: expected an integer such as 1000 or 1e6"
-    if least is not None:
+    if least is not None and most is not None:
+        expected += f" (from {least} to {most:,})"
+    elif least is not None:
         expected += f" (at least {least})"
     try:  # the one number parser: 1e999999999 is refused by its size, not expanded
         value = exact_time(text)
@@ -235,19 +237,21 @@ def _integer(text: str, option: str, least: int | None = None) -> int:
               else f"{expected}, got {shown(text)}")
     if value.denominator != 1:
         _fail(f"{expected}, got {shown(text)}, which is not a whole number")
-    if least is not None and value.numerator < least:
+    if (least is not None and value.numerator < least) or (
+            most is not None and value.numerator > most):
         _fail(f"{expected}, got {shown(text)}")
     return value.numerator
 
 
-def _whole(option: str, least: int | None = None) -> Callable[[object], int]:
+def _whole(option: str, least: int | None = None, most: int | None = None
+           ) -> Callable[[object], int]:
     """The parser of an integer option (typer's ``parser=``): :func:`_integer`; its
     default, an int already, is kept as it is. A budget (``least`` None) is refused
     below 1 by the library, in one line naming the option."""
     def parse(value: object) -> int:
         if isinstance(value, int) and not isinstance(value, bool):
             return value
-        return _integer(str(value), option, least)
+        return _integer(str(value), option, least, most)
     return parse
 
 
@@ -553,9 +557,10 @@ def timeline(
              "the first problem (overrun, deadlock, starved job) or from the periodic "
              "regime, or the whole proof when it fits; the report says which and how to see "
              "more. The verdict never depends on it.")] = None,
-    width: Annotated[int, typer.Option("--width", parser=_whole("--width", 10),
+    width: Annotated[int, typer.Option("--width", parser=_whole("--width", 10, 10_000),
                                        metavar="COLUMNS",
-                                       help="Columns of the text diagram.")] = 96,
+                                       help="Columns of the text diagram (10 to "
+                                            "10,000).")] = 96,
     force: Annotated[bool, _force("an existing drawing")] = False,
     max_events: Annotated[int, _max_events(
         "the exact schedule on processors (docs/skeleton.md §4b), as for analyze",
