@@ -33,7 +33,8 @@ and the next tick, inside the frame)."""
 
 
 def default_window(skeleton: Skeleton, s: ProcessorSchedule, full: Fraction,
-            problem: tuple[Fraction, str] | None) -> tuple[Fraction, Fraction, str | None]:
+                   problem: tuple[Fraction, str] | None
+                   ) -> tuple[Fraction, Fraction, str | None]:
     """The default drawing ``(start, end, what it shows)`` (module docstring); the text
     is None when the whole proof is drawn."""
     unit = skeleton.unit
@@ -51,8 +52,10 @@ def default_window(skeleton: Skeleton, s: ProcessorSchedule, full: Fraction,
         end = at + AFTER_PROBLEM * period
         if max(full, end) <= span:
             return Fraction(0), max(full, end), None
-        begin = _tick_at_or_before(clock.phase, period, end - span)
-        why = f"up to {AFTER_PROBLEM} of its periods past {what}"
+        begin = max(end - span, Fraction(0))
+        end = begin + span
+        why = (f"up to {AFTER_PROBLEM} of its periods past {what}" if begin else
+               f"from the start, with {what}")
     else:
         if full <= span:
             return Fraction(0), full, None
