@@ -540,7 +540,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
             batch_size: int | None = None, progress: Any = None,
             timeout: float | str = 10.0, requires: Sequence[Any] = (),
             max_latency: Sequence[Any] = (), forbid: Sequence[Any] = (),
-            max_events: int = MAX_EVENTS) -> Exploration:
+            max_events: int = MAX_EVENTS, free_running: bool = False) -> Exploration:
     """Search protocol and clock choices for the best live, consistent, schedulable designs.
 
     Each variant (one protocol per chosen link, one period per chosen clock) is
@@ -596,6 +596,9 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     max_events : int
         Budget of event firings of each variant's schedule on processors (spec
         §4b); a variant undecided within it is rejected as undecided.
+    free_running : bool
+        Keep designs where a task runs free (no clock in its group) that the input
+        design runs on a clock; by default they are not kept.
 
     Returns
     -------
@@ -653,7 +656,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
 
     space = design_space(skeleton, links, all_links, clocks, chains, objectives,
                          requires=requires, max_latency=max_latency, forbid=forbid,
-                         max_events=max_events)
+                         max_events=max_events, free_running=free_running)
     if output is None and resume:
         raise InputError("nothing to resume without an `output` file", "resume")
     table = None if output is None else ResultsTable(output, space, resume, overwrite)

@@ -54,8 +54,10 @@ _WHERE = {
     "detect_format": "tegraph.io.formats",
     "dump_skeleton": "tegraph.io.skeleton_file",
     "format_for_writing": "tegraph.io.formats",
+    "input_as_output": "tegraph.io._files",
     "load_skeleton": "tegraph.io.skeleton_file",
     "read": "tegraph.io.formats",
+    "same_file": "tegraph.io._files",
     "sniff_format": "tegraph.io.formats",
     "write": "tegraph.io.formats",
 }
@@ -71,8 +73,10 @@ __all__ = [
     "detect_format",
     "dump_skeleton",
     "format_for_writing",
+    "input_as_output",
     "load_skeleton",
     "read",
+    "same_file",
     "sniff_format",
     "write",
 ]
@@ -94,6 +98,6 @@ def __dir__() -> list[str]:
 
 if TYPE_CHECKING:  # static tools see the names where they are defined
     from . import dot, edges, pnml, sdf3, tpne  # noqa: F401  (attributes of the package)
-    from ._files import DEFAULT_MAX_BYTES
+    from ._files import DEFAULT_MAX_BYTES, input_as_output, same_file
     from .formats import FileFormat, detect_format, format_for_writing, read, sniff_format, write
     from .skeleton_file import dump_skeleton, load_skeleton

@@ -40,7 +40,7 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import EPS, INT64_SAFE, exact_time, int_array, size_problem
 
 from ..errors import InputError, ModelError, NotLiveError
-from .limits import MAX_COUNT, count_problem
+from .limits import MAX_COUNT, count_problem, written
 
 if TYPE_CHECKING:  # networkx is slow to import; only the conversions need it
     import networkx as nx
@@ -938,7 +938,7 @@ def _check_time(value: Any, what: str, where: str) -> Fraction:
     if kind is Fraction or kind is int:  # the builder's own values: no parsing needed
         t = Fraction(value) if kind is int else value
         if t < 0:
-            raise ModelError(f"{what} must be >= 0, got {t}", where)
+            raise ModelError(f"{what} must be >= 0, got {written(t)}", where)
         return t
     why = size_problem(value)  # "1e999999999" would take hours to expand
     if why is not None:
@@ -948,5 +948,5 @@ def _check_time(value: Any, what: str, where: str) -> Fraction:
     except MaxPlusValueError as exc:
         raise ModelError(str(exc), where) from None
     if t < 0:
-        raise ModelError(f"{what} must be >= 0, got {t}", where)
+        raise ModelError(f"{what} must be >= 0, got {written(t, value)}", where)
     return t

@@ -43,10 +43,11 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
     """
     tl, u, H = timeline, timeline.unit, timeline.horizon
     exact, columns = _columns(tl, width)
-    col = H / columns
+    col = (H - tl.start) / columns
     used = [c for c in tl.ticks if any(tl.clocks[t] == c for t in tl.tasks)]
     label = max(len(x) for x in [*tl.processors, *used])
-    lines = [f"timeline {tl.name} on its processors: 0 to {display_text(H)} {u}, one column = "
+    lines = [f"timeline {tl.name} on its processors: {display_text(tl.start)} to "
+             f"{display_text(H)} {u}, one column = "
              f"{display_text(col)} {u}" + ("" if exact else " (approximate drawing)")]
     lines += _lanes(tl, columns, label)
     lines += _clock_rows(tl, used, columns, label)
@@ -65,24 +66,27 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
 def _columns(tl: Timeline, width: int) -> tuple[bool, int]:
     """Whether the drawing is exact, and its number of columns: exact when every time
     drawn is a multiple of a step of which the horizon holds at most ``width``."""
-    times = {Fraction(0), tl.horizon} | {x for i in tl.intervals for x in (i.start, i.end)}
-    times |= {x for ts in tl.ticks.values() for x in ts}
+    a = tl.start
+    times = {Fraction(0), tl.horizon - a} | {x - a for i in tl.visible for x in (i.start, i.end)}
+    times |= {x - a for ts in tl.ticks.values() for x in ts if a <= x <= tl.horizon}
     step = _gcd_all(times)
-    exact = tl.horizon / step <= width
-    return exact, int(tl.horizon / step) if exact else width
+    exact = (tl.horizon - a) / step <= width
+    return exact, int((tl.horizon - a) / step) if exact else width
 
 
 def _lanes(tl: Timeline, columns: int, label: int) -> list[str]:
     """A row per processor: its jobs' letters (one per task, the same in every lane)
     and the key of its letters, by priority."""
-    col = tl.horizon / columns
+    col = (tl.horizon - tl.start) / columns
     symbol = {t: _SYMBOLS[n] if n < len(_SYMBOLS) else "*" for n, t in enumerate(tl.tasks)}
-    lanes = _by_processor(tl)
+    lanes: dict[str, list] = {p: [] for p in tl.processors}
+    for i in tl.visible:
+        lanes[i.processor].append(i)
     lines = []
     for proc in tl.schedule.platform.processors:
         row = ["."] * columns
         for i in lanes[proc.name]:
-            _paint(row, i.start, i.end, col, symbol[i.task])
+            _paint(row, i.start - tl.start, i.end - tl.start, col, symbol[i.task])
         lines.append(f"{proc.name:<{label}} |{''.join(row)}| "
                      f"{_lane_key(tl, proc.tasks, symbol)}")
     return lines
@@ -103,8 +107,8 @@ def _lane_key(tl: Timeline, tasks: tuple[str, ...], symbol: dict[str, str]) -> s
 def _clock_rows(tl: Timeline, used: list[str], columns: int, label: int) -> list[str]:
     """A row per clock that activates a task: ``^`` its ticks, ``!`` a tick at which one
     of its tasks overruns (drawn even at the horizon)."""
-    H = tl.horizon
-    col = H / columns
+    H, a = tl.horizon, tl.start
+    col = (H - a) / columns
     late: dict[str | None, set[Fraction]] = {}  # by clock (an overrunning task has one)
     for t, k in tl.overrun_at.items():
         if k is not None:
@@ -113,8 +117,8 @@ def _clock_rows(tl: Timeline, used: list[str], columns: int, label: int) -> list
     for c in used:
         row = [" "] * columns
         for x in tl.ticks[c]:  # a tick at the end is drawn when it is an overrun's
-            if x < H or x in late.get(c, ()):
-                row[min(int(x / col), columns - 1)] = "!" if x in late.get(c, ()) else "^"
+            if a <= x and (x < H or x in late.get(c, ())):
+                row[min(int((x - a) / col), columns - 1)] = "!" if x in late.get(c, ()) else "^"
         lines.append(f"{c:<{label}} |{''.join(row)}|")
     return lines
 
@@ -132,7 +136,7 @@ def _order_of_execution(tl: Timeline) -> list[str]:
             key = (i.task, i.k)
             before = done.get(key, Fraction(0))
             done[key] = before + (i.end - i.start)
-            if listed >= _LISTED:
+            if listed >= _LISTED or i.end <= tl.start:  # before the window: counted only
                 continue
             listed += 1
             how = "resumes; " if before else ""
@@ -142,8 +146,9 @@ def _order_of_execution(tl: Timeline) -> list[str]:
                 how += "preempted" if i.end < tl.horizon else "still running"
             lines.append(f"  {display_text(i.start):>8} - {display_text(i.end):<8} "
                          f"{i.task}#{i.k}  {how}")
-    if listed < len(tl.intervals):
-        lines.append(f"  ... and {len(tl.intervals) - listed:,} more intervals up to "
+    in_window = len(tl.visible)
+    if listed < in_window:
+        lines.append(f"  ... and {in_window - listed:,} more intervals up to "
                      f"{display_text(tl.horizon)} {tl.unit} (in the lanes and the -o drawing)")
     return lines
 
@@ -180,6 +185,9 @@ def _findings(tl: Timeline) -> list[str]:
         lines.append("DEADLOCK: token-free circuit " + " -> ".join([*d.events, d.events[0]])
                      + f" (tasks {', '.join(d.tasks)}): these events wait for each other and "
                      "never fire")
+    for st in tl.stuck:
+        lines.append(f"STUCK: {st.task} waits at {st.event} for ever, from "
+                     f"{display_text(st.since)} {u}")
     jobs = {(j.task, j.index): j for j in tl.jobs}
     for t, k in tl.overrun_at.items():
         if k is None:

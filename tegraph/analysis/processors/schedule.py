@@ -46,6 +46,7 @@ from maxplus.scalar import display_text
 from ...errors import InputError, ModelError
 from ...model.budgets import MAX_EVENTS
 from ...model.build import UnboundedKind, activation_end, unbounded_kind
+from ...model.limits import event_budget_problem
 from ...model.platform import (
     Platform,
     check_groups,
@@ -193,8 +194,9 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     >>> s.regimes[0]["start"], s.regimes[0]["length"]  # B's job still ends at 4 there
     (Fraction(4, 1), Fraction(4, 1))
     """
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
     if "compute" not in teg.attrs:
         raise ModelError("not built from a skeleton (no 'compute' in attrs)", "teg")
     check_groups(skeleton, groups)

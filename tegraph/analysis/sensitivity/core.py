@@ -40,6 +40,7 @@ from typing import Any
 from maxplus.scalar import display_text
 
 from ...errors import InputError
+from ...model.limits import event_budget_problem
 from ...model.skeleton import Skeleton
 from ...model.structure import Structure
 from ..processors import MAX_EVENTS
@@ -207,8 +208,9 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
 
 
 def _check_max_events(max_events: Any) -> None:
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
 
 
 def _nominal(skeleton: Skeleton, params: tuple[Parameter, ...],

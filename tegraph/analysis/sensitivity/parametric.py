@@ -33,6 +33,7 @@ from maxplus.scalar import exact_time, size_problem
 
 from ...errors import InputError
 from ...model.build import activation_end, build_teg, holding_sources
+from ...model.limits import written
 from ...model.skeleton import Link, Skeleton
 from ...model.structure import Structure
 from ...model.teg import Place
@@ -191,12 +192,14 @@ def _parameter(skeleton: Skeleton, name: str, rng: Any, where: str) -> Parameter
     low = _value(low_text, name, "low", where)
     high = None if high_text is None else _value(high_text, name, "high", where)
     if low < 0:
-        raise InputError(f"the range of {name} starts below 0 ({low}); expected LOW >= 0", where)
+        raise InputError(f"the range of {name} starts below 0 ({written(low, low_text)}); "
+                         "expected LOW >= 0", where)
     if kind == "period" and low == 0:
         raise InputError(f"the range of {name} starts at 0; a period is > 0: expected LOW > 0",
                          where)
     if high is not None and high < low:
-        raise InputError(f"the range of {name} is empty ({low}..{high}); expected LOW <= HIGH",
+        raise InputError(f"the range of {name} is empty ({written(low, low_text)}.."
+                         f"{written(high, high_text)}); expected LOW <= HIGH",
                          where)
     if nominal < low or (high is not None and nominal > high):
         # Margins and the scaling factor are measured from the nominal value: a range

@@ -21,7 +21,7 @@ from typing import Any
 
 from ...errors import SkeletonError
 from ..elements import DEFAULT_PROCESSOR, Clock, Link, Processor, Protocol, Task
-from ..limits import text_problem
+from ..limits import text_problem, written
 from .shape import SkeletonShape
 
 __all__ = ["KeyPath", "Locator", "check_chain", "check_skeleton", "format_path"]
@@ -128,7 +128,7 @@ def _check_time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locat
             path,
         )
     if value < 0 or (positive and value == 0):
-        raise loc.error(f"expected {what} {bound}, got {Fraction(value)}", path)
+        raise loc.error(f"expected {what} {bound}, got {written(Fraction(value))}", path)
 
 
 def check_skeleton(sk: SkeletonShape, loc: Locator, *, values_checked: bool = False) -> None:

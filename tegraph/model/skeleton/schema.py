@@ -21,7 +21,7 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time, size_problem
 
 from ..elements import Clock, Link, Processor, Protocol, Task
-from ..limits import text_problem
+from ..limits import text_problem, written
 from .checks import KeyPath, Locator, check_name, check_skeleton
 from .shape import SkeletonShape
 
@@ -133,7 +133,8 @@ def _time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locator) ->
         raise loc.error(f"expected {what} {bound}: {_NUMBER}, got {detail}", path)
     # The sign of a Fraction is its numerator's (an int comparison, not Fraction's).
     if result.numerator < 0 or (positive and result.numerator == 0):
-        raise loc.error(f"expected {what} {bound}, got {_time_text(result)}", path)
+        raise loc.error(f"expected {what} {bound}, got "
+                        f"{written(result, loc.raw.get(path) if loc.raw else None)}", path)
     return result
 
 

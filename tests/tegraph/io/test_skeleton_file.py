@@ -86,7 +86,7 @@ REFUSALS = [
                  "expected a duration >= 0, got -1", 2, id="negative-duration"),
     pytest.param(y("clocks:", "  rtc:", "    period: 10", "    phase: -0.5", "tasks:",
                    "  A: {duration: 1, clock: rtc}"), "clocks.rtc.phase",
-                 "expected a phase >= 0, got -1/2", 4, id="negative-clock-phase"),
+                 "expected a phase >= 0, got -0.5", 4, id="negative-clock-phase"),
     pytest.param(y("tasks:", "  A: {duration: 1, period: 5, phase: -1}"), "tasks.A.phase",
                  "expected a phase >= 0, got -1", 2, id="negative-task-phase"),
     pytest.param(y("clocks:", "  rtc: {period: 0}", "tasks:", "  A: {duration: 1, clock: rtc}"),

@@ -82,15 +82,18 @@ def test_columns_say_what_they_hold_with_units_and_rejections_are_counted():
     #   unclocked, one every 2 ms with a processor per task. The response-time test
     #   rejected them (5 ms of work every 2 ms); on the one processor (spec §4b)
     #   they run below MT1 in the time it leaves, slower than 2 ms but never
-    #   starved and with no place growing: schedulable, kept;
+    #   starved and with no place growing: schedulable, but they run free where the
+    #   input design runs them on rtc: not kept (kept with `free_running`);
     # - SYN/ASYN (3): MT1 blocks on MT2's request while MT2 reads freely every 2 ms,
     #   faster than rtc: requests pile up, an unbounded place;
     # - ASYN/SYN and SYN/SYN at rtc = 5 (2): one group of 6 ms of work every 5 ms:
     #   6/5 of the processor, not schedulable on processors (rule C);
     # - the other 4 are kept.
-    assert found.rejected == {"an unbounded place": 3, "not schedulable on processors": 2}
-    assert found.kept == 7
-    assert "rejected: 5 variant(s), by the first reason met" in text
+    assert found.rejected == {"an unbounded place": 3, "not schedulable on processors": 2,
+                              "a free-running task": 3}
+    assert found.kept == 4
+    assert "rejected: 8 variant(s), by the first reason met" in text
+    assert "\n  3 a free-running task, e.g. variant 0: free-running: MT2, MT3, MT4" in text
     assert "\n  3 an unbounded place, e.g. variant 6: requests-overwritten" in text
     assert ("\n  2 not schedulable on processors, e.g. variant 3: not schedulable on "
             "processors: default runs groups with a clock needing 6/5 of its time") in text

@@ -163,7 +163,7 @@ def test_the_json_with_constraints_and_rejections_follows_the_schema(tmp_path):
     assert doc["constraints"] == {
         "periods": [{"task": "MT1", "op": "<=", "period": "10"}],
         "latencies": [{"chain": ["MT1", "MT2", "MT3", "MT4"], "at_most": "6"}],
-        "forbidden": ["SYN/SYN"]}
+        "forbidden": ["SYN/SYN"], "free_running": False}
     assert doc["choices"]["links"] == {"MT1:x1 -> MT2:x1": ["ASYN/ASYN", "ASYN/SYN",
                                                              "SYN/ASYN"]}
     assert sum(doc["rejected"].values()) + doc["kept"] == doc["variants"] == 9
