@@ -128,6 +128,8 @@ class ProcessorSchedule:
     quick look at its start."""
     events: int = 0
     """Event firings simulated in all."""
+    with_intervals: bool = True
+    """Whether ``raw_intervals`` holds every job's processor time (``intervals=True``)."""
 
     @property
     def intervals(self) -> list[JobInterval]:
@@ -232,7 +234,9 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         out.add(result, data, local_tasks, local_events, local_places)
         if result.regime is None:
             out.undecided.append(_why_part(skeleton, local_tasks, hyper, ticks, too_long))
-    return out.finish()
+    schedule = out.finish()
+    schedule.with_intervals = intervals
+    return schedule
 
 
 QUICK_LOOK = 10_000
