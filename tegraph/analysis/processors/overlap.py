@@ -141,7 +141,7 @@ def _busy_sets(schedule: ProcessorSchedule) -> tuple[dict[str, _Busy], dict[str,
     for _, a, b, task, _ in schedule.raw_intervals:
         stretches.setdefault(task, []).append((a, b))
     reach = max([b for _, _, b, _, _ in schedule.raw_intervals]
-                + [_scaled(r["start"], scale) + 2 * _scaled(r["length"] or 0, scale)
+                + [_scaled(r["start"], scale) + 2 * _scaled(r["length"] or Fraction(0), scale)
                    for r in schedule.regimes if r["start"] is not None], default=0)
     dtype: type = np.int64 if reach < _INT64_SAFE else object  # sums stay below 2**63
     busy: dict[str, _Busy] = {}
@@ -178,8 +178,8 @@ def _scaled(t: Fraction, scale: int) -> int:
 
 
 def _arrays(pairs: list[tuple[int, int]], dtype: type) -> tuple[np.ndarray, np.ndarray]:
-    a = np.array([p[0] for p in pairs], dtype=dtype)
-    b = np.array([p[1] for p in pairs], dtype=dtype)
+    a: np.ndarray = np.array([p[0] for p in pairs], dtype=dtype)
+    b: np.ndarray = np.array([p[1] for p in pairs], dtype=dtype)
     return _merged(a, b)
 
 
