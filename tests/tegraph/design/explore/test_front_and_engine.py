@@ -160,13 +160,13 @@ def test_a_cold_first_variant_does_not_start_a_cluster(monkeypatch):
     monkeypatch.setattr(os, "cpu_count", lambda: MIN_CLUSTER_CORES)
     run = _run_of(512)
     engine = InProcessEngine(None)  # an idle in-process engine (never given work here)
-    # The first variant costs 1 s (caches filled, modules imported), the next ones 1 ms:
-    # judged here, the 512 cost about 1.5 s. Before, the first cost alone decided:
-    # 1 s x 511 left = 511 s > the threshold, and a cluster was started.
+    # Given costs: the first variant 1.0 (caches filled, modules imported), the next
+    # ones 0.001 each, so that the 512 cost about 1.5 in all. Were the first cost to
+    # decide alone, 1.0 x 511 left = 511 would pass the threshold and start a cluster.
     run.receive(_judged(0, [1.0]), None)
     assert not run.worth_a_local_cluster(engine)
     run.receive(_judged(1, [0.001] * 10), None)
-    assert not run.worth_a_local_cluster(engine)  # 1 ms x 501 = 0.5 s of work left
+    assert not run.worth_a_local_cluster(engine)  # 0.001 x 501 = 0.5 left
 
 
 def test_measured_work_that_pays_starts_a_cluster(monkeypatch):

@@ -51,7 +51,7 @@ def refused(tmp_path, text: str) -> SkeletonError:
     ("network: {delay: -1}\n", "network.delay", "expected a delay >= 0, got -1"),
     ("network: {delay: .inf}\n", "network.delay", "a finite number"),
     ("links:\n  - {from: 'W:a', to: 'R:a', protocol: ASYN/SYN, delay: -0.5}\n",
-     "links[0].delay", "expected a delay >= 0, got -1/2"),
+     "links[0].delay", "expected a delay >= 0, got -0.5"),  # echoed as written
     ("links:\n  - {from: 'W:a', to: 'R:a', protocol: ASYN/SYN, delay: x}\n",
      "links[0].delay", "got the text 'x'"),
     ("links:\n  - {from: 'W:a', to: 'R:a', protocol: ASYN/SYN, delay: 1/0}\n",
