@@ -22,6 +22,13 @@ ceil(t/T_m)) / ceil(t/T_m)``, and the part iff ``C_m`` is at most the minimum
 of those over the tasks i at most as urgent as m: again a closed interval
 from 0, the others' durations fixed.
 
+Along any line of the durations (each ``C_j = c_j + k_j t`` with ``k_j >= 0``:
+all times one factor, one alone, or any mix), ``W_i(s) = a_s + b_s t`` at each
+scheduling point, so unit i meets every deadline exactly for the t with
+``t <= max_{s in S_i, b_s > 0} (s - a_s) / b_s`` (every t when some point has
+``b_s = 0`` and ``a_s <= s``): :func:`level_limits`, for the units of
+:mod:`.levels` as well as for single tasks.
+
 §4b's overrun is the classical deadline miss here: while no job is late, each
 job is released at its tick and the schedule is the classical one; the first
 job still running at its next tick is the first deadline miss (an activation
@@ -41,7 +48,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
-__all__ = ["MAX_POINTS", "ScalingLimit", "critical_scaling_factor", "duration_margin"]
+__all__ = ["MAX_POINTS", "LineLimit", "ScalingLimit", "critical_scaling_factor",
+           "duration_margin", "level_limits"]
 
 MAX_POINTS = 1_000_000
 """Scheduling points examined in all before giving up (None is returned)."""
@@ -168,3 +176,65 @@ def duration_margin(tasks: Sequence[tuple[Fraction, Fraction]], m: int, *,
         if top is not None and (best is None or top < best):
             best, who = top, i
     return ScalingLimit(best, who)
+
+
+@dataclass(frozen=True)
+class LineLimit:
+    """Where one unit meets every deadline along a line of the durations: the t <= ``high``."""
+
+    high: Fraction | None
+    """None: every t (``never`` False) or no t (``never`` True)."""
+    never: bool = False
+
+
+def level_limits(units: Sequence[tuple[Fraction, Fraction, Fraction]], *,
+                 max_points: int = MAX_POINTS) -> list[LineLimit] | None:
+    """For each unit along a line, the t where it meets every deadline (exact test).
+
+    Parameters
+    ----------
+    units : sequence of (c, k, period)
+        Most urgent first; the unit's work on the line is ``c + k·t``, ``k >= 0``.
+    max_points : int
+        Budget of scheduling points; None is returned past it.
+
+    Returns
+    -------
+    list of LineLimit or None
+        Unit i meets every deadline, its work and that of the more urgent units
+        released together at 0 (Lehoczky, Sha and Ding's test, module docstring),
+        exactly for the t of its limit.
+
+    Examples
+    --------
+    Liu and Layland's pair again, the second duration ``t`` (``duration_margin``):
+    the first meets its deadline for every t, the second for ``t <= 3``; all
+    durations times t (``critical_scaling_factor``): ``t <= 5/4`` for the second.
+
+    >>> F = Fraction
+    >>> [x.high for x in level_limits([(F(2), F(0), F(5)), (F(0), F(1), F(7))])]
+    [None, Fraction(3, 1)]
+    >>> [x.high for x in level_limits([(F(0), F(2), F(5)), (F(0), F(2), F(7))])]
+    [Fraction(5, 2), Fraction(5, 4)]
+    """
+    periods = [p for _, _, p in units]
+    budget = [max_points]
+    out = []
+    for i in range(len(units)):
+        points = _points(periods, i, budget)
+        if points is None:
+            return None
+        high: Fraction | None = None
+        every = False
+        for s in points:
+            a = sum((c * _ceil(s, p) for c, _, p in units[:i + 1]), Fraction(0))
+            b = sum((k * _ceil(s, p) for _, k, p in units[:i + 1]), Fraction(0))
+            if b == 0:
+                if a <= s:
+                    every = True
+                    break
+                continue
+            x = (s - a) / b
+            high = x if high is None or x > high else high
+        out.append(LineLimit(None) if every else LineLimit(high, never=high is None))
+    return out
