@@ -44,6 +44,7 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
@@ -217,24 +218,35 @@ def level_limits(units: Sequence[tuple[Fraction, Fraction, Fraction]], *,
     >>> [x.high for x in level_limits([(F(0), F(2), F(5)), (F(0), F(2), F(7))])]
     [Fraction(5, 2), Fraction(5, 4)]
     """
-    periods = [p for _, _, p in units]
-    budget = [max_points]
+    # On integers: every time times the lcm D of the denominators (a ceiling
+    # ceil(s/T) and the ratio (s - a)/b do not change), each ratio kept as a pair.
+    scale = math.lcm(*(x.denominator for unit in units for x in unit)) if units else 1
+    c = [int(x * scale) for x, _, _ in units]
+    k = [int(x * scale) for _, x, _ in units]
+    periods = [int(p * scale) for _, _, p in units]
+    left = max_points
     out = []
     for i in range(len(units)):
-        points = _points(periods, i, budget)
-        if points is None:
-            return None
-        high: Fraction | None = None
+        points = {periods[i]}
+        for j in range(i + 1):
+            n = periods[i] // periods[j]
+            left -= n
+            if left < 0:
+                return None
+            points.update(range(periods[j], n * periods[j] + 1, periods[j]))
+        best: tuple[int, int] | None = None  # (numerator, denominator > 0)
         every = False
-        for s in points:
-            a = sum((c * _ceil(s, p) for c, _, p in units[:i + 1]), Fraction(0))
-            b = sum((k * _ceil(s, p) for _, k, p in units[:i + 1]), Fraction(0))
+        for point in points:
+            ceils = [-(-point // periods[j]) for j in range(i + 1)]
+            a = sum(cj * n for cj, n in zip(c, ceils))
+            b = sum(kj * n for kj, n in zip(k, ceils))
             if b == 0:
-                if a <= s:
+                if a <= point:
                     every = True
                     break
                 continue
-            x = (s - a) / b
-            high = x if high is None or x > high else high
-        out.append(LineLimit(None) if every else LineLimit(high, never=high is None))
+            if best is None or (point - a) * best[1] > best[0] * b:
+                best = (point - a, b)
+        out.append(LineLimit(None) if every else
+                   LineLimit(None if best is None else Fraction(*best), never=best is None))
     return out

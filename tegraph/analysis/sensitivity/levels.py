@@ -88,6 +88,8 @@ class LevelLine:
     # ------------------------------------------------------------- one point
     def verdict(self, t: Fraction) -> tuple[bool | None, tuple | None]:
         """The part's verdict at t (see :mod:`~tegraph.analysis.processors.levels`)."""
+        if any(c + k * t < 0 for c, k in self.duration.values()):
+            return False, ("per-task", None)  # outside every range (a negative duration)
         running: str | None = None  # a background task above, with work: it always has a job
         load = Fraction(0)  # utilization of the units above
         for level in self.levels:

@@ -112,6 +112,8 @@ def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int
     else:
         _nearest(answer, combined, first, max_steps)
     answer.used = on.used
+    if answer.why:
+        answer.why += on.why_simulated(parts, base, direction)
     answer.why = list(dict.fromkeys(answer.why))
     return answer
 
@@ -357,7 +359,11 @@ def _scaling_not_searched(ctx: Any, on: ProcessorLine, pt: Scaling, s: Scaling) 
         if ctx.unschedulable is not None and ctx.unschedulable.why and \
                 ctx.unschedulable.why[0] in ("overrun", "grows", "starved"):
             s.limits = [limit_on(ctx.unschedulable)]
-        return not_searched(ctx.schedulable, ctx.unschedulable, "the skeleton")
+        why = not_searched(ctx.schedulable, ctx.unschedulable, "the skeleton")
+        if ctx.schedulable is None:
+            why = "; ".join([why, *on.why_simulated(
+                [i for i, o in enumerate(on.nominal_outcomes) if o.verdict is None])])
+        return why
     if on.spend.run_left <= 0:
         return "undecided: " + on.spend.cap()[1] + "; nothing searched"
     return None
@@ -407,7 +413,7 @@ def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
     bad = ([o for o in mine if o.verdict is False] + [o for o in mine if o.verdict is None])
     why = None
     if bad and bad[0].verdict is None:
-        why = not_searched(None, bad[0], "its part")
+        why = "; ".join([not_searched(None, bad[0], "its part"), *on.why_simulated(parts)])
     elif not pt.nominal_consistent or bad:
         if ctx.named or all(on.has_levels(i, {j: Fraction(1)}) for i in parts):
             if on.spend.run_left <= 0:
@@ -464,7 +470,8 @@ def _swept(ctx: Any, on: ProcessorLine, m: Margin, j: int, verify: bool,
     m.intervals_open = [(lo_open, hi_open) for _, lo_open, _, hi_open in found.intervals]
     m.exact = found.exact
     answer = LineAnswer(False, steps=found.steps, used=on.used,
-                        why=[found.why] if found.why else [])
+                        why=[found.why, *on.why_simulated(parts, {j: Fraction(0)}, direction)]
+                        if found.why else [])
     m.why_undecided = answer.why
     m.method = method_text(answer) + "; the nominal value is " + (
         "not consistent with a processor per task" if nominal is None

@@ -123,6 +123,9 @@ class _Part:
     """Every task of the part, in file order."""
     levels: Levels | str = "not computed"
     """Its levels (:mod:`.processors.levels`), or why it has none."""
+    open_units: list[str] = dataclasses.field(default_factory=list)
+    """Why its levels left points of a line undecided (a unit without closing task
+    missing its deadline), in words."""
     too_long: str | None = None
 
 
@@ -255,6 +258,9 @@ class ProcessorLine:
                 if out.verdict is not None:
                     self.used.add(THEOREM)
                     return out
+                why = str(out.why[1]) if out.why else "undecided"
+                if why not in part.open_units:
+                    part.open_units.append(why)
         unscheduled = self._unscheduled(part, direction)
         if unscheduled is not None:
             return Outcome(None, cut, ("undecided", unscheduled))
@@ -270,6 +276,27 @@ class ProcessorLine:
             data = self._moved_data(part_index, base, direction, cut)
         data = self._parametric(data, part, base, direction, cut)
         return self._verdict(self._simulate(data), data, part, cut)
+
+    def why_simulated(self, parts: Sequence[int], base: dict[int, Fraction] | None = None,
+                      direction: dict[int, Fraction] | None = None) -> list[str]:
+        """Why these parts were simulated rather than decided by their levels along the
+        line (at the nominal values without one), in words, for a figure that stays a
+        bound."""
+        out = []
+        for i in parts:
+            part = self.parts[i]
+            if direction is None:
+                reason = part.levels if isinstance(part.levels, str) else None
+            else:
+                reason = self.level_reason(i, base or {}, direction)
+            if reason is None and self.parts[i].open_units:
+                reason = "; ".join(self.parts[i].open_units)
+            if reason is not None:
+                who = ", ".join(part.tasks[:3]) + (" ..." if len(part.tasks) > 3 else "")
+                out.append(f"the part of {who} is not decided by the exact test of "
+                           f"periodic units (one per group and priority): {reason}; its "
+                           "schedule is simulated instead")
+        return out
 
     def has_levels(self, part_index: int, direction: dict[int, Fraction]) -> bool:
         """Whether the part is decided by its levels along lines in ``direction`` (from 0)."""
