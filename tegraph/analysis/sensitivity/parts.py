@@ -170,7 +170,6 @@ class ProcessorLine:
         members: dict[int, list[str]] = {}
         for t, lab in zip(self.net.tasks, label):
             members.setdefault(lab, []).append(t)
-        simulated: dict[int, int] = {}
         for data, names, events, places in self.net.parts():
             hyper, ticks = _hyperperiod(sk, names)
             lab = label[index[names[0]]] if names else -1
@@ -179,7 +178,6 @@ class ProcessorLine:
                 part.too_long = (f"the hyperperiod of the part of {', '.join(names[:3])}"
                                  f"{' ...' if len(names) > 3 else ''} is {hyper} {sk.unit} "
                                  f"({ticks:,} clock ticks), more than `max_events` firings")
-            simulated[lab] = len(self.parts)
             self.parts.append(part)
         for tasks in members.values():  # parts whose events are all at time 0
             self.parts.append(_Part(None, [], [], [], tasks))
