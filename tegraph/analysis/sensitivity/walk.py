@@ -34,8 +34,8 @@ class Outcome:
     verdict: bool | None
     cut: Cut
     why: tuple | None = None
-    """False: ("overrun", task, k), ("grows", place name), ("starved", task),
-    ("per-task", None); None: ("undecided", reason)."""
+    """False: ("overrun", task, k), ("grows", place name), ("starved", task[, why in
+    words]), ("per-task", None); None: ("undecided", reason)."""
 
 
 @dataclass

@@ -81,6 +81,9 @@ def test_quadrotor_scaling_factor_is_a_supremum_not_attained():
     assert s.intervals == [(0, F(25, 16))]
     assert s.limits[0].task == "logger" and "starved" in s.limits[0].detail
     assert "at the end itself" in s.limits[0].detail
+    # Why, in words: 1/4 + 1/5 + 1/10 + 9/100 = 0.64, times 25/16 is exactly 1.
+    assert s.limits[0].detail.endswith("the units above it use the whole processor "
+                                       "(their utilization is 1)")
     assert "Lehoczky" in s.method and "affine" not in s.method
     assert all(c.agrees for c in r.checks) and r.checks
     # The exact schedule, another algorithm: the logger starved at 25/16, every task
@@ -150,6 +153,8 @@ def test_a_duration_whose_growth_starves_its_task_has_no_unbounded_margin():
     m = r.margins["T2.duration"]
     assert m.exact and (m.low, m.high) == (0, 0) and m.high_attained
     assert m.limits_high[0].task == "T2" and "starved" in m.limits_high[0].detail
+    assert m.limits_high[0].detail.endswith("T0, more urgent and without clock, always "
+                                            "has a job")
     assert r.margins["T0.duration"].high is None
     assert all(c.agrees for c in r.checks)
     starved = schedule_on_processors(with_durations(sk, T2=F(1, 1000)),
