@@ -188,6 +188,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     started = time.perf_counter()
     params = parse_vary(skeleton, vary)
     context, result = _nominal(skeleton, params, started)
+    context.named = vary is not None
     has_durations = any(p.kind == "duration" for p in params)
     figures = _Figures(int(has_durations) + (len(params) if margins else 0), progress)
     on = _processors_part(context, result, max_events, figures) if processors else None
@@ -315,6 +316,9 @@ class _Context:
         self.groups, self.fine, self.at_nominal = groups, fine, at_nominal
         self.rounds = self.points = self.analyses = 0
         self.max_events = MAX_EVENTS
+        self.named = False
+        """The parameters were named (``vary``): on processors, their lines are searched
+        where the nominal values are not schedulable."""
         self.schedulable: bool | None = None
         self.unschedulable: Outcome | None = None
         """On processors: the outcome why the nominal values are not schedulable."""
@@ -709,8 +713,10 @@ def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> di
             "affine function of the line's parameter, so each run decides a whole interval "
             "of constant schedule order; the intervals are walked from the nominal value to "
             "the first that is not schedulable (each end decided at it and just beyond); "
-            "parts of independent periodic tasks on one processor by the critical scaling "
-            "factor of Lehoczky, Sha and Ding (1989), exact; a processor asked for more than "
+            "a part whose groups are each one periodic unit of its summed work at its own "
+            "priority on one processor (or a background task without clock) level by level "
+            "from the most urgent down by the exact test of Lehoczky, Sha and Ding (1989), "
+            "the schedule simulated only where it does not decide; a processor asked for more than "
             "all its time is proven not schedulable; each line simulates only the parts it "
             "moves (the others' events do not depend on it: their nominal verdict, decided "
             "once); nothing is searched where the nominal values are not schedulable or "

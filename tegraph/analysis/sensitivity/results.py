@@ -114,6 +114,10 @@ class Scaling:
     the factor: ``docs/sensitivity.md``)."""
     breakpoints: int = 0
     """On processors: intervals of constant schedule order visited."""
+    attained: bool = True
+    """On processors: False when ``factor`` is a supremum that is not attained: every
+    factor below it is schedulable, ``factor`` itself is not (the interval holding 1 is
+    open there; ``limits`` says what happens at it)."""
     why_undecided: list[str] = field(default_factory=list)
     method: str = "with a processor per task: exact line search ((max,+) certificates)"
     """How the figure was decided (on processors: the theorem, the walk, or undecided)."""
@@ -139,6 +143,7 @@ class Scaling:
         }
         if self.semantics == PROCESSORS:
             out["not_searched"] = self.not_searched
+            out["attained"] = self.attained
         if self.per_task is not None:
             out["per_task"] = {"factor": exact_text(self.per_task.factor),
                                "intervals": _intervals(self.per_task.intervals),
@@ -168,7 +173,15 @@ class Margin:
     checks: list[Check] = field(default_factory=list)
     semantics: str = PER_TASK
     """As :attr:`Scaling.semantics`; on processors ``intervals`` holds the interval
-    around the nominal value only (the others are not searched)."""
+    around the nominal value only (the others are not searched), or, when the nominal
+    value is not schedulable, every schedulable interval found along the range."""
+    low_attained: bool = True
+    high_attained: bool = True
+    """On processors: False when that end of the interval around the nominal value is
+    a bound, not a value of it (schedulable up to the end, not at it)."""
+    intervals_open: list[tuple[bool, bool]] | None = None
+    """On processors: for each of ``intervals``, whether its low and high ends are
+    excluded (None: every interval closed)."""
     exact: bool = True
     bounds: tuple[Fraction | None, Fraction | None] | None = None
     """When not exact: (low end at most, high end at least) proven; the ends lie
@@ -188,6 +201,10 @@ class Margin:
                     "why_undecided": self.why_undecided, "method": self.method})
         if self.semantics == PROCESSORS:
             out["not_searched"] = self.not_searched
+            out["low_attained"] = self.low_attained
+            out["high_attained"] = self.high_attained
+            out["intervals_open"] = [list(o) for o in self.intervals_open or
+                                     [(False, False)] * len(self.intervals)]
         if self.per_task is not None:
             pt = self.per_task
             out["per_task"] = {"low": exact_text(pt.low) if pt.nominal_consistent else None,
