@@ -14,6 +14,7 @@ A part has **levels** (:func:`processor_levels`) when
 - all its tasks run on one processor, which preempts (§4b);
 - the tasks of each group share one priority, and no two groups share one;
 - each group is either
+
   - a **unit**: one clock, of phase 0, and every event of the group waits,
     through places without token, for a tick of that clock (nothing of it runs
     ahead of its clock); its unit has the clock's period and the sum of the

@@ -30,7 +30,7 @@ all times one factor, one alone, or any mix), ``W_i(s) = a_s + b_s t`` at each
 scheduling point, so unit i meets every deadline exactly for the t with
 ``t <= max_{s in S_i, b_s > 0} (s - a_s) / b_s`` (every t when some point has
 ``b_s = 0`` and ``a_s <= s``): :func:`level_limits`, for the units of
-:mod:`.levels` as well as for single tasks.
+:mod:`tegraph.analysis.processors.levels` as well as for single tasks.
 
 §4b's overrun is the classical deadline miss here: while no job is late, each
 job is released at its tick and the schedule is the classical one; the first

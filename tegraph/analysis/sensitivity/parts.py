@@ -8,8 +8,8 @@ where the same verdict holds:
 
 - a part with levels (each group one periodic unit of its summed work at a
   priority of its own on one processor, or a background task without clock:
-  :mod:`.processors.levels`) by Lehoczky, Sha and Ding's exact test, level by
-  level from the most urgent down (:mod:`.levels`): the piece of the line of
+  :mod:`tegraph.analysis.processors.levels`) by Lehoczky, Sha and Ding's exact test, level by
+  level from the most urgent down (:mod:`tegraph.analysis.sensitivity.levels`): the piece of the line of
   the same verdict;
 - any other part, or a point the theorem does not decide, by the engine
   itself, run on affine times (:mod:`.affine`): the interval of constant
@@ -126,7 +126,7 @@ class _Part:
     tasks: list[str]
     """Every task of the part, in file order."""
     levels: Levels | str = "not computed"
-    """Its levels (:mod:`.processors.levels`), or why it has none."""
+    """Its levels (:mod:`tegraph.analysis.processors.levels`), or why it has none."""
     open_units: list[str] = dataclasses.field(default_factory=list)
     """Why its levels left points of a line undecided (a unit without closing task
     missing its deadline), in words."""
@@ -226,7 +226,7 @@ class ProcessorLine:
         return [t for t in self.net.tasks if t in mine]
 
     def _levels(self) -> None:
-        """Each part's levels (:mod:`.processors.levels`), or why it has none."""
+        """Each part's levels (:mod:`tegraph.analysis.processors.levels`), or why it has none."""
         group_of = self.net.group_of
         shapes = []
         for part in self.parts:
