@@ -12,6 +12,8 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
+from maxplus.scalar import exact_text
+
 from ...errors import InputError
 from ...model.skeleton import Clock, Link, Protocol, Skeleton
 
@@ -32,16 +34,21 @@ class Change:
     add_clock : tuple of str
         Tasks that get a clock of their own; its period is the designer's choice
         (the check assumes one equal to no other period of the skeleton).
+    period : Fraction or None
+        The period proposed for the clocks ``add_clock`` adds (None: none proposed;
+        :func:`apply_change` then needs one).
     """
 
     protocols: tuple[tuple[str, str, str], ...] = ()
     drop_clock: tuple[str, ...] = ()
     add_clock: tuple[str, ...] = ()
+    period: Fraction | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for the JSON report."""
         return {"protocols": [{"from": w, "to": r, "protocol": p} for w, r, p in self.protocols],
-                "drop_clock": list(self.drop_clock), "add_clock": list(self.add_clock)}
+                "drop_clock": list(self.drop_clock), "add_clock": list(self.add_clock),
+                "period": None if self.period is None else exact_text(self.period)}
 
 
 @dataclass(frozen=True)
@@ -92,7 +99,8 @@ def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | No
     change : Change
     period : Fraction, optional
         Period of each clock that ``change.add_clock`` adds (a private clock
-        ``T.clock``, phase 0); needed only when it adds one.
+        ``T.clock``, phase 0); needed only when it adds one; default
+        ``change.period``.
 
     Returns
     -------
@@ -127,6 +135,8 @@ def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | No
             raise InputError(f"no task {name!r} in the skeleton", "change")
     for name in change.drop_clock:
         tasks[name] = dataclasses.replace(tasks[name], clock=None)
+    if period is None:
+        period = change.period
     if change.add_clock and period is None:
         raise InputError("a clock is added: give its period", "period")
     for name in change.add_clock:

@@ -48,12 +48,10 @@ def applied(data: dict, change: dict) -> dict:
     for t in change["drop_clock"]:
         for key in ("clock", "period", "phase"):
             data["tasks"][t].pop(key, None)
-    # A clock of its own, of a period no clock has: the designer's choice must not
-    # happen to equal a linked group's (Rule 2 would then speak).
-    periods = [F(str(c["period"])) for c in data.get("clocks", {}).values()]
-    periods += [F(str(t["period"])) for t in data["tasks"].values() if "period" in t]
-    for i, t in enumerate(change["add_clock"]):
-        data["tasks"][t]["period"] = str(max(periods, default=F(0)) + 1 + i)
+    # A clock of its own, of the period the advice proposes (taken from the skeleton's
+    # own periods; it must not equal a linked group's, or Rule 2 would then speak).
+    for t in change["add_clock"]:
+        data["tasks"][t]["period"] = change["period"]
     return data
 
 
