@@ -173,3 +173,27 @@ def test_every_command_names_the_earliest_problem_first():
     assert "B overruns first" in timeline[-1]
     no_processors = render_text(tegraph.analyze(sk, processors=False)).splitlines()[-1]
     assert "B overruns at activation 2 (2 ms), A overruns" in no_processors
+
+
+def test_the_timeline_names_a_starved_job_before_a_later_overrun():
+    # A holds the processor all the time (2 ms every 2 ms, the more urgent): B's job,
+    # released at 0, never runs (starved at 0 ms); B's tick 2 comes at 4 ms with it
+    # unfinished (an overrun at 4 ms); C reads B's message ASYN/SYN: no job at all.
+    # Earliest first, as analyze says it: the starved job, then the overrun.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 2},
+                                       "B": {"duration": 1, "period": 4, "outputs": ["y"]},
+                                       "C": {"duration": 1, "inputs": ["y"]}},
+                             "links": [{"from": "B:y", "to": "C:y", "protocol": "ASYN/SYN"}]})
+    report = tegraph.analyze(sk)
+    assert [(p.kind, p.task, p.at) for p in report.schedule.problems] == [
+        ("starved", "B", 0), ("overrun", "B", 4)]
+    lines = render_text(simulate_timeline(sk)).splitlines()
+    named = [line.split(":")[0] for line in lines if line.startswith(("STARVED", "OVERRUN"))]
+    assert named == ["STARVED", "OVERRUN"]
+    assert ("STOPPED: C never runs again from the start (no job at all): it waits for B, "
+            "starved") in lines
+    assert lines[-1] == ("verdict: NOT schedulable on its processors: 1 starved task (B "
+                         "first, its job released at 0 ms); B overruns first, at activation "
+                         "2 (4 ms); 1 growing place (exit status 1)")
+    last = render_text(report).splitlines()[-1]
+    assert last.index("B starved") < last.index("B overruns")
