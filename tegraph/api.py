@@ -149,7 +149,7 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
 
 
 def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence[str]] = (),
-          processors: bool = True) -> DesignSection:
+          processors: bool = True, max_events: int = MAX_EVENTS) -> DesignSection:
     """The design rules of ORCCAD §6, schedulability and chain latencies (``tegraph rules``).
 
     Parameters
@@ -160,13 +160,17 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
         Sensor-to-actuator chains whose latency to report, besides the
         skeleton's own ``chains``.
     processors : bool
-        The advice also says what each change does to the skeleton on its
-        processors (spec §4b); False: every task on a processor of its own.
+        Decide the skeleton on its processors (spec §4b), as :func:`analyze` does:
+        the verdict, and what each advised change does there; False: every task on
+        a processor of its own (the verdict of spec §4).
+    max_events : int
+        Budget of event firings of the schedule on processors, as for :func:`analyze`.
 
     Returns
     -------
     DesignSection
-        Its ``exit_status`` is the command's; :func:`tegraph.report.to_json`
+        Its ``schedulable`` is :func:`analyze`'s verdict and its ``exit_status`` the
+        command's (that verdict, and the rules); :func:`tegraph.report.to_json`
         gives its JSON document, :func:`tegraph.report.render_text` its text.
 
     Raises
@@ -192,7 +196,10 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
     ([(4, 'info')], 0)
     """
     skeleton = _skeleton(skeleton)
-    return design_section(skeleton, analyze_skeleton(skeleton), chains, processors=processors)
+    # The semiflow cross-check of liveness is not reported by the rules: skipped.
+    report = analyze_skeleton(skeleton, semiflow_max_places=0, processors=processors,
+                              max_events=max_events)
+    return design_section(skeleton, report, chains, processors=processors)
 
 
 def compiled_kernels() -> dict[str, bool]:

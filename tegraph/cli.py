@@ -537,12 +537,16 @@ def rules(
     chain: Annotated[list[str] | None, _chain("Report the latency of")] = None,
     json_out: JsonFlag = False,
     processors: Processors = True,
+    max_events: Annotated[int, _max_events(
+        "the exact schedule on processors (docs/skeleton.md §4b), as for analyze",
+        "the verdict is undecided (exit status 1) and the report says why")] = MAX_EVENTS,
 ) -> None:
     """Design rules of ORCCAD section 6, threads, schedulability and chain latencies.
 
-    Exit status: 0 the rules are followed (info findings aside) and every
-    processor is schedulable; 1 otherwise; 2 the input was refused; 130 interrupted
-    (Ctrl-C).
+    The verdict is analyze's (spec §4b: the exact schedule on processors); the
+    response-time test is a cross-check beside it. Exit status: 0 the rules are
+    followed (info findings aside) and analyze's exit status is 0 (live, consistent,
+    schedulable); 1 otherwise; 2 the input was refused; 130 interrupted (Ctrl-C).
     """
     from .api import rules as check_design
     from .design.latency import parse_chain
@@ -552,7 +556,8 @@ def rules(
     with _refusals(file):
         skeleton = load_skeleton(file)
         chains = [parse_chain(c) for c in chain or []]
-        section = check_design(skeleton, chains=chains, processors=processors)
+        section = check_design(skeleton, chains=chains, processors=processors,
+                               max_events=max_events)
     typer.echo(to_json(section) if json_out else _cli_words(render_text(section)), nl=json_out)
     raise typer.Exit(section.exit_status)
 

@@ -670,6 +670,10 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
             groups[index].transient = (found.transient, found.cyclicity)
     for name, watch in zip(watched, watches):
         tasks[name].overrun_at = watch.overrun_at
+        if watch.overrun_at is not None:
+            # Type: a watched task has a clock (the loop above skips the others).
+            ticks = g.sk.clocks[g.sk.tasks[name].clock]  # type: ignore[index]
+            tasks[name].overrun_tick = ticks.phase + (watch.overrun_at - 1) * ticks.period
         tasks[name].overrun_decided = watch.decided
         if watch.method == "max-plus powers":
             notes.append(f"overrun of {name} located exactly by (max,+) matrix powers, not "

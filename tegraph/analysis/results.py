@@ -71,6 +71,9 @@ class TaskReport:
     ``"not computed"`` (``tegraph.analyze`` above its ``margins_max_tasks``)."""
     duration: Fraction = Fraction(0)
     """Its duration (the skeleton's), which a job needs of its processor."""
+    overrun_tick: Fraction | None = None
+    """The instant of the overrun: its clock's tick ``overrun_at`` (``phase + (k - 1) *
+    period``), by which the problems are listed, earliest first."""
 
     @property
     def overrun(self) -> str:
@@ -160,6 +163,8 @@ class DesignPart(Protocol):
     rules: list[Any]
     schedulability: Any
     latency: list[Any]
+    cross_check: Any
+    """Where the response-time test agrees with the exact schedule."""
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for the JSON report."""
@@ -257,14 +262,21 @@ class Report:
         if self.schedule is not None:
             f = self.schedule.tasks[task]
             return {"period": exact_text(f.period), "overrun_at": f.overrun_at,
-                    "response": exact_text(f.response), "starved": f.starved,
-                    "decided": f.decided}
+                    "response": exact_text(f.response),
+                    "response_from_tick": exact_text(f.response_from_tick),
+                    "starved": f.starved, "stopped_after": f.stopped_after,
+                    "waits_for": list(f.waits_for), "decided": f.decided}
         t = self.tasks[task]  # a processor of its own: a job runs from its release
+        # The time from the tick needs the daters of the regime, which the figures of
+        # spec §4 do not keep: not computed here (null), the schedule on processors has it.
         return {"period": exact_text(t.period), "overrun_at": t.overrun_at,
                 "response": None if t.period is None else exact_text(t.duration),
-                "starved": False, "decided": t.overrun_decided}
+                "response_from_tick": None, "starved": False, "stopped_after": None,
+                "waits_for": [], "decided": t.overrun_decided}
 
-    def _schedule_dict(self) -> dict[str, Any]:
+    def schedule_summary(self) -> dict[str, Any]:
+        """The JSON report's ``schedule``: whether the verdict is exact, how it was
+        obtained, why it is undecided, the places growing on processors."""
         if self.schedule is None:
             return {"exact": self.schedulable is not None,
                     "method": "every task on a processor of its own (processors=False): "
@@ -350,7 +362,7 @@ class Report:
             },
             "schedulable": self.schedulable,
             "processors": self._processors_list(),
-            "schedule": self._schedule_dict(),
+            "schedule": self.schedule_summary(),
             "methods": self.methods,
             "notes": self.notes,
             "design": None if self.design is None else self.design.to_dict(),

@@ -27,7 +27,13 @@ settle its test (see :func:`response_time_bounds`).
 A *unit* is what the scheduler sees: the tasks of one group on one processor
 with one priority and one rate (one unit per group and processor when Rule 4
 is followed). Units of equal priority are counted as interfering with each
-other (their order is unknown). Not modelled: release jitter across
+other (their order is unknown). A unit whose group has no clock is no
+periodic load: nothing paces it, so it runs whenever its processor lets it (in
+the idle time, at the lowest priority under the rate-monotonic proposal). It is
+charged to no other unit's response time and to no sum of the paper's
+condition; it gets processor time when the periodic units at its priority and
+above leave some (their utilization is below 1) and no free-running unit is
+more urgent, and a unit below it gets none. Not modelled: release jitter across
 processors, blocking on shared resources, context-switch costs.
 
 The recurrence has no blocking term: it holds under preemption only. On a
@@ -36,6 +42,11 @@ running delays a more urgent one, which it does not count, so there it is not
 applied (:data:`NOT_PREEMPTIVE`): its units are left undecided, never judged by it.
 The priorities are the platform's (:func:`tegraph.model.platform.platform_of`,
 ``report.platform``): the ones the exact schedule runs.
+
+These tests are a cross-check of the exact schedule on processors (spec §4b,
+:func:`~tegraph.analysis.processors.schedule_on_processors`), which decides
+the verdict of every command; :mod:`tegraph.design.cross_check` says where
+they agree.
 
 References
 ----------
@@ -330,6 +341,9 @@ class UnitVerdict:
     """Proven ``(lower, upper)`` of the response time when the recurrence's budget
     ran out before its fixed point (None otherwise); ``schedulable`` is then
     decided by them (``lower > period``: no; ``upper <= period``: yes) or None."""
+    free_running: bool = False
+    """Its group has no clock: no period, no periodic load; ``schedulable`` says
+    whether it gets processor time at all."""
 
     @property
     def undecided(self) -> bool:
@@ -344,7 +358,7 @@ class UnitVerdict:
                 "cost": exact_text(self.cost), "response_time": exact_text(self.response_time),
                 "response_time_bounds": bounds,
                 "schedulable": self.schedulable, "margin": exact_text(self.margin),
-                "test": self.test, "note": self.note}
+                "free_running": self.free_running, "test": self.test, "note": self.note}
 
 
 @dataclass
@@ -581,16 +595,19 @@ def schedulability(skeleton: Skeleton, report: Report | None = None, *,
         for (processor, priority, rate), tasks in parts.items():
             cost = sum((skeleton.tasks[t].duration for t in tasks), Fraction(0))
             note = ""
+            free = g.live and not g.clocks
             if not g.live:
                 note = "deadlock: the group never runs its period (see the liveness report)"
-            elif not g.clocks:
-                note = "no clock: its period is its own cycle time (Rule 3)"
-            if any(is_automaton(t) for t in tasks):
+            elif free:
+                note = "no clock (Rule 3): free-running, not a periodic load"
+            if any(is_automaton(t) for t in tasks) and not free:
                 note = "the automaton, taken as periodic at the rate of its messages"
             units[processor].append(UnitVerdict(processor=processor, group=g.index,
-                                                tasks=tasks, priority=priority, period=rate,
+                                                tasks=tasks, priority=priority,
+                                                period=None if free else rate,
                                                 cost=Fraction(cost), response_time=None,
-                                                schedulable=None, margin=None, note=note))
+                                                schedulable=None, margin=None, note=note,
+                                                free_running=free))
     processors = [_processor(p, source[p], us, skeleton.unit, budget,
                              preemptive=platform.preemptive(p))
                   for p, us in units.items()]
@@ -599,7 +616,11 @@ def schedulability(skeleton: Skeleton, report: Report | None = None, *,
 
 def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
                budget: int | None = None, *, preemptive: bool = True) -> ProcessorVerdict:
-    active = [u for u in units if u.period]  # dead groups and zero periods are left out
+    # Dead groups, zero periods and free-running units are left out of the periodic load.
+    active = [u for u in units if u.period and not u.free_running]
+    # Free-running work (no clock, some duration) takes every instant it is the most
+    # urgent: a unit below it gets no time at all.
+    hogs = [u for u in units if u.free_running and u.cost > 0]
     # Load of each priority level and of everything above it, so that a unit left no
     # time is settled without the recurrence (many groups on one processor stay cheap).
     level: dict[int, Fraction] = {}
@@ -614,6 +635,10 @@ def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
         above[prio] = running
         running += level[prio]
     for u in units:
+        above_hog = next((v for v in hogs if v.priority > u.priority), None)
+        if u.free_running:
+            _free_running(u, above_hog, level)
+            continue
         if not u.period:
             if not u.note:
                 u.note = "no time passes in its period: not analyzed"
@@ -621,6 +646,15 @@ def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
         if not preemptive:  # the recurrence's hypothesis: it does not apply here
             _add_note(u, NOT_PREEMPTIVE)
             continue
+        if above_hog is not None and u.cost > 0:
+            u.schedulable = False
+            _add_note(u, f"the free-running {', '.join(above_hog.tasks)} (priority "
+                         f"{above_hog.priority}) leaves it no time")
+            continue
+        tied_hog = next((v for v in hogs if v.priority == u.priority), None)
+        if tied_hog is not None:
+            _add_note(u, f"shares priority {u.priority} with the free-running "
+                         f"{', '.join(tied_hog.tasks)}, whose work the test does not count")
         load = above[u.priority] + level[u.priority] - u.cost / u.period
         if load >= 1 and u.cost > 0:
             result = ResponseTime("no time", None, None, None, 0)
@@ -640,6 +674,36 @@ def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
     T = hyperperiod(u.period for u in active)  # type: ignore[misc]
     demand = sum((u.cost * (T / u.period) for u in active), Fraction(0))  # type: ignore[operator]
     return ProcessorVerdict(name, source, T, demand, demand <= T, T - demand, units, preemptive)
+
+
+def _free_running(u: UnitVerdict, above_hog: UnitVerdict | None,
+                  level: dict[int, Fraction]) -> None:
+    """A unit without a clock: whether its processor leaves it any time.
+
+    The periodic units at its priority and above use ``U`` of the processor in the
+    long run; it gets the rest, ``1 - U``, when that is positive and no free-running
+    unit is more urgent (that one is never idle). Its period is what the schedule
+    gives it: the exact schedule's figure, not this test's.
+    """
+    if u.cost == 0:
+        u.schedulable = True
+        _add_note(u, "duration 0: it needs no processor time")
+        return
+    if above_hog is not None:
+        u.schedulable = False
+        _add_note(u, f"the free-running {', '.join(above_hog.tasks)} (priority "
+                     f"{above_hog.priority}) leaves it no time")
+        return
+    # The periodic load at its priority and above.
+    load = sum((x for p, x in level.items() if p >= u.priority), Fraction(0))
+    if load >= 1:
+        u.schedulable = False
+        _add_note(u, f"the periodic units at its priority and above use "
+                     f"{display_text(load)} of the processor: none is left for it")
+    else:
+        u.schedulable = True
+        _add_note(u, f"gets the processor time the periodic units leave "
+                     f"({display_text(1 - load)} of it in the long run)")
 
 
 def _add_note(u: UnitVerdict, text: str) -> None:

@@ -84,7 +84,12 @@ def _analyze(result: Any) -> dict[str, Any]:
 
 
 def _rules(result: Any) -> dict[str, Any]:
-    return json_report("rules", {"name": result.name, "unit": result.unit, **result.to_dict()})
+    # The verdict is the analysis's (spec §4b), with how it was obtained, as in analyze's
+    # document; the design section's response-time test is its cross-check.
+    return json_report("rules", {"name": result.name, "unit": result.unit,
+                                 "schedulable": result.schedulable,
+                                 "schedule": result.analysis.schedule_summary(),
+                                 **result.to_dict()})
 
 
 def _cycle_time(result: Any) -> dict[str, Any]:

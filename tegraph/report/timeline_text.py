@@ -189,10 +189,15 @@ def _findings(tl: Timeline) -> list[str]:
         lines.append(f"STUCK: {st.task} waits at {st.event} for ever, from "
                      f"{display_text(st.since)} {u}")
     jobs = {(j.task, j.index): j for j in tl.jobs}
-    for t, k in tl.overrun_at.items():
-        if k is None:
+    # The one order of every command: earliest first, then file order.
+    for p in s.problems:
+        if p.kind == "starved":
+            since = "" if p.at is None else f" (released at {display_text(p.at)} {u})"
+            lines.append(f"STARVED: a job of {p.task}{since} never receives its duration on "
+                         f"processor {s.platform.processor_of[p.task]}")
             continue
-        at = tl.overrun_ticks[t]
+        t, k, at = p.task, p.k, tl.overrun_ticks[p.task]
+        assert k is not None  # an overrun has its activation
         job = jobs.get((t, k - 1))
         if job is None or job.finish is None:
             end = f"activation {k - 1} has not ended"
@@ -206,9 +211,13 @@ def _findings(tl: Timeline) -> list[str]:
                    f"{u}; a write still waits)")
         lines.append(f"OVERRUN: {t} overruns at activation {k}: its clock {tl.clocks[t]} ticks "
                      f"at {display_text(at)} {u} while {end}")
-    for t in s.starved:
-        lines.append(f"STARVED: a job of {t} never receives its duration on processor "
-                     f"{s.platform.processor_of[t]}")
+    for t in s.stopped:
+        f = s.tasks[t]
+        since = (f"after activation {f.stopped_after}" if f.stopped_after
+                 else "from the start (no job at all)")
+        why = (f"it waits for {', '.join(f.waits_for)}, starved" if f.waits_for
+               else "it waits for events that never fire again")
+        lines.append(f"STOPPED: {t} never runs again {since}: {why}")
     for g in s.unbounded:
         per = ("infinitely many at once" if g.per_regime is None
                else f"+{g.per_regime} per regime")
@@ -237,14 +246,23 @@ def _verdict(tl: Timeline) -> str:
     if tl.deadlocks:
         found.append(f"DEADLOCK ({count(len(tl.deadlocks), 'token-free circuit')}; "
                      f"{count(len(tl.dead_tasks), 'task')} in groups that are not live)")
-    first = sorted((x, t) for t, x in tl.overrun_ticks.items())
+    # The overruns and the starved tasks, the kind of the earliest problem first.
+    kinds = []
+    first = [p for p in s.problems if p.kind == "overrun"]  # earliest first, file order
     if first:
-        x, t = first[0]
-        found.append(f"{t} overruns first, at activation {tl.overrun_at[t]} "
-                     f"({display_text(x)} {u})" + (f", {len(first) - 1} more task(s) overrun"
-                                                    if len(first) > 1 else ""))
+        x, t = tl.overrun_ticks[first[0].task], first[0].task
+        kinds.append((s.problems.index(first[0]),
+                      f"{t} overruns first, at activation {tl.overrun_at[t]} "
+                      f"({display_text(x)} {u})" + (f", {len(first) - 1} more task(s) overrun"
+                                                     if len(first) > 1 else "")))
     if s.starved:
-        found.append(f"{count(len(s.starved), 'starved task')}")
+        starved = [i for i, p in enumerate(s.problems) if p.kind == "starved"]
+        text = count(len(s.starved), "starved task")
+        if starved and s.problems[starved[0]].at is not None:
+            p = s.problems[starved[0]]
+            text += f" ({p.task} first, its job released at {display_text(p.at)} {u})"
+        kinds.append((starved[0] if starved else len(s.problems), text))
+    found += [text for _, text in sorted(kinds, key=lambda x: x[0])]
     if s.unbounded:
         found.append(f"{count(len(s.unbounded), 'growing place')}")
     return f"verdict: NOT schedulable on its processors: {'; '.join(found)}{status}"

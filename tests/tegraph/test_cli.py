@@ -181,11 +181,24 @@ def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
     assert invoke("analyze", live_file, "--csv", out_dir).exit_code == 0
     rows = (out_dir / "tasks.csv").read_text().splitlines()
     assert rows[0] == ('task,group,period (ms),"period (ms, decimal)",overrun,'
-                       'overrun_at (activation),slack (ms),"slack (ms, decimal)",critical')
+                       'overrun_at (activation),slack (ms),"slack (ms, decimal)",critical,'
+                       'processor,priority,period on processors (ms),'
+                       '"period on processors (ms, decimal)",overrun on processors,'
+                       'overrun_at on processors (activation),response from release (ms),'
+                       '"response from release (ms, decimal)",response from tick (ms),'
+                       '"response from tick (ms, decimal)"')
     # A: clocked, slack 8 < its period, so it never overruns; B: no clock of its own,
     # period 10, slack 23/3 (derivation in test_live_and_consistent_exits_0...).
-    assert rows[1] == "A,0,10,10,never,,8,8,False"
-    assert rows[2] == "B,0,10,10,no clock,,23/3,7.66666666666667,False"
+    # On the one processor (one group: priority 1 both): A's job runs 0-2 from its
+    # tick, B's is released by its read at 2 and runs 2-13/3: responses 2 and 7/3
+    # from release, 2 from A's tick; B has no clock, so no time from a tick.
+    assert rows[1] == "A,0,10,10,never,,8,8,False,default,1,10,10,never,,2,2,2,2"
+    assert rows[2] == ("B,0,10,10,no clock,,23/3,7.66666666666667,False,default,1,10,10,"
+                       "no clock,,7/3,2.33333333333333,,")
+    verdict = (out_dir / "verdict.csv").read_text().splitlines()
+    assert verdict[0] == ("name,live,consistent,on processors,schedulable,exit status,"
+                          "method,why undecided")
+    assert verdict[1].startswith("pipeline,True,True,True,True,0,") and verdict[1].endswith(",")
     (out_dir / "tasks.csv").write_text("mine")
     again = invoke("analyze", live_file, "--csv", out_dir)
     assert again.exit_code == 2 and again.stderr == (
@@ -383,7 +396,7 @@ def test_budget_defaults_are_the_library_constants():
     assert default(cycle_time, "max_states") == expected["--max-states"]
     options = _options_by_flag()
     assert {flag: len(options[flag]) for flag in expected} == {
-        "--max-events": 4, "--max-states": 2, "--max-memory": 2, "--max-firings": 2,
+        "--max-events": 5, "--max-states": 2, "--max-memory": 2, "--max-firings": 2,
         "--max-size": 2, "--max-steps": 1, "--max-variants": 1}
     for flag, value in expected.items():
         for command, param in options[flag]:

@@ -59,10 +59,8 @@ from ...model.teg import TimedEventGraph
 from ._engine import AFTER_OVERRUN, PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
 
-__all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
-           "schedule_on_processors"]
-
-
+__all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "Problem",
+           "TaskOnProcessors", "schedule_on_processors"]
 
 
 @dataclass(frozen=True)
@@ -85,10 +83,42 @@ class TaskOnProcessors:
     period: Fraction | None = None
     overrun_at: int | None = None
     response: Fraction | None = None
+    """From release (its reads done) to the job's end: the largest over the regime."""
     starved: bool = False
     """Proven: a job of the task never receives its duration."""
     decided: bool = False
     """The figures are proven (a regime, or nothing more happens); False: budget."""
+    response_from_tick: Fraction | None = None
+    """From its clock's tick ``x_C.tick(k)`` to the end of job k: the largest over the
+    regime (v1.3); None without a clock, or where ticks pile up (it grows without bound)."""
+    starved_since: Fraction | None = None
+    """Starved: the release of its job that never ends."""
+    stopped_after: int | None = None
+    """Proven: no job is ever released after activation ``stopped_after`` (the number of
+    jobs it had), although none of its jobs is starved: it waits for events that never
+    fire again. None when it runs on (or is starved itself)."""
+    waits_for: tuple[str, ...] = ()
+    """A stopped task: the starved tasks whose jobs it waits for, through the places
+    of the graph (in file order)."""
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What makes a schedule not schedulable, at the instant it shows (§4b).
+
+    Every command lists these in one order, earliest first
+    (:attr:`ProcessorSchedule.problems`): an overrun at its clock's tick
+    ``x_C.tick(k)``, a starved task at the release of the job that never ends.
+    """
+
+    kind: str
+    """``"overrun"`` or ``"starved"``."""
+    task: str
+    at: Fraction | None
+    """The instant: the overrun's tick, the starved job's release (None: not known,
+    a part decided by a theorem)."""
+    k: int | None
+    """The activation: ``overrun_at`` for an overrun; None for a starved task."""
 
 
 @dataclass(frozen=True)
@@ -130,6 +160,10 @@ class ProcessorSchedule:
     """Event firings simulated in all."""
     with_intervals: bool = True
     """Whether ``raw_intervals`` holds every job's processor time (``intervals=True``)."""
+    problems: list[Problem] = field(default_factory=list)
+    """Every overrun and starved task, earliest first (then file order): the one order
+    of every command's verdict and lists. Growing places have no instant of their
+    own: they are :attr:`unbounded`."""
 
     @property
     def intervals(self) -> list[JobInterval]:
@@ -146,6 +180,11 @@ class ProcessorSchedule:
     def starved(self) -> list[str]:
         """The starved tasks, in file order."""
         return [t for t, r in self.tasks.items() if r.starved]
+
+    @property
+    def stopped(self) -> list[str]:
+        """The tasks that never run again behind a starved task, in file order."""
+        return [t for t, r in self.tasks.items() if r.stopped_after is not None]
 
 
 def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any], *,
@@ -556,7 +595,10 @@ class _Outcome:
             if t == v.late:
                 fig.overrun_at, fig.decided = 2, True
             else:
+                # Each job is released at its tick (every job ends by the next one), so
+                # the time from the tick is the time from the release.
                 fig.period, fig.response, fig.decided = v.period[t], r, True
+                fig.response_from_tick = r
         met = {t for t in v.period}
         self.regimes.append({"tasks": names, "start": None if v.late else Fraction(0),
                              "length": None if v.late else hyper, "by": "critical instant"})
@@ -602,22 +644,35 @@ class _Outcome:
             self._grow(int(places[p]), per)
         compute_of = {j: e for e, j in enumerate(d.compute_task) if j >= 0}
         tick_of = {j: e for e, ts in d.watched.items() for j in ts}
+        stopped = []
         for j, t in enumerate(names):
             fig = self.tasks[t]
             fig.decided = True
             compute = compute_of[j]
             n = fired[compute]
             fig.starved = n == 0 and new.pending[j] >= 0
+            if fig.starved:
+                fig.starved_since = self._fraction(r.jobs[j][-1][0])
+            elif n == 0:  # no job of its own, none to come: it waits for ever
+                fig.stopped_after = new.fired[compute]
+                stopped.append(j)
             if n:
                 fig.period = period[n]
                 fig.response = self._fraction(_response(r.jobs[j], old.fired[compute],
                                                         new.fired[compute], length))
+                if j in tick_of and fired[tick_of[j]] == n:  # as many ticks as jobs
+                    fig.response_from_tick = self._fraction(_response_from_tick(
+                        r.jobs[j], r.tick_log[j], old.fired[compute], new.fired[compute],
+                        length))
             if fig.overrun_at is None and j in r.tick_log:
                 tick = tick_of[j]
                 last = d.end_event[j]
                 ends = (new.finished[j] - old.finished[j] if last is None
                         else fired[last])
                 fig.overrun_at = _overrun_to_come(r.tick_log[j], t1, t2, fired[tick], ends)
+        if stopped:
+            for j, waits in _waits_for(d, fired, stopped, compute_of, names, self.tasks).items():
+                self.tasks[names[j]].waits_for = waits
 
     def finish(self) -> ProcessorSchedule:
         net = self.net
@@ -637,6 +692,7 @@ class _Outcome:
         self.regimes.sort(key=lambda r: index[r["tasks"][0]])
         unbounded.sort(key=lambda u: u.place)
         verdict, why = self._verdict(live, unbounded)
+        problems = self._problems()
         parts = len(self.regimes)
         simulated = parts - self.by_theorem - len(self.not_computed)
         method = (f"exact event-driven simulation of the schedule on processors (§4b), "
@@ -656,7 +712,25 @@ class _Outcome:
                                  exact=verdict is not None, method=method, why_undecided=why,
                                  tasks=self.tasks, group_periods=group_periods,
                                  unbounded=unbounded, raw_intervals=self.intervals,
-                                 scale=net.scale, regimes=self.regimes, events=self.events)
+                                 scale=net.scale, regimes=self.regimes, events=self.events,
+                                 problems=problems)
+
+    def _problems(self) -> list[Problem]:
+        """Every overrun (at its tick) and starved task (at its job's release), earliest
+        first, then in file order."""
+        sk = self.net.sk
+        out: list[tuple[tuple, Problem]] = []
+        for i, (t, f) in enumerate(self.tasks.items()):
+            if f.overrun_at is not None:
+                clock = sk.tasks[t].clock
+                at = (None if clock is None else
+                      sk.clocks[clock].phase + (f.overrun_at - 1) * sk.clocks[clock].period)
+                out.append(((at is None, at or 0, i, 0), Problem("overrun", t, at, f.overrun_at)))
+            if f.starved:
+                at = f.starved_since
+                out.append(((at is None, at or 0, i, 1), Problem("starved", t, at, None)))
+        out.sort(key=lambda x: x[0])
+        return [p for _, p in out]
 
     def _proofs(self, simulated: int) -> str:
         """What the simulation proved: a regime per part, or, where the budget ran out
@@ -714,6 +788,59 @@ def _response(jobs: list[list], c1: int, c2: int, length: int) -> int:
             finish = jobs[c1 - 1][1] + length
         best = max(best, finish - release)
     return best
+
+
+def _response_from_tick(jobs: list[list], ticks: list[tuple[int, int, int]], c1: int,
+                        c2: int, length: int) -> int:
+    """Largest finish - tick over the jobs released in the regime (numbers c1+1..c2).
+
+    Job k is released by tick k (its activation takes the k-th tick's token); the
+    regime holds as many ticks as jobs, so job k + n ends, and tick k + n comes,
+    one regime after job k and tick k (n = c2 - c1): a job still running when the
+    regime closes counts as the job n earlier, which ended.
+    """
+    at = {k: now for now, k, _ in ticks}
+    n = c2 - c1
+    best = 0
+    for k in range(c1 + 1, c2 + 1):
+        finish = jobs[k - 1][1]
+        j = k
+        while finish is None:  # the same job, one regime earlier
+            j -= n
+            finish = jobs[j - 1][1]
+        best = max(best, finish - at[j])
+    return best
+
+
+def _waits_for(d: PartData, fired: list[int], stopped: list[int], compute_of: dict[int, int],
+               names: list[str], figures: dict[str, TaskOnProcessors]
+               ) -> dict[int, tuple[str, ...]]:
+    """For each stopped task (local index), the starved tasks it waits for.
+
+    Backwards along the places from its compute event, through the events that
+    fire no more in the regime: the compute events of starved tasks met on the
+    way are what it waits for (their jobs never end, so nothing after them fires).
+    """
+    into: dict[int, list[int]] = {}
+    for s, t in zip(d.p_src, d.p_dst):
+        if not fired[s]:
+            into.setdefault(t, []).append(s)
+    starved = {compute_of[j]: j for j, t in enumerate(names) if figures[t].starved}
+    out = {}
+    for j in stopped:
+        seen = {compute_of[j]}
+        todo = [compute_of[j]]
+        found = set()
+        while todo:
+            e = todo.pop()
+            if e in starved and starved[e] != j:
+                found.add(starved[e])
+            for s in into.get(e, ()):
+                if s not in seen:
+                    seen.add(s)
+                    todo.append(s)
+        out[j] = tuple(names[i] for i in sorted(found))
+    return out
 
 
 def _overrun_to_come(log: list[tuple[int, int, int]], t1: int, t2: int, ticks: int,

@@ -8,9 +8,10 @@ where the same verdict holds:
 
 - a part with levels (each group one periodic unit of its summed work at a
   priority of its own on one processor, or a background task without clock:
-  :mod:`tegraph.analysis.processors.levels`) by Lehoczky, Sha and Ding's exact test, level by
-  level from the most urgent down (:mod:`tegraph.analysis.sensitivity.levels`): the piece of the line of
-  the same verdict;
+  :mod:`tegraph.analysis.processors.levels`) by Lehoczky, Sha and Ding's
+  exact test, level by level from the most urgent down
+  (:mod:`tegraph.analysis.sensitivity.levels`): the piece of the line of the
+  same verdict;
 - any other part, or a point the theorem does not decide, by the engine
   itself, run on affine times (:mod:`.affine`): the interval of constant
   event order.

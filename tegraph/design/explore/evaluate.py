@@ -438,21 +438,15 @@ def _inconsistency(report: Report) -> str:
 
 
 def _unschedulable(skeleton: Skeleton, schedule: ProcessorSchedule) -> str:
-    """Why the schedule on processors is not schedulable: the first overrun in time,
-    else a starved task, else a growing place (the §4b verdict's own evidence)."""
+    """Why the schedule on processors is not schedulable: its earliest problem (an
+    overrun or a starved task, in the one order of every command), else a growing
+    place (the §4b verdict's own evidence)."""
     where = schedule.platform.processor_of
-    late = []
-    for name, fig in schedule.tasks.items():
-        clock = skeleton.tasks[name].clock
-        if fig.overrun_at is not None and clock is not None:
-            c = skeleton.clocks[clock]
-            late.append((c.phase + (fig.overrun_at - 1) * c.period, name, fig.overrun_at))
-    if late:
-        _, name, k = min(late, key=lambda x: x[0])  # min keeps the file order on ties
-        return f"overrun on processors: {name} at activation {k} (on {where[name]})"
-    if schedule.starved:
-        name = schedule.starved[0]
-        return f"starved on processors: {name} never gets its duration on {where[name]}"
+    if schedule.problems:
+        p = schedule.problems[0]
+        if p.kind == "overrun":
+            return f"overrun on processors: {p.task} at activation {p.k} (on {where[p.task]})"
+        return f"starved on processors: {p.task} never gets its duration on {where[p.task]}"
     if schedule.unbounded:
         u = schedule.unbounded[0]
         more = len(schedule.unbounded) - 1

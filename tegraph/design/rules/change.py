@@ -13,6 +13,8 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
+from maxplus.scalar import exact_text
+
 from ...errors import InputError
 from ...model.skeleton import Clock, Protocol, Skeleton
 
@@ -36,18 +38,23 @@ class Change:
     priorities : tuple of (str, int)
         ``(task, priority)``: priorities to declare (Rule 4, completing a partial
         declaration), in file order.
+    period : Fraction or None
+        The period proposed for the clocks ``add_clock`` adds (None: none proposed;
+        :func:`apply_change` then needs one).
     """
 
     protocols: tuple[tuple[str, str, str], ...] = ()
     drop_clock: tuple[str, ...] = ()
     add_clock: tuple[str, ...] = ()
     priorities: tuple[tuple[str, int], ...] = ()
+    period: Fraction | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for the JSON report."""
         return {"protocols": [{"from": w, "to": r, "protocol": p} for w, r, p in self.protocols],
                 "drop_clock": list(self.drop_clock), "add_clock": list(self.add_clock),
-                "priorities": [{"task": t, "priority": p} for t, p in self.priorities]}
+                "priorities": [{"task": t, "priority": p} for t, p in self.priorities],
+                "period": None if self.period is None else exact_text(self.period)}
 
 
 @dataclass(frozen=True)
@@ -99,7 +106,8 @@ def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | No
     change : Change
     period : Fraction, optional
         Period of each clock that ``change.add_clock`` adds (a private clock
-        ``T.clock``, phase 0); needed only when it adds one.
+        ``T.clock``, phase 0); needed only when it adds one; default
+        ``change.period``.
 
     Returns
     -------
@@ -137,6 +145,8 @@ def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | No
         tasks[name] = dataclasses.replace(tasks[name], priority=int(priority))
     for name in change.drop_clock:
         tasks[name] = dataclasses.replace(tasks[name], clock=None)
+    if period is None:
+        period = change.period
     if change.add_clock and period is None:
         raise InputError("a clock is added: give its period", "period")
     for name in change.add_clock:

@@ -47,7 +47,9 @@ def test_the_schedule_is_not_computed_and_says_why():
     assert NON_PREEMPTIVE in s.why_undecided and "can0" in s.why_undecided
     for t in ("F1", "F2", "F3"):  # no figure claimed for the frames
         assert r.on_processors(t) == {"period": None, "overrun_at": None, "response": None,
-                                      "starved": False, "decided": False}
+                                      "response_from_tick": None, "starved": False,
+                                      "stopped_after": None, "waits_for": [],
+                                      "decided": False}
     # The part on the preemptive cpu is decided as always: X alone, response 1.
     assert r.on_processors("X")["response"] == "1" and s.tasks["X"].decided
     doc = r.to_dict()

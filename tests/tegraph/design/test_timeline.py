@@ -249,7 +249,8 @@ def test_a_starved_task_is_not_schedulable():
     assert tl.overrun_at["L"] == 2 and tl.exit_status == 1
     assert all(i.task == "H" for i in tl.intervals)
     text = render_timeline(tl)
-    assert "STARVED: a job of L never receives its duration on processor default" in text
+    assert ("STARVED: a job of L (released at 0 ms) never receives its duration on processor "
+            "default") in text
     assert "1 starved task" in text.splitlines()[-1]
 
 

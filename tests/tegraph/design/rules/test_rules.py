@@ -164,32 +164,41 @@ def test_rule3_group_without_clock_figure_7a():
     (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml")), 3)
     assert (f.severity, f.tasks) == ("error", ("MT1", "MT2", "MT3"))
     # Every task waits for an input: the advice also breaks the wait.
-    assert f.change == Change((("MT2:b", "MT1:b", "ASYN/ASYN"),), add_clock=("MT1",))
-    # No group has a clock: any period is one no other group has (the example says 1 ms).
-    # The group has no clock before; after, MT1's new clock paces it; the circular wait
-    # through MT2:b -> MT1:b is cut, so the skeleton (dead, Figure 7a) becomes live.
-    # On its one processor with the assumed 1 ms clock, three jobs of 1 ms each per 1 ms
-    # cannot fit (one priority; release, then file order): MT1 [0,1]; at 1 MT1#2 and
-    # MT3#1 are released, MT1 first [1,2]; at 2 MT3#1 (released 1) [2,3]; at 3 MT1#3
-    # (released 2) before MT2#1 and MT3#2 (released 3) [3,4]: MT1's tick 4 at 3 finds
-    # activation 3 not ended: MT1 overruns at activation 4.
+    # No clock anywhere and a dead group: the period proposed is a multiple of its longest
+    # duration (1 ms), the shortest first, judged on its one processor (one priority;
+    # release, then file order). The circular wait through MT2:b -> MT1:b is cut, so the
+    # skeleton (dead, Figure 7a) becomes live. At 1 ms, three jobs of 1 ms each per 1 ms
+    # cannot fit: MT1 [0,1]; at 1 MT1#2 and MT2#1 are released, MT1 first [1,2]; at 2 MT2#1
+    # (released 1) [2,3]; at 3 MT1#3 (released 2) before MT3#1 (released 3) [3,4]: MT1's
+    # tick 4 at 3 finds activation 3 not ended: MT1 overruns at activation 4. At 2 ms, 3
+    # ms of work every 2 ms cannot fit either. At 3 ms: MT1 [0,1], MT2 reads a at 1 [1,2],
+    # MT3 reads b at 2 [2,3], and again from each tick: schedulable, the processor full.
+    assert f.change == Change((("MT2:b", "MT1:b", "ASYN/ASYN"),), add_clock=("MT1",),
+                              period=F(3))
     assert f.advice == ("make MT2:b -> MT1:b ASYN/ASYN (neither side waits); give MT1 a clock "
-                        "of its own (a period of your choice that no other group has, e.g. "
-                        "1 ms) (one clock for the whole group) [periods (max cycle ratio), "
-                        "before -> after: {MT1, MT2, MT3} dead -> "
-                        "{MT1, MT2, MT3} a period of your choice; on its processors (§4b), "
-                        "before -> after: NOT SCHEDULABLE (dead: a token-free circuit) -> "
-                        "NOT SCHEDULABLE (MT1 overruns at activation 4) (the new clock at 1 "
-                        "ms, the period the advice assumed)] This also makes the skeleton "
+                        "of its own, of period 3 ms (one clock for the whole group; a multiple "
+                        "of its longest duration (no clock around it); the first of 3 periods "
+                        "tried that is schedulable on its processors) [periods (max cycle "
+                        "ratio), before -> after: {MT1, MT2, MT3} dead -> {MT1, MT2, MT3} 3 ms; "
+                        "on its processors (§4b), before -> after: NOT SCHEDULABLE (dead: a "
+                        "token-free circuit) -> schedulable ({MT1, MT2, MT3} 3 ms) (the new "
+                        "clock at 3 ms, the period proposed)] This also makes the skeleton "
                         "live.")
+    # With the period the check assumes (1 ms, no period being known), it overruns.
+    one = analyze(apply_change(load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml"),
+                               f.change, F(1)), design=False)
+    assert one.schedule.tasks["MT1"].overrun_at == 4
 
 
 def test_rule3_group_without_clock_names_its_source():
     # C reads nothing: the clock goes there. C already waits to post z (SYN/ASYN to B):
     # a clock as well would be two synchronizations (Rule 1), so z is cut (ASYN/ASYN);
     # the group stays one through C:y -> A:y and A:x -> B:x, D:x.
+    # No clock around it: the period is a multiple of the group's cycle time, 7/3 ms. On
+    # the one processor the group needs 1 + 2 + 5/3 + 1 = 17/3 ms of work per period: 7/3
+    # and 14/3 ms are too short, 7 ms the first that is schedulable.
     (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "ring_two_tokens.yaml")), 3)
-    assert f.change == Change((("C:z", "B:z", "ASYN/ASYN"),), add_clock=("C",))
+    assert f.change == Change((("C:z", "B:z", "ASYN/ASYN"),), add_clock=("C",), period=F(7))
 
 
 def test_rule3_two_clocks_in_one_group():
@@ -412,8 +421,8 @@ def test_the_rules_command_prints_what_the_library_call_returns():
     assert json.loads(out.stdout) == to_document(section)
     assert out.returncode == section.exit_status == 1  # three Rule 2 warnings
     doc = to_document(section)
-    assert list(doc) == ["schema_version", "report", "name", "unit", "rules", "schedule_parts",
-                         "schedulability", "latency"]
+    assert list(doc) == ["schema_version", "report", "name", "unit", "schedulable", "schedule",
+                         "rules", "schedule_parts", "schedulability", "latency"]
     design = to_document(analyze(str(path), chains=[["MT1", "MT2"]]))["design"]
     assert design == {k: doc[k] for k in ("rules", "schedule_parts", "schedulability",
                                           "latency")}
