@@ -165,7 +165,10 @@ class Reachability:
 
     @property
     def exit_status(self) -> int:
-        """1 when a dead marking was reached, else 0 (as ``tegraph analyze``)."""
+        """1 when a dead marking was reached, else 0 (as ``tegraph analyze``); 130 when
+        the search was interrupted (Ctrl-C: the command's status, its counts partial)."""
+        if self.stopped_by == "interrupted":
+            return 130
         return int(bool(self.dead))
 
     def place_names(self) -> list[str]:

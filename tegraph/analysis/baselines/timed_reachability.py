@@ -183,7 +183,10 @@ class TimedExploration:
 
     @property
     def exit_status(self) -> int:
-        """1 when an overrun or a deadlock was found, else 0 (as ``tegraph analyze``)."""
+        """1 when an overrun or a deadlock was found, else 0 (as ``tegraph analyze``); 130
+        when the search was interrupted (Ctrl-C: the command's status, its counts partial)."""
+        if self.stopped_by == "interrupted":
+            return 130
         return int(self.overrun or self.deadlock)
 
     def to_dict(self) -> dict[str, Any]:

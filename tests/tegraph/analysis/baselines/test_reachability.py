@@ -12,6 +12,7 @@ circuits): a group deadlocks in the bounded exploration exactly when
 from __future__ import annotations
 
 import json
+import os
 import random
 import signal
 import subprocess
@@ -305,17 +306,31 @@ def test_cli_on_pnml_budget_and_refusals(anchors: Path, tmp_path: Path) -> None:
     assert out.exit_code == 2 and "Traceback" not in out.output
 
 
+def _wait_for_cpu_seconds(proc: subprocess.Popen, seconds: float, deadline: float) -> None:
+    """Wait until ``proc`` has used ``seconds`` of processor time (Linux ``/proc``)."""
+    tick = os.sysconf("SC_CLK_TCK")
+    stat = Path(f"/proc/{proc.pid}/stat")
+    while time.monotonic() < deadline and proc.poll() is None:
+        fields = stat.read_text().rsplit(")", 1)[1].split()
+        if (int(fields[11]) + int(fields[12])) / tick >= seconds:  # utime + stime
+            return
+        time.sleep(0.1)
+
+
 def test_cli_ctrl_c_prints_the_partial_counts(anchors: Path) -> None:
     """CircularTrains-PT-048 has 2.4e10 markings (anchor): only Ctrl-C ends the search."""
     proc = subprocess.Popen([sys.executable, "-m", "tegraph.cli", "reach",
                              str(anchors / "pnml" / "CircularTrains-PT-048.pnml"),
                              "--max-states", "100000000"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    time.sleep(4)
+    # Interrupt once the search has run, whatever the machine's load: after some
+    # seconds of the child's own processor time (imports and reading take less).
+    _wait_for_cpu_seconds(proc, 3.0, deadline=time.monotonic() + 300)
     proc.send_signal(signal.SIGINT)
     stdout, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 130, stderr
     assert "inconclusive (interrupted after" in stdout and "Traceback" not in stderr
+    assert "(exit status 130)" in stdout  # the verdict names the status it exits with
     states = int(stdout.split("untimed reachability, ")[1].split(" state")[0].replace(",", ""))
     assert 0 < states < 23_973_456_915
 
