@@ -21,6 +21,7 @@ from maxplus.errors import MaxPlusError
 from . import io
 from .analysis.analyze import analyze_skeleton
 from .analysis.results import Report
+from .design.placement import shared_processor_candidates
 from .design.section import DesignSection, design_section
 from .errors import InputError, TegraphError
 from .model.budgets import (
@@ -199,7 +200,9 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
     # The semiflow cross-check of liveness is not reported by the rules: skipped.
     report = analyze_skeleton(skeleton, semiflow_max_places=0, processors=processors,
                               max_events=max_events)
-    return design_section(skeleton, report, chains, processors=processors)
+    section = design_section(skeleton, report, chains, processors=processors)
+    section.never_together = shared_processor_candidates(skeleton, report, max_events)
+    return section
 
 
 def compiled_kernels() -> dict[str, bool]:

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..analysis.processors.overlap import NeverTogether
 from ..analysis.results import Report
 from ..model.skeleton import Skeleton
 from .cross_check import CrossCheck, cross_check
@@ -45,6 +46,9 @@ class DesignSection:
         Where the test agrees with the exact schedule.
     analysis : Report
         The analysis the section was made from: its verdict is the section's.
+    never_together : NeverTogether or None
+        The tasks on different processors that never execute at once in the proven
+        schedule (:mod:`.placement`; ``tegraph rules`` computes them), or None.
     """
 
     name: str
@@ -54,6 +58,7 @@ class DesignSection:
     latency: list[ChainLatency]
     cross_check: CrossCheck
     analysis: Report = field(repr=False, compare=False)
+    never_together: NeverTogether | None = field(default=None, compare=False)
 
     @property
     def schedulable(self) -> bool | None:
@@ -100,7 +105,13 @@ class DesignSection:
             "schedulability": {**self.schedulability.to_dict(),
                                "cross_check": self.cross_check.to_dict()},
             "latency": [c.to_dict() for c in self.latency],
-        }
+        } | ({} if self.never_together is None
+             else {"never_together": _never_together_dict(self.never_together)})
+
+
+def _never_together_dict(n: NeverTogether) -> dict[str, Any]:
+    return {"pairs": None if n.pairs is None else [list(p) for p in n.pairs],
+            "examined": n.examined, "why": n.why, "left_out": n.left_out}
 
 
 def design_section(skeleton: Skeleton, report: Report,

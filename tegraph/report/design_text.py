@@ -21,6 +21,7 @@ __all__ = [
     "render_design",
     "render_fix",
     "render_latency",
+    "render_never_together",
     "render_rules",
     "render_schedulability",
 ]
@@ -59,6 +60,8 @@ def render_design(section: DesignSection) -> str:
             + render_schedulability(sched, unit, section.cross_check))
     for r in section.latency:
         text += "\n" + render_latency(r, unit)
+    if section.never_together is not None:
+        text += "\n" + render_never_together(section)
     counts = [(s, sum(f.severity == s for f in findings)) for s in ("error", "warning")]
     broken = ", ".join(count(n, f"design-rule {s}") for s, n in counts if n)
     report = section.analysis
@@ -73,6 +76,32 @@ def render_design(section: DesignSection) -> str:
         verdict = "schedulable on its processors (spec §4b, exact)"
     verdict += f"; {broken}" if broken else "; design rules followed"
     return text + f"\nverdict: {verdict} (exit status {section.exit_status})\n"
+
+
+def render_never_together(section: DesignSection) -> str:
+    """The tasks on different processors that never run at once (ORCCAD §2.4).
+
+    Returns
+    -------
+    str
+    """
+    n = section.never_together
+    assert n is not None
+    head = ("tasks that never execute at the same time (ORCCAD section 2.4; candidates to "
+            "share a processor, from the proven schedule on processors, for all time):")
+    if n.pairs is None:
+        return f"{head}\n  not listed: {n.why}\n"
+    where = section.analysis.schedule.platform.processor_of  # type: ignore[union-attr]
+    lines = [head]
+    if not n.pairs:
+        lines.append(f"  none among the {count(n.examined, 'pair')} of tasks on different "
+                     "processors")
+    lines += [f"  {a} ({where[a]}) and {b} ({where[b]})" for a, b in n.pairs]
+    if n.pairs:
+        lines.append(f"  {len(n.pairs)} of the {count(n.examined, 'pair')} examined; moving "
+                     "one onto the other's processor changes the schedule: analyze decides it")
+    lines += [f"  {t} left out: {why}" for t, why in n.left_out.items()]
+    return "\n".join(lines) + "\n"
 
 
 def render_schedulability(result: Schedulability, unit: str = "ms",
