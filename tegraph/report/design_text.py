@@ -9,7 +9,7 @@ from maxplus.scalar import display_text
 from ..analysis.repair import FixResult
 from ..design.latency import ChainLatency
 from ..design.rules import RuleFinding
-from ..design.schedulability import PAPER_TEST, RTA_TEST, Schedulability
+from ..design.schedulability import PAPER_TEST, Schedulability
 from ..design.section import DesignSection
 from ..model.platform import DEFAULT_PROCESSOR
 from ._format import count, number
@@ -65,12 +65,15 @@ def render_design(section: DesignSection) -> str:
         problems.append(f"schedulability undecided (budget) for {undecided}")
     if problems:
         verdict = "; ".join(problems)
+    elif sched.cross_checked:
+        names = ", ".join(str(p.processor) for p in sched.cross_checked)
+        held = all(p.bounds_within_periods for p in sched.cross_checked)
+        verdict = ("design rules followed, schedulability not decided here: the "
+                   f"non-preemptive processor {names} is left to the exact schedule "
+                   "(spec section 4d); its cross-check bounds every response over all "
+                   f"phases, {'all within' if held else 'not all within'} their periods")
     else:
         sched_text = ("schedulable" if sched.schedulable
-                      else "schedulability not decided (the response-time test does not apply "
-                           "to the non-preemptive processor "
-                           f"{', '.join(str(p.processor) for p in sched.not_applied)})"
-                      if sched.not_applied
                       else "schedulability not decided (a group is not live)")
         verdict = f"design rules followed, {sched_text}"
     return text + f"\nverdict: {verdict} (exit status {section.exit_status})\n"
@@ -114,12 +117,22 @@ def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
             rows.append([u.group, ", ".join(u.tasks), u.priority, number(u.period),
                          number(u.cost), number(u.response_time), number(u.margin), verdict,
                          u.note])
+        bound = p.cross_check  # the figures are bounds over all phases there
         table = tabulate(rows, headers=["group", "tasks", "priority", f"period ({unit})",
-                                        f"work ({unit})", f"response ({unit})",
-                                        f"margin ({unit})", "meets period", "note"],
+                                        f"work ({unit})",
+                                        f"response {'bound ' if bound else ''}({unit})",
+                                        f"margin ({unit})",
+                                        "bound within period" if bound else "meets period",
+                                        "note"],
                          disable_numparse=True)
         lines.extend("  " + row for row in table.splitlines())
-        lines.append(f"  test: {RTA_TEST}")
+        if p.cross_check:
+            held = {True: "every bound within its period", False: "a bound above its period",
+                    None: "bounds not all known"}[p.bounds_within_periods]
+            lines.append(f"  cross-check over all phases (never the verdict): {p.test}; each "
+                         f"response is a bound whatever the clocks' phases: {held}")
+        else:
+            lines.append(f"  test: {p.test}")
     lines.extend(f"note: {n}" for n in result.notes)
     return "\n".join(lines) + "\n"
 
