@@ -54,6 +54,8 @@ __all__ = ["REVISED_TEST", "Unit", "judge_non_preemptive"]
 
 REVISED_TEST = ("revised response-time analysis for non-preemptive fixed priorities "
                 "(Davis, Burns, Bril and Lukkien 2007)")
+"""The test of a unit on a non-preemptive processor, as the report names it: a
+cross-check over all phases, never the verdict."""
 
 
 class Unit(Protocol):

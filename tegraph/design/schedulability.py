@@ -34,10 +34,11 @@ The recurrence has no blocking term: it holds under preemption only. On a
 processor declared ``preemptive: false`` (spec §4d) a less urgent job already
 running delays a more urgent one, which it does not count: there the units are
 bounded by the revised analysis of Davis, Burns, Bril and Lukkien
-(:mod:`tegraph.design.nonpreemptive`, :data:`REVISED_TEST`), over every phase of the
-clocks. That is a cross-check of the exact schedule (spec §4d), never the verdict:
-such a processor's ``schedulable`` is None, its ``bounds_within_periods`` says what
-the bounds show, and each processor's entry names its test.
+(:mod:`tegraph.design.nonpreemptive`,
+:data:`~tegraph.design.nonpreemptive.REVISED_TEST`), over every phase of the clocks.
+That is a cross-check of the exact schedule (spec §4d), never the verdict: such a
+processor's ``schedulable`` is None, its ``bounds_within_periods`` says what the
+bounds show, and each processor's entry names its test.
 The priorities are the platform's (:func:`tegraph.model.platform.platform_of`,
 ``report.platform``): the ones the exact schedule runs.
 
@@ -90,6 +91,7 @@ __all__ = [
 ]
 
 RTA_TEST = "response-time analysis (Joseph and Pandya 1986)"
+"""The test of a unit on a preemptive processor, as the report names it."""
 PAPER_TEST = "utilization over the hyperperiod, sum D_i*T/tau_i <= T (ORCCAD section 6)"
 RTA_BUDGET = 1_000_000
 """Most terms ``ceil(t/T_j)*C_j`` the recurrence evaluates for one unit (about a
@@ -364,19 +366,20 @@ class ProcessorVerdict:
     units: list[UnitVerdict] = field(default_factory=list)
     preemptive: bool = True
     """False: declared ``preemptive: false`` (§4d); its units are bounded by
-    :data:`REVISED_TEST`, a cross-check."""
+    :data:`~tegraph.design.nonpreemptive.REVISED_TEST`, a cross-check."""
 
     @property
     def test(self) -> str:
-        """The response-time test of its units: :data:`RTA_TEST`, or :data:`REVISED_TEST`
-        on a non-preemptive processor."""
+        """The response-time test of its units: :data:`RTA_TEST`, or
+        :data:`~tegraph.design.nonpreemptive.REVISED_TEST` on a non-preemptive
+        processor."""
         return RTA_TEST if self.preemptive else REVISED_TEST
 
     @property
     def cross_check(self) -> bool:
         """True on a non-preemptive processor: its units' figures are bounds over all
-        phases (:data:`REVISED_TEST`), a cross-check of the exact schedule (spec §4d),
-        never the verdict."""
+        phases (:data:`~tegraph.design.nonpreemptive.REVISED_TEST`), a cross-check of
+        the exact schedule (spec §4d), never the verdict."""
         return not self.preemptive
 
     @property
