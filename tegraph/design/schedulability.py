@@ -38,8 +38,13 @@ processors, blocking on shared resources, context-switch costs.
 
 The recurrence has no blocking term: it holds under preemption only. On a
 processor declared ``preemptive: false`` (spec §4d) a less urgent job already
-running delays a more urgent one, which it does not count, so there it is not
-applied (:data:`NOT_PREEMPTIVE`): its units are left undecided, never judged by it.
+running delays a more urgent one, which it does not count: there the units are
+bounded by the revised analysis of Davis, Burns, Bril and Lukkien
+(:mod:`tegraph.design.nonpreemptive`,
+:data:`~tegraph.design.nonpreemptive.REVISED_TEST`), over every phase of the clocks.
+That is a cross-check of the exact schedule (spec §4d), never the verdict: such a
+processor's ``schedulable`` is None, its ``bounds_within_periods`` says what the
+bounds show, and each processor's entry names its test.
 The priorities are the platform's (:func:`tegraph.model.platform.platform_of`,
 ``report.platform``): the ones the exact schedule runs.
 
@@ -76,10 +81,11 @@ from ..errors import InputError, TegraphError
 from ..model.platform import Platform, hyperperiod, is_automaton, platform_of
 from ..model.skeleton import Skeleton
 from ..model.structure import Structure, design_period
+from .nonpreemptive import REVISED_TEST, judge_non_preemptive
 
 __all__ = [
-    "NOT_PREEMPTIVE",
     "PAPER_TEST",
+    "REVISED_TEST",
     "RTA_BUDGET",
     "RTA_TEST",
     "ProcessorVerdict",
@@ -96,14 +102,11 @@ __all__ = [
 ]
 
 RTA_TEST = "response-time analysis (Joseph and Pandya 1986)"
+"""The test of a unit on a preemptive processor, as the report names it."""
 PAPER_TEST = "utilization over the hyperperiod, sum D_i*T/tau_i <= T (ORCCAD section 6)"
 RTA_BUDGET = 1_000_000
 """Most terms ``ceil(t/T_j)*C_j`` the recurrence evaluates for one unit (about a
 second): past it the unit's test is "undecided (budget)", with proven bounds."""
-NOT_PREEMPTIVE = ("not applied: the recurrence holds under preemption only (on a "
-                  "non-preemptive processor a less urgent job already running blocks this "
-                  "one, spec §4d)")
-"""The note of every unit on a processor declared ``preemptive: false``."""
 
 
 @dataclass(frozen=True)
@@ -376,12 +379,39 @@ class ProcessorVerdict:
     """``T - demand``."""
     units: list[UnitVerdict] = field(default_factory=list)
     preemptive: bool = True
-    """False: declared ``preemptive: false`` (§4d); the response-time test is not applied."""
+    """False: declared ``preemptive: false`` (§4d); its units are bounded by
+    :data:`~tegraph.design.nonpreemptive.REVISED_TEST`, a cross-check."""
+
+    @property
+    def test(self) -> str:
+        """The response-time test of its units: :data:`RTA_TEST`, or
+        :data:`~tegraph.design.nonpreemptive.REVISED_TEST` on a non-preemptive
+        processor."""
+        return RTA_TEST if self.preemptive else REVISED_TEST
+
+    @property
+    def cross_check(self) -> bool:
+        """True on a non-preemptive processor: its units' figures are bounds over all
+        phases (:data:`~tegraph.design.nonpreemptive.REVISED_TEST`), a cross-check of
+        the exact schedule (spec §4d), never the verdict."""
+        return not self.preemptive
 
     @property
     def schedulable(self) -> bool | None:
         """False when a unit misses its period; else None when a unit is undecided
-        (budget) or none could be analyzed; else True."""
+        (budget), none could be analyzed, or the processor is a :attr:`cross_check`;
+        else True."""
+        return None if self.cross_check else self._units_meet_periods()
+
+    @property
+    def bounds_within_periods(self) -> bool | None:
+        """On a :attr:`cross_check` processor: whether every unit's bound is within its
+        period (True: no job misses, whatever the phases), some bound is above it
+        (False: a phasing may approach that response, not a verdict on the declared
+        phases) or neither is known (None). None on a preemptive processor."""
+        return self._units_meet_periods() if self.cross_check else None
+
+    def _units_meet_periods(self) -> bool | None:
         verdicts = [u.schedulable for u in self.units if u.schedulable is not None]
         if False in verdicts:
             return False
@@ -392,7 +422,9 @@ class ProcessorVerdict:
     def to_dict(self) -> dict[str, Any]:
         """The processor's verdict as the JSON report holds it."""
         return {"processor": self.processor, "priority_source": self.priority_source,
-                "preemptive": self.preemptive,
+                "preemptive": self.preemptive, "test": self.test,
+                "cross_check": self.cross_check,
+                "bounds_within_periods": self.bounds_within_periods,
                 "hyperperiod": exact_text(self.hyperperiod), "demand": exact_text(self.demand),
                 "condition": PAPER_TEST, "condition_holds": self.condition_holds,
                 "condition_margin": exact_text(self.condition_margin),
@@ -431,24 +463,28 @@ class Schedulability:
 
     @property
     def schedulable(self) -> bool | None:
-        """False when a processor fails; else None when a unit is undecided (budget)
-        or nothing could be analyzed; else True."""
+        """False when a preemptive processor fails; else None when a unit is undecided
+        (budget), a non-preemptive processor has work (:attr:`cross_checked`: its
+        bounds are no verdict) or nothing could be analyzed; else True."""
         verdicts = [p.schedulable for p in self.processors if p.schedulable is not None]
         if False in verdicts:
             return False
-        if self.undecided or self.not_applied:
+        if self.undecided or self.cross_checked:
             return None
         return all(verdicts) if verdicts else None
 
     @property
-    def not_applied(self) -> list[ProcessorVerdict]:
-        """The non-preemptive processors with work, where the test does not apply."""
-        return [p for p in self.processors if not p.preemptive and p.units]
+    def undecided(self) -> list[UnitVerdict]:
+        """The units of preemptive processors whose test the budget left undecided (a
+        cross-check's undecided bound decides nothing either)."""
+        return [u for p in self.processors if not p.cross_check
+                for u in p.units if u.undecided]
 
     @property
-    def undecided(self) -> list[UnitVerdict]:
-        """The units whose test the budget left undecided."""
-        return [u for p in self.processors for u in p.units if u.undecided]
+    def cross_checked(self) -> list[ProcessorVerdict]:
+        """The non-preemptive processors with work: bounded over all phases by the
+        revised analysis, a cross-check, their verdict left to the exact schedule."""
+        return [p for p in self.processors if p.cross_check and p.units]
 
     def unit_of(self, task: str) -> UnitVerdict | None:
         """The unit that holds ``task``."""
@@ -517,7 +553,8 @@ def effective_priorities(skeleton: Skeleton, structure: Structure | None = None,
 
 def schedulability(skeleton: Skeleton, report: Report | None = None, *,
                    budget: int | None = None) -> Schedulability:
-    """Threads, the paper's condition and Joseph-Pandya response times.
+    """Threads, the paper's condition, Joseph-Pandya response times and, on
+    non-preemptive processors, the revised bounds over all phases (a cross-check).
 
     Parameters
     ----------
@@ -608,19 +645,27 @@ def schedulability(skeleton: Skeleton, report: Report | None = None, *,
                                                 cost=Fraction(cost), response_time=None,
                                                 schedulable=None, margin=None, note=note,
                                                 free_running=free))
+    free_running = {g.index for g in report.groups if not g.clocks}
+    durations = {t: task.duration for t, task in skeleton.tasks.items()}
     processors = [_processor(p, source[p], us, skeleton.unit, budget,
-                             preemptive=platform.preemptive(p))
+                             preemptive=platform.preemptive(p), durations=durations,
+                             free_running=free_running)
                   for p, us in units.items()]
     return Schedulability(processors, _threads(skeleton, report), priorities, notes)
 
 
 def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
-               budget: int | None = None, *, preemptive: bool = True) -> ProcessorVerdict:
+               budget: int | None = None, *, preemptive: bool = True,
+               durations: dict[str, Fraction] | None = None,
+               free_running: set[int] | None = None) -> ProcessorVerdict:
     # Dead groups, zero periods and free-running units are left out of the periodic load.
     active = [u for u in units if u.period and not u.free_running]
     # Free-running work (no clock, some duration) takes every instant it is the most
     # urgent: a unit below it gets no time at all.
     hogs = [u for u in units if u.free_running and u.cost > 0]
+    if not preemptive:  # blocking and every instance of the busy period: Davis et al.
+        judge_non_preemptive(units, durations or {}, free_running or set(), unit,
+                             budget=budget)
     # Load of each priority level and of everything above it, so that a unit left no
     # time is settled without the recurrence (many groups on one processor stay cheap).
     level: dict[int, Fraction] = {}
@@ -635,6 +680,8 @@ def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
         above[prio] = running
         running += level[prio]
     for u in units:
+        if not preemptive:  # judged above, free-running units included
+            continue
         above_hog = next((v for v in hogs if v.priority > u.priority), None)
         if u.free_running:
             _free_running(u, above_hog, level)
@@ -642,9 +689,6 @@ def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
         if not u.period:
             if not u.note:
                 u.note = "no time passes in its period: not analyzed"
-            continue
-        if not preemptive:  # the recurrence's hypothesis: it does not apply here
-            _add_note(u, NOT_PREEMPTIVE)
             continue
         if above_hog is not None and u.cost > 0:
             u.schedulable = False

@@ -10,7 +10,7 @@ from ..analysis.repair import FixResult
 from ..design.cross_check import CrossCheck, UnitDisagreement
 from ..design.latency import ChainLatency
 from ..design.rules import RuleFinding
-from ..design.schedulability import PAPER_TEST, RTA_TEST, Schedulability
+from ..design.schedulability import PAPER_TEST, Schedulability
 from ..design.section import DesignSection
 from ..model.platform import DEFAULT_PROCESSOR
 from ._format import count, number
@@ -148,12 +148,23 @@ def render_schedulability(result: Schedulability, unit: str = "ms",
             rows.append([u.group, ", ".join(u.tasks), u.priority, number(u.period),
                          number(u.cost), number(u.response_time), number(u.margin), verdict,
                          u.note])
+        bound = p.cross_check  # the figures are bounds over all phases there
         table = tabulate(rows, headers=["group", "tasks", "priority", f"period ({unit})",
-                                        f"work ({unit})", f"group's RTA response ({unit})",
-                                        f"margin ({unit})", "meets period", "note"],
+                                        f"work ({unit})",
+                                        f"group's RTA response {'bound ' if bound else ''}"
+                                        f"({unit})",
+                                        f"margin ({unit})",
+                                        "bound within period" if bound else "meets period",
+                                        "note"],
                          disable_numparse=True)
         lines.extend("  " + row for row in table.splitlines())
-        lines.append(f"  test: {RTA_TEST}")
+        if p.cross_check:
+            held = {True: "every bound within its period", False: "a bound above its period",
+                    None: "bounds not all known"}[p.bounds_within_periods]
+            lines.append(f"  cross-check over all phases (never the verdict): {p.test}; each "
+                         f"response is a bound whatever the clocks' phases: {held}")
+        else:
+            lines.append(f"  test: {p.test}")
     if result.processors:
         lines.append("group's RTA response: the test's worst case for the group's whole work "
                      "of one period, released with every more urgent group at once (critical "

@@ -20,8 +20,8 @@ from tegraph.analysis.processors.critical_instant import independent_tasks
 from tegraph.analysis.processors.schedule import NON_PREEMPTIVE
 from tegraph.analysis.sensitivity import sensitivity
 from tegraph.cli import app
+from tegraph.design.nonpreemptive import REVISED_TEST
 from tegraph.design.rules import FindingKind, check_rules
-from tegraph.design.schedulability import NOT_PREEMPTIVE
 from tegraph.design.timeline import simulate_timeline
 from tegraph.model.build import build_teg
 from tegraph.model.platform import platform_of
@@ -87,18 +87,21 @@ def test_the_critical_instant_declines_a_non_preemptive_processor():
     assert not any(r.get("by") == "critical instant" for r in s.regimes)
 
 
-def test_the_response_time_test_is_not_applied():
+def test_joseph_pandya_is_not_applied_there_and_its_bound_is_no_verdict():
     r = analyze(frames(False), margins_max_tasks=0)
     sched = r.design.schedulability
     can0 = next(p for p in sched.processors if p.processor == "can0")
-    assert not can0.preemptive and can0.schedulable is None
-    assert all(u.schedulable is None and u.response_time is None and NOT_PREEMPTIVE in u.note
-               for u in can0.units)
-    # Never "schedulable" by a test that does not apply.
-    assert sched.schedulable is None and sched.not_applied == [can0]
+    # The revised analysis, not Joseph and Pandya's (no blocking term), bounds its units.
+    assert not can0.preemptive and can0.cross_check and can0.test == REVISED_TEST
+    assert all(u.test == REVISED_TEST for u in can0.units)
+    assert can0.bounds_within_periods is True
+    # A cross-check never decides: the processor and the section say "not decided".
+    assert can0.schedulable is None
+    assert sched.schedulable is None and sched.cross_checked == [can0]
     cpu = next(p for p in sched.processors if p.processor == "cpu")
-    assert cpu.preemptive and cpu.schedulable is True
-    assert r.to_dict()["design"]["schedulability"]["processors"][0]["preemptive"] is False
+    assert cpu.preemptive and not cpu.cross_check and cpu.schedulable is True
+    doc = r.to_dict()["design"]["schedulability"]["processors"][0]
+    assert (doc["preemptive"], doc["cross_check"], doc["schedulable"]) == (False, True, None)
 
 
 def test_rule4_does_not_call_rate_monotonic_optimal_there():
