@@ -51,6 +51,7 @@ class UnitDisagreement:
     """What the exact schedule shows, in words (earliest problem first)."""
 
     def to_dict(self) -> dict[str, Any]:
+        """The disagreement as the JSON report holds it."""
         return {"group": self.group, "tasks": list(self.tasks), "processor": self.processor,
                 "period": exact_text(self.period), "test_says": self.test,
                 "schedule_says": not self.test, "why": self.why}
@@ -89,6 +90,7 @@ class CrossCheck:
         return self.says == self.exact and not self.disagreements
 
     def to_dict(self) -> dict[str, Any]:
+        """The cross-check as the JSON report holds it (``schedulability.cross_check``)."""
         return {"test": self.test, "test_says": self.says, "schedule_says": self.exact,
                 "agrees": self.agrees,
                 "disagreements": [d.to_dict() for d in self.disagreements]}

@@ -49,7 +49,7 @@ def shared_processor_candidates(skeleton: Skeleton, report: Report,
     >>> sk = Skeleton.from_dict({"tasks": {
     ...     "A": {"duration": 1, "period": 4, "processor": "p"},
     ...     "B": {"duration": 1, "period": 4, "phase": 2, "processor": "q"}}})
-    >>> shared_processor_candidates(sk, analyze_skeleton(sk)).pairs
+    >>> shared_processor_candidates(sk, analyze_skeleton(sk, processors=True)).pairs
     [('A', 'B')]
     """
     s = report.schedule

@@ -4,7 +4,7 @@
 verdict (spec §5: live, consistent, schedulable on its processors), and name its
 problems in one order, earliest in time first: an overrun at its clock's tick, a
 starved task at the release of the job that never ends
-(:attr:`~tegraph.analysis.processors.ProcessorSchedule.problems`; with a
+(``ProcessorSchedule.problems``; with a
 processor per task, the overruns of spec §4 by their ticks alike).
 """
 

@@ -317,7 +317,7 @@ class Advisor(Candidates):
         on its processors, its cycle time), judged by ``judge`` in turn, at most
         :data:`.periods.TRIES` of them: the first schedulable one, else the first.
         Without a judge, the first. Without any period to start from, the period
-        the check assumed (:attr:`fresh`).
+        the check assumed (``fresh``, a period no group has).
         """
         groups, part, root_of = self._groups_after(edits)
         members = {t for added in edits.add for t in part[root_of[added]][0]}

@@ -24,7 +24,7 @@ chosen for a finding:
 
 A clock the change adds gets the period the advisor proposed (``Change.period``,
 :mod:`.periods`), else the one it assumed (a period no group has,
-:attr:`~.advice.Advisor.fresh`); the words say which. :meth:`ScheduleAdvice.after`
+``Advisor.fresh``); the words say which. :meth:`ScheduleAdvice.after`
 is the advisor's judge: it ranks the candidates by the schedule they lead to.
 """
 

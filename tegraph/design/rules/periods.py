@@ -2,7 +2,7 @@
 
 A group without a clock gets one (Rule 3), a task without a synchronization may
 get one of its own (Rule 1). The advisor checks such a change with a period no
-group has (:attr:`~.advice.Advisor.fresh`, so that Rule 2 sees no two groups of
+group has (``Advisor.fresh``, so that Rule 2 sees no two groups of
 one rate); but a period such as ``max + 1`` makes the clocks' hyperperiod, and
 so the schedule on processors, astronomically long (101 ms beside 100 ms and
 2.5 ms: 10,100 ms; 10^12 + 1 beside 10^12: 10^24), and the schedule undecidable
