@@ -133,7 +133,16 @@ def parts(draw, scale: int = 1) -> PartData:
         processor=[draw(st.integers(0, n_procs - 1)) for _ in range(n_tasks)],
         n_processors=n_procs,
         end_event=[draw(st.one_of(st.none(), st.integers(0, n - 1))) for _ in range(n_tasks)],
-        watched=watched, snapshot_place=snapshot_place)
+        watched=watched, snapshot_place=snapshot_place, **draw(recorded(n, n_tasks)))
+
+
+def recorded(n_events: int, n_tasks: int):
+    """What a chain asks the engine to record (``PartData.logged`` and ``started``): some
+    events' firings and some tasks' job starts, or nothing."""
+    return st.fixed_dictionaries({
+        "logged": st.lists(st.integers(0, n_events - 1), unique=True, max_size=n_events),
+        "started": st.lists(st.integers(0, n_tasks - 1), unique=True, max_size=n_tasks)
+        if n_tasks else st.just([])})
 
 
 @st.composite
@@ -169,7 +178,8 @@ def clocked_tasks(draw, scale: int = 1) -> PartData:
         processor=[draw(st.integers(0, n_procs - 1)) for _ in range(n_tasks)],
         n_processors=n_procs, end_event=[None] * n_tasks,
         watched={2 * i: [i] for i in range(n_tasks)},
-        snapshot_place=draw(st.sampled_from([None, *clocks])))
+        snapshot_place=draw(st.sampled_from([None, *clocks])),
+        **draw(recorded(2 * n_tasks, n_tasks)))
 
 
 @PROPS
