@@ -141,7 +141,7 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
     """
     skeleton = _skeleton(skeleton)
     report = analyze_skeleton(skeleton, max_steps, semiflow_budget, semiflow_max_places,
-                              processors=processors, max_events=max_events)
+                              processors=processors, max_events=max_events, chains=chains)
     _add_duration_margins(skeleton, report, margins_max_tasks)
     if design:
         report.design = design_section(skeleton, report, chains)

@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import gc
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
@@ -55,6 +55,7 @@ from ..model.elements import flow_list
 from ..model.skeleton import Skeleton
 from ..model.structure import Structure
 from ..model.teg import Place, TimedEventGraph
+from .chains import chain_paths, chain_reports, trace_request
 from .deadlocks import skeleton_deadlocks
 from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import semiflow_census
@@ -85,8 +86,8 @@ all, as :meth:`~tegraph.model.teg.TimedEventGraph.arrays` gives; the tests compa
 
 def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
                      semiflow_max_places: int = 2_000_000, *, processors: bool = False,
-                     max_events: int = MAX_EVENTS, structure: Structure | None = None
-                     ) -> Report:
+                     max_events: int = MAX_EVENTS, structure: Structure | None = None,
+                     chains: Sequence[Sequence[str]] = ()) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack (spec §4).
 
     Parameters
@@ -110,11 +111,20 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         Budget of event firings of the schedule on processors.
     structure : Structure, optional
         ``Structure.of(skeleton)``, if known; the report carries it (``report.structure``).
+    chains : sequence of task-name sequences
+        Chains whose latency to report (spec §4c, ``report.chains``), besides the
+        skeleton's own ``chains``.
 
     Returns
     -------
     Report
         Without its design section (:func:`tegraph.analyze` adds it).
+
+    Raises
+    ------
+    SkeletonError
+        A chain names an unknown task, a task twice, or two consecutive tasks with
+        no link from the first to the second.
 
     See Also
     --------
@@ -145,16 +155,25 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         overrun = any(t.overrun_at is not None for t in tasks.values())
         consistent = live and not unbounded and not overrun
         methods = _methods(deadlocks, groups, periods, invariants, tasks, steps)
+        paths = chain_paths(skeleton, graph.teg, chains)
         schedule = None
         if processors:  # on the groups and the event graph computed above, not again
-            schedule = schedule_on_processors(skeleton, graph.teg, groups, max_events=max_events,
-                                              intervals=False)  # the timeline draws its own
+            schedule = schedule_on_processors(
+                skeleton, graph.teg, groups, max_events=max_events,
+                intervals=False,  # the timeline draws its own
+                trace=trace_request(paths) if paths else None)
             methods["schedule"] = schedule.method
+        chain_figures = chain_reports(skeleton, graph.teg, groups, paths,
+                                      None if schedule is None else schedule.trace,
+                                      max_events=max_events)
+        if chain_figures:
+            methods["chains"] = _chains_method(schedule is not None)
         return Report(
             name=skeleton.name, unit=skeleton.unit, live=live, consistent=consistent,
             deadlocks=deadlocks, reorder=reorder, groups=groups, tasks=tasks,
             unbounded_places=unbounded, invariants=invariants, methods=methods,
             notes=notes, source=skeleton.source, schedule=schedule, structure=structure,
+            chains=chain_figures,
         )
 
 
@@ -776,6 +795,16 @@ def _methods(deadlocks: list[Deadlock], groups: list[GroupReport], periods: _Per
                   if any(g.rate_consistent for g in groups)
                   else "no slack computed: no group is rate-consistent"),
     }
+
+
+def _chains_method(processors: bool) -> str:
+    """The ``chains`` line of the methods: how the latency of each chain is obtained."""
+    where = ("on the schedule on processors (§4b) and with a processor per task (§3)"
+             if processors else "with a processor per task (§3)")
+    return ("each chain's data traced back from each output to the sample it uses (spec §4c), "
+            f"{where}: reads, writes, starts and ends recorded while the schedule proves "
+            "its periodic regime, the figures exact over one period of the regime the "
+            "chain's parts share (docs/analysis.md)")
 
 
 def _timing_method(groups: list[GroupReport], tasks: dict[str, TaskReport], steps: int) -> str:

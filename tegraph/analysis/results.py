@@ -16,6 +16,7 @@ from maxplus.scalar import exact_text
 
 from ..model.build import UnboundedKind
 from ..model.structure import Structure
+from .chains import ChainReport
 from .processors.schedule import ProcessorSchedule
 
 if TYPE_CHECKING:  # annotations only: a report loads no more modules for them
@@ -215,6 +216,9 @@ class Report:
     """The skeleton's groups (numbered as :attr:`groups`), clocks, design periods and
     links by port, computed once by the analysis: what follows it (design rules,
     margins) reads these instead of finding the groups again."""
+    chains: list[ChainReport] = field(default_factory=list)
+    """The latency of each chain of the skeleton and of those asked for, in that order
+    (spec §4c): ``report.chains[i].on_processors.first_use`` and the other figures."""
 
     @property
     def schedulable(self) -> bool | None:
@@ -340,6 +344,7 @@ class Report:
             "schedulable": self.schedulable,
             "processors": self._processors_list(),
             "schedule": self._schedule_dict(),
+            "chains": [c.to_dict() for c in self.chains],
             "methods": self.methods,
             "notes": self.notes,
             "design": None if self.design is None else self.design.to_dict(),

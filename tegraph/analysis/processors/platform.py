@@ -37,7 +37,7 @@ from ...model.skeleton import Skeleton
 from ...model.structure import design_period
 
 __all__ = ["DEFAULT_PROCESSOR", "Platform", "ProcessorInfo", "check_groups", "is_automaton",
-           "platform_of", "processor_of", "processor_parts"]
+           "platform_of", "processor_of", "processor_parts", "processor_per_task"]
 
 DEFAULT_PROCESSOR = "default"
 """The processor of every task that declares none (§4b)."""
@@ -139,6 +139,18 @@ def platform_of(skeleton: Skeleton, groups: Sequence[_Group]) -> Platform:
         priority.update(chosen)
         infos.append(ProcessorInfo(proc, tuple(tasks), {t: chosen[t] for t in tasks}, source))
     return Platform(tuple(infos), processors, {t: priority[t] for t in skeleton.tasks})
+
+
+def processor_per_task(skeleton: Skeleton) -> Platform:
+    """Every task alone on a processor named after it: the schedule is then §3's daters
+    (§4b: ``f_T(k) = x_T.compute(k) + duration(T)``, every job starts at its release).
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1}, "B": {"duration": 1}}})
+    >>> processor_per_task(sk).processor_of
+    {'A': 'A', 'B': 'B'}
+    """
+    infos = tuple(ProcessorInfo(t, (t,), {t: 1}, "alone") for t in skeleton.tasks)
+    return Platform(infos, {t: t for t in skeleton.tasks}, {t: 1 for t in skeleton.tasks})
 
 
 def check_groups(skeleton: Skeleton, groups: Sequence[_Group]) -> None:

@@ -52,9 +52,10 @@ from ...model.teg import TimedEventGraph
 from ._engine import AFTER_OVERRUN, PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
 from .platform import Platform, check_groups, platform_of, processor_parts
+from .trace import ScheduleTrace, TraceRequest
 
 __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
-           "schedule_on_processors"]
+           "schedule_on_processors", "trace_schedule"]
 
 
 
@@ -122,6 +123,8 @@ class ProcessorSchedule:
     quick look at its start."""
     events: int = 0
     """Event firings simulated in all."""
+    trace: ScheduleTrace | None = field(default=None, repr=False)
+    """What ``trace`` asked to record (spec §4c), None when nothing was asked."""
 
     @property
     def intervals(self) -> list[JobInterval]:
@@ -143,7 +146,8 @@ class ProcessorSchedule:
 def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any], *,
                            platform: Platform | None = None,
                            max_events: int = MAX_EVENTS,
-                           intervals: bool = True) -> ProcessorSchedule:
+                           intervals: bool = True,
+                           trace: TraceRequest | None = None) -> ProcessorSchedule:
     """Decide the skeleton on its processors (§4b), exactly.
 
     Parameters
@@ -162,6 +166,9 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         Keep each job's processor time (``intervals``, for drawing a timeline);
         False leaves them out (the figures and the verdict are the same), which
         ``analyze`` does: at 10^6 firings they take hundreds of MiB.
+    trace : TraceRequest, optional
+        Events and tasks whose instants to record for the chains of §4c
+        (``schedule.trace``); the figures and the verdict are the same.
 
     Returns
     -------
@@ -196,8 +203,42 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     if platform is None:
         platform = platform_of(skeleton, groups)
     net = _Net(skeleton, teg, groups, platform)
-    out = _Outcome(net, max_events)
-    parts = sorted(net.parts(), key=lambda part: part[0].n_events)
+    out = _Outcome(net, max_events, trace)
+    _simulate_parts(net, out, net.parts(trace=trace), max_events, intervals)
+    return out.finish()
+
+
+def trace_schedule(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any],
+                   platform: Platform, trace: TraceRequest, *,
+                   max_events: int = MAX_EVENTS) -> ScheduleTrace:
+    """Record ``trace`` on the parts that hold its tasks, and simulate nothing else.
+
+    The parameters are those of :func:`schedule_on_processors`, whose rules and
+    proofs this runs on those parts alone (their share of ``max_events`` is the
+    whole budget); only what was recorded is returned. The chains of §4c with a
+    processor per task (:func:`~.platform.processor_per_task`, where the schedule
+    is §3's daters) need no other part.
+
+    Returns
+    -------
+    ScheduleTrace
+    """
+    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
+        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+    check_groups(skeleton, groups)
+    net = _Net(skeleton, teg, groups, platform)
+    out = _Outcome(net, max_events, trace)
+    _simulate_parts(net, out, net.parts(trace=trace, only=set(trace.tasks)), max_events, False)
+    assert out.trace is not None
+    return out.trace
+
+
+def _simulate_parts(net: _Net, out: _Outcome, parts: Any, max_events: int,
+                    intervals: bool) -> None:
+    """Simulate ``parts`` (of ``net.parts``), smallest first, each with its share of what is
+    left of ``max_events``, and hand each result to ``out``."""
+    skeleton, platform = net.sk, net.platform
+    parts = sorted(parts, key=lambda part: part[0].n_events)
     left = max_events
     for i, (data, local_tasks, local_events, local_places) in enumerate(parts):
         share = max(left // (len(parts) - i), 1)
@@ -219,8 +260,9 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         left -= result.fired
         out.add(result, data, local_tasks, local_events, local_places)
         if result.regime is None:
-            out.undecided.append(_why_part(skeleton, local_tasks, hyper, ticks, too_long))
-    return out.finish()
+            why = _why_part(skeleton, local_tasks, hyper, ticks, too_long)
+            out.undecided.append(why)
+            out.untraced(local_tasks, why)
 
 
 QUICK_LOOK = 10_000
@@ -309,8 +351,11 @@ class _Net:
         part = processor_parts([g.tasks for g in self.groups], self.platform.processor_of)
         return [part[self.group_of[t]] for t in self.tasks]
 
-    def parts(self):
-        """For each part: its :class:`PartData` and its global tasks, events and places."""
+    def parts(self, trace: TraceRequest | None = None, only: set[str] | None = None):
+        """For each part: its :class:`PartData` and its global tasks, events and places.
+
+        ``trace``: what the parts record; ``only``: the parts holding one of these
+        tasks alone (the others are not made)."""
         label = self._union_parts()
         index = {t: i for i, t in enumerate(self.tasks)}
         part_of_event: dict[int, int] = {}
@@ -336,12 +381,16 @@ class _Net:
                 by_label.setdefault(label[i], []).append(i)
         no_place = np.zeros(0, dtype=np.int64)
         for lab in sorted(members, key=lambda lab: members[lab][0]):
-            yield self._part_data(by_label.get(lab, []), members[lab],
-                                  places.get(lab, no_place))
+            tasks = by_label.get(lab, [])
+            if only is not None and not any(self.tasks[i] in only for i in tasks):
+                continue
+            yield self._part_data(tasks, members[lab], places.get(lab, no_place), trace)
 
-    def _part_data(self, tasks: list[int], events: np.ndarray, places: np.ndarray):
+    def _part_data(self, tasks: list[int], events: np.ndarray, places: np.ndarray,
+                   trace: TraceRequest | None = None):
         """The part of these global tasks, events (increasing) and places, re-indexed
-        locally for the engine (:class:`PartData`), with them."""
+        locally for the engine (:class:`PartData`), with them; what it records of
+        ``trace``, in its local numbers."""
         event_list = events.tolist()  # freed on return
         local = dict(zip(event_list, range(len(event_list))))  # for the tasks' events
         names = [self.tasks[i] for i in tasks]
@@ -372,6 +421,10 @@ class _Net:
             n_processors=len(procs),
             end_event=[_end_event(self.teg, t, local) for t in names],
             watched=watched, snapshot_place=self._snapshot_place(src, dst, events, slowest_tick))
+        if trace is not None:
+            data.logged = [local[e] for e in trace.events if e in local]
+            wanted = set(trace.tasks)
+            data.started = [j for j, t in enumerate(names) if t in wanted]
         # Its events and places stay arrays: kept for the figures until the part is
         # simulated, they cost 8 bytes each, not the 36 of a list of ints.
         return data, names, events, places
@@ -457,9 +510,11 @@ def _by_label(items: np.ndarray, labels: np.ndarray) -> dict[int, np.ndarray]:
 class _Outcome:
     """The figures of every part, assembled into a :class:`ProcessorSchedule`."""
 
-    def __init__(self, net: _Net, budget: int) -> None:
+    def __init__(self, net: _Net, budget: int, trace: TraceRequest | None = None) -> None:
         self.net = net
         self.budget = budget
+        self.trace = None if trace is None else ScheduleTrace(
+            net.scale, dict(net.platform.processor_of), frozenset(trace.tasks))
         self.tasks = {t: TaskOnProcessors() for t in net.tasks}
         self.unbounded: list[GrowingPlace] = []
         self.intervals: list[tuple[str, int, int, str, int]] = []
@@ -476,6 +531,8 @@ class _Outcome:
         for t in net.tasks:
             if net.compute[t] in net.zero:
                 self.tasks[t] = TaskOnProcessors(Fraction(0), None, Fraction(0), False, True)
+                self.untraced([t], f"{t} runs infinitely often at time 0 (a circuit of zero "
+                                   "durations without a clock)")
         # The places from a zero-period event to the rest: unbounded at time 0.
         zero = net.zero_mask
         for p in np.flatnonzero(zero[net.src] & ~zero[net.dst]).tolist():
@@ -483,6 +540,11 @@ class _Outcome:
 
     def _fraction(self, v: int) -> Fraction:
         return Fraction(v, self.net.scale)
+
+    def untraced(self, names: Sequence[str], why: str) -> None:
+        """No regime of these tasks' part to record (``trace``): ``why``."""
+        if self.trace is not None:
+            self.trace.undecided_part(names, why)
 
     def _grow(self, p: int, per: int | None) -> None:
         net = self.net
@@ -506,6 +568,8 @@ class _Outcome:
                            for proc, start, end, task, k in r.intervals]
         for task, k in r.overrun_at.items():
             self.tasks[names[task]].overrun_at = k
+        if self.trace is not None:
+            self.trace.add_part(r, d, names, events, self.net.sk.unit)
         if r.regime is None:
             self.regimes.append({"tasks": names, "start": None, "length": None})
             return
@@ -524,6 +588,10 @@ class _Outcome:
         quick look at its start (``regimes`` says ``"by": "critical instant"``)."""
         self.by_theorem += 1
         self.events += look.fired
+        self.untraced(names, f"the part of {', '.join(names[:3])}"
+                             f"{' ...' if len(names) > 3 else ''} is decided by the critical "
+                             "instant, without simulating its regime (its hyperperiod is too "
+                             "long)")
         procs = list(dict.fromkeys(self.net.platform.processor_of[t] for t in names))
         self.intervals += [(procs[proc], start, end, names[task], k)
                            for proc, start, end, task, k in look.intervals]
@@ -628,7 +696,8 @@ class _Outcome:
                                  exact=verdict is not None, method=method, why_undecided=why,
                                  tasks=self.tasks, group_periods=group_periods,
                                  unbounded=unbounded, raw_intervals=self.intervals,
-                                 scale=net.scale, regimes=self.regimes, events=self.events)
+                                 scale=net.scale, regimes=self.regimes, events=self.events,
+                                 trace=self.trace)
 
     def _proofs(self, simulated: int) -> str:
         """What the simulation proved: a regime per part, or, where the budget ran out
