@@ -228,10 +228,20 @@ def chain_paths(skeleton: Skeleton, teg: TimedEventGraph, chains: Sequence[Seque
     >>> p.sample.name, [(h.read.name, h.blocking) for h in p.hops], p.output.name
     ('the start of TG.JS', [('TF.TT.JS.read:qd', True), ('CO.JS.read:e', True)], 'CO.JS.write:tau')
     """
-    named = [(tuple(c), ("chains", i), skeleton.source) for i, c in enumerate(skeleton.chains)]
-    named += [(tuple(c), ("chain", i), None) for i, c in enumerate(chains)]
-    return [_path(skeleton, teg, check_chain(skeleton, list(c), path, Locator(file=where)),
-                  delay_of) for c, path, where in named]
+    named: list[tuple[Any, tuple[str, int], str | None]] = [
+        (c, ("chains", i), skeleton.source) for i, c in enumerate(skeleton.chains)]
+    named += [(c, ("chain", i), None) for i, c in enumerate(chains)]
+    if not named:
+        return []
+    links = _Links(skeleton, teg)
+    out = []
+    for chain, path, where in named:
+        # The one message of a refused chain is check_chain's.
+        if isinstance(chain, str) or not isinstance(chain, Sequence) or not links.follows(
+                tuple(chain)):
+            check_chain(skeleton, chain, path, Locator(file=where))
+        out.append(links.path(tuple(chain), delay_of))
+    return out
 
 
 def trace_request(paths: Sequence[ChainPath]) -> TraceRequest:
@@ -241,39 +251,61 @@ def trace_request(paths: Sequence[ChainPath]) -> TraceRequest:
     return TraceRequest(tuple(events), tuple(tasks))
 
 
-def _path(sk: Skeleton, teg: TimedEventGraph, chain: tuple[str, ...],
-          delay_of: Callable[[Link], Fraction] | None) -> ChainPath:
-    ports: dict[tuple[str, str], int] = {}
-    for t in chain:
-        for e in task_chain(teg, t):
-            for port in teg.transition_attrs[e]["ports"]:
-                ports[port] = e
-    linked = {end for link in sk.links for end in (link.writer, link.reader)}
-    blocking = {link.reader for link in sk.links if link.protocol in _BLOCKING}
+class _Links:
+    """The skeleton's links as the chains read them, indexed once for all chains."""
 
-    def reading(task: str, port: str) -> Instant:
-        # §4c: a blocking read at its event; a non-blocking one at the job's start when
-        # it comes after every blocking read of its task, else at its own event.
-        inputs = sk.tasks[task].inputs
+    def __init__(self, sk: Skeleton, teg: TimedEventGraph) -> None:
+        self.sk, self.teg = sk, teg
+        self.linked = {end for link in sk.links for end in (link.writer, link.reader)}
+        self.blocking = {link.reader for link in sk.links if link.protocol in _BLOCKING}
+        self.first: dict[tuple[str, str], Link] = {}  # the first in the file, task to task
+        for link in sk.links:
+            self.first.setdefault((link.writer[0], link.reader[0]), link)
+        self.ports: dict[tuple[str, str], int] = {}
+        self.seen: set[str] = set()
+
+    def follows(self, chain: tuple[str, ...]) -> bool:
+        """Whether ``chain`` names known tasks, each once, each reading the one before."""
+        return (len(chain) > 0 and all(isinstance(t, str) and t in self.sk.tasks for t in chain)
+                and len(set(chain)) == len(chain)
+                and all(pair in self.first for pair in zip(chain, chain[1:])))
+
+    def port(self, task: str, port: str) -> int:
+        """The event of ``task``'s port (the rendezvous of a SYN/SYN link is its writer's)."""
+        if task not in self.seen:
+            self.seen.add(task)
+            for e in task_chain(self.teg, task):
+                for owner_port in self.teg.transition_attrs[e]["ports"]:
+                    self.ports[owner_port] = e
+        return self.ports[task, port]
+
+    def reading(self, task: str, port: str) -> Instant:
+        """When ``task`` reads ``port`` (§4c): a blocking read at its event; a non-blocking
+        one at the job's start when it comes after every blocking read of its task, else
+        at its own event (the task reads it, then waits)."""
+        inputs = self.sk.tasks[task].inputs
         later = inputs[inputs.index(port) + 1:]
-        if (task, port) in blocking or any((task, q) in blocking for q in later):
-            return _event(teg, task, ports[task, port])
+        if (task, port) in self.blocking or any((task, q) in self.blocking for q in later):
+            return _event(self.teg, task, self.port(task, port))
         return Instant(task, "start", f"{task}.read:{port} (at its job's start)")
 
-    hops = []
-    for a, b in zip(chain, chain[1:]):
-        link = next(x for x in sk.links if x.writer[0] == a and x.reader[0] == b)
-        hops.append(Hop(a, b, link, _event(teg, a, ports[link.writer]),
-                        reading(b, link.reader[1]), link.protocol in _BLOCKING,
-                        Fraction(0) if delay_of is None else delay_of(link)))
-    first, last = chain[0], chain[-1]
-    sensors = [p for p in sk.tasks[first].inputs if (first, p) not in linked]
-    actuators = [p for p in sk.tasks[last].outputs if (last, p) not in linked]
-    sample = reading(first, sensors[0]) if sensors else Instant(first, "start",
-                                                                f"the start of {first}")
-    output = (_event(teg, last, ports[last, actuators[0]]) if actuators
-              else Instant(last, "end", f"the end of {last}"))
-    return ChainPath(chain, sample, tuple(hops), output)
+    def path(self, chain: tuple[str, ...],
+             delay_of: Callable[[Link], Fraction] | None) -> ChainPath:
+        sk, teg = self.sk, self.teg
+        hops = []
+        for a, b in zip(chain, chain[1:]):
+            link = self.first[a, b]
+            hops.append(Hop(a, b, link, _event(teg, a, self.port(*link.writer)),
+                            self.reading(*link.reader), link.protocol in _BLOCKING,
+                            Fraction(0) if delay_of is None else delay_of(link)))
+        first, last = chain[0], chain[-1]
+        sensors = [p for p in sk.tasks[first].inputs if (first, p) not in self.linked]
+        actuators = [p for p in sk.tasks[last].outputs if (last, p) not in self.linked]
+        sample = (self.reading(first, sensors[0]) if sensors
+                  else Instant(first, "start", f"the start of {first}"))
+        output = (_event(teg, last, self.port(last, actuators[0])) if actuators
+                  else Instant(last, "end", f"the end of {last}"))
+        return ChainPath(chain, sample, tuple(hops), output)
 
 
 def _event(teg: TimedEventGraph, task: str, e: int) -> Instant:
@@ -292,7 +324,8 @@ def chain_reports(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any
     ----------
     skeleton, teg : Skeleton, TimedEventGraph
     groups : sequence of GroupReport
-        ``analyze_skeleton(skeleton).groups`` (``tasks`` and ``live`` are read).
+        ``analyze_skeleton(skeleton).groups`` (``tasks``, ``live`` and the
+        ``cycle_times`` of §4, those of a processor per task, are read).
     paths : sequence of ChainPath
         :func:`chain_paths`.
     on_processors : ScheduleTrace or None
@@ -310,8 +343,9 @@ def chain_reports(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any
     """
     if not paths:
         return []
+    cycle_times = {t: c for g in groups for t, c in g.cycle_times.items()}
     own = trace_schedule(skeleton, teg, groups, processor_per_task(skeleton),
-                         trace_request(paths), max_events=max_events)
+                         trace_request(paths), max_events=max_events, cycle_times=cycle_times)
     dead = {t: g for g in groups if not g.live for t in g.tasks}
     out = []
     for p in paths:

@@ -33,7 +33,7 @@ rest of the graph are unbounded (tokens pile up at once).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -210,14 +210,24 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
 
 def trace_schedule(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any],
                    platform: Platform, trace: TraceRequest, *,
-                   max_events: int = MAX_EVENTS) -> ScheduleTrace:
+                   max_events: int = MAX_EVENTS,
+                   cycle_times: Mapping[str, Fraction] | None = None) -> ScheduleTrace:
     """Record ``trace`` on the parts that hold its tasks, and simulate nothing else.
 
     The parameters are those of :func:`schedule_on_processors`, whose rules and
     proofs this runs on those parts alone (their share of ``max_events`` is the
-    whole budget); only what was recorded is returned. The chains of §4c with a
-    processor per task (:func:`~.platform.processor_per_task`, where the schedule
-    is §3's daters) need no other part.
+    whole budget); only what was recorded is returned, and a part is simulated
+    only to find its regime (no quick look for an early overrun). The chains of
+    §4c with a processor per task (:func:`~.platform.processor_per_task`, where
+    the schedule is §3's daters) need no other part.
+
+    Parameters
+    ----------
+    cycle_times : mapping of str to Fraction, optional
+        Each task's cycle time on ``platform``, where known beforehand (with a
+        processor per task: §4's): a regime holds a whole number of activations of
+        each task, so a part whose tasks' cycle times need more firings than its
+        share before any regime can repeat is left undecided without simulating.
 
     Returns
     -------
@@ -227,8 +237,28 @@ def trace_schedule(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[An
         raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
     check_groups(skeleton, groups)
     net = _Net(skeleton, teg, groups, platform)
-    out = _Outcome(net, max_events, trace)
-    _simulate_parts(net, out, net.parts(trace=trace, only=set(trace.tasks)), max_events, False)
+    out = _Outcome(net, max_events, trace, trace_only=True)
+    wanted = set(trace.tasks)
+    labels = net.part_labels()
+    n_parts = len({labels[i] for i, t in enumerate(net.tasks) if t in wanted}) or 1
+    # (numerator, denominator) pairs: hashed for each task of each part, cheaper than Fractions.
+    known = {t: (c.numerator, c.denominator) for t, c in (cycle_times or {}).items() if c}
+
+    def promising(names: list[str]) -> bool:
+        # A part whose regime cannot come within an even share is not even made.
+        share = max(max_events // n_parts, 1)
+        hyper, ticks = _hyperperiod(skeleton, names)
+        needed = _least_firings(names, known)
+        if ticks > share:
+            out.untraced(names, _why_part(skeleton, names, hyper, ticks, True))
+        elif needed > share:
+            out.untraced(names, f"the part of {_shown(names)}: its tasks' cycle times need at "
+                                f"least {needed:,} jobs before a periodic regime can repeat, "
+                                "more than its share of `max_events`")
+        return ticks <= share and needed <= share
+
+    _simulate_parts(net, out, net.parts(trace=trace, only=wanted, keep=promising), max_events,
+                    False)
     assert out.trace is not None
     return out.trace
 
@@ -265,6 +295,25 @@ def _simulate_parts(net: _Net, out: _Outcome, parts: Any, max_events: int,
             out.untraced(local_tasks, why)
 
 
+def _least_firings(tasks: list[str], cycle_times: Mapping[str, tuple[int, int]]) -> int:
+    """The fewest jobs a regime of these tasks holds: each task's compute fires a whole
+    number of times in it, so its length is a common multiple of their cycle times
+    (``(numerator, denominator)``; the least: the lcm of the numerators over the gcd of
+    the denominators)."""
+    known: dict[tuple[int, int], int] = {}  # a part's tasks share a few cycle times
+    for t in tasks:
+        c = cycle_times.get(t)
+        if c is not None:
+            known[c] = known.get(c, 0) + 1
+    if not known:
+        return 0
+    num, den = 1, 0
+    for a, b in known:
+        num, den = math.lcm(num, a), math.gcd(den, b)
+    # least / (a / b) = (num / den) * (b / a): a whole number (least is a multiple)
+    return sum(num * b // (den * a) * n for (a, b), n in known.items())
+
+
 QUICK_LOOK = 10_000
 """Firings simulated, to find an early overrun, in a part whose hyperperiod alone
 exceeds its share of the budget."""
@@ -282,9 +331,13 @@ def _hyperperiod(sk: Skeleton, tasks: list[str]) -> tuple[Fraction | None, int]:
     return hyper, sum(int(hyper / p) for p in periods)
 
 
+def _shown(tasks: list[str]) -> str:
+    return ", ".join(tasks[:3]) + (" ..." if len(tasks) > 3 else "")
+
+
 def _why_part(sk: Skeleton, tasks: list[str], hyper: Fraction | None, ticks: int,
               too_long: bool) -> str:
-    shown = ", ".join(tasks[:3]) + (" ..." if len(tasks) > 3 else "")
+    shown = _shown(tasks)
     if too_long:
         return (f"the part of {shown}: its clocks' hyperperiod is {display_text(hyper)} "
                 f"{sk.unit}, at least {ticks:,} clock ticks before a periodic regime can "
@@ -351,12 +404,20 @@ class _Net:
         part = processor_parts([g.tasks for g in self.groups], self.platform.processor_of)
         return [part[self.group_of[t]] for t in self.tasks]
 
-    def parts(self, trace: TraceRequest | None = None, only: set[str] | None = None):
+    def part_labels(self) -> list[int]:
+        """Part label of each task (in file order): tasks joined by a group or a processor."""
+        if not hasattr(self, "_labels"):
+            self._labels = self._union_parts()
+        return self._labels
+
+    def parts(self, trace: TraceRequest | None = None, only: set[str] | None = None,
+              keep: Any = None):
         """For each part: its :class:`PartData` and its global tasks, events and places.
 
         ``trace``: what the parts record; ``only``: the parts holding one of these
-        tasks alone (the others are not made)."""
-        label = self._union_parts()
+        tasks alone, and of those, with ``keep``, only those whose task names it
+        keeps (the others are not made)."""
+        label = self.part_labels()
         index = {t: i for i, t in enumerate(self.tasks)}
         part_of_event: dict[int, int] = {}
         for e, attrs in enumerate(self.teg.transition_attrs):
@@ -380,17 +441,27 @@ class _Net:
             if self.compute[t] not in self.zero:
                 by_label.setdefault(label[i], []).append(i)
         no_place = np.zeros(0, dtype=np.int64)
+        logged: dict[int, np.ndarray] = {}  # the events each part records (trace)
+        started = frozenset(() if trace is None else trace.tasks)
+        if trace is not None and trace.events:
+            traced = np.unique(np.asarray(trace.events, dtype=np.int64))
+            traced = traced[(part[traced] >= 0) & ~zero[traced]]
+            logged = _by_label(traced, part[traced])
         for lab in sorted(members, key=lambda lab: members[lab][0]):
             tasks = by_label.get(lab, [])
             if only is not None and not any(self.tasks[i] in only for i in tasks):
                 continue
-            yield self._part_data(tasks, members[lab], places.get(lab, no_place), trace)
+            if keep is not None and not keep([self.tasks[i] for i in tasks]):
+                continue
+            yield self._part_data(tasks, members[lab], places.get(lab, no_place),
+                                  None if trace is None else (logged.get(lab, no_place), started))
 
     def _part_data(self, tasks: list[int], events: np.ndarray, places: np.ndarray,
-                   trace: TraceRequest | None = None):
+                   trace: tuple[np.ndarray, frozenset[str]] | None = None):
         """The part of these global tasks, events (increasing) and places, re-indexed
-        locally for the engine (:class:`PartData`), with them; what it records of
-        ``trace``, in its local numbers."""
+        locally for the engine (:class:`PartData`), with them; with ``trace`` (the
+        part's events to record, the tasks whose jobs to record), what it records, in
+        its local numbers."""
         event_list = events.tolist()  # freed on return
         local = dict(zip(event_list, range(len(event_list))))  # for the tasks' events
         names = [self.tasks[i] for i in tasks]
@@ -422,9 +493,8 @@ class _Net:
             end_event=[_end_event(self.teg, t, local) for t in names],
             watched=watched, snapshot_place=self._snapshot_place(src, dst, events, slowest_tick))
         if trace is not None:
-            data.logged = [local[e] for e in trace.events if e in local]
-            wanted = set(trace.tasks)
-            data.started = [j for j, t in enumerate(names) if t in wanted]
+            data.logged = [local[e] for e in trace[0].tolist()]
+            data.started = [j for j, t in enumerate(names) if t in trace[1]]
         # Its events and places stay arrays: kept for the figures until the part is
         # simulated, they cost 8 bytes each, not the 36 of a list of ints.
         return data, names, events, places
@@ -510,9 +580,12 @@ def _by_label(items: np.ndarray, labels: np.ndarray) -> dict[int, np.ndarray]:
 class _Outcome:
     """The figures of every part, assembled into a :class:`ProcessorSchedule`."""
 
-    def __init__(self, net: _Net, budget: int, trace: TraceRequest | None = None) -> None:
+    def __init__(self, net: _Net, budget: int, trace: TraceRequest | None = None,
+                 trace_only: bool = False) -> None:
         self.net = net
         self.budget = budget
+        self.trace_only = trace_only
+        """Only what ``trace`` asks is kept (:func:`trace_schedule`), no figure."""
         self.trace = None if trace is None else ScheduleTrace(
             net.scale, dict(net.platform.processor_of), frozenset(trace.tasks))
         self.tasks = {t: TaskOnProcessors() for t in net.tasks}
@@ -570,6 +643,8 @@ class _Outcome:
             self.tasks[names[task]].overrun_at = k
         if self.trace is not None:
             self.trace.add_part(r, d, names, events, self.net.sk.unit)
+            if self.trace_only:
+                return
         if r.regime is None:
             self.regimes.append({"tasks": names, "start": None, "length": None})
             return
