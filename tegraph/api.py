@@ -192,7 +192,11 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
     ([(4, 'info')], 0)
     """
     skeleton = _skeleton(skeleton)
-    return design_section(skeleton, analyze_skeleton(skeleton), chains, processors=processors)
+    # The chains' figures are analyze's, on the processors: the same schedule, the
+    # same budget (without a chain, the advice decides the parts it touches itself).
+    with_chains = bool(skeleton.chains or chains)
+    report = analyze_skeleton(skeleton, chains=chains, processors=processors and with_chains)
+    return design_section(skeleton, report, chains, processors=processors)
 
 
 def _skeleton(skeleton: Any) -> Skeleton:

@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from tegraph.analysis.analyze import analyze_skeleton
 from tegraph.analysis.processors import _engine, schedule_on_processors
 from tegraph.analysis.processors._engine import PartData, simulate_part
+from tegraph.analysis.processors.trace import TraceRequest
 from tegraph.model.build import build_teg
 from tegraph.model.skeleton import Skeleton
 from tests.tegraph.analysis.processors.engine_loops import (
@@ -221,11 +222,14 @@ def test_random_skeletons_schedule_the_same(rng, processors):
             spec["processor"] = f"cpu{i % processors}"
     sk = Skeleton.from_dict(data)
     teg, groups = build_teg(sk), analyze_skeleton(sk).groups
+    # Every event's firings and every task's job starts recorded (what chains read).
+    trace = TraceRequest(tuple(range(teg.n_transitions)), tuple(sk.tasks))
     schedules = []
     for loop in LOOPS:
         with pytest.MonkeyPatch.context() as mp:
             use_loop(mp, loop)
-            schedules.append(repr(schedule_on_processors(sk, teg, groups)))
+            s = schedule_on_processors(sk, teg, groups, trace=trace)
+            schedules.append(repr(s) + repr(s.trace))
     assert schedules[0] == schedules[1] == schedules[2]
 
 
