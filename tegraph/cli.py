@@ -589,7 +589,9 @@ def explore(
                         "clock is TASK.clock; repeatable).")] = None,
     objective: Annotated[list[str] | None, typer.Option(
         "--objective",
-        help="latency (of each chain, in the file's unit), period (the period ratio: the "
+        help="latency (each chain's first use on processors, exact, in the file's unit), "
+             "age and reaction (the same chain's figures, spec §4c), period (the period "
+             "ratio: the "
              "largest task period over the task's designed period, its own clock's or its "
              "input group's fastest), load (the busiest processor's utilization) or "
              "utilization (the sum over the processors); repeatable or comma-separated; "
@@ -601,8 +603,8 @@ def explore(
              "file's unit (repeatable).")] = None,
     max_latency: Annotated[list[str] | None, typer.Option(
         "--max-latency", metavar="A,B,C=L",
-        help="Keep only designs whose latency of chain A,B,C (exact, or the bound "
-             "guaranteed across asynchronous hops) is at most L (repeatable).")] = None,
+        help="Keep only designs whose latency of chain A,B,C (its first use on "
+             "processors, exact; undecided is rejected) is at most L (repeatable).")] = None,
     forbid: Annotated[list[str] | None, typer.Option(
         "--forbid", metavar="PROTOCOL",
         help="No link may use this protocol, e.g. SYN/SYN: it is taken out of every "

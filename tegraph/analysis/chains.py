@@ -56,7 +56,7 @@ from .processors.schedule import MAX_EVENTS, trace_schedule
 from .processors.trace import Instants, ScheduleTrace, TraceRequest
 
 __all__ = ["ChainFigures", "ChainPath", "ChainReport", "DataStep", "Hop", "Instant",
-           "chain_paths", "chain_reports", "trace_request"]
+           "chain_paths", "chain_reports", "figures_on", "trace_request"]
 
 _BLOCKING = (Protocol.ASYN_SYN, Protocol.SYN_SYN)
 """Protocols whose reader waits (§4c: a blocking read happens at its event)."""
@@ -346,14 +346,36 @@ def chain_reports(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any
     cycle_times = {t: c for g in groups for t, c in g.cycle_times.items()}
     own = trace_schedule(skeleton, teg, groups, processor_per_task(skeleton),
                          trace_request(paths), max_events=max_events, cycle_times=cycle_times)
+    unit = skeleton.unit
+    alone = figures_on(paths, own, groups, shared=False, unit=unit, max_events=max_events)
+    there = alone if on_processors is None else figures_on(
+        paths, on_processors, groups, shared=True, unit=unit, max_events=max_events)
+    return [ChainReport(p.tasks, a, b) for p, a, b in zip(paths, alone, there)]
+
+
+def figures_on(paths: Sequence[ChainPath], trace: ScheduleTrace, groups: Sequence[Any], *,
+               shared: bool, unit: str, max_events: int = MAX_EVENTS) -> list[ChainFigures]:
+    """Each chain's figures in one schedule's trace (what :func:`chain_reports` gives for
+    each platform).
+
+    Parameters
+    ----------
+    paths : sequence of ChainPath
+    trace : ScheduleTrace
+        What the schedule recorded of ``trace_request(paths)``.
+    groups : sequence of GroupReport
+        ``tasks`` and ``live`` are read (a chain through a dead group has no figure).
+    shared : bool
+        The tasks share processors (§4b: a non-blocking read then sees a message
+        posted at its very instant by a writer on its processor); False: a
+        processor per task (§3).
+    unit : str
+        The skeleton's, for the words of a reason.
+    max_events : int
+        Outputs and samples one period of a chain's figures may hold.
+    """
     dead = {t: g for g in groups if not g.live for t in g.tasks}
-    out = []
-    for p in paths:
-        mine = _figures(p, own, dead, False, skeleton.unit, max_events)
-        there = mine if on_processors is None else _figures(p, on_processors, dead, True,
-                                                            skeleton.unit, max_events)
-        out.append(ChainReport(p.tasks, mine, there))
-    return out
+    return [_figures(p, trace, dead, shared, unit, max_events) for p in paths]
 
 
 def _figures(path: ChainPath, trace: ScheduleTrace, dead: dict[str, Any], shared: bool,

@@ -187,6 +187,19 @@ def _compare(sk: Skeleton, figures, priority, processor, shared: bool) -> None:
         assert plain_figures(sk, end, priority, processor, shared, lo, length) == mine, lo
 
 
+def plain_on_processors(sk: Skeleton, figures) -> tuple:
+    """The plain computation of the skeleton's first chain on its processors, over two late
+    windows of ``figures.period`` (which must agree): (first_use, age, age_min, reaction)."""
+    plat = platform_of(sk, analyze(sk, design=False, processors=False).groups)
+    length = int(figures.period)
+    late = 4 * length + 2 * int(figures.reaction) + 40
+    end = late + 3 * length + 2 * int(figures.reaction) + 40
+    found = {plain_figures(sk, end, plat.priority, plat.processor_of, True, lo, length)
+             for lo in (late, late + length)}
+    assert len(found) == 1, found
+    return found.pop()
+
+
 SETTINGS = settings(max_examples=150, deadline=None,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 
