@@ -459,6 +459,8 @@ def timeline(
     max_events: Annotated[int, _max_events(
         "the exact schedule on processors (docs/skeleton.md §4b), as for analyze",
         "the verdict is undecided (exit status 1) and the report says why")] = MAX_EVENTS,
+    chain: Annotated[list[str] | None, _chain("Draw the worst data path and print the "
+                                              "latency of")] = None,
 ) -> None:
     """The schedule on its processors (spec §4b), a lane per processor, until its proof.
 
@@ -471,6 +473,7 @@ def timeline(
     from maxplus.errors import MaxPlusValueError
     from maxplus.scalar import exact_time
 
+    from .design.latency import parse_chain
     from .design.timeline import simulate_timeline
     from .io import load_skeleton
     from .report.plot import draw_timeline
@@ -489,7 +492,8 @@ def timeline(
         _output_file(output, force)
     with _refusals(file):
         skeleton = load_skeleton(file)
-        result = simulate_timeline(skeleton, end, max_events=max_events)
+        result = simulate_timeline(skeleton, end, max_events=max_events,
+                                   chains=[parse_chain(c) for c in chain or []])
     if output is not None:
         _draw(draw_timeline, result, output, force)
     typer.echo(_cli_words(render_timeline(result, width)), nl=False)

@@ -17,6 +17,8 @@ import os
 from pathlib import Path
 from typing import Any
 
+from maxplus.scalar import display_text
+
 from ..design.timeline import Timeline
 from ..errors import InputError, TegraphError
 
@@ -116,6 +118,7 @@ def draw_timeline(timeline: Timeline, path: str | os.PathLike[str], overwrite: b
     _draw_jobs(ax, tl, y_lane, colour)
     _draw_ticks(ax, tl, y_clock)
     _draw_regimes(ax, tl)
+    _draw_data_paths(ax, tl, y_lane)
     ax.set_yticks([y_lane[p] for p in lanes] + [y_clock[c] for c in clocks])
     ax.set_yticklabels([f"processor {p}" for p in lanes] + [f"clock {c}" for c in clocks])
     ax.set_ylim(-0.8, rows - 0.4)
@@ -191,6 +194,31 @@ def _draw_regimes(ax: Any, tl: Timeline) -> None:
                     ax.axvline(float(x), color=_WAIT, linestyle=":", linewidth=1, zorder=1)
 
 
+_PATH = "#1f4e9a"
+"""The colour of a chain's worst data path."""
+
+
+def _draw_data_paths(ax: Any, tl: Timeline, y_lane: dict[str, int]) -> None:
+    """Each chain's worst data path over the jobs: a line through its instants, each on
+    its task's lane, from the sample (a circle) through each write and read to the
+    output (a star), the figures beside it."""
+    processor_of = tl.schedule.platform.processor_of
+    for n, c in enumerate(tl.chains, 1):
+        steps = [s for s in c.figures.worst if s.at <= tl.horizon]
+        if not steps:
+            continue
+        xs = [float(s.at) for s in steps]
+        ys = [y_lane[processor_of[s.task]] + 0.42 for s in steps]
+        ax.plot(xs, ys, color=_PATH, linewidth=1.2, marker=".", zorder=4)
+        ax.plot(xs[:1], ys[:1], color=_PATH, marker="o", linestyle="none", zorder=5)
+        ax.plot(xs[-1:], ys[-1:], color=_PATH, marker="*", markersize=10, linestyle="none",
+                zorder=5)
+        f = c.figures
+        ax.annotate(f"chain {n}: first use {display_text(f.first_use)} {tl.unit}",
+                    (xs[-1], ys[-1]), textcoords="offset points", xytext=(4, 4),
+                    fontsize=7, color=_PATH, zorder=5)
+
+
 def _title(tl: Timeline) -> str:
     """The title: what is drawn, over which span, and the verdict it shows."""
     verdict = {True: "schedulable (proven)", False: "NOT schedulable",
@@ -210,6 +238,9 @@ def _legend_handles(tl: Timeline, colour: dict[str, Any]) -> list[Any]:
                 Line2D([], [], color="black", marker="^", linestyle="none", label="clock tick"),
                 Line2D([], [], color=_LATE, marker="^", linestyle="none", label="overrun tick"),
                 Line2D([], [], color=_WAIT, linestyle=":", label="proven regime")]
+    if any(c.figures.worst for c in tl.chains):
+        handles.append(Line2D([], [], color=_PATH, marker="*", label="worst data path "
+                                                                     "(sample o, output *)"))
     return handles
 
 
