@@ -741,6 +741,9 @@ def sensitivity_command(
         "each simulation of a part of the schedule on processors (docs/skeleton.md §4b), "
         "and of each figure in all; the whole run fires at most 20 times as many",
         "the figure is only bounded and the report says why")] = MAX_EVENTS,
+    chain: Annotated[list[str] | None, _chain(
+        "Give the first use at each end of every margin and at the scaling factor of"
+    )] = None,
 ) -> None:
     """How much durations can grow (scaling factor, margins), and each period as a formula.
 
@@ -753,6 +756,7 @@ def sensitivity_command(
     range without the nominal value); 130 interrupted (Ctrl-C).
     """
     from .analysis.sensitivity import sensitivity
+    from .design.latency import parse_chain
     from .io import load_skeleton
     from .report import render_text, to_json
     from .report.plot import matplotlib_available
@@ -783,7 +787,8 @@ def sensitivity_command(
         try:
             result = sensitivity(skeleton, vary or None, formulas=formulas,
                                  verify=verify, processors=processors,
-                                 max_events=max_events, progress=progress)
+                                 max_events=max_events, progress=progress,
+                                 chains=[parse_chain(c) for c in chain or []])
         except InputError as exc:
             if exc.where.startswith("vary"):
                 exc.with_where("--vary" + exc.where[len("vary"):])
