@@ -80,7 +80,9 @@ class Instants:
 
     def at(self, index: np.ndarray) -> np.ndarray:
         """``x(i)`` for each ``i`` of ``index`` (an integer array; int64 or Python ints)."""
-        q, r = np.divmod(index - self.first, self.count)
+        offset = index - self.first
+        q = offset // self.count  # floor division on int64 and on Python ints alike
+        r = (offset - q * self.count).astype(np.int64)
         return self._array(index)[r] + q * self.length
 
     def last_index(self, t: np.ndarray, inclusive: bool) -> np.ndarray:

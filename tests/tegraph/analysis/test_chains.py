@@ -243,3 +243,27 @@ def test_refused_chains_are_named(chain, key_path, wording):
     with pytest.raises(SkeletonError) as info:
         analyze_skeleton(sk, chains=[chain])
     assert info.value.where == key_path and wording in info.value.reason
+
+
+def test_times_past_int64_on_the_schedule_s_scale():
+    # Durations of denominators 1000000007 and 998244353 on clocks of 1/3 and 1/7: the
+    # common scale passes 2**62, and the window is computed on Python integers. A (alone
+    # on c0) samples at k/3 and writes at k/3 + dA; B (alone on c1) reads at j/7 the
+    # newest write strictly before (another processor) and posts at j/7 + dB. Over one
+    # common period (1 ms, 7 outputs of B), brute force:
+    dA, dB = F(1, 1000000007), F(1, 998244353)
+    sk = Skeleton.from_dict({
+        "tasks": {"A": {"duration": str(dA), "period": "1/3", "outputs": ["x"],
+                        "processor": "c0"},
+                  "B": {"duration": str(dB), "period": "1/7", "inputs": ["x"], "outputs": ["u"],
+                        "processor": "c1"}},
+        "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/ASYN"}]})
+    r = analyze(sk, chains=[["A", "B"]], design=False)
+    assert r.schedule.scale > 2**62
+    ages = []
+    for j in range(7, 14):
+        k = max(k for k in range(40) if F(k, 3) + dA < F(j, 7))
+        ages.append(F(j, 7) + dB - F(k, 3))
+    (c,) = r.chains
+    assert (c.on_processors.age, c.on_processors.age_min) == (max(ages), min(ages))
+    assert figures(c.on_processors) == figures(c.processor_per_task)
