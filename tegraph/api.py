@@ -520,7 +520,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     Each variant (one protocol per chosen link, one period per chosen clock) is
     analyzed exactly, repaired by reordering its ports when only the order
     deadlocks, and kept when live, consistent and schedulable; the result is the
-    Pareto front of the objectives (chain latencies, period, processor load),
+    Pareto front of the objectives (chain latencies on processors, period, processor load),
     exhaustive up to ``max_variants`` variants, by Pareto local search beyond.
 
     Parameters
@@ -537,7 +537,9 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     chains : sequence of task-name sequences
         Chains whose latency is an objective, besides the skeleton's ``chains``.
     objectives : sequence of str, optional
-        Among ``latency``, ``period``, ``load`` (default: all that apply).
+        Among ``latency`` (each chain's first use on processors, spec §4c), ``age``,
+        ``reaction``, ``period``, ``load``, ``utilization`` (default: ``latency`` when
+        there is a chain, ``period``, ``load``, ``utilization`` on several processors).
     scheduler : str, optional
         Address of a running Dask scheduler, ``tcp://HOST:8786``.
     workers : int, optional
@@ -563,8 +565,8 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
         ``"TASK.period=P"`` or ``"TASK.period<=P"``: kept designs run the task at
         that period.
     max_latency : sequence
-        ``"A,B,C=L"``: kept designs have the chain's latency (exact, or the bound
-        guaranteed) at most L.
+        ``"A,B,C=L"``: kept designs have the chain's first use on processors (exact)
+        at most L.
     forbid : sequence of protocols
         Protocols no link may use (taken out of the choices).
     max_events : int
