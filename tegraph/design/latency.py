@@ -256,21 +256,25 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
         report = analyze_skeleton(skeleton, processors=True, chains=[chain],
                                   structure=None if report is None else report.structure)
         figures = report.chains[-1]
+    by_pair: dict[tuple[str, str], list[Link]] = {}  # once per chain, not per hop
+    for link in skeleton.links:
+        by_pair.setdefault((link.writer[0], link.reader[0]), []).append(link)
+    linked = {end for link in skeleton.links for end in (link.writer, link.reader)}
     pieces: list[list[str]] = []
     for t in chain:
         if pieces and report.tasks[t].group == report.tasks[pieces[-1][-1]].group:
             pieces[-1].append(t)
         else:
             pieces.append([t])
-    hops = [Hop(a[-1], b[0], [link.label for link in _links(skeleton, a[-1], b[0])])
+    hops = [Hop(a[-1], b[0], [link.label for link in by_pair[a[-1], b[0]]])
             for a, b in itertools.pairwise(pieces)]
     segments = []
     for s, tasks in enumerate(pieces):
         g = report.groups[report.tasks[tasks[0]].group]
-        start = _sensor(skeleton, tasks[0]) if s == 0 else \
-            f"{tasks[0]}.read:{_links(skeleton, pieces[s - 1][-1], tasks[0])[0].reader[1]}"
-        end = _actuator(skeleton, tasks[-1]) if s == len(pieces) - 1 else \
-            f"{tasks[-1]}.write:{_links(skeleton, tasks[-1], pieces[s + 1][0])[0].writer[1]}"
+        start = _sensor(skeleton, tasks[0], linked) if s == 0 else \
+            f"{tasks[0]}.read:{by_pair[pieces[s - 1][-1], tasks[0]][0].reader[1]}"
+        end = _actuator(skeleton, tasks[-1], linked) if s == len(pieces) - 1 else \
+            f"{tasks[-1]}.write:{by_pair[tasks[-1], pieces[s + 1][0]][0].writer[1]}"
         segments.append(Segment(tasks, g.index, start, end, g.period))
     result = ChainLatency(chain, figures, segments, hops)
     if len(segments) > 1:
@@ -280,21 +284,13 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     return result
 
 
-def _links(sk: Skeleton, writer: str, reader: str) -> list[Link]:
-    return [link for link in sk.links if link.writer[0] == writer and link.reader[0] == reader]
-
-
-def _linked(sk: Skeleton, task: str, port: str) -> bool:
-    return any((task, port) in (link.writer, link.reader) for link in sk.links)
-
-
-def _sensor(sk: Skeleton, task: str) -> str:
-    free = [p for p in sk.tasks[task].inputs if not _linked(sk, task, p)]
+def _sensor(sk: Skeleton, task: str, linked: set[tuple[str, str]]) -> str:
+    free = [p for p in sk.tasks[task].inputs if (task, p) not in linked]
     return f"{task}.read:{free[0]}" if free else f"the start of {task}"
 
 
-def _actuator(sk: Skeleton, task: str) -> str:
-    free = [p for p in sk.tasks[task].outputs if not _linked(sk, task, p)]
+def _actuator(sk: Skeleton, task: str, linked: set[tuple[str, str]]) -> str:
+    free = [p for p in sk.tasks[task].outputs if (task, p) not in linked]
     return f"{task}.write:{free[0]}" if free else f"the end of {task}"
 
 

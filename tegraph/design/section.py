@@ -122,8 +122,10 @@ def design_section(skeleton: Skeleton, report: Report,
     return DesignSection(
         name=skeleton.name, unit=skeleton.unit,
         rules=check_rules(skeleton, report.structure, processors=on_processors,
-                          live=report.live,
-                          chains=[c for c, _ in named] if on_processors else ()),
+                          live=report.live, chains={
+                              c: None if f is None or report.schedule is None
+                              else f.on_processors
+                              for (c, _), f in zip(named, figures)} if on_processors else {}),
         schedulability=sched,
         latency=[chain_latency(skeleton, c, report, sched, path, f)
                  for (c, path), f in zip(named, figures)])

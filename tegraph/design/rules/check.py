@@ -13,7 +13,8 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 from maxplus.scalar import display_text
 
@@ -33,7 +34,8 @@ _ORDER = {"error": 0, "warning": 1, "info": 2}
 
 def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
                 processors: bool = True, live: bool | None = None,
-                chains: Sequence[Sequence[str]] = ()) -> list[RuleFinding]:
+                chains: Mapping[tuple[str, ...], Any] | Sequence[Sequence[str]] = ()
+                ) -> list[RuleFinding]:
     """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
 
     Parameters
@@ -50,9 +52,10 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
     live : bool, optional
         Whether the skeleton is live (``Report.live`` of its analysis), if known:
         the advice then need not look for token-free circuits itself.
-    chains : sequence of task-name sequences
+    chains : mapping or sequence of task-name sequences
         With ``processors``: chains (checked) whose first use on processors each
-        advised change states before -> after, where it touches them (spec §4c).
+        advised change states before -> after, where it touches them (spec §4c); a
+        mapping gives their figures on processors as they are (``report.chains``).
 
     Returns
     -------

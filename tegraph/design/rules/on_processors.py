@@ -26,9 +26,12 @@ A clock the change adds gets the period the advisor assumed (a period no group
 has, :attr:`~.advice.Advisor.fresh`); the words say so.
 
 **Chains.** For each chain the change touches (a task of it in the part), the
-advice states its first use on processors (spec §4c) before -> after: the part
-and the parts of the chains' tasks (still independent of the rest), analyzed
-with those chains, within the same budgets.
+advice states its first use on processors (spec §4c) before -> after: before, the
+analysis' own figure when the caller has it; after, the part and the parts of the
+chains' tasks (still independent of the rest) analyzed with the change and those
+chains, within :data:`CHANGE_EVENTS` per simulation and a budget of their own
+(:data:`ADVICE_EVENTS` again), so that the chains never take the schedule's clause
+its budget.
 """
 
 from __future__ import annotations
@@ -93,9 +96,11 @@ class ScheduleAdvice:
         Each task's index in ``groups``.
     fresh : Fraction
         The period of a clock a change adds (the advisor's assumption).
-    chains : sequence of task-name sequences
+    chains : mapping or sequence of task-name sequences
         Chains whose first use on processors each advice states before -> after
-        (spec §4c), for the changes that touch them.
+        (spec §4c), for the changes that touch them; a mapping gives each chain's
+        figures on processors as they are (``ChainReport.on_processors``), a sequence
+        or a None figure leaves them to be computed.
 
     Examples
     --------
@@ -119,10 +124,15 @@ class ScheduleAdvice:
 
     def __init__(self, skeleton: Skeleton, groups: Sequence[tuple[str, ...]],
                  group_of: Mapping[str, int], fresh: Fraction,
-                 chains: Sequence[Sequence[str]] = ()) -> None:
+                 chains: Mapping[tuple[str, ...], Any] | Sequence[Sequence[str]] = ()
+                 ) -> None:
         self.sk, self.groups, self.group_of, self.fresh = skeleton, groups, group_of, fresh
-        self.chains = [tuple(c) for c in dict.fromkeys(tuple(c) for c in chains)]
+        known = chains if isinstance(chains, Mapping) else {tuple(c): None for c in chains}
+        self.chains = [tuple(c) for c in dict.fromkeys(tuple(c) for c in known)]
+        self._as_it_is = {tuple(c): f for c, f in known.items() if f is not None}
         self._chain_known: dict[Any, Any] = {}
+        self.chain_spent = 0
+        """Event firings charged to the chains' clauses (their own :data:`ADVICE_EVENTS`)."""
         self.order = {t: i for i, t in enumerate(skeleton.tasks)}
         self.processor_of = processor_of(skeleton)
         self.part_of = self._parts()
@@ -210,11 +220,13 @@ class ScheduleAdvice:
                     f"more than the advice simulates per change ({PART_TASKS:,})")
         key = tuple(sorted(reach))
         cost = _MIN_COST + _TASK_COST * len(tasks)
-        needed = cost * sum((key, c) not in self._chain_known for c in (Change(), change))
-        if self.spent + needed > ADVICE_EVENTS:
-            return (head + f"not decided: the advice's budget of {ADVICE_EVENTS:,} event "
+        asked = [change] + ([] if all(c in self._as_it_is for c in touching) else [Change()])
+        needed = cost * sum((key, c) not in self._chain_known for c in asked)
+        if self.chain_spent + needed > ADVICE_EVENTS:
+            return (head + f"not decided: the chains' budget of {ADVICE_EVENTS:,} event "
                     "firings in all is spent")
-        before = self._first_uses(key, tasks, Change(), touching)
+        before = [self._as_it_is[c] for c in touching] if len(asked) == 1 else \
+            self._first_uses(key, tasks, Change(), touching)
         after = self._first_uses(key, tasks, change, touching)
         unit = self.sk.unit
         return head + "; ".join(
@@ -234,7 +246,8 @@ class ScheduleAdvice:
                                       processors=True, max_events=CHANGE_EVENTS,
                                       chains=self.chains_in(tasks))
             assert report.schedule is not None  # processors=True
-            self.spent += max(report.schedule.events, _MIN_COST) + _TASK_COST * len(tasks)
+            self.chain_spent += (max(report.schedule.events, _MIN_COST)
+                                 + _TASK_COST * len(tasks))
             known = self._chain_known[(key, change)] = {
                 c.tasks: c.on_processors for c in report.chains}
         return [known[c] for c in chains]
