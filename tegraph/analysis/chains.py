@@ -55,8 +55,8 @@ from .processors.platform import processor_per_task
 from .processors.schedule import MAX_EVENTS, trace_schedule
 from .processors.trace import Instants, ScheduleTrace, TraceRequest
 
-__all__ = ["ChainFigures", "ChainPath", "ChainReport", "DataStep", "Hop", "Instant",
-           "chain_paths", "chain_reports", "figures_on", "trace_request"]
+__all__ = ["ChainFigures", "ChainPath", "ChainReport", "DataStep", "DaterTrace", "Hop",
+           "Instant", "chain_paths", "chain_reports", "figures_on", "trace_request"]
 
 _BLOCKING = (Protocol.ASYN_SYN, Protocol.SYN_SYN)
 """Protocols whose reader waits (§4c: a blocking read happens at its event)."""
@@ -312,12 +312,77 @@ def _event(teg: TimedEventGraph, task: str, e: int) -> Instant:
     return Instant(task, "event", teg.transition_names[e], e)
 
 
+# ---------------------------------------------------------------------- the daters
+
+
+@dataclass(frozen=True)
+class DaterTrace:
+    """The (max,+) daters of §3 the analysis recorded for the chains (with a processor
+    per task, the schedule is these daters: every job starts at its release
+    ``x_T.compute(k)`` and ends ``duration(T)`` later).
+
+    Attributes
+    ----------
+    events : numpy.ndarray
+        The recorded events (global indices, increasing).
+    rows : list of numpy.ndarray
+        ``rows[k - 1][i]`` is ``x_e(k)`` of ``events[i]``, on its group's scale.
+    scales : list of int
+        Each group's scale (the analysis' ``_EventGraph.scales``).
+    group_of_event : numpy.ndarray
+        Each event's group.
+    groups : sequence of GroupReport
+        Their ``transient`` (K, c) and ``period``, where the dater simulation proved
+        the regime ``x(k + c) = x(k) + c·period`` for every ``k >= K``.
+    durations, compute : dict
+        Each chain task's duration and compute event.
+    """
+
+    events: np.ndarray
+    rows: list[np.ndarray]
+    scales: list[int]
+    group_of_event: np.ndarray
+    groups: Sequence[Any]
+    durations: dict[str, Fraction]
+    compute: dict[str, int]
+
+    def trace(self, scale: int, tasks: Sequence[str]) -> ScheduleTrace:
+        """The schedule trace of ``tasks`` with a processor per task, on ``scale`` (the
+        graph's common one, a multiple of every group's): one cyclicity of each regime
+        the daters proved; a task of another group is not in it."""
+        out = ScheduleTrace(scale, {t: t for t in tasks}, frozenset(tasks))
+        where = {int(e): i for i, e in enumerate(self.events.tolist())}
+        for e, i in where.items():
+            g = self.groups[int(self.group_of_event[e])]
+            if g.transient is None or not g.rate_consistent or not g.period:
+                continue  # (period 0: it runs infinitely often at 0; the engine says so)
+            K, c = g.transient
+            if len(self.rows) < K + c - 1:
+                continue  # not simulated that far (the budget): left to the engine
+            factor = scale // self.scales[g.index]
+            values = tuple(int(self.rows[k - 1][i]) * factor for k in range(K, K + c))
+            length = c * g.period * scale  # x(K + c) - x(K), an integer on the scale
+            assert length.denominator == 1, length
+            out.events[e] = Instants(K - 1, values, int(length))
+        for t in tasks:
+            starts = out.events.get(self.compute[t])
+            if starts is None:
+                continue
+            d = int(self.durations[t] * scale)
+            out.starts[t] = starts
+            out.ends[t] = Instants(starts.first, tuple(v + d for v in starts.values),
+                                   starts.length)
+            out.regime_start[t] = starts.values[0]
+        return out
+
+
 # ---------------------------------------------------------------------- the figures
 
 
 def chain_reports(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any],
                   paths: Sequence[ChainPath], on_processors: ScheduleTrace | None, *,
-                  max_events: int = MAX_EVENTS) -> list[ChainReport]:
+                  max_events: int = MAX_EVENTS,
+                  daters: DaterTrace | None = None) -> list[ChainReport]:
     """Each chain's figures with a processor per task and on the skeleton's processors.
 
     Parameters
@@ -336,6 +401,11 @@ def chain_reports(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any
         Budget of event firings of the schedule with a processor per task (on the
         parts of the chains alone), and of the outputs one period of a chain's
         figures may hold.
+    daters : DaterTrace, optional
+        §3's daters of the chains' events in the groups whose regime the analysis
+        proved: there the figures with a processor per task are read off them, and
+        the schedule with a processor per task runs on the other parts alone (the
+        same instants: with a processor per task §4b is §3).
 
     Returns
     -------
@@ -343,14 +413,32 @@ def chain_reports(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any
     """
     if not paths:
         return []
-    cycle_times = {t: c for g in groups for t, c in g.cycle_times.items()}
-    own = trace_schedule(skeleton, teg, groups, processor_per_task(skeleton),
-                         trace_request(paths), max_events=max_events, cycle_times=cycle_times)
+    request = trace_request(paths)
+    own = None if daters is None else daters.trace(teg.arrays().scale, request.tasks)
+    left = request.tasks if own is None else tuple(t for t in request.tasks
+                                                   if t not in own.starts)
+    if own is None or left:
+        cycle_times = {t: c for g in groups for t, c in g.cycle_times.items()}
+        engine = trace_schedule(skeleton, teg, groups, processor_per_task(skeleton),
+                                TraceRequest(request.events, left), max_events=max_events,
+                                cycle_times=cycle_times)
+        own = engine if own is None else _merged(own, engine)
     unit = skeleton.unit
     alone = figures_on(paths, own, groups, shared=False, unit=unit, max_events=max_events)
     there = alone if on_processors is None else figures_on(
         paths, on_processors, groups, shared=True, unit=unit, max_events=max_events)
     return [ChainReport(p.tasks, a, b) for p, a, b in zip(paths, alone, there)]
+
+
+def _merged(daters: ScheduleTrace, engine: ScheduleTrace) -> ScheduleTrace:
+    """The daters' trace completed by the engine's for the tasks it lacks (one scale)."""
+    assert daters.scale == engine.scale
+    out = ScheduleTrace(engine.scale, {**engine.processor_of, **daters.processor_of},
+                        daters.requested | engine.requested)
+    for name in ("events", "starts", "ends", "regime_start", "undecided"):
+        getattr(out, name).update(getattr(engine, name))
+        getattr(out, name).update(getattr(daters, name))
+    return out
 
 
 def figures_on(paths: Sequence[ChainPath], trace: ScheduleTrace, groups: Sequence[Any], *,

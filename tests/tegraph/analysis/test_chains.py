@@ -12,6 +12,7 @@ from fractions import Fraction as F
 import pytest
 
 from tegraph import SkeletonError, analyze, load_skeleton
+from tegraph.analysis import dynamics
 from tegraph.analysis.analyze import analyze_skeleton
 from tegraph.analysis.chains import ChainFigures, chain_paths
 from tegraph.model.build import build_teg
@@ -40,7 +41,9 @@ def test_figure_4_in_the_designers_order(priorities):
     # MT1 (same processor) has written x1: seen; likewise at 3 and 5. The sample read at
     # 0 is posted at 6: first use = age = age_min = 6; a change just after 0 is sampled
     # at 10 and posted at 16: reaction 16.
-    (c,) = analyze(fig4(priorities), chains=[FIG4]).chains
+    report = analyze(fig4(priorities), chains=[FIG4])
+    assert report.chains[0].on_processors.first_use == 6
+    (c,) = report.chains
     assert figures(c.on_processors) == (6, 6, 6, 16)
     assert c.on_processors.why_undecided is None
 
@@ -50,7 +53,9 @@ def test_figure_4_reversed():
     # writer's write of the period: MT2 (start 13) sees MT1's write at 6 (sample at 5),
     # MT3 (start 21) sees MT2's at 15, MT4 (start 30) MT3's at 23, posted at 31:
     # 31 - 5 = 26 for every output; reaction 26 + 10 = 36.
-    (c,) = analyze(fig4([1, 2, 3, 4]), chains=[FIG4]).chains
+    report = analyze(fig4([1, 2, 3, 4]), chains=[FIG4])
+    assert report.chains[0].on_processors.first_use == 26
+    (c,) = report.chains
     assert figures(c.on_processors) == (26, 26, 26, 36)
     steps = [(s.task, s.k, s.at) for s in c.on_processors.worst]
     assert steps[0] == ("MT1", 1, 5) and steps[-1] == ("MT4", 4, 31)
@@ -67,6 +72,16 @@ def test_figure_4_with_a_processor_per_task(priorities):
     assert figures(c.processor_per_task) == (31, 31, 31, 41)
     (alone,) = analyze(sk, chains=[FIG4], processors=False).chains
     assert figures(alone.on_processors) == figures(alone.processor_per_task) == (31, 31, 31, 41)
+
+
+def test_figure_4_with_a_processor_per_task_without_the_daters(monkeypatch):
+    # The figures with a processor per task are read off §3's daters where the dater
+    # simulation proved the groups' regimes; with no dater recorded they come from the
+    # schedule with a processor per task instead: the same 31, 31, 31, 41 (derived in
+    # test_figure_4_with_a_processor_per_task).
+    monkeypatch.setattr(dynamics, "RECORD_LIMIT", 0)
+    (c,) = analyze(fig4(), chains=[FIG4], processors=False).chains
+    assert figures(c.processor_per_task) == (31, 31, 31, 41)
 
 
 def plan_and_motor(processors: str) -> Skeleton:
