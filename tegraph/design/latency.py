@@ -58,8 +58,8 @@ from ..model.skeleton import Link, Skeleton
 from ..model.skeleton.checks import KeyPath, Locator, check_chain
 from .schedulability import Schedulability, schedulability
 
-__all__ = ["OVER_ANY_PHASES", "Bound", "ChainLatency", "Hop", "Segment", "chain_latency",
-           "parse_chain"]
+__all__ = ["OVER_ANY_PHASES", "Bound", "ChainLatency", "Hop", "Segment", "chain_latencies",
+           "chain_latency", "parse_chain"]
 
 DAVARE = "Davare et al. 2007"
 DUERR = "Dürr et al. 2019"
@@ -245,9 +245,38 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     >>> r.kind, r.value, r.in_periods, [str(b.value) for b in r.bounds]
     ('exact', Fraction(6, 1), Fraction(3, 5), ['55', '46'])
     """
-    # A chain of the file is located in it; one given as a parameter is not.
-    in_file = skeleton.source if path[:1] == ("chains",) else None
-    chain = list(check_chain(skeleton, list(chain), path, Locator(file=in_file)))
+    return chain_latencies(skeleton, [(tuple(chain), path, figures)], report, sched)[0]
+
+
+def chain_latencies(skeleton: Skeleton,
+                    chains: Sequence[tuple[Sequence[str], KeyPath, ChainReport | None]],
+                    report: Report | None = None, sched: Schedulability | None = None
+                    ) -> list[ChainLatency]:
+    """:func:`chain_latency` of each ``(chain, path, figures)``, the links indexed once."""
+    links = _LinkIndex(skeleton)
+    return [_chain_latency(skeleton, list(c), path, f, report, sched, links)
+            for c, path, f in chains]
+
+
+class _LinkIndex:
+    """The links between each two tasks (file order), and the ports linked."""
+
+    def __init__(self, sk: Skeleton) -> None:
+        self.by_pair: dict[tuple[str, str], list[Link]] = {}
+        for link in sk.links:
+            self.by_pair.setdefault((link.writer[0], link.reader[0]), []).append(link)
+        self.linked = {end for link in sk.links for end in (link.writer, link.reader)}
+
+
+def _chain_latency(skeleton: Skeleton, chain: list[str], path: KeyPath,
+                   figures: ChainReport | None, report: Report | None,
+                   sched: Schedulability | None, links: _LinkIndex) -> ChainLatency:
+    if figures is None or list(figures.tasks) != chain:
+        # A chain of the file is located in it; one given as a parameter is not (a chain
+        # with its figures was checked by the analysis that made them).
+        in_file = skeleton.source if path[:1] == ("chains",) else None
+        chain = list(check_chain(skeleton, chain, path, Locator(file=in_file)))
+        figures = None
     if figures is None and report is not None:
         figures = next((c for c in report.chains if list(c.tasks) == chain), None)
     if figures is None or report is None:
@@ -256,10 +285,7 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
         report = analyze_skeleton(skeleton, processors=True, chains=[chain],
                                   structure=None if report is None else report.structure)
         figures = report.chains[-1]
-    by_pair: dict[tuple[str, str], list[Link]] = {}  # once per chain, not per hop
-    for link in skeleton.links:
-        by_pair.setdefault((link.writer[0], link.reader[0]), []).append(link)
-    linked = {end for link in skeleton.links for end in (link.writer, link.reader)}
+    by_pair, linked = links.by_pair, links.linked
     pieces: list[list[str]] = []
     for t in chain:
         if pieces and report.tasks[t].group == report.tasks[pieces[-1][-1]].group:

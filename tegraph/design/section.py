@@ -13,7 +13,7 @@ from typing import Any
 
 from ..analysis.results import Report
 from ..model.skeleton import Skeleton
-from .latency import ChainLatency, chain_latency
+from .latency import ChainLatency, chain_latencies
 from .rules import RuleFinding, check_rules
 from .schedulability import Schedulability, schedulability
 
@@ -127,5 +127,5 @@ def design_section(skeleton: Skeleton, report: Report,
                               else f.on_processors
                               for (c, _), f in zip(named, figures)} if on_processors else {}),
         schedulability=sched,
-        latency=[chain_latency(skeleton, c, report, sched, path, f)
-                 for (c, path), f in zip(named, figures)])
+        latency=chain_latencies(skeleton, [(c, path, f) for (c, path), f in zip(named, figures)],
+                                report, sched))
