@@ -79,6 +79,9 @@ def reference(skeleton, links, clocks, chains):
                 report = tegraph.analyze(variant, chains=chains)
                 repaired = True
             kept = report.live and report.consistent and report.schedulable is True
+            # A chain's latency is an objective: a variant whose figure on processors is
+            # undecided is rejected (never ranked by a bound).
+            kept = kept and all(c.on_processors.decided for c in report.chains)
             objectives = None
             if kept:
                 objectives = [c.value for c in report.design.latency]
