@@ -14,9 +14,9 @@ For every size, ``tegraph.analyze``, the untimed baseline
 (:func:`tegraph.timed_reachability.timed_reachability`) each run in a fresh
 process: the time is that of the library call alone (building the timed event
 graph included, interpreter start-up and skeleton generation excluded; for
-``analyze`` the median of up to 5 calls while they take under 2 s in all), the
+``analyze`` the median of up to 5 calls, as many as fit in two seconds), the
 memory the process's peak resident set. A baseline stops at the time budget
-(``--budget``, 60 s; :data:`MAX_STATES` is a memory guard set high enough
+(``--budget`` seconds, 60 by default; :data:`MAX_STATES` is a memory guard set high enough
 that the time budget is what binds) and then says so (``>``); in families 1 and 3 it is not
 run again at larger sizes once it has, in family 2 it always runs (the target
 is measured at 30 tasks). ``agree`` compares every answer a baseline
@@ -50,7 +50,7 @@ SIZES = {
 NAMES = {1: "pipeline", 2: "coprime", 3: "random"}
 MAX_STATES = 40_000_000
 """State budget of every baseline run: a memory guard (a few hundred bytes per
-untimed state, more per timed one); at 60 s the time budget binds first."""
+untimed state, more per timed one); at the default budget the time binds first."""
 
 
 def pipeline(n: int, period: int = 10, prefix: str = "T") -> tuple[dict, list[dict]]:

@@ -16,6 +16,14 @@ and reports the median and the spread (min-max) over the rounds.
    plugin ``explore`` uses) against the space sent with every batch.
 5. **Extrapolation**: the cost of one variant of a 10,000-task skeleton.
 
+``--crossover`` measures where a local cluster starts to pay: whole explorations
+of growing work, each in a fresh process (cold, as a new ``tegraph explore``), in
+this process (``workers=0``), on a ``LocalCluster`` of 2 workers started for it
+(``workers=2``, its start-up included) and with the default (``workers=None``: the
+rule of ``explore/run.py``), interleaved (A B C A B C); it prints the wall times,
+the engine the default chose, and the crossover of the first two (interpolated
+on the in-process work).
+
 ``--ab OTHER_ROOT`` measures instead this tree (A) against another checkout (B) of
 tegraph, each exploration in a fresh process (A B A B, the workers of a Dask
 run importing the same tree): variants per second of a whole exploration, in
@@ -28,6 +36,7 @@ Usage (Dask's local process scheduler, compared here, is the ``bench`` extra)::
     pip install '.[bench]'
     python benchmarks/bench_explore.py [--rounds 3] [--skip-10k]
     python benchmarks/bench_explore.py --ab ../base [--rounds 3]
+    python benchmarks/bench_explore.py --crossover [--rounds 3]
 """
 
 from __future__ import annotations
@@ -149,11 +158,80 @@ print(json.dumps({"variants": len(found.results), "seconds": time.perf_counter()
 """
 
 
+# One exploration in a fresh process (argv: tasks, links, workers: "0", "2" or "auto");
+# prints its variants, seconds (the exploration alone: the cluster's start included,
+# the interpreter's imports not) and the engine used.
+_CROSSOVER_CHILD = r"""
+import json, sys, time
+root, n, k, how = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+sys.path[:0] = [root, root + "/benchmarks"]
+from generate_skeleton import generate
+from tegraph import Skeleton
+from tegraph.design.explore import explore_design
+from tegraph.design.explore.space import design_space, link_text
+sk = Skeleton.from_dict(generate(n, seed=0))
+space = design_space(sk, [link_text(x.writer, x.reader) for x in sk.links[:k]],
+                     objectives=["period", "load"])
+start = time.perf_counter()
+found = explore_design(space, workers=None if how == "auto" else int(how))
+print(json.dumps({"variants": len(found.results), "seconds": time.perf_counter() - start,
+                  "engine": found.log.engine, "workers": found.log.workers}))
+"""
+
+CROSSOVER_CASES = [(20, 5), (1000, 5), (1000, 6), (1000, 7)]
+
+
+def crossover(rounds: int) -> None:
+    """Wall time of whole explorations in process, on a LocalCluster(2) and by default."""
+    root = str(HERE.parent)
+    ways = ["0", "2", "auto"]
+    got: dict[tuple, list[dict]] = {(c, w): [] for c in CROSSOVER_CASES for w in ways}
+    for _ in range(rounds):
+        for case in CROSSOVER_CASES:
+            for how in ways:
+                out = subprocess.run([sys.executable, "-c", _CROSSOVER_CHILD, root,
+                                      *map(str, case), how], cwd=root, capture_output=True,
+                                     text=True, timeout=3600, check=True)
+                row = json.loads(out.stdout.strip().splitlines()[-1])
+                got[case, how].append(row)
+                print(f"  {case} workers={how}: {row}", file=sys.stderr, flush=True)
+    print(f"seconds of a whole exploration, median (min-max) of {rounds}; os.cpu_count() = "
+          f"{os.cpu_count()}\n")
+    print("| tasks | links | variants judged | in process | LocalCluster(2), start included "
+          "| cluster / in process | default | default's engine |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---|")
+    points = []
+    for case in CROSSOVER_CASES:
+        inp = [r["seconds"] for r in got[case, "0"]]
+        two = [r["seconds"] for r in got[case, "2"]]
+        auto = [r["seconds"] for r in got[case, "auto"]]
+        engines = sorted({f"{r['engine']} ({r['workers']})" for r in got[case, "auto"]})
+        points.append((statistics.median(inp), statistics.median(two)))
+        print(f"| {case[0]:,} | {case[1]} | {got[case, '0'][0]['variants']:,} | {spread(inp, 2)} "
+              f"| {spread(two, 2)} | {statistics.median(two) / statistics.median(inp):.2f} "
+              f"| {spread(auto, 2)} | {', '.join(engines)} |")
+    # The crossover: the in-process work W where the cluster's time equals W, linear
+    # between the two measured points that bracket it.
+    points.sort()
+    for (w1, c1), (w2, c2) in zip(points, points[1:]):
+        if c1 >= w1 and c2 < w2:
+            # c(w) = c1 + (w - w1) (c2 - c1) / (w2 - w1) = w
+            slope = (c2 - c1) / (w2 - w1)
+            w = (c1 - slope * w1) / (1 - slope)
+            print(f"\ncrossover: a LocalCluster(2) pays from about {w:.1f} s of in-process "
+                  "work (interpolated between the measured points)")
+            break
+    else:
+        side = "never" if all(c >= w for w, c in points) else "always"
+        print(f"\ncrossover: not bracketed by the measured points (the cluster {side} pays "
+              "over this range)")
+
+
 def ab(other: str, rounds: int) -> None:
     """This tree (A) against ``other`` (B): variants/s of whole explorations, cold."""
     roots = {"A": str(HERE.parent), "B": str(Path(other).resolve())}
-    # The README's spaces on both trees; larger ones (where two workers can pay) on A
-    # only: B needs 0.35 s per variant at 1,000 tasks, 6 minutes for 1,024 variants.
+    # The published spaces on both trees; larger ones (where two workers can pay) on A
+    # only: B, judging every variant afresh, would take too long on them.
     both, only_a = ("A", "B"), ("A",)
     cases = [(20, 3, "in-process", both), (1000, 2, "in-process", both),
              (20, 3, "1", both), (20, 3, "2", both), (1000, 2, "1", both),
@@ -196,7 +274,12 @@ def main() -> None:
     parser.add_argument("--skip-10k", action="store_true")
     parser.add_argument("--ab", metavar="OTHER_ROOT",
                         help="compare this tree with another checkout (see the docstring)")
+    parser.add_argument("--crossover", action="store_true",
+                        help="where a local cluster starts to pay (see the docstring)")
     args = parser.parse_args()
+    if args.crossover:
+        crossover(args.rounds)
+        return
     if args.ab:
         ab(args.ab, args.rounds)
         return

@@ -1,4 +1,4 @@
-"""maxplus.max_cycle_ratio against the C++ Howard codes, side by side (issue 13).
+"""maxplus.max_cycle_ratio against the C++ Howard codes, side by side.
 
 Peers: Boost Graph's ``maximum_cycle_ratio`` (Howard's policy iteration, in
 ``boost/graph/howard_cycle_ratio.hpp``) and LEMON's ``HowardMmc``. Both are

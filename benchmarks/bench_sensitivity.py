@@ -1,6 +1,6 @@
 """Benchmark of ``tegraph.sensitivity`` against the naive alternative, a grid of analyses.
 
-Three measurements (issue 14, "Speed"):
+Three measurements:
 
 1. **Period formula and keep-pace region** for 2 and 4 parameters (durations
    of the largest group, plus one clock period with 4), on the examples and
@@ -32,9 +32,19 @@ ratios and overrun certificates for every group asked at once); "points" the
 (group, parameter point) pairs they evaluated; "analyses" the cross-checks
 with ``analyze_skeleton`` (``verify=True``, the default).
 
+4. **On one CPU** (spec §4b): the scaling factor and every margin of
+   ``examples/quadrotor.yaml`` (each group one periodic unit, a logger without
+   clock), of the same without its logger, of ``computed_torque.yaml`` and of
+   ``schedulable_skeleton.py 100`` (ten processors, two groups each):
+   ``sensitivity(sk, formulas=False)`` with the checks and without, decided level
+   by level by the exact test of units, against the same with that test switched
+   off (the walk on affine times, as before it existed), once (``--walk-runs``;
+   0 leaves it out: minutes).
+
 Usage::
 
     python benchmarks/bench_sensitivity.py [--runs 3] [--margin-runs 1] [--big 10000]
+                                           [--parts 1 2 3 4] [--walk-runs 1]
 """
 
 from __future__ import annotations
@@ -141,8 +151,11 @@ def main() -> None:
     parser.add_argument("--margin-runs", type=int, default=1)
     parser.add_argument("--big", type=int, default=10_000)
     parser.add_argument("--mid", type=int, default=1_000)
-    parser.add_argument("--parts", type=int, nargs="+", default=[1, 2, 3],
-                        help="which measurements (1 formulas, 2 scaling factor, 3 margins)")
+    parser.add_argument("--parts", type=int, nargs="+", default=[1, 2, 3, 4],
+                        help="which measurements (1 formulas, 2 scaling factor, 3 margins, "
+                             "4 on one CPU)")
+    parser.add_argument("--walk-runs", type=int, default=1,
+                        help="runs of part 4 with the exact test of units switched off")
     args = parser.parse_args()
     # The checkout's tegraph, not an installed copy.
     sys.path[:0] = [str(ROOT), str(HERE)]
@@ -166,6 +179,8 @@ def main() -> None:
         scaling(bigs, args.runs, args.big)
     if 3 in args.parts:
         margins(cases[-2:], bigs, args)
+    if 4 in args.parts:
+        one_cpu(args)
 
 
 def formulas(cases, runs: int) -> None:
@@ -231,6 +246,56 @@ def margins(mids, bigs, args) -> None:
               f"{effort_text(r.effort, 'margins')} | "
               f"{spread(d_med, d_low, d_high)} ({len(m)} tasks of consistent groups) | "
               f"{a_med:.3g} s |", flush=True)
+
+
+def one_cpu(args) -> None:
+    from unittest import mock
+
+    from schedulable_skeleton import generate as schedulable
+
+    from tegraph import Skeleton, load_skeleton, sensitivity
+    from tegraph.analysis.sensitivity.parts import ProcessorLine
+
+    quadrotor = load_skeleton(ROOT / "examples" / "quadrotor.yaml")
+    cases = [("quadrotor.yaml", quadrotor),
+             ("quadrotor.yaml without its logger",
+              quadrotor.restricted_to([t for t in quadrotor.tasks if t != "logger"])),
+             ("computed_torque.yaml", load_skeleton(ROOT / "examples" / "computed_torque.yaml")),
+             ("schedulable_skeleton.py 100", Skeleton.from_dict(schedulable(100)))]
+    post_init = ProcessorLine.__post_init__
+
+    def without_theorem(self):
+        post_init(self)
+        self.use_theorem = False
+
+    print("\n## 4. On one CPU: the scaling factor and every margin, exact\n")
+    print("| skeleton | figures | levels, checked (median [min, max]) | levels, unchecked | "
+          "answer | the walk alone (theorem off), unchecked | its answer |")
+    print("|---|---|---|---|---|---|---|")
+    for label, sk in cases:
+        on = timed(args.runs, sensitivity, sk, formulas=False)
+        off = timed(args.runs, sensitivity, sk, formulas=False, verify=False)
+        r = on[3]
+        figures = 1 + len(r.margins)
+        walk_text = answer_walk = "not run"
+        if args.walk_runs:
+            with mock.patch.object(ProcessorLine, "__post_init__", without_theorem):
+                w = timed(args.walk_runs, sensitivity, sk, formulas=False, verify=False)
+            walk_text, answer_walk = spread(*w[:3]), answer_text(w[3])
+        print(f"| {label} | {figures} | {spread(*on[:3])} | {spread(*off[:3])} | "
+              f"{answer_text(r)} | {walk_text} | {answer_walk} |", flush=True)
+
+
+def answer_text(r) -> str:
+    """The factor (a supremum marked <) and how many figures are exact."""
+    s = r.scaling
+    figures = [s, *r.margins.values()]
+    exact = sum(f.exact for f in figures)
+    factor = ("bounded" if not s.exact else "none" if s.factor is None
+              else f"{'< ' if not s.attained else ''}{s.factor}")
+    agree = all(c.agrees for c in r.checks)
+    return (f"factor {factor}, {exact}/{len(figures)} exact"
+            + ("" if not r.checks else ", checks agree" if agree else ", checks DISAGREE"))
 
 
 if __name__ == "__main__":

@@ -52,9 +52,9 @@ from .transient import TrajectoryPeriodicity, trajectory_transient, transient
 
 
 def __getattr__(name: str) -> Any:
-    # The look-up of the installed distribution costs some 5 ms (and importing
-    # importlib.metadata some 40 ms when nothing else has): paid when the version is
-    # asked for, not by every import, as tegraph.__version__.
+    # The look-up of the installed distribution (and importing importlib.metadata when
+    # nothing else has) is paid when the version is asked for, not by every import, as
+    # tegraph.__version__.
     if name == "__version__":
         from importlib.metadata import PackageNotFoundError, version
 

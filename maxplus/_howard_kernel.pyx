@@ -1,24 +1,23 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
-"""Howard's policy iteration in C: the iteration of :mod:`maxplus._small_howard`, compiled.
+"""Howard's policy iteration in C: the iteration of the numpy kernel, compiled.
 
 :func:`howard` runs, step for step, the iteration that
-:func:`maxplus.policy_iteration.howard_arrays` runs on numpy arrays and
-:mod:`maxplus._small_howard` on Python lists: the same first policy (each
-node's first heaviest in-arc), the same value determination (a policy circuit
-is rooted at its smallest node, whose potential is kept when its ratio is),
-the same improvement (a ratio step to the first in-arc of largest strictly
-better ratio, passed downstream with the numpy sweep's order of visits and its
-"last write wins"; else a bias step to the first in-arc of largest value) and
-the same candidate nodes after a bias step. It returns the same ratios,
-potentials, policy and iteration count; the property tests of
-``tests/maxplus/test_howard_kernel.py`` check that equality against the numpy
-kernel on random graphs.
+:func:`maxplus.policy_iteration.howard_arrays` runs on numpy arrays: the same
+first policy (each node's first heaviest in-arc), the same value
+determination (a policy circuit is rooted at its smallest node, whose
+potential is kept when its ratio is), the same improvement (a ratio step to
+the first in-arc of largest strictly better ratio, passed downstream with the
+numpy sweep's order of visits and its "last write wins"; else a bias step to
+the first in-arc of largest value) and the same candidate nodes after a bias
+step. It returns the same ratios, potentials, policy and iteration count; the
+property tests of ``tests/maxplus/test_howard_kernel.py`` check that equality
+against the numpy kernel on random graphs.
 
-As the list kernel, it values again only the nodes whose policy walk passes a
-switched node (the others reach the same circuit by the same path, and that
-circuit keeps its ratio and its root's potential), and after a bias step looks
-only at the nodes whose value changed and their successors: a late iteration
-costs what it changes, not ``O(n + m)``.
+It values again only the nodes whose policy walk passes a switched node (the
+others reach the same circuit by the same path, and that circuit keeps its
+ratio and its root's potential), and after a bias step looks only at the
+nodes whose value changed and their successors: a late iteration costs what
+it changes, not ``O(n + m)``.
 
 Arithmetic is exact: weights, tokens, ratios and potentials are int64, every
 product and sum of them is formed in 128 bits, and a potential that would
@@ -121,6 +120,14 @@ cdef inline bint _below(int64_t W1, int64_t T1, int64_t W2, int64_t T2) noexcept
     return <i128>W1 * T2 < <i128>W2 * T1
 
 
+cdef inline int32_t[::1] _cut(int32_t[::1] block, Py_ssize_t *at, Py_ssize_t size,
+                              Py_ssize_t room):
+    """``size`` slots of ``block`` from ``at[0]``, which then moves on by ``room``."""
+    cdef int32_t[::1] piece = block[at[0]:at[0] + size]
+    at[0] += room
+    return piece
+
+
 cdef class _Run:
     """The graph (in-arcs by head, out-arcs by tail), the policy, its values and scratch."""
 
@@ -140,6 +147,9 @@ cdef class _Run:
     cdef Link[::1] link
     cdef bint children_ok  # the policy children lists match the policy
     cdef Val[::1] val
+    # The numpy arrays under ``arcs``, ``val`` and ``pol``, read back by solve(): np.asarray
+    # of a memoryview of structs parses its buffer format in Python, dearer than a small solve.
+    cdef object arcs_array, val_array, pol_array
     cdef bint has_prev, fits
     # Policy children as doubly linked lists: first child, next and previous sibling.
     cdef int32_t[::1] child, sib_next, sib_prev
@@ -164,10 +174,55 @@ cdef class _Run:
         cdef const int32_t[::1] d = np.ascontiguousarray(dst, dtype=i32)
         cdef const int64_t[::1] ww = np.ascontiguousarray(w, dtype=np.int64)
         cdef const int64_t[::1] tt = np.ascontiguousarray(t, dtype=np.int64)
-        self.in_start = np.zeros(n + 1, dtype=i32)
-        self.arcs = np.empty(m, dtype=ARC)
-        cdef int32_t[::1] fill = np.empty(n + 1, dtype=i32)
+        # Every int32 array in one block, cut into slices: an array and its memoryview
+        # apiece cost more than a small solve. 17 slices of n + 1 slots (n used by some),
+        # 2 n + 1 saved nodes, 2 of m + 1 arcs, 4 counters of n.
+        cdef Py_ssize_t at = 0, N = n + 1, M = m + 1
+        cdef Py_ssize_t total = 17 * N + (2 * n + 1) + 2 * M + 4 * n
+        block_array = np.empty(total, dtype=i32)
+        cdef int32_t[::1] block = block_array
+        cdef int32_t[::1] fill, counters
+        self.in_start = _cut(block, &at, N, N)
+        fill = _cut(block, &at, N, N)
+        self.pol_array = block_array[at:at + n]
+        self.pol = _cut(block, &at, n, N)
+        self.pred = _cut(block, &at, n, N)
+        self.child = _cut(block, &at, n, N)
+        self.sib_next = _cut(block, &at, n, N)
+        self.sib_prev = _cut(block, &at, n, N)
+        self.path = _cut(block, &at, N, N)
+        self.changed = _cut(block, &at, N, N)
+        self.cand = _cut(block, &at, N, N)
+        self.affected = _cut(block, &at, N, N)
+        self.level = _cut(block, &at, N, N)
+        self.nxt = _cut(block, &at, N, N)
+        self.rec_node = _cut(block, &at, N, N)
+        self.rec_old = _cut(block, &at, N, N)
+        # A node is saved at most twice per step: on the frontier, then raised by the sweep.
+        self.save_node = _cut(block, &at, 2 * n + 1, 2 * n + 1)
+        self.bias_node = _cut(block, &at, N, N)
+        self.bias_pos = _cut(block, &at, N, N)
+        self.kept = _cut(block, &at, M, M)
+        self.kept_head = _cut(block, &at, M, M)
+        self.stamp = _cut(block, &at, n, n)
+        self.mark = _cut(block, &at, n, n)
+        self.done = _cut(block, &at, n, n)
+        self.saved_at = _cut(block, &at, n, n)
+        if at != total:
+            raise AssertionError("internal error: the kernel's arrays do not fill their block")
+        counters = block[total - 4 * n:]
+        cdef int64_t[::1] saves = np.empty(2 * (2 * n + 1), dtype=np.int64)
+        self.save_W = saves[:2 * n + 1]
+        self.save_T = saves[2 * n + 1:]
+        self.arcs_array = np.empty(m, dtype=ARC)
+        self.arcs = self.arcs_array
         cdef int32_t a, p, v
+        with nogil:
+            self.in_start[:] = 0
+            self.child[:] = -1
+            self.sib_next[:] = -1
+            self.sib_prev[:] = -1
+            counters[:] = 0
         # The bound 2 n max(|w|, t) < 2**62, checked in the same pass (a number beyond
         # it makes the whole run the numpy kernel's, in Python ints from the start).
         cdef int64_t limit = (SAFE - 1) // (2 * <int64_t>n), w_a
@@ -191,34 +246,10 @@ cdef class _Run:
                 arc.w, arc.t, arc.src, arc.arc = w_a, tt[a], s[a], a
         self.fits = fits
         self.has_out = False
-        self.pol = np.empty(n, dtype=i32)
-        self.pred = np.empty(n, dtype=i32)
         self.link = np.empty(n, dtype=[("w", np.int64), ("t", np.int64)])
-        self.val = np.zeros(n, dtype=VAL)
-        self.child = np.full(n, -1, dtype=i32)
-        self.sib_next = np.full(n, -1, dtype=i32)
-        self.sib_prev = np.full(n, -1, dtype=i32)
+        self.val_array = np.zeros(n, dtype=VAL)
+        self.val = self.val_array
         self.state = np.zeros(n, dtype=np.int8)
-        self.path = np.empty(n + 1, dtype=i32)
-        self.changed = np.empty(n + 1, dtype=i32)
-        self.cand = np.empty(n + 1, dtype=i32)
-        self.affected = np.empty(n + 1, dtype=i32)
-        self.level = np.empty(n + 1, dtype=i32)
-        self.nxt = np.empty(n + 1, dtype=i32)
-        self.rec_node = np.empty(n + 1, dtype=i32)
-        self.rec_old = np.empty(n + 1, dtype=i32)
-        # A node is saved at most twice per step: on the frontier, then raised by the sweep.
-        self.save_node = np.empty(2 * n + 1, dtype=i32)
-        self.bias_node = np.empty(n + 1, dtype=i32)
-        self.bias_pos = np.empty(n + 1, dtype=i32)
-        self.kept = np.empty(m + 1, dtype=i32)
-        self.kept_head = np.empty(m + 1, dtype=i32)
-        self.save_W = np.empty(2 * n + 1, dtype=np.int64)
-        self.save_T = np.empty(2 * n + 1, dtype=np.int64)
-        self.stamp = np.zeros(n, dtype=i32)
-        self.mark = np.zeros(n, dtype=i32)
-        self.done = np.zeros(n, dtype=i32)
-        self.saved_at = np.zeros(n, dtype=i32)
         self.stamp_now = self.mark_now = self.done_now = self.saved_now = 0
         self.has_prev = False
         self.children_ok = False
@@ -636,10 +667,10 @@ cdef class _Run:
             if step < 0:
                 return None
             if step == 0:
-                values = np.asarray(self.val)
-                arcs = np.asarray(self.arcs)["arc"]
+                values = self.val_array
+                arcs = self.arcs_array["arc"]
                 return (values["W"].copy(), values["T"].copy(), values["X"].copy(),
-                        arcs[np.asarray(self.pol)].astype(np.int64), iterations)
+                        arcs[self.pol_array].astype(np.int64), iterations)
             key = (self.h1, self.h2)
             if key in seen:  # impossible by the termination proof: a bug
                 return None
@@ -725,3 +756,69 @@ def policy_circuit(int64_t start, const int64_t[::1] policy, const index_t[::1] 
             arcs[k] = policy[tortoise]
             tortoise = _step(policy, src, tortoise)
     return out
+
+
+def off_circuits(const index_t[::1] src, const index_t[::1] dst, int64_t n, tokens=None):
+    """Per node, whether no circuit reaches it (Kahn's algorithm); with ``tokens``, no
+    circuit of token-free arcs.
+
+    Repeatedly drops a node without in-arc (among the arcs considered): a node
+    drops exactly when every backward walk from it ends. What
+    :func:`maxplus.cycle_ratio._nodes_reached_by_circuits` (all arcs) and the
+    zero-token refusal (token-free arcs) find with scipy's strong components,
+    in one pass without a sparse matrix: their fixed cost dominates a small
+    solve. Returns a boolean array and how many nodes dropped.
+    """
+    cdef int64_t m = src.shape[0], a, k, u, v, head = 0, tail = 0
+    cdef const int64_t[::1] tt
+    cdef bint all_arcs = tokens is None
+    if not all_arcs:
+        tt = tokens
+    indegree_array = np.zeros(n + 1, dtype=np.int64)
+    start_array = np.zeros(n + 2, dtype=np.int64)
+    out_array = np.empty(max(m, 1), dtype=np.int64)
+    dropped_array = np.zeros(n, dtype=np.uint8)
+    queue_array = np.empty(max(n, 1), dtype=np.int64)
+    cdef int64_t[::1] indegree = indegree_array, start = start_array, out = out_array
+    cdef int64_t[::1] queue = queue_array
+    cdef unsigned char[::1] dropped = dropped_array
+    with nogil:
+        for a in range(m):  # out-arcs by tail (a counting sort), in-degrees
+            if all_arcs or tt[a] == 0:
+                start[src[a] + 2] += 1
+                indegree[dst[a]] += 1
+        for k in range(2, n + 2):
+            start[k] += start[k - 1]
+        for a in range(m):
+            if all_arcs or tt[a] == 0:
+                out[start[src[a] + 1]] = dst[a]
+                start[src[a] + 1] += 1
+        for v in range(n):
+            if indegree[v] == 0:
+                queue[tail] = v
+                tail += 1
+        while head < tail:  # grows while it is walked
+            u = queue[head]
+            head += 1
+            dropped[u] = True
+            for k in range(start[u], start[u + 1]):
+                v = out[k]
+                indegree[v] -= 1
+                if indegree[v] == 0:
+                    queue[tail] = v
+                    tail += 1
+    return dropped_array.view(np.bool_), tail
+
+
+def first_largest_ratio(const int64_t[::1] num, const int64_t[::1] den):
+    """Index of the first largest ``num/den`` (all ``den > 0``), compared exactly in 128 bits.
+
+    :func:`maxplus._arrays.argmax_ratio` on int64 arrays, without its float
+    shortlist and tournament (a dozen numpy calls, dearer than a small solve).
+    """
+    cdef int64_t k, best = 0, n = num.shape[0]
+    with nogil:
+        for k in range(1, n):
+            if <i128>num[k] * den[best] > <i128>num[best] * den[k]:
+                best = k
+    return best

@@ -22,6 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import _kernels
 from ._arrays import INT64_SAFE
 from ._dense_howard import Ratio, optimal_policy, policy_walk
 from ._graphs import strong_classes
@@ -30,17 +31,12 @@ from ._mean_certificate import check_mean_certificate, check_mean_certificate_li
 from .errors import MaxPlusError
 
 __all__ = [
-    "SMALL",
     "ClassMeans",
     "class_means",
     "cycle_times",
     "max_cycle_mean",
     "max_cycle_mean_rows",
 ]
-
-SMALL = 16
-"""Up to this many nodes Howard runs on Python lists (faster than numpy there)."""
-
 
 def _single_mean(values: np.ndarray | None, finite: np.ndarray | None,
                  rows: list[list[int | None]] | None) -> Ratio | None:
@@ -66,7 +62,7 @@ def _single_mean(values: np.ndarray | None, finite: np.ndarray | None,
 
 
 def _solve(values: np.ndarray, finite: np.ndarray) -> Ratio | None:
-    if len(finite) <= SMALL:
+    if len(finite) <= _kernels.current().dense_lists_max_nodes:
         return _single_mean(None, None, rows_of(IntegerMatrix(values, finite, 1)))
     return _single_mean(values, finite, None)
 

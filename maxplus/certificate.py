@@ -30,25 +30,15 @@ References
 
 from __future__ import annotations
 
-import importlib
-from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
 import numpy as np
 
+from . import _kernels
 from ._arrays import INT64_SAFE, abs_max, argmax_ratio, compare_ratios, find_circuit, gcd_arrays
 from .errors import CertificateError
-
-_arc_checks: Callable[..., int] | None
-try:  # the compiled arc checks (setup.py builds them where a C compiler is found). By
-    # importlib: they have no Python source for the import checks to read, and those read
-    # `from . import` as an import of the package, which holds the solver.
-    _compiled = importlib.import_module("._certificate_kernel", __package__)
-    _arc_checks, _ONE_RATIO = _compiled.arc_checks, _compiled.ONE_RATIO
-except ImportError:  # pragma: no cover - no compiler: the numpy checks alone
-    _arc_checks = None
 
 __all__ = ["CycleRatioCertificate", "CycleRatioClaim", "verify_cycle_ratio"]
 
@@ -291,7 +281,8 @@ def _compiled_checks(src: np.ndarray, dst: np.ndarray, weight: np.ndarray, token
     fails: the numpy checks then run and name what fails. Otherwise whether
     every node has the same cycle time (what :func:`_verify_circuit` asks).
     """
-    if _arc_checks is None:
+    compiled = _kernels.certificate_kernel()
+    if compiled is None:
         return None
     arrays = [np.asarray(a) for a in (src, dst, weight, tokens, c.ratio_num, c.ratio_den,
                                       c.potential, c.policy)]
@@ -299,10 +290,10 @@ def _compiled_checks(src: np.ndarray, dst: np.ndarray, weight: np.ndarray, token
         return None
     # The ends stay int32 where the solver keeps them so (a copy of 4 m entries less).
     ends = np.int32 if src.dtype == dst.dtype == np.int32 else np.int64
-    held = _arc_checks(
+    held: int = compiled.arc_checks(
         *(np.ascontiguousarray(a, dtype=ends) for a in arrays[:2]),
         *(np.ascontiguousarray(a, dtype=np.int64) for a in arrays[2:]))
-    return None if not held else held == _ONE_RATIO
+    return None if not held else held == compiled.ONE_RATIO
 
 
 def _arc_arrays(src: Any, dst: Any, weight: Any, tokens: Any) -> tuple[np.ndarray, ...]:

@@ -15,12 +15,12 @@ denominator, the bias of a node is kept multiplied by the token count of its
 policy circuit, and ratios are compared by cross-multiplication. Every step is a
 numpy operation on whole arrays (pointer doubling for the policy graph,
 segmented reductions for the improvement), so the cost per iteration is
-``O(m + n log n)`` with no Python loop over nodes or arcs. On graphs of at
-most ``SMALL_GRAPH_ARCS`` arcs (:mod:`maxplus._small_howard`), where the fixed
-cost of some 170 numpy calls per solve outweighs the work, the same iteration
-runs on Python lists instead, step for step, with the same result. Where the
-compiled kernel :mod:`maxplus._howard_kernel` is built, int64 data run that
-same iteration in C (the numpy kernel stays the fallback).
+``O(m + n log n)`` with no Python loop over nodes or arcs. Where the compiled
+kernel :mod:`maxplus._howard_kernel` is built, int64 data run that same
+iteration in C, step for step, with the same result, and the checks around it
+too (the numpy kernel stays the reference, and the fallback past int64): on
+graphs of a few arcs the fixed cost of numpy's calls would outweigh the work.
+The choice, and every crossover between strategies, is :mod:`maxplus._kernels`.
 
 The result carries a certificate that :meth:`CycleRatioResult.verify` checks
 independently, in exact arithmetic: the returned circuit attains the ratio,
@@ -49,7 +49,7 @@ import numpy.typing as npt
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, depth_first_order
 
-from . import _small_howard, policy_iteration
+from . import _kernels
 from ._arrays import (
     INT64_SAFE,
     abs_max,
@@ -281,9 +281,8 @@ def max_cycle_ratio(
     Notes
     -----
     Howard's multichain policy iteration (Cochet-Terrasson et al. [3]_) in
-    exact integer arithmetic, on numpy arrays, or on Python lists for graphs of
-    at most ``maxplus._small_howard.SMALL_GRAPH_ARCS`` arcs (the same steps and
-    result, without a fixed cost of about a millisecond); the cycle-time
+    exact integer arithmetic, compiled where it is built, on numpy arrays
+    otherwise (the same steps and result); the cycle-time
     vector of a reducible graph is ``χ_i = max`` over the strongly connected
     classes upstream of ``i`` of their maximum ratio ([1]_, Thm 3.112). With
     all tokens 1 the ratio is
@@ -315,8 +314,6 @@ def max_cycle_ratio(
     src_a, dst_a, n = _validate_arcs(src, dst, n_nodes)
     w_int, scale = _validate_weights(weight, len(src_a))
     t_int = _validate_tokens(tokens, len(src_a))
-    if len(src_a) <= _small_howard.SMALL_GRAPH_ARCS:
-        return _solve_small(src_a, dst_a, w_int, t_int, scale, n)
     _refuse_zero_token_circuits(src_a, dst_a, t_int, n)
     return _solve(src_a, dst_a, w_int, t_int, scale, n)
 
@@ -469,6 +466,11 @@ def _validate_tokens(tokens: Any, m: int) -> np.ndarray:
 
 def _refuse_zero_token_circuits(src: np.ndarray, dst: np.ndarray, tokens: np.ndarray,
                                 n: int) -> None:
+    compiled = _kernels.howard_kernel()
+    if compiled is not None and tokens.dtype == np.int64 and src.dtype in _INDEX_DTYPES:
+        # Kahn's algorithm in C says whether there is one; only then is it found and named.
+        if compiled.off_circuits(src, dst, n, tokens)[1] == n:
+            return
     zero = np.flatnonzero(tokens == 0)
     circuit = find_circuit(src, dst, n, zero)
     if circuit:
@@ -510,7 +512,11 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
         den[nodes] = solution.ratio_den
         potential[nodes] = solution.potential
         policy[nodes] = s_pol
-        best = argmax_ratio(solution.ratio_num, solution.ratio_den)
+        compiled = _kernels.howard_kernel()
+        if compiled is not None and solution.ratio_num.dtype == np.int64:
+            best = compiled.first_largest_ratio(solution.ratio_num, solution.ratio_den)
+        else:
+            best = argmax_ratio(solution.ratio_num, solution.ratio_den)
         if isinstance(nodes, np.ndarray):  # relabelled (live is not None): the caller's node
             best = int(nodes[best])
         circuit = _policy_circuit(best, policy, src)
@@ -532,59 +538,6 @@ def _solve(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale
                             weight=w, tokens=t, iterations=iterations)
 
 
-def _solve_small(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray, scale: int,
-                 n: int) -> CycleRatioResult:
-    """:func:`_solve` (and the zero-token check) on Python lists: the same result, sooner.
-
-    :mod:`maxplus._small_howard` runs the same iteration as the numpy kernel,
-    so the policy, potentials and circuit are the same too. Only the dtypes
-    may differ: int64 here whenever the numbers fit, where the numpy kernel
-    falls back to Python ints on bounds (which it checks before the numbers exist).
-    """
-    src_l, dst_l, t_l = src.tolist(), dst.tolist(), t.tolist()
-    zero = [a for a, k in enumerate(t_l) if k == 0]
-    if zero and _small_howard.has_circuit(n, src_l, dst_l, zero):
-        _refuse_zero_token_circuits(src, dst, t, n)  # raises, naming the circuit numpy names
-    live = _small_howard.downstream_of_circuits(n, src_l, dst_l)
-    nodes = [v for v in range(n) if live[v]]
-    sol = (_small_howard.howard_lists(src_l, dst_l, w.tolist(), t_l, n, live) if nodes
-           else _small_howard.ListSolution([0] * n, [0] * n, [0] * n, [-1] * n, 0))
-    ratio: Fraction | None = None
-    circuit = np.zeros(0, dtype=np.int64)
-    policy = np.array(sol.policy, dtype=np.int64)
-    if nodes:
-        best = nodes[0]  # the first node of largest cycle time, as argmax_ratio picks
-        for v in nodes:
-            if sol.num[v] * sol.den[best] > sol.num[best] * sol.den[v]:
-                best = v
-        circuit = _policy_circuit(best, policy, src)
-        ratio = Fraction(sol.num[best], scale * sol.den[best])
-    # Cycle times in lowest terms, with the weight scale folded in.
-    ct_num, ct_den = [0] * n, [0] * n
-    for v in nodes:
-        g = math.gcd(sol.num[v], sol.den[v] * scale)
-        ct_num[v], ct_den[v] = sol.num[v] // g, sol.den[v] * scale // g
-    wide = w.dtype == object or t.dtype == object  # as the numpy kernel: objects in and out
-    num, den, potential = _int_arrays(sol.num, sol.den, sol.potential, wide=wide)
-    ct_num_a, ct_den_a = _int_arrays(ct_num, ct_den, wide=wide)
-    cert = CycleRatioCertificate(scale, num, den, potential, policy, circuit)
-    return CycleRatioResult(ratio=ratio, circuit=circuit, cycle_time_num=ct_num_a,
-                            cycle_time_den=ct_den_a, certificate=cert, src=src, dst=dst,
-                            weight=w, tokens=t, iterations=sol.iterations)
-
-
-def _int_arrays(*values: list[int], wide: bool) -> list[np.ndarray]:
-    """The lists as int64 arrays, or all as object arrays (``wide``, or past int64's reach).
-
-    ``int64`` exactly when :func:`~maxplus._arrays.int_array` would choose it
-    for every list (its test by min and max: a generator per value cost a
-    fifth of a small solve).
-    """
-    fits = not wide and all(not v or (-INT64_SAFE < min(v) and max(v) < INT64_SAFE)
-                            for v in values)
-    return [np.array(v, dtype=np.int64 if fits else object) for v in values]
-
-
 def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.ndarray | None:
     """Boolean mask of the nodes downstream of (or on) some circuit; None for all nodes.
 
@@ -594,6 +547,10 @@ def _nodes_reached_by_circuits(src: np.ndarray, dst: np.ndarray, n: int) -> np.n
     """
     if len(src) == 0:
         return np.zeros(n, dtype=bool)
+    compiled = _kernels.howard_kernel()
+    if compiled is not None and src.dtype in _INDEX_DTYPES:
+        off, count = compiled.off_circuits(src, dst, n)
+        return None if count == 0 else ~off
     if n and np.bincount(dst, minlength=n).min() > 0:
         return None
     graph = sp.csr_matrix((np.ones(len(src), dtype=np.int8), (src, dst)), shape=(n, n))
@@ -634,12 +591,12 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     graph of all n nodes per call cost O(n) each time (one call per group of
     a skeleton: quadratic). The compiled kernel walks it in ``O(walk)`` time
     and no memory per node (:func:`maxplus._howard_kernel.policy_circuit`);
-    without it, a walk longer than ``WALK_IN_PYTHON`` steps (a critical
-    circuit through most of the graph: 10^5 steps cost 40 ms in Python) is
+    without it, a walk longer than ``walk_in_python`` steps (a critical
+    circuit through most of the graph, a step of Python per node) is
     finished in C by a depth-first search of the policy graph, a cost
     proportional to n that only a walk of that length pays.
     """
-    compiled = policy_iteration._howard_kernel
+    compiled = _kernels.howard_kernel()
     if (compiled is not None and policy.dtype == np.int64 and src.dtype in _INDEX_DTYPES
             and policy.flags.c_contiguous and src.flags.c_contiguous):
         found: np.ndarray | None = compiled.policy_circuit(int(start), policy, src)
@@ -648,8 +605,9 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
     seen: set[int] = set()
     walk_list: list[int] = []
     node = int(start)
+    walk_in_python = _kernels.current().walk_in_python
     while node not in seen:
-        if len(walk_list) == WALK_IN_PYTHON:
+        if len(walk_list) == walk_in_python:
             return _policy_circuit_in_c(start, policy, src)
         seen.add(node)
         walk_list.append(node)
@@ -665,9 +623,6 @@ def _policy_circuit(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarr
 
 _INDEX_DTYPES = (np.dtype(np.int32), np.dtype(np.int64))
 """The node index types of the compiled walk (those :func:`_validate_arcs` gives)."""
-
-WALK_IN_PYTHON = 4096
-"""Steps of a policy walk taken in Python before :func:`_policy_circuit_in_c` takes over."""
 
 
 def _policy_circuit_in_c(start: int, policy: np.ndarray, src: np.ndarray) -> np.ndarray:

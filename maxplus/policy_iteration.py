@@ -6,9 +6,11 @@ Where :mod:`maxplus._howard_kernel` is compiled (``pip install .`` builds it
 with the machine's C compiler), int64 data run there first: the same
 iteration, step for step, with the same result; the numpy kernel below runs
 when it is missing, and where it gives up (numbers past its int64 bounds).
-Only the dtypes may differ, as with the list kernel: int64 whenever the
-compiled kernel finishes, where the numpy kernel may carry the same values as
-Python ints (its bounds are computed before the numbers exist).
+Which kernel runs, and the sizes at which the numpy kernel below changes
+strategy, are read from :mod:`maxplus._kernels`, the one switch of maxplus.
+Only the dtypes may differ: int64 whenever the compiled kernel finishes, where
+the numpy kernel may carry the same values as Python ints (its bounds are
+computed before the numbers exist).
 
 A *policy* keeps one in-arc per node; following policy arcs backwards from
 any node ends on a policy circuit. *Value determination* gives every node the
@@ -58,24 +60,15 @@ References
 
 from __future__ import annotations
 
-import importlib
 from functools import cmp_to_key
-from types import ModuleType
 from typing import Any, Literal, NamedTuple, TypeAlias
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import depth_first_order
 
+from . import _kernels
 from ._arrays import INT64_SAFE, abs_max, compare_ratios, float_ratios, gcd_arrays
-
-_howard_kernel: ModuleType | None
-try:  # the compiled kernel (setup.py builds it where a C compiler is found). By importlib:
-    # it has no Python source for the import checks to read, and they read `from . import`
-    # as an import of the package, the whole of maxplus (a cycle through this module).
-    _howard_kernel = importlib.import_module("._howard_kernel", __package__)
-except ImportError:  # pragma: no cover - no compiler: the numpy kernel alone
-    _howard_kernel = None
 
 __all__ = ["howard_arrays"]
 
@@ -180,8 +173,10 @@ def howard_arrays(src: np.ndarray, dst: np.ndarray, w: np.ndarray, t: np.ndarray
     >>> (sol.ratio_num // sol.ratio_den).tolist(), sol.policy.tolist()
     ([4, 4], [1, 0])
     """
-    if _howard_kernel is not None and _fits_compiled_kernel(w, t, n, len(src)):
-        found = _howard_kernel.howard(src, dst, w, t, n, SWEEP_FEW, SCAN_MIN_SHARE)
+    compiled = _kernels.howard_kernel()
+    if compiled is not None and _fits_compiled_kernel(w, t, n, len(src)):
+        choice = _kernels.current()
+        found = compiled.howard(src, dst, w, t, n, choice.sweep_few, choice.scan_min_share)
         if found is not None:  # None: a potential near 2**62, run in numpy (Python ints)
             return HowardSolution(*found)
     arcs = _InArcs(src, dst, w, t, n)
@@ -228,13 +223,13 @@ def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     ([1, 3, 0, 2], [0, 1, 2, 4])
     """
     m = len(keys)
-    index = (np.intp if max(n, m) <= INTP_MAX_ARCS else np.int32 if max(n, m) < 2**31
+    choice = _kernels.current()
+    index = (np.intp if max(n, m) <= choice.intp_max_arcs else np.int32 if max(n, m) < 2**31
              else np.int64)
     positions = np.arange(m, dtype=index)
-    if _coo_tocsr is not None:
-        # The conversion itself, without the sparse array's checks and copies
-        # (2.5 times faster: 0.11 against 0.27 ms for 4 * 10^4 keys, 3 against
-        # 7.5 ms for 4 * 10^5).
+    if _coo_tocsr is not None and choice.scipy_coo_tocsr:
+        # The conversion itself, without the sparse array's checks and copies, which
+        # cost more than the conversion (benchmarks/results/constants.md).
         starts, order = np.empty(n + 1, dtype=index), np.empty(m, dtype=index)
         ones = np.ones(m, dtype=np.int8)
         _coo_tocsr(n, m, m, keys.astype(index, copy=False), positions, ones, starts, order,
@@ -242,14 +237,6 @@ def stable_order(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
         return order, starts
     matrix = sp.csr_array((np.ones(m, dtype=np.int8), (keys, positions)), shape=(n, m))
     return matrix.indices.astype(index, copy=False), matrix.indptr.astype(index, copy=False)
-
-
-INTP_MAX_ARCS = 2**21
-"""Up to this many keys (arcs) and nodes, the kernel's index arrays are ``intp``,
-above it int32 (int64 past 2**31). numpy converts every int32 index array to
-``intp`` before a gather (57 against 33 us for 4 * 10^4 entries, 0.72 against
-0.49 ms for 4 * 10^5); int32 halves the index arrays' memory where it counts,
-at 10^6 nodes (whose peak is to stay under 1 GiB)."""
 
 
 try:  # scipy's own COO to CSR routine (private, in every scipy this project accepts)
@@ -455,8 +442,7 @@ class _PolicyDigest:
     ``d[i]``; ``v < 31`` for int32 indices). Two independent rows make a
     collision about ``2**-66`` per pair of policies; a collision would only
     restart the run in Python ints (:func:`howard_arrays`). One matrix-vector
-    product: 0.15 ms for 10^5 nodes, where blake2b of the policy's bytes took
-    0.5 ms (20 ms of a 40-iteration solve).
+    product, cheaper than hashing the policy's bytes (blake2b) at every iteration.
     """
 
     def __init__(self, n: int) -> None:
@@ -478,7 +464,7 @@ class _ArcTerms:
     keys never leave this class (:meth:`best_values` uses them), :meth:`terms`
     always gives terms, so that no caller can take one for the other (reading
     keys as terms made up gains, and the iteration switched between two
-    policies for ever: issue 21).
+    policies for ever).
     """
 
     def __init__(self, arcs: _InArcs, bounds: _Bounds) -> None:
@@ -566,8 +552,8 @@ class _ArcTerms:
         in-arcs, then their second ones, ... (a ``d x k`` array, one column per
         node), so that the maximum over each node's in-arcs is a maximum of
         ``d`` rows, elementwise and contiguous. ``np.maximum.reduceat`` does
-        the same per node with a per-segment overhead: 1.5 ms against about
-        0.4 ms for 4 * 10^5 arcs. Only when the degrees take few values
+        the same per node with a per-segment overhead, which costs more than
+        the blocks on large graphs. Only when the degrees take few values
         (each block is one numpy call).
         """
         arcs = self.arcs
@@ -576,7 +562,7 @@ class _ArcTerms:
         degrees = np.diff(arcs.starts)
         counts = np.bincount(degrees)
         distinct = np.flatnonzero(counts)
-        if len(distinct) > MAX_DEGREE_BLOCKS:
+        if len(distinct) > _kernels.current().max_degree_blocks:
             return
         index = arcs.order.dtype
         # The nodes by increasing degree (a counting sort): each block is a slice.
@@ -641,10 +627,6 @@ class _ArcTerms:
         return self.block_nodes[hit], best[hit]
 
 
-MAX_DEGREE_BLOCKS = 64
-"""Most distinct in-degrees for which the bias step takes its maxima by blocks."""
-
-
 _Step: TypeAlias = Literal["ratio", "bias"]
 """A policy improvement: to an arc of larger ratio, or of the same ratio and larger bias."""
 
@@ -703,6 +685,9 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
     """
     out_order, out_dst, out_starts, out_counts, rows = arcs.out_arcs()
     n = len(rank)
+    choice = _kernels.current()
+    few, scan_min_share, rows_min_level = (choice.sweep_few, choice.scan_min_share,
+                                           choice.rows_min_level)
     done = np.zeros(n, dtype=bool)
     pending = frontier[np.argsort(-rank[frontier], kind="stable")]  # distinct nodes
     cuts = np.flatnonzero(np.diff(rank[pending])) + 1
@@ -713,14 +698,14 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
         top = rank[level[0]]
         done[level] = True
         while len(level):
-            if len(level) <= SWEEP_FEW:
+            if len(level) <= few:
                 # A deep chain advances a node or two per round: numpy's
                 # per-call overhead would dominate, so its rounds are walked in
                 # Python for as long as they stay this small.
                 level = _sweep_few(level, pol, rank, done, top, out_order, out_dst,
-                                   out_starts, out_counts)
+                                   out_starts, out_counts, few)
                 continue
-            if len(level) * SCAN_MIN_SHARE > n:
+            if len(level) * scan_min_share > n:
                 # A large share of the nodes: one scan of all arcs in head order
                 # (two gathers from node arrays that stay in cache) beats
                 # gathering this many rows (5 ms against 1.5 ms for 40,000 of
@@ -729,7 +714,7 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
                 in_level[level] = True
                 out = np.flatnonzero(in_level[arcs.s_src])
                 heads = arcs.s_dst[out]
-            elif len(level) > ROWS_MIN_LEVEL:
+            elif len(level) > rows_min_level:
                 selected = rows[level]
                 out, heads = selected.data, selected.indices
             else:
@@ -741,23 +726,11 @@ def _sweep_downstream(pol: np.ndarray, rank: np.ndarray, frontier: np.ndarray,
             level = _raise(pol, rank, done, heads[keep], out[keep], top)
 
 
-SWEEP_FEW = 16
-"""Sweep rounds from at most this many nodes are walked in Python."""
-
-SCAN_MIN_SHARE = 16
-"""Sweep rounds from more than one node in this many scan all arcs."""
-
-ROWS_MIN_LEVEL = 4096
-"""From this many nodes on, a sweep round gathers their out-arcs by scipy's
-row selection (one C pass, about twice as fast as numpy's repeat-and-gather,
-which has less overhead on small rounds)."""
-
-
 def _sweep_few(level: np.ndarray, pol: np.ndarray, rank: np.ndarray, done: np.ndarray,
                top: Any, out_order: np.ndarray, out_dst: np.ndarray, out_starts: np.ndarray,
-               out_counts: np.ndarray) -> np.ndarray:
-    """Sweep rounds of at most :data:`SWEEP_FEW` nodes, walked in Python element by
-    element; returns the first larger round (or an empty one).
+               out_counts: np.ndarray, few: int) -> np.ndarray:
+    """Sweep rounds of at most ``few`` nodes (the crossover ``sweep_few``), walked in
+    Python element by element; returns the first larger round (or an empty one).
 
     The same switches in the same order as :func:`_raise` on the gathered
     round: the out-arcs of the round's nodes in order, those into a node of
@@ -766,7 +739,7 @@ def _sweep_few(level: np.ndarray, pol: np.ndarray, rank: np.ndarray, done: np.nd
     """
     top = top.item() if isinstance(top, np.generic) else top
     nodes = level.tolist()
-    while nodes and len(nodes) <= SWEEP_FEW:
+    while nodes and len(nodes) <= few:
         kept: list[tuple[int, int]] = []
         for u in nodes:
             start = out_starts.item(u)
@@ -962,10 +935,12 @@ def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cy
     # Root of each circuit: its smallest node, i.e. its first position (the
     # circuit nodes are sorted), so that an unchanged circuit keeps its root
     # from one iteration to the next.
-    walked = _one_circuit(back, w_cyc, t_cyc) if c > PYTHON_MAX_CIRCUIT_NODES else None
+    choice = _kernels.current()
+    in_python = c <= choice.python_max_circuit_nodes
+    walked = None if in_python else _one_circuit(back, w_cyc, t_cyc)
     if walked is None:
-        walks = (_walk_circuits if c > WALK_MIN_CIRCUIT_NODES else _jump_circuits
-                 if c > PYTHON_MAX_CIRCUIT_NODES else _python_circuits)
+        walks = (_walk_circuits if c > choice.walk_min_circuit_nodes else _python_circuits
+                 if in_python else _jump_circuits)
         walked = walks(back, w_cyc, t_cyc)
     roots, circuit_of, sum_w, sum_t = walked
     # The circuit of root r: its own policy arc and the path back to r.
@@ -992,19 +967,6 @@ def _circuits(cycle_nodes: np.ndarray, pred: np.ndarray, w_cyc: np.ndarray, t_cy
     else:
         X_c = carry[circuit_of] + sum_w * T_c[circuit_of] - W_c[circuit_of] * sum_t
     return W_c, T_c, X_c, circuit_of, rank_c
-
-
-WALK_MIN_CIRCUIT_NODES = 2048
-"""Above this many circuit nodes, circuits are walked in C (scipy's graph
-traversals and a cumulative sum) rather than by pointer jumping, whose
-``log2`` rounds of several passes cost more on long circuits."""
-
-
-PYTHON_MAX_CIRCUIT_NODES = 256
-"""Up to this many circuit nodes, circuits are walked in Python: pointer jumping
-costs some 40 numpy calls whatever the size (60-100 us, a third of a value
-determination on 10^4 nodes, against 8 us in Python for 32 circuit nodes and
-45 us for 256)."""
 
 
 def _python_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _Walked:
@@ -1116,8 +1078,8 @@ def _walk_circuits(back: np.ndarray, w_cyc: np.ndarray, t_cyc: np.ndarray) -> _W
     ``c + i -> (i, c + i + 1)``, not by one virtual node joined to all: scipy's
     search rescans a node's neighbours from the first each time it comes back
     to it, so one node of c neighbours cost O(c) per circuit, quadratic with
-    many short circuits (thousands of groups: 42 of 68 s of the cycle times at
-    100,000 tasks). The virtual nodes are dropped from the order.
+    many short circuits (a skeleton of thousands of groups has thousands). The
+    virtual nodes are dropped from the order.
     """
     c = len(back)
     index = back.dtype

@@ -39,10 +39,11 @@ from typing import Any
 
 import numpy as np
 
+from . import _kernels
 from ._critical import CriticalGraph, critical_graph, cyclicity, eigenspace, eigenvector
 from ._graphs import adjacency, is_strongly_connected, strong_classes
 from ._integer_matrix import integer_matrix, plain_int_rows
-from ._max_mean import SMALL, cycle_times, max_cycle_mean, max_cycle_mean_rows
+from ._max_mean import cycle_times, max_cycle_mean, max_cycle_mean_rows
 from ._scaled import bottom, scaled, square_matrix
 from .cycle_ratio import max_cycle_ratio
 
@@ -277,7 +278,7 @@ def eigenvalue(A: Any) -> Fraction | None:
     Fraction(4, 1)
     """
     rows = plain_int_rows(A)
-    if rows is not None and len(rows) <= SMALL:
+    if rows is not None and len(rows) <= _kernels.current().dense_lists_max_nodes:
         return max_cycle_mean_rows(rows)
     return max_cycle_mean(integer_matrix(A))
 

@@ -172,7 +172,7 @@ def _check_matrix_periodicity(M: np.ndarray, graph: CriticalGraph) -> None:
 
 
 def transient(A: Any, max_power: int = 10_000) -> int:
-    """Smallest t >= 0 with ``A^(t+c) = λ^c ⊗ A^t``, c = :func:`cyclicity`.
+    """Smallest t >= 0 with ``A^(t+c) = λ^c ⊗ A^t``, c = :func:`~maxplus.spectral.cyclicity`.
 
     The identity then holds for every larger t (multiply by A). For
     irreducible A it holds eventually [1]_. For reducible A this

@@ -64,8 +64,8 @@ __all__ = list(_WHERE)
 
 
 def _version() -> str:
-    # importlib.metadata and the look-up of the installed distribution cost some 40 ms:
-    # paid when the version is asked for, not by every command at start-up.
+    # importlib.metadata and the look-up of the installed distribution are paid when
+    # the version is asked for, not by every command at start-up.
     from importlib.metadata import PackageNotFoundError, version
 
     try:

@@ -32,16 +32,16 @@ from .model.budgets import (
 )
 from .model.skeleton import Skeleton
 
-if TYPE_CHECKING:  # imported when called: `analyze` need not load them (some 30 ms)
+if TYPE_CHECKING:  # imported when called: `analyze` need not load them
     from .analysis.cycle_time import CycleTimeResult
     from .design.explore import Exploration
 
-__all__ = ["analyze", "cycle_time", "explore", "reach", "rules", "to_dot", "write"]
+__all__ = ["analyze", "compiled_kernels", "cycle_time", "explore", "reach", "rules", "to_dot",
+           "write"]
 
 #: Above this many tasks ``analyze`` leaves the duration margins to ``sensitivity``:
-#: measured (benchmarks/results/sensitivity.md), they cost about as much as
-#: the analysis itself on generated skeletons (0.21 s beside 0.44 s at 1,000 tasks,
-#: 3.9 s beside 2.9 s at 10,000).
+#: measured (benchmarks/results/sensitivity.md), they cost about as much as the
+#: analysis itself on generated skeletons, and more than it as they grow.
 MARGINS_MAX_TASKS = 2_000
 
 
@@ -149,7 +149,7 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
 
 
 def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence[str]] = (),
-          processors: bool = True) -> DesignSection:
+          processors: bool = True, max_events: int = MAX_EVENTS) -> DesignSection:
     """The design rules of ORCCAD §6, schedulability and chain latencies (``tegraph rules``).
 
     Parameters
@@ -160,13 +160,17 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
         Sensor-to-actuator chains whose latency to report, besides the
         skeleton's own ``chains``.
     processors : bool
-        The advice also says what each change does to the skeleton on its
-        processors (spec §4b); False: every task on a processor of its own.
+        Decide the skeleton on its processors (spec §4b), as :func:`analyze` does:
+        the verdict, and what each advised change does there; False: every task on
+        a processor of its own (the verdict of spec §4).
+    max_events : int
+        Budget of event firings of the schedule on processors, as for :func:`analyze`.
 
     Returns
     -------
     DesignSection
-        Its ``exit_status`` is the command's; :func:`tegraph.report.to_json`
+        Its ``schedulable`` is :func:`analyze`'s verdict and its ``exit_status`` the
+        command's (that verdict, and the rules); :func:`tegraph.report.to_json`
         gives its JSON document, :func:`tegraph.report.render_text` its text.
 
     Raises
@@ -192,11 +196,40 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
     ([(4, 'info')], 0)
     """
     skeleton = _skeleton(skeleton)
-    # The chains' figures are analyze's, on the processors: the same schedule, the
-    # same budget (without a chain, the advice decides the parts it touches itself).
-    with_chains = bool(skeleton.chains or chains)
-    report = analyze_skeleton(skeleton, chains=chains, processors=processors and with_chains)
+    # The semiflow cross-check of liveness is not reported by the rules: skipped. The
+    # chains' figures are analyze's, on the same schedule with the same budget.
+    report = analyze_skeleton(skeleton, chains=chains, semiflow_max_places=0,
+                              processors=processors, max_events=max_events)
     return design_section(skeleton, report, chains, processors=processors)
+
+
+def compiled_kernels() -> dict[str, bool]:
+    """Per compiled kernel (an extension module ``setup.py`` builds), whether it is built here.
+
+    Each one is optional: where it was not built (no C compiler, no Cython, or
+    it failed to compile), its reference runs instead, with the same results,
+    slower (the numpy Howard kernel and certificate checks, the Python loop of
+    the schedule on processors). ``tegraph --version`` prints this.
+
+    Returns
+    -------
+    dict of str to bool
+        The module names, ``maxplus``'s first, the schedule engine's after.
+
+    See Also
+    --------
+    maxplus.max_cycle_ratio : runs Howard's kernel.
+
+    Examples
+    --------
+    >>> list(compiled_kernels())[:2]
+    ['maxplus._howard_kernel', 'maxplus._certificate_kernel']
+    """
+    from maxplus import _kernels
+
+    from .analysis.processors import _loops
+
+    return {**_kernels.compiled(), **_loops.compiled()}
 
 
 def _skeleton(skeleton: Any) -> Skeleton:
@@ -446,7 +479,8 @@ def write(obj: Any, path: str | os.PathLike[str], format: str | None = None,
     """
     fmt = format or io.format_for_writing(obj, os.fspath(path))
     marks = None
-    if fmt in ("dot", "teg-dot"):
+    record = io.FORMATS.get(fmt)
+    if record is not None and record.draws:
         from .report.dot import highlights  # a drawing's colours: only drawings need them
 
         marks = highlights(_figures_for_drawing(obj))
@@ -514,7 +548,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
             batch_size: int | None = None, progress: Any = None,
             timeout: float | str = 10.0, requires: Sequence[Any] = (),
             max_latency: Sequence[Any] = (), forbid: Sequence[Any] = (),
-            max_events: int = MAX_EVENTS) -> Exploration:
+            max_events: int = MAX_EVENTS, free_running: bool = False) -> Exploration:
     """Search protocol and clock choices for the best live, consistent, schedulable designs.
 
     Each variant (one protocol per chosen link, one period per chosen clock) is
@@ -572,12 +606,15 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     max_events : int
         Budget of event firings of each variant's schedule on processors (spec
         §4b); a variant undecided within it is rejected as undecided.
+    free_running : bool
+        Keep designs where a task runs free (no clock in its group) that the input
+        design runs on a clock; by default they are not kept.
 
     Returns
     -------
     Exploration
         :func:`tegraph.report.explore_text.render_exploration` gives its text,
-        :func:`tegraph.report.explore_text.explore_document` its JSON document.
+        :func:`tegraph.report.to_json` its JSON document.
 
     Raises
     ------
@@ -629,7 +666,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
 
     space = design_space(skeleton, links, all_links, clocks, chains, objectives,
                          requires=requires, max_latency=max_latency, forbid=forbid,
-                         max_events=max_events)
+                         max_events=max_events, free_running=free_running)
     if output is None and resume:
         raise InputError("nothing to resume without an `output` file", "resume")
     table = None if output is None else ResultsTable(output, space, resume, overwrite)

@@ -22,6 +22,7 @@ from typing import Annotated, NoReturn
 import typer
 
 from .errors import InputError, TegraphError
+from .io.formats import FORMATS, readable, writable
 from .model.budgets import (
     DEFAULT_MAX_BYTES,
     DEFAULT_MAX_FIRINGS,
@@ -43,14 +44,26 @@ def _version(value: bool) -> None:
     if value:
         from importlib.metadata import version
 
+        from .api import compiled_kernels
+
+        built = compiled_kernels()
+        width = max(map(len, built))
         typer.echo(f"tegraph {version('tegraph')}")
+        typer.echo(f"compiled kernels: {sum(built.values())} of {len(built)} built")
+        for name, is_built in built.items():
+            typer.echo(f"  {name:<{width}}  {'built' if is_built else 'NOT BUILT'}")
+        if not all(built.values()):
+            typer.echo("(without a kernel its reference runs: the same results, slower; "
+                       "build them where a C compiler is found: pip install -e . in a checkout, "
+                       "or python setup.py build_ext --inplace)")
         raise typer.Exit()
 
 
 @app.callback()
 def _commands(
     version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
-                                          help="Print the version and exit.")] = False,
+                                          help="Print the version and which compiled "
+                                               "kernels are built, and exit.")] = False,
 ) -> None:
     """Deadlocks, periods and overruns of synchronized real-time task sets.
 
@@ -71,7 +84,8 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
           "max_jobs": "--max-jobs", "horizon": "--horizon"}
 _FLAGS.update({"requires": "--require", "max_latency": "--max-latency", "forbid": "--forbid",
                "timeout": "--timeout", "all_links": "--all-links",
-               "max_events": "--max-events", "processors": "--no-processors"})
+               "max_events": "--max-events", "processors": "--no-processors",
+               "free_running": "--free-running"})
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -114,27 +128,60 @@ def _draw(draw: Callable[..., object], result: object, path: Path, force: bool) 
         _fail(f"{path}: {exc.reason}")
 
 
-def _output_file(path: Path, force: bool, *, source: Path | None = None) -> None:
-    """Refuse, before any work, an output file that cannot or must not be written."""
+def _need_matplotlib(drawing: str, without: str) -> None:
+    """Refuse, before any work, a drawing where matplotlib is not installed: one line
+    naming the extra that installs it (exit 2)."""
+    from .report.plot import matplotlib_available, plot_unavailable
+
+    if not matplotlib_available():
+        _fail(str(plot_unavailable(drawing, without)))
+
+
+def _output_file(path: Path, force: bool, where: str, source: Path, *,
+                 replaces_input: bool = False) -> None:
+    """Refuse, before any work, an output file that cannot or must not be written.
+
+    ``where`` names the option that gave ``path`` (a library parameter name, shown as
+    its option); ``source`` is the command's input. An output that is the input is
+    refused whatever the flags (:func:`tegraph.io.input_as_output`), except where
+    ``replaces_input`` (``fix``, whose output is the repaired input): there only
+    ``--force`` replaces it.
+    """
+    from .io import input_as_output, same_file
+
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
         _fail(f"{path}: the directory {parent} does not exist; create it first "
               "(tegraph creates no directory)")
     if path.is_dir():
         _fail(f"{path}: is a directory; expected a file name")
-    if source is not None and path.exists() and path.resolve() == source.resolve() and not force:
-        _fail(f"{path}: this is the input file; pass --force to replace it (its comments "
-              "are not copied)")
+    if replaces_input:
+        if same_file(path, source) and not force:
+            _fail(f"{path}: this is the input file; pass --force to replace it (its comments "
+                  "are not copied)")
+    else:
+        try:
+            input_as_output(path, [source], where)
+        except InputError as exc:
+            _fail(_located(exc))
     if path.exists() and not force:
         _exists(path)
 
 
-def _output_directory(path: Path) -> None:
-    """Refuse, before any work, a directory for output files that is not one."""
+def _output_directory(path: Path, source: Path) -> None:
+    """Refuse, before any work, a directory for the CSV files that is not one, or whose
+    tasks.csv or groups.csv is the input ``source`` (whatever the flags)."""
+    from .io import input_as_output
+
     if path.is_file():
         _fail(f"{path}: is a file; expected a directory for tasks.csv and groups.csv")
     if not path.is_dir():
         _fail(f"{path}: no such directory; create it first (tegraph creates no directory)")
+    try:
+        for name in ("tasks.csv", "groups.csv"):
+            input_as_output(path / name, [source], "--csv")
+    except InputError as exc:
+        _fail(_located(exc))
 
 
 def _located(exc: InputError) -> str:
@@ -177,6 +224,71 @@ def _size_text(size: int) -> str:
     return str(size)
 
 
+def _integer(text: str, option: str, least: int | None = None, most: int | None = None) -> int:
+    """An integer option's value in the number grammar of every number (README): an
+    integer, a decimal or one fraction whose value is whole (``1e3`` is 1000); anything
+    else is one line naming the option, exit 2.
+
+    >>> _integer("1e3", "--max-events"), _integer("10/2", "--width"), _integer("1_000", "--x")
+    (1000, 5, 1000)
+    """
+    from maxplus.errors import MaxPlusValueError
+    from maxplus.scalar import exact_time
+
+    from .model.limits import shown
+
+    expected = f"{option}: expected an integer such as 1000 or 1e6"
+    if least is not None and most is not None:
+        expected += f" (from {least} to {most:,})"
+    elif least is not None:
+        expected += f" (at least {least})"
+    try:  # the one number parser: 1e999999999 is refused by its size, not expanded
+        value = exact_time(text)
+    except MaxPlusValueError as exc:
+        reason = str(exc).removeprefix("value: ")
+        _fail(f"{expected}; {reason}" if "digits" in reason
+              else f"{expected}, got {shown(text)}")
+    if value.denominator != 1:
+        _fail(f"{expected}, got {shown(text)}, which is not a whole number")
+    if (least is not None and value.numerator < least) or (
+            most is not None and value.numerator > most):
+        _fail(f"{expected}, got {shown(text)}")
+    return value.numerator
+
+
+def _whole(option: str, least: int | None = None, most: int | None = None
+           ) -> Callable[[object], int]:
+    """The parser of an integer option (typer's ``parser=``): :func:`_integer`; its
+    default, an int already, is kept as it is. A budget (``least`` None) is refused
+    below 1 by the library, in one line naming the option."""
+    def parse(value: object) -> int:
+        if isinstance(value, int) and not isinstance(value, bool):
+            return value
+        return _integer(str(value), option, least, most)
+    return parse
+
+
+def _seconds(value: object) -> float | None:
+    """The parser of ``--max-seconds``: a time >= 0 in the number grammar (``1/2``, ``1e3``)."""
+    if value is None or isinstance(value, float):
+        return value
+    from maxplus.errors import MaxPlusValueError
+    from maxplus.scalar import exact_time
+
+    from .model.limits import shown
+
+    expected = "--max-seconds: expected a time in seconds >= 0 such as 30, 2.5 or 1/2"
+    try:
+        seconds = exact_time(str(value))
+    except MaxPlusValueError as exc:
+        reason = str(exc).removeprefix("value: ")
+        _fail(f"{expected}; {reason}" if "digits" in reason
+              else f"{expected}, got {shown(str(value))}")
+    if seconds < 0:
+        _fail(f"{expected}, got {shown(str(value))}")
+    return float(seconds)
+
+
 # The options that several commands share, each declared once. Budgets take their
 # defaults from the library's constants (tegraph.model.budgets imports nothing,
 # so --help loads no numpy); a budget of nothing is refused by the library in one
@@ -185,21 +297,22 @@ SkeletonFile = Annotated[Path, typer.Argument(help="Skeleton file (.yaml, .yml o
 JsonFlag = Annotated[bool, typer.Option("--json",
                                         help="Print the JSON report (docs/report.schema.json).")]
 MaxStates = Annotated[int, typer.Option(
-    "--max-states", help="State budget of the search (>= 1); beyond it the answer is "
-                         "inconclusive.")]
+    "--max-states", parser=_whole("--max-states"), metavar="N",
+    help="State budget of the search (>= 1); beyond it the answer is inconclusive.")]
 _MAX_MEMORY = _size_text(DEFAULT_MAX_MEMORY)
 MaxMemory = Annotated[str, typer.Option(
     "--max-memory", help="Memory budget of the markings the untimed reachability search "
                          "stores (e.g. 512M, 4G).")]
 MaxFirings = Annotated[int, typer.Option(
-    "--max-firings", min=1, help="Largest homogeneous expansion of an SDF graph (firings "
-                                 "per iteration).")]
+    "--max-firings", parser=_whole("--max-firings", 1), metavar="N",
+    help="Largest homogeneous expansion of an SDF graph (firings per iteration).")]
 _MAX_SIZE = _size_text(DEFAULT_MAX_BYTES)
 MaxSize = Annotated[str, typer.Option(
     "--max-size", help="Refuse larger input files (e.g. 1G; at least 1 byte: 0 is refused, "
                        "there is no \"no limit\").")]
 MaxSeconds = Annotated[float | None, typer.Option(
-    "--max-seconds", min=0, help="Time budget of the search, in seconds.")]
+    "--max-seconds", parser=_seconds, metavar="SECONDS",
+    help="Time budget of the search, in seconds.")]
 Processors = Annotated[bool, typer.Option(
     "--processors/--no-processors",
     help="Answer on the skeleton's processors (preemptive fixed priorities, "
@@ -221,8 +334,9 @@ def _chain(use: str) -> typer.models.OptionInfo:
 
 def _max_events(of: str, past: str) -> typer.models.OptionInfo:
     """The ``--max-events`` budget; its help names what it bounds and what happens past it."""
-    return typer.Option("--max-events", help=f"Budget of event firings of {of}; past it, "
-                                             f"{past}.")
+    return typer.Option("--max-events", parser=_whole("--max-events"), metavar="N",
+                        help=f"Budget of event firings of {of}, from 1 to 2**63 - 1; past "
+                             f"it, {past}.")
 
 
 @app.command()
@@ -234,7 +348,7 @@ def analyze(
         help="Write tasks.csv and groups.csv into this existing directory.")] = None,
     force: Annotated[bool, _force("existing CSV files")] = False,
     max_steps: Annotated[int, typer.Option(
-        "--max-steps", min=1,
+        "--max-steps", parser=_whole("--max-steps", 1), metavar="N",
         help="Budget on the firing index of the dater simulation.")] = 100_000,
     chain: Annotated[list[str] | None, _chain("Report the latency of")] = None,
     design: Annotated[bool, typer.Option(
@@ -263,14 +377,14 @@ def analyze(
     from .io import load_skeleton
 
     if csv_dir is not None:
-        _output_directory(csv_dir)
+        _output_directory(csv_dir, file)
     with _refusals(file):
         skeleton = load_skeleton(file)
         chains = [parse_chain(c) for c in chain or []]
         report = run_analysis(skeleton, max_steps=max_steps, chains=chains, design=design,
                               processors=processors, max_events=max_events)
     # Each renderer is imported when used: --json needs neither the text report nor
-    # the tables (their modules and tabulate, some 20 ms).
+    # the tables (their modules and tabulate).
     if csv_dir is not None:
         from .report import write_csv
 
@@ -296,9 +410,9 @@ def _echo_document(data: bytes) -> None:
 
     ``typer.echo`` of the text would copy it to append the newline and, off a terminal,
     scan it for ANSI colour codes to strip: a JSON text holds none (its control
-    characters are escaped), and the report of 10,000 tasks is 16 to 26 MB (0.06 s
-    against 0.035 s). The bytes go to the binary stream as they are, so a report of
-    100,000 tasks (160 MB) is never held as text as well (its peak: 1,154 -> 1,016 MiB).
+    characters are escaped), and the report of 10,000 tasks is tens of megabytes. The
+    bytes go to the binary stream as they are, so a report of 100,000 tasks is never
+    held as text as well.
     """
     sys.stdout.flush()  # whatever the text layer holds goes first
     out = getattr(sys.stdout, "buffer", None)
@@ -344,7 +458,7 @@ def reach(
 
     memory = _size(max_memory, "--max-memory")
     with _refusals(file):
-        model = (load_skeleton(file) if file.suffix.lower() in (".yaml", ".yml")
+        model = (load_skeleton(file) if file.suffix.lower() in FORMATS["skeleton"].suffixes
                  else read(file))
 
     # Ctrl-C asks the search to stop at its next batch; the partial counts are printed.
@@ -394,7 +508,7 @@ def fix(
     from .report.design_text import fix_verdict, render_fix
 
     if output is not None:
-        _output_file(output, force, source=file)
+        _output_file(output, force, "output", file, replaces_input=True)
     with _refusals(file):
         skeleton = load_skeleton(file)
         result = fix_ports(skeleton)
@@ -423,12 +537,16 @@ def rules(
     chain: Annotated[list[str] | None, _chain("Report the latency of")] = None,
     json_out: JsonFlag = False,
     processors: Processors = True,
+    max_events: Annotated[int, _max_events(
+        "the exact schedule on processors (docs/skeleton.md §4b), as for analyze",
+        "the verdict is undecided (exit status 1) and the report says why")] = MAX_EVENTS,
 ) -> None:
     """Design rules of ORCCAD section 6, threads, schedulability and chain latencies.
 
-    Exit status: 0 the rules are followed (info findings aside) and every
-    processor is schedulable; 1 otherwise; 2 the input was refused; 130 interrupted
-    (Ctrl-C).
+    The verdict is analyze's (spec §4b: the exact schedule on processors); the
+    response-time test is a cross-check beside it. Exit status: 0 the rules are
+    followed (info findings aside) and analyze's exit status is 0 (live, consistent,
+    schedulable); 1 otherwise; 2 the input was refused; 130 interrupted (Ctrl-C).
     """
     from .api import rules as check_design
     from .design.latency import parse_chain
@@ -438,7 +556,8 @@ def rules(
     with _refusals(file):
         skeleton = load_skeleton(file)
         chains = [parse_chain(c) for c in chain or []]
-        section = check_design(skeleton, chains=chains, processors=processors)
+        section = check_design(skeleton, chains=chains, processors=processors,
+                               max_events=max_events)
     typer.echo(to_json(section) if json_out else _cli_words(render_text(section)), nl=json_out)
     raise typer.Exit(section.exit_status)
 
@@ -448,13 +567,18 @@ def timeline(
     file: SkeletonFile,
     output: Annotated[Path | None, typer.Option(
         "-o", "--output", help="Also draw the diagram into this .svg or .png file (needs "
-                               "matplotlib: pip install 'tegraph[plot]').")] = None,
+                               "matplotlib: pip install '.[plot]').")] = None,
     horizon: Annotated[str | None, typer.Option(
-        "--horizon", help="End of the DRAWING, e.g. 12 or 7/3 (default: until the proof: the "
-                          "periodic regime, or the first overrun). The verdict never depends "
-                          "on it.")] = None,
-    width: Annotated[int, typer.Option("--width", min=10,
-                                       help="Columns of the text diagram.")] = 96,
+        "--horizon", metavar="END|START..END",
+        help="What the DRAWING shows: until END (e.g. 12 or 7/3), or the window "
+             "START..END (e.g. 40..50). Default: 10 periods of the fastest clock around "
+             "the first problem (overrun, deadlock, starved job) or from the periodic "
+             "regime, or the whole proof when it fits; the report says which and how to see "
+             "more. The verdict never depends on it.")] = None,
+    width: Annotated[int, typer.Option("--width", parser=_whole("--width", 10, 10_000),
+                                       metavar="COLUMNS",
+                                       help="Columns of the text diagram (10 to "
+                                            "10,000).")] = 96,
     force: Annotated[bool, _force("an existing drawing")] = False,
     max_events: Annotated[int, _max_events(
         "the exact schedule on processors (docs/skeleton.md §4b), as for analyze",
@@ -479,20 +603,29 @@ def timeline(
     from .report.plot import draw_timeline
     from .report.timeline_text import render_timeline
 
-    end = None
+    end = begin = None
     if horizon is not None:
-        try:  # the one number parser: 1e999999999 is refused by its size, not expanded
-            end = exact_time(horizon)
-        except MaxPlusValueError as exc:
-            _fail(f"--horizon: expected a time > 0 such as 12 or 7/3; "
-                  f"{str(exc).removeprefix('value: ')}")
-        if end <= 0:
-            _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, got {horizon!r}")
+        first, dots, last = horizon.partition("..")
+        texts = [first, last] if dots else [horizon]
+        times = []
+        for text in texts:
+            try:  # the one number parser: 1e999999999 is refused by its size, not expanded
+                times.append(exact_time(text))
+            except MaxPlusValueError as exc:
+                _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, or a window "
+                      f"START..END such as 40..50; {str(exc).removeprefix('value: ')}")
+        end = times[-1]
+        begin = times[0] if dots else None
+        if end <= 0 or (begin is not None and not 0 <= begin < end):
+            _fail(f"--horizon: expected a time > 0 such as 12 or 7/3, or a window "
+                  f"START..END with 0 <= START < END such as 40..50, got {horizon!r}")
     if output is not None:
-        _output_file(output, force)
+        _output_file(output, force, "output", file)
+        _need_matplotlib("-o: drawing a timing diagram",
+                         "the text diagram needs nothing: leave out -o")
     with _refusals(file):
         skeleton = load_skeleton(file)
-        result = simulate_timeline(skeleton, end, max_events=max_events,
+        result = simulate_timeline(skeleton, end, max_events=max_events, start=begin,
                                    chains=[parse_chain(c) for c in chain or []])
     if output is not None:
         _draw(draw_timeline, result, output, force)
@@ -505,12 +638,11 @@ def timeline(
 @app.command("cycle-time")
 def cycle_time_command(
     file: Annotated[Path, typer.Argument(
-        help="Any timed event graph tegraph reads: .pnml, SDF3 XML, .edges, "
-             "TimedPetriNetEditor .json/.teg, a skeleton.")],
+        help="A timed event graph in any format tegraph reads: "
+             f"{', '.join(FORMATS[name].holds for name in readable())}.")],
     json_out: JsonFlag = False,
     fmt: Annotated[str | None, typer.Option(
-        "--format", help="Force the input format (pnml, sdf3, edges, tpne-json, tpne-teg, "
-                         "skeleton).")] = None,
+        "--format", help=f"Force the input format ({', '.join(readable())}).")] = None,
     max_size: MaxSize = _MAX_SIZE,
     default_holding: Annotated[str | None, typer.Option(
         "--default-holding", help="Holding time of every place of a net that carries no "
@@ -543,13 +675,13 @@ def cycle_time_command(
 def convert(
     source: Annotated[Path, typer.Argument(help="Input file (format detected from it).")],
     target: Annotated[Path, typer.Argument(
-        help="Output file (format from its extension: .pnml, .xml/.sdf3, .edges, .json, "
-             ".teg, .dot, .yaml).")],
+        help="Output file (format from its extension: "
+             f"{', '.join(dict.fromkeys(e for f in FORMATS.values() for e in f.extensions()))}"
+             ").")],
     from_fmt: Annotated[str | None, typer.Option("--from",
                                                  help="Force the input format.")] = None,
     to_fmt: Annotated[str | None, typer.Option(
-        "--to", help="Force the output format (pnml, sdf3, edges, tpne-json, tpne-teg, dot, "
-                     "teg-dot, skeleton).")] = None,
+        "--to", help=f"Force the output format ({', '.join(writable())}).")] = None,
     force: Annotated[bool, _force("an existing output file")] = False,
     max_size: MaxSize = _MAX_SIZE,
 ) -> None:
@@ -565,7 +697,7 @@ def convert(
     from .api import write
     from .io import read
 
-    _output_file(target, force)
+    _output_file(target, force, "TARGET", source)
     try:
         with _writing(target):
             model = read(source, from_fmt, max_bytes=_size(max_size, "--max-size"))
@@ -616,8 +748,11 @@ def explore(
     scheduler: Annotated[str | None, typer.Option(
         "--scheduler", help="Run on this Dask scheduler, e.g. tcp://HOST:8786.")] = None,
     workers: Annotated[int | None, typer.Option(
-        "--workers", min=0, help="Local Dask worker processes (0: this process; default: "
-                                 "decided from the measured cost).")] = None,
+        "--workers", parser=_whole("--workers", 0), metavar="N",
+        help=f"Local Dask worker processes, from 0 (judge in this process) to "
+             f"{os.cpu_count() or 1} (this machine's cores; more run on a cluster: "
+             "--scheduler); default: this process, until the measured work pays for a "
+             "local cluster (docs/explore.md).")] = None,
     output: Annotated[Path | None, typer.Option(
         "-o", "--output", help="Write every judged variant to this .csv or .parquet file as "
                                "results arrive.")] = None,
@@ -626,13 +761,14 @@ def explore(
     force: Annotated[bool, _force("an existing -o or --plot file")] = False,
     plot: Annotated[Path | None, typer.Option(
         "--plot", help="Draw the front into this .svg or .png file (needs matplotlib: "
-                       "pip install 'tegraph[plot]').")] = None,
+                       "pip install '.[plot]').")] = None,
     max_variants: Annotated[int, typer.Option(
-        "--max-variants", min=1, help="Search exhaustively up to this many variants; beyond, "
-                                      "Pareto local search analyzes at most this "
-                                      "many.")] = 10_000,
+        "--max-variants", parser=_whole("--max-variants", 1), metavar="N",
+        help="Search exhaustively up to this many variants; beyond, Pareto local search "
+             "analyzes at most this many.")] = 10_000,
     batch_size: Annotated[int | None, typer.Option(
-        "--batch-size", min=1, help="Variants per batch (default adaptive).")] = None,
+        "--batch-size", parser=_whole("--batch-size", 1), metavar="N",
+        help="Variants per batch (default adaptive).")] = None,
     timeout: Annotated[str, typer.Option(  # text: the library's exact parser reads it
         "--timeout", help="Seconds to wait for the scheduler to answer, e.g. 30 or 5/2 (> 0, "
                           "at most 86400).")] = "10",
@@ -640,6 +776,13 @@ def explore(
         "each variant's schedule on processors (docs/skeleton.md §4b)",
         "the variant is rejected as undecided; a decided variant stops at its proof (a few "
         "hundred firings for a small pipe-line)")] = MAX_EVENTS,
+    free_running: Annotated[bool, typer.Option(
+        "--free-running", help="Keep designs where a task runs free (no clock in its "
+                               "group: as often as its processor lets it) that the input "
+                               "design runs on a clock; by default they are rejected.")] = False,
+    all_ties: Annotated[bool, typer.Option(
+        "--all-ties", help="List every design of the front; by default one row per "
+                           "distinct objective vector, with its count of ties.")] = False,
     json_out: JsonFlag = False,
 ) -> None:
     """Search link protocols and clock periods for the Pareto front of live, consistent,
@@ -652,16 +795,21 @@ def explore(
     from .api import explore as run_exploration
     from .design.latency import parse_chain
     from .io import load_skeleton
-    from .report import render_text, to_json
+    from .report import to_json
     from .report.explore_plot import draw_front
-    from .report.plot import matplotlib_available
+    from .report.explore_text import render_exploration
 
+    if output is not None:  # the library checks the rest (--resume, --force) itself
+        from .io import input_as_output
+
+        try:
+            input_as_output(output, [file], "output")
+        except InputError as exc:
+            _fail(_located(exc))
     if plot is not None:
         _plot_suffix(plot)
-        _output_file(plot, force)
-        if not matplotlib_available():
-            _fail("--plot: drawing the front needs matplotlib, which is not installed; "
-                  "install it with: pip install 'tegraph[plot]'")
+        _output_file(plot, force, "plot", file)
+        _need_matplotlib("--plot: drawing the front", "the text and JSON reports need nothing")
     # Lists, not dicts: a link or clock given twice is refused by the library, naming
     # both occurrences, instead of the second silently replacing the first.
     links = list(link or [])
@@ -682,10 +830,12 @@ def explore(
                 scheduler=scheduler, workers=workers, output=output, resume=resume,
                 overwrite=force, max_variants=max_variants, batch_size=batch_size,
                 progress=progress, timeout=timeout, requires=require or [],
-                max_latency=max_latency or [], forbid=forbid or [], max_events=max_events)
+                max_latency=max_latency or [], forbid=forbid or [], max_events=max_events,
+                free_running=free_running)
     finally:
         bar.erase()
-    text = to_json(result) + "\n" if json_out else _cli_words(render_text(result))
+    text = to_json(result) + "\n" if json_out else _cli_words(
+        render_exploration(result, all_ties=all_ties))
     # (a JSON document ends with one newline, as a text report does)
     if plot is not None:
         _draw(draw_front, result, plot, force)
@@ -728,7 +878,7 @@ def sensitivity_command(
     plot: Annotated[Path | None, typer.Option(
         "--plot", metavar="OUT.svg|png",
         help="Also draw it (one parameter: the periods against it; two: the map of the "
-             "regions); needs matplotlib: pip install 'tegraph[plot]'.")] = None,
+             "regions); needs matplotlib: pip install '.[plot]'.")] = None,
     force: Annotated[bool, _force("an existing drawing")] = False,
     formulas: Annotated[bool, typer.Option(
         "--formulas/--no-formulas", help="Compute each group's period as a formula.")] = True,
@@ -759,7 +909,6 @@ def sensitivity_command(
     from .design.latency import parse_chain
     from .io import load_skeleton
     from .report import render_text, to_json
-    from .report.plot import matplotlib_available
     from .report.sensitivity_plot import draw_sensitivity
 
     if plot is not None:
@@ -769,10 +918,8 @@ def sensitivity_command(
                   f"(given: {len(vary or ())})")
         if not formulas:
             _fail("--plot draws the periods from their formulas; leave out --no-formulas")
-        if not matplotlib_available():
-            _fail("--plot needs matplotlib, which is not installed; install it with: "
-                  "pip install 'tegraph[plot]'")
-        _output_file(plot, force)
+        _need_matplotlib("--plot: drawing the sensitivity", "the text report needs nothing")
+        _output_file(plot, force, "plot", file)
     import time
 
     bar = _ProgressBar()
@@ -866,8 +1013,8 @@ def _end(code: object) -> NoReturn:
     """End the process with ``code`` as :func:`sys.exit` would, without the teardown.
 
     Tearing down numpy's, scipy's and typer's ~700 modules and an analysis's
-    objects costs about 0.15 s of every command (measured on a 1,000-task
-    analysis and on a bare import), for memory the system reclaims at once.
+    objects is a noticeable share of every command, for memory the system
+    reclaims at once.
     What a normal exit does that matters still happens: the exit handlers run
     (a Dask cluster's, logging's, temporary directories'), then the output
     streams are flushed.

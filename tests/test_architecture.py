@@ -41,8 +41,7 @@ def test_types_check():
     """mypy with the [tool.mypy] configuration: strict on maxplus, basic on tegraph.
 
     The cache is the project's ``.mypy_cache``: mypy keys it by its version, options and
-    each file's content, so a warm run (about a second) finds what a cold one (15 to 30 s)
-    does.
+    each file's content, so a warm run finds in a moment what a cold one finds in many.
     """
     done = _run(sys.executable, "-m", "mypy", "--config-file", "pyproject.toml")
     assert done.returncode == 0, done.stdout + done.stderr

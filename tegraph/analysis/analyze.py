@@ -18,7 +18,7 @@ How each figure is obtained:
   with the Howard potentials (which are exactly the feasible potentials
   needed).
 
-Each step is a function of the graph (:class:`_EventGraph`, built once) and
+Each step is a function of the graph (``_EventGraph``, built once) and
 of the results of the steps before it.
 
 References
@@ -52,6 +52,7 @@ from maxplus.scalar import display_text
 
 from ..model.build import UnboundedKind, activation_end, build_teg, task_chain, unbounded_kind
 from ..model.elements import flow_list
+from ..model.platform import platform_of
 from ..model.skeleton import Skeleton
 from ..model.structure import Structure
 from ..model.teg import Place, TimedEventGraph
@@ -157,10 +158,12 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         overrun = any(t.overrun_at is not None for t in tasks.values())
         consistent = live and not unbounded and not overrun
         methods = _methods(deadlocks, groups, periods, invariants, tasks, steps)
+        # The platform once, for the schedule, its cross-checks and the rules (report.platform).
+        platform = platform_of(skeleton, structure)
         schedule = None
         if processors:  # on the groups and the event graph computed above, not again
             schedule = schedule_on_processors(
-                skeleton, graph.teg, groups, max_events=max_events,
+                skeleton, graph.teg, groups, platform=platform, max_events=max_events,
                 intervals=False,  # the timeline draws its own
                 trace=trace_request(paths) if paths else None)
             methods["schedule"] = schedule.method
@@ -176,6 +179,7 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
             unbounded_places=unbounded, invariants=invariants, methods=methods,
             notes=notes, source=skeleton.source, schedule=schedule, structure=structure,
             chains=chain_figures,
+            platform=platform,
         )
 
 
@@ -186,9 +190,9 @@ def _cyclic_gc_paused() -> Iterator[None]:
 
     The analysis makes hundreds of thousands of long-lived containers (events,
     places, Fractions, small arrays) and no reference cycles to speak of, and
-    each pass of the collector walks them again: 40 % of the time at 10,000
-    tasks (2.5 -> 1.5 s CPU on groups-10k), 26.5 -> 18.2 s at 100,000, for the
-    same peak memory. The collector is left as it was found (nested calls too).
+    each pass of the collector walks them again, a large share of the time on
+    large skeletons, for the same peak memory. The collector is left as it was
+    found (nested calls too).
     """
     enabled = gc.isenabled()
     gc.disable()
@@ -527,8 +531,7 @@ def _slack(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
 _SLACK_ARRAYS = 128
 """Places from which a group's circuit weights are computed as arrays: below, the
 fixed cost of the numpy calls exceeds the Python loops (measured on random groups:
-22 places 26 us in Python, 75 us in arrays; even near 100; 1,024 places 1.07 ms,
-0.23 ms)."""
+``benchmarks/results/constants.md``)."""
 
 
 def _circuit_weights_exact(s: np.ndarray, d: np.ndarray, holding: np.ndarray,
@@ -691,6 +694,10 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
             groups[index].transient = (found.transient, found.cyclicity)
     for name, watch in zip(watched, watches):
         tasks[name].overrun_at = watch.overrun_at
+        if watch.overrun_at is not None:
+            # Type: a watched task has a clock (the loop above skips the others).
+            ticks = g.sk.clocks[g.sk.tasks[name].clock]  # type: ignore[index]
+            tasks[name].overrun_tick = ticks.phase + (watch.overrun_at - 1) * ticks.period
         tasks[name].overrun_decided = watch.decided
         if watch.method == "max-plus powers":
             notes.append(f"overrun of {name} located exactly by (max,+) matrix powers, not "

@@ -48,10 +48,10 @@ import numpy as np
 from maxplus.scalar import display_text, exact_text
 
 from ..model.build import task_chain
+from ..model.platform import processor_per_task
 from ..model.skeleton import Link, Protocol, Skeleton
 from ..model.skeleton.checks import Locator, check_chain
 from ..model.teg import TimedEventGraph
-from .processors.platform import processor_per_task
 from .processors.schedule import MAX_EVENTS, trace_schedule
 from .processors.trace import Instants, ScheduleTrace, TraceRequest
 
@@ -104,6 +104,7 @@ class ChainPath:
 
     @property
     def instants(self) -> list[Instant]:
+        """The sample, each hop's write and read, and the output, in the data's order."""
         return [self.sample, *(x for h in self.hops for x in (h.write, h.read)), self.output]
 
 
@@ -138,6 +139,7 @@ class ChainFigures:
 
     @property
     def decided(self) -> bool:
+        """Whether the figures are proven (:attr:`why_undecided` is None)."""
         return self.why_undecided is None
 
     def to_dict(self) -> dict[str, Any]:
@@ -175,18 +177,22 @@ class ChainReport:
 
     @property
     def first_use(self) -> Fraction | None:
+        """The first use with a processor per task (:attr:`processor_per_task`)."""
         return self.processor_per_task.first_use
 
     @property
     def age(self) -> Fraction | None:
+        """The age with a processor per task (:attr:`processor_per_task`)."""
         return self.processor_per_task.age
 
     @property
     def age_min(self) -> Fraction | None:
+        """The least age with a processor per task (:attr:`processor_per_task`)."""
         return self.processor_per_task.age_min
 
     @property
     def reaction(self) -> Fraction | None:
+        """The reaction with a processor per task (:attr:`processor_per_task`)."""
         return self.processor_per_task.reaction
 
     def to_dict(self) -> dict[str, Any]:

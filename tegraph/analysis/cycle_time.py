@@ -61,6 +61,7 @@ from ..errors import InputError
 from ..model.arcs import ArcList
 from ..model.budgets import DEFAULT_MAX_FIRINGS, DEFAULT_MAX_MEMORY, DEFAULT_MAX_STATES
 from ..model.convert import as_teg_like
+from ..model.limits import written
 from ..model.petri import PetriNet
 from ..model.sdf import SDFGraph
 from ..model.skeleton import Skeleton
@@ -361,7 +362,7 @@ def _holding(value: Any) -> Fraction:
                          f"{str(exc).removeprefix('default_holding: ')}",
                          "default_holding") from None
     if h < 0:
-        raise InputError(f"a holding time must be >= 0, got {h}", "default_holding")
+        raise InputError(f"a holding time must be >= 0, got {written(h, value)}", "default_holding")
     return h
 
 

@@ -502,7 +502,17 @@ def _normalized_state(window: list[np.ndarray], events: np.ndarray, k: int, num:
     """The window of daters shifted back by k·λ: equal keys mean a repeated state.
 
     ``x·den - index·num·scale`` is the dater minus ``index·λ``, times ``den·scale``
-    (λ = num/den in unscaled time units, daters scaled by ``scale``).
+    (λ = num/den in unscaled time units, daters scaled by ``scale``). The key is
+    a function of these values alone, whatever type computed them: their int64
+    bytes when every one fits in int64, else the tuple of the Python ints. (The
+    products ``x·den`` may pass int64 while their differences fit: a key chosen by
+    the type of the daters would tell a state from its own repeat across that
+    boundary.)
+
+    >>> a = _normalized_state([np.array([2**61])], np.array([0]), 2, 2**61, 1, 1)
+    >>> b = _normalized_state([np.array([2**62], dtype=object)], np.array([0]), 3, 2**61, 1, 1)
+    >>> a == b
+    True
     """
     parts = []
     wide = False
@@ -516,8 +526,16 @@ def _normalized_state(window: list[np.ndarray], events: np.ndarray, k: int, num:
         wide = wide or values.dtype == object
         parts.append(values * den - shift)
     state = np.concatenate(parts)
-    # Object arrays hold pointers, so they are keyed by value, not by bytes.
-    return tuple(state.tolist()) if wide else state.tobytes()
+    if wide:
+        ints = state.tolist()
+        if all(_INT64_MIN <= v <= _INT64_MAX for v in ints):
+            return np.array(ints, dtype=np.int64).tobytes()
+        # Object arrays hold pointers, so they are keyed by value, not by bytes.
+        return tuple(ints)
+    return state.tobytes()
+
+
+_INT64_MIN, _INT64_MAX = -(2**63), 2**63 - 1
 
 
 _POWER_EVENTS = 96

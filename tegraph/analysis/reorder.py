@@ -81,7 +81,7 @@ class ThreadRepair:
         ``index -> new order`` of each thread that changes (its index in the
         file's ``threads``).
     orders : dict
-        Port orders that must change as well, as :attr:`ReorderResult.orders`.
+        Port orders that must change as well, as ``ReorderResult.orders``.
     skeleton : Skeleton
         The skeleton with those threads and ports reordered (live).
     """

@@ -15,7 +15,9 @@ from typing import TYPE_CHECKING, Any, Protocol
 from maxplus.scalar import exact_text
 
 from ..model.build import UnboundedKind
+from ..model.platform import Platform
 from ..model.structure import Structure
+from . import notebook
 from .chains import ChainReport
 from .processors.schedule import ProcessorSchedule
 
@@ -70,6 +72,9 @@ class TaskReport:
     ``"not computed"`` (``tegraph.analyze`` above its ``margins_max_tasks``)."""
     duration: Fraction = Fraction(0)
     """Its duration (the skeleton's), which a job needs of its processor."""
+    overrun_tick: Fraction | None = None
+    """The instant of the overrun: its clock's tick ``overrun_at`` (``phase + (k - 1) *
+    period``), by which the problems are listed, earliest first."""
 
     @property
     def overrun(self) -> str:
@@ -159,6 +164,8 @@ class DesignPart(Protocol):
     rules: list[Any]
     schedulability: Any
     latency: list[Any]
+    cross_check: Any
+    """Where the response-time test agrees with the exact schedule."""
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for the JSON report."""
@@ -213,12 +220,20 @@ class Report:
     """The skeleton on its processors (spec §4b); None: every task on a processor
     of its own (``processors=False``), where the figures of §4 decide."""
     structure: Structure | None = field(default=None, repr=False, compare=False)
-    """The skeleton's groups (numbered as :attr:`groups`), clocks, design periods and
+    """The skeleton's groups (numbered as ``groups``), clocks, design periods and
     links by port, computed once by the analysis: what follows it (design rules,
     margins) reads these instead of finding the groups again."""
     chains: list[ChainReport] = field(default_factory=list)
     """The latency of each chain of the skeleton and of those asked for, in that order
     (spec §4c): ``report.chains[i].on_processors.first_use`` and the other figures."""
+    platform: Platform | None = field(default=None, repr=False, compare=False)
+    """Each task's processor and priority, each processor's kind (spec §4b, §4d),
+    computed once by the analysis (:func:`~tegraph.model.platform.platform_of`): the
+    schedule, the response-time cross-check and Rule 4 read this one."""
+
+    def _repr_html_(self) -> str:
+        """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
 
     @property
     def schedulable(self) -> bool | None:
@@ -251,14 +266,21 @@ class Report:
         if self.schedule is not None:
             f = self.schedule.tasks[task]
             return {"period": exact_text(f.period), "overrun_at": f.overrun_at,
-                    "response": exact_text(f.response), "starved": f.starved,
-                    "decided": f.decided}
+                    "response": exact_text(f.response),
+                    "response_from_tick": exact_text(f.response_from_tick),
+                    "starved": f.starved, "stopped_after": f.stopped_after,
+                    "waits_for": list(f.waits_for), "decided": f.decided}
         t = self.tasks[task]  # a processor of its own: a job runs from its release
+        # The time from the tick needs the daters of the regime, which the figures of
+        # spec §4 do not keep: not computed here (null), the schedule on processors has it.
         return {"period": exact_text(t.period), "overrun_at": t.overrun_at,
                 "response": None if t.period is None else exact_text(t.duration),
-                "starved": False, "decided": t.overrun_decided}
+                "response_from_tick": None, "starved": False, "stopped_after": None,
+                "waits_for": [], "decided": t.overrun_decided}
 
-    def _schedule_dict(self) -> dict[str, Any]:
+    def schedule_summary(self) -> dict[str, Any]:
+        """The JSON report's ``schedule``: whether the verdict is exact, how it was
+        obtained, why it is undecided, the places growing on processors."""
         if self.schedule is None:
             return {"exact": self.schedulable is not None,
                     "method": "every task on a processor of its own (processors=False): "
@@ -276,7 +298,8 @@ class Report:
         if self.schedule is None:
             return []
         return [{"name": p.name, "tasks": list(p.tasks), "priorities": dict(p.priorities),
-                 "priority_source": p.priority_source}
+                 "priority_source": p.priority_source, "preemptive": p.preemptive,
+                 "replaced_priorities": dict(p.replaced)}
                 for p in self.schedule.platform.processors]
 
     def _group_period_on_processors(self, index: int) -> str | None:
@@ -343,7 +366,7 @@ class Report:
             },
             "schedulable": self.schedulable,
             "processors": self._processors_list(),
-            "schedule": self._schedule_dict(),
+            "schedule": self.schedule_summary(),
             "chains": [c.to_dict() for c in self.chains],
             "methods": self.methods,
             "notes": self.notes,

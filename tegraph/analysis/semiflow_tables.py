@@ -7,7 +7,7 @@ on one small table costs what its few dozen numpy calls cost, whatever their
 size. Here step ``s`` of every table is taken at once: the rows of all tables
 are kept in one array, grouped by table, each table eliminating its own column
 (chosen, combined and checked exactly as by
-:func:`~tegraph.analysis.invariants._combine_open_rows`), so the tables cost
+``tegraph.analysis.invariants._combine_open_rows``), so the tables cost
 about as many numpy passes as the longest of them has steps.
 
 A table that grows past ``MAX_ROWS`` (64) rows is left to the one-table routine
@@ -31,7 +31,7 @@ CHUNK_ENTRIES = 1 << 22
 
 def combine_tables(tables: list[np.ndarray], budget: int
                    ) -> tuple[list[np.ndarray | None], list[int]]:
-    """:func:`~tegraph.analysis.invariants._combine_open_rows` of each table, together.
+    """``tegraph.analysis.invariants._combine_open_rows`` of each table, together.
 
     Parameters
     ----------

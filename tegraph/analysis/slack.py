@@ -68,7 +68,7 @@ def shortest_circuits_through(events: np.ndarray, s: np.ndarray, d: np.ndarray,
     2**53, where float64 is exact; otherwise an exact heap Dijkstra in Python
     stops once no shorter circuit can be found. The cost is each component's
     size times its sources (linear in a chain of small groups).
-    :meth:`tegraph.analysis.Analysis` calls it with Johnson's reduced weights
+    The analysis (:mod:`tegraph.analysis.analyze`) calls it with Johnson's reduced weights
     [2]_ (Howard's potentials [3]_ make every weight non-negative), so that the
     lightest circuit is the slack of a task's compute event.
 

@@ -125,6 +125,7 @@ class ChainLatency:
 
     @property
     def why_undecided(self) -> str | None:
+        """Why the exact figures are null (None where they are decided)."""
         return self.exact.why_undecided
 
     @property
@@ -139,6 +140,7 @@ class ChainLatency:
         return None if self.value is None or not period else self.value / period
 
     def to_dict(self) -> dict[str, Any]:
+        """The chain's latency as the JSON report holds it."""
         return {
             "chain": self.chain, "latency": exact_text(self.value), "kind": self.kind,
             "periods": exact_text(self.in_periods), "why_undecided": self.why_undecided,

@@ -27,8 +27,26 @@ settle its test (see :func:`response_time_bounds`).
 A *unit* is what the scheduler sees: the tasks of one group on one processor
 with one priority and one rate (one unit per group and processor when Rule 4
 is followed). Units of equal priority are counted as interfering with each
-other (their order is unknown). Not modelled: release jitter across
+other (their order is unknown). A unit whose group has no clock is no
+periodic load: nothing paces it, so it runs whenever its processor lets it (in
+the idle time, at the lowest priority under the rate-monotonic proposal). It is
+charged to no other unit's response time and to no sum of the paper's
+condition; it gets processor time when the periodic units at its priority and
+above leave some (their utilization is below 1) and no free-running unit is
+more urgent, and a unit below it gets none. Not modelled: release jitter across
 processors, blocking on shared resources, context-switch costs.
+
+The recurrence has no blocking term: it holds under preemption only. On a
+processor declared ``preemptive: false`` (spec §4d) a less urgent job already
+running delays a more urgent one, which it does not count, so there it is not
+applied (:data:`NOT_PREEMPTIVE`): its units are left undecided, never judged by it.
+The priorities are the platform's (:func:`tegraph.model.platform.platform_of`,
+``report.platform``): the ones the exact schedule runs.
+
+These tests are a cross-check of the exact schedule on processors (spec §4b,
+:func:`~tegraph.analysis.processors.schedule_on_processors`), which decides
+the verdict of every command; :mod:`tegraph.design.cross_check` says where
+they agree.
 
 References
 ----------
@@ -55,11 +73,12 @@ from maxplus.scalar import display_text, exact_text
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.results import Report
 from ..errors import InputError, TegraphError
+from ..model.platform import Platform, hyperperiod, is_automaton, platform_of
 from ..model.skeleton import Skeleton
 from ..model.structure import Structure, design_period
-from .rules import is_automaton, proposed_priorities
 
 __all__ = [
+    "NOT_PREEMPTIVE",
     "PAPER_TEST",
     "RTA_BUDGET",
     "RTA_TEST",
@@ -81,39 +100,10 @@ PAPER_TEST = "utilization over the hyperperiod, sum D_i*T/tau_i <= T (ORCCAD sec
 RTA_BUDGET = 1_000_000
 """Most terms ``ceil(t/T_j)*C_j`` the recurrence evaluates for one unit (about a
 second): past it the unit's test is "undecided (budget)", with proven bounds."""
-
-
-def hyperperiod(periods: Iterable[Fraction]) -> Fraction:
-    """Least common multiple of positive rationals: ``lcm(numerators)/gcd(denominators)``.
-
-    Parameters
-    ----------
-    periods : iterable of Fraction
-        Positive periods (ints and Fractions alike).
-
-    Returns
-    -------
-    Fraction
-        The least positive rational that every period divides an integer
-        number of times; 1 for no period.
-
-    See Also
-    --------
-    schedulability : uses it for the paper's utilization condition.
-
-    Examples
-    --------
-    >>> hyperperiod([Fraction(1), Fraction(2), Fraction(6)])
-    Fraction(6, 1)
-    >>> hyperperiod([Fraction(3, 2), Fraction(5, 4)])
-    Fraction(15, 2)
-    """
-    num, den = 1, 0
-    for p in periods:
-        p = Fraction(p)
-        num = math.lcm(num, p.numerator)
-        den = math.gcd(den, p.denominator)
-    return Fraction(num, den or 1)
+NOT_PREEMPTIVE = ("not applied: the recurrence holds under preemption only (on a "
+                  "non-preemptive processor a less urgent job already running blocks this "
+                  "one, spec §4d)")
+"""The note of every unit on a processor declared ``preemptive: false``."""
 
 
 @dataclass(frozen=True)
@@ -351,6 +341,9 @@ class UnitVerdict:
     """Proven ``(lower, upper)`` of the response time when the recurrence's budget
     ran out before its fixed point (None otherwise); ``schedulable`` is then
     decided by them (``lower > period``: no; ``upper <= period``: yes) or None."""
+    free_running: bool = False
+    """Its group has no clock: no period, no periodic load; ``schedulable`` says
+    whether it gets processor time at all."""
 
     @property
     def undecided(self) -> bool:
@@ -358,13 +351,14 @@ class UnitVerdict:
         return self.bounds is not None and self.schedulable is None
 
     def to_dict(self) -> dict[str, Any]:
+        """The unit's verdict as the JSON report holds it."""
         bounds = None if self.bounds is None else [exact_text(b) for b in self.bounds]
         return {"processor": self.processor, "group": self.group, "tasks": self.tasks,
                 "priority": self.priority, "period": exact_text(self.period),
                 "cost": exact_text(self.cost), "response_time": exact_text(self.response_time),
                 "response_time_bounds": bounds,
                 "schedulable": self.schedulable, "margin": exact_text(self.margin),
-                "test": self.test, "note": self.note}
+                "free_running": self.free_running, "test": self.test, "note": self.note}
 
 
 @dataclass
@@ -381,6 +375,8 @@ class ProcessorVerdict:
     condition_margin: Fraction | None
     """``T - demand``."""
     units: list[UnitVerdict] = field(default_factory=list)
+    preemptive: bool = True
+    """False: declared ``preemptive: false`` (§4d); the response-time test is not applied."""
 
     @property
     def schedulable(self) -> bool | None:
@@ -394,7 +390,9 @@ class ProcessorVerdict:
         return all(verdicts) if verdicts else None
 
     def to_dict(self) -> dict[str, Any]:
+        """The processor's verdict as the JSON report holds it."""
         return {"processor": self.processor, "priority_source": self.priority_source,
+                "preemptive": self.preemptive,
                 "hyperperiod": exact_text(self.hyperperiod), "demand": exact_text(self.demand),
                 "condition": PAPER_TEST, "condition_holds": self.condition_holds,
                 "condition_margin": exact_text(self.condition_margin),
@@ -416,6 +414,7 @@ class ThreadVerdict:
     margin: Fraction | None
 
     def to_dict(self) -> dict[str, Any]:
+        """The thread's verdict as the JSON report holds it."""
         return {"index": self.index, "tasks": self.tasks, "load": exact_text(self.load),
                 "period": exact_text(self.period), "pace": exact_text(self.pace),
                 "fits": self.fits, "margin": exact_text(self.margin)}
@@ -439,9 +438,14 @@ class Schedulability:
         verdicts = [p.schedulable for p in self.processors if p.schedulable is not None]
         if False in verdicts:
             return False
-        if self.undecided:
+        if self.undecided or self.not_applied:
             return None
         return all(verdicts) if verdicts else None
+
+    @property
+    def not_applied(self) -> list[ProcessorVerdict]:
+        """The non-preemptive processors with work, where the test does not apply."""
+        return [p for p in self.processors if not p.preemptive and p.units]
 
     @property
     def undecided(self) -> list[UnitVerdict]:
@@ -459,18 +463,20 @@ class Schedulability:
         return self._unit_index.get(task)
 
     def to_dict(self) -> dict[str, Any]:
+        """The schedulability section as the JSON report holds it."""
         return {"schedulable": self.schedulable, "priorities": self.priorities,
                 "threads": [t.to_dict() for t in self.threads],
                 "processors": [p.to_dict() for p in self.processors], "notes": self.notes}
 
 
-def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
-                         ) -> tuple[dict[str, int], dict[str | None, str]]:
+def effective_priorities(skeleton: Skeleton, structure: Structure | None = None, *,
+                         platform: Platform | None = None
+                         ) -> tuple[dict[str, int], dict[str, str]]:
     """The priority of every task, and where it comes from on each processor.
 
-    A processor whose tasks all declare a ``priority`` uses them; otherwise
-    all its tasks get the rate-monotonic proposal of
-    :func:`tegraph.design.rules.proposed_priorities` (and the source says so).
+    The platform's (:func:`tegraph.model.platform.platform_of`), which the exact
+    schedule runs: a processor whose tasks all declare a ``priority`` uses them;
+    otherwise all its tasks get the rate-monotonic proposal (and the source says so).
 
     Parameters
     ----------
@@ -478,6 +484,8 @@ def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
         Tasks with their processors and optional declared priorities.
     structure : Structure, optional
         ``Structure.of(skeleton)``, if known (the proposal reads its groups).
+    platform : Platform, optional
+        ``report.platform``, if known: read, not computed again.
 
     Returns
     -------
@@ -487,7 +495,7 @@ def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
 
     See Also
     --------
-    tegraph.design.rules.proposed_priorities : the rate-monotonic proposal
+    tegraph.model.platform.rate_monotonic : the rate-monotonic proposal
         (ORCCAD rule 4 [1]_, after Liu and Layland [2]_).
 
     References
@@ -504,21 +512,11 @@ def effective_priorities(skeleton: Skeleton, structure: Structure | None = None
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 4},
     ...                                    "B": {"duration": 1, "period": 2}}})
     >>> effective_priorities(sk)
-    ({'A': 1, 'B': 2}, {None: 'rate-monotonic'})
+    ({'A': 1, 'B': 2}, {'default': 'rate-monotonic'})
     """
-    proposal = proposed_priorities(skeleton, structure)
-    on: dict[str | None, list[str]] = {}
-    for name, task in skeleton.tasks.items():
-        on.setdefault(task.processor, []).append(name)
-    priorities: dict[str, int] = {}
-    source: dict[str | None, str] = {}
-    for processor, tasks in on.items():
-        declared = all(skeleton.tasks[t].priority is not None for t in tasks)
-        source[processor] = "declared" if declared else "rate-monotonic"
-        for t in tasks:
-            # Type: declared: every task of this processor has a priority.
-            priorities[t] = skeleton.tasks[t].priority if declared else proposal[t]  # type: ignore[assignment]
-    return {t: priorities[t] for t in skeleton.tasks}, source
+    if platform is None:
+        platform = platform_of(skeleton, structure)
+    return dict(platform.priority), {p.name: p.priority_source for p in platform.processors}
 
 
 def schedulability(skeleton: Skeleton, report: Report | None = None, *,
@@ -584,39 +582,49 @@ def schedulability(skeleton: Skeleton, report: Report | None = None, *,
     budget = _budget(budget)
     if report is None:
         report = analyze_skeleton(skeleton)
-    priorities, source = effective_priorities(skeleton, report.structure)
+    platform = report.platform if report.platform is not None else platform_of(
+        skeleton, report.structure if report.structure is not None else report.groups)
+    priorities, source = effective_priorities(skeleton, platform=platform)
     notes: list[str] = []
-    units: dict[str | None, list[UnitVerdict]] = {p: [] for p in source}
+    units: dict[str, list[UnitVerdict]] = {p: [] for p in source}
     for g in report.groups:
         parts: dict[tuple, list[str]] = {}
         for t in g.tasks:
             task = skeleton.tasks[t]
             rate = g.period if g.rate_consistent else report.tasks[t].period
-            parts.setdefault((task.processor, priorities[t], rate), []).append(t)
+            parts.setdefault((task.runs_on, priorities[t], rate), []).append(t)
         if g.live and not g.rate_consistent:
             notes.append(f"group {g.index} ({', '.join(g.tasks)}) is not rate-consistent: its "
                          "tasks are analyzed at their own cycle times")
         for (processor, priority, rate), tasks in parts.items():
             cost = sum((skeleton.tasks[t].duration for t in tasks), Fraction(0))
             note = ""
+            free = g.live and not g.clocks
             if not g.live:
                 note = "deadlock: the group never runs its period (see the liveness report)"
-            elif not g.clocks:
-                note = "no clock: its period is its own cycle time (Rule 3)"
-            if any(is_automaton(t) for t in tasks):
+            elif free:
+                note = "no clock (Rule 3): free-running, not a periodic load"
+            if any(is_automaton(t) for t in tasks) and not free:
                 note = "the automaton, taken as periodic at the rate of its messages"
             units[processor].append(UnitVerdict(processor=processor, group=g.index,
-                                                tasks=tasks, priority=priority, period=rate,
+                                                tasks=tasks, priority=priority,
+                                                period=None if free else rate,
                                                 cost=Fraction(cost), response_time=None,
-                                                schedulable=None, margin=None, note=note))
-    processors = [_processor(p, source[p], us, skeleton.unit, budget)
+                                                schedulable=None, margin=None, note=note,
+                                                free_running=free))
+    processors = [_processor(p, source[p], us, skeleton.unit, budget,
+                             preemptive=platform.preemptive(p))
                   for p, us in units.items()]
     return Schedulability(processors, _threads(skeleton, report), priorities, notes)
 
 
-def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: str,
-               budget: int | None = None) -> ProcessorVerdict:
-    active = [u for u in units if u.period]  # dead groups and zero periods are left out
+def _processor(name: str, source: str, units: list[UnitVerdict], unit: str,
+               budget: int | None = None, *, preemptive: bool = True) -> ProcessorVerdict:
+    # Dead groups, zero periods and free-running units are left out of the periodic load.
+    active = [u for u in units if u.period and not u.free_running]
+    # Free-running work (no clock, some duration) takes every instant it is the most
+    # urgent: a unit below it gets no time at all.
+    hogs = [u for u in units if u.free_running and u.cost > 0]
     # Load of each priority level and of everything above it, so that a unit left no
     # time is settled without the recurrence (many groups on one processor stay cheap).
     level: dict[int, Fraction] = {}
@@ -631,10 +639,26 @@ def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: st
         above[prio] = running
         running += level[prio]
     for u in units:
+        above_hog = next((v for v in hogs if v.priority > u.priority), None)
+        if u.free_running:
+            _free_running(u, above_hog, level)
+            continue
         if not u.period:
             if not u.note:
                 u.note = "no time passes in its period: not analyzed"
             continue
+        if not preemptive:  # the recurrence's hypothesis: it does not apply here
+            _add_note(u, NOT_PREEMPTIVE)
+            continue
+        if above_hog is not None and u.cost > 0:
+            u.schedulable = False
+            _add_note(u, f"the free-running {', '.join(above_hog.tasks)} (priority "
+                         f"{above_hog.priority}) leaves it no time")
+            continue
+        tied_hog = next((v for v in hogs if v.priority == u.priority), None)
+        if tied_hog is not None:
+            _add_note(u, f"shares priority {u.priority} with the free-running "
+                         f"{', '.join(tied_hog.tasks)}, whose work the test does not count")
         load = above[u.priority] + level[u.priority] - u.cost / u.period
         if load >= 1 and u.cost > 0:
             result = ResponseTime("no time", None, None, None, 0)
@@ -649,11 +673,41 @@ def _processor(name: str | None, source: str, units: list[UnitVerdict], unit: st
                          "unit(s), counted as interference")
     units.sort(key=lambda u: (-u.priority, u.group))
     if not active:
-        return ProcessorVerdict(name, source, None, None, None, None, units)
+        return ProcessorVerdict(name, source, None, None, None, None, units, preemptive)
     # Type: `active` units have a period (None and 0 are left out above; both lines).
     T = hyperperiod(u.period for u in active)  # type: ignore[misc]
     demand = sum((u.cost * (T / u.period) for u in active), Fraction(0))  # type: ignore[operator]
-    return ProcessorVerdict(name, source, T, demand, demand <= T, T - demand, units)
+    return ProcessorVerdict(name, source, T, demand, demand <= T, T - demand, units, preemptive)
+
+
+def _free_running(u: UnitVerdict, above_hog: UnitVerdict | None,
+                  level: dict[int, Fraction]) -> None:
+    """A unit without a clock: whether its processor leaves it any time.
+
+    The periodic units at its priority and above use ``U`` of the processor in the
+    long run; it gets the rest, ``1 - U``, when that is positive and no free-running
+    unit is more urgent (that one is never idle). Its period is what the schedule
+    gives it: the exact schedule's figure, not this test's.
+    """
+    if u.cost == 0:
+        u.schedulable = True
+        _add_note(u, "duration 0: it needs no processor time")
+        return
+    if above_hog is not None:
+        u.schedulable = False
+        _add_note(u, f"the free-running {', '.join(above_hog.tasks)} (priority "
+                     f"{above_hog.priority}) leaves it no time")
+        return
+    # The periodic load at its priority and above.
+    load = sum((x for p, x in level.items() if p >= u.priority), Fraction(0))
+    if load >= 1:
+        u.schedulable = False
+        _add_note(u, f"the periodic units at its priority and above use "
+                     f"{display_text(load)} of the processor: none is left for it")
+    else:
+        u.schedulable = True
+        _add_note(u, f"gets the processor time the periodic units leave "
+                     f"({display_text(1 - load)} of it in the long run)")
 
 
 def _add_note(u: UnitVerdict, text: str) -> None:

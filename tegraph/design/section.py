@@ -3,16 +3,21 @@
 It stands beside the :mod:`.rules` sub-package, not in it: it also reads the
 schedulability (:mod:`.schedulability`), which itself reads the rate-monotonic
 proposal of Rule 4.
+
+Its verdict on schedulability is the analysis's, exactly (spec §4b, the schedule on
+processors: :attr:`DesignSection.schedulable`); the response-time test of ORCCAD §6 is
+a cross-check beside it (:mod:`.cross_check`), never the verdict.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..analysis.results import Report
 from ..model.skeleton import Skeleton
+from .cross_check import CrossCheck, cross_check
 from .latency import ChainLatency, chain_latencies
 from .rules import RuleFinding, check_rules
 from .schedulability import Schedulability, schedulability
@@ -33,8 +38,13 @@ class DesignSection:
         The skeleton's name and time unit.
     rules : list of RuleFinding
     schedulability : Schedulability
+        The response-time test and the paper's utilization condition: a cross-check.
     latency : list of ChainLatency
         The skeleton's own chains, then those asked for.
+    cross_check : CrossCheck
+        Where the test agrees with the exact schedule.
+    analysis : Report
+        The analysis the section was made from: its verdict is the section's.
     """
 
     name: str
@@ -42,15 +52,24 @@ class DesignSection:
     rules: list[RuleFinding]
     schedulability: Schedulability
     latency: list[ChainLatency]
+    cross_check: CrossCheck
+    analysis: Report = field(repr=False, compare=False)
+
+    @property
+    def schedulable(self) -> bool | None:
+        """The exact verdict of spec §4b, as ``tegraph analyze`` gives it
+        (:attr:`Report.schedulable`; with a processor per task when the analysis was
+        not made on processors)."""
+        return self.analysis.schedulable
 
     @property
     def exit_status(self) -> int:
-        """Of ``tegraph rules``: 1 when a rule is not followed (an error or a warning) or a
-        processor is not proven schedulable (its test fails, or its budget ran out
-        first: undecided is no proof), else 0."""
+        """Of ``tegraph rules``: 1 when a rule is not followed (an error or a warning) or
+        the analysis's exit status is 1 (a deadlock, an overrun, a growing place, not
+        schedulable on its processors, or undecided: no proof), else 0. The
+        response-time test decides nothing."""
         violated = (any(f.severity != "info" for f in self.rules)
-                    or self.schedulability.schedulable is False
-                    or bool(self.schedulability.undecided))
+                    or self.analysis.exit_status != 0)
         return 1 if violated else 0
 
     def to_dict(self) -> dict[str, Any]:
@@ -78,7 +97,8 @@ class DesignSection:
         return {
             "rules": rules,
             "schedule_parts": shown,
-            "schedulability": self.schedulability.to_dict(),
+            "schedulability": {**self.schedulability.to_dict(),
+                               "cross_check": self.cross_check.to_dict()},
             "latency": [c.to_dict() for c in self.latency],
         }
 
@@ -125,7 +145,9 @@ def design_section(skeleton: Skeleton, report: Report,
                           live=report.live, chains={
                               c: None if f is None or report.schedule is None
                               else f.on_processors
-                              for (c, _), f in zip(named, figures)} if on_processors else {}),
+                              for (c, _), f in zip(named, figures)} if on_processors else {},
+                          platform=report.platform),
         schedulability=sched,
         latency=chain_latencies(skeleton, [(c, path, f) for (c, path), f in zip(named, figures)],
-                                report, sched))
+                                report, sched),
+        cross_check=cross_check(sched, report), analysis=report)

@@ -8,12 +8,18 @@ when their reads are done, preemptive fixed priorities, tokens delivered when a
 job has received its duration). Nothing is simulated here; the timeline is the
 engine's processor time per job, and its verdict is the engine's proof:
 
-- the drawing runs until that proof: each part's periodic regime reached
-  (its transient and one regime), or the first overrun (its tick, and the end
-  of the late activation's computation when known); past a part's regime the
-  schedule is the regime again, shifted (that is what the proof says), so a
-  longer drawing repeats it;
-- ``horizon`` only chooses what is drawn, never the verdict;
+- by default the drawing is a window of :data:`WINDOW_PERIODS` periods of the
+  fastest clock (what a reader can tell apart at a glance): around the first
+  problem (the first overrun's tick, the instant a group is stuck in a deadlock,
+  the first job that never ends), else from the periodic regime of the part of
+  that clock; the whole proof when it fits in the window (each part's periodic
+  regime reached, or the first overrun, its tick and the end of the late
+  activation's computation when known). The notes say what the window shows and
+  how to see more; past a part's regime the schedule is the regime again,
+  shifted (that is what the proof says), so a longer drawing repeats it;
+- ``horizon`` (and ``start``) only choose what is drawn, never the verdict;
+- what the jobs wait for without their processor (a read, a rendezvous, a write,
+  a deadlock's stuck events) comes with it (:mod:`.timeline_waits`);
 - the budget is ``max_events`` (as for ``tegraph analyze``): a skeleton whose
   regime cannot be reached within it (drifting clocks, whose hyperperiod is
   huge) is undecided at once, with the reason and its hyperperiod, unless an
@@ -39,22 +45,25 @@ from fractions import Fraction
 
 from maxplus.scalar import display_text
 
+from ..analysis import notebook
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.chains import ChainFigures, chain_paths, figures_on, trace_request
 from ..analysis.processors import MAX_EVENTS, JobInterval, ProcessorSchedule, schedule_on_processors
 from ..analysis.results import Deadlock
 from ..errors import InputError
 from ..model.build import activation_end, build_teg
-from ..model.limits import shown
+from ..model.limits import event_budget_problem, shown
 from ..model.skeleton import Skeleton
 from .schedulability import hyperperiod
+from .timeline_waits import Stuck, Wait, stuck_problems, waits_until
+from .timeline_window import WINDOW_PERIODS, default_window
 
-__all__ = ["MAX_DRAWN", "MAX_EVENTS", "Job", "Timeline", "TimelineChain", "simulate_timeline"]
+__all__ = ["MAX_DRAWN", "MAX_EVENTS", "WINDOW_PERIODS", "Job", "Stuck", "Timeline",
+           "TimelineChain", "Wait", "simulate_timeline"]
 
 MAX_DRAWN = 20_000
 """Processor intervals at most added by repeating a proven regime (a long
 ``horizon``): the drawing stops there, and says so."""
-
 
 @dataclass
 class Job:
@@ -102,6 +111,8 @@ class Timeline:
     schedule: ProcessorSchedule
     horizon: Fraction
     """End of the drawing (the verdict never depends on it)."""
+    start: Fraction
+    """Beginning of the drawing (0 unless a window is drawn)."""
     proof_end: Fraction | None
     """The instant by which every part was decided (None: some part is undecided)."""
     intervals: list[JobInterval]
@@ -127,13 +138,33 @@ class Timeline:
     """What the drawing leaves out."""
     chains: list[TimelineChain] = field(default_factory=list)
     """The skeleton's chains, then those asked for, with their figures on processors."""
+    waits: list[Wait] = field(default_factory=list)
+    """What the activations wait for without their processor, up to ``horizon``."""
+    stuck: list[Stuck] = field(default_factory=list)
+    """Each task of a group that is not live: the event it waits at for ever, since when."""
+    window: str | None = None
+    """What the default window shows and how to see more (None: the whole proof, or a
+    drawing asked for)."""
+
+    def _repr_html_(self) -> str:
+        """Its drawing (SVG) as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
 
     @property
     def processors(self) -> list[str]:
+        """The processors, one lane each, in the platform's order."""
         return [p.name for p in self.schedule.platform.processors]
 
     @property
+    def visible(self) -> list[JobInterval]:
+        """The intervals within the window ``[start, horizon]``, cut to it."""
+        a = self.start
+        return [i if i.start >= a else JobInterval(i.processor, a, i.end, i.task, i.k)
+                for i in self.intervals if i.end > a]
+
+    @property
     def priorities(self) -> dict[str, int]:
+        """Each task's priority on its processor (larger is more urgent)."""
         return self.schedule.platform.priority
 
     @property
@@ -145,6 +176,7 @@ class Timeline:
 
     @property
     def schedulable(self) -> bool | None:
+        """The §4b verdict (None: undecided within the budget)."""
         return self.schedule.schedulable
 
     @property
@@ -174,6 +206,7 @@ class Timeline:
 
     @property
     def late_jobs(self) -> list[Job]:
+        """The jobs of an overrun's late activation."""
         return [j for j in self.jobs if j.late]
 
     def order_of_execution(self, processor: str | None = None
@@ -186,6 +219,7 @@ class Timeline:
 
 def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None = None,
                       max_events: int = MAX_EVENTS,
+                      start: Fraction | int | str | None = None,
                       chains: Sequence[Sequence[str]] = ()) -> Timeline:
     """The §4b schedule of ``skeleton`` on its processors, until its proof.
 
@@ -195,12 +229,16 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
         Priorities as declared on each processor whose tasks all declare one,
         rate-monotonic otherwise (§4b).
     horizon : Fraction, optional
-        End of the drawing. Default: until the proof, that is the end of the
-        last part's first periodic regime, or, when a task overruns, the tick of
-        the first overrun (and the end of the late computation when known).
-        It never changes the verdict.
+        End of the drawing. Default: a window of :data:`WINDOW_PERIODS` periods of
+        the fastest clock around the first problem, or from the periodic regime
+        (module docstring; ``window`` says what it shows), or the whole proof when
+        it fits: the end of the last part's first periodic regime, or, when a task
+        overruns, the tick of the first overrun (and the end of the late
+        computation when known). It never changes the verdict.
     max_events : int
         Budget of event firings of the exact schedule (default :data:`MAX_EVENTS`).
+    start : Fraction, optional
+        Beginning of the drawing, with ``horizon`` (default 0).
     chains : sequence of task-name sequences
         Chains to draw besides the skeleton's own (their worst data path and figures).
 
@@ -211,7 +249,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     Raises
     ------
     InputError
-        ``horizon`` is not positive, or ``max_events`` is not an integer >= 1.
+        ``horizon`` is not positive, ``start`` is negative or not before ``horizon``,
+        or ``max_events`` is not an integer >= 1.
     SkeletonError
         A chain names an unknown task, a task twice, or two unlinked tasks.
 
@@ -230,7 +269,7 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     >>> [(t, str(a), str(b)) for t, a, b in tl.order_of_execution()][:4], tl.horizon
     ([('A', '0', '1'), ('B', '1', '2'), ('A', '2', '3'), ('B', '3', '4')], Fraction(8, 1))
     """
-    horizon = _checked(skeleton, horizon, max_events)
+    horizon, begin = _checked(skeleton, horizon, max_events, start)
     report = analyze_skeleton(skeleton, semiflow_max_places=0)
     teg = build_teg(skeleton)
     paths = chain_paths(skeleton, teg, chains)
@@ -248,39 +287,61 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
         default=Fraction(0))
     at = {t: _tick(skeleton, t, f.overrun_at) for t, f in s.tasks.items()
           if f.overrun_at is not None}
+    dead = frozenset(t for g in report.groups if not g.live for t in g.tasks)
+    zero = frozenset(t for t, f in s.tasks.items() if f.period == 0)
+    window = None
     if horizon is None:
-        horizon = _until_the_proof(skeleton, s, by_part, ends, at)
+        full = _until_the_proof(skeleton, s, by_part, ends, at)
         for c in drawn_chains:  # on to the end of the chain's period holding its worst path
             f = c.figures
-            if f.worst and f.period and f.worst[-1].at >= horizon:
-                horizon += -((horizon - f.worst[-1].at) // f.period) * f.period
-                if horizon == f.worst[-1].at:
-                    horizon += f.period
+            if f.worst and f.period and f.worst[-1].at >= full:
+                full += -((full - f.worst[-1].at) // f.period) * f.period
+                if full == f.worst[-1].at:
+                    full += f.period
+        problems = [(x, f"the first overrun ({t} at {_time(x, skeleton.unit)})")
+                    for t, x in at.items()]
+        if dead or s.starved:  # when a group is stuck, when a job never ends
+            problems += stuck_problems(skeleton, teg, s, s.intervals, full, dead, zero)
+        begin, horizon, window = default_window(skeleton, s, full,
+                                                 min(problems, default=None))
     drawn, notes = _draw(s, by_part, ends, horizon, skeleton.unit)
+    waits, stuck = waits_until(skeleton, teg, drawn, horizon, dead, zero)
     ticks = {name: _ticks_until(c.phase, c.period, horizon) for name, c in clocks.items()}
-    dead = {t for g in report.groups if not g.live for t in g.tasks}
+    if window is not None:
+        notes.insert(0, window)
     return Timeline(
-        skeleton.name, skeleton.unit, s, horizon, proof_end, drawn, ticks,
+        skeleton.name, skeleton.unit, s, horizon, begin, proof_end, drawn, ticks,
         clocks={t: task.clock for t, task in tasks.items()},
         ends_with_computation={t: activation_end(teg, t).adds_duration for t in tasks},
         durations={t: task.duration for t, task in tasks.items()}, overrun_ticks=at,
         deadlocks=list(report.deadlocks), dead_tasks=[t for t in tasks if t in dead],
-        hyperperiods=hyper, unsimulated=unsimulated, notes=notes, chains=drawn_chains)
+        hyperperiods=hyper, unsimulated=unsimulated, notes=notes, waits=waits, stuck=stuck,
+        window=window, chains=drawn_chains)
 
 
-def _checked(skeleton: Skeleton, horizon: Fraction | int | str | None, max_events: int
-             ) -> Fraction | None:
-    """The horizon as a Fraction; both parameters refused before the analysis."""
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected an integer >= 1, got {shown(repr(max_events), quote=False)}",
-                         "max_events")
+def _checked(skeleton: Skeleton, horizon: Fraction | int | str | None, max_events: int,
+             start: Fraction | int | str | None) -> tuple[Fraction | None, Fraction]:
+    """The horizon and the start as Fractions; the parameters refused before the analysis."""
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
+    begin = Fraction(0) if start is None else Fraction(start)
+    if begin < 0:
+        raise InputError(f"expected a time >= 0, got {shown(display_text(begin), quote=False)}"
+                         f" {skeleton.unit}", "start")
     if horizon is None:
-        return None
+        if start is not None:
+            raise InputError("a start needs an end: give `horizon` too", "start")
+        return None, begin
     value = Fraction(horizon)
     if value <= 0:
         raise InputError(f"expected a time > 0, got {shown(display_text(value), quote=False)}"
                          f" {skeleton.unit}", "horizon")
-    return value
+    if begin >= value:
+        raise InputError(f"the drawing starts at {_time(begin, skeleton.unit)}, not before "
+                         f"its end {_time(value, skeleton.unit)}; expected START < END",
+                         "horizon")
+    return value, begin
 
 
 def _ticks_until(phase: Fraction, period: Fraction, horizon: Fraction) -> list[Fraction]:
@@ -326,6 +387,8 @@ def _part_ends(skeleton: Skeleton, s: ProcessorSchedule, by_part: dict[str, list
             unsimulated.append(first)
         elif r["start"] is None:  # undecided: drawn as far as it was simulated
             ends[first] = max((i.end for i in by_part.get(first, [])), default=Fraction(0))
+            if r.get("by") == "not computed":  # no budget stopped it: no hyperperiod to blame
+                continue
             hyper[first] = hyperperiod(clocks[c].period for c in
                                        {tasks[t].clock for t in r["tasks"]} if c)
         else:
@@ -369,6 +432,8 @@ def _draw(s: ProcessorSchedule, by_part: dict[str, list[JobInterval]], ends: dic
             if cut is not None:
                 notes.append(f"the part of {first}: its regime is repeated up to "
                              f"{_time(cut, unit)} only ({MAX_DRAWN:,} intervals)")
+        elif r.get("by") == "not computed":
+            notes.append(f"{r['why']}: not drawn")
         elif r["start"] is None and ends[first] < horizon:
             notes.append(f"the part of {first}: simulated up to {_time(ends[first], unit)} "
                          "only (undecided within `max_events`)")

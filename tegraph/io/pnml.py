@@ -22,7 +22,7 @@ Timing, read from two places and added up:
   not added; the cycle ratio of every circuit is the same either way unless
   a transition fires faster than its own delay.
 
-A net with neither has no timing (:attr:`PetriNet.holding` empty).
+A net with neither has no timing (``PetriNet.holding`` empty).
 
 Writing uses the 2009 namespace, type ``ptnet``, one page, and keeps every
 name; timing goes only into the ``toolspecific`` element above, never into

@@ -15,21 +15,23 @@ from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
-from ..errors import SkeletonError
+from ..errors import InputError, SkeletonError
 from ..model.limits import text_problem
 from ..model.skeleton import Skeleton
 from ..model.skeleton.checks import KeyPath, Locator
-from ._detect import FORMAT_NAMES, sniff_format
+from ._files import DEFAULT_MAX_BYTES, check_size
+from .formats import FORMATS, sniff_format
 
-__all__ = ["SKELETON_EXTENSIONS", "dump_skeleton", "load_skeleton"]
+__all__ = ["SKELETON_EXTENSIONS", "dump_skeleton", "load_skeleton", "read_skeleton_file",
+           "write_skeleton_file"]
 
-SKELETON_EXTENSIONS = (".yaml", ".yml", ".json")
+SKELETON_EXTENSIONS = FORMATS["skeleton"].extensions()
 """The extensions of skeleton files: ``.json`` is JSON, the others YAML."""
 
 
 def _read_yaml(text: str, loc: Locator) -> Any:
     # PyYAML is imported for YAML text only: a JSON skeleton's reading (and its
-    # analysis) does without it (some 15 ms of every command on a JSON file).
+    # analysis) does without importing it.
     from ._skeleton_yaml import read_yaml
 
     return read_yaml(text, loc)
@@ -42,8 +44,8 @@ class _DuplicateKey(Exception):
 
 
 def _unique_pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    # dict() builds the object in C; a duplicate shows as a shorter dict (some 20,000
-    # objects in a 10,000-task file: its parse 31 -> 25 ms).
+    # dict() builds the object in C; a duplicate shows as a shorter dict (a
+    # 10,000-task file holds some 20,000 objects).
     out = dict(pairs)
     if len(out) < len(pairs):
         seen: set[str] = set()
@@ -189,7 +191,7 @@ def _other_format(raw: bytes, file: str, data: Any = None) -> None:
         return
     readers = ("tegraph writes DOT drawings but reads none" if fmt == "dot" else
                "`tegraph cycle-time` and `tegraph reach` read it (tegraph.io.read in Python)")
-    raise SkeletonError(f"this is {FORMAT_NAMES[fmt]}, not a skeleton file; {readers}",
+    raise SkeletonError(f"this is {FORMATS[fmt].holds}, not a skeleton file; {readers}",
                         file=file)
 
 
@@ -288,3 +290,29 @@ def dump_skeleton(sk: Skeleton, path: str | os.PathLike[str], overwrite: bool = 
         raise FileExistsError(f"{target}: the file exists already; pass overwrite=True "
                               "to replace it") from None
     return target
+
+
+def read_skeleton_file(path: str | os.PathLike[str], *, max_bytes: int = DEFAULT_MAX_BYTES
+                       ) -> Skeleton:
+    """The reader of the ``skeleton`` format for :func:`tegraph.io.read`: the size, then the file.
+
+    See Also
+    --------
+    load_skeleton : the same without the size limit.
+    """
+    check_size(path, max_bytes)
+    return load_skeleton(path)
+
+
+def write_skeleton_file(obj: Any, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
+    """The writer of the ``skeleton`` format for :func:`tegraph.io.write`: a skeleton only.
+
+    See Also
+    --------
+    dump_skeleton : writes a skeleton.
+    """
+    if not isinstance(obj, Skeleton):
+        raise InputError(f"a skeleton file holds a skeleton; a {type(obj).__name__} cannot "
+                         "become one (a skeleton becomes a timed event graph, not the other "
+                         "way round)", file=os.fspath(path))
+    return dump_skeleton(obj, path, overwrite=overwrite)

@@ -50,6 +50,7 @@ from ..model.limits import (
     node_count_problem,
     shown,
     text_problem,
+    written,
 )
 from ..model.petri import PetriNet
 from ..model.teg import TimedEventGraph
@@ -235,7 +236,7 @@ def _duration(value: Any, where: str, file: str | None) -> Fraction:
         raise InputError(f"a duration is a number >= 0, got {shown(value)}", where, file)
     t = Fraction(value)
     if t < 0:
-        raise InputError(f"a duration must be >= 0, got {value}", where, file)
+        raise InputError(f"a duration must be >= 0, got {written(t)}", where, file)
     return t
 
 

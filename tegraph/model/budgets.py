@@ -15,14 +15,19 @@ them for a number would).
 from __future__ import annotations
 
 __all__ = ["DEFAULT_MAX_BYTES", "DEFAULT_MAX_FIRINGS", "DEFAULT_MAX_MEMORY",
-           "DEFAULT_MAX_STATES", "MAX_EVENTS"]
+           "DEFAULT_MAX_STATES", "MAX_EVENTS", "MAX_EVENT_BUDGET"]
 
 MAX_EVENTS = 1_000_000
 """Default budget of :func:`~tegraph.analysis.processors.schedule_on_processors`: event
-firings simulated in all (some 2 to 5 s) before the figures still unproven are left
+firings simulated in all (seconds, not minutes) before the figures still unproven are left
 null. Parts (tasks joined by a group or a processor) are simulated smallest first, each
 with an equal share of what is left, so what a small part does not use goes to the
 larger ones."""
+
+MAX_EVENT_BUDGET = 2**63 - 1
+"""The largest budget of event firings the schedule on processors takes: its compiled
+loops count firings in 64-bit integers. A larger one is refused (it could never be
+spent: at a billion firings a second it lasts three centuries)."""
 
 DEFAULT_MAX_STATES = 1_000_000
 """Default budget of states of the state-space searches (the reachability graph, the

@@ -39,8 +39,13 @@ times; read them with :func:`holding_sources` and :func:`activation_end`
 
 * the :class:`HoldingSource` of every place, in place order: the parameter its
   holding time *is*: the duration of task T (every place leaving ``T.compute``),
-  the period of clock C (the self-loop of ``C.tick``), or ``"none"`` (every
-  other place holds 0). Each holding is computed from its source
+  the period of clock C (the self-loop of ``C.tick``), the delay of a link
+  (``"delay"``: the place of an ASYN/SYN or SYN/ASYN link that declares its own
+  ``delay``, spec §4d), the network's delay (``"network-delay"``: the place of
+  such a link that declares none, between two processors, when ``network.delay``
+  is declared), or ``"none"`` (every other place holds 0: a delay is a parameter of
+  a place where the file declares it, so a skeleton without the keys builds the
+  graph it always did). Each holding is computed from its source
   (:meth:`HoldingSource.value`), so the two cannot disagree;
 * the :class:`ActivationEnd` of every task (spec §4, ``overrun_at``): the event
   whose k-th firing ends its k-th activation, its last write, and, for a task
@@ -85,7 +90,8 @@ from typing import Any, Literal, NamedTuple, TypeAlias
 import numpy as np
 
 from ..errors import ModelError
-from .skeleton import Protocol, Skeleton
+from .platform import crosses, link_delay
+from .skeleton import Link, Protocol, Skeleton
 from .teg import TimeCodes, TimedEventGraph
 
 __all__ = [
@@ -96,9 +102,11 @@ __all__ = [
     "activation_end",
     "build_teg",
     "compute_events",
+    "delay_source",
     "first_event",
     "holding_sources",
     "last_event",
+    "link_ports",
     "task_chain",
     "unbounded_kind",
 ]
@@ -131,13 +139,16 @@ class HoldingSource:
 
     Attributes
     ----------
-    kind : {"duration", "period", "none"}
-        The duration of a task, the period of a clock, or none: the place holds 0.
+    kind : {"duration", "period", "delay", "network-delay", "none"}
+        The duration of a task, the period of a clock, the declared delay of a link,
+        the network's delay (§4d), or none: the place holds 0.
     owner : str
-        The task (``"duration"``) or the clock (``"period"``); ``""`` for none.
+        The task (``"duration"``), the clock (``"period"``), the link's ports
+        ``"W:p -> R:q"`` (``"delay"``: an input port has one writer, so they name one
+        link, whatever its protocol); ``""`` otherwise.
     """
 
-    kind: Literal["duration", "period", "none"]
+    kind: Literal["duration", "period", "delay", "network-delay", "none"]
     owner: str = ""
 
     def value(self, skeleton: Skeleton) -> Fraction:
@@ -152,11 +163,38 @@ class HoldingSource:
             return skeleton.tasks[self.owner].duration
         if self.kind == "period":
             return skeleton.clocks[self.owner].period
+        if self.kind == "delay":
+            link = next(x for x in skeleton.links if link_ports(x) == self.owner)
+            return link.delay if link.delay is not None else _ZERO
+        if self.kind == "network-delay":
+            return skeleton.network_delay if skeleton.network_delay is not None else _ZERO
         return _ZERO
+
+
+def link_ports(link: Link) -> str:
+    """``"W:p -> R:q"``: the owner of a link's delay (:class:`HoldingSource`).
+
+    >>> link_ports(Link(("A", "x"), ("B", "y"), Protocol.ASYN_SYN))
+    'A:x -> B:y'
+    """
+    return f"{link.writer[0]}:{link.writer[1]} -> {link.reader[0]}:{link.reader[1]}"
+
+
+def delay_source(skeleton: Skeleton, link: Link) -> HoldingSource:
+    """The parameter a link's place holds (§4d): its own delay where it declares one,
+    else the network's between two processors where ``network.delay`` is declared,
+    else none (the place holds 0). Its value is
+    :func:`~tegraph.model.platform.link_delay`."""
+    if link.delay is not None:
+        return HoldingSource("delay", link_ports(link))
+    if skeleton.network_delay is not None and crosses(skeleton, link):
+        return _NETWORK
+    return _NO_PARAMETER
 
 
 _ZERO = Fraction(0)  # one object for every place that holds 0 (most of them)
 _NO_PARAMETER = HoldingSource("none")
+_NETWORK = HoldingSource("network-delay")
 
 
 @dataclass(frozen=True)
@@ -372,7 +410,7 @@ class _Places:
                           [{"clock": c} for c in clocks],
                           [HoldingSource("period", c) for c in clocks]),
                  self._tasks(skeleton, events, n_clocks + 1),
-                 self._links(skeleton, events.index),
+                 self._links(skeleton, events.index, self.holding_times),
                  self._threads(skeleton, events)]
         self.src, self.dst, self.tokens, self.holding, self.initial = (
             np.concatenate([getattr(part, f) for part in parts]).astype(np.int64)
@@ -423,7 +461,7 @@ class _Places:
         sources = np.full(total, _NO_PARAMETER, dtype=object)
         sources[leaving] = _objects([HoldingSource("duration", t.name) for t in tasks])
         # One origin for a task's chain and return places: origins are read-only
-        # (Place.origin), and a dict a place was 80 MB at 100,000 tasks.
+        # (Place.origin), and a dict a place would hold tens of megabytes at 100,000 tasks.
         origin = np.empty(total, dtype=object)
         origin[chain_at] = np.repeat(_objects([{"task": t.name} for t in tasks]), length)
         origin[activation] = _objects([{"clock": t.clock, "task": t.name}
@@ -432,9 +470,14 @@ class _Places:
                         _TASK_KINDS[kind].tolist(), origin.tolist(), sources.tolist())
 
     @staticmethod
-    def _links(skeleton: Skeleton, index: dict[str, int]) -> _Section:
-        """The place of each ASYN/SYN and SYN/ASYN link (spec §2)."""
+    def _links(skeleton: Skeleton, index: dict[str, int], holding_times: list[Fraction]
+               ) -> _Section:
+        """The place of each ASYN/SYN and SYN/ASYN link (spec §2), holding the link's
+        delay (§4d: the message, or the request, travels), a new entry of
+        ``holding_times`` for each delay that is not 0."""
         src, dst, kind, origin = [], [], [], []
+        holding: list[int] = []
+        sources: list[HoldingSource] = []
         for i, link in enumerate(skeleton.links):
             w = f"{link.writer[0]}.write:{link.writer[1]}"
             r = f"{link.reader[0]}.read:{link.reader[1]}"
@@ -449,10 +492,18 @@ class _Places:
             else:  # ASYN/ASYN: no place; SYN/SYN: already one event on both chains.
                 continue
             origin.append({"link": link.label, "link_index": i})
+            source = delay_source(skeleton, link)
+            sources.append(source)
+            delay = _ZERO if source is _NO_PARAMETER else link_delay(skeleton, link)
+            if delay:
+                holding_times.append(delay)
+                holding.append(len(holding_times) - 1)
+            else:
+                holding.append(0)
         n = len(src)
         zeros = np.zeros(n, np.int64)
-        return _Section(np.array(src, np.int64), np.array(dst, np.int64), zeros, zeros, zeros,
-                        kind, origin, [_NO_PARAMETER] * n)
+        return _Section(np.array(src, np.int64), np.array(dst, np.int64), zeros,
+                        np.array(holding, np.int64), zeros, kind, origin, sources)
 
     @staticmethod
     def _threads(skeleton: Skeleton, events: _Events) -> _Section:

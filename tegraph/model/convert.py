@@ -24,7 +24,7 @@ from .sdf import SDFGraph
 from .skeleton import Skeleton
 from .teg import TimedEventGraph
 
-if TYPE_CHECKING:  # networkx costs 0.1 s to import; only these conversions need it
+if TYPE_CHECKING:  # networkx is slow to import; only these conversions need it
     import networkx as nx
 
 __all__ = ["as_petri_net", "as_teg", "as_teg_like", "from_networkx", "to_networkx"]

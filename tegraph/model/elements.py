@@ -13,7 +13,11 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property
 
-__all__ = ["Clock", "Link", "LinkLabel", "Protocol", "Task", "flow_list"]
+__all__ = ["DEFAULT_PROCESSOR", "Clock", "Link", "LinkLabel", "Processor", "Protocol", "Task",
+           "flow_list"]
+
+DEFAULT_PROCESSOR = "default"
+"""The processor of every task that declares none (spec §4b); a file may name it too."""
 
 
 def flow_list(names: Iterable[str]) -> str:
@@ -104,8 +108,10 @@ class Task:
     """A module task: read inputs in order, compute, write outputs in order.
 
     ``priority`` and ``processor`` are the optional scheduling attributes of
-    spec §6 (a larger priority is more urgent; ``None``: not declared, all
-    such tasks share one default processor). The timed event graph ignores them.
+    spec §4b (a larger priority is more urgent; ``None``: not declared, all
+    such tasks share the processor :data:`DEFAULT_PROCESSOR`, :attr:`runs_on`).
+    The timed event graph ignores them, but for the links that cross processors
+    (a network delay, §4d).
 
     Attributes
     ----------
@@ -142,6 +148,39 @@ class Task:
     priority: int | None = None
     processor: str | None = None
 
+    @property
+    def runs_on(self) -> str:
+        """The processor it runs on: the declared one, else :data:`DEFAULT_PROCESSOR`.
+
+        >>> Task("A", Fraction(1)).runs_on, Task("B", Fraction(1), processor="cpu1").runs_on
+        ('default', 'cpu1')
+        """
+        return DEFAULT_PROCESSOR if self.processor is None else self.processor
+
+
+@dataclass(frozen=True)
+class Processor:
+    """The declared properties of one processor (spec §1 ``processors``, §4d).
+
+    A processor that no ``processors`` entry names has the default properties.
+
+    Attributes
+    ----------
+    name : str
+    preemptive : bool
+        True (the default): a release of a more urgent job preempts the running one
+        (§4b); False: a running job is never interrupted (a bus, a cooperative
+        executor, §4d).
+
+    Examples
+    --------
+    >>> Processor("can0", preemptive=False)
+    Processor(name='can0', preemptive=False)
+    """
+
+    name: str
+    preemptive: bool = True
+
 
 @dataclass(frozen=True)
 class Link:
@@ -155,6 +194,10 @@ class Link:
         The ``(task, port)`` written and read.
     protocol : Protocol
         How the two sides synchronize.
+    delay : Fraction or None
+        The declared delay (spec §4d): a message is readable this long after its
+        write. None: not declared; the network's delay then applies when the two
+        tasks run on different processors (:meth:`effective_delay`).
 
     See Also
     --------
@@ -170,6 +213,27 @@ class Link:
     writer: tuple[str, str]
     reader: tuple[str, str]
     protocol: Protocol
+    delay: Fraction | None = None
+
+    def effective_delay(self, crosses: bool, network_delay: Fraction | None) -> Fraction:
+        """The link's delay (spec §4d): its own when it declares one (0 included),
+        else the network's when it ``crosses`` processors, else 0.
+
+        Which links cross is the platform's to say
+        (:func:`tegraph.model.platform.link_delay` reads the declared processors).
+
+        >>> link = Link(("A", "x"), ("B", "y"), Protocol.ASYN_SYN)
+        >>> link.effective_delay(True, Fraction(1, 5)), link.effective_delay(False, Fraction(1))
+        (Fraction(1, 5), Fraction(0, 1))
+        >>> Link(("A", "x"), ("B", "y"), Protocol.ASYN_SYN, Fraction(0)).effective_delay(
+        ...     True, Fraction(1))
+        Fraction(0, 1)
+        """
+        if self.delay is not None:
+            return self.delay
+        if crosses and network_delay is not None:
+            return network_delay
+        return _NO_DELAY
 
     @cached_property
     def label(self) -> LinkLabel:
@@ -179,6 +243,9 @@ class Link:
         # for the same link's label again and again (27,340 texts made on
         # 10,000 tasks).
         return LinkLabel(self.writer, self.reader, self.protocol)
+
+
+_NO_DELAY = Fraction(0)
 
 
 class LinkLabel(str):

@@ -5,23 +5,23 @@ names the value and the limit, never approximated and never left to exhaust
 the machine. Every reader of a file (:mod:`tegraph.io`) and every model built
 in code applies the same bounds:
 
-==========================  ==============  ============================================
-limit                       value           why
-==========================  ==============  ============================================
-:data:`MAX_DIGITS`          4300            digits of each integer of a number's text
-                                            and of its exact value's numerator and
-                                            denominator (Python's own limit on
-                                            converting text to an int); it bounds the
-                                            exponent too: ``1e999999999`` is refused
-                                            from its text, never expanded
-:data:`MAX_COUNT`           2**63 - 1       tokens, markings, arc weights and rates are
-                                            counted in 64-bit integers
-:data:`FREE_NODES`          2**20           nodes that no arc names (a declared count,
-                                            a skipped index) beyond the file's size in
-                                            bytes
-:data:`DEFAULT_MAX_FIRINGS` 10**7           firings of an SDF graph's homogeneous
-                                            expansion (a parameter, ``max_firings``)
-==========================  ==============  ============================================
+===========================  ==============  ============================================
+limit                        value           why
+===========================  ==============  ============================================
+:data:`MAX_DIGITS`           4300            digits of each integer of a number's text
+                                             and of its exact value's numerator and
+                                             denominator (Python's own limit on
+                                             converting text to an int); it bounds the
+                                             exponent too: ``1e999999999`` is refused
+                                             from its text, never expanded
+:data:`MAX_COUNT`            2**63 - 1       tokens, markings, arc weights and rates are
+                                             counted in 64-bit integers
+:data:`FREE_NODES`           2**20           nodes that no arc names (a declared count,
+                                             a skipped index) beyond the file's size in
+                                             bytes
+:data:`DEFAULT_MAX_FIRINGS`  10**7           firings of an SDF graph's homogeneous
+                                             expansion (a parameter, ``max_firings``)
+===========================  ==============  ============================================
 
 Times are exact rationals of any size within the first bound (a time of
 4300 digits, or ``1e4299``, is held exactly). The bound is defined once, with the
@@ -35,13 +35,13 @@ import math
 from collections.abc import Iterable
 from typing import Any
 
-from maxplus.scalar import MAX_DIGITS
+from maxplus.scalar import MAX_DIGITS, display_text
 
-from .budgets import DEFAULT_MAX_FIRINGS
+from .budgets import DEFAULT_MAX_FIRINGS, MAX_EVENT_BUDGET
 
-__all__ = ["DEFAULT_MAX_FIRINGS", "FREE_NODES", "MAX_COUNT", "MAX_DIGITS",
+__all__ = ["DEFAULT_MAX_FIRINGS", "FREE_NODES", "MAX_COUNT", "MAX_DIGITS", "event_budget_problem",
            "count_problem", "denominator_problem", "node_count_problem",
-           "shown", "text_problem"]
+           "shown", "text_problem", "written"]
 
 MAX_COUNT = 2**63 - 1
 """Largest token count, marking, arc weight or rate: they are held as 64-bit integers."""
@@ -66,6 +66,24 @@ def shown(text: Any, quote: bool = True) -> str:
     return f"{cut} ({len(text)} characters)"
 
 
+def written(value: Any, text: Any = None) -> str:
+    """A number for a message as the input wrote it: ``text`` when it is a text (else
+    ``value`` when it is one), cut when too long to read; else the exact value as reports print it
+    (its decimal when it ends: ``-0.15``, never ``-3/20``).
+
+    >>> from fractions import Fraction
+    >>> written(Fraction(-3, 20)), written(Fraction(-3, 20), "-0.15"), written("1e-3")
+    ('-0.15', '-0.15', '1e-3')
+    >>> written(Fraction(7, 3)), written(-4)
+    ('7/3', '-4')
+    """
+    if not isinstance(text, str) and isinstance(value, str):
+        text = value
+    if isinstance(text, str):
+        return shown(text.strip(), quote=False)
+    return shown(display_text(value), quote=False)
+
+
 def count_problem(value: int, what: str = "a token count") -> str | None:
     """Why an integer count is refused (negative, or above :data:`MAX_COUNT`), or None.
 
@@ -80,6 +98,24 @@ def count_problem(value: int, what: str = "a token count") -> str | None:
         return (f"{what} must be at most 2**63 - 1 = {MAX_COUNT} (64-bit), got "
                 f"{shown(value, quote=False)}")
     return None
+
+
+def event_budget_problem(value: Any) -> str | None:
+    """Why a budget of event firings (``max_events``) is refused, or None: it is an
+    integer from 1 to :data:`~tegraph.model.budgets.MAX_EVENT_BUDGET`.
+
+    >>> event_budget_problem(1000) is None
+    True
+    >>> print(event_budget_problem(2**63))  # doctest: +NORMALIZE_WHITESPACE
+    expected an integer from 1 to 2**63 - 1 = 9223372036854775807 (firings are
+    counted in 64 bits), got 9223372036854775808
+    >>> event_budget_problem(0).endswith("got 0"), event_budget_problem(True).endswith("True")
+    (True, True)
+    """
+    if isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= MAX_EVENT_BUDGET:
+        return None
+    return (f"expected an integer from 1 to 2**63 - 1 = {MAX_EVENT_BUDGET} (firings are "
+            f"counted in 64 bits), got {shown(repr(value), quote=False)}")
 
 
 def node_count_problem(count: int, file_bytes: int, what: str = "nodes") -> str | None:

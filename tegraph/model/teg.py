@@ -40,9 +40,9 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import EPS, INT64_SAFE, exact_time, int_array, size_problem
 
 from ..errors import InputError, ModelError, NotLiveError
-from .limits import MAX_COUNT, count_problem
+from .limits import MAX_COUNT, count_problem, written
 
-if TYPE_CHECKING:  # networkx costs 0.1 s to import; only the conversions need it
+if TYPE_CHECKING:  # networkx is slow to import; only the conversions need it
     import networkx as nx
 
 __all__ = ["Daters", "Place", "TEGArrays", "TimeCodes", "TimedEventGraph"]
@@ -451,7 +451,7 @@ class TimedEventGraph:
         """The place of this index, made alone when :attr:`places` was not read yet.
 
         A report names a few places (the unbounded ones, a deadlock's circuit);
-        making every place object for them cost ~2 us a place on large graphs.
+        making every place object for them would cost a step per place on large graphs.
 
         >>> g = TimedEventGraph(); _ = g.add_transition("a"); _ = g.add_transition("b")
         >>> _ = g.add_place("a", "b", 1, "1/2")
@@ -938,7 +938,7 @@ def _check_time(value: Any, what: str, where: str) -> Fraction:
     if kind is Fraction or kind is int:  # the builder's own values: no parsing needed
         t = Fraction(value) if kind is int else value
         if t < 0:
-            raise ModelError(f"{what} must be >= 0, got {t}", where)
+            raise ModelError(f"{what} must be >= 0, got {written(t)}", where)
         return t
     why = size_problem(value)  # "1e999999999" would take hours to expand
     if why is not None:
@@ -948,5 +948,5 @@ def _check_time(value: Any, what: str, where: str) -> Fraction:
     except MaxPlusValueError as exc:
         raise ModelError(str(exc), where) from None
     if t < 0:
-        raise ModelError(f"{what} must be >= 0, got {t}", where)
+        raise ModelError(f"{what} must be >= 0, got {written(t, value)}", where)
     return t

@@ -2,7 +2,7 @@
 
 Nothing here computes a figure: each function renders the result it is given.
 Each name below is imported on first use: ``analyze --json`` needs the document
-alone, not the text report and its tables (some 20 ms of every such command).
+alone, not the text report and its tables.
 """
 
 from __future__ import annotations

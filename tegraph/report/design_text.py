@@ -7,12 +7,15 @@ from tabulate import tabulate
 from maxplus.scalar import display_text
 
 from ..analysis.repair import FixResult
+from ..design.cross_check import CrossCheck, UnitDisagreement
 from ..design.latency import OVER_ANY_PHASES, ChainLatency
 from ..design.rules import RuleFinding
 from ..design.schedulability import PAPER_TEST, RTA_TEST, Schedulability
 from ..design.section import DesignSection
+from ..model.platform import DEFAULT_PROCESSOR
 from ._format import count, number
 from .chains_text import figures_text
+from .verdict_text import problems
 
 __all__ = [
     "fix_verdict",
@@ -47,33 +50,38 @@ def render_rules(findings: list[RuleFinding]) -> str:
 def render_design(section: DesignSection) -> str:
     """What ``tegraph rules`` prints: rules, schedulability, latencies, and the verdict last.
 
-    The exit status it names is the command's (:attr:`DesignSection.exit_status`): 1
-    when a rule is not followed (an error or a warning) or a processor fails its
-    schedulability test or has a test its budget left undecided.
+    The verdict is the analysis's, in the words of ``tegraph analyze`` (spec §4b on its
+    processors, exactly); the response-time test above it is a cross-check. The exit
+    status it names is the command's (:attr:`DesignSection.exit_status`): 1 when a rule
+    is not followed (an error or a warning) or the analysis's exit status is 1.
     """
     findings, sched, unit = section.rules, section.schedulability, section.unit
-    text = render_rules(findings) + "\n" + render_schedulability(sched, unit)
+    text = (render_rules(findings) + "\n"
+            + render_schedulability(sched, unit, section.cross_check))
     for r in section.latency:
         text += "\n" + render_latency(r, unit)
     counts = [(s, sum(f.severity == s for f in findings)) for s in ("error", "warning")]
     broken = ", ".join(count(n, f"design-rule {s}") for s, n in counts if n)
-    fails = [("default processor" if p.processor is None else f"processor {p.processor}")
-             for p in sched.processors if p.schedulable is False]
-    problems = ([broken] if broken else []) + [f"{name} not schedulable" for name in fails]
-    undecided = ", ".join(", ".join(u.tasks) for u in sched.undecided)
-    if undecided:  # no proof either way: it counts against the design, as a failure would
-        problems.append(f"schedulability undecided (budget) for {undecided}")
-    if problems:
-        verdict = "; ".join(problems)
+    report = section.analysis
+    found = problems(report)
+    if found:
+        if report.live and report.consistent and report.schedule is not None:
+            found.insert(0, "live and consistent with a processor per task, but")
+        verdict = "; ".join(found).replace("but; ", "but ")
+    elif report.schedule is None:
+        verdict = "live and consistent with a processor per task (not on its processors)"
     else:
-        sched_text = ("schedulable" if sched.schedulable
-                      else "schedulability not decided (a group is not live)")
-        verdict = f"design rules followed, {sched_text}"
+        verdict = "schedulable on its processors (spec §4b, exact)"
+    verdict += f"; {broken}" if broken else "; design rules followed"
     return text + f"\nverdict: {verdict} (exit status {section.exit_status})\n"
 
 
-def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
-    """Threads and the per-processor verdicts as text.
+def render_schedulability(result: Schedulability, unit: str = "ms",
+                          cross: CrossCheck | None = None) -> str:
+    """Threads and the per-processor response-time test as text, with its cross-check.
+
+    The test is ORCCAD §6's: it is compared with the exact schedule on processors
+    (``cross``, :mod:`tegraph.design.cross_check`), which decides the verdict.
 
     Returns
     -------
@@ -93,14 +101,18 @@ def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
             lines.append(f"  thread {t.index} [{', '.join(t.tasks)}]: load {display_text(t.load)} "
                          f"{unit}, period {display_text(t.period) or '-'} {unit}: {verdict}")
     for p in result.processors:
-        name = "default processor" if p.processor is None else f"processor {p.processor}"
-        lines.append(f"schedulability on the {name} (preemptive fixed priorities, "
-                     f"{p.priority_source} priorities; larger is more urgent):")
+        name = ("default processor" if p.processor in (None, DEFAULT_PROCESSOR)
+                else f"processor {p.processor}")
+        kind = "preemptive" if p.preemptive else "NON-PREEMPTIVE"
+        lines.append(f"response-time test on the {name} (ORCCAD section 6, a cross-check of "
+                     f"the exact schedule; {kind} fixed priorities, {p.priority_source} "
+                     "priorities, larger is more urgent):")
         if p.hyperperiod is not None:
             holds = "holds" if p.condition_holds else "FAILS"
             lines.append(f"  {PAPER_TEST}: T = {display_text(p.hyperperiod)} {unit}, "
                          f"sum = {display_text(p.demand)} {unit}: {holds} (margin "
-                         f"{display_text(p.condition_margin)} {unit})")
+                         f"{display_text(p.condition_margin)} {unit}; free-running groups "
+                         "are no periodic load)")
         rows = []
         for u in p.units:
             verdict = ("undecided" if u.undecided else "-" if u.schedulable is None
@@ -109,13 +121,46 @@ def render_schedulability(result: Schedulability, unit: str = "ms") -> str:
                          number(u.cost), number(u.response_time), number(u.margin), verdict,
                          u.note])
         table = tabulate(rows, headers=["group", "tasks", "priority", f"period ({unit})",
-                                        f"work ({unit})", f"response ({unit})",
+                                        f"work ({unit})", f"group's RTA response ({unit})",
                                         f"margin ({unit})", "meets period", "note"],
                          disable_numparse=True)
         lines.extend("  " + row for row in table.splitlines())
         lines.append(f"  test: {RTA_TEST}")
+    if result.processors:
+        lines.append("group's RTA response: the test's worst case for the group's whole work "
+                     "of one period, released with every more urgent group at once (critical "
+                     "instant); \"meets period\" of a free-running group: it gets time")
     lines.extend(f"note: {n}" for n in result.notes)
+    if cross is not None:
+        lines.append(_cross_check_line(cross))
+        lines.extend(f"  {_disagreement(d, unit)}" for d in cross.disagreements)
     return "\n".join(lines) + "\n"
+
+
+def _cross_check_line(cross: CrossCheck) -> str:
+    """Whether the response-time test agrees with the exact schedule, in one line."""
+    says = {True: "schedulable", False: "NOT schedulable", None: "undecided"}
+    head = f"cross-check: the response-time test says {says[cross.says]}"
+    if not cross.on_processors:
+        return head + ("; the exact schedule on processors was not computed (every task on "
+                       "a processor of its own): nothing to compare")
+    exact = f"the exact schedule (spec §4b, the verdict) says {says[cross.exact]}"
+    if cross.agrees is None:
+        return f"{head}; {exact}: not compared (a verdict is undecided)"
+    if cross.agrees:
+        return f"{head}; {exact}: they agree"
+    extra = ("" if cross.disagreements else " (the test sees only processor time: waits on "
+             "messages, double synchronizations and growing places are the schedule's)")
+    return f"{head}; {exact}: they DISAGREE{extra}"
+
+
+def _disagreement(d: UnitDisagreement, unit: str) -> str:
+    test = ("gets processor time" if d.period is None and d.test
+            else "gets no processor time" if d.period is None
+            else f"{'meets' if d.test else 'misses'} its period ({display_text(d.period)} "
+                 f"{unit})")
+    return (f"group {d.group} ({', '.join(d.tasks)}) on {d.processor}: the test says it "
+            f"{test}; the exact schedule: {d.why}")
 
 
 def render_latency(result: ChainLatency, unit: str = "ms") -> str:
@@ -155,7 +200,7 @@ def render_latency(result: ChainLatency, unit: str = "ms") -> str:
 
 
 def render_fix(result: FixResult, name: str = "skeleton") -> str:
-    """What :func:`fix_ports` found, as text for the terminal.
+    """What :func:`~tegraph.analysis.repair.fix_ports` found, as text for the terminal.
 
     >>> from tegraph import Skeleton, fix_ports
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}})

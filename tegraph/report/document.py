@@ -84,7 +84,12 @@ def _analyze(result: Any) -> dict[str, Any]:
 
 
 def _rules(result: Any) -> dict[str, Any]:
-    return json_report("rules", {"name": result.name, "unit": result.unit, **result.to_dict()})
+    # The verdict is the analysis's (spec §4b), with how it was obtained, as in analyze's
+    # document; the design section's response-time test is its cross-check.
+    return json_report("rules", {"name": result.name, "unit": result.unit,
+                                 "schedulable": result.schedulable,
+                                 "schedule": result.analysis.schedule_summary(),
+                                 **result.to_dict()})
 
 
 def _cycle_time(result: Any) -> dict[str, Any]:
@@ -175,8 +180,8 @@ def _dumps(doc: dict[str, Any], indent: int | None) -> bytes | str:
     """The JSON of ``doc``: orjson's UTF-8 bytes for ``indent=2``, else json's text."""
     if indent == 2:
         # orjson writes the bytes of json.dumps(doc, indent=2, ensure_ascii=False), in C:
-        # the standard library encodes in Python once it indents (0.27 s against 0.03 s
-        # for the report of 10,000 tasks). Integers beyond 64 bits are left to json.
+        # the standard library encodes in Python once it indents, slow on the report of
+        # 10,000 tasks. Integers beyond 64 bits are left to json.
         try:
             return orjson.dumps(doc, option=orjson.OPT_INDENT_2)
         except orjson.JSONEncodeError:

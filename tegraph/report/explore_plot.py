@@ -19,7 +19,7 @@ from typing import Any
 from ..design.explore import Exploration
 from ..design.explore.evaluate import VariantResult
 from ..errors import InputError
-from .plot import INSTALL_HINT, PlotUnavailableError, save_figure
+from .plot import plot_unavailable, save_figure
 
 __all__ = ["draw_front"]
 
@@ -58,6 +58,7 @@ def draw_front(result: Exploration, path: str | os.PathLike[str], overwrite: boo
     >>> from tegraph import load_skeleton
     >>> from tegraph.design.explore import explore_design
     >>> from tegraph.design.explore.space import design_space
+    >>> from tegraph.report.plot import INSTALL_HINT, PlotUnavailableError
     >>> space = design_space(load_skeleton("examples/fig4_pipeline_synchronized.yaml"),
     ...                      clocks={"rtc": [5, 10, 20]}, objectives=["period", "load"])
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "front.svg"
@@ -105,10 +106,8 @@ def _figure_class() -> Any:
     try:
         from matplotlib.figure import Figure
     except ImportError:
-        raise PlotUnavailableError(
-            f"drawing the front needs matplotlib, which is not installed; install it with: "
-            f"{INSTALL_HINT}  (or: pip install matplotlib); the text and JSON reports need "
-            "nothing") from None
+        raise plot_unavailable("drawing the front",
+                               "the text and JSON reports need nothing") from None
     return Figure
 
 

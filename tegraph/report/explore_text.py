@@ -51,8 +51,17 @@ _MEANING = {
 }
 
 
-def render_exploration(result: Exploration) -> str:
+def render_exploration(result: Exploration, all_ties: bool = False) -> str:
     """The exploration as text, ending with its verdict.
+
+    Parameters
+    ----------
+    result : Exploration
+    all_ties : bool
+        List every design of the front. By default the front shows one row per
+        distinct objective vector (its first design by variant number) with the number
+        of designs that share it (``ties``); the JSON report and the results file
+        hold every design.
 
     Returns
     -------
@@ -65,7 +74,9 @@ def render_exploration(result: Exploration) -> str:
     for c in space.links:
         lines.append(f"  link {c.label}: {', '.join(p.value for p in c.protocols)}"
                      + (" (narrowed by `links`; `all_links` gives the other links every "
-                        "protocol not forbidden)" if c.narrowed else ""))
+                        "protocol not forbidden)" if c.narrowed else "")
+                     + (f" (not SYN/SYN: its delay of {display_text(c.delay)} {sk.unit}, "
+                        "spec §4d)" if c.delay else ""))
     for k in space.clocks:
         # Decimals as the user wrote them (5.43, 2.715), a fraction only when one does not
         # terminate; the JSON report keeps its exact strings.
@@ -111,7 +122,7 @@ def render_exploration(result: Exploration) -> str:
                      + (f" ({result.resumed:,} verdict(s) resumed from it)" if result.resumed
                         else ""))
     lines.append("")
-    lines.extend(_front(result))
+    lines.extend(_front(result, all_ties))
     lines.append("")
     lines.append("pruning rules (proofs in tegraph/design/explore/prune.py and "
                  "docs/explore.md):")
@@ -121,17 +132,28 @@ def render_exploration(result: Exploration) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _front(result: Exploration) -> list[str]:
+def _front(result: Exploration, all_ties: bool) -> list[str]:
     space = result.space
     if not result.front:
         return ["Pareto front: empty (no variant is live, consistent and schedulable on its "
                 "processors)"]
     names = {c.label: f"L{i + 1}" for i, c in enumerate(space.links)}
-    lines = [f"Pareto front: {len(result.front)} design(s)"
-             + (" (equal objectives: ties are all listed)" if _ties(result) else "")]
+    groups = result.distinct_front
+    tied = len(result.front) - len(groups)
+    if not tied:
+        head = ""
+    elif all_ties:
+        head = (f" in {len(groups)} distinct objective vector(s): designs of equal objectives "
+                "are all listed (ties: how many share the row's)")
+    else:
+        head = (f" in {len(groups)} distinct objective vector(s): one row each, its first "
+                f"design by variant number; ties: how many designs share its objectives "
+                f"({tied} not listed: --all-ties lists them)")
+    lines = [f"Pareto front: {len(result.front)} design(s){head}"]
     lines.extend(f"  L{i + 1} = {c.label}" for i, c in enumerate(space.links))
+    shown = [(r, len(g)) for g in groups for r in (g if all_ties else g[:1])]
     rows = []
-    for r in result.front[:FRONT_ROWS_SHOWN]:
+    for r, ties in shown[:FRONT_ROWS_SHOWN]:
         e = result.entry(r)
         # The clocks and objectives from their exact values, not the entry's JSON texts.
         cells: list[Any] = [r.variant, *e["links"].values(),
@@ -143,17 +165,19 @@ def _front(result: Exploration) -> list[str]:
             cells.append(value)
         cells.append("" if r.rule2 is None else r.rule2)
         cells.append("yes" if r.repaired else "")
+        if tied:
+            cells.append(ties)
         rows.append(cells)
     headers = ["variant", *names.values(), *(f"{c.name} ({space.skeleton.unit})"
                                              for c in space.clocks),
                *(column_name(n, space.skeleton.unit) for n in space.objectives),
-               "Rule 2", "repaired"]
+               "Rule 2", "repaired", *(["ties"] if tied else [])]
     # No number parsing: tabulate would print 1038412611.331 as a rounded float (1.03841e+09).
     lines.extend("  " + row for row in tabulate(rows, headers=headers,
                                                 disable_numparse=True).splitlines())
-    if len(result.front) > FRONT_ROWS_SHOWN:
-        lines.append(f"  ... and {len(result.front) - FRONT_ROWS_SHOWN} more (the JSON "
-                     "report and the results file hold them all)")
+    if len(shown) > FRONT_ROWS_SHOWN:
+        lines.append(f"  ... and {len(shown) - FRONT_ROWS_SHOWN} more rows (the JSON "
+                     "report and the results file hold every design)")
     return lines
 
 
@@ -174,13 +198,3 @@ def _examples(result: Exploration) -> dict[str, str]:
         if why is not None and why not in out:
             out[why] = f"{v}: {r.reason}" if r.reason else str(v)
     return out
-
-
-def _ties(result: Exploration) -> bool:
-    seen = set()
-    for r in result.front:
-        key = tuple(r.objectives.get(n) for n in result.space.objectives)
-        if key in seen:
-            return True
-        seen.add(key)
-    return False

@@ -29,7 +29,7 @@ from ..analysis.sensitivity.polyhedra import Polyhedron
 from ..analysis.sensitivity.region import ConsistentRegion, consistent_region
 from ..analysis.sensitivity.results import GroupFormulaReport, SensitivityResult
 from ..errors import InputError
-from .plot import INSTALL_HINT, PlotUnavailableError, matplotlib_available, save_figure
+from .plot import matplotlib_available, plot_unavailable, save_figure
 
 __all__ = ["draw_sensitivity", "plot_parameters", "sensitivity_figure"]
 
@@ -90,9 +90,7 @@ def draw_sensitivity(result: SensitivityResult, path: str | os.PathLike[str],
     if result.formulas is None:
         raise InputError("a drawing needs the period formulas (formulas=True)", where="plot")
     if not matplotlib_available():
-        raise PlotUnavailableError(
-            f"drawing needs matplotlib, which is not installed; install it with: "
-            f"{INSTALL_HINT}  (or: pip install matplotlib); the text report needs nothing")
+        raise plot_unavailable("drawing the sensitivity", "the text report needs nothing")
     return save_figure(sensitivity_figure(result), target, overwrite)
 
 
@@ -115,9 +113,7 @@ def sensitivity_figure(result: SensitivityResult):
         raise InputError("a drawing needs one or two parameters and their formulas",
                          where="plot")
     if not matplotlib_available():
-        raise PlotUnavailableError(
-            f"drawing needs matplotlib, which is not installed; install it with: "
-            f"{INSTALL_HINT}  (or: pip install matplotlib); the text report needs nothing")
+        raise plot_unavailable("drawing the sensitivity", "the text report needs nothing")
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 5.0), layout="constrained")

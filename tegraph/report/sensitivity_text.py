@@ -58,14 +58,22 @@ def _decimal_printer() -> Any:
     return DecimalPrinter()
 
 
-def _interval(a: Fraction, b: Fraction | None, unit: str = "", open_low: bool = False) -> str:
+def _interval(a: Fraction, b: Fraction | None, unit: str = "", open_low: bool = False,
+              open_high: bool = False, low_excluded: bool = False) -> str:
+    """``[a, b]``; ``open_low``: a period's range, open at 0; ``open_high`` and
+    ``low_excluded``: an end that the interval does not hold.
+
+    >>> _interval(Fraction(0), Fraction(25, 16), open_high=True)
+    '[0, 1.5625)'
+    """
     u = f" {unit}" if unit else ""
-    left = "(" if open_low and a == 0 else "["
+    left = "(" if (open_low and a == 0) or low_excluded else "["
     if b is None:
         return f"{left}{display_text(a)}, ∞)" + u
     if a == b:
         return f"{{{display_text(a)}}}" + u
-    return f"{left}{display_text(a)}, {display_text(b)}]" + u
+    right = ")" if open_high else "]"
+    return f"{left}{display_text(a)}, {display_text(b)}{right}" + u
 
 
 def _intervals(intervals, unit: str = "", open_low: bool = False) -> str:
@@ -96,6 +104,10 @@ def _short(limit: Limit) -> str:
         return f"{who} slower than {against}"
     if limit.kind == "range":
         return "end of its range"
+    if limit.kind == "processors" and limit.task is not None:
+        if limit.activation is not None:
+            return f"{limit.task} overruns at activation {limit.activation} on its processors"
+        return f"{limit.task} starved on its processors"
     return limit.detail
 
 
@@ -181,8 +193,8 @@ def _scaling_on_lines(result: SensitivityResult) -> list[str]:
     count = len(s.parameters)
     lines = [f"all {count} varied duration{'s' * (count != 1)} multiplied by one factor α "
              "(the other times unchanged), ON ITS PROCESSORS:"]
-    how = (f"exact: the {s.breakpoints} interval{'s' * (s.breakpoints != 1)} of constant "
-           "schedule order between are all decided")
+    how = (f"exact: every breakpoint between is decided, {s.breakpoints} interval"
+           f"{'s' * (s.breakpoints != 1)} of constant verdict walked")
     if s.not_searched is not None:
         lines.append(f"  scaling factor on its processors: {s.not_searched}")
         for limit in s.limits:
@@ -190,10 +202,16 @@ def _scaling_on_lines(result: SensitivityResult) -> list[str]:
     elif s.nominal_consistent:
         low, high = s.intervals[0]
         if s.exact and s.factor is not None:
-            lines.append(f"  schedulable for α in {_interval(low, high)} (the interval holding "
-                         f"1; {how})")
-            lines.append(f"  scaling factor {number(s.factor)} on its processors: the "
-                         f"durations can all grow {number(s.factor)} times together")
+            lines.append(f"  schedulable for α in {_interval(low, high, open_high=not s.attained)}"
+                         f" (the interval holding 1; {how})")
+            if s.attained:
+                lines.append(f"  scaling factor {number(s.factor)} on its processors: the "
+                             f"durations can all grow {number(s.factor)} times together")
+            else:
+                lines.append(f"  scaling factor {number(s.factor)} on its processors, a "
+                             "supremum NOT attained: the durations can all grow together by "
+                             f"any factor below {number(s.factor)}, not by {number(s.factor)} "
+                             "itself")
         elif s.exact:
             lines.append(f"  schedulable for α in [{display_text(low)}, ∞) ({how})")
             lines.append("  scaling factor: none: nothing finite limits it")
@@ -275,8 +293,10 @@ def _margin_on_lines(result: SensitivityResult) -> list[str]:
             around = "UNDECIDED at nominal" if undecided else "NOT at nominal"
             grow, why = "-", "-"
         elif m.nominal_consistent and m.exact:
-            grow = "unbounded" if m.high is None else f"+{number(m.high - p.nominal)}"
-            around = _interval(m.low, m.high, "", p.low_open)  # type: ignore[arg-type]
+            grow = ("unbounded" if m.high is None else
+                    f"{'' if m.high_attained else 'less than '}+{number(m.high - p.nominal)}")
+            around = _interval(m.low, m.high, "", p.low_open,  # type: ignore[arg-type]
+                               not m.high_attained, not m.low_attained)
             why = "; ".join(dict.fromkeys(_short(x) for x in m.limits_high)) or "-"
         elif m.nominal_consistent:
             lo, hi = m.bounds  # type: ignore[misc]
@@ -291,8 +311,17 @@ def _margin_on_lines(result: SensitivityResult) -> list[str]:
                 grow, why = f"at least +{number(hi - p.nominal)}", "undecided beyond"
         else:
             grow, around, why = "-", "NOT at nominal", "-"
+            if m.intervals:
+                opens = m.intervals_open or [(False, False)] * len(m.intervals)
+                around += "; schedulable on " + " ∪ ".join(
+                    _interval(a, b, "", p.low_open, high_open, low_open)
+                    for (a, b), (low_open, high_open) in zip(m.intervals, opens))
+            elif m.exact and m.not_searched is None:
+                around += "; schedulable nowhere in its range"
         if pt is None or not pt.nominal_consistent:
             per = "NOT at nominal"
+            if pt is not None and pt.intervals:
+                per += f"; consistent on {_intervals(pt.intervals, '', p.low_open)}"
         else:
             per = _interval(pt.low, pt.high, "", p.low_open)  # type: ignore[arg-type]
         rows.append([p.symbol, number(p.nominal), around, grow, why, per])
@@ -302,8 +331,11 @@ def _margin_on_lines(result: SensitivityResult) -> list[str]:
                                     "can grow by", "limited above by",
                                     "per task (consistent around nominal)"])
     lines += ["  " + line for line in table.splitlines()]
-    lines.append("  (only the interval around the nominal value is searched on processors; the "
-                 "per-task column is every task on a processor of its own, an upper bound)")
+    lines.append("  (on processors the interval around the nominal value is searched; where the "
+                 "nominal value is not schedulable, every schedulable interval of the range of "
+                 "a parameter named with --vary, or of one whose part is decided by its "
+                 "levels; ')' or '(': an end excluded; the per-task column is every task on a "
+                 "processor of its own, an upper bound)")
     methods: dict[str, list[str]] = {}
     for m in result.margins.values():
         methods.setdefault(m.method, []).append(m.parameter.symbol)
@@ -435,6 +467,9 @@ def _scaling_verdict_on(s: Scaling) -> str:
         return (f"no scaling factor {where}: "
                 + ("undecided at the nominal values" if s.not_searched.startswith("undecided")
                    else "not schedulable as it is"))
+    if s.nominal_consistent and s.exact and s.factor is not None and not s.attained:
+        return (f"the varied durations can grow together by any factor below "
+                f"{number(s.factor)} {where} (a supremum, not attained)")
     if s.nominal_consistent and s.exact and s.factor is not None:
         return f"the varied durations can grow together by a factor {number(s.factor)} {where}"
     if s.nominal_consistent and s.exact:

@@ -20,8 +20,9 @@ from ._format import count, human
 from .chains_text import render_chains
 from .design_text import render_latency, render_rules, render_schedulability
 from .graph_text import ratio_text
-from .processors_text import processors_headline, processors_problem, render_processors
+from .processors_text import processors_headline, render_processors, replaced_priorities
 from .registry import Renderers
+from .verdict_text import problems as verdict_problems
 
 __all__ = ["render_report", "render_text"]
 
@@ -48,6 +49,7 @@ def render_report(report: Report) -> str:
     lines.append(f"timing:      {consistent} — {report.methods.get('timing', '')}")
     lines.append(f"periods:     {report.methods.get('periods', '')}")
     lines.append(processors_headline(report))
+    lines += replaced_priorities(report)
     lines += _deadlocks(report)
     lines += _groups(report)
     lines += _tasks(report)
@@ -68,7 +70,8 @@ def render_report(report: Report) -> str:
         lines.append(f"invariants: not computed ({inv.reason})")
     if report.design is not None:
         lines += ["", render_rules(report.design.rules).rstrip("\n"),
-                  render_schedulability(report.design.schedulability, u).rstrip("\n")]
+                  render_schedulability(report.design.schedulability, u,
+                                        report.design.cross_check).rstrip("\n")]
         lines += [render_latency(c, u).rstrip("\n") for c in report.design.latency]
     for note in report.notes:
         lines.append(f"note: {note}")
@@ -162,7 +165,7 @@ def critical_circuit_text(group: GroupReport, unit: str) -> str:
 
 def _verdict(report: Report) -> str:
     """The last line: the spec §5 verdict in one line, and why the exit status is what it is."""
-    problems = _problems(report)
+    problems = verdict_problems(report)
     undecided = [t.name for t in report.tasks.values() if not t.overrun_decided]
     if not problems:
         text = ("verdict: live and consistent (exit status 0)" if report.schedule is None else
@@ -175,29 +178,6 @@ def _verdict(report: Report) -> str:
             problems.insert(0, "live and consistent with a processor per task, but")
         text = "verdict: " + "; ".join(problems).replace("but; ", "but ") + " (exit status 1)"
     return text + _design_addendum(report)
-
-
-def _problems(report: Report) -> list[str]:
-    """What makes the exit status 1: the deadlocks, the inconsistencies, the processors."""
-    problems = []
-    if not report.live:
-        dead = sorted({report.tasks[t].group for d in report.deadlocks for t in d.tasks})
-        problems.append(f"NOT LIVE: {count(len(report.deadlocks), 'token-free circuit')} "
-                        f"(group{'s' * (len(dead) != 1)} {', '.join(map(str, dead))})")
-    inconsistent = []
-    if report.unbounded_places:
-        inconsistent.append(f"{count(len(report.unbounded_places), 'unbounded place')}")
-    overruns = [t for t in report.tasks.values() if t.overrun_at is not None]
-    if overruns:
-        first = overruns[0]
-        more = f" and {len(overruns) - 1} more" if len(overruns) > 1 else ""
-        inconsistent.append(f"{first.name} overruns at activation {first.overrun_at}{more}")
-    if inconsistent:
-        problems.append("NOT CONSISTENT: " + ", ".join(inconsistent))
-    on_processors = processors_problem(report)
-    if on_processors:
-        problems.append(on_processors)
-    return problems
 
 
 def _design_addendum(report: Report) -> str:

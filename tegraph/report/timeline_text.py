@@ -7,6 +7,7 @@ from fractions import Fraction
 
 from maxplus.scalar import display_text
 
+from ..analysis.processors.schedule import NON_PREEMPTIVE
 from ..design.timeline import Timeline, TimelineChain
 from ._format import count
 from .chains_text import CHAIN_FIGURES_MEANING, figures_text
@@ -43,10 +44,11 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
     """
     tl, u, H = timeline, timeline.unit, timeline.horizon
     exact, columns = _columns(tl, width)
-    col = H / columns
+    col = (H - tl.start) / columns
     used = [c for c in tl.ticks if any(tl.clocks[t] == c for t in tl.tasks)]
     label = max(len(x) for x in [*tl.processors, *used])
-    lines = [f"timeline {tl.name} on its processors: 0 to {display_text(H)} {u}, one column = "
+    lines = [f"timeline {tl.name} on its processors: {display_text(tl.start)} to "
+             f"{display_text(H)} {u}, one column = "
              f"{display_text(col)} {u}" + ("" if exact else " (approximate drawing)")]
     lines += _lanes(tl, columns, label)
     lines += _clock_rows(tl, used, columns, label)
@@ -69,24 +71,27 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
 def _columns(tl: Timeline, width: int) -> tuple[bool, int]:
     """Whether the drawing is exact, and its number of columns: exact when every time
     drawn is a multiple of a step of which the horizon holds at most ``width``."""
-    times = {Fraction(0), tl.horizon} | {x for i in tl.intervals for x in (i.start, i.end)}
-    times |= {x for ts in tl.ticks.values() for x in ts}
+    a = tl.start
+    times = {Fraction(0), tl.horizon - a} | {x - a for i in tl.visible for x in (i.start, i.end)}
+    times |= {x - a for ts in tl.ticks.values() for x in ts if a <= x <= tl.horizon}
     step = _gcd_all(times)
-    exact = tl.horizon / step <= width
-    return exact, int(tl.horizon / step) if exact else width
+    exact = (tl.horizon - a) / step <= width
+    return exact, int((tl.horizon - a) / step) if exact else width
 
 
 def _lanes(tl: Timeline, columns: int, label: int) -> list[str]:
     """A row per processor: its jobs' letters (one per task, the same in every lane)
     and the key of its letters, by priority."""
-    col = tl.horizon / columns
+    col = (tl.horizon - tl.start) / columns
     symbol = {t: _SYMBOLS[n] if n < len(_SYMBOLS) else "*" for n, t in enumerate(tl.tasks)}
-    lanes = _by_processor(tl)
+    lanes: dict[str, list] = {p: [] for p in tl.processors}
+    for i in tl.visible:
+        lanes[i.processor].append(i)
     lines = []
     for proc in tl.schedule.platform.processors:
         row = ["."] * columns
         for i in lanes[proc.name]:
-            _paint(row, i.start, i.end, col, symbol[i.task])
+            _paint(row, i.start - tl.start, i.end - tl.start, col, symbol[i.task])
         lines.append(f"{proc.name:<{label}} |{''.join(row)}| "
                      f"{_lane_key(tl, proc.tasks, symbol)}")
     return lines
@@ -107,8 +112,8 @@ def _lane_key(tl: Timeline, tasks: tuple[str, ...], symbol: dict[str, str]) -> s
 def _clock_rows(tl: Timeline, used: list[str], columns: int, label: int) -> list[str]:
     """A row per clock that activates a task: ``^`` its ticks, ``!`` a tick at which one
     of its tasks overruns (drawn even at the horizon)."""
-    H = tl.horizon
-    col = H / columns
+    H, a = tl.horizon, tl.start
+    col = (H - a) / columns
     late: dict[str | None, set[Fraction]] = {}  # by clock (an overrunning task has one)
     for t, k in tl.overrun_at.items():
         if k is not None:
@@ -117,8 +122,8 @@ def _clock_rows(tl: Timeline, used: list[str], columns: int, label: int) -> list
     for c in used:
         row = [" "] * columns
         for x in tl.ticks[c]:  # a tick at the end is drawn when it is an overrun's
-            if x < H or x in late.get(c, ()):
-                row[min(int(x / col), columns - 1)] = "!" if x in late.get(c, ()) else "^"
+            if a <= x and (x < H or x in late.get(c, ())):
+                row[min(int((x - a) / col), columns - 1)] = "!" if x in late.get(c, ()) else "^"
         lines.append(f"{c:<{label}} |{''.join(row)}|")
     return lines
 
@@ -184,7 +189,7 @@ def _order_of_execution(tl: Timeline) -> list[str]:
             key = (i.task, i.k)
             before = done.get(key, Fraction(0))
             done[key] = before + (i.end - i.start)
-            if listed >= _LISTED:
+            if listed >= _LISTED or i.end <= tl.start:  # before the window: counted only
                 continue
             listed += 1
             how = "resumes; " if before else ""
@@ -194,8 +199,9 @@ def _order_of_execution(tl: Timeline) -> list[str]:
                 how += "preempted" if i.end < tl.horizon else "still running"
             lines.append(f"  {display_text(i.start):>8} - {display_text(i.end):<8} "
                          f"{i.task}#{i.k}  {how}")
-    if listed < len(tl.intervals):
-        lines.append(f"  ... and {len(tl.intervals) - listed:,} more intervals up to "
+    in_window = len(tl.visible)
+    if listed < in_window:
+        lines.append(f"  ... and {in_window - listed:,} more intervals up to "
                      f"{display_text(tl.horizon)} {tl.unit} (in the lanes and the -o drawing)")
     return lines
 
@@ -213,7 +219,9 @@ def _findings(tl: Timeline) -> list[str]:
     lines = []
     for r in s.regimes:
         on = ", ".join(r["tasks"][:4]) + (" ..." if len(r["tasks"]) > 4 else "")
-        if r["start"] is None:
+        if r.get("by") == "not computed":
+            lines.append(f"{on}: not computed ({NON_PREEMPTIVE})")
+        elif r["start"] is None:
             hyper = tl.hyperperiods.get(r["tasks"][0])
             lines.append(f"{on}: no periodic regime within the budget"
                          + (f" (their clocks' hyperperiod is {display_text(hyper)} {u})"
@@ -230,11 +238,19 @@ def _findings(tl: Timeline) -> list[str]:
         lines.append("DEADLOCK: token-free circuit " + " -> ".join([*d.events, d.events[0]])
                      + f" (tasks {', '.join(d.tasks)}): these events wait for each other and "
                      "never fire")
+    for st in tl.stuck:
+        lines.append(f"STUCK: {st.task} waits at {st.event} for ever, from "
+                     f"{display_text(st.since)} {u}")
     jobs = {(j.task, j.index): j for j in tl.jobs}
-    for t, k in tl.overrun_at.items():
-        if k is None:
+    # The one order of every command: earliest first, then file order.
+    for p in s.problems:
+        if p.kind == "starved":
+            since = "" if p.at is None else f" (released at {display_text(p.at)} {u})"
+            lines.append(f"STARVED: a job of {p.task}{since} never receives its duration on "
+                         f"processor {s.platform.processor_of[p.task]}")
             continue
-        at = tl.overrun_ticks[t]
+        t, k, at = p.task, p.k, tl.overrun_ticks[p.task]
+        assert k is not None  # an overrun has its activation
         job = jobs.get((t, k - 1))
         if job is None or job.finish is None:
             end = f"activation {k - 1} has not ended"
@@ -248,9 +264,13 @@ def _findings(tl: Timeline) -> list[str]:
                    f"{u}; a write still waits)")
         lines.append(f"OVERRUN: {t} overruns at activation {k}: its clock {tl.clocks[t]} ticks "
                      f"at {display_text(at)} {u} while {end}")
-    for t in s.starved:
-        lines.append(f"STARVED: a job of {t} never receives its duration on processor "
-                     f"{s.platform.processor_of[t]}")
+    for t in s.stopped:
+        f = s.tasks[t]
+        since = (f"after activation {f.stopped_after}" if f.stopped_after
+                 else "from the start (no job at all)")
+        why = (f"it waits for {', '.join(f.waits_for)}, starved" if f.waits_for
+               else "it waits for events that never fire again")
+        lines.append(f"STOPPED: {t} never runs again {since}: {why}")
     for g in s.unbounded:
         per = ("infinitely many at once" if g.per_regime is None
                else f"+{g.per_regime} per regime")
@@ -273,19 +293,29 @@ def _verdict(tl: Timeline) -> str:
             why += "; the clocks' hyperperiod is " + " and ".join(
                 f"{display_text(h)} {u}" for h in hyper)
         why = why.removeprefix("undecided ")  # the engine's reason begins "undecided within"
-        return f"verdict: UNDECIDED {why} (raise `max_events` to look further){status}"
+        more = "" if "within the budget" not in why else " (raise `max_events` to look further)"
+        return f"verdict: UNDECIDED {why}{more}{status}"
     found = []
     if tl.deadlocks:
         found.append(f"DEADLOCK ({count(len(tl.deadlocks), 'token-free circuit')}; "
                      f"{count(len(tl.dead_tasks), 'task')} in groups that are not live)")
-    first = sorted((x, t) for t, x in tl.overrun_ticks.items())
+    # The overruns and the starved tasks, the kind of the earliest problem first.
+    kinds = []
+    first = [p for p in s.problems if p.kind == "overrun"]  # earliest first, file order
     if first:
-        x, t = first[0]
-        found.append(f"{t} overruns first, at activation {tl.overrun_at[t]} "
-                     f"({display_text(x)} {u})" + (f", {len(first) - 1} more task(s) overrun"
-                                                    if len(first) > 1 else ""))
+        x, t = tl.overrun_ticks[first[0].task], first[0].task
+        kinds.append((s.problems.index(first[0]),
+                      f"{t} overruns first, at activation {tl.overrun_at[t]} "
+                      f"({display_text(x)} {u})" + (f", {len(first) - 1} more task(s) overrun"
+                                                     if len(first) > 1 else "")))
     if s.starved:
-        found.append(f"{count(len(s.starved), 'starved task')}")
+        starved = [i for i, p in enumerate(s.problems) if p.kind == "starved"]
+        text = count(len(s.starved), "starved task")
+        if starved and s.problems[starved[0]].at is not None:
+            p = s.problems[starved[0]]
+            text += f" ({p.task} first, its job released at {display_text(p.at)} {u})"
+        kinds.append((starved[0] if starved else len(s.problems), text))
+    found += [text for _, text in sorted(kinds, key=lambda x: x[0])]
     if s.unbounded:
         found.append(f"{count(len(s.unbounded), 'growing place')}")
     return f"verdict: NOT schedulable on its processors: {'; '.join(found)}{status}"

@@ -1,18 +1,18 @@
-"""Fixtures that run a test module on one kernel of max_cycle_ratio, or on both."""
+"""Fixtures that run a test module on one kernel of max_cycle_ratio, or on each."""
 from __future__ import annotations
 
 from collections.abc import Iterator
 
 import pytest
 
-from tests.maxplus.kernels import LISTS, NUMPY, kernel
+from tests.maxplus.kernels import KERNELS, NUMPY, kernel
 
 
-@pytest.fixture(params=[NUMPY, LISTS], ids=["numpy", "lists"])
-def both_kernels(request: pytest.FixtureRequest) -> Iterator[None]:
-    """The test once on the numpy kernel, once on the list kernel (whatever the size)."""
+@pytest.fixture(params=KERNELS)
+def every_kernel(request: pytest.FixtureRequest) -> Iterator[str]:
+    """The test once on each kernel built here (whatever the size)."""
     with kernel(request.param):
-        yield
+        yield request.param
 
 
 @pytest.fixture

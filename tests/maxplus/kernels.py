@@ -1,35 +1,24 @@
-"""Forcing one kernel of max_cycle_ratio: numpy arrays or Python lists (small graphs).
+"""The kernels of max_cycle_ratio a test can run on, through the switch ``maxplus._kernels``.
 
-``max_cycle_ratio`` reads the crossover ``maxplus._small_howard.SMALL_GRAPH_ARCS``
-at each call, so a test sets it to run either kernel at any size. :data:`NUMPY`
-is the numpy kernel itself: it also sets the compiled kernel's handle
-``maxplus.policy_iteration._howard_kernel`` to None (the tests of the compiled
-kernel set it back inside, ``tests/maxplus/test_howard_kernel.py``).
+``numpy`` is the reference; ``compiled`` the C kernel, where setup.py built it
+(``KERNELS`` lists it only then, so a test over ``KERNELS`` compares what is there).
+:func:`kernel` runs a block on one of them at every size.
 """
 from __future__ import annotations
 
-from collections.abc import Iterator
-from contextlib import contextmanager
-
-import maxplus._small_howard as small
-import maxplus.policy_iteration as policy_iteration
+from maxplus import _kernels
 from maxplus.errors import ZeroTokenCircuitError
 
-NUMPY, LISTS = -1, 10**9
-"""Values of ``SMALL_GRAPH_ARCS`` that force the numpy kernel and the list kernel."""
+NUMPY, COMPILED = "numpy", "compiled"
 
+BUILT = all(_kernels.compiled().values())
+"""Whether the compiled modules of maxplus are built (``setup.py build_ext``)."""
 
-@contextmanager
-def kernel(arcs_limit: int) -> Iterator[None]:
-    """Run max_cycle_ratio with the small-graph crossover at ``arcs_limit`` arcs."""
-    saved = small.SMALL_GRAPH_ARCS, policy_iteration._howard_kernel
-    small.SMALL_GRAPH_ARCS = arcs_limit
-    if arcs_limit == NUMPY:
-        policy_iteration._howard_kernel = None
-    try:
-        yield
-    finally:
-        small.SMALL_GRAPH_ARCS, policy_iteration._howard_kernel = saved
+KERNELS = [NUMPY] + ([COMPILED] if BUILT else [])
+"""Every kernel that can run here, the reference first."""
+
+kernel = _kernels.use
+"""``with kernel(NUMPY): ...``: the block on that kernel (and any crossovers given)."""
 
 
 def assert_same(got, ref) -> None:

@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import maxplus.certificate as certificate
-from maxplus import CertificateError, CycleRatioCertificate, max_cycle_ratio
+from maxplus import CertificateError, CycleRatioCertificate, _kernels, max_cycle_ratio
 from maxplus.certificate import CycleRatioClaim, verify_cycle_ratio
 
 kernel = pytest.importorskip("maxplus._certificate_kernel",
@@ -32,9 +32,7 @@ def _claim_of(r) -> CycleRatioClaim:
 
 def _outcome(arcs, claim, compiled: bool) -> str | None:
     """None when the claim is proven, else the checker's message."""
-    with pytest.MonkeyPatch.context() as m:
-        if not compiled:
-            m.setattr(certificate, "_arc_checks", None)
+    with _kernels.use("compiled" if compiled else "numpy"):
         try:
             verify_cycle_ratio(*arcs, claim)
         except CertificateError as exc:
@@ -203,8 +201,7 @@ def test_the_compiled_pass_holds_exactly_when_the_numpy_arc_and_policy_checks_ho
     proof = CycleRatioCertificate(scale=1, ratio_num=W, ratio_den=T, potential=X,
                                   policy=policy, circuit=np.array([0]))
     claim = CycleRatioClaim(Fraction(0), np.array([0]), W, T, proof)
-    with pytest.MonkeyPatch.context() as m:
-        m.setattr(certificate, "_arc_checks", None)
+    with pytest.MonkeyPatch.context() as m, _kernels.use("numpy"):
         m.setattr(certificate, "_verify_circuit", lambda *args: None)  # the arcs and policy only
         try:
             verify_cycle_ratio(src, dst, w, t, claim)

@@ -9,7 +9,6 @@ reach the sweep: random small multigraphs almost never do.
 from __future__ import annotations
 
 import itertools
-from contextlib import contextmanager
 from fractions import Fraction
 
 import networkx as nx
@@ -20,7 +19,7 @@ from hypothesis import strategies as st
 import maxplus.policy_iteration as pi
 from maxplus.cycle_ratio import max_cycle_ratio
 from maxplus.errors import ZeroTokenCircuitError
-from tests.maxplus.kernels import LISTS, NUMPY, kernel
+from tests.maxplus.kernels import KERNELS, NUMPY, kernel
 
 
 def _arc(src, dst, w, t, tail, head, weight, tokens):
@@ -68,9 +67,9 @@ def brute_force(n, arcs):
 
 
 def check(n, arcs):
-    """The brute-force oracle against both kernels: numpy arrays and Python lists."""
-    for limit in (NUMPY, LISTS):
-        with kernel(limit):
+    """The brute-force oracle against every kernel built here."""
+    for name in KERNELS:
+        with kernel(name):
             check_kernel(n, arcs)
 
 
@@ -113,14 +112,9 @@ def check_kernel(n, arcs):
             assert r3.verify()
 
 
-@contextmanager
 def large_graph_paths():
-    thresholds = pi.WALK_MIN_CIRCUIT_NODES, pi.SWEEP_FEW, pi.ROWS_MIN_LEVEL
-    pi.WALK_MIN_CIRCUIT_NODES = pi.SWEEP_FEW = pi.ROWS_MIN_LEVEL = 0
-    try:
-        yield
-    finally:
-        pi.WALK_MIN_CIRCUIT_NODES, pi.SWEEP_FEW, pi.ROWS_MIN_LEVEL = thresholds
+    """The numpy kernel's strategies for long circuits and wide sweeps, at every size."""
+    return kernel(walk_min_circuit_nodes=0, sweep_few=0, rows_min_level=0)
 
 
 @st.composite

@@ -3,15 +3,13 @@
 :mod:`maxplus._howard_kernel` claims to run the numpy kernel's iteration step
 for step, so both must give the same ratio, cycle times, policy, potentials,
 critical circuit and iteration count (the outputs of tegraph are built on
-them). The numpy path is forced by setting the module handle
-``maxplus.policy_iteration._howard_kernel`` to None, and the numpy kernel
-rather than the list kernel by the crossover ``SMALL_GRAPH_ARCS``, so both
-paths run at every size. Data past the compiled kernel's bound, or potentials
-that reach ``2**62`` on the way, fall back to the numpy kernel: also tested.
+them). Each kernel is chosen by the switch ``maxplus._kernels`` (``kernel``
+here), so both run at every size. Data past the compiled kernel's bound, or
+potentials that reach ``2**62`` on the way, fall back to the numpy kernel:
+also tested.
 """
 from __future__ import annotations
 
-from contextlib import contextmanager
 from fractions import Fraction
 
 import numpy as np
@@ -19,30 +17,22 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import maxplus.policy_iteration as policy_iteration
+from maxplus import _kernels
 from maxplus.cycle_ratio import max_cycle_ratio
 from maxplus.errors import ZeroTokenCircuitError
-from tests.maxplus.kernels import NUMPY, assert_same, kernel
+from tests.maxplus.kernels import COMPILED, NUMPY, assert_same, kernel
 from tests.maxplus.test_howard_brute_force import (
     circuits_with_chains,
     dag_of_blocks,
     small_multigraphs,
 )
-from tests.maxplus.test_small_howard import arc_lists, fanned_layers, random_graphs
 
 compiled = pytest.importorskip("maxplus._howard_kernel")
 
 
-@contextmanager
 def numpy_kernel(use_compiled):
-    """max_cycle_ratio on the numpy kernel (whatever the size), compiled or not."""
-    with kernel(NUMPY):  # the handle is set inside: whatever kernel(NUMPY) does with it
-        saved = policy_iteration._howard_kernel
-        policy_iteration._howard_kernel = compiled if use_compiled else None
-        try:
-            yield
-        finally:
-            policy_iteration._howard_kernel = saved
+    """max_cycle_ratio on the compiled kernel or on the numpy kernel, whatever the size."""
+    return kernel(COMPILED if use_compiled else NUMPY)
 
 
 def solve(use_compiled, *args, **kwargs):
@@ -58,6 +48,76 @@ def same_result(*args, **kwargs):
     got, ref = solve(True, *args, **kwargs), solve(False, *args, **kwargs)
     assert_same(got, ref)
     return got
+
+
+def arc_lists(arcs):
+    return ([a for a, _, _, _ in arcs], [b for _, b, _, _ in arcs],
+            [w for _, _, w, _ in arcs], [t for _, _, _, t in arcs])
+
+
+@st.composite
+def random_graphs(draw):
+    """Several strongly connected blocks, arcs between them and chains below them.
+
+    Zero-token arcs (a token-free circuit is possible, and must be refused
+    alike), self-loops, parallel arcs, negative weights and, on request,
+    weights beyond int64. Fans of many out-arcs reach the sweep's rounds of
+    many nodes (the scan of all arcs, above 16 nodes and a sixteenth of them).
+    """
+    n = draw(st.integers(1, 80))
+    node = st.integers(0, n - 1)
+    big = draw(st.sampled_from([1, 1, 2**64 + 1]))
+    weight = st.integers(-20, 50).map(lambda x: x * big)
+    arcs = []
+    blocks = draw(st.integers(1, 4))
+    cut = sorted(draw(st.lists(st.integers(1, n), min_size=blocks - 1, max_size=blocks - 1)))
+    bounds = [0, *cut, n]
+    for lo, hi in zip(bounds, bounds[1:]):
+        members = list(range(lo, hi))
+        if not members or draw(st.booleans()) is False and len(members) > 1:
+            continue  # no circuit here: nodes downstream only, or none
+        for a, b in zip(members, members[1:] + members[:1]):
+            arcs.append((a, b, draw(weight), draw(st.integers(1, 3))))
+    if draw(st.booleans()):  # a fan: one node feeding many
+        hub = draw(node)
+        arcs += [(hub, v, draw(weight), draw(st.integers(0, 2))) for v in range(n)]
+    arcs += draw(st.lists(st.tuples(node, node, weight, st.integers(0, 3)), max_size=3 * n))
+    perm = draw(st.permutations(range(n)))
+    arcs = [(perm[a], perm[b], w, t) for a, b, w, t in arcs]
+    return n, list(draw(st.permutations(arcs)))
+
+
+@st.composite
+def fanned_layers(draw):
+    """Self-loops of distinct ratios feeding a layer of 17-40 nodes, then a second layer.
+
+    The first policy (heaviest in-arc) hangs the layer on a slow circuit; the
+    ratio step moves it at once, a round of more than 16 nodes that are a large
+    share of the graph: the numpy sweep scans all arcs (by head) there, so the
+    compiled kernel must visit them in that order too. Arcs from the layer into a
+    second one give several writers per head ("last write wins").
+    """
+    k = draw(st.integers(2, 4))  # circuits 0..k-1, ratio r_i on a self-loop
+    ratios = sorted(draw(st.lists(st.integers(0, 30), min_size=k, max_size=k, unique=True)))
+    width = draw(st.integers(20, 40))
+    second = draw(st.integers(0, 30))
+    n = k + width + second
+    arcs = [(i, i, r, 1) for i, r in enumerate(ratios)]
+    layer = range(k, k + width)
+    for v in layer:  # heavy arcs from the slowest circuit, most nodes fed by the fastest
+        arcs.append((0, v, draw(st.integers(10**3, 10**4)), draw(st.integers(0, 1))))
+        for i in range(1, k):
+            if draw(st.integers(0, 9)) < (8 if i == k - 1 else 4):
+                arcs.append((i, v, draw(st.integers(-5, 10)), draw(st.integers(0, 1))))
+    for v in range(k + width, n):
+        for _ in range(draw(st.integers(1, 3))):
+            arcs.append((draw(st.sampled_from(layer)), v, draw(st.integers(-5, 50)), 0))
+    node = st.integers(0, n - 1)
+    arcs += draw(st.lists(st.tuples(node, node, st.integers(-5, 50), st.integers(1, 2)),
+                          max_size=5))
+    perm = draw(st.permutations(range(n)))
+    arcs = [(perm[a], perm[b], w, t) for a, b, w, t in arcs]
+    return n, list(draw(st.permutations(arcs)))
 
 
 @st.composite
@@ -142,10 +202,43 @@ def test_equal_weights_and_long_chain_same_result():
     same_result(src, dst, w, t, n_nodes=L + 2)
 
 
+def test_numpy_arrays_in_and_object_weights():
+    # A circuit 0 -> 1 -> 0 of ratio (2**70 + 2) / 2, node 2 downstream of it,
+    # node 3 upstream of nothing: its cycle time is None.
+    src, dst = np.array([0, 1, 1, 3]), np.array([1, 0, 2, 2])
+    w = np.array([2**70, 2, 5, 7], dtype=object)
+    r = same_result(src, dst, w, np.array([1, 1, 0, 0]), n_nodes=4)
+    assert r.cycle_times == [2**69 + 1, 2**69 + 1, 2**69 + 1, None]
+    assert r.certificate.potential.dtype == object
+
+
+def test_token_free_circuit_refused_alike():
+    # 1 -> 2 -> 1 carries no token, beside a circuit that does; named from the tail of
+    # its first arc (arc 1, 1 -> 2), walking forward, on both paths.
+    with pytest.raises(ZeroTokenCircuitError, match=r"circuit 1 -> 2 -> 1 \(arcs \[1, 2\]\)"):
+        max_cycle_ratio([0, 1, 2, 0], [0, 2, 1, 1], [1, 1, 1, 1], [1, 0, 0, 1])
+    same_result([0, 1, 2, 0], [0, 2, 1, 1], [1, 1, 1, 1], [1, 0, 0, 1])
+
+
+def test_no_circuit_and_no_arc():
+    for args, n in ((([], [], []), 4), (([], [], []), 0), (([0, 1], [1, 2], [3, 4]), 4)):
+        r = same_result(*args, n_nodes=n)
+        assert r.ratio is None and r.circuit.tolist() == [] and r.iterations == 0
+        assert r.cycle_times == [None] * n
+
+
+def test_token_counts_beyond_int64():
+    # Circuit 0 -> 1 -> 0 with 2**64 + 1 tokens and weight 2 * (2**64 + 1): ratio 2;
+    # the self-loop on 1 (weight 1, 1 token): ratio 1; both nodes see the circuit of ratio 2.
+    big = 2**64 + 1
+    r = same_result([0, 1, 1], [1, 0, 1], [2 * big, 0, 1], [big, 0, 1])
+    assert r.cycle_times == [2, 2]
+
+
 def howard_direct(src, dst, w, t, n):
     return compiled.howard(np.array(src), np.array(dst), np.array(w, dtype=np.int64),
-                           np.array(t, dtype=np.int64), n, policy_iteration.SWEEP_FEW,
-                           policy_iteration.SCAN_MIN_SHARE)
+                           np.array(t, dtype=np.int64), n, _kernels.current().sweep_few,
+                           _kernels.current().scan_min_share)
 
 
 def test_compiled_kernel_runs_on_int64_data(monkeypatch):
@@ -155,6 +248,8 @@ def test_compiled_kernel_runs_on_int64_data(monkeypatch):
 
     monkeypatch.setattr(compiled, "howard", refuse)
     with numpy_kernel(True), pytest.raises(AssertionError, match="compiled kernel ran"):
+        max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
+    with pytest.raises(AssertionError, match="compiled kernel ran"):  # the default, any size
         max_cycle_ratio([0, 1, 1], [1, 0, 1], [5, 3, 3])
     with numpy_kernel(True):  # Python ints never reach it
         r = max_cycle_ratio([0, 1, 1], [1, 0, 1], [2**64, 3, 3])
@@ -200,16 +295,44 @@ def test_numpy_path_when_the_kernel_gives_up(monkeypatch):
     assert r.ratio == 4 and r.iterations == 1 and r.verify()
 
 
+@settings(deadline=None, suppress_health_check=list(HealthCheck), max_examples=300)
+@given(random_graphs(), st.sampled_from([np.int32, np.int64]))
+def test_the_checks_around_howard_in_c_are_the_numpy_ones(g, index):
+    # Kahn's algorithm in C against scipy's strong components: the nodes some circuit
+    # reaches, and whether the token-free arcs hold a circuit.
+    from maxplus._arrays import find_circuit
+    from maxplus.cycle_ratio import _nodes_reached_by_circuits
+
+    n, arcs = g
+    src, dst, _, t = (np.array(x) for x in arc_lists(arcs))
+    src, dst, t = src.astype(index), dst.astype(index), t.astype(np.int64)
+    off, dropped = compiled.off_circuits(src, dst, n)
+    with kernel(NUMPY):
+        live = _nodes_reached_by_circuits(src, dst, n)
+    assert (~off).tolist() == ([True] * n if live is None else live.tolist())
+    assert dropped == int(off.sum())
+    zero = np.flatnonzero(t == 0)
+    assert (compiled.off_circuits(src, dst, n, t)[1] < n) == bool(find_circuit(src, dst, n, zero))
+
+
+@settings(deadline=None, max_examples=300)
+@given(st.lists(st.tuples(st.integers(-2**62, 2**62), st.integers(1, 2**62)), min_size=1,
+                max_size=30))
+def test_the_best_node_in_c_is_argmax_ratio(ratios):
+    # The first largest num/den, exact in 128 bits, against the float shortlist and the
+    # exact tournament of argmax_ratio.
+    from maxplus._arrays import argmax_ratio
+
+    num, den = (np.array(x, dtype=np.int64) for x in zip(*ratios))
+    assert compiled.first_largest_ratio(num, den) == argmax_ratio(num, den)
+
+
 def walk_both(start, policy, src):
     from maxplus.cycle_ratio import _policy_circuit
 
-    saved = policy_iteration._howard_kernel
-    try:
-        got = _policy_circuit(start, policy, src)
-        policy_iteration._howard_kernel = None
+    got = _policy_circuit(start, policy, src)
+    with kernel(NUMPY):
         ref = _policy_circuit(start, policy, src)
-    finally:
-        policy_iteration._howard_kernel = saved
     assert got.tolist() == ref.tolist()
     return got
 

@@ -33,7 +33,7 @@ from maxplus import (
 from maxplus.scalar import EPS
 
 # Both kernels: on graphs this small max_cycle_ratio would run the list one only.
-pytestmark = pytest.mark.usefixtures("both_kernels")
+pytestmark = pytest.mark.usefixtures("every_kernel")
 
 BIGS = [pytest.param(2**63 + 1, id="2**63+1"), pytest.param(10**400, id="10**400")]
 

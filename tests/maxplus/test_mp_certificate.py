@@ -19,7 +19,7 @@ from maxplus import CertificateError, CycleRatioCertificate, max_cycle_ratio
 from maxplus.certificate import CycleRatioClaim, verify_cycle_ratio
 
 # Both kernels: on graphs this small max_cycle_ratio would run the list one only.
-pytestmark = pytest.mark.usefixtures("both_kernels")
+pytestmark = pytest.mark.usefixtures("every_kernel")
 
 # Arcs 0: 0 -> 1 (weight 3), 1: 1 -> 0 (weight 5), 2: 2 -> 0 (weight 10, no token).
 # The circuit 0 -> 1 -> 0 has ratio (3 + 5) / 2 = 4; node 2 is on no circuit and

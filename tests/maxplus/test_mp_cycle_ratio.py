@@ -16,7 +16,7 @@ from maxplus import CertificateError, MaxPlusValueError, ZeroTokenCircuitError
 from maxplus.cycle_ratio import CycleRatioCertificate, max_cycle_ratio
 
 # Both kernels: on graphs this small max_cycle_ratio would run the list one only.
-pytestmark = pytest.mark.usefixtures("both_kernels")
+pytestmark = pytest.mark.usefixtures("every_kernel")
 
 
 def brute_force(n, src, dst, w, t):

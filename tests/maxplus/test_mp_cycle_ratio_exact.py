@@ -20,7 +20,7 @@ from maxplus.cycle_ratio import CycleRatioCertificate, max_cycle_ratio
 from tests.maxplus.test_mp_cycle_ratio import brute_force, graphs
 
 # Both kernels: on graphs this small max_cycle_ratio would run the list one only.
-pytestmark = pytest.mark.usefixtures("both_kernels")
+pytestmark = pytest.mark.usefixtures("every_kernel")
 
 BIG = 2**70
 

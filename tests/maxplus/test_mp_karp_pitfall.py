@@ -23,7 +23,7 @@ import pytest
 from maxplus import eigenvalue, howard, karp
 
 # Both kernels: on graphs this small max_cycle_ratio would run the list one only.
-pytestmark = pytest.mark.usefixtures("both_kernels")
+pytestmark = pytest.mark.usefixtures("every_kernel")
 
 A = [[1, 5], [3, 2]]
 

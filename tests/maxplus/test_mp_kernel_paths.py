@@ -1,12 +1,11 @@
 """The kernel's alternative paths give the answers of its main ones.
 
 Speed work added paths taken only on large inputs (a policy walk finished in
-C past ``WALK_IN_PYTHON`` steps, ...). Each is forced here on a small graph
+C past ``walk_in_python`` steps, ...). Each is forced here on a small graph
 whose answer is derived by hand, so the path is tested without a large input.
 """
 from __future__ import annotations
 
-from contextlib import contextmanager
 from fractions import Fraction
 
 import numpy as np
@@ -15,13 +14,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import maxplus
-import maxplus.cycle_ratio as cr
 import maxplus.policy_iteration as pi
+from tests.maxplus.kernels import kernel
 
 from .test_howard_brute_force import check, circuits_with_chains, small_multigraphs
 
 # These tests reach the numpy kernel's own strategies (thresholds, caches, fallbacks):
-# on graphs this small max_cycle_ratio would run the list kernel instead.
+# where it is built, max_cycle_ratio would run the compiled kernel instead.
 pytestmark = pytest.mark.usefixtures("numpy_kernel")
 
 
@@ -40,11 +39,11 @@ def ring(n: int, chord_weight: int = 1):
 
 
 @pytest.mark.parametrize("walk_in_python", [2, 5, 4096])
-def test_a_long_policy_circuit_is_walked_in_c(monkeypatch, walk_in_python):
-    monkeypatch.setattr(cr, "WALK_IN_PYTHON", walk_in_python)
+def test_a_long_policy_circuit_is_walked_in_c(walk_in_python):
     n = 40
     src, dst, w = ring(n)
-    r = maxplus.max_cycle_ratio(src, dst, w)
+    with kernel(walk_in_python=walk_in_python):
+        r = maxplus.max_cycle_ratio(src, dst, w)
     assert r.ratio == 3
     # The circuit starts wherever the solver's best node is; as a rotation of
     # the ring's arcs it is 0, 1, ..., n-1 read from some arc k.
@@ -52,44 +51,36 @@ def test_a_long_policy_circuit_is_walked_in_c(monkeypatch, walk_in_python):
     assert r.circuit.tolist() == [(k + i) % n for i in range(n)]
     # policy_circuit(v): the walk v, v-1, ... closes on v, so the circuit
     # read forward starts with v's out-arc on the ring, arc v (by hand above).
-    for v in (0, 7, n - 1):
-        assert r.policy_circuit(v).tolist() == [(v + i) % n for i in range(n)]
-    assert r.verify()
+    with kernel(walk_in_python=walk_in_python):
+        for v in (0, 7, n - 1):
+            assert r.policy_circuit(v).tolist() == [(v + i) % n for i in range(n)]
+        assert r.verify()
 
 
-def test_a_walk_in_c_from_a_node_below_the_circuit(monkeypatch):
+def test_a_walk_in_c_from_a_node_below_the_circuit():
     """Node 3 hangs below the 2-circuit 0 <-> 1 by the path 1 -> 2 -> 3."""
-    monkeypatch.setattr(cr, "WALK_IN_PYTHON", 1)
-    # arcs: 0: 0->1 (w 5), 1: 1->0 (w 3), 2: 1->2, 3: 2->3; ratio (5 + 3) / 2 = 4
-    r = maxplus.max_cycle_ratio([0, 1, 1, 2], [1, 0, 2, 3], [5, 3, 1, 1])
-    assert r.ratio == Fraction(4)
-    # The walk 3, 2, 1, 0 closes on 1 (pred of 0): circuit nodes 1, 0, forward arcs 1->0, 0->1.
-    assert r.policy_circuit(3).tolist() == [1, 0]
-    assert r.policy_circuit(0).tolist() == [0, 1]
+    with kernel(walk_in_python=1):
+        # arcs: 0: 0->1 (w 5), 1: 1->0 (w 3), 2: 1->2, 3: 2->3; ratio (5 + 3) / 2 = 4
+        r = maxplus.max_cycle_ratio([0, 1, 1, 2], [1, 0, 2, 3], [5, 3, 1, 1])
+        assert r.ratio == Fraction(4)
+        # The walk 3, 2, 1, 0 closes on 1 (pred of 0): circuit nodes 1, 0, forward arcs
+        # 1->0, 0->1.
+        assert r.policy_circuit(3).tolist() == [1, 0]
+        assert r.policy_circuit(0).tolist() == [0, 1]
 
 
 # --------------------------------------------------------------------------- fallbacks
 
-@contextmanager
 def fallback_paths(scan: bool):
     """The paths large or unusual graphs take: the bias step's segmented maximum by
     ``reduceat`` (many distinct in-degrees), circuits by pointer jumping (more than
     256 circuit nodes), the policy walk in C, and every sweep round either by a scan
     of all arcs (``scan``) or by gathering the out-arcs of its nodes; the counting
     sort by scipy's public sparse conversion (a scipy without the private routine),
-    and int32 indices (graphs of more than ``INTP_MAX_ARCS`` arcs)."""
-    names = ["MAX_DEGREE_BLOCKS", "PYTHON_MAX_CIRCUIT_NODES", "SWEEP_FEW", "SCAN_MIN_SHARE",
-             "ROWS_MIN_LEVEL", "_coo_tocsr", "INTP_MAX_ARCS"]
-    saved = [getattr(pi, x) for x in names], cr.WALK_IN_PYTHON
-    for name, value in zip(names, [0, 0, 0, 10**9 if scan else 0, 0, None, 0]):
-        setattr(pi, name, value)
-    cr.WALK_IN_PYTHON = 1
-    try:
-        yield
-    finally:
-        for name, value in zip(names, saved[0]):
-            setattr(pi, name, value)
-        cr.WALK_IN_PYTHON = saved[1]
+    and int32 indices (graphs of more than ``intp_max_arcs`` arcs)."""
+    return kernel(max_degree_blocks=0, python_max_circuit_nodes=0, sweep_few=0,
+                  scan_min_share=10**9 if scan else 0, rows_min_level=0,
+                  scipy_coo_tocsr=False, intp_max_arcs=0, walk_in_python=1)
 
 
 @pytest.mark.parametrize("scan", [True, False])
@@ -144,15 +135,11 @@ def test_stable_order_with_and_without_the_private_conversion(keys):
     keys = np.array(keys, dtype=np.int64)
     expected = np.argsort(keys, kind="stable").tolist()
     offsets = np.searchsorted(np.sort(keys), np.arange(11)).tolist()  # 10 keys: 11 offsets
-    saved, saved_max = pi._coo_tocsr, pi.INTP_MAX_ARCS
-    try:
-        for routine, intp_max in ((saved, 10**9), (None, 10**9), (saved, 0), (None, 0)):
-            pi._coo_tocsr, pi.INTP_MAX_ARCS = routine, intp_max
+    for private, intp_max in ((True, 10**9), (False, 10**9), (True, 0), (False, 0)):
+        with kernel(scipy_coo_tocsr=private, intp_max_arcs=intp_max):
             order, starts = pi.stable_order(keys, 10)
-            assert order.tolist() == expected and starts.tolist() == offsets
-            assert order.dtype == (np.intp if intp_max else np.int32)
-    finally:
-        pi._coo_tocsr, pi.INTP_MAX_ARCS = saved, saved_max
+        assert order.tolist() == expected and starts.tolist() == offsets
+        assert order.dtype == (np.intp if intp_max else np.int32)
 
 
 @settings(deadline=None, max_examples=80)

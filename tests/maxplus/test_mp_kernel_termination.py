@@ -28,8 +28,7 @@ import maxplus.policy_iteration as pi
 from .test_howard_brute_force import brute_force
 
 # The numpy kernel, whose int64 bounds these holdings probe (bounded() counts its
-# determinations); the list kernel has no int64 to leave and is compared to it in
-# test_small_howard.
+# determinations); the compiled kernel is compared to it in test_howard_kernel.
 pytestmark = pytest.mark.usefixtures("numpy_kernel")
 
 MAX_ITERATIONS = 200

@@ -26,7 +26,8 @@ from maxplus import (
     karp,
 )
 from maxplus._integer_matrix import integer_matrix
-from maxplus._max_mean import SMALL, _single_mean
+from maxplus._kernels import current
+from maxplus._max_mean import _single_mean
 from maxplus._mean_certificate import check_mean_certificate, check_mean_certificate_lists
 from maxplus.cycle_ratio import max_cycle_ratio
 
@@ -49,6 +50,9 @@ def sparse_ratio(A):
     result = max_cycle_ratio(cols, rows, weights, n_nodes=len(A))
     result.verify()
     return result
+
+
+SMALL = current().dense_lists_max_nodes  # the dense Howard's lists up to it, numpy above
 
 
 @settings(max_examples=40, deadline=None)

@@ -32,7 +32,7 @@ from maxplus.spectral import (
 from maxplus.transient import trajectory_transient, transient
 
 # Both kernels: on matrices this small max_cycle_ratio would run the list one only.
-pytestmark = pytest.mark.usefixtures("both_kernels")
+pytestmark = pytest.mark.usefixtures("every_kernel")
 
 F = Fraction
 

@@ -1,16 +1,17 @@
 """The sweep's small rounds, walked in Python, against its vectorized rounds.
 
 ``_sweep_downstream`` passes a larger ratio down the graph round by round; a
-round of at most ``SWEEP_FEW`` nodes is walked element by element
-(``_sweep_few``), a larger one with numpy. Both must switch the same policies
-in the same order, so that Howard's iteration is the same whichever walks.
+round of at most ``sweep_few`` nodes (a crossover of ``maxplus._kernels``) is
+walked element by element (``_sweep_few``), a larger one with numpy. Both must
+switch the same policies in the same order, so that Howard's iteration is the
+same whichever walks.
 Deep chains below a circuit (each round one node: the shape of a skeleton's
-ASYN/SYN chain) and fans (rounds that grow past ``SWEEP_FEW`` and come back)
+ASYN/SYN chain) and fans (rounds that grow past ``sweep_few`` and come back)
 make the two disagree if either changes the order of its visits.
 
 The walk replaces the round's *gather* (the out-arcs of its nodes, node by
 node); a round holding a large share of a small graph's nodes is otherwise
-*scanned* (every arc, in head order: ``SCAN_MIN_SHARE``), which visits the
+*scanned* (every arc, in head order: ``scan_min_share``), which visits the
 same arcs in another order and so may keep another of several equally good
 in-arcs. The comparison therefore switches the scan off; the scan is held to
 the same ratios, which do not depend on that choice.
@@ -24,17 +25,17 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import maxplus.policy_iteration as pi
+from maxplus import _kernels
+
+FEW = _kernels.DEFAULT.sweep_few
 
 
 def solve(src, dst, w, t, n, few, scan=False):
-    saved = pi.SWEEP_FEW, pi.SCAN_MIN_SHARE
     # A share of 0 never scans (len(level) * 0 > n is false): every round gathers.
-    pi.SWEEP_FEW, pi.SCAN_MIN_SHARE = few, (saved[1] if scan else 0)
-    try:
+    share = _kernels.DEFAULT.scan_min_share if scan else 0
+    with _kernels.use("numpy", sweep_few=few, scan_min_share=share):
         return pi.howard_arrays(np.array(src), np.array(dst), np.array(w, dtype=np.int64),
                                 np.array(t, dtype=np.int64), n)
-    finally:
-        pi.SWEEP_FEW, pi.SCAN_MIN_SHARE = saved
 
 
 def same(a, b):
@@ -63,7 +64,7 @@ def circuits_with_tails(draw):
 @settings(max_examples=150, deadline=None)
 def test_small_rounds_in_python_switch_as_the_vectorized_ones(graph):
     src, dst, w, t, n = graph
-    walked, vectorized = solve(*graph, few=pi.SWEEP_FEW), solve(*graph, few=0)
+    walked, vectorized = solve(*graph, few=FEW), solve(*graph, few=0)
     assert same(walked, vectorized)
     # Both are Howard's answer: the circuit 0 -> 1 -> 0 has ratio (5 + 3)/2 = 4, the
     # other 1; every tail node is reached from node 0, 1, 2 or 3 by its feeders.
@@ -85,7 +86,7 @@ def test_a_scanned_round_may_keep_another_equal_in_arc():
              [1, 0, 3, 2, 4, 4, 5, 6, 7, 7, 7, 8, 9, 10, 10, 11, 11],
              [5, 3, 1, 1, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0],
              [1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0], 12)
-    walked, gathered = solve(*graph, few=pi.SWEEP_FEW), solve(*graph, few=0)
+    walked, gathered = solve(*graph, few=FEW), solve(*graph, few=0)
     scanned = solve(*graph, few=0, scan=True)
     assert same(walked, gathered) and walked.policy[11] == 15
     assert scanned.policy[11] == 16
@@ -102,6 +103,6 @@ def test_a_deep_chain_takes_its_circuit_ratio_all_the_way_down(length):
     dst = [0] + list(range(1, n)) + list(range(1, n))
     w = [7] + [1] * length + [1] * length
     t = [2] + [1] * length + [1] * length
-    walked, vectorized = solve(src, dst, w, t, n, pi.SWEEP_FEW), solve(src, dst, w, t, n, 0)
+    walked, vectorized = solve(src, dst, w, t, n, FEW), solve(src, dst, w, t, n, 0)
     assert same(walked, vectorized)
     assert set(zip(walked.ratio_num.tolist(), walked.ratio_den.tolist())) == {(7, 2)}

@@ -181,11 +181,24 @@ def test_csv_tables_and_no_silent_overwrite(live_file, tmp_path):
     assert invoke("analyze", live_file, "--csv", out_dir).exit_code == 0
     rows = (out_dir / "tasks.csv").read_text().splitlines()
     assert rows[0] == ('task,group,period (ms),"period (ms, decimal)",overrun,'
-                       'overrun_at (activation),slack (ms),"slack (ms, decimal)",critical')
+                       'overrun_at (activation),slack (ms),"slack (ms, decimal)",critical,'
+                       'processor,priority,period on processors (ms),'
+                       '"period on processors (ms, decimal)",overrun on processors,'
+                       'overrun_at on processors (activation),response from release (ms),'
+                       '"response from release (ms, decimal)",response from tick (ms),'
+                       '"response from tick (ms, decimal)"')
     # A: clocked, slack 8 < its period, so it never overruns; B: no clock of its own,
     # period 10, slack 23/3 (derivation in test_live_and_consistent_exits_0...).
-    assert rows[1] == "A,0,10,10,never,,8,8,False"
-    assert rows[2] == "B,0,10,10,no clock,,23/3,7.66666666666667,False"
+    # On the one processor (one group: priority 1 both): A's job runs 0-2 from its
+    # tick, B's is released by its read at 2 and runs 2-13/3: responses 2 and 7/3
+    # from release, 2 from A's tick; B has no clock, so no time from a tick.
+    assert rows[1] == "A,0,10,10,never,,8,8,False,default,1,10,10,never,,2,2,2,2"
+    assert rows[2] == ("B,0,10,10,no clock,,23/3,7.66666666666667,False,default,1,10,10,"
+                       "no clock,,7/3,2.33333333333333,,")
+    verdict = (out_dir / "verdict.csv").read_text().splitlines()
+    assert verdict[0] == ("name,live,consistent,on processors,schedulable,exit status,"
+                          "method,why undecided")
+    assert verdict[1].startswith("pipeline,True,True,True,True,0,") and verdict[1].endswith(",")
     (out_dir / "tasks.csv").write_text("mine")
     again = invoke("analyze", live_file, "--csv", out_dir)
     assert again.exit_code == 2 and again.stderr == (
@@ -220,6 +233,25 @@ def test_every_spec_refusal_exits_2_through_the_cli(tmp_path, text, key_path, su
         assert f"{key_path}: " in message
 
 
+def test_version_says_which_compiled_kernels_are_built(monkeypatch):
+    # Every compiled module of both packages, one line each; one not built is said so,
+    # with what runs instead and how to build it.
+    from tegraph import api
+
+    names = list(api.compiled_kernels())
+    assert len(names) == 4 and names[0] == "maxplus._howard_kernel"
+    monkeypatch.setattr(api, "compiled_kernels", lambda: dict.fromkeys(names, True))
+    lines = invoke("--version").stdout.splitlines()
+    assert lines[1] == "compiled kernels: 4 of 4 built"
+    assert [line.split() for line in lines[2:]] == [[name, "built"] for name in names]
+    monkeypatch.setattr(api, "compiled_kernels", lambda: {**dict.fromkeys(names, True),
+                                                          names[0]: False})
+    lines = invoke("--version").stdout.splitlines()
+    assert lines[1] == "compiled kernels: 3 of 4 built"
+    assert lines[2].split() == [names[0], "NOT", "BUILT"]
+    assert "its reference runs" in lines[-1] and "build_ext --inplace" in lines[-1]
+
+
 def test_end_to_end_version_is_the_package_metadata():
     from importlib.metadata import entry_points, version
 
@@ -227,7 +259,7 @@ def test_end_to_end_version_is_the_package_metadata():
     import tegraph
 
     out = run("--version")
-    assert out.returncode == 0 and out.stdout.strip() == f"tegraph {version('tegraph')}"
+    assert out.returncode == 0 and out.stdout.splitlines()[0] == f"tegraph {version('tegraph')}"
     assert tegraph.__version__ == maxplus.__version__ == version("tegraph")
     # The console script is main(), which `python -m tegraph.cli` runs above.
     (script,) = entry_points(group="console_scripts", name="tegraph")
@@ -409,7 +441,7 @@ def test_budget_defaults_are_the_library_constants():
     assert default(cycle_time, "max_states") == expected["--max-states"]
     options = _options_by_flag()
     assert {flag: len(options[flag]) for flag in expected} == {
-        "--max-events": 4, "--max-states": 2, "--max-memory": 2, "--max-firings": 2,
+        "--max-events": 5, "--max-states": 2, "--max-memory": 2, "--max-firings": 2,
         "--max-size": 2, "--max-steps": 1, "--max-variants": 1}
     for flag, value in expected.items():
         for command, param in options[flag]:

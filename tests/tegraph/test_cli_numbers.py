@@ -1,7 +1,8 @@
-"""Numbers given on the command line go through the one parser and its bound (issue 21).
+"""Numbers given on the command line go through the one parser and its bound.
 
-Items 1 (huge numbers hung), 3 (a traceback in the duration margins) and 4 (options
-that silently meant something else). Expected values are derived by hand in comments.
+A huge number is refused by its size (never expanded), the duration margins take
+the parser's values, and no option silently means something else. Expected values
+are derived by hand in comments.
 """
 
 from __future__ import annotations

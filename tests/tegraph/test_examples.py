@@ -38,6 +38,7 @@ ALL_EXAMPLES = [
     "ring_two_tokens.yaml",
     "lidar_fusion_two_clocks.yaml",
     "autoware_reference_system.yaml",
+    "quadrotor.yaml",
 ]
 
 
@@ -336,6 +337,41 @@ def test_computed_torque_daters():
         assert x[event] == [F(t) for t in times], event
 
 
+# ------------------------------------------------------------ quadrotor
+
+def test_quadrotor():
+    # Hand derivation (the example's comment): five groups, each clocked one keeping its
+    # clock's period from k = 1 (1, 2.5, 20, 100 ms), the logger without clock running
+    # back to back (period 12 with a processor per task: its duration). Slack: the
+    # period minus the duration, the logger 0 (critical). Circuits with a token: four
+    # clock self-loops and seven task loops, 11 semiflows. On the CPU (spec §4b),
+    # each unit from its tick: imu 0-0.1, att_est 0.1-0.25, rate_ctrl 0.25-0.55,
+    # mixer 0.55-0.75; pos_ctrl ends at 4, gps at 20 (the recurrences of the comment);
+    # the logger fills the 36 idle ms of every 100 with three jobs of 12: 100/3.
+    d = report_dict("quadrotor.yaml")
+    assert d["live"] is True and d["consistent"] is True and d["schedulable"] is True
+    assert d["unbounded_places"] == [] and d["deadlocks"] == []
+    check_group(d["groups"][0], ["imu", "att_est"], ["imu_clk"], "1", (1, 1))
+    check_group(d["groups"][1], ["rate_ctrl", "mixer"], ["rate_clk"], "5/2", (1, 1))
+    check_group(d["groups"][2], ["pos_ctrl"], ["pos_clk"], "20", (1, 1))
+    check_group(d["groups"][3], ["gps"], ["gps_clk"], "100", (1, 1))
+    check_group(d["groups"][4], ["logger"], [], "12", (1, 1))
+    check_tasks(d, {
+        "imu": (0, "1", None, "9/10", False), "att_est": (0, "1", None, "17/20", False),
+        "rate_ctrl": (1, "5/2", None, "11/5", False),
+        "mixer": (1, "5/2", None, "23/10", False),
+        "pos_ctrl": (2, "20", None, "18", False), "gps": (3, "100", None, "91", False),
+        "logger": (4, "12", None, "0", True),
+    })
+    assert d["invariants"]["count"] == 11
+    on = {t: (v["on_processors"]["period"], v["on_processors"]["response"])
+          for t, v in d["tasks"].items() if t != "logger"}
+    assert on == {"imu": ("1", "1/10"), "att_est": ("1", "3/20"),
+                  "rate_ctrl": ("5/2", "11/20"), "mixer": ("5/2", "1/5"),
+                  "pos_ctrl": ("20", "4"), "gps": ("100", "20")}
+    assert d["tasks"]["logger"]["on_processors"]["period"] == "100/3"
+
+
 # --------------------------------------------------------------- extras
 
 def test_rendezvous_two_clocks():
@@ -474,7 +510,7 @@ def test_overrun_daters_match_report_for_every_clocked_example():
 
 # ------------------------------------------- the Autoware reference system
 
-# From ros-realtime/reference-system at de8f3bc0 (the file's header cites the paths):
+# From ros-realtime/reference-system (the file's header cites the revision and paths):
 # autoware_system_builder.hpp builds 6 sensors, 9 transforms, 5 fusions, 1 cyclic node,
 # 1 intersection node (two callbacks, two tasks here) and 2 command nodes: 25 tasks;
 # its subscriptions number 9 + 5*2 + 6 + 2 + 2 = 29 links, the cyclic node's 6 ASYN/ASYN.

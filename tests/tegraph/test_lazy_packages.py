@@ -35,15 +35,17 @@ def test_the_format_modules_are_attributes_of_tegraph_io(name):
     assert name in dir(tegraph.io)
 
 
-def test_the_report_names_are_those_of_its_table():
-    assert sorted(tegraph.report.__all__) == sorted(tegraph.report._WHERE)
-    assert set(tegraph.report.__all__) <= set(dir(tegraph.report))
+@pytest.mark.parametrize("package", [tegraph.io, tegraph.report])
+def test_the_package_names_are_those_of_its_table(package):
+    assert sorted(package.__all__) == sorted(package._WHERE)
+    assert set(package.__all__) <= set(dir(package))
 
 
-@pytest.mark.parametrize("name", tegraph.report.__all__)
-def test_each_report_name_is_its_module_s_object(name):
-    module = importlib.import_module(tegraph.report._WHERE[name])
-    assert getattr(tegraph.report, name) is getattr(module, name)
+@pytest.mark.parametrize("package, name", [(p, n) for p in (tegraph.io, tegraph.report)
+                                           for n in p.__all__])
+def test_each_package_name_is_its_module_s_object(package, name):
+    module = importlib.import_module(package._WHERE[name])
+    assert getattr(package, name) is getattr(module, name)
 
 
 def test_unknown_names_are_refused():
@@ -59,7 +61,7 @@ def test_reading_a_skeleton_loads_no_other_format():
     assert not [m for m in loaded if m.startswith(("tegraph.io.", "tegraph.model.petri",
                                                    "tegraph.model.sdf"))
                 and m not in ("tegraph.io.skeleton_file", "tegraph.io._skeleton_yaml",
-                              "tegraph.io._detect", "tegraph.io._files")]
+                              "tegraph.io.formats", "tegraph.io._files")]
 
 
 def test_a_json_report_loads_no_text_report():

@@ -9,6 +9,6 @@
 
 They answer what the (max,+) analysis answers, by exploring states: the
 benchmarks compare the two, and the tests cross-check them. Nothing in
-:mod:`tegraph.analysis` depends on them but :mod:`..cycle_time` (the
+:mod:`tegraph.analysis` depends on them but :mod:`tegraph.analysis.cycle_time` (the
 reachability of a net that is no timed event graph).
 """

@@ -6,7 +6,7 @@ preemptive fixed-priority schedule exactly (``docs/analysis.md``, *The
 schedule on processors*).
 """
 
-from .platform import (
+from ...model.platform import (
     DEFAULT_PROCESSOR,
     Platform,
     ProcessorInfo,
@@ -19,11 +19,12 @@ from .schedule import (
     MAX_EVENTS,
     GrowingPlace,
     JobInterval,
+    Problem,
     ProcessorSchedule,
     TaskOnProcessors,
     schedule_on_processors,
 )
 
 __all__ = ["DEFAULT_PROCESSOR", "MAX_EVENTS", "GrowingPlace", "JobInterval", "Platform",
-           "ProcessorInfo", "ProcessorSchedule", "TaskOnProcessors", "is_automaton",
+           "Problem", "ProcessorInfo", "ProcessorSchedule", "TaskOnProcessors", "is_automaton",
            "platform_of", "processor_of", "processor_parts", "schedule_on_processors"]

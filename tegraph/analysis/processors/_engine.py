@@ -33,16 +33,7 @@ from dataclasses import dataclass, field
 from operator import itemgetter
 from typing import Any
 
-# The compiled loops (setup.py), on int64 times and on 192-bit ones; without them
-# every part runs the Python loop.
-try:
-    from . import _engine_kernel
-except ImportError:  # pragma: no cover - depends on the build
-    _engine_kernel = None  # type: ignore[assignment]
-try:
-    from . import _engine_kernel_wide
-except ImportError:  # pragma: no cover - depends on the build
-    _engine_kernel_wide = None  # type: ignore[assignment]
+from . import _loops
 
 __all__ = ["AFTER_OVERRUN", "PartData", "PartResult", "simulate_part"]
 
@@ -92,6 +83,10 @@ class PartData:
     writes, sensors and outputs of the chains asked for (spec §4c)."""
     started: list[int] = field(default_factory=list)
     """Tasks whose jobs' starts are recorded (``PartResult.starts``)."""
+    preemptive: list[bool] = field(default_factory=list)
+    """Per processor (§4d): False where a running job is never interrupted. The loops
+    here schedule preemptively; ``schedule.py`` hands them no part with a False here
+    (empty: every processor preemptive)."""
 
 
 @dataclass
@@ -588,11 +583,13 @@ def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> Part
     """
     part: _Part | _CompiledPart | None = None
     now = None
-    for module in (_engine_kernel, _engine_kernel_wide):
-        if now is None and module is not None and module.covers(d):
-            part = _CompiledPart(module, d, keep_intervals)
-            now = part.run(budget)
+    for module in _loops.compiled_loops(d):  # the loop is chosen there (_loops.use)
+        part = _CompiledPart(module, d, keep_intervals)
+        now = part.run(budget)
+        if now is not None:
+            break
     if now is None:  # times no compiled loop covers, or one passed its bound: Python ints
+        _loops.python_loop()
         part = _Part(d)
         part.keep_intervals = keep_intervals
         now = part.run(budget)

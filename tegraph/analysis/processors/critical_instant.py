@@ -2,7 +2,7 @@
 
 A part of the schedule (``schedule.py``) whose tasks share no synchronizing link
 (ASYN/ASYN ones add no place), no thread and no clock, each paced by a clock of
-its own with phase 0, all on one processor with distinct priorities, is the
+its own with phase 0, all on one *preemptive* processor with distinct priorities, is the
 classical task set of Liu and Layland [1]_: synchronous periodic tasks, deadline =
 period (§4b's overrun: job k-1 still running at tick k). Its clocks' hyperperiod
 may be astronomically long (drifting clocks: 0.997, 1.009, 1.013 ms), which a
@@ -42,8 +42,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
+from ...model.platform import Platform
 from ...model.skeleton import Protocol, Skeleton
-from .platform import Platform
 
 __all__ = ["MAX_TERMS", "IndependentVerdict", "independent_tasks"]
 
@@ -87,7 +87,7 @@ def independent_tasks(skeleton: Skeleton, tasks: list[str], platform: Platform, 
     B (period 4, duration 2) under A (period 2, duration 1): R_B = 2 + ceil(R/2)*1
     gives 3, then 4 = 2 + 2: B ends at 4, its period.
 
-    >>> from tegraph.analysis.processors.platform import platform_of
+    >>> from tegraph.model.platform import platform_of
     >>> from tegraph.analysis.analyze import analyze_skeleton
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2},
     ...                                    "B": {"duration": 2, "period": 4}}})
@@ -146,9 +146,17 @@ def _lower_bound(c: Fraction, urgent: list[tuple[Fraction, Fraction]]) -> Fracti
 
 
 def _independent(sk: Skeleton, tasks: list[str], platform: Platform) -> bool:
-    """The hypotheses of the theorem: see the module's docstring."""
+    """The hypotheses of the theorem: see the module's docstring.
+
+    Preemption is one of them: on a non-preemptive processor (§4d) a less urgent job
+    already running blocks a more urgent one, which the recurrence does not count, so
+    the theorem declines there (None), and so do those built on it (``scaling.py``
+    and the sensitivity's parts).
+    """
     part = set(tasks)
     if len({platform.processor_of[t] for t in tasks}) != 1:
+        return False
+    if not platform.all_preemptive(tasks[:1]):
         return False
     if len({platform.priority[t] for t in tasks}) != len(tasks):
         return False

@@ -1,8 +1,11 @@
 """The critical scaling factor of Lehoczky, Sha and Ding, exact, for independent units.
 
 For a part that satisfies the hypotheses of :mod:`.critical_instant`
-(independent periodic tasks released together on one processor, deadline =
-period, distinct priorities), Lehoczky, Sha and Ding's exact test [1]_ reads:
+(independent periodic tasks released together on one preemptive processor,
+deadline = period, distinct priorities: ``critical_instant._independent`` is the
+one test of them, and declines a non-preemptive processor, where a running job
+blocks a more urgent one and no scheduling point below counts it), Lehoczky,
+Sha and Ding's exact test [1]_ reads:
 task i meets every deadline iff there is a *scheduling point*
 ``t in S_i = {k T_j : j at least as urgent as i, k = 1 .. floor(T_i / T_j)}``
 (``T_i`` is one of them) with ``W_i(t) <= t``, where
@@ -22,6 +25,13 @@ ceil(t/T_m)) / ceil(t/T_m)``, and the part iff ``C_m`` is at most the minimum
 of those over the tasks i at most as urgent as m: again a closed interval
 from 0, the others' durations fixed.
 
+Along any line of the durations (each ``C_j = c_j + k_j t`` with ``k_j >= 0``:
+all times one factor, one alone, or any mix), ``W_i(s) = a_s + b_s t`` at each
+scheduling point, so unit i meets every deadline exactly for the t with
+``t <= max_{s in S_i, b_s > 0} (s - a_s) / b_s`` (every t when some point has
+``b_s = 0`` and ``a_s <= s``): :func:`level_limits`, for the units of
+:mod:`tegraph.analysis.processors.levels` as well as for single tasks.
+
 §4b's overrun is the classical deadline miss here: while no job is late, each
 job is released at its tick and the schedule is the classical one; the first
 job still running at its next tick is the first deadline miss (an activation
@@ -37,11 +47,13 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
-__all__ = ["MAX_POINTS", "ScalingLimit", "critical_scaling_factor", "duration_margin"]
+__all__ = ["MAX_POINTS", "LineLimit", "ScalingLimit", "critical_scaling_factor",
+           "duration_margin", "level_limits"]
 
 MAX_POINTS = 1_000_000
 """Scheduling points examined in all before giving up (None is returned)."""
@@ -168,3 +180,76 @@ def duration_margin(tasks: Sequence[tuple[Fraction, Fraction]], m: int, *,
         if top is not None and (best is None or top < best):
             best, who = top, i
     return ScalingLimit(best, who)
+
+
+@dataclass(frozen=True)
+class LineLimit:
+    """Where one unit meets every deadline along a line of the durations: the t <= ``high``."""
+
+    high: Fraction | None
+    """None: every t (``never`` False) or no t (``never`` True)."""
+    never: bool = False
+
+
+def level_limits(units: Sequence[tuple[Fraction, Fraction, Fraction]], *,
+                 max_points: int = MAX_POINTS) -> list[LineLimit] | None:
+    """For each unit along a line, the t where it meets every deadline (exact test).
+
+    Parameters
+    ----------
+    units : sequence of (c, k, period)
+        Most urgent first; the unit's work on the line is ``c + k·t``, ``k >= 0``.
+    max_points : int
+        Budget of scheduling points; None is returned past it.
+
+    Returns
+    -------
+    list of LineLimit or None
+        Unit i meets every deadline, its work and that of the more urgent units
+        released together at 0 (Lehoczky, Sha and Ding's test, module docstring),
+        exactly for the t of its limit.
+
+    Examples
+    --------
+    Liu and Layland's pair again, the second duration ``t`` (``duration_margin``):
+    the first meets its deadline for every t, the second for ``t <= 3``; all
+    durations times t (``critical_scaling_factor``): ``t <= 5/4`` for the second.
+
+    >>> F = Fraction
+    >>> [x.high for x in level_limits([(F(2), F(0), F(5)), (F(0), F(1), F(7))])]
+    [None, Fraction(3, 1)]
+    >>> [x.high for x in level_limits([(F(0), F(2), F(5)), (F(0), F(2), F(7))])]
+    [Fraction(5, 2), Fraction(5, 4)]
+    """
+    # On integers: every time times the lcm D of the denominators (a ceiling
+    # ceil(s/T) and the ratio (s - a)/b do not change), each ratio kept as a pair.
+    scale = math.lcm(*(x.denominator for unit in units for x in unit)) if units else 1
+    c = [int(x * scale) for x, _, _ in units]
+    k = [int(x * scale) for _, x, _ in units]
+    periods = [int(p * scale) for _, _, p in units]
+    left = max_points
+    out = []
+    for i in range(len(units)):
+        points = {periods[i]}
+        for j in range(i + 1):
+            n = periods[i] // periods[j]
+            left -= n
+            if left < 0:
+                return None
+            points.update(range(periods[j], n * periods[j] + 1, periods[j]))
+        best: tuple[int, int] | None = None  # (numerator, denominator > 0)
+        every = False
+        for point in points:
+            ceils = [-(-point // periods[j]) for j in range(i + 1)]
+            a = sum(cj * n for cj, n in zip(c, ceils))
+            b = sum(kj * n for kj, n in zip(k, ceils))
+            if b == 0:
+                if a <= point:
+                    every = True
+                    break
+                continue
+            if best is None or (point - a) * best[1] > best[0] * b:
+                best = (point - a, b)
+        out.append(LineLimit(None) if every else
+                   LineLimit(None if best is None else Fraction(*best), never=best is None))
+    return out

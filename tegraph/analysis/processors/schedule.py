@@ -47,17 +47,22 @@ from maxplus.scalar import display_text
 from ...errors import InputError, ModelError
 from ...model.budgets import MAX_EVENTS
 from ...model.build import UnboundedKind, activation_end, unbounded_kind
+from ...model.limits import event_budget_problem
+from ...model.platform import (
+    Platform,
+    check_groups,
+    clock_hyperperiod,
+    platform_of,
+    processor_parts,
+)
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
 from ._engine import AFTER_OVERRUN, PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
-from .platform import Platform, check_groups, platform_of, processor_parts
 from .trace import ScheduleTrace, TraceRequest
 
-__all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "TaskOnProcessors",
-           "schedule_on_processors", "trace_schedule"]
-
-
+__all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "Problem",
+           "TaskOnProcessors", "schedule_on_processors", "trace_schedule"]
 
 
 @dataclass(frozen=True)
@@ -80,10 +85,42 @@ class TaskOnProcessors:
     period: Fraction | None = None
     overrun_at: int | None = None
     response: Fraction | None = None
+    """From release (its reads done) to the job's end: the largest over the regime."""
     starved: bool = False
     """Proven: a job of the task never receives its duration."""
     decided: bool = False
     """The figures are proven (a regime, or nothing more happens); False: budget."""
+    response_from_tick: Fraction | None = None
+    """From its clock's tick ``x_C.tick(k)`` to the end of job k: the largest over the
+    regime (v1.3); None without a clock, or where ticks pile up (it grows without bound)."""
+    starved_since: Fraction | None = None
+    """Starved: the release of its job that never ends."""
+    stopped_after: int | None = None
+    """Proven: no job is ever released after activation ``stopped_after`` (the number of
+    jobs it had), although none of its jobs is starved: it waits for events that never
+    fire again. None when it runs on (or is starved itself)."""
+    waits_for: tuple[str, ...] = ()
+    """A stopped task: the starved tasks whose jobs it waits for, through the places
+    of the graph (in file order)."""
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What makes a schedule not schedulable, at the instant it shows (§4b).
+
+    Every command lists these in one order, earliest first
+    (:attr:`ProcessorSchedule.problems`): an overrun at its clock's tick
+    ``x_C.tick(k)``, a starved task at the release of the job that never ends.
+    """
+
+    kind: str
+    """``"overrun"`` or ``"starved"``."""
+    task: str
+    at: Fraction | None
+    """The instant: the overrun's tick, the starved job's release (None: not known,
+    a part decided by a theorem)."""
+    k: int | None
+    """The activation: ``overrun_at`` for an overrun; None for a starved task."""
 
 
 @dataclass(frozen=True)
@@ -125,6 +162,12 @@ class ProcessorSchedule:
     """Event firings simulated in all."""
     trace: ScheduleTrace | None = field(default=None, repr=False)
     """What ``trace`` asked to record (spec §4c), None when nothing was asked."""
+    with_intervals: bool = True
+    """Whether ``raw_intervals`` holds every job's processor time (``intervals=True``)."""
+    problems: list[Problem] = field(default_factory=list)
+    """Every overrun and starved task, earliest first (then file order): the one order
+    of every command's verdict and lists. Growing places have no instant of their
+    own: they are :attr:`unbounded`."""
 
     @property
     def intervals(self) -> list[JobInterval]:
@@ -141,6 +184,11 @@ class ProcessorSchedule:
     def starved(self) -> list[str]:
         """The starved tasks, in file order."""
         return [t for t, r in self.tasks.items() if r.starved]
+
+    @property
+    def stopped(self) -> list[str]:
+        """The tasks that never run again behind a starved task, in file order."""
+        return [t for t, r in self.tasks.items() if r.stopped_after is not None]
 
 
 def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any], *,
@@ -159,7 +207,7 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         ``analyze_skeleton(skeleton).groups`` (``tasks``, ``clocks``, ``live``
         are read): the groups are computed once, by the caller.
     platform : Platform, optional
-        Default :func:`~tegraph.analysis.processors.platform.platform_of`.
+        Default :func:`~tegraph.model.platform.platform_of` (``report.platform``).
     max_events : int
         Budget of event firings in all (:data:`MAX_EVENTS`), shared among the parts.
     intervals : bool
@@ -195,8 +243,9 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     >>> s.regimes[0]["start"], s.regimes[0]["length"]  # B's job still ends at 4 there
     (Fraction(4, 1), Fraction(4, 1))
     """
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
     if "compute" not in teg.attrs:
         raise ModelError("not built from a skeleton (no 'compute' in attrs)", "teg")
     check_groups(skeleton, groups)
@@ -205,7 +254,9 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     net = _Net(skeleton, teg, groups, platform)
     out = _Outcome(net, max_events, trace)
     _simulate_parts(net, out, net.parts(trace=trace), max_events, intervals)
-    return out.finish()
+    schedule = out.finish()
+    schedule.with_intervals = intervals
+    return schedule
 
 
 def trace_schedule(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any],
@@ -218,7 +269,7 @@ def trace_schedule(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[An
     proofs this runs on those parts alone (their share of ``max_events`` is the
     whole budget); only what was recorded is returned, and a part is simulated
     only to find its regime (no quick look for an early overrun). The chains of
-    §4c with a processor per task (:func:`~.platform.processor_per_task`, where
+    §4c with a processor per task (:func:`~tegraph.model.platform.processor_per_task`, where
     the schedule is §3's daters) need no other part.
 
     Parameters
@@ -233,8 +284,9 @@ def trace_schedule(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[An
     -------
     ScheduleTrace
     """
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
     check_groups(skeleton, groups)
     net = _Net(skeleton, teg, groups, platform)
     out = _Outcome(net, max_events, trace, trace_only=True)
@@ -247,7 +299,7 @@ def trace_schedule(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[An
     def promising(names: list[str]) -> bool:
         # A part whose regime cannot come within an even share is not even made.
         share = max(max_events // n_parts, 1)
-        hyper, ticks = _hyperperiod(skeleton, names)
+        hyper, ticks = clock_hyperperiod(skeleton, names)
         needed = _least_firings(names, known)
         if ticks > share:
             out.untraced(names, _why_part(skeleton, names, hyper, ticks, True))
@@ -271,8 +323,13 @@ def _simulate_parts(net: _Net, out: _Outcome, parts: Any, max_events: int,
     parts = sorted(parts, key=lambda part: part[0].n_events)
     left = max_events
     for i, (data, local_tasks, local_events, local_places) in enumerate(parts):
+        if not all(data.preemptive):
+            # The engine schedules preemptively: on a non-preemptive processor its
+            # answer would be another schedule's. Nothing is claimed for the part.
+            out.add_not_computed(local_tasks, local_events)
+            continue
         share = max(left // (len(parts) - i), 1)
-        hyper, ticks = _hyperperiod(skeleton, local_tasks)
+        hyper, ticks = clock_hyperperiod(skeleton, local_tasks)
         # A regime holds a whole number of periods of every clock: it cannot be
         # proven before each clock has ticked over one hyperperiod. Past the
         # share, look only for an early overrun, and say why at once.
@@ -319,16 +376,8 @@ QUICK_LOOK = 10_000
 exceeds its share of the budget."""
 
 
-def _hyperperiod(sk: Skeleton, tasks: list[str]) -> tuple[Fraction | None, int]:
-    """The least common multiple of the part's clock periods, and its ticks over it."""
-    periods = {sk.clocks[c].period for c in {sk.tasks[t].clock for t in tasks} if c}
-    if not periods:
-        return None, 0
-    num, den = 1, 0
-    for p in periods:
-        num, den = math.lcm(num, p.numerator), math.gcd(den, p.denominator)
-    hyper = Fraction(num, den)
-    return hyper, sum(int(hyper / p) for p in periods)
+NON_PREEMPTIVE = "non-preemptive processors: not implemented in the schedule engine"
+"""Why a part with a processor declared ``preemptive: false`` (§4d) is not decided."""
 
 
 def _shown(tasks: list[str]) -> str:
@@ -491,7 +540,8 @@ class _Net:
             processor=[procs[self.platform.processor_of[t]] for t in names],
             n_processors=len(procs),
             end_event=[_end_event(self.teg, t, local) for t in names],
-            watched=watched, snapshot_place=self._snapshot_place(src, dst, events, slowest_tick))
+            watched=watched, snapshot_place=self._snapshot_place(src, dst, events, slowest_tick),
+            preemptive=[self.platform.preemptive(p) for p in procs])
         if trace is not None:
             data.logged = [local[e] for e in trace[0].tolist()]
             data.started = [j for j, t in enumerate(names) if t in trace[1]]
@@ -593,6 +643,8 @@ class _Outcome:
         self.intervals: list[tuple[str, int, int, str, int]] = []
         self.regimes: list[dict[str, Any]] = []
         self.undecided: list[str] = []
+        self.not_computed: list[str] = []
+        """The parts on a non-preemptive processor (:data:`NON_PREEMPTIVE`), as words."""
         self.by_theorem = 0
         """Parts decided by the critical instant (``critical_instant.py``)."""
         self.after_overrun = 0
@@ -657,6 +709,19 @@ class _Outcome:
             return
         self._regime(r, d, names, events, places)
 
+    def add_not_computed(self, names: list[str], events: np.ndarray) -> None:
+        """A part the engine cannot schedule (:data:`NON_PREEMPTIVE`): no figure, no
+        regime; ``regimes`` says ``"by": "not computed"`` and why."""
+        platform = self.net.platform
+        kinds = [p for p in dict.fromkeys(platform.processor_of[t] for t in names)
+                 if not platform.preemptive(p)]
+        why = (f"the part of {_shown(names)}: {NON_PREEMPTIVE} (processor "
+               f"{', '.join(kinds)} is declared preemptive: false)")
+        self.untraced(names, why)
+        self.not_computed.append(why)
+        self.regimes.append({"tasks": names, "start": None, "length": None,
+                             "by": "not computed", "why": why})
+
     def add_independent(self, v: IndependentVerdict, names: list[str], events: np.ndarray,
                         hyper: Fraction | None, look: PartResult) -> None:
         """A part decided by the critical instant: its figures, and the intervals of a
@@ -675,7 +740,10 @@ class _Outcome:
             if t == v.late:
                 fig.overrun_at, fig.decided = 2, True
             else:
+                # Each job is released at its tick (every job ends by the next one), so
+                # the time from the tick is the time from the release.
                 fig.period, fig.response, fig.decided = v.period[t], r, True
+                fig.response_from_tick = r
         met = {t for t in v.period}
         self.regimes.append({"tasks": names, "start": None if v.late else Fraction(0),
                              "length": None if v.late else hyper, "by": "critical instant"})
@@ -721,22 +789,35 @@ class _Outcome:
             self._grow(int(places[p]), per)
         compute_of = {j: e for e, j in enumerate(d.compute_task) if j >= 0}
         tick_of = {j: e for e, ts in d.watched.items() for j in ts}
+        stopped = []
         for j, t in enumerate(names):
             fig = self.tasks[t]
             fig.decided = True
             compute = compute_of[j]
             n = fired[compute]
             fig.starved = n == 0 and new.pending[j] >= 0
+            if fig.starved:
+                fig.starved_since = self._fraction(r.jobs[j][-1][0])
+            elif n == 0:  # no job of its own, none to come: it waits for ever
+                fig.stopped_after = new.fired[compute]
+                stopped.append(j)
             if n:
                 fig.period = period[n]
                 fig.response = self._fraction(_response(r.jobs[j], old.fired[compute],
                                                         new.fired[compute], length))
+                if j in tick_of and fired[tick_of[j]] == n:  # as many ticks as jobs
+                    fig.response_from_tick = self._fraction(_response_from_tick(
+                        r.jobs[j], r.tick_log[j], old.fired[compute], new.fired[compute],
+                        length))
             if fig.overrun_at is None and j in r.tick_log:
                 tick = tick_of[j]
                 last = d.end_event[j]
                 ends = (new.finished[j] - old.finished[j] if last is None
                         else fired[last])
                 fig.overrun_at = _overrun_to_come(r.tick_log[j], t1, t2, fired[tick], ends)
+        if stopped:
+            for j, waits in _waits_for(d, fired, stopped, compute_of, names, self.tasks).items():
+                self.tasks[names[j]].waits_for = waits
 
     def finish(self) -> ProcessorSchedule:
         net = self.net
@@ -756,8 +837,9 @@ class _Outcome:
         self.regimes.sort(key=lambda r: index[r["tasks"][0]])
         unbounded.sort(key=lambda u: u.place)
         verdict, why = self._verdict(live, unbounded)
+        problems = self._problems()
         parts = len(self.regimes)
-        simulated = parts - self.by_theorem
+        simulated = parts - self.by_theorem - len(self.not_computed)
         method = (f"exact event-driven simulation of the schedule on processors (§4b), "
                   f"{self.events} event firings in {simulated} independent part(s); "
                   + self._proofs(simulated)) if simulated or not parts else ""
@@ -767,12 +849,33 @@ class _Outcome:
                        "together on one processor, whose hyperperiod is too long to "
                        "simulate, decided by the critical instant (Liu and Layland 1973) "
                        "and the exact response-time test (Lehoczky, Sha and Ding 1989)")
+        if self.not_computed:
+            method += ("; " if method else "schedule on processors (§4b): ") + (
+                       f"{len(self.not_computed)} part(s) on a non-preemptive processor not "
+                       f"computed ({NON_PREEMPTIVE})")
         return ProcessorSchedule(platform=net.platform, schedulable=verdict,
                                  exact=verdict is not None, method=method, why_undecided=why,
                                  tasks=self.tasks, group_periods=group_periods,
                                  unbounded=unbounded, raw_intervals=self.intervals,
                                  scale=net.scale, regimes=self.regimes, events=self.events,
-                                 trace=self.trace)
+                                 trace=self.trace, problems=problems)
+
+    def _problems(self) -> list[Problem]:
+        """Every overrun (at its tick) and starved task (at its job's release), earliest
+        first, then in file order."""
+        sk = self.net.sk
+        out: list[tuple[tuple, Problem]] = []
+        for i, (t, f) in enumerate(self.tasks.items()):
+            if f.overrun_at is not None:
+                clock = sk.tasks[t].clock
+                at = (None if clock is None else
+                      sk.clocks[clock].phase + (f.overrun_at - 1) * sk.clocks[clock].period)
+                out.append(((at is None, at or 0, i, 0), Problem("overrun", t, at, f.overrun_at)))
+            if f.starved:
+                at = f.starved_since
+                out.append(((at is None, at or 0, i, 1), Problem("starved", t, at, None)))
+        out.sort(key=lambda x: x[0])
+        return [p for _, p in out]
 
     def _proofs(self, simulated: int) -> str:
         """What the simulation proved: a regime per part, or, where the budget ran out
@@ -805,10 +908,15 @@ class _Outcome:
             f.overrun_at is not None or f.starved for f in self.tasks.values()))
         if found:
             return False, None
+        why = []
+        if self.not_computed:
+            why.append("not computed: " + "; ".join(self.not_computed))
         if self.undecided:
-            return None, (f"undecided within the budget of {self.budget:,} event firings "
-                          f"(shared among {len(self.regimes)} independent part(s)): "
-                          + "; ".join(self.undecided))
+            why.append(f"undecided within the budget of {self.budget:,} event firings "
+                       f"(shared among {len(self.regimes)} independent part(s)): "
+                       + "; ".join(self.undecided))
+        if why:
+            return None, "; ".join(why)
         return True, None
 
 
@@ -825,6 +933,59 @@ def _response(jobs: list[list], c1: int, c2: int, length: int) -> int:
             finish = jobs[c1 - 1][1] + length
         best = max(best, finish - release)
     return best
+
+
+def _response_from_tick(jobs: list[list], ticks: list[tuple[int, int, int]], c1: int,
+                        c2: int, length: int) -> int:
+    """Largest finish - tick over the jobs released in the regime (numbers c1+1..c2).
+
+    Job k is released by tick k (its activation takes the k-th tick's token); the
+    regime holds as many ticks as jobs, so job k + n ends, and tick k + n comes,
+    one regime after job k and tick k (n = c2 - c1): a job still running when the
+    regime closes counts as the job n earlier, which ended.
+    """
+    at = {k: now for now, k, _ in ticks}
+    n = c2 - c1
+    best = 0
+    for k in range(c1 + 1, c2 + 1):
+        finish = jobs[k - 1][1]
+        j = k
+        while finish is None:  # the same job, one regime earlier
+            j -= n
+            finish = jobs[j - 1][1]
+        best = max(best, finish - at[j])
+    return best
+
+
+def _waits_for(d: PartData, fired: list[int], stopped: list[int], compute_of: dict[int, int],
+               names: list[str], figures: dict[str, TaskOnProcessors]
+               ) -> dict[int, tuple[str, ...]]:
+    """For each stopped task (local index), the starved tasks it waits for.
+
+    Backwards along the places from its compute event, through the events that
+    fire no more in the regime: the compute events of starved tasks met on the
+    way are what it waits for (their jobs never end, so nothing after them fires).
+    """
+    into: dict[int, list[int]] = {}
+    for s, t in zip(d.p_src, d.p_dst):
+        if not fired[s]:
+            into.setdefault(t, []).append(s)
+    starved = {compute_of[j]: j for j, t in enumerate(names) if figures[t].starved}
+    out = {}
+    for j in stopped:
+        seen = {compute_of[j]}
+        todo = [compute_of[j]]
+        found = set()
+        while todo:
+            e = todo.pop()
+            if e in starved and starved[e] != j:
+                found.add(starved[e])
+            for s in into.get(e, ()):
+                if s not in seen:
+                    seen.add(s)
+                    todo.append(s)
+        out[j] = tuple(names[i] for i in sorted(found))
+    return out
 
 
 def _overrun_to_come(log: list[tuple[int, int, int]], t1: int, t2: int, ticks: int,

@@ -11,7 +11,10 @@ One module an idea:
 - :mod:`.formulas`: each group's period as a formula; :mod:`.region`: the
   consistent region of two parameters;
 - on the processors (spec §4b): :mod:`.affine` (times ``c + k·t``),
-  :mod:`.walk` (intervals of constant event order), :mod:`.parts` (the
+  :mod:`.walk` (intervals of constant event order, and the sweep of a whole
+  range), :mod:`tegraph.analysis.sensitivity.levels` (a part whose groups are
+  periodic units, decided along a line by the exact test of units, piece by
+  piece), :mod:`.parts` (the
   schedule's parts at a point, with the budgets), :mod:`.on_processors` (the
   scaling factor and margins on processors);
 - :mod:`.results`: what is returned; :mod:`.core`: :func:`sensitivity`, the whole.

@@ -64,6 +64,7 @@ class Cut:
             self.hi, self.hi_closed = r, closed
 
     def meet(self, other: Cut) -> None:
+        """Narrow this cut to its intersection with ``other``."""
         if other.lo is not None:
             self.above(other.lo, other.lo_closed)
         if other.hi is not None:

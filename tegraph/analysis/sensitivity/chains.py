@@ -18,11 +18,11 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
+from ...model.platform import processor_of, processor_parts
 from ...model.skeleton import Skeleton
 from ...model.structure import Structure
 from ..analyze import analyze_skeleton
 from ..chains import ChainFigures
-from ..processors.platform import processor_of, processor_parts
 from .parametric import Parameter
 from .results import ChainAtMargins
 
@@ -68,7 +68,7 @@ def chains_at_margins(skeleton: Skeleton, chains: Sequence[Sequence[str]],
             sub = _moved(skeleton, by_name, values).restricted_to(tasks)
             report = analyze_skeleton(sub, semiflow_max_places=0, processors=processors,
                                       max_events=max_events, chains=[chain])
-            (c,) = report.chains
+            c = report.chains[-1]  # after the sub-skeleton's own chains: the one asked for
             return c.on_processors if processors else c.processor_per_task
 
         nominal = at({})

@@ -40,6 +40,7 @@ from typing import Any
 from maxplus.scalar import display_text
 
 from ...errors import InputError
+from ...model.limits import event_budget_problem
 from ...model.skeleton import Skeleton
 from ...model.skeleton.checks import Locator, check_chain
 from ...model.structure import Structure
@@ -125,8 +126,8 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     chains : sequence of task-name sequences
         Chains besides the skeleton's own: for each, its first use (spec §4c) at the
         nominal values, at the scaling factor and at each end of every margin
-        (``result.chains``, :mod:`.chains`), on processors or with a processor per
-        task as the figures are.
+        (``result.chains``, :mod:`tegraph.analysis.sensitivity.chains`), on processors
+        or with a processor per task as the figures are.
 
     Returns
     -------
@@ -199,6 +200,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     started = time.perf_counter()
     params = parse_vary(skeleton, vary)
     context, result = _nominal(skeleton, params, started)
+    context.named = vary is not None
     has_durations = any(p.kind == "duration" for p in params)
     figures = _Figures(int(has_durations) + (len(params) if margins else 0), progress)
     on = _processors_part(context, result, max_events, figures) if processors else None
@@ -221,8 +223,9 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
 
 
 def _check_max_events(max_events: Any) -> None:
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected an integer >= 1, got {max_events!r}", "max_events")
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
 
 
 def _nominal(skeleton: Skeleton, params: tuple[Parameter, ...],
@@ -327,6 +330,9 @@ class _Context:
         self.groups, self.fine, self.at_nominal = groups, fine, at_nominal
         self.rounds = self.points = self.analyses = 0
         self.max_events = MAX_EVENTS
+        self.named = False
+        """The parameters were named (``vary``): on processors, their lines are searched
+        where the nominal values are not schedulable."""
         self.schedulable: bool | None = None
         self.unschedulable: Outcome | None = None
         """On processors: the outcome why the nominal values are not schedulable."""
@@ -658,7 +664,8 @@ def _nominal_on_processors(ctx: _Context, result: SensitivityResult,
     report = analyze_skeleton(ctx.skeleton, semiflow_max_places=0, structure=ctx.structure)
     result.processors = True
     ctx.max_events = max_events
-    on = ProcessorLine(ctx.skeleton, ctx.params, ctx.nominal, report.groups, max_events)
+    on = ProcessorLine(ctx.skeleton, ctx.params, ctx.nominal, report.groups, max_events,
+                       nominal_platform=report.platform)
     ctx.schedulable, ctx.unschedulable = on.decide_nominal(report.live)
     result.schedulable = ctx.schedulable
     return on
@@ -720,8 +727,10 @@ def _methods(result: SensitivityResult, max_parameters: int, verify: bool) -> di
             "affine function of the line's parameter, so each run decides a whole interval "
             "of constant schedule order; the intervals are walked from the nominal value to "
             "the first that is not schedulable (each end decided at it and just beyond); "
-            "parts of independent periodic tasks on one processor by the critical scaling "
-            "factor of Lehoczky, Sha and Ding (1989), exact; a processor asked for more than "
+            "a part whose groups are each one periodic unit of its summed work at its own "
+            "priority on one processor (or a background task without clock) level by level "
+            "from the most urgent down by the exact test of Lehoczky, Sha and Ding (1989), "
+            "the schedule simulated only where it does not decide; a processor asked for more than "
             "all its time is proven not schedulable; each line simulates only the parts it "
             "moves (the others' events do not depend on it: their nominal verdict, decided "
             "once); nothing is searched where the nominal values are not schedulable or "

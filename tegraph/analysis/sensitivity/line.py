@@ -72,6 +72,7 @@ class Line:
 
     def values(self, group: ParametricGroup, nominal: Sequence[Fraction], t: Fraction
                ) -> dict[int, Fraction]:
+        """The group's parameter values at ``t`` on this line (nominal where it leaves them)."""
         return {j: self.base.get(j, nominal[j]) + t * self.direction.get(j, 0)
                 for j in group.params}
 

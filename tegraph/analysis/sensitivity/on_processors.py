@@ -26,7 +26,7 @@ from .affine import Cut
 from .parametric import skeleton_at
 from .parts import SCHEDULE, THEOREM, ProcessorLine
 from .results import PROCESSORS, Check, Limit, Margin, Scaling
-from .walk import MAX_STEPS, Interval, Outcome, per_task_outcome, seek, walk
+from .walk import MAX_STEPS, Interval, Outcome, per_task_outcome, seek, sweep, walk
 
 __all__ = ["LineAnswer", "margin_on", "method_text", "scaling_on", "solve_line"]
 
@@ -45,6 +45,9 @@ class LineAnswer:
     """Ends of the interval holding the start, proven (``high`` None: unbounded)."""
     low_exact: bool = True
     high_exact: bool = True
+    low_attained: bool = True
+    high_attained: bool = True
+    """False: the end is a bound of the interval, not in it (schedulable up to it, not at it)."""
     high_bound: Fraction | None = None
     """When ``high`` is not exact: the per-task end, which the true end does not pass."""
     nearest_below: Fraction | None = None
@@ -57,6 +60,8 @@ class LineAnswer:
     why: list[str] = field(default_factory=list)
     """Why an end is not exact (undecided points, the step budget)."""
     at_start: Outcome | None = None
+    start: Fraction | None = None
+    """The nominal point of the line."""
     beyond: dict[str, Outcome] = field(default_factory=dict)
     """"high"/"low"/"below"/"above": the outcome just beyond that end (for the checks)."""
 
@@ -98,7 +103,7 @@ def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int
     firsts: dict[int, Outcome] = {}
     combined = _combined(on, base, direction, parts, per_task, positive, firsts)
     first = combined(start, 0)
-    answer = LineAnswer(first.verdict, at_start=first)
+    answer = LineAnswer(first.verdict, at_start=first, start=start)
     if first.verdict is True:
         holding = next((a, b) for a, b in per_task if a <= start and (b is None or start <= b))
         for up in (True, False):
@@ -107,6 +112,8 @@ def solve_line(on: ProcessorLine, base: dict[int, Fraction], direction: dict[int
     else:
         _nearest(answer, combined, first, max_steps)
     answer.used = on.used
+    if answer.why:
+        answer.why += on.why_simulated(parts, base, direction)
     answer.why = list(dict.fromkeys(answer.why))
     return answer
 
@@ -188,6 +195,7 @@ def _end(on: ProcessorLine, answer: LineAnswer, base: dict[int, Fraction],
     only up to where it stopped (``proven``): the end is then a bound.
     """
     best = proven = per_task_end
+    attained = True  # the per-task intervals are closed
     source: Outcome | None = None
     closer = operator.lt if up else operator.gt
     for i in parts:
@@ -203,15 +211,17 @@ def _end(on: ProcessorLine, answer: LineAnswer, base: dict[int, Fraction],
         if not w.capped:
             # Unbounded (None) only while nothing bounds the walk: then proven is None too,
             # since every later walk is capped by `best`.
-            best, source = w.end, w.beyond
+            best, source, attained = w.end, w.beyond, w.attained
             if proven is None or (best is not None and closer(best, proven)):
                 proven = best
     exact = proven == best
     if up:
         answer.high, answer.high_exact = proven, exact
+        answer.high_attained = attained or not exact
         answer.high_bound = None if exact else best
     else:
         answer.low, answer.low_exact = proven, exact
+        answer.low_attained = attained or not exact
     if source is not None and exact:
         answer.beyond["high" if up else "low"] = source
 
@@ -228,7 +238,8 @@ def why_text(out: Outcome | None) -> str:
     if kind == "grows":
         return f"the place {a} grows on its processors"
     if kind == "starved":
-        return f"{a} never gets enough of its processor (starved)"
+        because = f": {rest[0]}" if rest else ""
+        return f"{a} never gets enough of its processor (starved){because}"
     if kind == "saturated":
         return (f"the processor {a} is asked for more than all its time (each group's "
                 "tasks once per period of its clock)")
@@ -255,8 +266,10 @@ def method_text(answer: LineAnswer) -> str:
     """How the figure on processors was decided, for the report."""
     ways = []
     if THEOREM in answer.used:
-        ways.append("the critical scaling factor of Lehoczky, Sha and Ding (1989), exact for "
-                    "independent periodic tasks released together on one processor")
+        ways.append("each group one periodic unit of its summed work at its own priority on "
+                    "one processor (a task without clock: a background task in the idle "
+                    "time), decided level by level from the most urgent down by Lehoczky, "
+                    "Sha and Ding's exact test (1989)")
     if SCHEDULE in answer.used:
         ways.append(f"the exact §4b schedule run on affine times, {answer.steps} interval"
                     f"{'s' * (answer.steps != 1)} of constant event order walked")
@@ -271,18 +284,21 @@ def method_text(answer: LineAnswer) -> str:
 # --------------------------------------------------------------------------- the report
 
 
-def limit_on(outcome: Outcome) -> Limit:
-    """What the exact schedule shows just beyond an end."""
+def limit_on(outcome: Outcome, at_end: bool = False) -> Limit:
+    """What the exact schedule shows just beyond an end (``at_end``: at the end itself,
+    an end that the interval does not hold)."""
     kind, a, *rest = outcome.why  # type: ignore[misc]
+    where = "on its processors, at the end itself" if at_end else "on its processors"
     if kind == "overrun":
-        return Limit("processors", f"on its processors, {a} overruns: activation {rest[0] - 1} "
+        return Limit("processors", f"{where}, {a} overruns: activation {rest[0] - 1} "
                      f"has not ended at tick {rest[0]}", task=a, activation=rest[0], tasks=[a])
     if kind == "grows":
-        return Limit("processors", f"on its processors, the place {a} grows by tokens every "
+        return Limit("processors", f"{where}, the place {a} grows by tokens every "
                      "regime (unbounded)", events=a.split(" -> "))
     if kind == "starved":
-        return Limit("processors", f"on its processors, {a} never gets enough of its "
-                     "processor (starved)", task=a, tasks=[a])
+        because = f": {rest[0]}" if rest else ""
+        return Limit("processors", f"{where}, {a} never gets enough of its "
+                     f"processor (starved){because}", task=a, tasks=[a])
     if kind == "saturated":
         return Limit("processors", f"on its processors, {why_text(outcome)}: some group "
                      "falls behind its clock")
@@ -293,7 +309,8 @@ def _limits(answer: LineAnswer, key: str, per_task: list[Limit]) -> list[Limit]:
     out = answer.beyond.get(key)
     if out is None or out.why is None or out.why[0] == "per-task":
         return list(per_task)
-    return [limit_on(out)]
+    attained = answer.high_attained if key == "high" else answer.low_attained
+    return [limit_on(out, at_end=key in ("high", "low") and not attained)]
 
 
 def scaling_on(ctx: Any, on: ProcessorLine, pt: Scaling, verify: bool) -> Scaling:
@@ -342,7 +359,11 @@ def _scaling_not_searched(ctx: Any, on: ProcessorLine, pt: Scaling, s: Scaling) 
         if ctx.unschedulable is not None and ctx.unschedulable.why and \
                 ctx.unschedulable.why[0] in ("overrun", "grows", "starved"):
             s.limits = [limit_on(ctx.unschedulable)]
-        return not_searched(ctx.schedulable, ctx.unschedulable, "the skeleton")
+        why = not_searched(ctx.schedulable, ctx.unschedulable, "the skeleton")
+        if ctx.schedulable is None:
+            why = "; ".join([why, *on.why_simulated(
+                [i for i, o in enumerate(on.nominal_outcomes) if o.verdict is None])])
+        return why
     if on.spend.run_left <= 0:
         return "undecided: " + on.spend.cap()[1] + "; nothing searched"
     return None
@@ -355,6 +376,7 @@ def _factor_holding(s: Scaling, answer: LineAnswer, pt: Scaling) -> None:
     s.exact = answer.high_exact and answer.low_exact
     if answer.high_exact:
         s.factor = answer.high
+        s.attained = answer.high_attained
     else:
         s.bounds = (answer.high, answer.high_bound)
     s.limits = _limits(answer, "high", pt.limits if pt.factor == answer.high else [])
@@ -383,17 +405,26 @@ def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
         m.method = "on its processors: no value is consistent with a processor per task"
         return m
     # Its own part(s) only (a margin is its part's, as the per-task margin is its
-    # group's): not schedulable or undecided at the nominal values, no search.
+    # group's). Not schedulable at the nominal value: its line is searched for the
+    # values that are, when the parameter is named (``vary``) or its parts have
+    # levels (decided without simulating); else nothing is searched.
+    parts = on.moving({j: Fraction(1)})
+    mine = [on.nominal_outcomes[i] for i in parts]
+    bad = ([o for o in mine if o.verdict is False] + [o for o in mine if o.verdict is None])
     why = None
-    if not pt.nominal_consistent:
-        why = _not_consistent()
-    else:
-        mine = [on.nominal_outcomes[i] for i in on.moving({j: Fraction(1)})]
-        bad = ([o for o in mine if o.verdict is False] + [o for o in mine if o.verdict is None])
-        if bad:
-            why = not_searched(bad[0].verdict, bad[0], "its part")
-        elif on.spend.run_left <= 0:
-            why = "undecided: " + on.spend.cap()[1] + "; nothing searched"
+    if bad and bad[0].verdict is None:
+        why = "; ".join([not_searched(None, bad[0], "its part"), *on.why_simulated(parts)])
+    elif not pt.nominal_consistent or bad:
+        if ctx.named or all(on.has_levels(i, {j: Fraction(1)}) for i in parts):
+            if on.spend.run_left <= 0:
+                return _unsearched(m, "undecided: " + on.spend.cap()[1] + "; nothing searched",
+                                   True)
+            return _swept(ctx, on, m, j, verify, None if not pt.nominal_consistent else bad[0])
+        why = (_not_consistent() if not pt.nominal_consistent
+               else not_searched(False, bad[0], "its part"))
+        why += " (name it with `vary` to search its line)"
+    elif on.spend.run_left <= 0:
+        why = "undecided: " + on.spend.cap()[1] + "; nothing searched"
     if why is not None:
         return _unsearched(m, why, why.startswith("undecided"))
     on.spend.start_figure()
@@ -404,6 +435,8 @@ def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
         m.nominal_consistent = True
         m.low, m.high = answer.low, answer.high
         m.intervals = [(answer.low, answer.high)]  # type: ignore[list-item]
+        m.low_attained, m.high_attained = answer.low_attained, answer.high_attained
+        m.intervals_open = [(not m.low_attained, not m.high_attained)]
         m.exact = answer.low_exact and answer.high_exact
         if not m.exact:
             m.bounds = (answer.low, answer.high)
@@ -416,6 +449,42 @@ def margin_on(ctx: Any, on: ProcessorLine, pt: Margin, verify: bool) -> Margin:
     if verify:
         _check(ctx, m.checks, p.name, lambda t: {j: t}, answer,
                on.tasks_of(on.moving({j: Fraction(1)})))
+    return m
+
+
+def _swept(ctx: Any, on: ProcessorLine, m: Margin, j: int, verify: bool,
+           nominal: Outcome | None) -> Margin:
+    """A parameter whose nominal value is not schedulable (``nominal``: why; None: not
+    consistent with a processor per task): every schedulable interval of its line."""
+    pt = m.per_task
+    assert pt is not None
+    p = m.parameter
+    on.spend.start_figure()
+    on.used = set()
+    direction = {j: Fraction(1)}
+    parts = on.moving(direction)
+    combined = _combined(on, {j: Fraction(0)}, direction, parts, pt.intervals,
+                         p.kind == "period", {})
+    found = sweep(combined, pt.intervals, MAX_STEPS)
+    m.intervals = [(lo, hi) for lo, _, hi, _ in found.intervals]
+    m.intervals_open = [(lo_open, hi_open) for _, lo_open, _, hi_open in found.intervals]
+    m.exact = found.exact
+    answer = LineAnswer(False, steps=found.steps, used=on.used,
+                        why=[found.why, *on.why_simulated(parts, {j: Fraction(0)}, direction)]
+                        if found.why else [])
+    m.why_undecided = answer.why
+    m.method = method_text(answer) + "; the nominal value is " + (
+        "not consistent with a processor per task" if nominal is None
+        else f"not schedulable ({why_text(nominal)})") + (
+        ": every schedulable interval of the range searched"
+        if found.exact else ": the range searched up to where it stopped")
+    if verify:
+        sub = ctx.skeleton.restricted_to(on.tasks_of(parts))
+        for lo, lo_open, hi, hi_open in found.intervals:
+            point = (lo if not lo_open else hi if hi is not None and not hi_open
+                     else lo + 1 if hi is None else (lo + hi) / 2)
+            m.checks.append(Check(f"{p.name} on processors, a schedulable value", point, True,
+                                  verdict_on(ctx, {j: point}, sub)))
     return m
 
 
@@ -439,15 +508,28 @@ def _check(ctx: Any, checks: list[Check], what: str,
     ends = []
     if answer.holding:
         if answer.high_exact and answer.high is not None and "high" in answer.beyond:
-            ends.append((answer.high, 1, answer.beyond["high"]))
+            ends.append((answer.high, 1, answer.beyond["high"], answer.high_attained))
         if answer.low_exact and answer.low is not None and "low" in answer.beyond:
-            ends.append((answer.low, -1, answer.beyond["low"]))
+            ends.append((answer.low, -1, answer.beyond["low"], answer.low_attained))
     else:
         for key, end, side in (("above", answer.nearest_above, 1),
                                ("below", answer.nearest_below, -1)):
             if end is not None and key in answer.beyond:
-                ends.append((end, -side, answer.beyond[key]))
-    for end, side, out in ends:
+                ends.append((end, -side, answer.beyond[key], True))
+    start = answer.start
+    for end, side, out, attained in ends:
+        if not attained:
+            # An open end: not schedulable at it, schedulable inside. Just inside, a
+            # task starved at the end gets almost nothing (10^-9 of the processor) and
+            # no schedule of a budget could show it end: the point checked inside is
+            # halfway to the start.
+            checks.append(Check(f"{what} on processors at the end (excluded)", end, False,
+                                verdict_on(ctx, values(end), sub)))
+            inside = (end + start) / 2 if start is not None and start != end else None
+            if inside is not None:
+                checks.append(Check(f"{what} on processors inside, halfway to the nominal",
+                                    inside, True, verdict_on(ctx, values(inside), sub)))
+            continue
         checks.append(Check(f"{what} on processors at the end", end, True,
                             verdict_on(ctx, values(end), sub)))
         beyond = _just(end, side, out)

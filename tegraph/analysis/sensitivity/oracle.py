@@ -73,6 +73,7 @@ class Affine:
         return sum((c * direction.get(j, Fraction(0)) for j, c in self.coef), Fraction(0))
 
     def coefficient(self, j: int) -> int:
+        """The coefficient of parameter ``j`` (0 when it does not appear)."""
         return dict(self.coef).get(j, 0)
 
 
@@ -100,6 +101,7 @@ class Circuit:
     tokens: int
 
     def ratio(self, values: Mapping[int, Fraction]) -> Fraction:
+        """The circuit's holding time over its tokens at ``values``."""
         return self.holding(values) / self.tokens
 
     def key(self) -> tuple:
@@ -143,14 +145,17 @@ class PointResult:
 
     @property
     def cycle_time_max(self) -> Fraction:
+        """The largest cycle time of the group's events at this point."""
         return max(self.cycle_time)
 
     @property
     def rate_consistent(self) -> bool:
+        """Every event of the group has the same cycle time at this point."""
         return min(self.cycle_time) == max(self.cycle_time)
 
     @property
     def consistent(self) -> bool:
+        """Rate-consistent and without a violated overrun condition at this point."""
         return self.rate_consistent and not self.violations
 
     def circuit(self, event: int) -> Circuit:
@@ -411,8 +416,8 @@ def longest_paths(blocks: Sequence[tuple]) -> list[tuple[list[int | None], list[
     # value is the weight of a walk of at most (rounds) arcs from a start, so it
     # lies within ±bound, bound = the largest |start| + (n + 2) × the largest
     # |weight|; -4·bound is out of reach (and int64 holds 4·bound below 2**62).
-    # A fixed -2**62 was not out of reach: with a period of 1e30 (scaled) real
-    # values fell below it and were taken for "unreached" (issue 21).
+    # A fixed sentinel such as -2**62 is not out of reach: with a period of 1e30
+    # (scaled) real values fall below it and would be taken for "unreached".
     n_max = max(b[0] for b in blocks)
     bound = 1 + max((abs(v) for b in blocks for v in b[5] if v is not None), default=0) + (
         n_max + 2) * max((abs(w) for b in blocks for w in b[4]), default=0)

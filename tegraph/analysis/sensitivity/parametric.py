@@ -33,6 +33,7 @@ from maxplus.scalar import exact_time, size_problem
 
 from ...errors import InputError
 from ...model.build import activation_end, build_teg, holding_sources
+from ...model.limits import written
 from ...model.skeleton import Link, Skeleton
 from ...model.structure import Structure
 from ...model.teg import Place
@@ -191,12 +192,14 @@ def _parameter(skeleton: Skeleton, name: str, rng: Any, where: str) -> Parameter
     low = _value(low_text, name, "low", where)
     high = None if high_text is None else _value(high_text, name, "high", where)
     if low < 0:
-        raise InputError(f"the range of {name} starts below 0 ({low}); expected LOW >= 0", where)
+        raise InputError(f"the range of {name} starts below 0 ({written(low, low_text)}); "
+                         "expected LOW >= 0", where)
     if kind == "period" and low == 0:
         raise InputError(f"the range of {name} starts at 0; a period is > 0: expected LOW > 0",
                          where)
     if high is not None and high < low:
-        raise InputError(f"the range of {name} is empty ({low}..{high}); expected LOW <= HIGH",
+        raise InputError(f"the range of {name} is empty ({written(low, low_text)}.."
+                         f"{written(high, high_text)}); expected LOW <= HIGH",
                          where)
     if nominal < low or (high is not None and nominal > high):
         # Margins and the scaling factor are measured from the nominal value: a range
@@ -300,6 +303,7 @@ class ParametricGroup:
 
     @property
     def n_events(self) -> int:
+        """The number of events of the group's graph."""
         return len(self.names)
 
     def values(self, theta: Mapping[int, Fraction], nominal: Sequence[Fraction]
@@ -313,10 +317,12 @@ class ParametricGroup:
                 for c, j in zip(self.const, self.param.tolist())]
 
     def period(self, clock: str, values: Mapping[int, Fraction]) -> Fraction:
+        """The period of ``clock`` at ``values`` (its parameter's value, else its constant)."""
         info = self.clocks[clock]
         return info.period if info.period_param < 0 else values[info.period_param]
 
     def offset(self, watch: Watch, values: Mapping[int, Fraction]) -> Fraction:
+        """The offset of ``watch`` at ``values`` (its parameter's value, else its constant)."""
         return watch.offset if watch.offset_param < 0 else values[watch.offset_param]
 
 
@@ -349,8 +355,12 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter],
         own = [skeleton.tasks[t] for t in tasks]
         clocks = {c: skeleton.clocks[c] for c in dict.fromkeys(
             task.clock for task in own if task.clock is not None)}
+        # The processors and the network go with the group: its links' delays (§4d).
         sub = Skeleton(skeleton.name, {t: skeleton.tasks[t] for t in tasks}, clocks, links[g],
-                       threads[g], skeleton.unit)
+                       threads[g], skeleton.unit,
+                       processors={p: q for p, q in skeleton.processors.items()
+                                   if any(task.runs_on == p for task in own)},
+                       network_delay=skeleton.network_delay)
         local = sorted([(by_owner[("duration", t)], "duration", t) for t in tasks
                         if ("duration", t) in by_owner]
                        + [(by_owner[("period", c)], "period", c) for c in clocks

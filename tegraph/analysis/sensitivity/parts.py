@@ -6,12 +6,15 @@ decides each part of the §4b schedule (tasks joined by a group or a
 processor) at a point t, or just beside it, and gives the interval around t
 where the same verdict holds:
 
-- a part of independent periodic tasks on one processor (the hypotheses of
-  :mod:`.processors.critical_instant`) by Lehoczky, Sha and Ding's test
-  (:mod:`.processors.scaling`): its schedulable t form one closed interval
-  from 0, read off the critical scaling factor or the duration margin;
-- any other part by the engine itself, run on affine times
-  (:mod:`.affine`): the interval of constant event order.
+- a part with levels (each group one periodic unit of its summed work at a
+  priority of its own on one processor, or a background task without clock:
+  :mod:`tegraph.analysis.processors.levels`) by Lehoczky, Sha and Ding's
+  exact test, level by level from the most urgent down
+  (:mod:`tegraph.analysis.sensitivity.levels`): the piece of the line of the
+  same verdict;
+- any other part, or a point the theorem does not decide, by the engine
+  itself, run on affine times (:mod:`.affine`): the interval of constant
+  event order.
 
 Each part is decided once at the nominal values (:meth:`ProcessorLine.decide_nominal`);
 a line evaluates only the parts it moves and reads the others' nominal
@@ -29,19 +32,19 @@ from fractions import Fraction
 from typing import Any
 
 from ...model.build import build_teg
+from ...model.platform import Platform, clock_hyperperiod, platform_of
 from ...model.skeleton import Skeleton
 from ..processors._engine import PartData, PartResult, simulate_part
-from ..processors.critical_instant import _independent, independent_tasks
-from ..processors.platform import Platform, platform_of
-from ..processors.scaling import ScalingLimit, critical_scaling_factor, duration_margin
+from ..processors.levels import Levels, processor_levels
 from ..processors.schedule import (
     MAX_EVENTS,
+    NON_PREEMPTIVE,
     QUICK_LOOK,
-    _hyperperiod,
     _Net,
     _overrun_to_come,
 )
 from .affine import Cut, lin
+from .levels import LevelLine, level_line
 from .parametric import Parameter, skeleton_at
 from .walk import Outcome
 
@@ -82,9 +85,11 @@ class Budget:
 
     @property
     def run_left(self) -> int:
+        """The event firings the whole run may still spend."""
         return max(self.total - self.spent, 0)
 
     def start_figure(self) -> None:
+        """Give the next figure its own share of event firings."""
         self.figure_left = self.max_events
 
     def cap(self) -> tuple[int, str]:
@@ -101,9 +106,11 @@ class Budget:
         return out
 
     def cap_text(self) -> str:
+        """What a figure left undecided by this budget says."""
         return f"no periodic regime within {self.max_events:,} event firings (`max_events`)"
 
     def spend(self, fired: int) -> None:
+        """Count ``fired`` event firings against the run and the current figure."""
         self.spent += fired
         if self.figure_left is not None:
             self.figure_left = max(self.figure_left - fired, 0)
@@ -111,12 +118,22 @@ class Budget:
 
 @dataclass
 class _Part:
-    data: PartData
+    data: PartData | None
+    """None: every task of the part has events at time 0 only (none is simulated)."""
     names: list[str]
+    """The tasks simulated (those whose events are not all at time 0)."""
     events: list[int]
     places: list[int]
-    independent: bool
+    tasks: list[str]
+    """Every task of the part, in file order."""
+    levels: Levels | str = "not computed"
+    """Its levels (:mod:`tegraph.analysis.processors.levels`), or why it has none."""
+    open_units: list[str] = dataclasses.field(default_factory=list)
+    """Why its levels left points of a line undecided (a unit without closing task
+    missing its deadline), in words."""
     too_long: str | None = None
+    not_computed: str | None = None
+    """Why the engine cannot decide the part (a non-preemptive processor), or None."""
 
 
 @dataclass
@@ -137,15 +154,17 @@ class ProcessorLine:
     part_of: dict[str, int] = field(default_factory=dict)
     evaluations: int = 0
     use_theorem: bool = True
-    """Decide independent parts by Lehoczky, Sha and Ding (False: simulate them too)."""
+    """Decide parts with levels by Lehoczky, Sha and Ding (False: simulate them too)."""
     used: set[str] = field(default_factory=set)
-    """How the parts evaluated were decided (:data:`THEOREM`, :data:`SCHEDULE`)."""
+    """How the parts evaluated were decided (``THEOREM``, ``SCHEDULE``)."""
     budget: Budget | None = None
     """Default ``Budget(max_events)``."""
     nominal_outcomes: list[Outcome] = field(default_factory=list)
     """Each part's outcome at the nominal values (:meth:`decide_nominal`)."""
     progress: Any = None
     """Called with no argument after each simulation (the CLI redraws its bar)."""
+    nominal_platform: Platform | None = None
+    """The platform (``report.platform``); default ``platform_of(skeleton, groups)``."""
 
     def __post_init__(self) -> None:
         # The budget in use, typed for what follows (the field is None by default).
@@ -153,19 +172,35 @@ class ProcessorLine:
         self.budget = self.spend
         sk = self.skeleton
         self.teg = build_teg(sk)
-        self.platform: Platform = platform_of(sk, self.groups)
+        self.platform: Platform = (platform_of(sk, self.groups) if self.nominal_platform is None
+                                   else self.nominal_platform)
         self.net = _Net(sk, self.teg, self.groups, self.platform)
+        label = self.net._union_parts()
+        index = {t: i for i, t in enumerate(self.net.tasks)}
+        members: dict[int, list[str]] = {}
+        for t, lab in zip(self.net.tasks, label):
+            members.setdefault(lab, []).append(t)
         for data, names, events, places in self.net.parts():
-            hyper, ticks = _hyperperiod(sk, names)
-            part = _Part(data, names, events, places,
-                         _independent(sk, names, self.platform))
+            hyper, ticks = clock_hyperperiod(sk, names)
+            lab = label[index[names[0]]] if names else -1
+            part = _Part(data, names, events, places, members.pop(lab, list(names)))
+            if not all(data.preemptive):  # the engine and the theorems are preemptive
+                part.not_computed = (f"the part of {', '.join(names[:3])}"
+                                     f"{' ...' if len(names) > 3 else ''}: {NON_PREEMPTIVE}")
             if ticks > self.max_events:
                 part.too_long = (f"the hyperperiod of the part of {', '.join(names[:3])}"
                                  f"{' ...' if len(names) > 3 else ''} is {hyper} {sk.unit} "
                                  f"({ticks:,} clock ticks), more than `max_events` firings")
-            for t in names:
-                self.part_of[t] = len(self.parts)
             self.parts.append(part)
+        for tasks in members.values():  # parts whose events are all at time 0
+            self.parts.append(_Part(None, [], [], [], tasks))
+        for i, part in enumerate(self.parts):
+            for t in part.tasks:
+                self.part_of[t] = i
+        self._levels()
+        self._level_lines: dict[tuple, LevelLine | str] = {}
+        self._duration_index = {p.owner: j for j, p in enumerate(self.params)
+                                if p.kind == "duration"}
         self.why_cut = self.spend.cap_text()
         # Places from events that fire infinitely often at time 0 into the rest
         # grow at once (schedule.py's module docstring): not schedulable, as
@@ -188,10 +223,20 @@ class ProcessorLine:
     def tasks_of(self, parts: list[int]) -> list[str]:
         """Every task of the skeleton joined to ``parts`` (by a group or a processor), in
         file order: tasks of duration 0 that no part simulates included."""
-        label = self.net._union_parts()
-        index = {t: i for i, t in enumerate(self.net.tasks)}
-        mine = {label[index[self.parts[i].names[0]]] for i in parts if self.parts[i].names}
-        return [t for i, t in enumerate(self.net.tasks) if label[i] in mine]
+        mine = {t for i in parts for t in self.parts[i].tasks}
+        return [t for t in self.net.tasks if t in mine]
+
+    def _levels(self) -> None:
+        """Each part's levels (:mod:`tegraph.analysis.processors.levels`), or why it has none."""
+        group_of = self.net.group_of
+        shapes = []
+        for part in self.parts:
+            groups = list(dict.fromkeys(group_of[t] for t in part.tasks))
+            shapes.append([list(self.groups[g].tasks) for g in groups])
+        found = processor_levels(self.skeleton, self.teg, shapes, self.platform)
+        for part, shape, levels in zip(self.parts, shapes, found):
+            live = all(self.groups[group_of[g[0]]].live for g in shape)
+            part.levels = levels if live else "a group is not live"
 
     # ---------------------------------------------------------- which parts move
     def moving(self, direction: dict[int, Fraction]) -> list[int]:
@@ -216,20 +261,104 @@ class ProcessorLine:
         self.evaluations += 1
         part = self.parts[part_index]
         cut = Cut(at, side)
+        if part.not_computed:
+            return Outcome(None, cut, ("undecided", part.not_computed))
         periods_move = any(k and self.params[j].kind == "period" for j, k in direction.items())
-        if part.independent and self.use_theorem and not periods_move:
-            return self._theorem(part, base, direction, cut)
+        if not periods_move and self.use_theorem:
+            line = self._level_line(part_index, base, direction)
+            if isinstance(line, LevelLine):
+                out = line.outcome(at, side)
+                if out.verdict is not None:
+                    self.used.add(THEOREM)
+                    return out
+                why = str(out.why[1]) if out.why else "undecided"
+                if why not in part.open_units:
+                    part.open_units.append(why)
+        unscheduled = self._unscheduled(part, direction)
+        if unscheduled is not None:
+            return Outcome(None, cut, ("undecided", unscheduled))
         if not periods_move:
             saturated = self._saturated(part, base, direction, cut)
             if saturated is not None:
                 return saturated
         if part.too_long and not periods_move:
             return Outcome(None, cut, ("undecided", part.too_long))
+        assert part.data is not None  # _unscheduled: a part with a moving task is simulated
         data = part.data
         if periods_move:
             data = self._moved_data(part_index, base, direction, cut)
         data = self._parametric(data, part, base, direction, cut)
         return self._verdict(self._simulate(data), data, part, cut)
+
+    def why_simulated(self, parts: Sequence[int], base: dict[int, Fraction] | None = None,
+                      direction: dict[int, Fraction] | None = None) -> list[str]:
+        """Why these parts were simulated rather than decided by their levels along the
+        line (at the nominal values without one), in words, for a figure that stays a
+        bound."""
+        out = []
+        for i in parts:
+            part = self.parts[i]
+            if direction is None:
+                reason = part.levels if isinstance(part.levels, str) else None
+            else:
+                reason = self.level_reason(i, base or {}, direction)
+            if reason is None and self.parts[i].open_units:
+                reason = "; ".join(self.parts[i].open_units)
+            if reason is not None:
+                who = ", ".join(part.tasks[:3]) + (" ..." if len(part.tasks) > 3 else "")
+                out.append(f"the part of {who} is not decided by the exact test of "
+                           f"periodic units (one per group and priority): {reason}; its "
+                           "schedule is simulated instead")
+        return out
+
+    def has_levels(self, part_index: int, direction: dict[int, Fraction]) -> bool:
+        """Whether the part is decided by its levels along lines in ``direction`` (from 0)."""
+        return self.use_theorem and self.level_reason(
+            part_index, {j: Fraction(0) for j in direction}, direction) is None
+
+    def level_reason(self, part_index: int, base: dict[int, Fraction],
+                     direction: dict[int, Fraction]) -> str | None:
+        """Why the part is not decided by its levels along this line (None: it is, where
+        its units close their activations)."""
+        if any(k and self.params[j].kind == "period" for j, k in direction.items()):
+            return "a period moves along the line (the units' scheduling points move with it)"
+        line = self._level_line(part_index, base, direction)
+        return line if isinstance(line, str) else None
+
+    def _level_line(self, part_index: int, base: dict[int, Fraction],
+                    direction: dict[int, Fraction]) -> LevelLine | str:
+        """The part's levels along the line, made once per line."""
+        key = (part_index, tuple(sorted(base.items())), tuple(sorted(direction.items())))
+        if key not in self._level_lines:
+            part = self.parts[part_index]
+            if isinstance(part.levels, str):
+                self._level_lines[key] = part.levels
+            else:
+                self._level_lines[key] = level_line(
+                    part.levels, {t: self._duration(t, base, direction) for t in part.tasks})
+        return self._level_lines[key]
+
+    def _duration(self, task: str, base: dict[int, Fraction], direction: dict[int, Fraction]
+                  ) -> tuple[Fraction, Fraction]:
+        """A task's duration on the line, ``c + k·t`` as (c, k)."""
+        j = self._duration_index.get(task)
+        if j is None:
+            return self.skeleton.tasks[task].duration, Fraction(0)
+        return self._value(j, base, direction)
+
+    def _unscheduled(self, part: _Part, direction: dict[int, Fraction]) -> str | None:
+        """Why the schedule of the part cannot be simulated along the line: a moving task
+        has duration 0 at the nominal values, with its events at time 0 only (its schedule
+        of a positive duration is not built); None: it can."""
+        moving = {self.params[j].owner for j, k in direction.items()
+                  if k and self.params[j].kind == "duration"}
+        names = set(part.names)
+        for t in part.tasks:
+            if t in moving and t not in names:
+                return (f"{t} has duration 0 at the nominal values and its events fire at "
+                        "time 0 only there; its schedule with a positive duration is not "
+                        "simulated")
+        return None
 
     def _saturated(self, part: _Part, base: dict[int, Fraction],
                    direction: dict[int, Fraction], cut: Cut) -> Outcome | None:
@@ -244,6 +373,8 @@ class ProcessorLine:
         which no simulation just beyond could prove (the schedule falls behind
         by ε per period there, with no finite regime on the germ).
         """
+        if part.data is None:
+            return None
         index = {p.owner: j for j, p in enumerate(self.params) if p.kind == "duration"}
         load: dict[str, Any] = {}
         for t in part.names:
@@ -306,13 +437,13 @@ class ProcessorLine:
         ``live``: the skeleton is live (spec §4); not live is not schedulable
         (§4b). Returns (verdict, the outcome of the first part that is not
         schedulable, or undecided; None when all are). Parts are decided
-        smallest first, as ``schedule_on_processors`` does; a part of
-        independent periodic tasks on one processor by the critical instant
-        (exact at any hyperperiod).
+        smallest first, as ``schedule_on_processors`` does; a part with levels
+        by the exact test of its units (at any hyperperiod).
         """
         cut = Cut(Fraction(0), 0)
         outcomes: list[Outcome] = [Outcome(True, cut)] * len(self.parts)
-        for i in sorted(range(len(self.parts)), key=lambda i: self.parts[i].data.n_events):
+        size = [0 if part.data is None else part.data.n_events for part in self.parts]
+        for i in sorted(range(len(self.parts)), key=size.__getitem__):
             outcomes[i] = self._nominal_part(self.parts[i])
         for i, why in self.zero_grows.items():
             if outcomes[i].verdict is not False:
@@ -330,13 +461,18 @@ class ProcessorLine:
 
     def _nominal_part(self, part: _Part) -> Outcome:
         cut = Cut(Fraction(0), 0)
-        if part.independent and self.use_theorem:
-            verdict = independent_tasks(self.skeleton, part.names, self.platform)
-            if verdict is not None:
-                self.used.add(THEOREM)
-                if verdict.late is None:
-                    return Outcome(True, cut)
-                return Outcome(False, cut, ("overrun", verdict.late, 2))
+        if part.not_computed:
+            return Outcome(None, cut, ("undecided", part.not_computed))
+        if self.use_theorem and not isinstance(part.levels, str):
+            line = level_line(part.levels, {t: (self.skeleton.tasks[t].duration, Fraction(0))
+                                            for t in part.tasks})
+            if isinstance(line, LevelLine):
+                verdict, why = line.verdict(Fraction(0))
+                if verdict is not None:
+                    self.used.add(THEOREM)
+                    return Outcome(verdict, cut, why)
+        if part.data is None:  # every event at time 0: nothing waits, nothing runs late
+            return Outcome(True, cut)
         saturated = self._saturated(part, {}, {}, cut)
         if saturated is not None:
             return saturated
@@ -414,30 +550,6 @@ class ProcessorLine:
                     duration=[x * scale for x in data.duration])
         raise AssertionError("the parts do not depend on the periods")
 
-    def _theorem(self, part: _Part, base: dict[int, Fraction], direction: dict[int, Fraction],
-                 cut: Cut) -> Outcome:
-        """Lehoczky, Sha and Ding: the schedulable t form one closed interval from 0."""
-        sk = self.skeleton
-        order = sorted(part.names, key=lambda t: -self.platform.priority[t])
-        index = {p.owner: j for j, p in enumerate(self.params) if p.kind == "duration"}
-        lines = []
-        for t in order:
-            c, k = (self._value(index[t], base, direction) if t in index
-                    else (sk.tasks[t].duration, Fraction(0)))
-            lines.append((c, k))
-        periods = [sk.clocks[sk.tasks[t].clock].period for t in order]  # type: ignore[index]
-        limit = _theorem_limit(lines, periods)
-        if limit is None:
-            return self._simulated(part, base, direction, cut)
-        self.used.add(THEOREM)
-        return _theorem_outcome(limit, order, cut)
-
-    def _simulated(self, part: _Part, base, direction, cut: Cut) -> Outcome:
-        if part.too_long:
-            return Outcome(None, cut, ("undecided", part.too_long))
-        data = self._parametric(part.data, part, base, direction, cut)
-        return self._verdict(self._simulate(data), data, part, cut)
-
     def _verdict(self, r: PartResult, d: PartData, part: _Part, cut: Cut) -> Outcome:
         """§4b's verdict of one part from its simulation (as ``schedule._Outcome``)."""
         names = part.names
@@ -473,37 +585,6 @@ class ProcessorLine:
             k, task = min(coming)
             return Outcome(False, cut, ("overrun", task, k))
         return Outcome(True, cut)
-
-
-def _theorem_limit(lines: list[tuple[Fraction, Fraction]], periods: list[Fraction]
-                   ) -> ScalingLimit | None:
-    """The limit of t by the theorem, when it applies to the line: every duration
-    ``k·t`` (the critical scaling factor), or one duration ``t`` alone, the others
-    fixed (its margin); None when it does not, or has too many scheduling points."""
-    moving = [i for i, (_, k) in enumerate(lines) if k]
-    if all(c == 0 for c, _ in lines):
-        return critical_scaling_factor([(k, p) for (_, k), p in zip(lines, periods)])
-    if len(moving) == 1 and lines[moving[0]][0] == 0 and lines[moving[0]][1] == 1:
-        return duration_margin([(c, p) for (c, _), p in zip(lines, periods)], moving[0])
-    return None
-
-
-def _theorem_outcome(limit: ScalingLimit, order: list[str], cut: Cut) -> Outcome:
-    """The verdict at the cut's point from the theorem's limit ``a``: schedulable on
-    [0, a], an overrun at activation 2 beyond it (job 1 of the first task at the limit
-    misses its deadline, §4b)."""
-    if limit.value is None:
-        cut.above(Fraction(0), True)
-        return Outcome(True, cut)
-    a = limit.value
-    if a < 0:
-        assert limit.task is not None  # a negative bound is set by a task
-        return Outcome(False, cut, ("overrun", order[limit.task], 2))
-    if cut.at < a or (cut.at == a and cut.side <= 0):
-        cut.below(a, True)
-        return Outcome(True, cut)
-    cut.above(a, False)
-    return Outcome(False, cut, ("overrun", order[limit.task], 2))  # type: ignore[index]
 
 
 def _inside(cut: Cut, periods: Iterable[tuple[Fraction, Fraction]]) -> Fraction:

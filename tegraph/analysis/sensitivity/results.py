@@ -13,6 +13,7 @@ from typing import Any
 
 from maxplus.scalar import exact_text
 
+from .. import notebook
 from ..chains import ChainFigures
 from .parametric import Parameter, ParametricGroup
 
@@ -56,6 +57,7 @@ class Limit:
     """The tasks whose events ``events`` are, in order."""
 
     def to_dict(self) -> dict[str, Any]:
+        """The limit as the JSON report holds it."""
         return {"kind": self.kind, "group": self.group, "task": self.task, "clock": self.clock,
                 "tasks": self.tasks,
                 "activation": self.activation, "certificate": self.certificate,
@@ -75,9 +77,11 @@ class Check:
 
     @property
     def agrees(self) -> bool:
+        """Whether the analysis found what the sensitivity expected."""
         return self.found == self.expected
 
     def to_dict(self) -> dict[str, Any]:
+        """The check as the JSON report holds it."""
         return {"what": self.what, "value": exact_text(self.value), "expected": self.expected,
                 "found": self.found}
 
@@ -111,6 +115,10 @@ class Scaling:
     the factor: ``docs/sensitivity.md``)."""
     breakpoints: int = 0
     """On processors: intervals of constant schedule order visited."""
+    attained: bool = True
+    """On processors: False when ``factor`` is a supremum that is not attained: every
+    factor below it is schedulable, ``factor`` itself is not (the interval holding 1 is
+    open there; ``limits`` says what happens at it)."""
     why_undecided: list[str] = field(default_factory=list)
     method: str = "with a processor per task: exact line search ((max,+) certificates)"
     """How the figure was decided (on processors: the theorem, the walk, or undecided)."""
@@ -119,6 +127,7 @@ class Scaling:
     or "undecided: ..." naming the budget); None: searched."""
 
     def to_dict(self) -> dict[str, Any]:
+        """The scaling factor as the JSON report holds it."""
         out = {
             "parameters": self.parameters,
             "nominal_consistent": self.nominal_consistent,
@@ -135,6 +144,7 @@ class Scaling:
         }
         if self.semantics == PROCESSORS:
             out["not_searched"] = self.not_searched
+            out["attained"] = self.attained
         if self.per_task is not None:
             out["per_task"] = {"factor": exact_text(self.per_task.factor),
                                "intervals": _intervals(self.per_task.intervals),
@@ -164,7 +174,15 @@ class Margin:
     checks: list[Check] = field(default_factory=list)
     semantics: str = PER_TASK
     """As :attr:`Scaling.semantics`; on processors ``intervals`` holds the interval
-    around the nominal value only (the others are not searched)."""
+    around the nominal value only (the others are not searched), or, when the nominal
+    value is not schedulable, every schedulable interval found along the range."""
+    low_attained: bool = True
+    high_attained: bool = True
+    """On processors: False when that end of the interval around the nominal value is
+    a bound, not a value of it (schedulable up to the end, not at it)."""
+    intervals_open: list[tuple[bool, bool]] | None = None
+    """On processors: for each of ``intervals``, whether its low and high ends are
+    excluded (None: every interval closed)."""
     exact: bool = True
     bounds: tuple[Fraction | None, Fraction | None] | None = None
     """When not exact: (low end at most, high end at least) proven; the ends lie
@@ -176,6 +194,7 @@ class Margin:
     """As :attr:`Scaling.not_searched`, for its own part(s)."""
 
     def to_dict(self) -> dict[str, Any]:
+        """The margin as the JSON report holds it."""
         out = self._dict()
         out.update({"semantics": self.semantics, "exact": self.exact,
                     "bounds": None if self.bounds is None
@@ -183,6 +202,10 @@ class Margin:
                     "why_undecided": self.why_undecided, "method": self.method})
         if self.semantics == PROCESSORS:
             out["not_searched"] = self.not_searched
+            out["low_attained"] = self.low_attained
+            out["high_attained"] = self.high_attained
+            out["intervals_open"] = [list(o) for o in self.intervals_open or
+                                     [(False, False)] * len(self.intervals)]
         if self.per_task is not None:
             pt = self.per_task
             out["per_task"] = {"low": exact_text(pt.low) if pt.nominal_consistent else None,
@@ -218,6 +241,7 @@ class Term:
     circuit: list[str]
 
     def to_dict(self) -> dict[str, Any]:
+        """The term as the JSON report holds it."""
         return {"constant": exact_text(self.constant),
                 "coefficients": {p: str(c) for p, c in self.coefficients.items()},
                 "tokens": self.tokens, "circuit": self.circuit}
@@ -234,6 +258,7 @@ class PaceReport:
     blocking: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
+        """The keep-pace region as the JSON report holds it."""
         return {"clock": self.clock, "empty": self.empty, "blocking_circuit": self.blocking,
                 "inequalities": [{"coefficients": {p: exact_text(c) for p, c in co.items()},
                                   "bound": exact_text(b), "circuit": circ}
@@ -269,6 +294,7 @@ class GroupFormulaReport:
         return sympy.Max(*parts) if len(parts) > 1 else parts[0]
 
     def to_dict(self) -> dict[str, Any]:
+        """The group's formula as the JSON report holds it."""
         return {
             "group": self.group,
             "tasks": self.tasks,
@@ -304,6 +330,8 @@ class ChainAtMargins:
     """Parameters outside the chain's parts: the figure there is the nominal one."""
 
     def to_dict(self) -> dict[str, Any]:
+        """The entry of the sensitivity's JSON ``chains``: each first use, exact."""
+
         def first(f: ChainFigures | None) -> dict[str, Any] | None:
             return None if f is None else {"first_use": exact_text(f.first_use),
                                            "why_undecided": f.why_undecided}
@@ -359,8 +387,13 @@ class SensitivityResult:
     (:class:`~.parametric.ParametricGroup`), for drawings that ask the oracle
     again (:func:`~.region.consistent_region`); not part of the JSON."""
 
+    def _repr_html_(self) -> str:
+        """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
+
     @property
     def checks(self) -> list[Check]:
+        """Every cross-check against the analysis, the scaling factor's then each margin's."""
         out = list(self.scaling.checks) if self.scaling else []
         for m in self.margins.values():
             out += m.checks
@@ -375,6 +408,7 @@ class SensitivityResult:
         return 0 if self.consistent else 1
 
     def to_dict(self) -> dict[str, Any]:
+        """The body of the JSON report (``docs/report.schema.json``, ``$defs/sensitivity``)."""
         scaling = self.scaling
         return {
             "name": self.name,

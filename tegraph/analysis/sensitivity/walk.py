@@ -7,7 +7,8 @@ same. :func:`walk` moves from such an interval to the next, each end
 evaluated at the end itself and just beyond it, until the verdict changes:
 every breakpoint of the schedule's order in between is visited, so the end
 found is exact. :func:`seek` does the same from a point that is not
-schedulable, to the nearest one that is.
+schedulable, to the nearest one that is; :func:`sweep` crosses whole
+intervals and keeps every schedulable piece.
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ from fractions import Fraction
 
 from .affine import Cut
 
-__all__ = ["MAX_STEPS", "Interval", "Outcome", "Walk", "per_task_outcome", "seek", "walk"]
+__all__ = ["MAX_STEPS", "Interval", "Outcome", "Sweep", "Walk", "per_task_outcome", "seek",
+           "sweep", "walk"]
 
 MAX_STEPS = 400
 """Intervals of constant order visited by one :func:`walk` before it stops with a bound."""
@@ -32,8 +34,8 @@ class Outcome:
     verdict: bool | None
     cut: Cut
     why: tuple | None = None
-    """False: ("overrun", task, k), ("grows", place name), ("starved", task),
-    ("per-task", None); None: ("undecided", reason)."""
+    """False: ("overrun", task, k), ("grows", place name), ("starved", task[, why in
+    words]), ("per-task", None); None: ("undecided", reason)."""
 
 
 @dataclass
@@ -151,3 +153,74 @@ def seek(evaluate: Callable[[Fraction, int], Outcome], first: Outcome, up: bool,
         if nxt.verdict is True:
             return end, True, out, steps
         out = nxt
+
+
+@dataclass
+class Sweep:
+    """What :func:`sweep` found: the schedulable pieces, each ``(low, low excluded,
+    high, high excluded)`` (high None: unbounded), in order."""
+
+    intervals: list[tuple[Fraction, bool, Fraction | None, bool]]
+    exact: bool = True
+    """False: the sweep stopped (undecided, or ``max_steps``) before the end of the range."""
+    steps: int = 0
+    why: str | None = None
+
+
+def sweep(evaluate: Callable[[Fraction, int], Outcome], intervals: Sequence[Interval],
+          max_steps: int) -> Sweep:
+    """Every schedulable value of the closed ``intervals``, piece by piece from the left.
+
+    Each evaluation decides the piece around its point (its cut); the next one is
+    taken at the piece's end (just beyond it when the piece holds it), so every
+    breakpoint is visited and the pieces found are exact.
+
+    >>> from tegraph.analysis.sensitivity.affine import Cut
+    >>> def evaluate(t, side):  # schedulable on [1, 2) only
+    ...     cut = Cut(t, side)
+    ...     if t < 1 or (t == 1 and side < 0):
+    ...         cut.below(Fraction(1), False)
+    ...         return Outcome(False, cut)
+    ...     if t < 2 or (t == 2 and side < 0):
+    ...         cut.above(Fraction(1), True); cut.below(Fraction(2), False)
+    ...         return Outcome(True, cut)
+    ...     cut.above(Fraction(2), True)
+    ...     return Outcome(False, cut)
+    >>> sweep(evaluate, [(Fraction(0), Fraction(5))], 10).intervals
+    [(Fraction(1, 1), False, Fraction(2, 1), True)]
+    """
+    found: list[tuple[Fraction, bool, Fraction | None, bool]] = []
+    steps = 0
+    for a, b in intervals:
+        t, side = a, 0
+        while True:
+            steps += 1
+            if steps > max_steps:
+                return Sweep(found, False, steps,
+                             f"stopped after {max_steps} intervals of constant order")
+            out = evaluate(t, side)
+            if out.verdict is None:
+                why = str(out.why[1]) if out.why else "undecided"
+                return Sweep(found, False, steps, why)
+            hi, closed = out.cut.hi, out.cut.hi_closed
+            last = hi is None or (b is not None and (hi > b or (hi == b and closed)))
+            if last and b is not None:
+                hi, closed = b, True
+            if out.verdict:
+                _join(found, (t, side > 0, hi, not closed))
+            if last:
+                break
+            assert hi is not None
+            t, side = hi, 1 if closed else 0
+    return Sweep(found, True, steps)
+
+
+def _join(found: list[tuple[Fraction, bool, Fraction | None, bool]],
+          piece: tuple[Fraction, bool, Fraction | None, bool]) -> None:
+    """Append a schedulable piece, joined to the last one when they touch."""
+    if found:
+        lo, lo_open, hi, hi_open = found[-1]
+        if hi == piece[0] and not (hi_open and piece[1]):
+            found[-1] = (lo, lo_open, piece[2], piece[3])
+            return
+    found.append(piece)

@@ -129,6 +129,7 @@ class DaskEngine:
 
     @property
     def in_flight(self) -> int:
+        """Batches submitted and not yet returned."""
         return len(self._pending)
 
     @property
@@ -137,6 +138,7 @@ class DaskEngine:
         return 2 * self.workers
 
     def submit(self, variants: list[int]) -> None:
+        """Send one batch of variants to the cluster."""
         future = self.client.submit(judge_on_worker, self.plugin, variants, pure=False)
         self._pending[future] = variants
         self._done.add(future)
@@ -168,6 +170,7 @@ class DaskEngine:
                     for v in variants]
 
     def close(self) -> None:
+        """Cancel what is pending, unregister the plugin, close the client and its cluster."""
         try:
             for future in self._pending:
                 future.cancel()

@@ -54,8 +54,11 @@ the space (:class:`~.space.Constraints`), which a kept design meets.
 
 A variant is *kept* when it is live (perhaps after the repair), consistent
 (spec §4: no unbounded place, no overrun), schedulable on its processors (§4b,
-decided True) and meets the constraints. Everything is exact: Fractions, no
-tolerance.
+decided True) and meets the constraints; unless the space keeps them
+(``Constraints.free_running``), a variant in which a task runs free that the input
+design runs on a clock (:func:`free_running`: a link made ASYN/ASYN cut it from its
+clock, and it now runs as often as its processor lets it) is not kept either.
+Everything is exact: Fractions, no tolerance.
 """
 
 from __future__ import annotations
@@ -81,8 +84,8 @@ from .incremental import judge_of
 from .prune import overloaded
 from .space import CHAIN_FIGURES, DesignSpace, chain_objective
 
-__all__ = ["VariantResult", "evaluate_batch", "evaluate_variant", "rejection",
-           "rule2_findings"]
+__all__ = ["FREE_RUNNING", "VariantResult", "evaluate_batch", "evaluate_variant",
+           "free_running", "rejection", "rule2_findings"]
 
 ANALYZED, PRUNED, FAILED = "analyzed", "pruned", "failed"
 
@@ -155,7 +158,7 @@ class VariantResult:
 REJECTIONS = ("failed to be judged", "dead whatever the port order",
               "an unbounded place", "an overrun", "not schedulable on processors",
               "undecided within max_events", "a chain's latency undecided",
-              "against a constraint")
+              "a free-running task", "against a constraint")
 """Why a variant is not kept, in the order the judgement meets them (the unbounded
 place and the overrun of spec §4, with a processor per task; then §4b)."""
 
@@ -179,8 +182,30 @@ def rejection(result: VariantResult) -> str | None:
     if "undecided" in result.kinds.values():
         return REJECTIONS[6]
     if result.meets is False:
-        return REJECTIONS[7]
+        return REJECTIONS[7] if result.reason.startswith(FREE_RUNNING) else REJECTIONS[8]
     return None
+
+
+FREE_RUNNING = "free-running"
+"""How the reason of a design rejected for a free-running task begins."""
+
+
+def free_running(space: DesignSpace, structure: Structure) -> list[str]:
+    """The tasks that run free in a variant (their group has no clock) and not in the
+    input design, in file order: what ``space.constraints.free_running`` keeps.
+
+    >>> from tegraph.design.explore.space import design_space
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "A": {"duration": 1, "period": 10, "outputs": ["x"]},
+    ...     "B": {"duration": 2, "inputs": ["x"]}},
+    ...     "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]})
+    >>> space = design_space(sk, ["A:x -> B:x"])
+    >>> free_running(space, Structure.of(space.build(0)))  # ASYN/ASYN: B has no clock
+    ['B']
+    """
+    free = {t for tasks, clocks in zip(structure.groups, structure.clocks) if not clocks
+            for t in tasks} - space.free_running_in_input
+    return [t for t in space.skeleton.tasks if t in free]
 
 
 def rule2_findings(skeleton: Skeleton, structure: Structure | None = None) -> int:
@@ -326,9 +351,19 @@ def evaluate_variant(space: DesignSpace, variant: int,
             result.reason = (f"undecided within max_events ({space.max_events:,} event "
                              f"firings): {why}")
     _objectives(space, skeleton, report, sched, schedule, result, chains)
+    structure = composed.structure if composed is not None else report.structure
+    free = [] if space.constraints.free_running else free_running(
+        space, Structure.of(skeleton) if structure is None else structure)
+    if free:  # not kept unless asked: a rate that nobody chose
+        result.meets = False
+        if not result.reason:
+            result.reason = (f"{FREE_RUNNING}: {', '.join(free[:3])}"
+                             + (f" and {len(free) - 3} more" if len(free) > 3 else "")
+                             + " would run free (no clock in its group), where the input "
+                             "design runs it on a clock (`free_running` keeps such designs)")
     if space.constraints and schedule is not None:
         broken = _broken(space, skeleton, schedule, chains)
-        result.meets = not broken
+        result.meets = not broken and not free
         if broken and not result.reason:
             result.reason = "against a constraint: " + "; ".join(broken)
     return result
@@ -424,21 +459,15 @@ def _inconsistency(report: Report) -> str:
 
 
 def _unschedulable(skeleton: Skeleton, schedule: ProcessorSchedule) -> str:
-    """Why the schedule on processors is not schedulable: the first overrun in time,
-    else a starved task, else a growing place (the §4b verdict's own evidence)."""
+    """Why the schedule on processors is not schedulable: its earliest problem (an
+    overrun or a starved task, in the one order of every command), else a growing
+    place (the §4b verdict's own evidence)."""
     where = schedule.platform.processor_of
-    late = []
-    for name, fig in schedule.tasks.items():
-        clock = skeleton.tasks[name].clock
-        if fig.overrun_at is not None and clock is not None:
-            c = skeleton.clocks[clock]
-            late.append((c.phase + (fig.overrun_at - 1) * c.period, name, fig.overrun_at))
-    if late:
-        _, name, k = min(late, key=lambda x: x[0])  # min keeps the file order on ties
-        return f"overrun on processors: {name} at activation {k} (on {where[name]})"
-    if schedule.starved:
-        name = schedule.starved[0]
-        return f"starved on processors: {name} never gets its duration on {where[name]}"
+    if schedule.problems:
+        p = schedule.problems[0]
+        if p.kind == "overrun":
+            return f"overrun on processors: {p.task} at activation {p.k} (on {where[p.task]})"
+        return f"starved on processors: {p.task} never gets its duration on {where[p.task]}"
     if schedule.unbounded:
         u = schedule.unbounded[0]
         more = len(schedule.unbounded) - 1

@@ -14,7 +14,7 @@ Pareto front of the objectives (chain latencies, period, processor load).
 - The execution, in this process or on Dask ``distributed``: :mod:`.run`,
   :mod:`.dask_engine`.
 
-The results file is :mod:`.results` (written as verdicts arrive, by
+The results file is :mod:`tegraph.design.explore.results` (written as verdicts arrive, by
 :func:`tegraph.explore`); rendering is done above this floor
 (:mod:`tegraph.report.explore_text`).
 
@@ -36,15 +36,16 @@ from typing import Any
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_text, exact_time
 
+from ...analysis import notebook
 from ...errors import InputError
 from ...model.limits import shown
 from .evaluate import ANALYZED, FAILED, PRUNED, REJECTIONS, VariantResult, rejection
 from .prune import DeadlockOracle
-from .run import Progress, RunLog, run_search
+from .run import Progress, RunLog, max_local_workers, run_search
 from .search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
 from .space import DesignSpace
 
-__all__ = ["PRUNING_RULES", "Exploration", "cross_check", "explore_design"]
+__all__ = ["PRUNING_RULES", "Exploration", "cross_check", "explore_design", "max_local_workers"]
 
 PRUNING_RULES = (
     "A: liveness and the port repair depend on the protocols only, not on periods: a "
@@ -108,7 +109,12 @@ class Exploration:
     local_optimum_at: int | None = None
     """Local search: the analyses done when the front first was a Pareto local optimum."""
 
+    def _repr_html_(self) -> str:
+        """The result as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
+        return notebook.html(self)
+
     def count(self, judged: str) -> int:
+        """How many variants were judged that way (``judged``: analyzed, pruned, ...)."""
         return sum(1 for r in self.results.values() if r.judged == judged)
 
     @property
@@ -160,6 +166,17 @@ class Exploration:
             how = f"{self.method}, not exhaustive: the best front found"
         return f"{what} ({how})"
 
+    @property
+    def distinct_front(self) -> list[list[VariantResult]]:
+        """The front by objective vector: one list per distinct vector, in the order of
+        :attr:`front`, each holding the front's designs of that vector (its ties, equal
+        on every objective and on the Rule 2 tie-breaker) by variant number."""
+        groups: dict[tuple, list[VariantResult]] = {}
+        for r in self.front:
+            groups.setdefault(tuple(r.objectives.get(n) for n in self.space.objectives),
+                              []).append(r)
+        return list(groups.values())
+
     def entry(self, r: VariantResult) -> dict[str, Any]:
         """A variant as the report shows it: its choices, objectives and repair."""
         links, clocks = self.space.describe(r.variant)
@@ -192,7 +209,8 @@ class Exploration:
                            for c in self.space.clocks}},
             "chains": [list(c) for c in self.space.chains],
             "constraints": self.space.constraints.to_dict(),
-            "front": [self.entry(r) for r in self.front],
+            "front": [{**self.entry(r), "ties": len(tied)}
+                      for tied in self.distinct_front for r in tied],
             "engine": {"kind": self.log.engine, "workers": self.log.workers,
                        "address": self.log.address, "batches": self.log.batches,
                        "largest_batch": max(self.log.batch_sizes, default=0),
@@ -249,7 +267,7 @@ def scheduler_address(address: str) -> str:
     (``HOST:PORT`` means tcp, as in Dask).
 
     A malformed address is refused here rather than handed to Dask, whose client,
-    once half-built, waits 20 s at garbage collection before failing with a
+    once half-built, waits for its own timeout at garbage collection before failing with a
     traceback; ``tls://`` is refused too, since it needs certificates this
     command does not take.
 
@@ -294,9 +312,10 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://HOST:8786``).
     workers : int, optional
-        0: judge in this process; N: a local Dask cluster of N processes; None
-        (default): this process, or a local cluster of one process per core when
-        the measured work is worth its start-up.
+        0: judge in this process; N: a local Dask cluster of N processes, at most
+        :func:`max_local_workers` (the machine's cores); None (default): this process,
+        or a local cluster of one process per core when the measured work is worth
+        its start-up (:mod:`.run`).
     max_variants : int
         Spaces of at most this many variants are searched exhaustively; beyond,
         Pareto local search analyzes at most this many variants.
@@ -338,8 +357,14 @@ def explore_design(space: DesignSpace, *, scheduler: str | None = None,
     if scheduler is not None:
         scheduler = scheduler_address(scheduler)
     timeout = wait_seconds(timeout)
-    if workers is not None and workers < 0:
-        raise InputError(f"expected a number of workers >= 0, got {workers}", "workers")
+    if workers is not None:
+        most = max_local_workers()
+        if isinstance(workers, bool) or not isinstance(workers, int) or \
+                not 0 <= workers <= most:
+            raise InputError(f"expected a number of local worker processes from 0 to {most} "
+                             f"(this machine's cores), got {shown(repr(workers), quote=False)};"
+                             " more workers run on a Dask cluster: give its scheduler's "
+                             "address instead (`scheduler`)", "workers")
     if max_variants < 1:
         raise InputError(f"expected max_variants >= 1, got {max_variants}", "max_variants")
     if batch_size is not None and batch_size < 1:

@@ -42,8 +42,8 @@ report of the whole variant:
 A variant that is consistent is then judged on its processors (§4b) by the caller,
 on the whole variant, from the report composed here (the groups' own reports, each
 renumbered; tasks in file order). That judgement is not composed from parts: groups
-sharing a processor are coupled (:func:`~tegraph.analysis.processors.platform.
-processor_parts`), and the budget of event firings is shared among the parts in an
+sharing a processor are coupled (:func:`~tegraph.model.platform.processor_parts`),
+and the budget of event firings is shared among the parts in an
 order that depends on how many each part fired, so a part's verdict depends on the
 others' (see ``docs/explore.md``).
 """

@@ -41,7 +41,7 @@ from maxplus.scalar import exact_text, exact_time
 
 from ...errors import InputError
 from .evaluate import ANALYZED, FAILED, PRUNED, VariantResult
-from .space import DEFINITIONS, OLDER_DEFINITIONS, DesignSpace, chain_objective
+from .space import CURRENT_DEFINITIONS, DEFINITIONS, OLDER_DEFINITIONS, DesignSpace, chain_objective
 
 __all__ = ["INSTALL_PARQUET", "ResultsTable", "columns"]
 
@@ -316,8 +316,8 @@ class _Cells:
             if older:  # this exploration, judged by the definitions of an older version
                 self.refuse("space", f"this exploration judged under version {older[0]} of "
                             f"the definitions ({OLDER_DEFINITIONS[older[0]]}); its verdicts are "
-                            f"not those of version {DEFINITIONS} (each variant judged on its "
-                            "processors, spec §4b), so they are not resumed; expected "
+                            f"not those of version {DEFINITIONS} ({CURRENT_DEFINITIONS}), so "
+                            "they are not resumed; expected "
                             f"{space.fingerprint}")
             self.refuse("space", "another exploration (another skeleton, choices, objectives, "
                         "constraints or budget `max_events` of each schedule); expected "

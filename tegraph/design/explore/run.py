@@ -16,11 +16,26 @@ the time a variant takes, then sizes batches to about
 over twice the workers, and keeps two batches per worker in flight.
 
 **The local engine.** Without a scheduler address or a number of workers, the
-driver judges the first batch in this process; when the remaining work
-(measured cost times the variants left) exceeds :data:`LOCAL_CLUSTER_WORTH_SECONDS`,
-it starts a local Dask cluster with one worker process per core, otherwise it
-finishes in this process (starting a cluster costs about two seconds: see
-``benchmarks/results/explore.md``).
+driver judges in this process and stays there until the measured work pays for a
+cluster. The rule, checked after each batch: on a machine of at least
+:data:`MIN_CLUSTER_CORES` cores, once the cost of a variant is measured
+(:data:`MEASURED_VARIANTS` variants judged after the first, or a quarter of
+:data:`LOCAL_CLUSTER_WORTH_SECONDS` of work), when the work left (the median cost
+of those variants, the first one left out, times the variants the search may still
+send) exceeds :data:`LOCAL_CLUSTER_WORTH_SECONDS`, a local Dask cluster of one
+worker process per core takes over; otherwise everything is judged here. The
+first variant is left out because it also fills the caches of the incremental
+judge: it may cost many times a later one, and judged alone it made a cluster look
+worth its start where judging in process is faster.
+
+Why these bounds (``benchmarks/bench_explore.py --crossover``, results in
+``benchmarks/results/explore.md``): a worker judges slower than this process (it
+fills its own caches, and its batches pass through the scheduler), and the driver,
+the scheduler and the workers share the cores; on two cores a local cluster of two
+was never faster than this process, whatever the work measured, so no crossover
+exists there and the default never starts one. From :data:`MIN_CLUSTER_CORES` cores
+the workers' number outweighs their cost; the threshold keeps the cluster's start,
+and the workers' cold caches, a small part of the work.
 """
 
 from __future__ import annotations
@@ -39,11 +54,20 @@ from .prune import DEAD_REASON
 from .search import ExhaustiveSearch, ParetoFront, ParetoLocalSearch
 from .space import DesignSpace
 
-__all__ = ["LOCAL_CLUSTER_WORTH_SECONDS", "TARGET_BATCH_SECONDS", "Progress", "RunLog",
-           "run_search"]
+__all__ = ["LOCAL_CLUSTER_WORTH_SECONDS", "MEASURED_VARIANTS", "MIN_CLUSTER_CORES",
+           "TARGET_BATCH_SECONDS",
+           "Progress", "RunLog", "max_local_workers", "run_search"]
 
 TARGET_BATCH_SECONDS = 0.5
-LOCAL_CLUSTER_WORTH_SECONDS = 6.0
+"""Seconds of work a batch of variants aims at (see the module's account)."""
+LOCAL_CLUSTER_WORTH_SECONDS = 60.0
+"""Seconds of work left (measured in this process) above which a local cluster of one
+worker per core is started, on :data:`MIN_CLUSTER_CORES` cores or more (module
+docstring)."""
+MIN_CLUSTER_CORES = 4
+"""Cores a machine needs for the default to start a local cluster (module docstring)."""
+MEASURED_VARIANTS = 8
+"""Variants judged in this process, after the first, before their cost decides the engine."""
 MAX_BATCH = 512
 
 
@@ -78,25 +102,33 @@ class Engine(Protocol):
 
     # Read only: run_search never sets them (DaskEngine counts its workers live).
     @property
-    def kind(self) -> str: ...
+    def kind(self) -> str:
+        """The engine's name, as the report states it."""
 
     @property
-    def address(self) -> str | None: ...
+    def address(self) -> str | None:
+        """The scheduler's address (None in process)."""
 
     @property
-    def workers(self) -> int: ...
+    def workers(self) -> int:
+        """The workers that judge variants."""
 
     @property
-    def in_flight(self) -> int: ...
+    def in_flight(self) -> int:
+        """Batches submitted and not yet returned."""
 
     @property
-    def capacity(self) -> int: ...
+    def capacity(self) -> int:
+        """Batches worth keeping in flight at once."""
 
-    def submit(self, variants: list[int]) -> None: ...
+    def submit(self, variants: list[int]) -> None:
+        """Start judging one batch of variants."""
 
-    def wait(self) -> list[VariantResult]: ...
+    def wait(self) -> list[VariantResult]:
+        """The verdicts of the next batch that finishes."""
 
-    def close(self) -> None: ...
+    def close(self) -> None:
+        """Release what the engine holds."""
 
 
 class InProcessEngine:
@@ -112,6 +144,7 @@ class InProcessEngine:
 
     @property
     def in_flight(self) -> int:
+        """Batches submitted and not yet judged."""
         return len(self._queue)
 
     @property
@@ -120,12 +153,15 @@ class InProcessEngine:
         return 1
 
     def submit(self, variants: list[int]) -> None:
+        """Queue one batch of variants."""
         self._queue.append(variants)
 
     def wait(self) -> list[VariantResult]:
+        """Judge the oldest queued batch, here, and return its verdicts."""
         return evaluate_batch(self.space, self._queue.popleft())
 
     def close(self) -> None:
+        """Drop the batches not yet judged."""
         self._queue.clear()
 
 
@@ -172,7 +208,7 @@ def run_search(space: DesignSpace, search: ExhaustiveSearch | ParetoLocalSearch,
             run.receive(engine.wait(), progress)
             if automatic and run.worth_a_local_cluster(engine):
                 engine.close()
-                engine = _engine(space, None, os.cpu_count() or 1, timeout)
+                engine = _engine(space, None, max_local_workers(), timeout)
         log.engine, log.address = engine.kind, engine.address
         log.workers = engine.workers
         log.seconds_per_variant = statistics.median(run.costs) if run.costs else None
@@ -192,6 +228,10 @@ class _Run:
         self.record, self.batch_size = record, batch_size
         self.judged: dict[int, VariantResult] = {}
         self.costs: deque[float] = deque(maxlen=64)
+        self.steady: deque[float] = deque(maxlen=64)
+        """The costs of the variants judged after the first one (warm caches)."""
+        self.measured = 0.0
+        """Seconds of judging measured in this run."""
         self.analyzed = 0
         self.fresh = 0
         self.start = time.perf_counter()
@@ -241,7 +281,10 @@ class _Run:
     def receive(self, results: list[VariantResult],
                 progress: Callable[[Progress], None] | None) -> None:
         """A batch's verdicts settled, their costs kept, the progress told."""
-        self.costs.extend(r.seconds for r in results if r.judged == ANALYZED)
+        costs = [r.seconds for r in results if r.judged == ANALYZED]
+        self.steady.extend(costs[1:] if not self.costs else costs)
+        self.costs.extend(costs)
+        self.measured += sum(costs)
         self.fresh += len(results)
         self.settle(results, fresh=True)
         seconds = time.perf_counter() - self.start
@@ -250,12 +293,28 @@ class _Run:
                               self.fresh / seconds if seconds > 0 else 0.0))
 
     def worth_a_local_cluster(self, engine: Engine) -> bool:
-        """In process, idle, on a machine of several cores, with more work left than
-        LOCAL_CLUSTER_WORTH_SECONDS at the median cost: a local cluster pays."""
-        return (engine.kind == "in-process" and bool(self.costs) and engine.in_flight == 0
-                and (os.cpu_count() or 1) > 1
-                and statistics.median(self.costs) * _left(self.search, self.analyzed, ahead=True)
-                > LOCAL_CLUSTER_WORTH_SECONDS)
+        """In process, idle, on a machine of MIN_CLUSTER_CORES cores or more, the cost of
+        a variant measured, and more work left than LOCAL_CLUSTER_WORTH_SECONDS at that
+        cost: a local cluster pays (the rule of the module docstring)."""
+        if engine.kind != "in-process" or engine.in_flight or \
+                max_local_workers() < MIN_CLUSTER_CORES:
+            return False
+        if len(self.steady) < MEASURED_VARIANTS and \
+                self.measured < LOCAL_CLUSTER_WORTH_SECONDS / 4:
+            return False  # not measured yet: the first variants cost more than the rest
+        per = statistics.median(self.steady or self.costs)
+        return per * _left(self.search, self.analyzed, ahead=True) > LOCAL_CLUSTER_WORTH_SECONDS
+
+
+def max_local_workers() -> int:
+    """The most local worker processes ``explore`` starts: one per core of this machine
+    (a process more than the cores only shares them, and each holds a copy of the
+    design space and its caches).
+
+    >>> max_local_workers() >= 1
+    True
+    """
+    return os.cpu_count() or 1
 
 
 def _left(search: ExhaustiveSearch | ParetoLocalSearch, done: int, ahead: bool = False) -> int:

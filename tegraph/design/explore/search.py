@@ -134,6 +134,7 @@ class ExhaustiveSearch:
 
     @property
     def finished(self) -> bool:
+        """Every variant of the space has been proposed."""
         return self._run >= len(self._runs)
 
     def propose(self, limit: int) -> tuple[list[int], list[int]]:
@@ -189,6 +190,7 @@ class ParetoLocalSearch:
 
     @property
     def finished(self) -> bool:
+        """The search has stopped (``stopped`` says why)."""
         return bool(self.stopped)
 
     @property

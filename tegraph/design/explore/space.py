@@ -30,6 +30,8 @@ from maxplus.scalar import exact_text, exact_time
 
 from ...analysis.processors.schedule import MAX_EVENTS
 from ...errors import InputError
+from ...model.limits import event_budget_problem
+from ...model.platform import link_delay
 from ...model.skeleton import Protocol, Skeleton
 from ...model.skeleton.checks import Locator, check_chain
 from ...model.structure import Structure
@@ -116,6 +118,9 @@ class LinkChoice:
     narrowed: bool = field(default=False, compare=False)
     """Given by ``links`` with fewer protocols than ``all_links`` gives the other links
     (the report says so; not part of the fingerprint)."""
+    delay: Fraction = field(default=Fraction(0), compare=False)
+    """The link's delay (spec §4d) where it left SYN/SYN out of ``protocols`` (a
+    rendezvous is one event, which no delay separates; the report says so); else 0."""
 
 
 @dataclass(frozen=True)
@@ -140,11 +145,17 @@ class Constraints:
     forbidden : tuple of Protocol
         Protocols taken out of every chosen link's choices (a link not chosen may
         not use one either).
+    free_running : bool
+        Keep designs where a task runs free that the input design runs on a clock
+        (its group has no clock in the variant: it runs as often as its processor
+        lets it, at the lowest priority, and its rate is nobody's choice). False (the
+        default): such a design is not kept.
     """
 
     periods: tuple[tuple[str, str, Fraction], ...] = ()
     latencies: tuple[tuple[tuple[str, ...], Fraction], ...] = ()
     forbidden: tuple[Protocol, ...] = ()
+    free_running: bool = False
 
     def __bool__(self) -> bool:
         """True when a variant can fail them (forbidden protocols restrict the space
@@ -157,7 +168,8 @@ class Constraints:
                             for t, op, v in self.periods],
                 "latencies": [{"chain": list(c), "at_most": exact_text(v)}
                               for c, v in self.latencies],
-                "forbidden": [p.value for p in self.forbidden]}
+                "forbidden": [p.value for p in self.forbidden],
+                "free_running": self.free_running}
 
     def texts(self, unit: str) -> list[str]:
         """Each constraint in words."""
@@ -167,21 +179,31 @@ class Constraints:
                 + [f"no {p.value} link" for p in self.forbidden])
 
 
-DEFINITIONS = 4
+DEFINITIONS = 5
 """The version of the definitions of a verdict and of the objectives, part of the
 fingerprint: a results file judged under other definitions is not resumed. Version 1:
 the period ratio against the input group's fastest clock, no utilization, no Rule 2
 count; version 2: every variant judged with a processor per task (spec §4) and the
 response-time test; version 3: judged on its processors (spec v1.2 §4b, the exact
 schedule within ``max_events``), the period ratio, load and utilization read on
-processors; version 4: the chains' objectives and ``max_latency`` exact on processors
-(spec v1.3 §4c: first use, age, reaction), a variant whose figure is undecided
-rejected, never ranked by a bound."""
+processors; version 4: as 3, and a design where a task runs free that the input design
+runs on a clock is kept only when asked (``Constraints.free_running``); version 5: as 4,
+and the chains' objectives and ``max_latency`` exact on processors (spec v1.3 §4c: first
+use, age, reaction), a variant whose figure is undecided rejected, never ranked by a
+bound."""
+
+CURRENT_DEFINITIONS = ("each variant judged on its processors, spec §4b; a design where a "
+                       "task runs free that the input design clocks is not kept unless "
+                       "asked; the chains' figures exact on processors, spec §4c")
 
 OLDER_DEFINITIONS = {1: "the period ratio against the input group's fastest clock",
                      2: "every variant judged with a processor per task and the "
                         "response-time test, before the schedule on processors (§4b)",
-                     3: "a chain's latency with a processor per task, or a published "
+                     3: "designs kept where a task runs free that the input design runs on "
+                        "a clock, and a chain's latency with a processor per task, or a "
+                        "published bound across groups, before its exact figures on "
+                        "processors (§4c)",
+                     4: "a chain's latency with a processor per task, or a published "
                         "bound across groups, before its exact figures on processors (§4c)"}
 """What each older version of :data:`DEFINITIONS` judged differently (said when a
 results file of that version is refused)."""
@@ -312,6 +334,14 @@ class DesignSpace:
         return out
 
     @cached_property
+    def free_running_in_input(self) -> frozenset[str]:
+        """The tasks that run free in the input design (their group has no clock): the
+        design runs them so, and a variant that keeps them so is kept as the input is."""
+        s = Structure.of(self.skeleton)
+        return frozenset(t for tasks, clocks in zip(s.groups, s.clocks) if not clocks
+                         for t in tasks)
+
+    @cached_property
     def fingerprint(self) -> str:
         """A short hash of the skeleton, the choices, the objectives, the constraints,
         the budget of each schedule (``max_events``: a variant undecided within one
@@ -340,6 +370,8 @@ class DesignSpace:
             "constraints": self.constraints.to_dict(),
             "definitions": definitions,
         }
+        if definitions < 4:  # no free-running choice before version 4
+            del data["constraints"]["free_running"]
         if definitions >= 3:  # no budget before the schedule on processors
             data["max_events"] = self.max_events
         text = json.dumps(data, sort_keys=True, default=str)
@@ -416,7 +448,8 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
                  clocks: Mapping[str, Sequence[Any]] | Sequence[Any] | None = None,
                  chains: Sequence[Sequence[str]] = (), objectives: Sequence[str] | None = None,
                  *, requires: Sequence[Any] = (), max_latency: Sequence[Any] = (),
-                 forbid: Sequence[Any] = (), max_events: int = MAX_EVENTS) -> DesignSpace:
+                 forbid: Sequence[Any] = (), max_events: int = MAX_EVENTS,
+                 free_running: bool = False) -> DesignSpace:
     """Check the choices against the skeleton and build the design space.
 
     Parameters
@@ -456,6 +489,9 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         whose schedule is not decided within it is rejected as undecided. A decided
         variant stops at its proof (a few hundred firings for a small pipe-line), so
         the budget is spent in full only by a variant that would be undecided.
+    free_running : bool
+        Keep designs where a task runs free that the input design runs on a clock
+        (:class:`Constraints`); by default they are not kept.
 
     Returns
     -------
@@ -481,9 +517,9 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     >>> space.size, space.describe(3)
     (4, ({'A:x -> B:x': 'SYN/SYN'}, {'rtc': '10'}))
     """
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 1:
-        raise InputError(f"expected a number of event firings, an integer >= 1, got "
-                         f"{max_events!r}", "max_events")
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
     forbidden = tuple(dict.fromkeys(parse_protocol(p, f"forbid[{k}]")
                                     for k, p in enumerate(forbid)))
     chosen = _link_choices(skeleton, links, all_links, forbidden)
@@ -496,7 +532,8 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         all_chains.append(check_chain(skeleton, list(chain), ("chain", j), Locator()))
     names = _objective_names(objectives, all_chains, skeleton)
     constraints = Constraints(_requirements(skeleton, requires),
-                              _latency_bounds(skeleton, max_latency), forbidden)
+                              _latency_bounds(skeleton, max_latency), forbidden,
+                              free_running=bool(free_running))
     return DesignSpace(skeleton, tuple(chosen[i] for i in chosen), tuple(clock_choices),
                        tuple(dict.fromkeys(all_chains)), names, constraints, max_events)
 
@@ -538,6 +575,16 @@ def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] 
                 chosen[i] = replace(c, narrowed=True)
         for i, link in enumerate(skeleton.links):
             chosen.setdefault(i, LinkChoice(i, link_text(link.writer, link.reader), left))
+    for i, c in chosen.items():
+        delay = link_delay(skeleton, skeleton.links[i])
+        if delay and Protocol.SYN_SYN in c.protocols:
+            kept = tuple(p for p in c.protocols if p is not Protocol.SYN_SYN)
+            if not kept:
+                raise InputError(
+                    f"the link {c.label!r} has a delay of {exact_text(delay)} {skeleton.unit} "
+                    "(spec §4d), which a rendezvous cannot have (it is one event of both "
+                    "tasks); expected a protocol besides SYN/SYN", "links")
+            chosen[i] = replace(c, protocols=kept, delay=delay)
     for i, link in enumerate(skeleton.links):
         if i not in chosen and link.protocol in forbidden:
             raise InputError(f"the link {link_text(link.writer, link.reader)!r} is "
@@ -639,7 +686,7 @@ def _latency_bounds(skeleton: Skeleton, bounds: Sequence[Any]
 def _objective_names(objectives: Sequence[str] | None, chains: Sequence[tuple[str, ...]],
                      skeleton: Skeleton) -> tuple[str, ...]:
     if objectives is None:
-        processors = {t.processor for t in skeleton.tasks.values()}
+        processors = {t.runs_on for t in skeleton.tasks.values()}
         wanted = [o for o in OBJECTIVES if (o != "latency" or chains) and o not in (
                   "age", "reaction") and (o != "utilization" or len(processors) > 1)]
     else:

@@ -34,6 +34,7 @@ import itertools
 from collections.abc import Mapping, Sequence
 from fractions import Fraction
 from typing import Any, Literal
+from typing import Protocol as _Protocol
 
 import numpy as np
 import scipy.sparse as sp
@@ -47,10 +48,13 @@ from ...model.structure import Structure
 from .candidates import CANDIDATE_LIMIT, SPLIT, Candidates, Edits
 from .change import Change, apply_change
 from .findings import FindingKey, FindingKind, RuleFinding, link_key
+from .periods import TRIES, candidate_periods
+from .periods import lcm as lcm_of
 from .rates import DEAD, Rates, task_rates, token_free
 from .regroup import Regrouping
 
-__all__ = ["CANDIDATE_LIMIT", "PERIODS_BUDGET", "SPLIT", "Advisor", "Choice"]
+__all__ = ["CANDIDATE_LIMIT", "JUDGED", "PERIODS_BUDGET", "SPLIT", "Advisor", "Choice", "Judge",
+           "PeriodProposal"]
 
 PERIODS_BUDGET = 10_000
 """Tasks the advice may rebuild and solve, in all, to state real periods (each
@@ -83,6 +87,55 @@ class _Roots:
         return self.groups[self.group_of[task]][0]
 
 
+class Judge(_Protocol):
+    """The exact §4b verdict of the skeleton once a change is made, on the part the change
+    touches (:class:`~.on_processors.ScheduleAdvice` is one)."""
+
+    def after(self, change: Change) -> bool | None:
+        """Schedulable with ``change`` made; None: not decided."""
+
+    def can_decide(self, change: Change) -> bool:
+        """Whether a verdict may still come for ``change`` (its part is not too large,
+        the budget is not spent)."""
+
+_SCHEDULE_RANK = {True: 0, None: 1, False: 2}
+"""A candidate's rank by the exact schedule it leads to: schedulable first."""
+
+JUDGED = 4
+"""Candidates of one finding judged by the exact schedule, at most (the first that bring
+no finding); the later ones rank as undecided."""
+
+
+class PeriodProposal:
+    """The period proposed for the clocks a change adds (:mod:`.periods`).
+
+    Attributes
+    ----------
+    period : Fraction
+    hyperperiod : Fraction
+        Of the periods around the new group with it.
+    schedulable : bool or None
+        The exact verdict with it (None: not decided, or not judged).
+    tried : int
+        Candidate periods judged by the exact schedule (0: none judged).
+    divides : bool
+        It divides the hyperperiod of the periods around the group (which stays).
+    source : str
+        Where the candidates came from: ``"linked"`` (the groups the new group is
+        linked to), ``"processor"`` (those on its processors), ``"cycle time"`` (its
+        own, without any clock around it), ``"duration"`` (its longest task duration,
+        the same for a dead group) or ``"assumed"`` (nothing known: the period the check
+        assumed).
+    """
+
+    __slots__ = ("period", "hyperperiod", "schedulable", "tried", "divides", "source")
+
+    def __init__(self, period: Fraction, hyperperiod: Fraction, schedulable: bool | None,
+                 tried: int, divides: bool, source: str) -> None:
+        self.period, self.hyperperiod, self.schedulable = period, hyperperiod, schedulable
+        self.tried, self.divides, self.source = tried, divides, source
+
+
 class Choice:
     """What :meth:`Advisor.choose` found for one finding.
 
@@ -99,14 +152,17 @@ class Choice:
         None when the skeleton is live; else whether the change makes it live.
     periods : str
         What the change does to the period of each group it touches, in words.
+    proposal : PeriodProposal or None
+        The period proposed for the clocks the change adds (None: it adds none).
     """
 
-    __slots__ = ("change", "kept", "brought", "live", "periods")
+    __slots__ = ("change", "kept", "brought", "live", "periods", "proposal")
 
     def __init__(self, change: Change | None, kept: str, brought: set[FindingKey],
-                 live: bool | None = None, periods: str = "") -> None:
+                 live: bool | None = None, periods: str = "",
+                 proposal: PeriodProposal | None = None) -> None:
         self.change, self.kept, self.brought = change, kept, brought
-        self.live, self.periods = live, periods
+        self.live, self.periods, self.proposal = live, periods, proposal
 
 
 class Advisor(Candidates):
@@ -159,6 +215,8 @@ class Advisor(Candidates):
         self._real: dict[tuple[int, ...], dict[Change, Rates]] = {}
         self.periods_spent = 0
         """Tasks rebuilt and solved so far for real periods (:data:`PERIODS_BUDGET`)."""
+        # Each group's clocked load on each processor (:meth:`_load_beside`, on demand).
+        self._group_load: list[dict[str | None, Fraction]] | None = None
         self.clock_users: dict[str, int] = {}
         for task in skeleton.tasks.values():
             if task.clock:
@@ -180,17 +238,28 @@ class Advisor(Candidates):
                     self.asyn[gr].append(link)
 
     # ------------------------------------------------------------ the check
-    def choose(self, finding: RuleFinding) -> Choice:
+    def choose(self, finding: RuleFinding, judge: Judge | None = None) -> Choice:
         """The best candidate that brings no new finding, with the words of its advice.
 
         Among the candidates that bring no new finding, the first (smallest, then
-        in the order of preference) that is best by, in turn: making the skeleton
-        live when it is dead (token-free circuits of the edited skeleton), keeping
-        the designed rates: the fewest clocked tasks of the touched groups that do
-        not run at their clock's period afterwards (the periods the edited groups
-        run at, :meth:`real_periods`), then the fewest groups left not
-        rate-consistent. The scan stops at the first candidate that is live, keeps
-        every clock's period and leaves every touched group rate-consistent.
+        in the order of preference) that is best by, in turn: the exact schedule on
+        processors it leads to (``judge``: schedulable first, then undecided, then
+        not schedulable; a change that adds a clock is judged with the period
+        proposed for it, :meth:`propose_period`), making the skeleton live when it
+        is dead (token-free circuits of the edited skeleton), keeping the designed
+        rates: the fewest clocked tasks of the touched groups that do not run at
+        their clock's period afterwards (the periods the edited groups run at,
+        :meth:`real_periods`), then the fewest groups left not rate-consistent. The
+        scan stops at the first candidate that is schedulable (or not judged), live,
+        keeps every clock's period and leaves every touched group rate-consistent. At
+        most :data:`JUDGED` candidates are judged; the later ones rank as undecided.
+
+        Parameters
+        ----------
+        finding : RuleFinding
+        judge : Judge, optional
+            The exact verdict on processors of a change (None: not judged, every
+            candidate alike, as with a processor per task).
 
         Returns
         -------
@@ -198,7 +267,8 @@ class Advisor(Candidates):
         """
         key = finding.identity
         first: Edits | None = None
-        best: tuple[tuple[int, int, int], Edits] | None = None
+        best: tuple[tuple[int, int, int, int], Edits, Change, PeriodProposal | None] | None = None
+        judged = 0
         # The smallest edits first; among equals, the order of preference.
         for edits in self.ranked(finding):
             if self.brings(key, edits, whole=False) is not None:
@@ -207,21 +277,142 @@ class Advisor(Candidates):
             live = 0 if self.makes_live(edits) is not False else 1
             # Past the periods budget no period is known: none moves, none is mixed
             # (what resampled and inconsistent would say, without asking them).
-            rank = ((live, 0, 0) if self._periods_after(edits) is None
+            rest = ((live, 0, 0) if self._periods_after(edits) is None
                     else (live, len(self.resampled(edits)), self.inconsistent(edits)))
+            if best is not None and best[0][0] == 0 and rest >= best[0][1:]:
+                continue  # cannot beat a schedulable one: not judged
+            # Past JUDGED candidates, the others are not judged (undecided): the cost of a
+            # finding stays a few simulations, whatever its candidates.
+            now = judge if judged < JUDGED else None
+            judged += judge is not None
+            change, proposal = self.change_of(edits), None
+            if change.add_clock:
+                proposal = self.propose_period(edits, now)
+                change = dataclasses.replace(change, period=proposal.period)
+            verdict = (None if now is None else proposal.schedulable if proposal is not None
+                       else now.after(change))
+            rank = (0 if judge is None else _SCHEDULE_RANK[verdict], *rest)
             if best is None or rank < best[0]:
-                best = (rank, edits)
-            if rank == (0, 0, 0):
+                best = (rank, edits, change, proposal)
+            # Best by every criterion; or by every other one, and no verdict will come
+            # (a part too large, the budget spent): the later candidates cannot do better.
+            if rank == (0, 0, 0, 0) or (rest == (0, 0, 0) and verdict is None and (
+                    now is None or not now.can_decide(change))):
                 break
         if best is not None:
-            edits = best[1]
-            return Choice(self.change_of(edits), edits.kept, set(), self.makes_live(edits),
-                          self.periods_text(edits))
+            _, edits, change, proposal = best
+            return Choice(change, edits.kept, set(), self.makes_live(edits),
+                          self.periods_text(edits, change), proposal)
         if first is None:
             return Choice(None, "", set())
         brought = self.brings(key, first) or set()
         return Choice(None, self.describe(self.change_of(first)), brought,
                       periods=self.periods_text(first))
+
+    def propose_period(self, edits: Edits, judge: Judge | None = None) -> PeriodProposal:
+        """The period for the clocks ``edits`` add, from the skeleton's own periods.
+
+        The candidates of :func:`.periods.candidate_periods` (around the group the
+        clocked tasks form afterwards: its neighbours by ASYN/ASYN links, the groups
+        on its processors, its cycle time), judged by ``judge`` in turn, at most
+        :data:`.periods.TRIES` of them: the first schedulable one, else the first.
+        Without a judge, the first. Without any period to start from, the period
+        the check assumed (:attr:`fresh`).
+        """
+        groups, part, root_of = self._groups_after(edits)
+        members = {t for added in edits.add for t in part[root_of[added]][0]}
+        edited = edits.by_id()
+        near: set[Fraction] = set()
+        for t in members:
+            for link in itertools.chain(self.inputs(t), self.outputs(t)):
+                other = link.reader[0] if link.writer[0] == t else link.writer[0]
+                if other in members or edited.get(id(link), link.protocol) is not \
+                        Protocol.ASYN_ASYN:
+                    continue
+                g = root_of[other] if other in root_of else self.group_of[other]
+                period = part[g][2] if g in part else self.periods[g]
+                if period is not None and period != self.fresh:
+                    near.add(period)
+        touched = set(groups)
+        processors = {self.sk.tasks[t].processor for t in members}
+        around: set[Fraction] = set()
+        for g, period in enumerate(self.periods):
+            if (period is not None and g not in touched
+                    and self.sk.tasks[self.groups[g][0]].processor in processors):
+                around.add(period)
+        # A faster clock would overrun: at least the group's cycle time (each task's own
+        # chain holds its duration, a bound when the periods budget is spent).
+        lower = max(self.sk.tasks[t].duration for t in members)
+        own = "duration"
+        before = self.real_periods(groups, Change(), self.group_of)
+        if before is not None:
+            cycle = [before.period[t] for t in members if before.period.get(t) not in (None, DEAD)]
+            if cycle:
+                lower, own = max(cycle), "cycle time"
+        found = candidate_periods(near, around, lower)
+        if not found:
+            return PeriodProposal(self.fresh, self.fresh, None, 0, False, "assumed")
+        source = "linked" if near else "processor" if around else own
+        reference = lcm_of(near | around) if near | around else lower
+        chosen, verdict, tried = found[0], None, 0
+        if judge is not None:
+            change = self.change_of(edits)
+            load, work = self._load_beside(touched, members)
+            verdicts: list[tuple[tuple[Fraction, Fraction], bool | None]] = []
+            for period, hyper in found[:TRIES]:
+                if any(load[proc] + w / period > 1 for proc, w in work.items()):
+                    # More work with a clock than its processor's time: some task falls
+                    # behind its clock, proven by the load alone (no simulation).
+                    tried += 1
+                    verdicts.append(((period, hyper), False))
+                    continue
+                candidate = dataclasses.replace(change, period=period)
+                if verdicts and not judge.can_decide(candidate):
+                    break  # no verdict will come for the others either
+                tried += 1
+                v = judge.after(candidate)
+                verdicts.append(((period, hyper), v))
+                if v is True:
+                    break
+            chosen, verdict = next(((c, v) for c, v in verdicts if v is True), verdicts[0])
+        return PeriodProposal(chosen[0], chosen[1], verdict, tried, chosen[1] == reference,
+                              source)
+
+    def _load_beside(self, touched: set[int], members: set[str]
+                     ) -> tuple[dict[str | None, Fraction], dict[str | None, Fraction]]:
+        """The load of the clocked groups not ``touched`` on each processor of
+        ``members``, and the members' work per processor.
+
+        Only groups whose clocks share one period are counted (each of their tasks runs
+        once per that period wherever they keep pace): a lower bound of the processor's
+        load, so that a load above 1 with the new clock proves it overloaded. Each
+        group's share is computed once, over the whole skeleton.
+        """
+        if self._group_load is None:
+            self._group_load = []
+            self._total_load: dict[str | None, Fraction] = {}
+            for tasks in self.groups:
+                share: dict[str | None, Fraction] = {}
+                periods = {self.sk.clocks[c].period for t in tasks
+                           if (c := self.sk.tasks[t].clock) is not None}
+                if len(periods) == 1:
+                    (period,) = periods
+                    for t in tasks:
+                        proc = self.sk.tasks[t].processor
+                        share[proc] = (share.get(proc, Fraction(0))
+                                       + self.sk.tasks[t].duration / period)
+                for proc, x in share.items():
+                    self._total_load[proc] = self._total_load.get(proc, Fraction(0)) + x
+                self._group_load.append(share)
+        work: dict[str | None, Fraction] = {}
+        for t in members:
+            proc = self.sk.tasks[t].processor
+            work[proc] = work.get(proc, Fraction(0)) + self.sk.tasks[t].duration
+        load = {}
+        for proc in work:
+            load[proc] = self._total_load.get(proc, Fraction(0)) - sum(
+                (self._group_load[g].get(proc, Fraction(0)) for g in touched), Fraction(0))
+        return load, work
 
     # ------------------------------------------------------------ rates and liveness
     def _groups_after(self, edits: Edits) -> tuple[list[int], dict, Any]:
@@ -246,7 +437,7 @@ class Advisor(Candidates):
         period once ``edits`` are made: (task, its clock's period, its period after).
 
         The period after is the task's cycle time in the edited skeleton
-        (:meth:`real_periods`), :data:`DEAD` where its group is dead. A task that loses its
+        (:meth:`real_periods`), ``DEAD`` where its group is dead. A task that loses its
         clock counts against its clock's period too: the designed rate is the clock's.
         """
         groups, _, _ = self._groups_after(edits)
@@ -298,7 +489,7 @@ class Advisor(Candidates):
         """The period of each task of ``groups`` once ``change`` is made (None: dead).
 
         ``roots``: the group of each of their tasks once ``change`` is made (any
-        label per group: :meth:`_regroup`'s root task, or :attr:`group_of` for no change).
+        label per group: :meth:`_regroup`'s root task, or ``group_of`` for no change).
 
         Only the touched groups are rebuilt, edited and solved: the cycle time of
         each task's compute event is the max cycle ratio of the timed event graph
@@ -319,10 +510,16 @@ class Advisor(Candidates):
                 return None
             self.periods_spent += cost
             edited = apply_change(self._within(groups), change,
-                                  self.fresh if change.add_clock else None)
+                                  self._period_of(change))
             known = solved[change] = task_rates(edited, roots)
             self._real[tuple(groups)] = solved
         return known
+
+    def _period_of(self, change: Change) -> Fraction | None:
+        """The period of the clocks ``change`` adds: proposed, else the one assumed."""
+        if not change.add_clock:
+            return None
+        return self.fresh if change.period is None else change.period
 
     def _cost(self, groups: list[int]) -> int:
         """What solving ``groups`` costs against :data:`PERIODS_BUDGET`, in tasks."""
@@ -360,7 +557,7 @@ class Advisor(Candidates):
         change = self.change_of(edits)
         if change not in self._live:
             edited = apply_change(self._within(groups), change,
-                                  self.fresh if change.add_clock else None)
+                                  self._period_of(change))
             self._live[change] = not token_free(edited)
         return self._live[change]
 
@@ -419,19 +616,22 @@ class Advisor(Candidates):
         dead = {int(x) for x in np.flatnonzero(sizes[label] > 1)} | {u for u, v in edges if u == v}
         return {self.group_of[t] for t, events in g.events_of.items() if dead.intersection(events)}
 
-    def periods_text(self, edits: Edits) -> str:
+    def periods_text(self, edits: Edits, change: Change | None = None) -> str:
         """What ``edits`` do to the period of each group they touch, before -> after.
 
         The periods are those the skeleton runs at (:meth:`real_periods`, before
         and after the change), not the design periods: a group whose tasks run at
         different rates is "not rate-consistent", a group with a token-free
         circuit "dead". Each clocked task that does not run at its clock's period
-        afterwards is named.
+        afterwards is named. ``change``: the change of ``edits`` with the period
+        proposed for the clocks it adds (default: the one the check assumed).
         """
         u = self.sk.unit
-        groups, part, _ = self._groups_after(edits)
+        groups, part, root_of = self._groups_after(edits)
         # The change first: it is solved only when the periods before fit the budget too.
         real = self._periods_after(edits)
+        if real is not None and change is not None and change.period is not None:
+            real = self.real_periods(groups, change, root_of)
         now = None if real is None else self.real_periods(groups, Change(), self.group_of)
         if now is None or real is None:
             return (f"periods before -> after not computed: the advice's budget of "
@@ -662,6 +862,10 @@ class Advisor(Candidates):
         for t in change.drop_clock:
             parts.append(f"remove the clock {self.sk.tasks[t].clock} of {t}")
         for t in change.add_clock:
+            if change.period is not None:
+                parts.append(f"give {t} a clock of its own, of period "
+                             f"{display_text(change.period)} {self.sk.unit}")
+                continue
             # The check assumed a period that no group has (Rule 2 compares periods).
             parts.append(f"give {t} a clock of its own (a period of your choice that no "
                          f"other group has, e.g. {display_text(self.fresh)} {self.sk.unit})")

@@ -384,6 +384,7 @@ def _preferred(syncs: list[Sync]) -> list[Sync]:
 
 
 def sync_label(sync: Sync) -> str:
+    """How a message names a synchronization: ``clock``, or its kind and port."""
     kind, link = sync
     if kind == "clock" or link is None:
         return "clock"

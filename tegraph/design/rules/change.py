@@ -1,7 +1,8 @@
 """A machine-applicable edit of a skeleton: what a design-rule finding says to change.
 
 :class:`Change` is the structured form of a finding's advice (links that get
-another protocol, clocks removed, clocks added); :func:`apply_change` makes it. (What identifies a
+another protocol, clocks removed, clocks added, priorities declared); :func:`apply_change`
+makes it. (What identifies a
 finding is its kind and key: :attr:`~.findings.RuleFinding.identity`.)
 """
 
@@ -12,8 +13,10 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
+from maxplus.scalar import exact_text
+
 from ...errors import InputError
-from ...model.skeleton import Clock, Link, Protocol, Skeleton
+from ...model.skeleton import Clock, Protocol, Skeleton
 
 __all__ = ["Change", "ScheduleEffect", "apply_change"]
 
@@ -32,23 +35,34 @@ class Change:
     add_clock : tuple of str
         Tasks that get a clock of their own; its period is the designer's choice
         (the check assumes one equal to no other period of the skeleton).
+    priorities : tuple of (str, int)
+        ``(task, priority)``: priorities to declare (Rule 4, completing a partial
+        declaration), in file order.
+    period : Fraction or None
+        The period proposed for the clocks ``add_clock`` adds (None: none proposed;
+        :func:`apply_change` then needs one).
     """
 
     protocols: tuple[tuple[str, str, str], ...] = ()
     drop_clock: tuple[str, ...] = ()
     add_clock: tuple[str, ...] = ()
+    priorities: tuple[tuple[str, int], ...] = ()
+    period: Fraction | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for the JSON report."""
         return {"protocols": [{"from": w, "to": r, "protocol": p} for w, r, p in self.protocols],
-                "drop_clock": list(self.drop_clock), "add_clock": list(self.add_clock)}
+                "drop_clock": list(self.drop_clock), "add_clock": list(self.add_clock),
+                "priorities": [{"task": t, "priority": p} for t, p in self.priorities],
+                "period": None if self.period is None else exact_text(self.period)}
 
 
 @dataclass(frozen=True)
 class ScheduleEffect:
     """What a change does to the skeleton on its processors (spec §4b), before -> after.
 
-    Decided on the part the change touches (:mod:`.on_processors`): the groups it
+    Decided on the part the change touches
+    (:mod:`tegraph.design.rules.on_processors`): the groups it
     touches and every group sharing a processor with them.
 
     Attributes
@@ -92,7 +106,8 @@ def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | No
     change : Change
     period : Fraction, optional
         Period of each clock that ``change.add_clock`` adds (a private clock
-        ``T.clock``, phase 0); needed only when it adds one.
+        ``T.clock``, phase 0); needed only when it adds one; default
+        ``change.period``.
 
     Returns
     -------
@@ -118,15 +133,20 @@ def apply_change(skeleton: Skeleton, change: Change, period: Fraction | int | No
     links = []
     for link in skeleton.links:
         key = (":".join(link.writer), ":".join(link.reader))
-        links.append(Link(link.writer, link.reader, wanted.pop(key)) if key in wanted else link)
+        links.append(dataclasses.replace(link, protocol=wanted.pop(key)) if key in wanted
+                     else link)
     if wanted:
         raise InputError(f"no link {' -> '.join(next(iter(wanted)))} in the skeleton", "change")
     tasks, clocks = dict(skeleton.tasks), dict(skeleton.clocks)
-    for name in (*change.drop_clock, *change.add_clock):
+    for name in (*change.drop_clock, *change.add_clock, *(t for t, _ in change.priorities)):
         if name not in tasks:
             raise InputError(f"no task {name!r} in the skeleton", "change")
+    for name, priority in change.priorities:
+        tasks[name] = dataclasses.replace(tasks[name], priority=int(priority))
     for name in change.drop_clock:
         tasks[name] = dataclasses.replace(tasks[name], clock=None)
+    if period is None:
+        period = change.period
     if change.add_clock and period is None:
         raise InputError("a clock is added: give its period", "period")
     for name in change.add_clock:

@@ -18,9 +18,10 @@ from typing import Any
 
 from maxplus.scalar import display_text
 
+from ...model.platform import Platform
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
-from .advice import CANDIDATE_LIMIT, SPLIT, Advisor
+from .advice import CANDIDATE_LIMIT, SPLIT, Advisor, PeriodProposal
 from .change import Change, ScheduleEffect
 from .findings import FindingKind, RuleFinding, key_text, link_key, naming_order
 from .on_processors import ScheduleAdvice
@@ -34,8 +35,8 @@ _ORDER = {"error": 0, "warning": 1, "info": 2}
 
 def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
                 processors: bool = True, live: bool | None = None,
-                chains: Mapping[tuple[str, ...], Any] | Sequence[Sequence[str]] = ()
-                ) -> list[RuleFinding]:
+                chains: Mapping[tuple[str, ...], Any] | Sequence[Sequence[str]] = (),
+                platform: Platform | None = None) -> list[RuleFinding]:
     """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
 
     Parameters
@@ -46,7 +47,8 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
         ``Structure.of(skeleton)``, if known (its groups are the synchronized groups).
     processors : bool
         Also say what each advised change does to the skeleton on its processors
-        (spec §4b, :mod:`.on_processors`: ``RuleFinding.schedule`` and a clause of
+        (spec §4b, :mod:`tegraph.design.rules.on_processors`: ``RuleFinding.schedule``
+        and a clause of
         the advice); False: every task has a processor of its own, where the
         periods the advice states say it.
     live : bool, optional
@@ -56,6 +58,8 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
         With ``processors``: chains (checked) whose first use on processors each
         advised change states before -> after, where it touches them (spec §4c); a
         mapping gives their figures on processors as they are (``report.chains``).
+    platform : Platform, optional
+        ``report.platform``, if known (Rule 4 reads its priorities and processors).
 
     Returns
     -------
@@ -100,7 +104,7 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
     on = (ScheduleAdvice(skeleton, structure.groups, structure.group_of, advisor.fresh, chains)
           if processors else None)
     findings = [advised(f, advisor, on) for f in structural]
-    findings += rule4(skeleton, structure)
+    findings += rule4(skeleton, structure, platform)
     index = {t: i for i, t in enumerate(skeleton.tasks)}
     findings.sort(key=lambda f: (f.rule, _ORDER[f.severity],
                                  # Most findings name one task: no generator for it.
@@ -119,7 +123,7 @@ def advised(finding: RuleFinding, advisor: Advisor, on: ScheduleAdvice | None = 
             ) -> RuleFinding:
     """The finding with the best change that brings no other finding, in words; with
     ``on``, what the change does to the skeleton on its processors too."""
-    choice = advisor.choose(finding)
+    choice = advisor.choose(finding, on)
     change, said = choice.change, choice.kept
     if change is None:
         # Only a bounded set of candidate changes is examined: say so, claim no more.
@@ -139,8 +143,11 @@ def advised(finding: RuleFinding, advisor: Advisor, on: ScheduleAdvice | None = 
         words = f"split the group, each clocked task keeping its clock: {words}"
     elif finding.rule == 3 and said:
         words = f"keep one clock ({said}): {words}"
-    elif finding.rule == 3:
-        words += " (one clock for the whole group)"
+    notes = ["one clock for the whole group"] if finding.rule == 3 and not said else []
+    if choice.proposal is not None:
+        notes.append(_proposal_words(choice.proposal, advisor.sk.unit))
+    if notes:
+        words += f" ({'; '.join(notes)})"
     effect = None if on is None else on.effect(change)
     words += f" [{choice.periods}" + ("" if effect is None else f"; {effect.text}") + "]"
     if choice.live is False:
@@ -150,6 +157,32 @@ def advised(finding: RuleFinding, advisor: Advisor, on: ScheduleAdvice | None = 
     elif choice.live:
         words += " This also makes the skeleton live."
     return _with_advice(finding, words, change, effect)
+
+
+def _proposal_words(proposal: PeriodProposal, unit: str) -> str:
+    """Why the period of a new clock is the one proposed (:mod:`.periods`)."""
+    if proposal.source == "assumed":
+        return "no period is known around the group: the one the check assumed"
+    hyper = f"{display_text(proposal.hyperperiod)} {unit}"
+    if proposal.source in ("cycle time", "duration"):
+        what = ("the group's cycle time" if proposal.source == "cycle time"
+                else "its longest duration")
+        why = f"a multiple of {what} (no clock around it)"
+    else:
+        whose = ("the groups it is linked to" if proposal.source == "linked"
+                 else "the groups on its processors")
+        why = (f"from the periods of {whose}: it divides {hyper}, their hyperperiod, which "
+               "stays" if proposal.divides else
+               f"from the periods of {whose}: their hyperperiod becomes {hyper}")
+    if proposal.tried == 0:
+        return why
+    tried = (f"the first of {proposal.tried} periods tried" if proposal.tried > 1
+             else "the first period tried")
+    verdict = {True: f"{tried} that is schedulable on its processors",
+               False: f"none of the {proposal.tried} periods tried is schedulable on its "
+                      "processors",
+               None: "not decided on its processors"}[proposal.schedulable]
+    return f"{why}; {verdict}"
 
 
 def _with_advice(finding: RuleFinding, advice: str, change: Change | None,

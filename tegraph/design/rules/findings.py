@@ -48,8 +48,11 @@ class FindingKind(enum.Enum):
     """A synchronized group bound to two clocks or more (Figure 12)."""
     RULE4_NONE_DECLARED = (4, "info", "no priority declared")
     """No task declares a priority: the rate-monotonic proposal."""
+    RULE4_PARTIAL = (4, "error", "partial declaration")
+    """Some tasks of one processor declare a priority, these do not: all or none (spec
+    §4b), so the declared ones are replaced; its change completes the declaration."""
     RULE4_MISSING = (4, "warning", "priority missing")
-    """Some tasks declare a priority, these do not."""
+    """Some tasks declare a priority, these do not (on a processor where none does)."""
     RULE4_GROUP_PRIORITIES = (4, "error", "one group, several priorities")
     """The tasks of one group on one processor have different priorities."""
     RULE4_SHARED_PRIORITY = (4, "error", "two groups, one priority")
@@ -102,8 +105,9 @@ class RuleFinding:
     advice : str
         What to change, in words.
     change : Change or None
-        The same as an edit of the skeleton (Rules 1-3; None for Rule 4, and
-        when no change removes the finding without bringing another one).
+        The same as an edit of the skeleton (Rules 1-3, and a partial declaration of
+        priorities; None for the other Rule 4 findings, and when no change removes
+        the finding without bringing another one).
     schedule : ScheduleEffect or None
         What ``change`` does to the skeleton on its processors (spec §4b), before
         -> after; None without a change, or when every task has a processor of
@@ -111,7 +115,7 @@ class RuleFinding:
 
     See Also
     --------
-    check_rules : makes them.
+    tegraph.design.rules.check.check_rules : makes them.
 
     Examples
     --------

@@ -56,6 +56,7 @@ class Edits:
         self._size: int | None = None  # known when made by the search (it counts as it goes)
 
     def set(self, link: Link, protocol: Protocol) -> Edits:
+        """These edits and ``link`` given ``protocol``."""
         return Edits(self.protocol + ((link, protocol),), self.drop, self.add, self.kept)
 
     def with_clock(self, task: str, present: bool) -> Edits:
@@ -65,9 +66,11 @@ class Edits:
         return Edits(self.protocol, self.drop | {task}, self.add - {task}, self.kept)
 
     def saying(self, kept: str) -> Edits:
+        """The same edits, keeping the synchronization ``kept``."""
         return Edits(self.protocol, self.drop, self.add, kept)
 
     def get(self, link: Link) -> Protocol:
+        """The protocol ``link`` has under these edits."""
         for known, protocol in reversed(self.protocol):
             if known is link:
                 return protocol

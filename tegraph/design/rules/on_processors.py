@@ -22,8 +22,10 @@ chosen for a finding:
   simulated. So a skeleton of 10,000 tasks with 10,000 findings costs a bounded
   time; once the budget is spent, the advice says so.
 
-A clock the change adds gets the period the advisor assumed (a period no group
-has, :attr:`~.advice.Advisor.fresh`); the words say so.
+A clock the change adds gets the period the advisor proposed (``Change.period``,
+:mod:`.periods`), else the one it assumed (a period no group has,
+:attr:`~.advice.Advisor.fresh`); the words say which. :meth:`ScheduleAdvice.after`
+is the advisor's judge: it ranks the candidates by the schedule they lead to.
 
 **Chains.** For each chain the change touches (a task of it in the part), the
 advice states its first use on processors (spec §4c) before -> after: before, the
@@ -42,8 +44,8 @@ from typing import Any
 
 from maxplus.scalar import display_text
 
-from ...analysis.processors.platform import processor_of, processor_parts
 from ...model.budgets import MAX_EVENTS
+from ...model.platform import processor_of, processor_parts
 from ...model.skeleton import Skeleton
 from .advice import _group_text
 from .change import Change, ScheduleEffect, apply_change
@@ -65,11 +67,11 @@ PART_TASKS = 500
 
 _MIN_COST = 500
 """What one simulation costs at least, in firings: the fixed cost of building and
-analyzing the part (some 5 ms, as 500 firings of the simulation)."""
+analyzing the part, counted as the firings of the simulation it takes as long as."""
 
 _TASK_COST = 100
-"""What building and analyzing a part costs per task, in firings (measured: some
-0.6 ms a task, as 100 firings), so that the advice adds a second or two at most."""
+"""What building and analyzing a part costs per task, in firings (measured, and
+counted as the firings that take as long), so that the advice's budget bounds its time."""
 
 _SHOWN = 4
 """Groups named in a verdict's figures; more are counted."""
@@ -151,6 +153,43 @@ class ScheduleAdvice:
         own part, not the skeleton)."""
         return processor_parts(self.groups, self.processor_of)
 
+    def _part(self, change: Change) -> tuple[tuple, tuple[str, ...], tuple[str, ...]]:
+        """The key of the part ``change`` touches, its tasks and its processors."""
+        touched = {port.split(":")[0] for w, r, _ in change.protocols for port in (w, r)}
+        touched.update(change.drop_clock, change.add_clock)
+        parts = {self.part_of[self.group_of[t]] for t in touched}
+        key = tuple(sorted(parts))
+        if key not in self._part_tasks:  # many changes touch one large part: once
+            tasks = tuple(sorted((t for p in parts for t in self.members[p]),
+                                 key=self.order.__getitem__))
+            self._part_tasks[key] = (tasks, tuple(dict.fromkeys(
+                self.processor_of[t] for t in tasks)))
+        return (key, *self._part_tasks[key])
+
+    def can_decide(self, change: Change) -> bool:
+        """Whether :meth:`after` may still decide ``change``: its part is simulated (at
+        most :data:`PART_TASKS` tasks) and its verdict is known or fits the budget
+        :data:`ADVICE_EVENTS`, with room for the verdict before (the advice states both)."""
+        key, tasks, _ = self._part(change)
+        if len(tasks) > PART_TASKS:
+            return False
+        cost = _MIN_COST + _TASK_COST * len(tasks)
+        needed = cost * sum((key, c) not in self._known for c in (Change(), change))
+        return self.spent + needed <= ADVICE_EVENTS
+
+    def after(self, change: Change) -> bool | None:
+        """The §4b verdict with ``change`` made, on the part it touches (the advisor's
+        :class:`~.advice.Judge`); None when not decided: undecided within
+        :data:`CHANGE_EVENTS`, or not simulated (:meth:`can_decide`)."""
+        key, tasks, _ = self._part(change)
+        known = self._known.get((key, change))
+        if known is not None:
+            return known.schedulable
+        if not self.can_decide(change):
+            return None
+        verdict = self._verdict(key, tasks, change)
+        return None if verdict is None else verdict.schedulable
+
     def effect(self, change: Change) -> ScheduleEffect:
         """The §4b verdict before -> after ``change``, on the part it touches.
 
@@ -159,19 +198,10 @@ class ScheduleAdvice:
         ScheduleEffect
             Its ``text`` is the advice's clause.
         """
-        touched = {port.split(":")[0] for w, r, _ in change.protocols for port in (w, r)}
-        touched.update(change.drop_clock, change.add_clock)
-        parts = {self.part_of[self.group_of[t]] for t in touched}
-        key = tuple(sorted(parts))
+        key, tasks, processors = self._part(change)
         unsimulated = self._too_large.get(key)
         if unsimulated is not None:
             return unsimulated  # one large part, a finding per task: its words once
-        if key not in self._part_tasks:  # many changes touch one large part: once
-            tasks = tuple(sorted((t for p in parts for t in self.members[p]),
-                                 key=self.order.__getitem__))
-            self._part_tasks[key] = (tasks, tuple(dict.fromkeys(
-                self.processor_of[t] for t in tasks)))
-        tasks, processors = self._part_tasks[key]
         head = "on its processors (§4b), before -> after: "
         if len(tasks) > PART_TASKS:
             why = (f"not simulated: the processors it touches run {len(tasks):,} tasks, more "
@@ -197,17 +227,18 @@ class ScheduleAdvice:
         else:
             text = head + before.words + " -> " + after.words
         if change.add_clock and after.schedulable is not None:
-            text += (f" (the new clock at {display_text(self.fresh)} {self.sk.unit}, "
-                     "the period the advice assumed)")
+            period = self.fresh if change.period is None else change.period
+            text += (f" (the new clock at {display_text(period)} {self.sk.unit}, the period "
+                     + ("the advice assumed)" if change.period is None else "proposed)"))
         undecided = None
         if before.schedulable is None or after.schedulable is None:
             undecided = f"undecided within {CHANGE_EVENTS:,} event firings per simulation"
         return ScheduleEffect(tasks, processors, before.schedulable, after.schedulable,
-                              undecided, text + self._chains_clause(parts, change))
+                              undecided, text + self._chains_clause(set(key), change))
 
     def _chains_clause(self, parts: set[int], change: Change) -> str:
-        """``; first use on its processors (§4c), before -> after: A -> B 26 ms -> 6 ms``
-        for each chain with a task in ``parts`` (empty without one)."""
+        """The clause ``; first use on its processors (§4c), before -> after: ...``, the
+        two figures of each chain with a task in ``parts`` (empty without one)."""
         touching = [c for c in self.chains
                     if any(self.part_of[self.group_of[t]] in parts for t in c)]
         if not touching:
@@ -268,7 +299,8 @@ class ScheduleAdvice:
         from ...analysis.analyze import analyze_skeleton
 
         sub = apply_change(self.sk.restricted_to(tasks), change,
-                           self.fresh if change.add_clock else None)
+                           (self.fresh if change.period is None else change.period)
+                           if change.add_clock else None)
         # Only the schedule is read: the semiflow cross-check is skipped, and the §4
         # dater simulation gets the same budget as the schedule.
         report = analyze_skeleton(sub, max_steps=CHANGE_EVENTS, semiflow_max_places=0,
@@ -302,13 +334,12 @@ def _words(sk: Skeleton, report: Any) -> str:
     if not report.live:
         why = "dead: a token-free circuit"
     else:
-        overruns = [(f.overrun_at, i, t) for i, (t, f) in enumerate(schedule.tasks.items())
-                    if f.overrun_at is not None]
-        if overruns:
-            k, _, t = min(overruns)
-            why = f"{t} overruns at activation {k}"
-        elif schedule.starved:
-            why = f"{schedule.starved[0]} never gets its processor (starved)"
+        # The earliest problem, as every command names it first (ProcessorSchedule.problems).
+        first = schedule.problems[0] if schedule.problems else None
+        if first is not None and first.kind == "overrun":
+            why = f"{first.task} overruns at activation {first.k}"
+        elif first is not None:
+            why = f"{first.task} never gets its processor (starved)"
         elif schedule.unbounded:
             u = schedule.unbounded[0]
             why = f"the place {u.src} -> {u.dst} grows ({u.kind})"

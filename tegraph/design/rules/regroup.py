@@ -6,8 +6,8 @@ clock, a synchronizing link or a thread. What joins each group as it is, is
 kept once per group; a candidate changes only its edited links and the clocks
 of its edited tasks. Small groups are re-formed by a union-find in Python, a
 large one by scipy's connected components over arrays kept per group (a
-Python loop costs some 20 ms per candidate on a group of 10,000 tasks, a
-group that its Rule 3 finding re-forms once per candidate).
+Python loop over a group of 10,000 tasks would be paid once per candidate, since its
+Rule 3 finding re-forms the group for each).
 """
 
 from __future__ import annotations
@@ -26,8 +26,8 @@ __all__ = ["ARRAYS_FROM", "Regrouping"]
 
 ARRAYS_FROM = 500
 """A single group of this many tasks and more is re-formed by scipy's connected
-components (about 0.3 ms of set-up a call), a smaller one by a union-find (about
-2 µs a task)."""
+components (a fixed set-up cost a call), a smaller one by a union-find (a cost per
+task): the two cross near this size."""
 
 Part = tuple[list[str], int, Fraction | None]
 """A re-formed group: its tasks in file order, how many clocks, its design period."""
@@ -40,7 +40,7 @@ class Regrouping:
     ----------
     skeleton : Skeleton
     groups : sequence of tuple of str
-        Its groups, tasks in file order (:attr:`Structure.groups`).
+        Its groups, tasks in file order (``Structure.groups``).
     links_from : sequence of list of Link
         The links whose writer is in each group.
     threads_of : mapping of int to list of tuple of str

@@ -34,6 +34,7 @@ class Synchronization:
 
     @property
     def label(self) -> str:
+        """How messages name this synchronization."""
         if self.kind == "clock":
             return f"clock {self.clock}"
         # Type: an input or output synchronization always has its link (only a clock has none).

@@ -20,8 +20,8 @@ from numbers import Integral
 from typing import Any
 
 from ...errors import SkeletonError
-from ..elements import Clock, Link, Protocol, Task
-from ..limits import text_problem
+from ..elements import DEFAULT_PROCESSOR, Clock, Link, Processor, Protocol, Task
+from ..limits import text_problem, written
 from .shape import SkeletonShape
 
 __all__ = ["KeyPath", "Locator", "check_chain", "check_skeleton", "format_path"]
@@ -128,7 +128,7 @@ def _check_time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locat
             path,
         )
     if value < 0 or (positive and value == 0):
-        raise loc.error(f"expected {what} {bound}, got {Fraction(value)}", path)
+        raise loc.error(f"expected {what} {bound}, got {written(Fraction(value))}", path)
 
 
 def check_skeleton(sk: SkeletonShape, loc: Locator, *, values_checked: bool = False) -> None:
@@ -169,10 +169,40 @@ def check_skeleton(sk: SkeletonShape, loc: Locator, *, values_checked: bool = Fa
     ports: dict[str, tuple[set[str], set[str]]] = {}
     for key, task in sk.tasks.items():
         ports[key] = _check_task(key, task, sk, loc, values_checked)
-    _check_links(sk, ports, loc)
+    _check_platform(sk, loc, values_checked)
+    _check_links(sk, ports, loc, values_checked)
     _check_threads(sk, loc)
     for i, chain in enumerate(sk.chains):
         check_chain(sk, chain, ("chains", i), loc)
+
+
+def _check_platform(sk: SkeletonShape, loc: Locator, values_checked: bool) -> None:
+    """``processors`` and ``network`` (v1.3, §4d): each entry a :class:`Processor` of a
+    processor some task runs on (``default`` included), the network's delay >= 0."""
+    if not isinstance(sk.processors, Mapping):
+        raise loc.error(f"expected a mapping of processors, got {type(sk.processors).__name__}",
+                        ("processors",))
+    if sk.processors:
+        used = {task.runs_on for task in sk.tasks.values()}
+        for key, entry in sk.processors.items():
+            path: KeyPath = ("processors", str(key))
+            if not values_checked:
+                check_name(key, path, "processor name", loc)
+                if not isinstance(entry, Processor):
+                    raise loc.error(f"expected a Processor, got {type(entry).__name__}", path)
+                if entry.name != key:
+                    raise loc.error(f"the key {key!r} holds the processor named "
+                                    f"{entry.name!r}", path)
+                if not isinstance(entry.preemptive, bool):
+                    raise loc.error(f"expected true or false, got {entry.preemptive!r}",
+                                    (*path, "preemptive"))
+            if key not in used:
+                raise loc.error(
+                    f"no task runs on processor {key!r}; expected a processor that a task "
+                    f"names in `processor:`, or `default` for the tasks that name none "
+                    f"({_names(sorted(used))})", path)
+    if sk.network_delay is not None and not values_checked:
+        _check_time(sk.network_delay, ("network", "delay"), "a delay", False, loc)
 
 
 def _check_entry(key: Any, entry: Any, kind: type[Clock] | type[Task], path: KeyPath,
@@ -295,11 +325,13 @@ def _endpoint(
 
 
 def _check_links(sk: SkeletonShape, ports: dict[str, tuple[set[str], set[str]]],
-                 loc: Locator) -> None:
+                 loc: Locator, values_checked: bool = False) -> None:
     writers: dict[tuple[str, str], int] = {}
     for i, link in enumerate(sk.links):
         if _plain_link(link, ports, writers):
             writers[link.reader] = i
+            if link.delay is not None:
+                _check_delay(sk, link, i, loc, values_checked)
             continue
         # Not the common case: every rule in turn, the first broken one raised.
         if not isinstance(link, Link):
@@ -327,6 +359,35 @@ def _check_links(sk: SkeletonShape, ports: dict[str, tuple[set[str], set[str]]],
                 ("links", i, "to"),
             )
         writers[reader] = i
+        _check_delay(sk, link, i, loc, values_checked)
+    if sk.network_delay:  # a positive network delay: each rendezvous across processors
+        for i, link in enumerate(sk.links):
+            if link.protocol is Protocol.SYN_SYN and link.delay is None:
+                _check_delay(sk, link, i, loc, True)
+
+
+def _check_delay(sk: SkeletonShape, link: Link, i: int, loc: Locator,
+                 values_checked: bool) -> None:
+    """A link's delay (§4d): >= 0, and none on a rendezvous, which is one event (§2)."""
+    if link.delay is not None and not values_checked:
+        _check_time(link.delay, ("links", i, "delay"), "a delay", False, loc)
+    if link.protocol is not Protocol.SYN_SYN:
+        return
+    crosses = sk.tasks[link.writer[0]].runs_on != sk.tasks[link.reader[0]].runs_on
+    delay = link.effective_delay(crosses, sk.network_delay)
+    if delay:
+        whose = ("its own" if link.delay is not None else
+                 f"the network's, between processors {sk.tasks[link.writer[0]].runs_on!r} "
+                 f"and {sk.tasks[link.reader[0]].runs_on!r}")
+        raise loc.error(
+            f"a SYN/SYN link with a delay ({_time_words(delay)}, {whose}); a rendezvous is one "
+            "event of both tasks (spec §2), which no delay can separate: expected delay 0 "
+            "(`delay: 0` on the link overrides the network's) or another protocol "
+            "(ASYN/SYN: the reader waits for the delayed message)", ("links", i))
+
+
+def _time_words(t: Fraction) -> str:
+    return str(t.numerator) if t.denominator == 1 else f"{t.numerator}/{t.denominator}"
 
 
 def _plain_link(link: Any, ports: dict[str, tuple[set[str], set[str]]],
@@ -386,7 +447,7 @@ def _check_thread_processor(sk: SkeletonShape, thread: Sequence[str], i: int, lo
     first = sk.tasks[thread[0]].processor
     for j, task in enumerate(thread):
         here = sk.tasks[task].processor
-        if here != first:
+        if here != first and sk.tasks[task].runs_on != sk.tasks[thread[0]].runs_on:
             raise loc.error(
                 f"the thread runs {thread[0]!r} on {_on(first)} and {task!r} on {_on(here)}; "
                 "a thread is one OS thread: expected all its tasks on one processor",
@@ -395,7 +456,8 @@ def _check_thread_processor(sk: SkeletonShape, thread: Sequence[str], i: int, lo
 
 
 def _on(processor: str | None) -> str:
-    return "the default processor" if processor is None else f"processor {processor!r}"
+    return "the default processor" if processor in (None, DEFAULT_PROCESSOR) \
+        else f"processor {processor!r}"
 
 
 def check_chain(sk: SkeletonShape, chain: Any, path: KeyPath, loc: Locator) -> tuple[str, ...]:

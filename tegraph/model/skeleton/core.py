@@ -14,9 +14,10 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
-from ..elements import Clock, Link, Task
+from ..elements import Clock, Link, Processor, Task
 from .checks import Locator, check_skeleton
 from .schema import skeleton_fields, skeleton_to_data
 
@@ -42,6 +43,12 @@ class Skeleton:
         The file it was read from.
     chains : list of tuple of str
         Sensor-to-actuator chains of tasks for the latency report (spec §6).
+    processors : dict of str to Processor
+        The declared properties of processors (spec §1 ``processors``, §4d), in file
+        order; a processor named by no entry has the default ones.
+    network_delay : Fraction or None
+        ``network.delay`` (§4d): the delay of every link between two processors that
+        declares none of its own; None when not declared.
 
     See Also
     --------
@@ -81,6 +88,11 @@ class Skeleton:
     have their own fields: ``Task.priority``, ``Task.processor``, ``chains``)."""
     chains: list[tuple[str, ...]] = field(default_factory=list)
     """Chains of tasks, sensor first, whose latency is reported (spec §6)."""
+    processors: dict[str, Processor] = field(default_factory=dict)
+    """Declared processor properties (spec §4d): read them through
+    :func:`tegraph.model.platform.platform_of`, which gives every processor its own."""
+    network_delay: Fraction | None = None
+    """``network.delay`` (spec §4d); None: not declared."""
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], name: str = "skeleton",
@@ -168,10 +180,14 @@ class Skeleton:
         keep = set(tasks)
         used = {self.tasks[t].clock for t in tasks}
         clocks = {c: clock for c, clock in self.clocks.items() if c in used}
+        # The processors' properties and the network go with the tasks: a link keeps its
+        # delay (§4d), a processor its kind; an entry naming no task left is dropped.
+        runs_on = {self.tasks[t].runs_on for t in tasks}
         return dataclasses.replace(
             self, tasks={t: self.tasks[t] for t in tasks}, clocks=clocks,
             links=[x for x in self.links if x.writer[0] in keep and x.reader[0] in keep],
-            threads=[th for th in self.threads if th[0] in keep], chains=[])
+            threads=[th for th in self.threads if th[0] in keep], chains=[],
+            processors={p: q for p, q in self.processors.items() if p in runs_on})
 
     def link_of_port(self, task: str, port: str) -> Link | None:
         """The link that ends or starts at ``task:port``, if any."""

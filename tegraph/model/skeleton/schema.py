@@ -20,8 +20,8 @@ from typing import Any
 from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time, size_problem
 
-from ..elements import Clock, Link, Protocol, Task
-from ..limits import text_problem
+from ..elements import Clock, Link, Processor, Protocol, Task
+from ..limits import text_problem, written
 from .checks import KeyPath, Locator, check_name, check_skeleton
 from .shape import SkeletonShape
 
@@ -29,11 +29,14 @@ __all__ = ["skeleton_fields", "skeleton_to_data"]
 
 # The spec §6 extensions (chains; priority, processor) come last, so that the
 # messages that list the v1 keys keep their wording.
-TOP_KEYS = ("name", "unit", "clocks", "tasks", "links", "threads", "chains")
+TOP_KEYS = ("name", "unit", "clocks", "tasks", "links", "threads", "chains", "processors",
+            "network")
 CLOCK_KEYS = ("period", "phase")
 TASK_KEYS = ("duration", "clock", "period", "phase", "inputs", "outputs", "priority",
              "processor")
-LINK_KEYS = ("from", "to", "protocol")
+LINK_KEYS = ("from", "to", "protocol", "delay")
+PROCESSOR_KEYS = ("preemptive",)
+NETWORK_KEYS = ("delay",)
 _PROTOCOLS = ", ".join(p.value for p in Protocol)
 # What a task's body and a protocol are expected to be, worded once (not per element).
 _TASK_MAPPING = f"a mapping of task fields ({', '.join(TASK_KEYS)})"
@@ -130,7 +133,8 @@ def _time(value: Any, path: KeyPath, what: str, positive: bool, loc: Locator) ->
         raise loc.error(f"expected {what} {bound}: {_NUMBER}, got {detail}", path)
     # The sign of a Fraction is its numerator's (an int comparison, not Fraction's).
     if result.numerator < 0 or (positive and result.numerator == 0):
-        raise loc.error(f"expected {what} {bound}, got {_time_text(result)}", path)
+        raise loc.error(f"expected {what} {bound}, got "
+                        f"{written(result, loc.raw.get(path) if loc.raw else None)}", path)
     return result
 
 
@@ -142,8 +146,8 @@ def _short_time(value: str | int, positive: bool) -> Fraction | None:
     """The time of a short text or an int, or None when :func:`_time` refuses it.
 
     A file repeats its values (a handful of periods; the generated chain of 10,000
-    tasks has 100 durations): each is read once (that chain's fields: 146 -> 102 ms;
-    a file of 60 % distinct durations neither gains nor loses). At most 16,384 values
+    tasks has 100 durations): each is read once (a file of mostly distinct durations
+    neither gains nor loses). At most 16,384 values
     of at most 40 characters are kept (a few MB). The checks of :func:`_time` word
     every refusal; a Fraction is immutable, so sharing one is safe.
     """
@@ -322,9 +326,44 @@ def _link(body: Any, i: int, loc: Locator) -> Link:
     for key, expected in _LINK_PARTS:
         if key not in body:
             raise loc.error(f"missing; expected {expected} in every link", (*path, key))
+    delay = None
+    if "delay" in body:  # v1.3 (§4d)
+        delay = _time(body["delay"], (*path, "delay"), "a delay", False, loc)
     return Link(_endpoint(body["from"], (*path, "from"), loc),
                 _endpoint(body["to"], (*path, "to"), loc),
-                _protocol(body["protocol"], (*path, "protocol"), loc))
+                _protocol(body["protocol"], (*path, "protocol"), loc), delay)
+
+
+def _processors(value: Any, loc: Locator) -> dict[str, Processor]:
+    """``processors:`` (v1.3, §4d): each entry's properties; which processors exist is
+    the tasks' to say (:func:`~.checks.check_skeleton` refuses an entry naming none)."""
+    if value is None:  # `processors:` with every entry commented out
+        return {}
+    out: dict[str, Processor] = {}
+    for key, body in _mapping(value, ("processors",), "a mapping from processor names to "
+                              "their properties, such as {can0: {preemptive: false}}",
+                              loc).items():
+        path: KeyPath = ("processors", str(key))
+        check_name(key, path, "processor name", loc)
+        body = _mapping(body, path, "a mapping of processor properties (preemptive)", loc)
+        _known_keys(body, PROCESSOR_KEYS, path, loc)
+        preemptive = body.get("preemptive", True)
+        if not isinstance(preemptive, bool):
+            raise loc.error(f"expected true or false (whether a running job can be "
+                            f"preempted), got {_kind(preemptive)}", (*path, "preemptive"))
+        out[key] = Processor(key, preemptive)
+    return out
+
+
+def _network_delay(value: Any, loc: Locator) -> Fraction | None:
+    """``network.delay`` (v1.3, §4d), or None when not given."""
+    if value is None:
+        return None
+    body = _mapping(value, ("network",), "a mapping such as {delay: 0.2}", loc)
+    _known_keys(body, NETWORK_KEYS, ("network",), loc)
+    if "delay" not in body:
+        return None
+    return _time(body["delay"], ("network", "delay"), "a delay", False, loc)
 
 
 def skeleton_fields(data: Any, default_name: str = "skeleton", source: str | None = None,
@@ -340,8 +379,9 @@ def skeleton_fields(data: Any, default_name: str = "skeleton", source: str | Non
     ----------
     data : mapping
         As in spec §1: ``tasks`` (required), ``name``, ``unit``, ``clocks``,
-        ``links``, ``threads``; and the §6 extensions ``chains`` and the task
-        keys ``priority`` and ``processor``. Times may be ints, Fractions, decimals,
+        ``links``, ``threads``; and the extensions ``chains``, the task
+        keys ``priority`` and ``processor``, ``processors``, ``network`` and a link's
+        ``delay`` (v1.3). Times may be ints, Fractions, decimals,
         ``"7/3"`` strings or floats (read by their shortest decimal text).
     default_name : str
         The name when ``data`` has none (a file's stem).
@@ -412,7 +452,8 @@ def skeleton_fields(data: Any, default_name: str = "skeleton", source: str | Non
                             for j, t in enumerate(members)))
     return dict(name=name, tasks=tasks, clocks={**declared, **private}, links=links,
                 threads=threads, unit=unit, source=source if source is not None else loc.file,
-                chains=chains)
+                chains=chains, processors=_processors(top.get("processors"), loc),
+                network_delay=_network_delay(top.get("network"), loc))
 
 
 def skeleton_to_data(sk: SkeletonShape) -> dict[str, Any]:
@@ -462,13 +503,25 @@ def skeleton_to_data(sk: SkeletonShape) -> dict[str, Any]:
         tasks[key] = body
     data["tasks"] = tasks
     if sk.links:
-        data["links"] = [{"from": ":".join(link.writer), "to": ":".join(link.reader),
-                          "protocol": link.protocol.value} for link in sk.links]
+        data["links"] = [_link_data(link) for link in sk.links]
     if sk.threads:
         data["threads"] = [list(thread) for thread in sk.threads]
     if sk.chains:
         data["chains"] = [list(chain) for chain in sk.chains]
+    if sk.processors:
+        data["processors"] = {key: {"preemptive": bool(p.preemptive)}
+                              for key, p in sk.processors.items()}
+    if sk.network_delay is not None:
+        data["network"] = {"delay": _time_text(Fraction(sk.network_delay))}
     return data
+
+
+def _link_data(link: Link) -> dict[str, Any]:
+    body: dict[str, Any] = {"from": ":".join(link.writer), "to": ":".join(link.reader),
+                            "protocol": link.protocol.value}
+    if link.delay is not None:
+        body["delay"] = _time_text(Fraction(link.delay))
+    return body
 
 
 def _clock_data(clock: Clock) -> dict[str, Any]:

@@ -14,9 +14,10 @@ from __future__ import annotations
 # protocol of spec §1 (tegraph.model.elements.Protocol).
 import typing
 from collections.abc import Mapping, Sequence
+from fractions import Fraction
 from typing import Any
 
-from ..elements import Clock, Link, Task
+from ..elements import Clock, Link, Processor, Task
 
 __all__ = ["SkeletonShape"]
 
@@ -30,28 +31,45 @@ class SkeletonShape(typing.Protocol):
     """
 
     @property
-    def name(self) -> str: ...
+    def name(self) -> str:
+        """The skeleton's name."""
 
     @property
-    def unit(self) -> str: ...
+    def unit(self) -> str:
+        """The unit of every time (``ms`` by default)."""
 
     @property
-    def tasks(self) -> Mapping[str, Task]: ...
+    def tasks(self) -> Mapping[str, Task]:
+        """Task name -> task, in file order."""
 
     @property
-    def clocks(self) -> Mapping[str, Clock]: ...
+    def clocks(self) -> Mapping[str, Clock]:
+        """Clock name -> clock."""
 
     @property
-    def links(self) -> Sequence[Link]: ...
+    def links(self) -> Sequence[Link]:
+        """The links between ports, in file order."""
 
     @property
-    def threads(self) -> Sequence[Sequence[str]]: ...
+    def threads(self) -> Sequence[Sequence[str]]:
+        """The declared threads, each a list of task names."""
 
     @property
-    def chains(self) -> Sequence[Sequence[str]]: ...
+    def chains(self) -> Sequence[Sequence[str]]:
+        """The declared chains, each a list of task names."""
 
     @property
-    def source(self) -> str | None: ...
+    def source(self) -> str | None:
+        """The file it was read from (None: built in code)."""
 
     @property
-    def extra(self) -> Mapping[str, Any]: ...
+    def extra(self) -> Mapping[str, Any]:
+        """Keys of the file this version does not read, kept as given."""
+
+    @property
+    def processors(self) -> Mapping[str, Processor]:
+        """Processor name -> its declared properties (``processors:``)."""
+
+    @property
+    def network_delay(self) -> Fraction | None:
+        """``network.delay``: the delay of a link across processors (None: not declared)."""

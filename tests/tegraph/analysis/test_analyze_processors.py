@@ -57,7 +57,7 @@ def test_doubled_durations_overrun_on_one_cpu_though_each_task_alone_keeps_pace(
     assert result.exit_code == 1
     last = result.output.rstrip().splitlines()[-1]
     assert last == ("verdict: live and consistent with a processor per task, but NOT "
-                    "SCHEDULABLE on its processors: MOD.DYN overruns at activation 2, "
+                    "SCHEDULABLE on its processors: MOD.DYN overruns at activation 2 (6 ms), "
                     "1 growing place (exit status 1)")
     doc = json.loads(CliRunner().invoke(app, ["analyze", str(path), "--json"]).output)
     assert doc["schedulable"] is False and doc["consistent"] is True
@@ -99,11 +99,19 @@ def test_the_response_time_test_is_only_a_cross_check():
     doc = r.to_dict()
     assert doc["processors"] == [{"name": "default", "tasks": list(r.tasks),
                                   "priorities": dict(r.schedule.platform.priority),
-                                  "priority_source": "rate-monotonic"}]
+                                  "priority_source": "rate-monotonic", "preemptive": True,
+                                  "replaced_priorities": {}}]
     assert [g["period_on_processors"] for g in doc["groups"]] == ["1", "2", "6"]
+    # CO.JS has no clock of its own: no time from a tick (spec v1.3 §4b).
     assert doc["tasks"]["CO.JS"]["on_processors"] == {
-        "period": "2", "overrun_at": None, "response": "3/10", "starved": False,
-        "decided": True}
+        "period": "2", "overrun_at": None, "response": "3/10", "response_from_tick": None,
+        "starved": False, "stopped_after": None, "waits_for": [], "decided": True}
+    # Figure 17 (by hand in the example's header): MOD.DYN released at its tick 0 runs
+    # 0.7-1.0 and 1.1-2.0, every 6 ms alike: 2 from release and from its tick; TG.JS,
+    # released at its tick 0, waits for OBS.JL (0-0.1) and runs 0.1-0.2: 1/5 both.
+    for task, value in (("MOD.DYN", "2"), ("TG.JS", "1/5")):
+        figures = doc["tasks"][task]["on_processors"]
+        assert (figures["response"], figures["response_from_tick"]) == (value, value)
 
 
 def test_the_command_line_default_is_the_library_constant():

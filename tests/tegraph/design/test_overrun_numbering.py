@@ -147,7 +147,7 @@ def check_three_agree(data: dict) -> int | None:
             continue
         if other.overrun_at is not None or (other.decided and mine.overrun_decided):
             assert other.overrun_at == mine.overrun_at, t
-    # The timeline draws the §4b schedule (issue 19), which with a processor per task
+    # The timeline draws the §4b schedule, which with a processor per task
     # is §3 exactly: its first overruns are the engine's, whatever it draws.
     tl = simulate_timeline(sk)
     assert bool(tl.deadlocks) == (not report.live)

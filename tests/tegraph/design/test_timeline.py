@@ -92,8 +92,8 @@ def test_computed_torque_on_one_cpu_is_figure_17():
 
 
 def test_doubled_durations_overrun_on_one_cpu_as_analyze_says():
-    # Issue 19: every duration x2 (0.2, 0.2, 0.4, 0.6, 2.4): analyze (one processor per
-    # task) said "consistent", the old timeline "MOD.DYN overruns at activation 2".
+    # Every duration x2 (0.2, 0.2, 0.4, 0.6, 2.4): with one processor per task the
+    # skeleton is consistent, and MOD.DYN's overrun at activation 2 is the one CPU's.
     # By hand, one CPU, the same priorities: OBS.JL#1 0-0.2, TG.JS 0.2-0.4, TF.TT.JS
     # 0.4-0.8, CO.JS 0.8-1 (0.2 of 0.6), preempted by OBS.JL#2 1-1.2, CO.JS 1.2-1.6,
     # MOD.DYN 1.6-2 (0.4 of 2.4). Each 2 ms cycle repeats this: MOD.DYN also gets
@@ -131,12 +131,14 @@ def test_syn_syn_pair_overruns_at_activation_5_as_analyze_proves():
     #   end_A(4) = W(4) = 18 > tick 5 of A at 16: A overruns at activation 5.
     # (With a processor per task, §4 gives the same end_A: 1, 6, 12, 18, hence 5.)
     sk = Skeleton.from_dict(SYN_PAIR)
-    tl = simulate_timeline(sk)
+    tl = simulate_timeline(sk, 16)  # until the proof: the overrun's tick
     assert runs(tl) == [("A#1", "0", "1"), ("B#1", "1", "2"), ("A#2", "4", "5"),
                         ("B#2", "6", "7"), ("A#3", "8", "9"), ("A#4", "12", "13"),
                         ("B#3", "13", "14")]
     assert tl.overrun_at == {"A": 5, "B": None} and tl.overrun_ticks["A"] == 16
-    assert tl.horizon == 16  # drawn until the proof: the overrun's tick
+    # By default: two periods of the fastest clock (A's, 4) past the overrun's tick,
+    # which is then inside the frame: 16 + 8 = 24 (the whole fits in 10 periods).
+    assert simulate_timeline(sk).horizon == 24
     report = analyze(sk, design=False)
     assert report.tasks["A"].overrun_at == tl.overrun_at["A"] == 5
     assert report.exit_status == tl.exit_status == 1
@@ -188,7 +190,7 @@ def test_drifting_clocks_end_at_once_naming_the_hyperperiod(tmp_path):
 
 
 def test_drifting_clocks_released_together_end_at_once(tmp_path):
-    # The same four sensors in phase (issue 19's file): whatever decides them (the
+    # The same four sensors in phase: whatever decides them (the
     # exact simulation's budget, or a theorem), the answer comes in seconds, its
     # verdict line carries the exit status and the report says how it was obtained.
     f = tmp_path / "sensors.yaml"
@@ -226,11 +228,13 @@ def test_two_tasks_over_full_load_on_one_processor():
     # which does not change the verdict").
     sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10, "priority": 2},
                                        "B": {"duration": 6, "period": 10, "priority": 1}}})
-    tl = simulate_timeline(sk)
+    tl = simulate_timeline(sk, 18)  # the overrun's tick 10, and the late job's end 18
     assert runs(tl) == [("A#1", "0", "6"), ("B#1", "6", "10"), ("A#2", "10", "16"),
                         ("B#1", "16", "18")]
     assert tl.overrun_at == {"A": None, "B": 2} and tl.exit_status == 1
-    assert tl.horizon == 18  # the overrun's tick 10, and the late job's end 18
+    # By default two periods (10) past the overrun's tick: 10 + 20 = 30, after the late
+    # job's end 18 (the whole fits in 10 periods, from 0).
+    assert simulate_timeline(sk).horizon == 30
     assert [(j.task, j.index) for j in tl.late_jobs] == [("B", 1)]
     assert ("OVERRUN: B overruns at activation 2: its clock B.clock ticks at 10 ms while "
             "activation 1 runs until 18 ms") in render_timeline(tl)
@@ -245,7 +249,8 @@ def test_a_starved_task_is_not_schedulable():
     assert tl.overrun_at["L"] == 2 and tl.exit_status == 1
     assert all(i.task == "H" for i in tl.intervals)
     text = render_timeline(tl)
-    assert "STARVED: a job of L never receives its duration on processor default" in text
+    assert ("STARVED: a job of L (released at 0 ms) never receives its duration on processor "
+            "default") in text
     assert "1 starved task" in text.splitlines()[-1]
 
 
@@ -342,7 +347,7 @@ def test_refusals():
         simulate_timeline(sk, horizon="-2.5")
     assert info.value.where == "horizon"
     for bad in (0, -1, True, 1.5):
-        with pytest.raises(InputError, match="expected an integer >= 1") as info:
+        with pytest.raises(InputError, match=r"expected an integer from 1 to 2\*\*63 - 1") as info:
             simulate_timeline(sk, max_events=bad)
         assert info.value.where == "max_events"
 
@@ -354,7 +359,8 @@ def test_cli_refuses_a_budget_of_nothing_in_one_line(tmp_path, value):
     out = CliRunner().invoke(app, ["timeline", str(path), "--max-events", value])
     assert out.exit_code == 2
     (line,) = out.output.strip().splitlines()
-    assert line.startswith("tegraph: error: --max-events") and "expected an integer >= 1" in line
+    assert line.startswith("tegraph: error: --max-events")
+    assert "expected an integer from 1 to 2**63 - 1" in line
 
 
 def test_drawing_or_how_to_install(tmp_path):
@@ -388,12 +394,12 @@ def test_without_matplotlib_the_message_says_how_to_install(tmp_path, monkeypatc
     tl = simulate_timeline(Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 2}}}))
     with pytest.raises(PlotUnavailableError) as info:
         draw_timeline(tl, tmp_path / "a.svg")
-    assert "pip install 'tegraph[plot]'" in str(info.value)
+    assert "pip install '.[plot]'" in str(info.value)
     src = tmp_path / "a.yaml"
     src.write_text("tasks:\n  A: {duration: 1, period: 2}\n")
     result = CliRunner().invoke(app, ["timeline", str(src), "-o", str(tmp_path / "a.svg")])
     assert result.exit_code == 2
-    assert "pip install 'tegraph[plot]'" in result.output
+    assert "pip install '.[plot]'" in result.output
     assert not (tmp_path / "a.svg").exists()
 
 

@@ -1,5 +1,5 @@
-"""The event-graph build of a skeleton place by place, as ``build_teg`` did before its
-columns (commit c7d4bda): the oracle of ``test_build_columns``.
+"""The event-graph build of a skeleton place by place, as ``build_teg`` did before it
+built columns: the oracle of ``test_build_columns``.
 
 Each event is added by ``add_transition`` and each place by ``add_places``'s checked,
 one-at-a-time path, every name resolved through the graph's own index: slow, and
@@ -21,7 +21,7 @@ _NO_PARAMETER = HoldingSource("none")
 
 
 def element_build(skeleton: Skeleton) -> TimedEventGraph:
-    """``build_teg(skeleton)`` of commit c7d4bda, for a skeleton whose references resolve."""
+    """``build_teg(skeleton)`` place by place, for a skeleton whose references resolve."""
     tasks, clocks = skeleton.tasks, skeleton.clocks
     merged = {link.reader: f"{link.writer[0]}.write:{link.writer[1]}"
               for link in skeleton.links if link.protocol is Protocol.SYN_SYN}

@@ -1,5 +1,5 @@
 """``build_teg`` builds its graph as columns; the oracle adds it event by event and
-place by place (``_element_build``, the builder of commit c7d4bda). Both must give
+place by place (``_element_build``, the builder before the columns). Both must give
 the same graph: events, attributes, places (ends, tokens, times, kinds, names,
 origins), records, arrays, and the same error for a skeleton they refuse.
 """

@@ -1,8 +1,8 @@
 """A value a hair from an integer is formatted in a few divisions.
 
-``analyze`` of a task of duration 1e-4299 on a 10 ms clock took 9 to 15 s, all of it in
-the rounded decimal beside the slack 10 - 1e-4299: one division per digit, 4,301 of
-them, each longer than the last. The answer is unchanged; the divisions are counted.
+The rounded decimal beside the slack 10 - 1e-4299 (a task of duration 1e-4299 on a
+10 ms clock) would take one division per digit, 4,301 of them, each longer than the
+last. The answer is the same; the divisions are counted.
 """
 
 from __future__ import annotations

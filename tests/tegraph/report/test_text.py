@@ -25,7 +25,7 @@ def test_two_different_values_never_print_alike(a, b):
 
 @given(fractions)
 def test_a_fraction_never_looks_whole(value):
-    # Printed as the input said it (issue 21): an exact decimal when it terminates,
+    # Printed as the input said it: an exact decimal when it terminates,
     # else the fraction with a rounded decimal beside that never looks whole.
     exact, _, beside = human(value, "ms").partition(" ms")
     assert Fraction(exact) == value
@@ -100,7 +100,8 @@ def test_rules_header_counts_what_it_lists():
 
 def test_schedulability_columns_carry_their_unit():
     text = render_text(analyze(load_skeleton(EXAMPLES / "computed_torque.yaml")))
-    assert re.search(r"period \(ms\)\s+work \(ms\)\s+response \(ms\)\s+margin \(ms\)", text)
+    assert re.search(r"period \(ms\)\s+work \(ms\)\s+group's RTA response \(ms\)\s+margin \(ms\)",
+                     text)
 
 
 def test_cycle_time_of_several_groups_names_each_period():
@@ -117,8 +118,8 @@ def test_cycle_time_of_several_groups_names_each_period():
 
 
 def test_a_short_exact_decimal_far_from_one_is_exact_not_approximate():
-    # 3/10^17 terminates with one significant digit: 3e-17 exactly, no "≈" (issue 21:
-    # the decimal alone, as the input would write it).
+    # 3/10^17 terminates with one significant digit: 3e-17 exactly, no "≈" (the
+    # decimal alone, as the input would write it).
     assert human(Fraction(3, 10**17), "ms") == "3e-17 ms"
     assert human(Fraction(1, 256), "ms") == "0.00390625 ms"
     assert decimal_text(Fraction(1, 256)) is None

@@ -108,8 +108,8 @@ def test_a_clock_ticking_at_a_dead_group_is_the_deadlock_not_an_overrun() -> Non
     # which comes after MT1.write:a: the token-free circuit. MT2.compute and MT2.write:tau
     # wait on it, and MT1.activate on MT1.write:d (its return place is empty after the first
     # activation), MT1.read:q and MT1.compute on MT1.activate: every event but rtc.tick is
-    # stuck after those 4 firings, all at time 0. v1.0 of this search went on ticking (a
-    # million states, 43 s) and called MT1 overrun at activation 2; analyze reports the
+    # stuck after those 4 firings, all at time 0. A search that went on ticking (a
+    # million states) would call MT1 overrun at activation 2; analyze reports the
     # deadlock and no overrun (spec §4), and so does this search now.
     sk = load_skeleton(EXAMPLES / "fig7b_wrong_order.yaml")
     r = timed_reachability(sk)

@@ -31,6 +31,5 @@ def engine_loop(request):
         return
     if not built(loop):
         pytest.skip(f"the {loop} loop is not built (python setup.py build_ext --inplace)")
-    with pytest.MonkeyPatch.context() as mp:
-        use_loop(mp, loop)
+    with use_loop(loop):
         yield loop

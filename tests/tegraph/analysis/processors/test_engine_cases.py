@@ -15,22 +15,15 @@ import pytest
 
 from tegraph.analysis.processors import _engine
 from tegraph.analysis.processors._engine import PartData, PartResult, simulate_part
+from tegraph.analysis.processors._loops import current
 from tegraph.analysis.sensitivity.affine import Cut, lin
-from tests.tegraph.analysis.processors.engine_loops import built, compiled_module
+from tests.tegraph.analysis.processors.engine_loops import built, compiled_module, use_loop
 
 
 def simulate(d: PartData, budget: int, keep: bool = True) -> PartResult:
     """``simulate_part`` on the loop of the run: a compiled one must take the part."""
-    module = _engine._engine_kernel or _engine._engine_kernel_wide
-    with pytest.MonkeyPatch.context() as mp:
-        if module is not None:
-            assert module.covers(d)
-            mp.setattr(_engine, "_Part", _refuse)
+    with use_loop(current().first, only=True):
         return simulate_part(d, budget, keep)
-
-
-def _refuse(*args, **kwargs):
-    raise AssertionError("the compiled loop fell back to the Python loop")
 
 
 def part(**kw) -> PartData:
@@ -211,3 +204,26 @@ def test_what_a_compiled_loop_does_not_cover(loop, change):
     assert module.covers(clocked_overrun(1))
     assert module.covers(dataclasses.replace(clocked_overrun(1), p_hold=[BOUND[loop], 0, 0]))
     assert not module.covers(dataclasses.replace(clocked_overrun(1), **change(BOUND[loop])))
+
+
+@pytest.mark.parametrize("loop", list(BOUND))
+def test_one_loop_alone_refuses_what_it_cannot_run(loop):
+    # The switch's `only`: a part the loop does not cover, or whose times pass its
+    # bound (the case above), raises instead of running on the next loop.
+    if not built(loop):
+        pytest.skip(f"the {loop} loop is not built")
+    unit = BOUND[loop] // 4
+    past = dataclasses.replace(clocked_overrun(1), p_hold=[2 * unit, 0, 0], duration=[3 * unit])
+    with use_loop(loop, only=True), pytest.raises(RuntimeError, match="to its end"):
+        simulate_part(past, 100)
+    fraction = dataclasses.replace(clocked_overrun(1), duration=[Fraction(3)])
+    with use_loop(loop, only=True), pytest.raises(RuntimeError, match="does not cover"):
+        simulate_part(fraction, 100)
+    with use_loop(loop):  # the next loops take both over
+        assert simulate_part(past, 100).regime[:2] == (6 * unit, 12 * unit)
+        assert simulate_part(fraction, 100).regime[:2] == (6, 12)
+
+
+def test_an_unknown_loop_is_refused():
+    with pytest.raises(ValueError, match="unknown loop 'fast'"), use_loop("fast"):
+        pass

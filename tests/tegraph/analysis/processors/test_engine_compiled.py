@@ -42,10 +42,6 @@ EVERY_LOOP = True
 """This module picks the loops itself: ``conftest.py`` runs it once, on no loop of its own."""
 
 
-def _refuse(*args, **kwargs):
-    raise AssertionError("the compiled loop fell back to the Python loop")
-
-
 def run_on(loop: str, d: PartData, budget: int, keep: bool):
     """The result of ``simulate_part`` on one loop, and every state it compared.
 
@@ -61,14 +57,10 @@ def run_on(loop: str, d: PartData, budget: int, keep: bool):
                        part.snapshot(now, pending, lengths)))
         return original(part, seen, now)
 
-    with pytest.MonkeyPatch.context() as mp:
+    with pytest.MonkeyPatch.context() as mp, use_loop(loop, only=True):
         mp.setattr(_engine, "_compare", spy)
-        use_loop(mp, loop)
         if loop != "python":
             assert compiled_module(loop).covers(d)
-            mp.setattr(_engine, "_Part", _refuse)
-            if loop == "int64":
-                mp.setattr(_engine, "_engine_kernel_wide", None)
         result = simulate_part(d, budget, keep)
     return result, states
 
@@ -226,8 +218,7 @@ def test_random_skeletons_schedule_the_same(rng, processors):
     trace = TraceRequest(tuple(range(teg.n_transitions)), tuple(sk.tasks))
     schedules = []
     for loop in LOOPS:
-        with pytest.MonkeyPatch.context() as mp:
-            use_loop(mp, loop)
+        with use_loop(loop):
             s = schedule_on_processors(sk, teg, groups, trace=trace)
             schedules.append(repr(s) + repr(s.trace))
     assert schedules[0] == schedules[1] == schedules[2]
@@ -240,6 +231,5 @@ def test_corpus_seeds_schedule_the_same():
         teg, groups = build_teg(sk), analyze_skeleton(sk).groups
         compiled = repr(schedule_on_processors(sk, teg, groups))
         for loop in LOOPS[1:]:
-            with pytest.MonkeyPatch.context() as mp:
-                use_loop(mp, loop)
+            with use_loop(loop):
                 assert repr(schedule_on_processors(sk, teg, groups)) == compiled, (seed, loop)

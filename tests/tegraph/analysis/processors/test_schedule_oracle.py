@@ -152,13 +152,27 @@ def test_engine_matches_the_oracle_before_and_after_its_proof(data):
             assert later == window, j
         for task in r["tasks"]:
             fig = s.tasks[task]
-            released = [(a, f) for a, f in jobs[task] if t2 <= a < t2 + length]
+            numbered = [(k, a, f) for k, (a, f) in enumerate(jobs[task], 1)
+                        if t2 <= a < t2 + length]
+            released = [(a, f) for _, a, f in numbered]
             if fig.period is None:
                 assert not released
+                if fig.stopped_after is not None:  # no job ever after, behind a starved one
+                    assert len(jobs[task]) == fig.stopped_after and not fig.starved
+                    assert fig.waits_for and all(s.tasks[w].starved for w in fig.waits_for)
                 continue
             assert fig.period == Fraction(length, len(released))
             assert all(f is not None for _, f in released)
             assert fig.response == max(f - a for a, f in released)
+            # From the tick: job k is activated by tick k; bounded where the regime has as
+            # many ticks as jobs (else the ticks pile up).
+            if task not in ticks:
+                assert fig.response_from_tick is None
+            elif sum(t2 <= x < t2 + length for x in ticks[task]) != len(released):
+                assert fig.response_from_tick is None
+            else:
+                assert fig.response_from_tick == max(f - ticks[task][k - 1]
+                                                     for k, _, f in numbered)
     _check_overruns(sk, s, ticks, ends)
     _check_growth(s, counts)
 

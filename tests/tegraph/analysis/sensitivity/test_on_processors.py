@@ -62,9 +62,15 @@ def test_computed_torque_on_its_one_cpu():
     r = sensitivity(sk, formulas=False)
     s = r.scaling
     assert r.processors and r.schedulable is True and r.exit_status == 0
-    assert s.semantics == "processors" and s.exact and s.factor == F(5, 3)
+    assert s.semantics == "processors" and s.exact and s.factor == F(5, 3) and s.attained
     assert s.limits[0].task == "MOD.DYN"
-    assert "affine" in s.method  # a synchronized group: the walk, not the theorem
+    # The chain is one periodic unit at its own priority (its tasks released by ctl,
+    # each when the one before ends): decided by the theorem; the walk on affine
+    # times, the theorem switched off, finds the same factor.
+    assert "Lehoczky" in s.method and "affine" not in s.method
+    with mock.patch.object(ProcessorLine, "__post_init__", _no_theorem):
+        walked = sensitivity(sk, formulas=False, margins=False, verify=False).scaling
+    assert walked.exact and walked.factor == F(5, 3) and "affine" in walked.method
     assert s.per_task.factor == 5
     assert all(c.agrees for c in r.checks)
     # Another algorithm: the exact schedule of the scaled skeleton.
@@ -87,9 +93,11 @@ def test_computed_torque_with_a_processor_per_task_is_the_old_answer():
 
 def test_undecided_is_a_bound_never_a_guess():
     # 10 event firings cannot cover one hyperperiod (6 ms: 6 + 3 + 1 ticks): the
-    # nominal verdict and the factor are undecided, with the budget named.
-    r = sensitivity(load_skeleton(TORQUE), formulas=False, margins=False, max_events=10,
-                    verify=False)
+    # nominal verdict and the factor are undecided, with the budget named (the
+    # schedule simulated: the theorem, which decides it, switched off).
+    with mock.patch.object(ProcessorLine, "__post_init__", _no_theorem):
+        r = sensitivity(load_skeleton(TORQUE), formulas=False, margins=False, max_events=10,
+                        verify=False)
     assert r.schedulable is None and r.exit_status == 1
     assert r.scaling.factor is None and not r.scaling.exact
     assert r.scaling.why_undecided and "max_events" in " ".join(r.scaling.why_undecided)
@@ -204,11 +212,12 @@ def _no_search(*args, **kwargs):
 
 
 def test_not_schedulable_nominal_gives_no_figure_and_no_search():
-    # The pair on one processor: A (priority 2) runs [0, 6); B is released
-    # at 0, runs [6, 10), has 2 of its 6 left when A's next job and B's own tick
-    # come at 10: B's activation 1 has not ended at tick 2 -> not schedulable.
-    # With a processor per task each alone is consistent (6 <= 10).
-    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10, "priority": 2},
+    # A pair on one processor at one priority (so no levels: the schedule itself
+    # decides): A, first in the file, runs [0, 6); B is released at 0, runs [6, 10),
+    # has 2 of its 6 left when A's next job and B's own tick come at 10: B's
+    # activation 1 has not ended at tick 2 -> not schedulable. With a processor per
+    # task each alone is consistent (6 <= 10).
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 6, "period": 10, "priority": 1},
                                        "B": {"duration": 6, "period": 10, "priority": 1}}})
     with mock.patch("tegraph.analysis.sensitivity.on_processors.solve_line", _no_search), \
             mock.patch.object(ProcessorLine, "evaluate", _no_search):
@@ -231,19 +240,23 @@ def test_not_schedulable_nominal_gives_no_figure_and_no_search():
 
 
 def test_not_consistent_nominal_gives_no_figure_and_no_search():
-    # A alone overruns with a processor per task (12 > 10): nothing on processors.
+    # A alone overruns with a processor per task (12 > 10): nothing on processors
+    # (the theorem switched off: the schedule would have to be walked).
     sk = Skeleton.from_dict({"tasks": {"A": {"duration": 12, "period": 10}}})
-    with mock.patch("tegraph.analysis.sensitivity.on_processors.solve_line", _no_search):
+    with mock.patch("tegraph.analysis.sensitivity.on_processors.solve_line", _no_search), \
+            mock.patch.object(ProcessorLine, "__post_init__", _no_theorem):
         r = sensitivity(sk, formulas=False)
     m = r.margins["A.duration"]
     assert not r.consistent and m.high is None
     assert m.not_searched.startswith("none: not consistent as it is")
+    assert "`vary`" in m.not_searched  # how to have it searched
 
 
 def test_undecided_nominal_is_undecided_at_once_naming_max_events():
     # 10 firings cannot cover computed_torque's hyperperiod (6 ms: 6 + 3 + 1 ticks).
     with mock.patch("tegraph.analysis.sensitivity.on_processors.solve_line", _no_search), \
-            mock.patch.object(ProcessorLine, "evaluate", _no_search):
+            mock.patch.object(ProcessorLine, "evaluate", _no_search), \
+            mock.patch.object(ProcessorLine, "__post_init__", _no_theorem):
         r = sensitivity(load_skeleton(TORQUE), formulas=False, max_events=10)
     assert r.schedulable is None
     figures = [r.scaling, *r.margins.values()]
@@ -307,7 +320,8 @@ def test_a_tiny_budget_gives_undecided_never_a_wrong_number():
     # 1,000 firings per figure: the nominal (about 50 firings per simulation) is
     # decided, but no walk of computed_torque's scaling line ends within it.
     exact = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False)
-    r = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False, max_events=1000)
+    with mock.patch.object(ProcessorLine, "__post_init__", _no_theorem):  # simulate it
+        r = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False, max_events=1000)
     assert r.schedulable is True
     s = r.scaling
     assert s.factor is None and not s.exact
@@ -323,7 +337,8 @@ def test_a_tiny_budget_gives_undecided_never_a_wrong_number():
             assert hi <= true.high and (lo is None or lo >= true.low)
     # The run's budget: 2 x max_events in all, spent after the first figures; the
     # rest are undecided at once, naming it.
-    with mock.patch("tegraph.analysis.sensitivity.parts.RUN_BUDGETS", 2):
+    with mock.patch("tegraph.analysis.sensitivity.parts.RUN_BUDGETS", 2), \
+            mock.patch.object(ProcessorLine, "__post_init__", _no_theorem):
         r = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False, max_events=5000)
     assert r.schedulable is True
     spent = [f for f in [r.scaling, *r.margins.values()]

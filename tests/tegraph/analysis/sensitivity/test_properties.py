@@ -1,4 +1,4 @@
-"""Every figure of ``sensitivity`` checked against the analysis at points (issue 14, Checks).
+"""Every figure of ``sensitivity`` checked against the analysis at points.
 
 The reference is :func:`~tegraph.analysis.analyze.analyze_skeleton` on the
 whole skeleton with the values set here (``dataclasses.replace`` on the

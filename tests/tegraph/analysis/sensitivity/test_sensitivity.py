@@ -392,7 +392,7 @@ def test_analyze_margins_follow_the_report_schema():
             jsonschema.validate(doc, schema)
 
 
-# ------------------------------------------------------------------ past int64 (issue 21)
+# ------------------------------------------------------------------ past int64
 
 
 @pytest.mark.parametrize("exponent", [17, 18, 30])
@@ -401,7 +401,7 @@ def test_times_past_int64(exponent):
     # clock's self-loop (P) and its chain (d), so it keeps pace iff d <= P: the durations
     # can grow 4 times together (factor P/d = 4) and d alone by P - d = 3·10^e.
     # 4·10^18 and 4·10^30 are past int64 (9.2·10^18): the oracle's "unreached" sentinel
-    # -2**62 lay above real values there, "an event no marked place reaches" (issue 21).
+    # -2**62 lies above real values there: "an event no marked place reaches" if used.
     d, p = 10**exponent, 4 * 10**exponent
     sk = Skeleton.from_dict({"tasks": {"A": {"duration": d, "period": p}}})
     r = sensitivity(sk)
@@ -423,7 +423,7 @@ def test_a_period_range_past_int64(high):
     assert r.consistent
 
 
-# ------------------------------------------------------------------ the map of two (issue 21)
+# ------------------------------------------------------------------ the map of two
 
 
 def _two_clock_map(mt2_period):

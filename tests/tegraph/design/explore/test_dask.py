@@ -72,7 +72,7 @@ def rows_of(path):
 def front_of_rows(rows, objectives):
     """The Pareto front of a results file, from its cells alone: not dominated, and
     among equal objective vectors the fewest Rule 2 findings (the `rule2` column).
-    An empty cell is an undefined objective, ranked worst (since issue 19 a kept
+    An empty cell is an undefined objective, ranked worst (on processors a kept
     design can have one: a free-running group whose latency no response time bounds)."""
     kept = {int(r["variant"]): ([Fraction(r[n]) if r[n] else math.inf for n in objectives],
                                 int(r["rule2"]))

@@ -5,8 +5,8 @@ The reference front is rebuilt here from the public :func:`tegraph.analyze` alon
 each variant is made with ``dataclasses.replace``, analyzed (and, when only its port
 order deadlocks, reordered as the report's ``reorder`` says and analyzed again), kept
 when live, consistent and schedulable on its processors (the report's §4b verdict,
-issue 19: before it, the design section's response-time test decided, with a processor
-per task); its latency comes from the report's design section, its period ratio and
+not the design section's response-time test, which assumes a processor per task
+and is a cross-check); its latency comes from the report's design section, its period ratio and
 loads from the figures on processors, and the front from an O(n²) dominance loop.
 """
 
@@ -38,20 +38,22 @@ FIG4_LINKS = {0: list(Protocol), 1: list(Protocol)}
 CONTROL = ["TG.JS", "TF.TT.JS", "CO.JS"]
 
 
-def reference(skeleton, links, clocks, chains):
+def reference(skeleton, links, clocks, chains, free_running=False):
     """Every variant judged by `tegraph.analyze`, and the Pareto front, independently.
 
     ``links``: {link index: protocols}; ``clocks``: {name: periods}. Returns
     ``({choices: (kept, objectives, repaired)}, front as a set of choices)`` where
-    choices is ``(protocols..., periods...)``.
+    choices is ``(protocols..., periods...)``. Unless ``free_running``, a variant where
+    a task's group has no clock, and had one in the input, is not kept (it runs free).
     """
     base = tegraph.analyze(skeleton)
+    free_in_input = {t for g in base.groups if not g.clocks for t in g.tasks}
     designed = {}
     for g in base.groups:
         fastest = min((skeleton.clocks[c].period for c in g.clocks), default=None)
         for t in g.tasks:
             designed[t] = fastest
-    # A task's own clock is its designed rate (issue 21: a task that leaves a faster
+    # A task's own clock is its designed rate (a task that leaves a faster
     # group for its own slower clock is not charged against the group it left).
     for name, task in skeleton.tasks.items():
         if task.clock:
@@ -82,6 +84,9 @@ def reference(skeleton, links, clocks, chains):
             # A chain's latency is an objective: a variant whose figure on processors is
             # undecided is rejected (never ranked by a bound).
             kept = kept and all(c.on_processors.decided for c in report.chains)
+            if not free_running:
+                freed = {t for g in report.groups if not g.clocks for t in g.tasks}
+                kept = kept and not freed - free_in_input
             objectives = None
             if kept:
                 objectives = [c.value for c in report.design.latency]
@@ -122,17 +127,19 @@ def found_front(found):
     return {(*space.protocols(r.variant), *space.periods(r.variant)) for r in found.front}
 
 
-def check_against_reference(skeleton, links, clocks, chains, **kw):
+def check_against_reference(skeleton, links, clocks, chains, free_running=False, **kw):
     """`explore_design` on the space, compared with the reference, variant by variant."""
     by_label = {f"{k.writer[0]}:{k.writer[1]} -> {k.reader[0]}:{k.reader[1]}": i
                 for i, k in enumerate(skeleton.links)}
     space = design_space(skeleton, {label: [p.value for p in links[by_label[label]]]
                                     for label in by_label if by_label[label] in links},
-                         clocks={c: list(ts) for c, ts in clocks.items()}, chains=chains)
+                         clocks={c: list(ts) for c, ts in clocks.items()}, chains=chains,
+                         free_running=free_running)
     found = explore_design(space, **kw)
     # The space orders its links as given; the reference by link index.
     order = [by_label[c.label] for c in space.links]
-    judged, front = reference(skeleton, {i: links[i] for i in order}, clocks, chains)
+    judged, front = reference(skeleton, {i: links[i] for i in order}, clocks, chains,
+                              free_running)
     assert found.exhaustive and len(found.results) == space.size
     for r in found.results.values():
         key = (*space.protocols(r.variant), *space.periods(r.variant))

@@ -1,4 +1,4 @@
-"""Incremental judgement (issue 20): on random walks through design spaces, a variant
+"""Incremental judgement: on random walks through design spaces, a variant
 judged from its groups' cached figures equals the variant judged afresh: verdict,
 reason, periods and objectives, and the Pareto front of the walk."""
 

@@ -80,17 +80,20 @@ def test_columns_say_what_they_hold_with_units_and_rejections_are_counted():
     # By hand, the 12 variants (4 protocols of MT1 -> MT2, rtc 5, 10 or 20):
     # - ASYN/ASYN (3): MT2 -> MT3 -> MT4 lose their only synchronization and run
     #   unclocked, one every 2 ms with a processor per task. The response-time test
-    #   rejected them (5 ms of work every 2 ms); on the one processor (spec §4b,
-    #   issue 19) they run below MT1 in the time it leaves, slower than 2 ms but never
-    #   starved and with no place growing: schedulable, kept;
+    #   rejected them (5 ms of work every 2 ms); on the one processor (spec §4b)
+    #   they run below MT1 in the time it leaves, slower than 2 ms but never
+    #   starved and with no place growing: schedulable, but they run free where the
+    #   input design runs them on rtc: not kept (kept with `free_running`);
     # - SYN/ASYN (3): MT1 blocks on MT2's request while MT2 reads freely every 2 ms,
     #   faster than rtc: requests pile up, an unbounded place;
     # - ASYN/SYN and SYN/SYN at rtc = 5 (2): one group of 6 ms of work every 5 ms:
     #   6/5 of the processor, not schedulable on processors (rule C);
     # - the other 4 are kept.
-    assert found.rejected == {"an unbounded place": 3, "not schedulable on processors": 2}
-    assert found.kept == 7
-    assert "rejected: 5 variant(s), by the first reason met" in text
+    assert found.rejected == {"an unbounded place": 3, "not schedulable on processors": 2,
+                              "a free-running task": 3}
+    assert found.kept == 4
+    assert "rejected: 8 variant(s), by the first reason met" in text
+    assert "\n  3 a free-running task, e.g. variant 0: free-running: MT2, MT3, MT4" in text
     assert "\n  3 an unbounded place, e.g. variant 6: requests-overwritten" in text
     assert ("\n  2 not schedulable on processors, e.g. variant 3: not schedulable on "
             "processors: default runs groups with a clock needing 6/5 of its time") in text
@@ -124,7 +127,7 @@ def test_require_a_period_keeps_only_the_designs_that_meet_it():
                     workers=0)
     assert [found.entry(r)["clocks"]["rtc"] for r in found.front] == ["10"]
     assert found.rejected == {"against a constraint": 1}
-    # The period is read on processors (issue 19), and the reason says so.
+    # The period is read on processors, and the reason says so.
     assert "MT1.period on processors is 20 ms, required = 10 ms" in found.results[1].reason
 
 
@@ -226,5 +229,5 @@ def test_the_command_line_constraints_restrict_the_front():
     assert out.exit_code == 0, out.stderr
     assert "constraints: MT1.period = 20 ms" in out.stdout
     assert "\n  1 against a constraint, e.g. variant 0: against a constraint: MT1.period " \
-        "on processors is 10 ms, required = 20 ms" in out.stdout  # on processors: issue 19
+        "on processors is 10 ms, required = 20 ms" in out.stdout  # on processors
     assert out.stdout.strip().splitlines()[-1].startswith("verdict: 1 design(s)")

@@ -1,4 +1,4 @@
-"""`tegraph explore` options that broke or silently overruled each other (issue 21):
+"""`tegraph explore` options that could break or silently overrule each other:
 Dask addresses and timeouts, a repeated --link or --clock, the `dask` dependency, and
 the schema the JSON report follows.
 
@@ -70,8 +70,8 @@ def test_a_timeout_that_dask_cannot_take_is_refused(value):
 
 
 def test_a_malformed_address_leaves_no_traceback_at_exit():
-    # The command as a user runs it: before, the refusal came, then 20 s later a
-    # TimeoutError traceback from the half-built Client's __del__.
+    # The command as a user runs it: a half-built Client would print, after the
+    # refusal and its own timeout, a TimeoutError traceback from its __del__.
     start = time.monotonic()
     out = subprocess.run([sys.executable, "-m", "tegraph.cli", "explore", FIG4, "--all-links",
                           "--scheduler", "tcp://127.0.0.1:abc"], cwd=REPO,
@@ -163,7 +163,7 @@ def test_the_json_with_constraints_and_rejections_follows_the_schema(tmp_path):
     assert doc["constraints"] == {
         "periods": [{"task": "MT1", "op": "<=", "period": "10"}],
         "latencies": [{"chain": ["MT1", "MT2", "MT3", "MT4"], "at_most": "6"}],
-        "forbidden": ["SYN/SYN"]}
+        "forbidden": ["SYN/SYN"], "free_running": False}
     assert doc["choices"]["links"] == {"MT1:x1 -> MT2:x1": ["ASYN/ASYN", "ASYN/SYN",
                                                              "SYN/ASYN"]}
     assert sum(doc["rejected"].values()) + doc["kept"] == doc["variants"] == 9

@@ -148,16 +148,24 @@ def test_a_variant_undecided_within_a_tiny_budget_is_rejected_as_undecided(tmp_p
     assert err.value.where == "max_events"
 
 
-def test_resume_refuses_a_file_judged_with_a_processor_per_task(tmp_path):
+@pytest.mark.parametrize("version, words", [
+    (2, "a processor per task"),
+    (3, "designs kept where a task runs free that the input design runs on a clock")])
+def test_resume_refuses_a_file_judged_with_a_processor_per_task(tmp_path, version, words):
     # A results file of definitions version 2 (before §4b: every variant judged with
-    # a processor per task and the response-time test). Its fingerprint, computed as
-    # version 2 computed it, is no longer this exploration's: refused, left as it was.
+    # a processor per task and the response-time test), or 3 (free-running designs
+    # kept). Its fingerprint, computed as that version computed it (no `free_running`
+    # in the constraints; version 3 with the budget), is no longer this exploration's:
+    # refused, naming the version and what it judged differently, left as it was.
     sk = load_skeleton(FIG4)
     space = design_space(sk, clocks={"rtc": [10]}, objectives=["load"])
-    old = hashlib.sha256(json.dumps({
-        "skeleton": sk.to_dict(), "links": [], "clocks": [["rtc", ["10"]]], "chains": [],
-        "objectives": ["load"], "constraints": space.constraints.to_dict(),
-        "definitions": 2}, sort_keys=True, default=str).encode()).hexdigest()[:16]
+    constraints = {k: v for k, v in space.constraints.to_dict().items() if k != "free_running"}
+    data = {"skeleton": sk.to_dict(), "links": [], "clocks": [["rtc", ["10"]]], "chains": [],
+            "objectives": ["load"], "constraints": constraints, "definitions": version}
+    if version == 3:
+        data["max_events"] = space.max_events
+    old = hashlib.sha256(json.dumps(data, sort_keys=True,
+                                    default=str).encode()).hexdigest()[:16]
     header = columns(space)
     row = dict.fromkeys(header, "")
     row.update({"variant": "0", "space": old, "clock:rtc": "10", "judged": "analyzed",
@@ -174,5 +182,5 @@ def test_resume_refuses_a_file_judged_with_a_processor_per_task(tmp_path):
         tegraph.explore(sk, clocks={"rtc": [10]}, objectives=["load"], workers=0,
                         output=target, resume=True)
     message = str(err.value)
-    assert "a processor per task" in message and "version 2" in message
+    assert words in message and f"version {version}" in message
     assert target.read_bytes() == before

@@ -1,5 +1,5 @@
 """`explore -o FILE --resume` reads back only its own results files, every cell checked,
-and never changes a byte of a file it refuses (issue 21).
+and never changes a byte of a file it refuses.
 
 Each refusal is one line on stderr naming the file, the line (row) and the column,
 exit status 2, and the file is left byte for byte as it was; a file cut mid-row by a

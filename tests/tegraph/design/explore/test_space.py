@@ -160,3 +160,24 @@ def test_ranges_cover_the_space_in_order_with_the_oracle_verdict(rng):
             assert oracle.dead(protocols) == dead
         covered += count
     assert covered == space.n_protocol_variants
+
+
+def test_a_link_with_a_delay_is_never_made_a_rendezvous():
+    # W:a -> R:a crosses processors and takes the network's 1/5; W:b -> S:b is on one
+    # processor, no delay: only the first loses SYN/SYN (spec §4d: a rendezvous is one
+    # event), and the report says why.
+    sk = Skeleton.from_dict({"network": {"delay": "1/5"}, "tasks": {
+        "W": {"duration": 1, "period": 10, "outputs": ["a", "b"], "processor": "p"},
+        "R": {"duration": 1, "inputs": ["a"], "processor": "q"},
+        "S": {"duration": 1, "inputs": ["b"], "processor": "p"}},
+        "links": [{"from": "W:a", "to": "R:a", "protocol": "ASYN/SYN"},
+                  {"from": "W:b", "to": "S:b", "protocol": "ASYN/SYN"}]})
+    space = design_space(sk, all_links=True)
+    a, b = space.links
+    assert Protocol.SYN_SYN not in a.protocols and a.delay == Fraction(1, 5)
+    assert Protocol.SYN_SYN in b.protocols and b.delay == 0
+    assert space.size == 3 * 4
+    for variant in range(space.size):
+        space.build(variant)  # every variant is a skeleton the format accepts
+    with pytest.raises(InputError, match="has a delay of 1/5 ms .* a protocol besides SYN/SYN"):
+        design_space(sk, {"W:a -> R:a": ["SYN/SYN"]})

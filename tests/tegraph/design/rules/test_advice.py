@@ -31,7 +31,7 @@ from tests.tegraph.skeleton_corpus import random_skeleton
 
 EXAMPLES = REPO / "examples"
 # A 2 ms control loop that also waits (ASYN/SYN) for gains computed every 5 ms
-# (issue 21): two synchronizations on CTRL (Rule 1), two clocks in one group (Rule 3).
+# two synchronizations on CTRL (Rule 1), two clocks in one group (Rule 3).
 CTRL_GAINS = {"tasks": {
     "GAINS": {"duration": 1, "period": 5, "outputs": ["k"]},
     "CTRL": {"duration": "1/2", "period": 2, "inputs": ["k"], "outputs": ["u"]}},
@@ -48,12 +48,10 @@ def applied(data: dict, change: dict) -> dict:
     for t in change["drop_clock"]:
         for key in ("clock", "period", "phase"):
             data["tasks"][t].pop(key, None)
-    # A clock of its own, of a period no clock has: the designer's choice must not
-    # happen to equal a linked group's (Rule 2 would then speak).
-    periods = [F(str(c["period"])) for c in data.get("clocks", {}).values()]
-    periods += [F(str(t["period"])) for t in data["tasks"].values() if "period" in t]
-    for i, t in enumerate(change["add_clock"]):
-        data["tasks"][t]["period"] = str(max(periods, default=F(0)) + 1 + i)
+    # A clock of its own, of the period the advice proposes (taken from the skeleton's
+    # own periods; it must not equal a linked group's, or Rule 2 would then speak).
+    for t in change["add_clock"]:
+        data["tasks"][t]["period"] = change["period"]
     return data
 
 
@@ -87,6 +85,32 @@ def follow_advice(data: dict, limit: int = 200) -> tuple[list, int]:
         gone |= before - after
         assert not (after & gone), after & gone  # nothing comes back
     raise AssertionError(f"no end after {limit} changes")
+
+
+def test_the_applier_gives_an_added_clock_the_period_the_advice_proposes():
+    # Figure 7a (three tasks in a circle, each reading the next ASYN/SYN, no clock, all
+    # on the default processor): Rule 3 cuts MT2:b -> MT1:b and gives MT1 a clock. By
+    # hand: no group is linked to it and none shares its processor, and it is dead (no
+    # cycle time), so the candidates are multiples of its longest duration, 1 ms: 1, 2,
+    # 3, ... (a hyperperiod of the period itself, so the shortest first). MT1, then MT3,
+    # then MT2 run once per tick, 3 ms of work: at 1 and 2 ms the processor is overloaded
+    # (3/1, 3/2 > 1); at 3 ms they fill it exactly ([0, 1], [1, 2], [2, 3], each ends by
+    # the next tick): 3 ms, the first schedulable one (the old applier's max + 1 gave 1).
+    sk = load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml")
+    (rule3,) = [f for f in check_rules(sk) if f.rule == 3]
+    change = rule3.change.to_dict()
+    assert (change["add_clock"], change["period"]) == (["MT1"], "3")
+    data = applied(sk.to_dict(), change)
+    assert data["tasks"]["MT1"]["period"] == "3"
+    after = Skeleton.from_dict(data)
+    assert after.to_dict() == apply_change(sk, rule3.change).to_dict()
+    report = analyze(after, design=False)
+    assert report.live and report.schedulable is True
+    assert {t: report.tasks[t].period for t in ("MT1", "MT2", "MT3")} == dict.fromkeys(
+        ("MT1", "MT2", "MT3"), 3)
+    assert [f.rule for f in check_rules(after)] == [4]
+    # One period shorter, the processor cannot keep up (3 ms of work every 2 ms).
+    assert analyze(apply_change(sk, rule3.change, 2), design=False).schedulable is False
 
 
 def with_proposed_priorities(sk: Skeleton) -> Skeleton:
@@ -455,8 +479,8 @@ def test_dropping_a_clock_says_the_new_sampling_period():
 
 
 def test_the_stated_periods_agree_with_the_analysis_on_the_examples_and_corpus():
-    # Issue 21 review: the advice stated design periods (each group's fastest clock),
-    # which the skeleton need not run at: on m1 below "R is sampled every 60 ms" while R
+    # Design periods (each group's fastest clock) are not what a skeleton need run at,
+    # and an advice that stated them would mislead: on m1 below "R is sampled every 60 ms" while R
     # ran at 100 ms, on CTRL/GAINS SYN/SYN "every clocked task keeps its clock's period"
     # while CTRL (2 ms clock) ran at 5 ms. Each advised change, applied with this file's
     # applier and analysed in full (the timed event graph of the whole skeleton): each
@@ -584,7 +608,7 @@ def test_advice_under_a_deadlock_makes_it_live_or_says_it_does_not():
 
 
 def test_every_structural_advice_states_the_periods():
-    # Issue 21: every advice of Rules 1-3, with a change or without one (then of the first
+    # Every advice of Rules 1-3, with a change or without one (then of the first
     # candidate), says what it does to each group's design period; an advice that names
     # no change at all (no candidate) has nothing to state.
     cases = [load_skeleton(p) for p in sorted(EXAMPLES.glob("*.yaml"))]

@@ -19,6 +19,7 @@ from tegraph import SkeletonError, analyze, load_skeleton
 from tegraph.design.rules import (
     Change,
     FindingKind,
+    apply_change,
     check_rules,
     is_automaton,
     proposed_priorities,
@@ -69,12 +70,12 @@ def test_rule1_double_synchronization_of_figure_12():
     assert "2 synchronizations" in f.message
     # Two one-edit changes remove it with nothing new: keep the input read first (footnote
     # 6) and drop MT2's 4 ms clock, which makes MT2 run at MT1's 10 ms; or keep the clock
-    # and read y ASYN/ASYN, which keeps both sampling periods (issue 21): preferred.
+    # and read y ASYN/ASYN, which keeps both sampling periods: preferred.
     assert f.advice.startswith("keep only its clock")
     assert "make MT1:y -> MT2:y ASYN/ASYN" in f.advice
     # Before, MT2 waits for MT1's 10 ms message: it runs every 10 ms while its 4 ms clock
-    # ticks on (the ticks queue): the group runs at two rates (issue 21 review: the
-    # advice states the periods the skeleton runs at, not the fastest clock's).
+    # ticks on (the ticks queue): the group runs at two rates (the advice states the
+    # periods the skeleton runs at, not the fastest clock's).
     assert ("{MT1, MT2} not rate-consistent (clock rtc 10 ms, clock MT2.clock 4 ms) -> "
             "{MT1} 10 ms, {MT2} 4 ms") in f.advice
     assert f.change == Change((("MT1:y", "MT2:y", "ASYN/ASYN"),))
@@ -163,32 +164,41 @@ def test_rule3_group_without_clock_figure_7a():
     (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml")), 3)
     assert (f.severity, f.tasks) == ("error", ("MT1", "MT2", "MT3"))
     # Every task waits for an input: the advice also breaks the wait.
-    assert f.change == Change((("MT2:b", "MT1:b", "ASYN/ASYN"),), add_clock=("MT1",))
-    # No group has a clock: any period is one no other group has (the example says 1 ms).
-    # The group has no clock before; after, MT1's new clock paces it; the circular wait
-    # through MT2:b -> MT1:b is cut, so the skeleton (dead, Figure 7a) becomes live.
-    # On its one processor with the assumed 1 ms clock, three jobs of 1 ms each per 1 ms
-    # cannot fit (one priority; release, then file order): MT1 [0,1]; at 1 MT1#2 and
-    # MT3#1 are released, MT1 first [1,2]; at 2 MT3#1 (released 1) [2,3]; at 3 MT1#3
-    # (released 2) before MT2#1 and MT3#2 (released 3) [3,4]: MT1's tick 4 at 3 finds
-    # activation 3 not ended: MT1 overruns at activation 4.
+    # No clock anywhere and a dead group: the period proposed is a multiple of its longest
+    # duration (1 ms), the shortest first, judged on its one processor (one priority;
+    # release, then file order). The circular wait through MT2:b -> MT1:b is cut, so the
+    # skeleton (dead, Figure 7a) becomes live. At 1 ms, three jobs of 1 ms each per 1 ms
+    # cannot fit: MT1 [0,1]; at 1 MT1#2 and MT2#1 are released, MT1 first [1,2]; at 2 MT2#1
+    # (released 1) [2,3]; at 3 MT1#3 (released 2) before MT3#1 (released 3) [3,4]: MT1's
+    # tick 4 at 3 finds activation 3 not ended: MT1 overruns at activation 4. At 2 ms, 3
+    # ms of work every 2 ms cannot fit either. At 3 ms: MT1 [0,1], MT2 reads a at 1 [1,2],
+    # MT3 reads b at 2 [2,3], and again from each tick: schedulable, the processor full.
+    assert f.change == Change((("MT2:b", "MT1:b", "ASYN/ASYN"),), add_clock=("MT1",),
+                              period=F(3))
     assert f.advice == ("make MT2:b -> MT1:b ASYN/ASYN (neither side waits); give MT1 a clock "
-                        "of its own (a period of your choice that no other group has, e.g. "
-                        "1 ms) (one clock for the whole group) [periods (max cycle ratio), "
-                        "before -> after: {MT1, MT2, MT3} dead -> "
-                        "{MT1, MT2, MT3} a period of your choice; on its processors (§4b), "
-                        "before -> after: NOT SCHEDULABLE (dead: a token-free circuit) -> "
-                        "NOT SCHEDULABLE (MT1 overruns at activation 4) (the new clock at 1 "
-                        "ms, the period the advice assumed)] This also makes the skeleton "
+                        "of its own, of period 3 ms (one clock for the whole group; a multiple "
+                        "of its longest duration (no clock around it); the first of 3 periods "
+                        "tried that is schedulable on its processors) [periods (max cycle "
+                        "ratio), before -> after: {MT1, MT2, MT3} dead -> {MT1, MT2, MT3} 3 ms; "
+                        "on its processors (§4b), before -> after: NOT SCHEDULABLE (dead: a "
+                        "token-free circuit) -> schedulable ({MT1, MT2, MT3} 3 ms) (the new "
+                        "clock at 3 ms, the period proposed)] This also makes the skeleton "
                         "live.")
+    # With the period the check assumes (1 ms, no period being known), it overruns.
+    one = analyze(apply_change(load_skeleton(EXAMPLES / "fig7a_circular_wait.yaml"),
+                               f.change, F(1)), design=False)
+    assert one.schedule.tasks["MT1"].overrun_at == 4
 
 
 def test_rule3_group_without_clock_names_its_source():
     # C reads nothing: the clock goes there. C already waits to post z (SYN/ASYN to B):
     # a clock as well would be two synchronizations (Rule 1), so z is cut (ASYN/ASYN);
     # the group stays one through C:y -> A:y and A:x -> B:x, D:x.
+    # No clock around it: the period is a multiple of the group's cycle time, 7/3 ms. On
+    # the one processor the group needs 1 + 2 + 5/3 + 1 = 17/3 ms of work per period: 7/3
+    # and 14/3 ms are too short, 7 ms the first that is schedulable.
     (f,) = of_rule(check_rules(load_skeleton(EXAMPLES / "ring_two_tokens.yaml")), 3)
-    assert f.change == Change((("C:z", "B:z", "ASYN/ASYN"),), add_clock=("C",))
+    assert f.change == Change((("C:z", "B:z", "ASYN/ASYN"),), add_clock=("C",), period=F(7))
 
 
 def test_rule3_two_clocks_in_one_group():
@@ -269,10 +279,16 @@ def test_rule4_every_inverted_slower_group_is_reported():
 
 
 def test_rule4_some_priorities_missing():
+    # Four of five tasks on the one processor declare: all or none (spec §4b), so all
+    # five run rate-monotonic (3, 2, 2, 2, 1) and the four declared are replaced. An
+    # error, whose change keeps them: MOD.DYN (6 ms, the slowest) goes below the 2 ms
+    # group's 20, at 19.
     s = computed_torque(OBS_JL=30, TG_JS=20, TF_TT_JS=20, CO_JS=20)
     (f,) = of_rule(check_rules(s), 4)
-    assert (f.severity, f.tasks) == ("warning", ("MOD.DYN",))
-    assert "MOD.DYN: 1" in f.advice
+    assert (f.severity, f.tasks) == ("error", ("MOD.DYN",))
+    assert f.change is not None and f.change.priorities == (("MOD.DYN", 19),)
+    assert "OBS.JL 30 -> 3" in f.message and "MOD.DYN: 19" in f.advice
+    assert of_rule(check_rules(apply_change(s, f.change)), 4) == []
 
 
 def test_rule4_automaton_highest():
@@ -405,8 +421,8 @@ def test_the_rules_command_prints_what_the_library_call_returns():
     assert json.loads(out.stdout) == to_document(section)
     assert out.returncode == section.exit_status == 1  # three Rule 2 warnings
     doc = to_document(section)
-    assert list(doc) == ["schema_version", "report", "name", "unit", "rules", "schedule_parts",
-                         "schedulability", "latency"]
+    assert list(doc) == ["schema_version", "report", "name", "unit", "schedulable", "schedule",
+                         "rules", "schedule_parts", "schedulability", "latency"]
     design = to_document(analyze(str(path), chains=[["MT1", "MT2"]]))["design"]
     assert design == {k: doc[k] for k in ("rules", "schedule_parts", "schedulability",
                                           "latency")}

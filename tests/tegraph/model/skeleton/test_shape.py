@@ -16,7 +16,7 @@ import pytest
 
 import tegraph
 from tegraph.errors import SkeletonError
-from tegraph.model.elements import Clock, Link, Protocol, Task
+from tegraph.model.elements import Clock, Link, Processor, Protocol, Task
 from tegraph.model.skeleton import Skeleton
 from tegraph.model.skeleton.checks import Locator, check_chain, check_skeleton
 from tegraph.model.skeleton.schema import skeleton_to_data
@@ -36,6 +36,8 @@ class Shaped:
     chains: tuple[tuple[str, ...], ...] = ()
     source: str | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+    processors: dict[str, Processor] = field(default_factory=dict)
+    network_delay: Fraction | None = None
 
 
 def _pair(protocol: Protocol = Protocol.ASYN_SYN) -> dict[str, Any]:
@@ -53,7 +55,7 @@ def test_every_attribute_of_the_shape_is_a_field_of_the_skeleton():
     # No type checker runs yet: a renamed field would leave the Protocol stale.
     shape = {name for name, v in vars(SkeletonShape).items() if isinstance(v, property)}
     assert shape == {"name", "unit", "tasks", "clocks", "links", "threads", "chains",
-                     "source", "extra"}
+                     "source", "extra", "processors", "network_delay"}
     assert shape <= {f.name for f in dataclasses.fields(Skeleton)}
 
 

@@ -52,7 +52,7 @@ def test_a_refused_timeout_is_shown_as_given(value):
 
 
 def test_an_exact_timeout_is_taken():
-    # 1/2 s, read exactly: the scheduler that does not answer is named with the time.
+    # Half a second, read exactly: the scheduler that does not answer is named with it.
     line = one_line(with_timeout("1/2"))
     assert "within 0.5 s" in line, line
 
