@@ -142,7 +142,7 @@ def analyze(skeleton: Skeleton | str | os.PathLike[str], max_steps: int = 100_00
     """
     skeleton = _skeleton(skeleton)
     report = analyze_skeleton(skeleton, max_steps, semiflow_budget, semiflow_max_places,
-                              processors=processors, max_events=max_events)
+                              processors=processors, max_events=max_events, chains=chains)
     _add_duration_margins(skeleton, report, margins_max_tasks)
     if design:
         report.design = design_section(skeleton, report, chains)
@@ -197,9 +197,10 @@ def rules(skeleton: Skeleton | str | os.PathLike[str], chains: Sequence[Sequence
     ([(4, 'info')], 0)
     """
     skeleton = _skeleton(skeleton)
-    # The semiflow cross-check of liveness is not reported by the rules: skipped.
-    report = analyze_skeleton(skeleton, semiflow_max_places=0, processors=processors,
-                              max_events=max_events)
+    # The semiflow cross-check of liveness is not reported by the rules: skipped. The
+    # chains' figures are analyze's, on the same schedule with the same budget.
+    report = analyze_skeleton(skeleton, chains=chains, semiflow_max_places=0,
+                              processors=processors, max_events=max_events)
     section = design_section(skeleton, report, chains, processors=processors)
     section.never_together = shared_processor_candidates(skeleton, report, max_events)
     return section
@@ -556,7 +557,7 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     Each variant (one protocol per chosen link, one period per chosen clock) is
     analyzed exactly, repaired by reordering its ports when only the order
     deadlocks, and kept when live, consistent and schedulable; the result is the
-    Pareto front of the objectives (chain latencies, period, processor load),
+    Pareto front of the objectives (chain latencies on processors, period, processor load),
     exhaustive up to ``max_variants`` variants, by Pareto local search beyond.
 
     Parameters
@@ -573,7 +574,9 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     chains : sequence of task-name sequences
         Chains whose latency is an objective, besides the skeleton's ``chains``.
     objectives : sequence of str, optional
-        Among ``latency``, ``period``, ``load`` (default: all that apply).
+        Among ``latency`` (each chain's first use on processors, spec §4c), ``age``,
+        ``reaction``, ``period``, ``load``, ``utilization`` (default: ``latency`` when
+        there is a chain, ``period``, ``load``, ``utilization`` on several processors).
     scheduler : str, optional
         Address of a running Dask scheduler, ``tcp://HOST:8786``.
     workers : int, optional
@@ -599,8 +602,8 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
         ``"TASK.period=P"`` or ``"TASK.period<=P"``: kept designs run the task at
         that period.
     max_latency : sequence
-        ``"A,B,C=L"``: kept designs have the chain's latency (exact, or the bound
-        guaranteed) at most L.
+        ``"A,B,C=L"``: kept designs have the chain's first use on processors (exact)
+        at most L.
     forbid : sequence of protocols
         Protocols no link may use (taken out of the choices).
     max_events : int

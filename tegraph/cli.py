@@ -583,6 +583,8 @@ def timeline(
     max_events: Annotated[int, _max_events(
         "the exact schedule on processors (docs/skeleton.md §4b), as for analyze",
         "the verdict is undecided (exit status 1) and the report says why")] = MAX_EVENTS,
+    chain: Annotated[list[str] | None, _chain("Draw the worst data path and print the "
+                                              "latency of")] = None,
 ) -> None:
     """The schedule on its processors (spec §4b), a lane per processor, until its proof.
 
@@ -595,6 +597,7 @@ def timeline(
     from maxplus.errors import MaxPlusValueError
     from maxplus.scalar import exact_time
 
+    from .design.latency import parse_chain
     from .design.timeline import simulate_timeline
     from .io import load_skeleton
     from .report.plot import draw_timeline
@@ -622,7 +625,8 @@ def timeline(
                          "the text diagram needs nothing: leave out -o")
     with _refusals(file):
         skeleton = load_skeleton(file)
-        result = simulate_timeline(skeleton, end, max_events=max_events, start=begin)
+        result = simulate_timeline(skeleton, end, max_events=max_events, start=begin,
+                                   chains=[parse_chain(c) for c in chain or []])
     if output is not None:
         _draw(draw_timeline, result, output, force)
     typer.echo(_cli_words(render_timeline(result, width)), nl=False)
@@ -721,7 +725,9 @@ def explore(
                         "clock is TASK.clock; repeatable).")] = None,
     objective: Annotated[list[str] | None, typer.Option(
         "--objective",
-        help="latency (of each chain, in the file's unit), period (the period ratio: the "
+        help="latency (each chain's first use on processors, exact, in the file's unit), "
+             "age and reaction (the same chain's figures, spec §4c), period (the period "
+             "ratio: the "
              "largest task period over the task's designed period, its own clock's or its "
              "input group's fastest), load (the busiest processor's utilization) or "
              "utilization (the sum over the processors); repeatable or comma-separated; "
@@ -733,8 +739,8 @@ def explore(
              "file's unit (repeatable).")] = None,
     max_latency: Annotated[list[str] | None, typer.Option(
         "--max-latency", metavar="A,B,C=L",
-        help="Keep only designs whose latency of chain A,B,C (exact, or the bound "
-             "guaranteed across asynchronous hops) is at most L (repeatable).")] = None,
+        help="Keep only designs whose latency of chain A,B,C (its first use on "
+             "processors, exact; undecided is rejected) is at most L (repeatable).")] = None,
     forbid: Annotated[list[str] | None, typer.Option(
         "--forbid", metavar="PROTOCOL",
         help="No link may use this protocol, e.g. SYN/SYN: it is taken out of every "
@@ -885,6 +891,9 @@ def sensitivity_command(
         "each simulation of a part of the schedule on processors (docs/skeleton.md §4b), "
         "and of each figure in all; the whole run fires at most 20 times as many",
         "the figure is only bounded and the report says why")] = MAX_EVENTS,
+    chain: Annotated[list[str] | None, _chain(
+        "Give the first use at each end of every margin and at the scaling factor of"
+    )] = None,
 ) -> None:
     """How much durations can grow (scaling factor, margins), and each period as a formula.
 
@@ -897,6 +906,7 @@ def sensitivity_command(
     range without the nominal value); 130 interrupted (Ctrl-C).
     """
     from .analysis.sensitivity import sensitivity
+    from .design.latency import parse_chain
     from .io import load_skeleton
     from .report import render_text, to_json
     from .report.sensitivity_plot import draw_sensitivity
@@ -924,7 +934,8 @@ def sensitivity_command(
         try:
             result = sensitivity(skeleton, vary or None, formulas=formulas,
                                  verify=verify, processors=processors,
-                                 max_events=max_events, progress=progress)
+                                 max_events=max_events, progress=progress,
+                                 chains=[parse_chain(c) for c in chain or []])
         except InputError as exc:
             if exc.where.startswith("vary"):
                 exc.with_where("--vary" + exc.where[len("vary"):])

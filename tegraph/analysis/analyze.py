@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import gc
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
@@ -56,6 +56,7 @@ from ..model.platform import platform_of
 from ..model.skeleton import Skeleton
 from ..model.structure import Structure
 from ..model.teg import Place, TimedEventGraph
+from .chains import ChainPath, DaterTrace, chain_paths, chain_reports, trace_request
 from .deadlocks import skeleton_deadlocks
 from .dynamics import DaterSimulation, OverrunWatch, Regime, explore
 from .invariants import semiflow_census
@@ -86,8 +87,8 @@ all, as :meth:`~tegraph.model.teg.TimedEventGraph.arrays` gives; the tests compa
 
 def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budget: int = 2000,
                      semiflow_max_places: int = 2_000_000, *, processors: bool = False,
-                     max_events: int = MAX_EVENTS, structure: Structure | None = None
-                     ) -> Report:
+                     max_events: int = MAX_EVENTS, structure: Structure | None = None,
+                     chains: Sequence[Sequence[str]] = ()) -> Report:
     """Analyze a synchronization skeleton: deadlocks, periods, overruns, slack (spec §4).
 
     Parameters
@@ -111,11 +112,20 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         Budget of event firings of the schedule on processors.
     structure : Structure, optional
         ``Structure.of(skeleton)``, if known; the report carries it (``report.structure``).
+    chains : sequence of task-name sequences
+        Chains whose latency to report (spec §4c, ``report.chains``), besides the
+        skeleton's own ``chains``.
 
     Returns
     -------
     Report
         Without its design section (:func:`tegraph.analyze` adds it).
+
+    Raises
+    ------
+    SkeletonError
+        A chain names an unknown task, a task twice, or two consecutive tasks with
+        no link from the first to the second.
 
     See Also
     --------
@@ -141,7 +151,9 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         groups = _group_reports(graph, periods, dead_groups, unbounded)
         tasks = _task_reports(graph, groups)
         _slack(graph, periods, groups, tasks)
-        steps, notes = _dynamics(graph, periods, groups, tasks, max_steps)
+        paths = chain_paths(skeleton, graph.teg, chains)
+        recorded = _daters_recorded(graph, groups, paths)
+        steps, notes = _dynamics(graph, periods, groups, tasks, max_steps, recorded)
         invariants = _invariants(graph, live, semiflow_budget, semiflow_max_places)
         overrun = any(t.overrun_at is not None for t in tasks.values())
         consistent = live and not unbounded and not overrun
@@ -150,15 +162,23 @@ def analyze_skeleton(skeleton: Skeleton, max_steps: int = 100_000, semiflow_budg
         platform = platform_of(skeleton, structure)
         schedule = None
         if processors:  # on the groups and the event graph computed above, not again
-            schedule = schedule_on_processors(skeleton, graph.teg, groups, platform=platform,
-                                              max_events=max_events,
-                                              intervals=False)  # the timeline draws its own
+            schedule = schedule_on_processors(
+                skeleton, graph.teg, groups, platform=platform, max_events=max_events,
+                intervals=False,  # the timeline draws its own
+                trace=trace_request(paths) if paths else None)
             methods["schedule"] = schedule.method
+        chain_figures = chain_reports(
+            skeleton, graph.teg, groups, paths, None if schedule is None else schedule.trace,
+            max_events=max_events,
+            daters=None if recorded is None else _dater_trace(graph, groups, paths, recorded))
+        if chain_figures:
+            methods["chains"] = _chains_method(schedule is not None)
         return Report(
             name=skeleton.name, unit=skeleton.unit, live=live, consistent=consistent,
             deadlocks=deadlocks, reorder=reorder, groups=groups, tasks=tasks,
             unbounded_places=unbounded, invariants=invariants, methods=methods,
             notes=notes, source=skeleton.source, schedule=schedule, structure=structure,
+            chains=chain_figures,
             platform=platform,
         )
 
@@ -610,8 +630,12 @@ def _circuit_weights_int64(s: np.ndarray, d: np.ndarray, holding: np.ndarray,
 
 
 def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
-              tasks: dict[str, TaskReport], max_steps: int) -> tuple[int, list[str]]:
-    """Transients and overruns; returns the number of activations simulated, and notes."""
+              tasks: dict[str, TaskReport], max_steps: int,
+              record: tuple[np.ndarray, list] | None = None) -> tuple[int, list[str]]:
+    """Transients and overruns; returns the number of activations simulated, and notes.
+
+    ``record``: (events, rows), the daters of these events at each step appended to
+    rows (:func:`~.dynamics.explore`)."""
     ct = periods.cycle_times
     regimes: list[Regime] = []
     group_regime: dict[int, int] = {}
@@ -663,7 +687,7 @@ def _dynamics(g: _EventGraph, periods: _Periods, groups: list[GroupReport],
         return 0, notes
     sim = DaterSimulation(g.src, g.dst, g.tokens, g.holding, g.initial, g.n, periods.live_event)
     # Each regime's cycle time is given on its group's scale, as the daters are.
-    steps = explore(sim, 1, regimes, watches, max_steps)
+    steps = explore(sim, 1, regimes, watches, max_steps, record)
     for index, r in group_regime.items():
         found = regimes[r]
         if found.transient is not None and found.cyclicity is not None:
@@ -784,6 +808,41 @@ def _methods(deadlocks: list[Deadlock], groups: list[GroupReport], periods: _Per
                   if any(g.rate_consistent for g in groups)
                   else "no slack computed: no group is rate-consistent"),
     }
+
+
+def _daters_recorded(g: _EventGraph, groups: list[GroupReport], paths: list[ChainPath]
+                     ) -> tuple[np.ndarray, list] | None:
+    """The events whose daters a chain reads with a processor per task (§3), in the
+    rate-consistent groups (whose periodic regime the dater simulation proves): each
+    chain event and each chain task's compute (its job's start; its end is the
+    duration later); None without a chain."""
+    if not paths:
+        return None
+    consistent = {t for gr in groups if gr.rate_consistent for t in gr.tasks}
+    events = {x.event for p in paths for x in p.instants
+              if x.kind == "event" and x.task in consistent}
+    events |= {g.compute(t) for p in paths for t in p.tasks if t in consistent}
+    return np.array(sorted(events), dtype=np.int64), []
+
+
+def _dater_trace(g: _EventGraph, groups: list[GroupReport], paths: list[ChainPath],
+                 recorded: tuple[np.ndarray, list]) -> DaterTrace:
+    """What the chains read of the daters (§3), for the groups whose regime is proven."""
+    events, rows = recorded
+    return DaterTrace(events=events, rows=rows, scales=g.scales,
+                      group_of_event=g.group_of_event, groups=groups,
+                      durations={t: g.sk.tasks[t].duration for p in paths for t in p.tasks},
+                      compute={t: g.compute(t) for p in paths for t in p.tasks})
+
+
+def _chains_method(processors: bool) -> str:
+    """The ``chains`` line of the methods: how the latency of each chain is obtained."""
+    where = ("on the schedule on processors (§4b) and with a processor per task (§3)"
+             if processors else "with a processor per task (§3)")
+    return ("each chain's data traced back from each output to the sample it uses (spec §4c), "
+            f"{where}: reads, writes, starts and ends recorded while the schedule proves "
+            "its periodic regime, the figures exact over one period of the regime the "
+            "chain's parts share (docs/analysis.md)")
 
 
 def _timing_method(groups: list[GroupReport], tasks: dict[str, TaskReport], steps: int) -> str:

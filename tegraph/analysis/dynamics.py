@@ -388,8 +388,12 @@ class OverrunWatch:
     ``"max-plus powers"`` (a certain overrun located exactly, see :func:`certain_overrun`)."""
 
 
+RECORD_LIMIT = 1 << 24
+"""Most dater values :func:`explore` records (128 MiB of int64)."""
+
+
 def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: list[OverrunWatch],
-            max_steps: int = 100_000) -> int:
+            max_steps: int = 100_000, record: tuple[np.ndarray, list] | None = None) -> int:
     """Advance the daters until every regime is found and every watch decided.
 
     Parameters
@@ -403,6 +407,12 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
         Filled in place.
     max_steps : int
         Budget on the firing index k.
+    record : (events, rows), optional
+        ``x(k)[events]`` is appended to ``rows`` at each step while a regime is still
+        to be found (the daters a chain's latency reads, spec §4c; none is needed
+        past the step that proves the last regime), and while ``rows`` holds fewer than
+        :data:`RECORD_LIMIT` values (past it, a regime's figures are left to whoever
+        reads them: its rows stop short of its transient plus its cyclicity).
 
     Returns
     -------
@@ -417,6 +427,9 @@ def explore(sim: DaterSimulation, scale: int, regimes: list[Regime], watches: li
     while (pending_regimes or pending_watches) and sim.k < max_steps:
         x = sim.step()
         k = sim.k
+        if (record is not None and pending_regimes
+                and (len(record[1]) + 1) * len(record[0]) <= RECORD_LIMIT):
+            record[1].append(x[record[0]])
         window.append(x)
         if len(window) > depth:
             window.pop(0)

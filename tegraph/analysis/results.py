@@ -18,6 +18,7 @@ from ..model.build import UnboundedKind
 from ..model.platform import Platform
 from ..model.structure import Structure
 from . import notebook
+from .chains import ChainReport
 from .processors.schedule import ProcessorSchedule
 
 if TYPE_CHECKING:  # annotations only: a report loads no more modules for them
@@ -222,6 +223,9 @@ class Report:
     """The skeleton's groups (numbered as ``groups``), clocks, design periods and
     links by port, computed once by the analysis: what follows it (design rules,
     margins) reads these instead of finding the groups again."""
+    chains: list[ChainReport] = field(default_factory=list)
+    """The latency of each chain of the skeleton and of those asked for, in that order
+    (spec §4c): ``report.chains[i].on_processors.first_use`` and the other figures."""
     platform: Platform | None = field(default=None, repr=False, compare=False)
     """Each task's processor and priority, each processor's kind (spec §4b, §4d),
     computed once by the analysis (:func:`~tegraph.model.platform.platform_of`): the
@@ -363,6 +367,7 @@ class Report:
             "schedulable": self.schedulable,
             "processors": self._processors_list(),
             "schedule": self.schedule_summary(),
+            "chains": [c.to_dict() for c in self.chains],
             "methods": self.methods,
             "notes": self.notes,
             "design": None if self.design is None else self.design.to_dict(),

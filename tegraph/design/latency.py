@@ -1,32 +1,22 @@
-"""Sensor-to-actuator latency of a chain of tasks.
+"""A chain's latency in the design tools: the exact figures, and the published bounds
+over any phases beside them.
 
-A chain ``[T1, ..., Tn]`` (spec §6 ``chains:``, or the ``chains`` argument of
-:func:`tegraph.analyze`)
-follows the data: each task reads an output of the one before. The latency
-of the data sampled by T1 is measured from T1's reading of its sensor (its
-first unlinked input; the start of its computation if it has none) to Tn's
-posting of its actuator output (its first unlinked output; the end of its
-computation if it has none).
+A chain ``[T1, ..., Tn]`` (spec §1 ``chains:``, or the ``chains`` argument of
+:func:`tegraph.analyze`) follows the data: each task reads an output of the
+one before. Its latency is the analysis' (spec §4c,
+:mod:`tegraph.analysis.chains`): ``first_use``, ``age``, ``age_min`` and
+``reaction``, exact for the declared phases of the clocks, on the skeleton's
+processors and with a processor per task. This module presents them, and
+keeps beside them, named "over any phases", the bounds of the literature,
+which hold whatever the clocks' phases and never stand in for the exact
+figure.
 
 The chain is cut into *segments*, runs of consecutive tasks of one
-synchronized group. Inside a segment the latency is **exact**: the data read
-at a task's k-th activation is the last message posted at or before that
-read, so tracing an actuator output back through the steady-state daters of
-the timed event graph (spec §3) gives the age of the sensor value it used (a message posted
-at the very instant of the read counts only when the protocol orders the
-two: the k-th write of an ASYN/SYN or SYN/SYN link comes before the k-th
-read, the k-th write of a SYN/ASYN link after it; for ASYN/ASYN the worst
-case, not yet posted, is taken);
-the worst age over one cyclicity of the periodic regime (spec §4
-``transient``) is the steady-state worst case. This is the timed event
-graph's view: every task runs as soon as its places allow (no processor
-contention). It needs a rate-consistent group.
-
-Between segments (an ASYN/ASYN hop between groups) nothing relates the two
-clocks, and the published bounds for register communication apply, each
-segment s standing for one periodic task of period ``T_s`` (its group's
-period) and response time ``R_s`` (the Joseph-Pandya response time [1]_ of
-its group on its processor, :mod:`tegraph.design.schedulability`):
+synchronized group; between segments (an ASYN/ASYN hop between groups) the
+published bounds for register communication apply, each segment s standing
+for one periodic task of period ``T_s`` (its group's period) and response
+time ``R_s`` (the Joseph-Pandya response time [1]_ of its group on its
+processor, :mod:`tegraph.design.schedulability`):
 
 - **Davare et al. 2007** [2]_: ``L <= Σ_s (T_s + R_s)``;
 - **Dürr et al. 2019** [3]_: the term of a segment followed, on the same
@@ -34,8 +24,8 @@ its group on its processor, :mod:`tegraph.design.schedulability`):
   ``T_s + max(R_s - T_{s+1}, 0)``.
 
 Both bound the time from a change of the sensor value to the actuator output
-that reflects it, one sampling period of T1 included. The daters inside a
-segment are those of the (max,+) model of the timed event graph [4]_.
+that reflects it, one sampling period of T1 included: the exact ``reaction``
+on processors is at most them where their assumptions hold.
 
 References
 ----------
@@ -48,13 +38,10 @@ References
 .. [3] M. Dürr, G. von der Brüggen, K.-H. Chen, J.-J. Chen, "End-to-end
    timing analysis of sporadic cause-effect chains in distributed systems",
    ACM Transactions on Embedded Computing Systems 18(5s) (CASES), 2019.
-.. [4] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-   and Linearity*, Wiley, 1992.
 """
 
 from __future__ import annotations
 
-import bisect
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -64,18 +51,20 @@ from typing import Any
 from maxplus.scalar import exact_text
 
 from ..analysis.analyze import analyze_skeleton
+from ..analysis.chains import ChainFigures, ChainReport
 from ..analysis.results import Report
-from ..model.build import build_teg
 from ..model.elements import LinkLabel
-from ..model.skeleton import Link, Protocol, Skeleton
+from ..model.skeleton import Link, Skeleton
 from ..model.skeleton.checks import KeyPath, Locator, check_chain
 from .schedulability import Schedulability, schedulability
 
-__all__ = ["Bound", "ChainLatency", "Hop", "Segment", "chain_latency", "parse_chain"]
+__all__ = ["OVER_ANY_PHASES", "Bound", "ChainLatency", "Hop", "Segment", "chain_latencies",
+           "chain_latency", "parse_chain"]
 
 DAVARE = "Davare et al. 2007"
 DUERR = "Dürr et al. 2019"
-_MAX_FIRINGS = 1 << 15
+OVER_ANY_PHASES = "over any phases"
+"""What the published bounds hold for (the exact figures are for the declared phases)."""
 
 
 @dataclass
@@ -85,13 +74,10 @@ class Segment:
     tasks: list[str]
     group: int
     start: str
-    """Event where the segment's data enters (a read, or a compute)."""
+    """Event where the segment's data enters (a read, or the sensor's)."""
     end: str
-    """Event where it leaves (a write, or the end of a computation)."""
+    """Event where it leaves (a write, or the output)."""
     period: Fraction | None
-    latency: Fraction | None
-    """Exact worst steady-state latency from ``start`` to ``end``."""
-    note: str = ""
 
 
 @dataclass
@@ -105,7 +91,7 @@ class Hop:
 
 @dataclass
 class Bound:
-    """A published bound on the end-to-end latency."""
+    """A published bound on the end-to-end latency, over any phases of the clocks."""
 
     name: str
     value: Fraction | None
@@ -115,30 +101,37 @@ class Bound:
 
 @dataclass
 class ChainLatency:
-    """Latency of one chain: exact inside groups, bounded across asynchronous hops."""
+    """One chain's latency: the exact figures (spec §4c), and the published bounds over
+    any phases beside them (never in their place)."""
 
     chain: list[str]
+    figures: ChainReport
+    """The exact figures, on the processors and with a processor per task."""
     segments: list[Segment]
     hops: list[Hop]
     bounds: list[Bound] = field(default_factory=list)
 
     @property
-    def exact(self) -> Fraction | None:
-        """The exact latency when the whole chain is one synchronized segment."""
-        return self.segments[0].latency if len(self.segments) == 1 else None
+    def exact(self) -> ChainFigures:
+        """The figures on the skeleton's processors (those with a processor per task when
+        the analysis gave every task a processor of its own)."""
+        return self.figures.on_processors
 
     @property
     def value(self) -> Fraction | None:
-        """The exact latency, else the smallest bound (None when none applies)."""
-        if len(self.segments) == 1:
-            return self.exact
-        values = [b.value for b in self.bounds if b.value is not None]
-        return min(values) if values else None
+        """The exact first use on processors (spec §4c, the paper's latency); None where
+        undecided (:attr:`why_undecided`)."""
+        return self.exact.first_use
+
+    @property
+    def why_undecided(self) -> str | None:
+        """Why the exact figures are null (None where they are decided)."""
+        return self.exact.why_undecided
 
     @property
     def kind(self) -> str:
-        """``"exact"`` or ``"bound"``."""
-        return "exact" if len(self.segments) == 1 else "bound"
+        """``"exact"``, or ``"undecided"`` where the chain's schedule is not decided."""
+        return "exact" if self.exact.decided else "undecided"
 
     @property
     def in_periods(self) -> Fraction | None:
@@ -150,14 +143,14 @@ class ChainLatency:
         """The chain's latency as the JSON report holds it."""
         return {
             "chain": self.chain, "latency": exact_text(self.value), "kind": self.kind,
-            "periods": exact_text(self.in_periods),
+            "periods": exact_text(self.in_periods), "why_undecided": self.why_undecided,
+            "figures": self.figures.to_dict(),
             "segments": [{"tasks": s.tasks, "group": s.group, "from": s.start, "to": s.end,
-                          "period": exact_text(s.period), "latency": exact_text(s.latency),
-                          "note": s.note} for s in self.segments],
+                          "period": exact_text(s.period)} for s in self.segments],
             "hops": [{"from": h.writer, "to": h.reader,
                       "links": [link.document() for link in h.links]} for h in self.hops],
-            "bounds": [{"name": b.name, "value": exact_text(b.value), "formula": b.formula,
-                        "note": b.note} for b in self.bounds],
+            "bounds": [{"name": b.name, "scope": OVER_ANY_PHASES, "value": exact_text(b.value),
+                        "formula": b.formula, "note": b.note} for b in self.bounds],
         }
 
 
@@ -187,9 +180,9 @@ def parse_chain(text: str) -> tuple[str, ...]:
 
 
 def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | None = None,
-                  sched: Schedulability | None = None, path: KeyPath = ("chain",)
-                  ) -> ChainLatency:
-    """Latency of ``chain``: exact inside synchronized groups, bounded across hops.
+                  sched: Schedulability | None = None, path: KeyPath = ("chain",),
+                  figures: ChainReport | None = None) -> ChainLatency:
+    """The latency of ``chain``: its exact figures, and the published bounds over any phases.
 
     Parameters
     ----------
@@ -198,18 +191,21 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     chain : sequence of str
         Task names, sensor first; each reads an output of the one before.
     report : Report, optional
-        ``analyze_skeleton(skeleton)`` (computed when not given).
+        ``analyze_skeleton(skeleton, ...)``; its ``chains`` give the exact figures
+        (computed, on the skeleton's processors, when the report has no such chain).
     sched : Schedulability, optional
         ``schedulability(skeleton, report)`` for the bounds (computed when needed).
     path : KeyPath
         Where the chain came from, for the message of a refused chain.
+    figures : ChainReport, optional
+        The chain's exact figures, when the caller has them.
 
     Returns
     -------
     ChainLatency
-        The segments (one per synchronized group crossed, each with its exact
-        steady-state worst latency), the hops between them and, when there is
-        more than one segment, the Davare [2]_ and Dürr [3]_ bounds.
+        The exact figures (:mod:`tegraph.analysis.chains`), the groups the chain
+        crosses (segments), the hops between them and, when there is more than one
+        segment, the Davare [2]_ and Dürr [3]_ bounds over any phases.
 
     Raises
     ------
@@ -220,14 +216,12 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     See Also
     --------
     parse_chain : a chain from ``"A,B,C"``.
+    tegraph.analysis.chains.chain_reports : the exact figures.
     tegraph.design.schedulability.schedulability : the response times ``R_s``.
-    tegraph.analysis.analyze.analyze_skeleton : the report the segments use.
 
     Notes
     -----
-    Inside a segment the latency is exact: the steady-state daters of the
-    timed event graph [4]_ are traced back over one cyclicity. Across an
-    ASYN/ASYN hop each segment stands for one periodic task of period
+    Across an ASYN/ASYN hop each segment stands for one periodic task of period
     ``T_s`` and Joseph-Pandya response time ``R_s`` [1]_.
 
     References
@@ -241,41 +235,76 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     .. [3] M. Dürr, G. von der Brüggen, K.-H. Chen, J.-J. Chen, "End-to-end
        timing analysis of sporadic cause-effect chains in distributed systems",
        ACM Transactions on Embedded Computing Systems 18(5s) (CASES), 2019.
-    .. [4] F. Baccelli, G. Cohen, G. J. Olsder, J.-P. Quadrat, *Synchronization
-       and Linearity*, Wiley, 1992.
 
     Examples
     --------
-    The synchronized pipeline of Figure 4 (durations 1, 2, 2, 1; period 10):
-    q is read at 0 and u posted at 6, within one period.
+    The unsynchronized pipeline of Figure 4 on its one processor: 6 ms, exactly, where
+    the bounds over any phases say at most 46 and 55 ms.
 
     >>> from tegraph import load_skeleton
-    >>> sk = load_skeleton("examples/fig4_pipeline_synchronized.yaml")
+    >>> sk = load_skeleton("examples/fig4_pipeline_unsynchronized.yaml")
     >>> r = chain_latency(sk, ["MT1", "MT2", "MT3", "MT4"])
-    >>> r.kind, r.value, r.in_periods
-    ('exact', Fraction(6, 1), Fraction(3, 5))
+    >>> r.kind, r.value, r.in_periods, [str(b.value) for b in r.bounds]
+    ('exact', Fraction(6, 1), Fraction(3, 5), ['55', '46'])
     """
-    # A chain of the file is located in it; one given as a parameter is not.
-    in_file = skeleton.source if path[:1] == ("chains",) else None
-    chain = list(check_chain(skeleton, list(chain), path, Locator(file=in_file)))
-    if report is None:
-        report = analyze_skeleton(skeleton)
+    return chain_latencies(skeleton, [(tuple(chain), path, figures)], report, sched)[0]
+
+
+def chain_latencies(skeleton: Skeleton,
+                    chains: Sequence[tuple[Sequence[str], KeyPath, ChainReport | None]],
+                    report: Report | None = None, sched: Schedulability | None = None
+                    ) -> list[ChainLatency]:
+    """:func:`chain_latency` of each ``(chain, path, figures)``, the links indexed once."""
+    links = _LinkIndex(skeleton)
+    return [_chain_latency(skeleton, list(c), path, f, report, sched, links)
+            for c, path, f in chains]
+
+
+class _LinkIndex:
+    """The links between each two tasks (file order), and the ports linked."""
+
+    def __init__(self, sk: Skeleton) -> None:
+        self.by_pair: dict[tuple[str, str], list[Link]] = {}
+        for link in sk.links:
+            self.by_pair.setdefault((link.writer[0], link.reader[0]), []).append(link)
+        self.linked = {end for link in sk.links for end in (link.writer, link.reader)}
+
+
+def _chain_latency(skeleton: Skeleton, chain: list[str], path: KeyPath,
+                   figures: ChainReport | None, report: Report | None,
+                   sched: Schedulability | None, links: _LinkIndex) -> ChainLatency:
+    if figures is None or list(figures.tasks) != chain:
+        # A chain of the file is located in it; one given as a parameter is not (a chain
+        # with its figures was checked by the analysis that made them).
+        in_file = skeleton.source if path[:1] == ("chains",) else None
+        chain = list(check_chain(skeleton, chain, path, Locator(file=in_file)))
+        figures = None
+    if figures is None and report is not None:
+        figures = next((c for c in report.chains if list(c.tasks) == chain), None)
+    if figures is None or report is None:
+        # The figures where the report has none: its analysis on the processors, with
+        # this chain (the budget of every command's, max_events).
+        report = analyze_skeleton(skeleton, processors=True, chains=[chain],
+                                  structure=None if report is None else report.structure)
+        figures = report.chains[-1]
+    by_pair, linked = links.by_pair, links.linked
     pieces: list[list[str]] = []
     for t in chain:
         if pieces and report.tasks[t].group == report.tasks[pieces[-1][-1]].group:
             pieces[-1].append(t)
         else:
             pieces.append([t])
-    hops = [Hop(a[-1], b[0], [link.label for link in _links(skeleton, a[-1], b[0])])
+    hops = [Hop(a[-1], b[0], [link.label for link in by_pair[a[-1], b[0]]])
             for a, b in itertools.pairwise(pieces)]
     segments = []
     for s, tasks in enumerate(pieces):
-        start = _sensor(skeleton, tasks[0]) if s == 0 else \
-            ("read", tasks[0], _links(skeleton, pieces[s - 1][-1], tasks[0])[0].reader[1])
-        end = _actuator(skeleton, tasks[-1]) if s == len(pieces) - 1 else \
-            ("write", tasks[-1], _links(skeleton, tasks[-1], pieces[s + 1][0])[0].writer[1])
-        segments.append(_segment(skeleton, report, tasks, start, end))
-    result = ChainLatency(chain, segments, hops)
+        g = report.groups[report.tasks[tasks[0]].group]
+        start = _sensor(skeleton, tasks[0], linked) if s == 0 else \
+            f"{tasks[0]}.read:{by_pair[pieces[s - 1][-1], tasks[0]][0].reader[1]}"
+        end = _actuator(skeleton, tasks[-1], linked) if s == len(pieces) - 1 else \
+            f"{tasks[-1]}.write:{by_pair[tasks[-1], pieces[s + 1][0]][0].writer[1]}"
+        segments.append(Segment(tasks, g.index, start, end, g.period))
+    result = ChainLatency(chain, figures, segments, hops)
     if len(segments) > 1:
         if sched is None:
             sched = schedulability(skeleton, report)
@@ -283,124 +312,14 @@ def chain_latency(skeleton: Skeleton, chain: Sequence[str], report: Report | Non
     return result
 
 
-def _links(sk: Skeleton, writer: str, reader: str) -> list[Link]:
-    return [link for link in sk.links if link.writer[0] == writer and link.reader[0] == reader]
+def _sensor(sk: Skeleton, task: str, linked: set[tuple[str, str]]) -> str:
+    free = [p for p in sk.tasks[task].inputs if (task, p) not in linked]
+    return f"{task}.read:{free[0]}" if free else f"the start of {task}"
 
 
-def _linked(sk: Skeleton, task: str, port: str) -> bool:
-    return any((task, port) in (link.writer, link.reader) for link in sk.links)
-
-
-def _sensor(sk: Skeleton, task: str) -> tuple[str, str, str]:
-    free = [p for p in sk.tasks[task].inputs if not _linked(sk, task, p)]
-    return ("read", task, free[0]) if free else ("compute", task, "")
-
-
-def _actuator(sk: Skeleton, task: str) -> tuple[str, str, str]:
-    free = [p for p in sk.tasks[task].outputs if not _linked(sk, task, p)]
-    return ("write", task, free[0]) if free else ("end", task, "")
-
-
-def _event_name(ref: tuple[str, str, str]) -> str:
-    kind, task, port = ref
-    return {"read": f"{task}.read:{port}", "write": f"{task}.write:{port}",
-            "compute": f"{task}.compute", "end": f"{task}.compute + duration"}[kind]
-
-
-def _segment(sk: Skeleton, report: Report, tasks: list[str], start: tuple[str, str, str],
-             end: tuple[str, str, str]) -> Segment:
-    g = report.groups[report.tasks[tasks[0]].group]
-    seg = Segment(tasks, g.index, _event_name(start), _event_name(end), g.period, None)
-    if not g.rate_consistent or g.transient is None:
-        seg.note = ("the group is not live" if not g.live else
-                    "the group is not rate-consistent: no steady state to measure"
-                    if not g.rate_consistent else
-                    "the analysis did not reach the periodic regime (raise `max_steps`)")
-        return seg
-    seg.latency = _steady_latency(sk, g.tasks, tasks, start, end, g.transient, g.period)
-    if seg.latency is None:  # pragma: no cover - the firing budget is far above any example
-        seg.note = f"the trace did not settle within {_MAX_FIRINGS} activations"
-    return seg
-
-
-def _steady_latency(sk: Skeleton, group: list[str], tasks: list[str], start, end,
-                    transient: tuple[int, int], period) -> Fraction | None:
-    """Worst data age over one cyclicity of the regime, from the group's daters."""
-    teg = build_teg(sk.restricted_to(group))
-    port_event = {pt: e for e, attrs in enumerate(teg.transition_attrs)
-                  for pt in attrs.get("ports", ())}
-    compute = teg.attrs["compute"]
-
-    def event(ref) -> tuple[int, Fraction]:
-        kind, task, port = ref
-        if kind in ("read", "write"):
-            return port_event[task, port], Fraction(0)
-        return compute[task], Fraction(0) if kind == "compute" else sk.tasks[task].duration
-
-    causal = (Protocol.ASYN_SYN, Protocol.SYN_SYN)  # write k happens before read k
-    hops = [[(port_event[link.writer], port_event[link.reader], link.protocol in causal)
-             for link in _links(sk, a, b)] for a, b in itertools.pairwise(tasks)]
-    (start_e, start_d), (end_e, end_d) = event(start), event(end)
-    K, c = transient
-    n = 2 * (K + c) + 4 * len(tasks) + 8
-    while n <= _MAX_FIRINGS:
-        daters = teg.simulate(n)
-        col = {e: daters.times[:, e].tolist() for e in
-               {start_e, end_e, *(x for hop in hops for w, r, _ in hop for x in (w, r))}}
-        worst = _worst_age(col, hops, len(tasks), (start_e, start_d), (end_e, end_d),
-                           transient, n, daters.scale)
-        if worst is not None:
-            return worst
-        n *= 2
-    return None  # pragma: no cover
-
-
-def _worst_age(col, hops, n_tasks: int, start: tuple[int, Fraction], end: tuple[int, Fraction],
-               transient: tuple[int, int], n: int, scale: int) -> Fraction | None:
-    """The worst data age over one cyclicity in the middle of ``n`` simulated firings;
-    None when the trace leaves the simulated steady state (or no sample reaches the end)."""
-    (start_e, start_d), (end_e, end_d) = start, end
-    K, c = transient
-    worst = None
-    for m in range(n // 2, n // 2 + c):
-        oldest = _oldest(col, hops, n_tasks - 1, m, start_e, K, n)
-        if oldest is False:
-            return None
-        if oldest is None:
-            continue
-        age = Fraction(col[end_e][m - 1], scale) + end_d - Fraction(oldest, scale) - start_d
-        worst = age if worst is None else max(worst, age)
-    return worst
-
-
-def _oldest(col, hops, i: int, k: int, start_e: int, K: int, n: int):
-    """Earliest start time (scaled) of the data used by activation k of task i.
-
-    None when the data is the initial value of a port (no sample); False when
-    the trace leaves the simulated steady state (simulate further).
-    """
-    if k < K or k > n:
-        return False
-    if i == 0:
-        return col[start_e][k - 1]
-    best = None
-    for w, r, causal in hops[i - 1]:
-        read = col[r][k - 1]
-        # Daters are non-decreasing: j writes come strictly before the read...
-        j = bisect.bisect_left(col[w], read)
-        if j >= n:
-            return False
-        # ...and the k-th one also when the protocol puts it first at a tie.
-        if causal and col[w][k - 1] <= read:
-            j = max(j, k)
-        if j == 0:
-            continue
-        found = _oldest(col, hops, i - 1, j, start_e, K, n)
-        if found is False:
-            return False
-        if found is not None:
-            best = found if best is None else min(best, found)
-    return best
+def _actuator(sk: Skeleton, task: str, linked: set[tuple[str, str]]) -> str:
+    free = [p for p in sk.tasks[task].outputs if (task, p) not in linked]
+    return f"{task}.write:{free[0]}" if free else f"the end of {task}"
 
 
 def _bounds(segments: list[Segment], sched: Schedulability, unit: str) -> list[Bound]:

@@ -460,6 +460,8 @@ class Schedulability:
     threads: list[ThreadVerdict]
     priorities: dict[str, int]
     notes: list[str] = field(default_factory=list)
+    _unit_index: dict[str, UnitVerdict] | None = field(default=None, init=False, repr=False,
+                                                       compare=False)
 
     @property
     def schedulable(self) -> bool | None:
@@ -487,12 +489,14 @@ class Schedulability:
         return [p for p in self.processors if p.cross_check and p.units]
 
     def unit_of(self, task: str) -> UnitVerdict | None:
-        """The unit that holds ``task``."""
-        for p in self.processors:
-            for u in p.units:
-                if task in u.tasks:
-                    return u
-        return None
+        """The unit that holds ``task`` (the units indexed by task at the first call)."""
+        if self._unit_index is None:
+            self._unit_index = {}
+            for p in self.processors:
+                for u in p.units:
+                    for t in u.tasks:
+                        self._unit_index.setdefault(t, u)
+        return self._unit_index.get(task)
 
     def to_dict(self) -> dict[str, Any]:
         """The schedulability section as the JSON report holds it."""

@@ -19,7 +19,7 @@ from ..analysis.processors.overlap import NeverTogether
 from ..analysis.results import Report
 from ..model.skeleton import Skeleton
 from .cross_check import CrossCheck, cross_check
-from .latency import ChainLatency, chain_latency
+from .latency import ChainLatency, chain_latencies
 from .rules import RuleFinding, check_rules
 from .schedulability import Schedulability, schedulability
 
@@ -124,7 +124,8 @@ def design_section(skeleton: Skeleton, report: Report,
     skeleton : Skeleton
     report : Report
         Its analysis (:func:`tegraph.analysis.analyze.analyze_skeleton`): the
-        periods come from there.
+        periods come from there, and the chains' exact figures (``report.chains``,
+        when it was analyzed with the skeleton's chains and ``chains``).
     chains : sequence of task-name sequences
         Chains to report besides the skeleton's own ``chains`` (key path
         ``chains[i][j]`` for those, ``chain[i][j]`` for these in error messages).
@@ -145,11 +146,19 @@ def design_section(skeleton: Skeleton, report: Report,
     sched = schedulability(skeleton, report)
     named = [(tuple(c), ("chains", i)) for i, c in enumerate(skeleton.chains)]
     named += [(tuple(c), ("chain", i)) for i, c in enumerate(chains)]
+    # The report's chains are these, in this order, when it was analyzed with them.
+    figures = (list(report.chains) if [c.tasks for c in report.chains] == [c for c, _ in named]
+               else [None] * len(named))
+    on_processors = report.schedule is not None if processors is None else processors
     return DesignSection(
         name=skeleton.name, unit=skeleton.unit,
-        rules=check_rules(skeleton, report.structure, processors=(
-            report.schedule is not None if processors is None else processors),
-            live=report.live, platform=report.platform),
+        rules=check_rules(skeleton, report.structure, processors=on_processors,
+                          live=report.live, chains={
+                              c: None if f is None or report.schedule is None
+                              else f.on_processors
+                              for (c, _), f in zip(named, figures)} if on_processors else {},
+                          platform=report.platform),
         schedulability=sched,
-        latency=[chain_latency(skeleton, c, report, sched, path) for c, path in named],
+        latency=chain_latencies(skeleton, [(c, path, f) for (c, path), f in zip(named, figures)],
+                                report, sched),
         cross_check=cross_check(sched, report), analysis=report)

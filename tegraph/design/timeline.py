@@ -23,7 +23,12 @@ engine's processor time per job, and its verdict is the engine's proof:
 - the budget is ``max_events`` (as for ``tegraph analyze``): a skeleton whose
   regime cannot be reached within it (drifting clocks, whose hyperperiod is
   huge) is undecided at once, with the reason and its hyperperiod, unless an
-  overrun was found first.
+  overrun was found first;
+- each chain (the skeleton's and those asked for) comes with its figures on
+  processors (spec §4c, the one definition of :mod:`tegraph.analysis.chains`,
+  read off the same schedule) and its worst data path (the largest first use:
+  the sample, each write and read it passes, the output), taken in the proven
+  regime; the default drawing runs on until every such path is drawn.
 
 References
 ----------
@@ -34,6 +39,7 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -41,6 +47,7 @@ from maxplus.scalar import display_text
 
 from ..analysis import notebook
 from ..analysis.analyze import analyze_skeleton
+from ..analysis.chains import ChainFigures, chain_paths, figures_on, trace_request
 from ..analysis.processors import MAX_EVENTS, JobInterval, ProcessorSchedule, schedule_on_processors
 from ..analysis.results import Deadlock
 from ..errors import InputError
@@ -51,8 +58,8 @@ from .schedulability import hyperperiod
 from .timeline_waits import Stuck, Wait, stuck_problems, waits_until
 from .timeline_window import WINDOW_PERIODS, default_window
 
-__all__ = ["MAX_DRAWN", "MAX_EVENTS", "WINDOW_PERIODS", "Job", "Stuck", "Timeline", "Wait",
-           "simulate_timeline"]
+__all__ = ["MAX_DRAWN", "MAX_EVENTS", "WINDOW_PERIODS", "Job", "Stuck", "Timeline",
+           "TimelineChain", "Wait", "simulate_timeline"]
 
 MAX_DRAWN = 20_000
 """Processor intervals at most added by repeating a proven regime (a long
@@ -76,6 +83,15 @@ class Job:
     def preemptions(self) -> int:
         """How many times it lost its processor before the end of the drawing."""
         return max(len(self.segments) - 1, 0)
+
+
+@dataclass(frozen=True)
+class TimelineChain:
+    """A chain on the timeline: its tasks and its figures on processors (spec §4c), whose
+    ``worst`` is the data path drawn."""
+
+    tasks: tuple[str, ...]
+    figures: ChainFigures
 
 
 @dataclass
@@ -120,6 +136,8 @@ class Timeline:
     (a quick look) is drawn."""
     notes: list[str] = field(default_factory=list)
     """What the drawing leaves out."""
+    chains: list[TimelineChain] = field(default_factory=list)
+    """The skeleton's chains, then those asked for, with their figures on processors."""
     waits: list[Wait] = field(default_factory=list)
     """What the activations wait for without their processor, up to ``horizon``."""
     stuck: list[Stuck] = field(default_factory=list)
@@ -201,7 +219,8 @@ class Timeline:
 
 def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None = None,
                       max_events: int = MAX_EVENTS,
-                      start: Fraction | int | str | None = None) -> Timeline:
+                      start: Fraction | int | str | None = None,
+                      chains: Sequence[Sequence[str]] = ()) -> Timeline:
     """The §4b schedule of ``skeleton`` on its processors, until its proof.
 
     Parameters
@@ -220,6 +239,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
         Budget of event firings of the exact schedule (default :data:`MAX_EVENTS`).
     start : Fraction, optional
         Beginning of the drawing, with ``horizon`` (default 0).
+    chains : sequence of task-name sequences
+        Chains to draw besides the skeleton's own (their worst data path and figures).
 
     Returns
     -------
@@ -230,6 +251,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     InputError
         ``horizon`` is not positive, ``start`` is negative or not before ``horizon``,
         or ``max_events`` is not an integer >= 1.
+    SkeletonError
+        A chain names an unknown task, a task twice, or two unlinked tasks.
 
     See Also
     --------
@@ -249,7 +272,13 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     horizon, begin = _checked(skeleton, horizon, max_events, start)
     report = analyze_skeleton(skeleton, semiflow_max_places=0)
     teg = build_teg(skeleton)
-    s = schedule_on_processors(skeleton, teg, report.groups, max_events=max_events)
+    paths = chain_paths(skeleton, teg, chains)
+    s = schedule_on_processors(skeleton, teg, report.groups, max_events=max_events,
+                               trace=trace_request(paths) if paths else None)
+    drawn_chains = [] if s.trace is None else [
+        TimelineChain(p.tasks, f) for p, f in zip(paths, figures_on(
+            paths, s.trace, report.groups, shared=True, unit=skeleton.unit,
+            max_events=max_events))]
     tasks, clocks = skeleton.tasks, skeleton.clocks
     by_part = _by_part(s)
     ends, hyper, unsimulated = _part_ends(skeleton, s, by_part)
@@ -263,6 +292,12 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
     window = None
     if horizon is None:
         full = _until_the_proof(skeleton, s, by_part, ends, at)
+        for c in drawn_chains:  # on to the end of the chain's period holding its worst path
+            f = c.figures
+            if f.worst and f.period and f.worst[-1].at >= full:
+                full += -((full - f.worst[-1].at) // f.period) * f.period
+                if full == f.worst[-1].at:
+                    full += f.period
         problems = [(x, f"the first overrun ({t} at {_time(x, skeleton.unit)})")
                     for t, x in at.items()]
         if dead or s.starved:  # when a group is stuck, when a job never ends
@@ -281,7 +316,7 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
         durations={t: task.duration for t, task in tasks.items()}, overrun_ticks=at,
         deadlocks=list(report.deadlocks), dead_tasks=[t for t in tasks if t in dead],
         hyperperiods=hyper, unsimulated=unsimulated, notes=notes, waits=waits, stuck=stuck,
-        window=window)
+        window=window, chains=drawn_chains)
 
 
 def _checked(skeleton: Skeleton, horizon: Fraction | int | str | None, max_events: int,

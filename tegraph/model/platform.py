@@ -55,7 +55,8 @@ from .structure import Structure, design_period
 
 __all__ = ["DEFAULT_PROCESSOR", "Platform", "Processor", "ProcessorInfo", "check_groups",
            "clock_hyperperiod", "crosses", "group_tasks", "hyperperiod", "is_automaton",
-           "link_delay", "platform_of", "processor_of", "processor_parts", "rate_monotonic"]
+           "link_delay", "platform_of", "processor_of", "processor_parts", "processor_per_task",
+           "rate_monotonic"]
 
 _AUTOMATON = re.compile(r"(?:^|\.)(?:rta|automaton)$", re.IGNORECASE)
 
@@ -303,6 +304,18 @@ def platform_of(skeleton: Skeleton, groups: Groups | None = None) -> Platform:
                                    True if declared_kind is None else declared_kind.preemptive,
                                    replaced))
     return Platform(tuple(infos), processors, {t: priority[t] for t in skeleton.tasks})
+
+
+def processor_per_task(skeleton: Skeleton) -> Platform:
+    """Every task alone on a processor named after it: the schedule is then §3's daters
+    (§4b: ``f_T(k) = x_T.compute(k) + duration(T)``, every job starts at its release).
+
+    >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1}, "B": {"duration": 1}}})
+    >>> processor_per_task(sk).processor_of
+    {'A': 'A', 'B': 'B'}
+    """
+    infos = tuple(ProcessorInfo(t, (t,), {t: 1}, "alone") for t in skeleton.tasks)
+    return Platform(infos, {t: t for t in skeleton.tasks}, {t: 1 for t in skeleton.tasks})
 
 
 def rate_monotonic(skeleton: Skeleton, groups: Groups | None = None) -> dict[str, int]:

@@ -8,12 +8,13 @@ from maxplus.scalar import display_text
 
 from ..analysis.repair import FixResult
 from ..design.cross_check import CrossCheck, UnitDisagreement
-from ..design.latency import ChainLatency
+from ..design.latency import OVER_ANY_PHASES, ChainLatency
 from ..design.rules import RuleFinding
 from ..design.schedulability import PAPER_TEST, Schedulability
 from ..design.section import DesignSection
 from ..model.platform import DEFAULT_PROCESSOR
 from ._format import count, number
+from .chains_text import figures_text
 from .verdict_text import problems
 
 __all__ = [
@@ -203,34 +204,38 @@ def _disagreement(d: UnitDisagreement, unit: str) -> str:
 
 
 def render_latency(result: ChainLatency, unit: str = "ms") -> str:
-    """One chain's latency as text.
+    """One chain's latency as text: the exact figures (spec §4c), the groups and hops it
+    crosses, and the published bounds over any phases beside them.
 
     Returns
     -------
     str
     """
-    lines = [f"latency of the chain {' -> '.join(result.chain)}:"]
+    f = result.figures
+    lines = [f"latency of the chain {' -> '.join(result.chain)} (spec §4c, exact for the "
+             "declared phases):"]
+    if f.on_processors is not f.processor_per_task:
+        lines.append(f"  on its processors: {figures_text(f.on_processors, unit)}")
+    lines.append(f"  with a processor per task: {figures_text(f.processor_per_task, unit)}")
     for i, s in enumerate(result.segments):
         if i:
             h = result.hops[i - 1]
             lines.append(f"  asynchronous hop {h.writer} -> {h.reader} ({'; '.join(h.links)})")
-        value = (f"{display_text(s.latency)} {unit}, exact (steady-state daters)"
-                 if s.latency is not None else f"unknown ({s.note})")
         period = f"period {display_text(s.period)} {unit}" if s.period is not None else "no period"
-        lines.append(f"  segment [{', '.join(s.tasks)}] (group {s.group}, {period}): "
-                     f"{s.start} -> {s.end}: {value}")
+        lines.append(f"  group {s.group} [{', '.join(s.tasks)}] ({period}): {s.start} -> {s.end}")
     for b in result.bounds:
         value = f"{display_text(b.value)} {unit}" if b.value is not None else "not applicable"
-        lines.append(f"  bound ({b.name}): {value} [{b.formula}; {b.note}]")
+        lines.append(f"  bound {OVER_ANY_PHASES} ({b.name}): {value} [{b.formula}; {b.note}]")
     if result.value is None:
-        lines.append("  latency: unknown")
+        lines.append(f"  latency: undecided ({result.why_undecided})")
     else:
         periods = result.in_periods
         extra = "" if periods is None else (
             f" = {display_text(periods)} sampling period(s) of "
             f"{display_text(result.segments[0].period)} {unit}")
-        what = "exactly" if result.kind == "exact" else "at most"
-        lines.append(f"  latency: {what} {display_text(result.value)} {unit}{extra}")
+        where = " on its processors" if f.on_processors is not f.processor_per_task else ""
+        lines.append(f"  latency (first use{where}): exactly {display_text(result.value)} "
+                     f"{unit}{extra}")
     return "\n".join(lines) + "\n"
 
 

@@ -157,8 +157,10 @@ def _legend_entries(fig: Any) -> dict[str, object]:
 
 
 def _label(name: str, unit: str) -> str:
-    if name.startswith("latency:"):
-        return f"latency of {name[len('latency:'):]} ({unit}, processor per task)"
+    key, _, chain = name.partition(":")
+    if chain:
+        what = {"latency": "first use"}.get(key, key)
+        return f"{what} of {chain} ({unit}, on processors)"
     return {"period": "period ratio on processors (task period / designed period)",
             "load": "busiest processor's utilization on processors",
             "utilization": "utilization on processors, all processors"}.get(name, name)

@@ -24,17 +24,21 @@ FRONT_ROWS_SHOWN = 40
 def column_name(name: str, unit: str) -> str:
     """What an objective's column holds, with its unit: the text report's header.
 
-    The period ratio, load and utilization are read on processors (spec §4b); the
-    latency is the timed event graph's, with a processor per task: each name says so.
+    Every objective is read on processors (spec §4b, §4c): each name says so.
 
     >>> column_name("latency:A,B", "ms"), column_name("period", "ms")
-    ('latency A,B (ms, processor per task)', 'period ratio on processors')
+    ('latency A,B (ms, on processors)', 'period ratio on processors')
     """
-    if name.startswith("latency:"):
-        return f"latency {name[len('latency:'):]} ({unit}, processor per task)"
+    key, _, chain = name.partition(":")
+    if chain:
+        return f"{key} {chain} ({unit}, on processors)"
     return _COLUMNS[name]
 
 
+_CHAIN_MEANING = {"latency": "first use (from a sample to the first output computed from it)",
+                  "age": "age (how old the sample an output uses is when it is posted)",
+                  "reaction": "reaction (from a sensor change to the first output that "
+                              "reflects it)"}
 _COLUMNS = {"period": "period ratio on processors", "load": "busiest load on processors",
             "utilization": "utilization on processors"}
 _MEANING = {
@@ -80,10 +84,10 @@ def render_exploration(result: Exploration, all_ties: bool = False) -> str:
                      + f" {sk.unit}")
     lines.append("objectives, all minimized (ties broken by fewer Rule 2 findings):")
     for n in space.objectives:
-        meaning = (f"chain latency in {sk.unit} with a processor per task (the timed event "
-                   "graph's daters, not the schedule on processors), exact in one group, "
-                   "else the smallest published bound" if n.startswith("latency:")
-                   else _MEANING[n])
+        key, _, chain = n.partition(":")
+        meaning = (f"the chain's {_CHAIN_MEANING[key]} in {sk.unit} on processors, exact for "
+                   "the declared phases (spec §4c; a variant where it is undecided is "
+                   "rejected, never ranked by a bound)" if chain else _MEANING[n])
         lines.append(f"  {column_name(n, sk.unit)}: {meaning}")
     constraints = _constraint_texts(space.constraints, sk.unit)
     if constraints:
@@ -180,7 +184,7 @@ def _front(result: Exploration, all_ties: bool) -> list[str]:
 def _constraint_texts(constraints: Constraints, unit: str) -> list[str]:
     """Each constraint in words, its numbers as the user wrote them (``<= 9.2 ms``)."""
     return ([f"{t}.period {op} {display_text(v)} {unit}" for t, op, v in constraints.periods]
-            + [f"latency {','.join(c)} <= {display_text(v)} {unit}"
+            + [f"latency {','.join(c)} on processors <= {display_text(v)} {unit}"
                for c, v in constraints.latencies]
             + [f"no {p.value} link" for p in constraints.forbidden])
 

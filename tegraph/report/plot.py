@@ -9,9 +9,9 @@ only the drawing coordinates are floats.
 One lane per processor, its jobs' processor time as bars in their task's
 colour (a preempted job shows as several bars), under it a strip per task that
 waits (a read, a rendezvous, a write; a deadlock's stuck event), one row per clock
-with its ticks, the late activation of an overrun in red (no task is red). The
-drawing is a list of layers (:data:`LAYERS`) over one :class:`Frame`: an overlay
-is one more layer.
+with its ticks, the late activation of an overrun in red (no task is red), each
+chain's worst data path over the jobs (spec §4c). The drawing is a list of layers
+(:data:`LAYERS`) over one :class:`Frame`: an overlay is one more layer.
 """
 
 from __future__ import annotations
@@ -410,7 +410,40 @@ def _draw_regimes(frame: Frame) -> list[Any]:
     return [Line2D([], [], color=_WAIT, linestyle=":", label="proven regime")] * drawn
 
 
-LAYERS: tuple[Layer, ...] = (_draw_jobs, _draw_waits, _draw_stuck, _draw_ticks, _draw_regimes)
+_PATH = "#1f4e9a"
+"""The colour of a chain's worst data path."""
+
+
+def _draw_data_paths(frame: Frame) -> list[Any]:
+    """Each chain's worst data path over the jobs: a line through its instants, each on
+    its task's lane, from the sample (a circle) through each write and read to the
+    output (a star), the figures beside it."""
+    from matplotlib.lines import Line2D
+
+    ax, tl = frame.ax, frame.timeline
+    processor_of = tl.schedule.platform.processor_of
+    drawn = False
+    for n, c in enumerate(tl.chains, 1):
+        steps = [s for s in c.figures.worst if tl.start <= s.at <= tl.horizon]
+        if not steps:
+            continue
+        drawn = True
+        xs = [float(s.at) for s in steps]
+        ys = [frame.y["lane", processor_of[s.task]] + 0.42 for s in steps]
+        ax.plot(xs, ys, color=_PATH, linewidth=1.2, marker=".", zorder=4)
+        ax.plot(xs[:1], ys[:1], color=_PATH, marker="o", linestyle="none", zorder=5)
+        ax.plot(xs[-1:], ys[-1:], color=_PATH, marker="*", markersize=10, linestyle="none",
+                zorder=5)
+        f = c.figures
+        ax.annotate(f"chain {n}: first use {display_text(f.first_use)} {tl.unit}",
+                    (xs[-1], ys[-1]), textcoords="offset points", xytext=(4, 4),
+                    fontsize=7, color=_PATH, zorder=5)
+    return [Line2D([], [], color=_PATH, marker="*",
+                   label="worst data path (sample o, output *)")] * drawn
+
+
+LAYERS: tuple[Layer, ...] = (_draw_jobs, _draw_waits, _draw_stuck, _draw_ticks, _draw_regimes,
+                              _draw_data_paths)
 """What :func:`draw_timeline` draws, in order (an overlay is one more layer)."""
 
 

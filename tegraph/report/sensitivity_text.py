@@ -133,6 +133,8 @@ def render_sensitivity(result: SensitivityResult) -> str:
     if result.scaling is not None:
         lines += ["", *_scaling_lines(result)]
     lines += ["", *_margin_lines(result)]
+    if result.chains:
+        lines += ["", *_chain_lines(result)]
     if result.formulas is not None:
         lines += ["", *_formula_lines(result)]
     lines.append("")
@@ -239,6 +241,38 @@ def _scaling_on_lines(result: SensitivityResult) -> list[str]:
     lines.append(f"  per task (every task on a processor of its own, §4): consistent for α in "
                  f"{_intervals(pt.intervals)}; scaling factor {per} with a processor per task")
     lines.append(f"  method: {s.method}")
+    return lines
+
+
+def _chain_lines(result: SensitivityResult) -> list[str]:
+    """Each chain's first use (spec §4c) at the nominal values, at the scaling factor and at
+    each end of every margin: what using a margin costs in latency."""
+    u = result.unit
+
+    def first(f: Any) -> str:
+        if f is None:
+            return "-"
+        return "undecided" if f.first_use is None else f"{display_text(f.first_use)} {u}"
+
+    lines = []
+    for c in result.chains:
+        where = "on its processors" if c.processors else "with a processor per task"
+        lines.append(f"latency of the chain {' -> '.join(c.tasks)} (first use {where}, spec "
+                     f"§4c): {first(c.nominal)} at the nominal values"
+                     + ("" if c.at_factor is None
+                        else f", {first(c.at_factor)} at the scaling factor"))
+        rows = [[name, first(low), first(high)] for name, (low, high) in c.margins.items()]
+        if rows:
+            table = tabulate(rows, headers=["parameter", "at the margin's low end",
+                                            "at its high end"], disable_numparse=True)
+            lines += ["  " + row for row in table.splitlines()]
+        if c.outside:
+            lines.append(f"  unchanged ({first(c.nominal)}) at the margins of "
+                         f"{len(c.outside)} parameter(s) outside the chain's parts")
+        undecided = {f.why_undecided or "" for f in [
+            c.nominal, c.at_factor, *(x for pair in c.margins.values() for x in pair)]
+            if f is not None and f.first_use is None}
+        lines += [f"  undecided: {why}" for why in sorted(undecided)]
     return lines
 
 

@@ -1,4 +1,5 @@
-"""CSV tables of an analysis: one row per task, one per group, and its verdict.
+"""CSV tables of an analysis: one row per task, one per group, its verdict, and one per
+chain and platform when the analysis has chains (spec §4c).
 
 Every time is given twice: exact (``7/3``) and as a decimal (``2.33333333333333``,
 15 significant digits, for spreadsheets), each column headed with its unit. The
@@ -37,7 +38,8 @@ def _decimal(value: Fraction | None) -> str | None:
 
 
 def write_csv(report: Report, directory: str | Path, overwrite: bool = False) -> list[Path]:
-    """Write ``tasks.csv``, ``groups.csv`` and ``verdict.csv`` into an existing ``directory``.
+    """Write ``tasks.csv``, ``groups.csv`` and ``verdict.csv`` into an existing ``directory``,
+    and ``chains.csv`` when the report has chains.
 
     Parameters
     ----------
@@ -50,7 +52,7 @@ def write_csv(report: Report, directory: str | Path, overwrite: bool = False) ->
     Returns
     -------
     list of pathlib.Path
-        The three files written.
+        The files written (three, four with chains).
 
     Raises
     ------
@@ -65,6 +67,8 @@ def write_csv(report: Report, directory: str | Path, overwrite: bool = False) ->
         raise InputError(f"{what}; expected an existing directory for the CSV files",
                          "directory", str(out))
     targets = [out / "tasks.csv", out / "groups.csv", out / "verdict.csv"]
+    if report.chains:
+        targets.append(out / "chains.csv")
     if not overwrite:
         for path in targets:
             if path.exists():
@@ -116,6 +120,8 @@ def write_csv(report: Report, directory: str | Path, overwrite: bool = False) ->
         writer.writerow([report.name, report.live, report.consistent, s is not None,
                          report.schedulable, report.exit_status, doc["method"],
                          doc["why_undecided"]])
+    if report.chains:
+        _chains_csv(report, targets[3])
     return targets
 
 
@@ -140,3 +146,23 @@ def _on_processors(t: TaskReport, f: TaskOnProcessors) -> str:
     if t.period is None:
         return "not live"
     return "never" if f.decided else "undecided (budget)"
+
+
+def _chains_csv(report: Report, path: Path) -> None:
+    """One row per chain and platform: on its processors (when analyzed there), then with a
+    processor per task; each figure exact and decimal, ``why_undecided`` where null."""
+    u = report.unit
+    figures = ("first_use", "age", "age_min", "reaction")
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(["chain", "platform"]
+                        + [c for f in figures for c in (f"{f} ({u})", f"{f} ({u}, decimal)")]
+                        + ["why_undecided"])
+        for c in report.chains:
+            platforms = ([("on its processors", c.on_processors)] if report.schedule else [])
+            platforms.append(("processor per task", c.processor_per_task))
+            for where, f in platforms:
+                values = [getattr(f, name) for name in figures]
+                writer.writerow([" ".join(c.tasks), where]
+                                + [x for v in values for x in (exact_text(v), _decimal(v))]
+                                + [f.why_undecided])

@@ -17,6 +17,7 @@ from tabulate import tabulate
 from ..analysis.results import GroupReport, Report, TaskReport
 from ..model.elements import flow_list
 from ._format import count, human
+from .chains_text import render_chains
 from .design_text import render_latency, render_rules, render_schedulability
 from .graph_text import ratio_text
 from .processors_text import processors_headline, render_processors, replaced_priorities
@@ -53,6 +54,7 @@ def render_report(report: Report) -> str:
     lines += _groups(report)
     lines += _tasks(report)
     lines += render_processors(report)
+    lines += render_chains(report.chains, u, report.schedule is not None)
     if report.unbounded_places:
         lines.append("")
         lines.append("unbounded places (tokens pile up):")

@@ -8,8 +8,9 @@ from fractions import Fraction
 from maxplus.scalar import display_text
 
 from ..analysis.processors.schedule import NON_PREEMPTIVE
-from ..design.timeline import Timeline
+from ..design.timeline import Timeline, TimelineChain
 from ._format import count
+from .chains_text import CHAIN_FIGURES_MEANING, figures_text
 
 __all__ = ["render_timeline"]
 
@@ -51,12 +52,16 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
              f"{display_text(col)} {u}" + ("" if exact else " (approximate drawing)")]
     lines += _lanes(tl, columns, label)
     lines += _clock_rows(tl, used, columns, label)
+    lines += _chain_rows(tl, columns, label)
     lines.append("legend: a letter: that task's job runs (key after each lane); . idle; "
                  "^ clock tick; ! a tick at which a task overruns"
+                 + ("; chain rows: s its sample, w a write, r a read, o its output (the "
+                    "worst data path)" if any(c.figures.worst for c in tl.chains) else "")
                  + ("" if exact else "; + several jobs within the column"))
     lines.append("")
     lines += _order_of_execution(tl)
     lines.append("")
+    lines += _chains(tl)
     lines += _findings(tl)
     lines.append(f"method: {tl.schedule.method}")
     lines.append(_verdict(tl))
@@ -121,6 +126,54 @@ def _clock_rows(tl: Timeline, used: list[str], columns: int, label: int) -> list
                 row[min(int((x - a) / col), columns - 1)] = "!" if x in late.get(c, ()) else "^"
         lines.append(f"{c:<{label}} |{''.join(row)}|")
     return lines
+
+
+_MARK = {0: "s", 1: "w", 2: "r"}
+
+
+def _chain_rows(tl: Timeline, columns: int, label: int) -> list[str]:
+    """A row per chain with a worst data path: ``s`` its sample, ``w`` and ``r`` the
+    writes and reads it passes, ``o`` its output (a later mark wins a shared column)."""
+    col = tl.horizon / columns
+    lines = []
+    for n, c in enumerate(tl.chains, 1):
+        steps = c.figures.worst
+        if not steps:
+            continue
+        row = [" "] * columns
+        for i, step in enumerate(steps):
+            if step.at <= tl.horizon:
+                mark = "o" if i == len(steps) - 1 else _MARK[0 if i == 0 else 2 - i % 2]
+                row[min(int(step.at / col), columns - 1)] = mark
+        lines.append(f"{f'chain {n}':<{label}} |{''.join(row)}|")
+    return lines
+
+
+def _chains(tl: Timeline) -> list[str]:
+    """Each chain's figures on processors (spec §4c) and its worst data path, exactly."""
+    if not tl.chains:
+        return []
+    u = tl.unit
+    lines = []
+    for n, c in enumerate(tl.chains, 1):
+        lines.append(f"chain {n}, {' -> '.join(c.tasks)}, on its processors: "
+                     f"{figures_text(c.figures, u)}")
+        if c.figures.worst:
+            lines.append("  its worst data path (the largest first use): " + _path(c, u))
+    lines.append(CHAIN_FIGURES_MEANING)
+    lines.append("")
+    return lines
+
+
+def _path(c: TimelineChain, unit: str) -> str:
+    steps = c.figures.worst
+    words = []
+    for i, step in enumerate(steps):
+        what = ("samples" if i == 0 else "posts" if i == len(steps) - 1
+                else "writes" if i % 2 else "reads")
+        words.append(f"{step.task}#{step.k} {what} at {display_text(step.at)} {unit} "
+                     f"({step.what})")
+    return ", ".join(words)
 
 
 def _order_of_execution(tl: Timeline) -> list[str]:

@@ -280,6 +280,51 @@ def test_chain_option_shows_a_readable_metavar():
     assert "--chain A,B,C" in text and "list[str]" not in text
 
 
+FIG4 = REPO / "examples" / "fig4_pipeline_unsynchronized.yaml"
+
+
+def _fig4_chain(path: Path, *options: str) -> dict:
+    out = invoke("analyze", path, "--chain", "MT1,MT2,MT3,MT4", "--json", *options)
+    assert out.exit_code == 0, out.stderr
+    (chain,) = json.loads(out.stdout)["chains"]
+    assert chain["tasks"] == ["MT1", "MT2", "MT3", "MT4"]
+    return chain
+
+
+def test_analyze_json_gives_figure_4_s_first_use_on_its_processor():
+    # One CPU, equal periods of 10 ms, MT1 the most urgent (file order): each period
+    # MT1 runs 0-1, MT2 1-3, MT3 3-5, MT4 5-6. Each non-blocking read is at its job's
+    # start, after its writer's write on the same processor (1, 3, 5): the sample read
+    # at 0 reaches the actuator at 6: first use 6 ms; a change just after 0 is sampled
+    # at 10 and reaches it at 16: reaction 16.
+    chain = _fig4_chain(FIG4)
+    assert chain["on_processors"] == {"first_use": "6", "age": "6", "age_min": "6",
+                                      "reaction": "16", "why_undecided": None}
+
+
+def test_analyze_json_gives_figure_4_reversed_first_use(tmp_path):
+    # The paper's lower half of Figure 4: MT4 the most urgent, MT1 the least. Each period
+    # MT4 runs 0-1, MT3 1-3, MT2 3-5, MT1 5-6: every read comes before its writer's write
+    # of the period. The sample read at 5 (MT1, written at 6) is read by MT2 at 13 (write
+    # 15), by MT3 at 21 (write 23), by MT4 at 30, posted at 31: 31 - 5 = 26 ms; reaction
+    # 26 + 10 = 36.
+    text = FIG4.read_text()  # a larger priority is more urgent
+    for task, priority in (("MT1", 1), ("MT2", 2), ("MT3", 3), ("MT4", 4)):
+        text = text.replace(f"  {task}:\n", f"  {task}:\n    priority: {priority}\n", 1)
+    assert text.count("    priority: ") == 4
+    path = tmp_path / "fig4_reversed.yaml"
+    path.write_text(text)
+    chain = _fig4_chain(path)
+    assert chain["on_processors"]["first_use"] == "26"
+    assert chain["on_processors"]["reaction"] == "36"
+    # With a processor per task the priorities do not matter: every job starts at its
+    # tick 10(k-1) and sees only what was written strictly before (MT1's write at 1 by
+    # MT2 at 10, ...), posted at 31 by MT4: 31 - 0 = 31, reaction 41.
+    assert (chain["first_use"], chain["reaction"]) == ("31", "41")
+    alone = _fig4_chain(path, "--no-processors")
+    assert alone["on_processors"]["first_use"] == alone["first_use"] == "31"
+
+
 @pytest.mark.parametrize("args", [
     ("timeline", "{example}", "-o", "{missing}/t.svg"),
     ("convert", "{example}", "{missing}/x.dot"),

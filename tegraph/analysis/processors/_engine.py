@@ -78,6 +78,11 @@ class PartData:
     snapshot_place: int | None
     """The self-loop place of the slowest clock: states are compared at its ticks
     (every instant when the part has no clock)."""
+    logged: list[int] = field(default_factory=list)
+    """Events whose firing instants are recorded (``PartResult.firings``): the reads,
+    writes, sensors and outputs of the chains asked for (spec §4c)."""
+    started: list[int] = field(default_factory=list)
+    """Tasks whose jobs' starts are recorded (``PartResult.starts``)."""
     preemptive: list[bool] = field(default_factory=list)
     """Per processor (§4d): False where a running job is never interrupted. The loops
     here schedule preemptively; ``schedule.py`` hands them no part with a False here
@@ -103,6 +108,11 @@ class PartResult:
     after_overrun: int | None = None
     """Firings at the first overrun, when the search for a regime stopped
     :data:`AFTER_OVERRUN` rules past it (before the budget); else None."""
+    firings: dict[int, list[int]] = field(default_factory=dict)
+    """Each event of ``PartData.logged``: the instant of each of its firings, in order."""
+    starts: dict[int, list[int]] = field(default_factory=dict)
+    """Each task of ``PartData.started``: the start of each of its jobs, in order (the
+    first instant the job holds its processor; its release for a job of duration 0)."""
 
 
 @dataclass
@@ -258,14 +268,23 @@ class _Part(_States):
         # A place emptied by the firing can only be refilled by another event's firing,
         # which puts this event back on the list of events to try.
         loops = {s for s, t in zip(d.p_src, d.p_dst) if s == t}
+        self.result = PartResult(jobs=[[] for _ in d.duration])
+        # The lists the firings of the logged events go to, and the starts of the
+        # started tasks (None elsewhere: nothing is recorded without a chain).
+        logs: list[list[int] | None] = [None] * n
+        for e in d.logged:
+            logs[e] = self.result.firings[e] = []
+        self.starts: list[list[int] | None] = [None] * len(d.duration)
+        for task in d.started:
+            self.starts[task] = self.result.starts[task] = []
         # Everything a firing of each event reads, in one tuple: (inputs, places filled
         # at once, places filled later, its task or -1, whether it is a watched tick,
-        # whether it has a self-loop).
+        # whether it has a self-loop, the list its firings are logged to or None).
         # Tuples, not the lists they were built in: no room kept to grow (some 8 MB
         # at 10,000 tasks, most of them empty ``()``, one object for all).
         self.events = [(tuple(ins), tuple(now_), tuple(later), task, e in d.watched,
-                        e in loops) for e, (ins, now_, later, task)
-                       in enumerate(zip(in_pairs, out_now, out_later, d.compute_task))]
+                        e in loops, log) for e, (ins, now_, later, task, log)
+                       in enumerate(zip(in_pairs, out_now, out_later, d.compute_task, logs))]
         self.tight = [-1] * len(d.p_src)
         self.future: list[tuple[int, int]] = [(a, t) for a, t, m in zip(
             d.p_init, d.p_dst, d.p_tokens) if m and a > 0]
@@ -283,7 +302,6 @@ class _Part(_States):
         self.completions: list[tuple[int, int, int]] = []
         """(time, processor, stamp): the running job's end, valid while the stamp is."""
         self.touched: set[int] = set()
-        self.result = PartResult(jobs=[[] for _ in d.duration])
         self.ticked: list[int] = []
         self.count = 0
         """Firings so far (kept by :meth:`run` when it stops or compares a state)."""
@@ -309,6 +327,8 @@ class _Part(_States):
         remaining, done_at, run_start = self.remaining, self.done_at, self.run_start
         events, fired, tight, jobs = self.events, self.fired, self.tight, result.jobs
         finished, job_arcs, ticked = self.finished, self.job_arcs, self.ticked
+        starts = self.starts
+        tracing = bool(d.started)  # job starts are recorded for a chain (spec §4c)
         duration, processor, priority, file_index = (d.duration, d.processor, d.priority,
                                                      d.file_index)
         overrun_at = result.overrun_at
@@ -350,7 +370,7 @@ class _Part(_States):
             # places all hold an available token, until the limit of firings.
             while work:
                 e = pop()
-                inputs, out_now, out_later, task, watched, loop = events[e]
+                inputs, out_now, out_later, task, watched, loop, log = events[e]
                 while True:  # fire e as long as every input place has an available token
                     for _, q in inputs:
                         if not q or q[0] > now:
@@ -369,9 +389,15 @@ class _Part(_States):
                             del q[0]
                             if not q:
                                 again = loop
+                        if log is not None:
+                            log.append(now)
                         if task >= 0:  # its job is released
                             jobs[task].append([now, None])
                             if duration[task] == 0:  # and ends at once
+                                if tracing:
+                                    mine = starts[task]
+                                    if mine is not None:
+                                        mine.append(now)
                                 remaining[task] = -1
                                 finished[task] += 1
                                 jobs[task][-1][1] = now
@@ -416,6 +442,10 @@ class _Part(_States):
                         run_start[proc] = now
                         done_at[proc] = now + remaining[top]
                         heappush(comp, (done_at[proc], proc, stamps[proc]))
+                        if tracing:  # the job's start: the first time it holds proc
+                            mine = starts[top]
+                            if mine is not None and len(mine) < len(jobs[top]):
+                                mine.append(now)
                 touched.clear()
             if cut:
                 self.count = count

@@ -60,6 +60,8 @@ def covers(d) -> bool:
         return False
     if not all(type(x) is int and x >= 0 for x in d.p_tokens):
         return False
+    if not all(0 <= e < n for e in d.logged) or not all(0 <= x < n_tasks for x in d.started):
+        return False
     return True
 
 
@@ -111,6 +113,12 @@ cdef class Kernel:
     cdef char *is_touched
     cdef Py_ssize_t snapshot_place
     cdef bint keep_intervals
+    # What a chain needs recorded (spec §4c): the firing instants of some events, the
+    # start of each job of some tasks (each a list of the result, None elsewhere).
+    cdef char *logged
+    cdef list firing_lists
+    cdef bint tracing
+    cdef list start_lists
     # The result's objects, filled as the Python loop fills them.
     cdef object result
     cdef list jobs
@@ -222,6 +230,19 @@ cdef class Kernel:
             self.is_touched[i] = 0
         if d.snapshot_place is not None:
             self.snapshot_place = d.snapshot_place
+        self.logged = <char*>PyMem_Malloc(n + 1)
+        if self.logged == NULL:
+            raise MemoryError()
+        for e in range(n):
+            self.logged[e] = 0
+        self.firing_lists = [None] * n
+        for e in d.logged:
+            self.logged[e] = 1
+            self.firing_lists[e] = result.firings[e] = []
+        self.start_lists = [None] * nt
+        for task in d.started:
+            self.start_lists[task] = result.starts[task] = []
+        self.tracing = len(d.started) > 0
 
     def __dealloc__(self):
         cdef Py_ssize_t i
@@ -245,6 +266,7 @@ cdef class Kernel:
         PyMem_Free(self.p_hold)
         PyMem_Free(self.compute_task)
         PyMem_Free(self.watched)
+        PyMem_Free(self.logged)
         PyMem_Free(self.loop)
         PyMem_Free(self.duration)
         PyMem_Free(self.neg_priority)
@@ -293,6 +315,13 @@ cdef class Kernel:
             p = self.job_place[i]
             _queue_push(&self.queues[p], now)
             _stack_push(&self.work, &self.work_n, &self.work_cap, self.p_dst[p])
+        return 0
+
+    cdef int _started(self, Py_ssize_t task, Time now) except -1:
+        # The job of ``task`` holds its processor: its start, the first time.
+        cdef list mine = <list>self.start_lists[task]
+        if mine is not None and len(mine) < len(<list>self.jobs[task]):
+            mine.append(self._now(now))
         return 0
 
     cdef int _record(self, Py_ssize_t proc, Py_ssize_t task, Time end) except -1:
@@ -375,10 +404,14 @@ cdef class Kernel:
                         _queue_pop(q)
                         if q.size == 0:
                             again = self.loop[e]
+                    if self.logged[e]:
+                        (<list>self.firing_lists[e]).append(self._now(now))
                     task = self.compute_task[e]
                     if task >= 0:  # its job is released
                         (<list>self.jobs[task]).append([self._now(now), None])
                         if t_is_zero(self.duration[task]):  # and ends at once
+                            if self.tracing:
+                                self._started(task, now)
                             self._job_ends(task, now)
                         else:
                             self.remaining[task] = self.duration[task]
@@ -426,6 +459,8 @@ cdef class Kernel:
                         return None
                     self.done_at[proc] = t_add(now, self.remaining[top])
                     _heap_push(&self.comp, 0, self.done_at[proc], proc, self.stamp[proc])
+                    if self.tracing:
+                        self._started(top, now)
             self.touched_n = 0
             if cut:
                 self.count = count

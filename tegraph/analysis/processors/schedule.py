@@ -32,7 +32,8 @@ rest of the graph are unbounded (tokens pile up at once).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -58,9 +59,10 @@ from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
 from ._engine import AFTER_OVERRUN, PartData, PartResult, simulate_part
 from .critical_instant import IndependentVerdict, independent_tasks
+from .trace import ScheduleTrace, TraceRequest
 
 __all__ = ["MAX_EVENTS", "GrowingPlace", "JobInterval", "ProcessorSchedule", "Problem",
-           "TaskOnProcessors", "schedule_on_processors"]
+           "TaskOnProcessors", "schedule_on_processors", "trace_schedule"]
 
 
 @dataclass(frozen=True)
@@ -158,6 +160,8 @@ class ProcessorSchedule:
     quick look at its start."""
     events: int = 0
     """Event firings simulated in all."""
+    trace: ScheduleTrace | None = field(default=None, repr=False)
+    """What ``trace`` asked to record (spec §4c), None when nothing was asked."""
     with_intervals: bool = True
     """Whether ``raw_intervals`` holds every job's processor time (``intervals=True``)."""
     problems: list[Problem] = field(default_factory=list)
@@ -190,7 +194,8 @@ class ProcessorSchedule:
 def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any], *,
                            platform: Platform | None = None,
                            max_events: int = MAX_EVENTS,
-                           intervals: bool = True) -> ProcessorSchedule:
+                           intervals: bool = True,
+                           trace: TraceRequest | None = None) -> ProcessorSchedule:
     """Decide the skeleton on its processors (§4b), exactly.
 
     Parameters
@@ -209,6 +214,9 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         Keep each job's processor time (``intervals``, for drawing a timeline);
         False leaves them out (the figures and the verdict are the same), which
         ``analyze`` does: at 10^6 firings they take hundreds of MiB.
+    trace : TraceRequest, optional
+        Events and tasks whose instants to record for the chains of §4c
+        (``schedule.trace``); the figures and the verdict are the same.
 
     Returns
     -------
@@ -244,8 +252,75 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
     if platform is None:
         platform = platform_of(skeleton, groups)
     net = _Net(skeleton, teg, groups, platform)
-    out = _Outcome(net, max_events)
-    parts = sorted(net.parts(), key=lambda part: part[0].n_events)
+    out = _Outcome(net, max_events, trace)
+    _simulate_parts(net, out, net.parts(trace=trace), max_events, intervals)
+    schedule = out.finish()
+    schedule.with_intervals = intervals
+    return schedule
+
+
+def trace_schedule(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Any],
+                   platform: Platform, trace: TraceRequest, *,
+                   max_events: int = MAX_EVENTS,
+                   cycle_times: Mapping[str, Fraction] | None = None) -> ScheduleTrace:
+    """Record ``trace`` on the parts that hold its tasks, and simulate nothing else.
+
+    The parameters are those of :func:`schedule_on_processors`, whose rules and
+    proofs this runs on those parts alone (their share of ``max_events`` is the
+    whole budget); only what was recorded is returned, and a part is simulated
+    only to find its regime (no quick look for an early overrun). The chains of
+    §4c with a processor per task (:func:`~tegraph.model.platform.processor_per_task`, where
+    the schedule is §3's daters) need no other part.
+
+    Parameters
+    ----------
+    cycle_times : mapping of str to Fraction, optional
+        Each task's cycle time on ``platform``, where known beforehand (with a
+        processor per task: §4's): a regime holds a whole number of activations of
+        each task, so a part whose tasks' cycle times need more firings than its
+        share before any regime can repeat is left undecided without simulating.
+
+    Returns
+    -------
+    ScheduleTrace
+    """
+    problem = event_budget_problem(max_events)
+    if problem is not None:
+        raise InputError(problem, "max_events")
+    check_groups(skeleton, groups)
+    net = _Net(skeleton, teg, groups, platform)
+    out = _Outcome(net, max_events, trace, trace_only=True)
+    wanted = set(trace.tasks)
+    labels = net.part_labels()
+    n_parts = len({labels[i] for i, t in enumerate(net.tasks) if t in wanted}) or 1
+    # (numerator, denominator) pairs: hashed for each task of each part, cheaper than Fractions.
+    known = {t: (c.numerator, c.denominator) for t, c in (cycle_times or {}).items() if c}
+
+    def promising(names: list[str]) -> bool:
+        # A part whose regime cannot come within an even share is not even made.
+        share = max(max_events // n_parts, 1)
+        hyper, ticks = clock_hyperperiod(skeleton, names)
+        needed = _least_firings(names, known)
+        if ticks > share:
+            out.untraced(names, _why_part(skeleton, names, hyper, ticks, True))
+        elif needed > share:
+            out.untraced(names, f"the part of {_shown(names)}: its tasks' cycle times need at "
+                                f"least {needed:,} jobs before a periodic regime can repeat, "
+                                "more than its share of `max_events`")
+        return ticks <= share and needed <= share
+
+    _simulate_parts(net, out, net.parts(trace=trace, only=wanted, keep=promising), max_events,
+                    False)
+    assert out.trace is not None
+    return out.trace
+
+
+def _simulate_parts(net: _Net, out: _Outcome, parts: Any, max_events: int,
+                    intervals: bool) -> None:
+    """Simulate ``parts`` (of ``net.parts``), smallest first, each with its share of what is
+    left of ``max_events``, and hand each result to ``out``."""
+    skeleton, platform = net.sk, net.platform
+    parts = sorted(parts, key=lambda part: part[0].n_events)
     left = max_events
     for i, (data, local_tasks, local_events, local_places) in enumerate(parts):
         if not all(data.preemptive):
@@ -272,10 +347,28 @@ def schedule_on_processors(skeleton: Skeleton, teg: TimedEventGraph, groups: Seq
         left -= result.fired
         out.add(result, data, local_tasks, local_events, local_places)
         if result.regime is None:
-            out.undecided.append(_why_part(skeleton, local_tasks, hyper, ticks, too_long))
-    schedule = out.finish()
-    schedule.with_intervals = intervals
-    return schedule
+            why = _why_part(skeleton, local_tasks, hyper, ticks, too_long)
+            out.undecided.append(why)
+            out.untraced(local_tasks, why)
+
+
+def _least_firings(tasks: list[str], cycle_times: Mapping[str, tuple[int, int]]) -> int:
+    """The fewest jobs a regime of these tasks holds: each task's compute fires a whole
+    number of times in it, so its length is a common multiple of their cycle times
+    (``(numerator, denominator)``; the least: the lcm of the numerators over the gcd of
+    the denominators)."""
+    known: dict[tuple[int, int], int] = {}  # a part's tasks share a few cycle times
+    for t in tasks:
+        c = cycle_times.get(t)
+        if c is not None:
+            known[c] = known.get(c, 0) + 1
+    if not known:
+        return 0
+    num, den = 1, 0
+    for a, b in known:
+        num, den = math.lcm(num, a), math.gcd(den, b)
+    # least / (a / b) = (num / den) * (b / a): a whole number (least is a multiple)
+    return sum(num * b // (den * a) * n for (a, b), n in known.items())
 
 
 QUICK_LOOK = 10_000
@@ -287,9 +380,13 @@ NON_PREEMPTIVE = "non-preemptive processors: not implemented in the schedule eng
 """Why a part with a processor declared ``preemptive: false`` (§4d) is not decided."""
 
 
+def _shown(tasks: list[str]) -> str:
+    return ", ".join(tasks[:3]) + (" ..." if len(tasks) > 3 else "")
+
+
 def _why_part(sk: Skeleton, tasks: list[str], hyper: Fraction | None, ticks: int,
               too_long: bool) -> str:
-    shown = ", ".join(tasks[:3]) + (" ..." if len(tasks) > 3 else "")
+    shown = _shown(tasks)
     if too_long:
         return (f"the part of {shown}: its clocks' hyperperiod is {display_text(hyper)} "
                 f"{sk.unit}, at least {ticks:,} clock ticks before a periodic regime can "
@@ -356,9 +453,20 @@ class _Net:
         part = processor_parts([g.tasks for g in self.groups], self.platform.processor_of)
         return [part[self.group_of[t]] for t in self.tasks]
 
-    def parts(self):
-        """For each part: its :class:`PartData` and its global tasks, events and places."""
-        label = self._union_parts()
+    def part_labels(self) -> list[int]:
+        """Part label of each task (in file order): tasks joined by a group or a processor."""
+        if not hasattr(self, "_labels"):
+            self._labels = self._union_parts()
+        return self._labels
+
+    def parts(self, trace: TraceRequest | None = None, only: set[str] | None = None,
+              keep: Any = None):
+        """For each part: its :class:`PartData` and its global tasks, events and places.
+
+        ``trace``: what the parts record; ``only``: the parts holding one of these
+        tasks alone, and of those, with ``keep``, only those whose task names it
+        keeps (the others are not made)."""
+        label = self.part_labels()
         index = {t: i for i, t in enumerate(self.tasks)}
         part_of_event: dict[int, int] = {}
         for e, attrs in enumerate(self.teg.transition_attrs):
@@ -382,13 +490,27 @@ class _Net:
             if self.compute[t] not in self.zero:
                 by_label.setdefault(label[i], []).append(i)
         no_place = np.zeros(0, dtype=np.int64)
+        logged: dict[int, np.ndarray] = {}  # the events each part records (trace)
+        started = frozenset(() if trace is None else trace.tasks)
+        if trace is not None and trace.events:
+            traced = np.unique(np.asarray(trace.events, dtype=np.int64))
+            traced = traced[(part[traced] >= 0) & ~zero[traced]]
+            logged = _by_label(traced, part[traced])
         for lab in sorted(members, key=lambda lab: members[lab][0]):
-            yield self._part_data(by_label.get(lab, []), members[lab],
-                                  places.get(lab, no_place))
+            tasks = by_label.get(lab, [])
+            if only is not None and not any(self.tasks[i] in only for i in tasks):
+                continue
+            if keep is not None and not keep([self.tasks[i] for i in tasks]):
+                continue
+            yield self._part_data(tasks, members[lab], places.get(lab, no_place),
+                                  None if trace is None else (logged.get(lab, no_place), started))
 
-    def _part_data(self, tasks: list[int], events: np.ndarray, places: np.ndarray):
+    def _part_data(self, tasks: list[int], events: np.ndarray, places: np.ndarray,
+                   trace: tuple[np.ndarray, frozenset[str]] | None = None):
         """The part of these global tasks, events (increasing) and places, re-indexed
-        locally for the engine (:class:`PartData`), with them."""
+        locally for the engine (:class:`PartData`), with them; with ``trace`` (the
+        part's events to record, the tasks whose jobs to record), what it records, in
+        its local numbers."""
         event_list = events.tolist()  # freed on return
         local = dict(zip(event_list, range(len(event_list))))  # for the tasks' events
         names = [self.tasks[i] for i in tasks]
@@ -420,6 +542,9 @@ class _Net:
             end_event=[_end_event(self.teg, t, local) for t in names],
             watched=watched, snapshot_place=self._snapshot_place(src, dst, events, slowest_tick),
             preemptive=[self.platform.preemptive(p) for p in procs])
+        if trace is not None:
+            data.logged = [local[e] for e in trace[0].tolist()]
+            data.started = [j for j, t in enumerate(names) if t in trace[1]]
         # Its events and places stay arrays: kept for the figures until the part is
         # simulated, they cost 8 bytes each, not the 36 of a list of ints.
         return data, names, events, places
@@ -505,9 +630,14 @@ def _by_label(items: np.ndarray, labels: np.ndarray) -> dict[int, np.ndarray]:
 class _Outcome:
     """The figures of every part, assembled into a :class:`ProcessorSchedule`."""
 
-    def __init__(self, net: _Net, budget: int) -> None:
+    def __init__(self, net: _Net, budget: int, trace: TraceRequest | None = None,
+                 trace_only: bool = False) -> None:
         self.net = net
         self.budget = budget
+        self.trace_only = trace_only
+        """Only what ``trace`` asks is kept (:func:`trace_schedule`), no figure."""
+        self.trace = None if trace is None else ScheduleTrace(
+            net.scale, dict(net.platform.processor_of), frozenset(trace.tasks))
         self.tasks = {t: TaskOnProcessors() for t in net.tasks}
         self.unbounded: list[GrowingPlace] = []
         self.intervals: list[tuple[str, int, int, str, int]] = []
@@ -526,6 +656,8 @@ class _Outcome:
         for t in net.tasks:
             if net.compute[t] in net.zero:
                 self.tasks[t] = TaskOnProcessors(Fraction(0), None, Fraction(0), False, True)
+                self.untraced([t], f"{t} runs infinitely often at time 0 (a circuit of zero "
+                                   "durations without a clock)")
         # The places from a zero-period event to the rest: unbounded at time 0.
         zero = net.zero_mask
         for p in np.flatnonzero(zero[net.src] & ~zero[net.dst]).tolist():
@@ -533,6 +665,11 @@ class _Outcome:
 
     def _fraction(self, v: int) -> Fraction:
         return Fraction(v, self.net.scale)
+
+    def untraced(self, names: Sequence[str], why: str) -> None:
+        """No regime of these tasks' part to record (``trace``): ``why``."""
+        if self.trace is not None:
+            self.trace.undecided_part(names, why)
 
     def _grow(self, p: int, per: int | None) -> None:
         net = self.net
@@ -556,6 +693,10 @@ class _Outcome:
                            for proc, start, end, task, k in r.intervals]
         for task, k in r.overrun_at.items():
             self.tasks[names[task]].overrun_at = k
+        if self.trace is not None:
+            self.trace.add_part(r, d, names, events, self.net.sk.unit)
+            if self.trace_only:
+                return
         if r.regime is None:
             self.regimes.append({"tasks": names, "start": None, "length": None})
             return
@@ -574,9 +715,9 @@ class _Outcome:
         platform = self.net.platform
         kinds = [p for p in dict.fromkeys(platform.processor_of[t] for t in names)
                  if not platform.preemptive(p)]
-        shown = ", ".join(names[:3]) + (" ..." if len(names) > 3 else "")
-        why = (f"the part of {shown}: {NON_PREEMPTIVE} (processor "
+        why = (f"the part of {_shown(names)}: {NON_PREEMPTIVE} (processor "
                f"{', '.join(kinds)} is declared preemptive: false)")
+        self.untraced(names, why)
         self.not_computed.append(why)
         self.regimes.append({"tasks": names, "start": None, "length": None,
                              "by": "not computed", "why": why})
@@ -587,6 +728,10 @@ class _Outcome:
         quick look at its start (``regimes`` says ``"by": "critical instant"``)."""
         self.by_theorem += 1
         self.events += look.fired
+        self.untraced(names, f"the part of {', '.join(names[:3])}"
+                             f"{' ...' if len(names) > 3 else ''} is decided by the critical "
+                             "instant, without simulating its regime (its hyperperiod is too "
+                             "long)")
         procs = list(dict.fromkeys(self.net.platform.processor_of[t] for t in names))
         self.intervals += [(procs[proc], start, end, names[task], k)
                            for proc, start, end, task, k in look.intervals]
@@ -713,7 +858,7 @@ class _Outcome:
                                  tasks=self.tasks, group_periods=group_periods,
                                  unbounded=unbounded, raw_intervals=self.intervals,
                                  scale=net.scale, regimes=self.regimes, events=self.events,
-                                 problems=problems)
+                                 trace=self.trace, problems=problems)
 
     def _problems(self) -> list[Problem]:
         """Every overrun (at its tick) and starved task (at its job's release), earliest

@@ -42,8 +42,10 @@ from maxplus.scalar import display_text
 from ...errors import InputError
 from ...model.limits import event_budget_problem
 from ...model.skeleton import Skeleton
+from ...model.skeleton.checks import Locator, check_chain
 from ...model.structure import Structure
 from ..processors import MAX_EVENTS
+from .chains import chains_at_margins
 from .formulas import GroupFormula, period_formulas
 from .line import Cause, Line, LineSet, intersect, point_causes, solve_lines
 from .margins import duration_margins
@@ -80,7 +82,8 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
                 max_formula_parameters: int = 6, verify: bool = True,
                 margins: bool = True, processors: bool = True,
                 max_events: int = MAX_EVENTS,
-                progress: Callable[[int, int, int], None] | None = None) -> SensitivityResult:
+                progress: Callable[[int, int, int], None] | None = None,
+                chains: Sequence[Sequence[str]] = ()) -> SensitivityResult:
     """Scaling factor, margins and period formulas of a skeleton, exact.
 
     Parameters
@@ -120,6 +123,11 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     progress : callable, optional
         On processors, called as ``progress(figures_done, figures, firings)``
         after each simulation and each figure (for a progress bar).
+    chains : sequence of task-name sequences
+        Chains besides the skeleton's own: for each, its first use (spec §4c) at the
+        nominal values, at the scaling factor and at each end of every margin
+        (``result.chains``, :mod:`tegraph.analysis.sensitivity.chains`), on processors
+        or with a processor per task as the figures are.
 
     Returns
     -------
@@ -138,6 +146,8 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     InputError
         ``vary`` names an unknown parameter, or a range that is malformed,
         empty or negative (``where``: ``vary[i]``).
+    SkeletonError
+        A chain names an unknown task, a task twice, or two unlinked tasks.
 
     See Also
     --------
@@ -185,6 +195,8 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     ('processors', Fraction(5, 4), Fraction(5, 2))
     """
     _check_max_events(max_events)
+    for k, chain in enumerate(chains):  # refused before any work
+        check_chain(skeleton, chain, ("chain", k), Locator())
     started = time.perf_counter()
     params = parse_vary(skeleton, vary)
     context, result = _nominal(skeleton, params, started)
@@ -203,6 +215,8 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
             f"budget of {budget.total:,} ({budget.total // budget.max_events} × `max_events`)")
     if formulas:
         _formulas_part(context, result, max_formula_parameters)
+    result.chains = chains_at_margins(skeleton, chains, params, result.scaling, result.margins,
+                                      processors=processors, max_events=max_events)
     result.methods = _methods(result, max_formula_parameters, verify)
     result.notes += _closing_notes(result)
     return result

@@ -14,10 +14,11 @@ from typing import Any
 from maxplus.scalar import exact_text
 
 from .. import notebook
+from ..chains import ChainFigures
 from .parametric import Parameter, ParametricGroup
 
-__all__ = ["PER_TASK", "PROCESSORS", "Check", "GroupFormulaReport", "Limit", "Margin",
-           "PaceReport", "Scaling", "SensitivityResult", "Term"]
+__all__ = ["PER_TASK", "PROCESSORS", "ChainAtMargins", "Check", "GroupFormulaReport", "Limit",
+           "Margin", "PaceReport", "Scaling", "SensitivityResult", "Term"]
 
 Interval = tuple[Fraction, "Fraction | None"]
 
@@ -311,6 +312,38 @@ class GroupFormulaReport:
 
 
 @dataclass
+class ChainAtMargins:
+    """One chain's first use (spec §4c) at the nominal values, at the scaling factor and at
+    each end of every margin (None: that end is unbounded, or the figure undecided, said
+    in ``why``)."""
+
+    tasks: tuple[str, ...]
+    processors: bool
+    """On the skeleton's processors (§4b); False: with a processor per task (§3)."""
+    nominal: ChainFigures
+    at_factor: ChainFigures | None = None
+    """At the scaling factor; None: no factor was reported."""
+    margins: dict[str, tuple[ChainFigures | None, ChainFigures | None]] = field(
+        default_factory=dict)
+    """Per parameter, at its margin's low and high ends (None: no such end)."""
+    outside: list[str] = field(default_factory=list)
+    """Parameters outside the chain's parts: the figure there is the nominal one."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The entry of the sensitivity's JSON ``chains``: each first use, exact."""
+
+        def first(f: ChainFigures | None) -> dict[str, Any] | None:
+            return None if f is None else {"first_use": exact_text(f.first_use),
+                                           "why_undecided": f.why_undecided}
+
+        return {"tasks": list(self.tasks), "processors": self.processors,
+                "nominal": first(self.nominal), "at_factor": first(self.at_factor),
+                "margins": {name: {"low": first(lo), "high": first(hi)}
+                            for name, (lo, hi) in self.margins.items()},
+                "outside": self.outside}
+
+
+@dataclass
 class SensitivityResult:
     """Everything ``tegraph sensitivity`` reports about one skeleton.
 
@@ -346,6 +379,9 @@ class SensitivityResult:
     """The scaling factor and margins are on the skeleton's processors (§4b)."""
     schedulable: bool | None = None
     """On processors, at the nominal values (§4b; None: undecided or not asked)."""
+    chains: list[ChainAtMargins] = field(default_factory=list)
+    """Each chain's first use at the nominal values, the scaling factor and the ends of
+    every margin (spec §4c: what using a margin costs in latency)."""
     models: dict[int, ParametricGroup] = field(default_factory=dict, repr=False, compare=False)
     """The live groups' parametric event graphs by group index
     (:class:`~.parametric.ParametricGroup`), for drawings that ask the oracle
@@ -389,6 +425,7 @@ class SensitivityResult:
             "scaling": None if scaling is None else scaling.to_dict(),
             "margins": {name: m.to_dict() for name, m in self.margins.items()},
             "groups": None if self.formulas is None else [f.to_dict() for f in self.formulas],
+            "chains": [c.to_dict() for c in self.chains],
             "checks_agree": all(c.agrees for c in self.checks),
             "methods": self.methods,
             "effort": self.effort,

@@ -23,12 +23,13 @@ the same result as the whole analysis):
    kept as a cross-check (``rta``) and for the latency bounds;
 4. the objectives:
 
-   - ``latency:A,B,C``: :attr:`~tegraph.design.latency.ChainLatency.value` of
-     :func:`~tegraph.design.latency.chain_latency`, exact inside one
-     synchronized group, the smallest published bound across asynchronous hops
-     (its kind, ``exact`` or ``bound``, is kept beside it). It is the timed
-     event graph's latency, **with a processor per task** (the schedule on
-     processors gives no per-message daters to trace a chain through);
+   - ``latency:A,B,C``, ``age:A,B,C``, ``reaction:A,B,C``: the chain's first use,
+     age and reaction on processors (spec §4c, :mod:`tegraph.analysis.chains`),
+     exact for the declared phases, read off the very schedule that decides the
+     variant (it records the chains' reads and writes). Where the figure is
+     undecided (a part of the chain without a proven regime) the variant is
+     rejected with that reason, never ranked by a bound (its kind, ``exact`` or
+     ``undecided``, is kept beside it);
    - ``period`` (the *period ratio*, on processors): the largest, over the tasks,
      of the task's period on processors over its designed period
      (:attr:`DesignSpace.reference_periods`): the period, in the *input* skeleton,
@@ -71,17 +72,17 @@ from typing import Any
 from maxplus.scalar import exact_text
 
 from ...analysis.analyze import analyze_skeleton
+from ...analysis.chains import ChainFigures, chain_paths, figures_on, trace_request
 from ...analysis.processors import ProcessorSchedule, schedule_on_processors
 from ...analysis.reorder import reorder_ports
 from ...analysis.results import Report
 from ...model.build import build_teg
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
-from ..latency import chain_latency
 from ..schedulability import Schedulability, schedulability
 from .incremental import judge_of
 from .prune import overloaded
-from .space import DesignSpace, latency_name
+from .space import CHAIN_FIGURES, DesignSpace, chain_objective
 
 __all__ = ["FREE_RUNNING", "VariantResult", "evaluate_batch", "evaluate_variant",
            "free_running", "rejection", "rule2_findings"]
@@ -112,7 +113,7 @@ class VariantResult:
     objectives : dict of str to Fraction or None
         Every objective of the space (None where undefined).
     kinds : dict of str to str
-        ``exact`` or ``bound`` for each latency objective.
+        ``exact`` or ``undecided`` for each chain objective (undecided: not kept).
     reason : str
         Why it is not kept (empty when kept).
     seconds : float
@@ -148,14 +149,16 @@ class VariantResult:
     @property
     def kept(self) -> bool:
         """Live, consistent, schedulable on its processors (decided: an undecided
-        schedule keeps nothing) and not against a constraint."""
+        schedule keeps nothing), every chain objective decided, and not against a
+        constraint."""
         return bool(self.live and self.consistent and self.schedulable is True
-                    and self.meets is not False)
+                    and "undecided" not in self.kinds.values() and self.meets is not False)
 
 
 REJECTIONS = ("failed to be judged", "dead whatever the port order",
               "an unbounded place", "an overrun", "not schedulable on processors",
-              "undecided within max_events", "a free-running task", "against a constraint")
+              "undecided within max_events", "a chain's latency undecided",
+              "a free-running task", "against a constraint")
 """Why a variant is not kept, in the order the judgement meets them (the unbounded
 place and the overrun of spec §4, with a processor per task; then §4b)."""
 
@@ -176,8 +179,10 @@ def rejection(result: VariantResult) -> str | None:
         return REJECTIONS[4]
     if result.schedulable is None:
         return REJECTIONS[5]
+    if "undecided" in result.kinds.values():
+        return REJECTIONS[6]
     if result.meets is False:
-        return REJECTIONS[6] if result.reason.startswith(FREE_RUNNING) else REJECTIONS[7]
+        return REJECTIONS[7] if result.reason.startswith(FREE_RUNNING) else REJECTIONS[8]
     return None
 
 
@@ -322,12 +327,21 @@ def evaluate_variant(space: DesignSpace, variant: int,
     # cross-check, and the chain latency's bounds read its response times.
     result.rta = sched.schedulable
     schedule = None
+    chains: dict[tuple[str, ...], ChainFigures] = {}
     too_much = overloaded(skeleton, report)
     if too_much is not None:  # rule C: proven not schedulable, no schedule needed
         result.schedulable, result.reason = False, too_much
     else:
-        schedule = schedule_on_processors(skeleton, build_teg(skeleton), report.groups,
-                                          max_events=space.max_events)
+        teg = build_teg(skeleton)
+        paths = chain_paths(skeleton, teg, space.chains_read) if space.chains_read else []
+        schedule = schedule_on_processors(skeleton, teg, report.groups,
+                                          max_events=space.max_events,
+                                          trace=trace_request(paths) if paths else None)
+        if paths:
+            assert schedule.trace is not None  # asked for
+            chains = dict(zip(space.chains_read, figures_on(
+                paths, schedule.trace, report.groups, shared=True, unit=skeleton.unit,
+                max_events=space.max_events)))
         result.schedulable = schedule.schedulable
         if schedule.schedulable is False:
             result.reason = _unschedulable(skeleton, schedule)
@@ -336,7 +350,7 @@ def evaluate_variant(space: DesignSpace, variant: int,
             why = why.partition("): ")[2] or why  # the budget is said once, here
             result.reason = (f"undecided within max_events ({space.max_events:,} event "
                              f"firings): {why}")
-    _objectives(space, skeleton, report, sched, schedule, result)
+    _objectives(space, skeleton, report, sched, schedule, result, chains)
     structure = composed.structure if composed is not None else report.structure
     free = [] if space.constraints.free_running else free_running(
         space, Structure.of(skeleton) if structure is None else structure)
@@ -348,15 +362,15 @@ def evaluate_variant(space: DesignSpace, variant: int,
                              + " would run free (no clock in its group), where the input "
                              "design runs it on a clock (`free_running` keeps such designs)")
     if space.constraints and schedule is not None:
-        broken = _broken(space, skeleton, report, sched, schedule)
+        broken = _broken(space, skeleton, schedule, chains)
         result.meets = not broken and not free
         if broken and not result.reason:
             result.reason = "against a constraint: " + "; ".join(broken)
     return result
 
 
-def _broken(space: DesignSpace, skeleton: Skeleton, report: Report, sched: Schedulability,
-            schedule: ProcessorSchedule) -> list[str]:
+def _broken(space: DesignSpace, skeleton: Skeleton, schedule: ProcessorSchedule,
+            chains: dict[tuple[str, ...], ChainFigures]) -> list[str]:
     """The constraints the variant does not meet, each in words with its unit."""
     unit = skeleton.unit
     out = []
@@ -369,10 +383,12 @@ def _broken(space: DesignSpace, skeleton: Skeleton, report: Report, sched: Sched
             out.append(f"{task}.period on processors is {exact_text(period)} {unit}, "
                        f"required {op} {exact_text(bound)} {unit}")
     for chain, bound in space.constraints.latencies:
-        value = chain_latency(skeleton, chain, report, sched).value
+        figures = chains[chain]
+        value = figures.first_use
         if value is None or value > bound:
-            shown = "undefined" if value is None else f"{exact_text(value)} {unit}"
-            out.append(f"latency {','.join(chain)} is {shown}, required <= "
+            shown = (f"undecided ({figures.why_undecided})" if value is None
+                     else f"{exact_text(value)} {unit}")
+            out.append(f"latency {','.join(chain)} on processors is {shown}, required <= "
                        f"{exact_text(bound)} {unit}")
     return out
 
@@ -386,14 +402,19 @@ def _reordered(skeleton: Skeleton, orders: dict[str, dict[str, list[str]]]) -> S
 
 
 def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: Schedulability,
-                schedule: ProcessorSchedule | None, result: VariantResult) -> None:
+                schedule: ProcessorSchedule | None, result: VariantResult,
+                chains: dict[tuple[str, ...], ChainFigures]) -> None:
     wanted = set(space.objectives)
-    for chain in space.chains:
-        name = latency_name(chain)
-        if name in wanted:
-            found = chain_latency(skeleton, chain, report, sched)
-            result.objectives[name] = found.value
-            result.kinds[name] = found.kind
+    for name in space.objectives:
+        objective = chain_objective(name)
+        if objective is None or schedule is None:
+            continue  # without a schedule (rule C) no chain is read: not kept anyway
+        figures = chains[objective[1]]
+        result.objectives[name] = getattr(figures, CHAIN_FIGURES[objective[0]])
+        result.kinds[name] = "exact" if figures.decided else "undecided"
+        if not figures.decided and result.schedulable is True and not result.reason:
+            result.reason = (f"the {objective[0]} of {','.join(objective[1])} on processors "
+                             f"is undecided: {figures.why_undecided}")
     periods = {} if schedule is None else {t: f.period for t, f in schedule.tasks.items()}
     if "period" in wanted and schedule is not None:
         reference = space.reference_periods

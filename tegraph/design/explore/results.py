@@ -11,7 +11,7 @@ column per chosen link), ``clock:NAME`` (the period, exact), ``judged``
 true: the schedule on processors was undecided within ``max_events``, and the
 variant is not kept), one column per
 objective (exact, such as ``7/3``; empty where undefined), ``kind:`` and the
-objective for each latency (``exact`` or ``bound``), ``rule2`` (Rule 2
+objective for each chain objective (``exact``, or ``undecided``: not kept), ``rule2`` (Rule 2
 findings, the tie-breaker), ``orders`` (the port orders of a repair, JSON),
 ``reason`` (why not kept), ``seconds``.
 
@@ -41,7 +41,7 @@ from maxplus.scalar import exact_text, exact_time
 
 from ...errors import InputError
 from .evaluate import ANALYZED, FAILED, PRUNED, VariantResult
-from .space import CURRENT_DEFINITIONS, DEFINITIONS, OLDER_DEFINITIONS, DesignSpace
+from .space import CURRENT_DEFINITIONS, DEFINITIONS, OLDER_DEFINITIONS, DesignSpace, chain_objective
 
 __all__ = ["INSTALL_PARQUET", "ResultsTable", "columns"]
 
@@ -49,7 +49,7 @@ INSTALL_PARQUET = "pip install 'tegraph[parquet]'"
 _SUFFIXES = (".csv", ".parquet")
 _FLAGS = ("live", "repaired", "consistent", "schedulable", "meets_constraints", "kept")
 _JUDGED = (ANALYZED, PRUNED, FAILED)
-_KINDS = ("exact", "bound")
+_KINDS = ("exact", "undecided")
 _NOT_OURS = ("; expected a results file written by `tegraph explore` for this skeleton and "
              "these choices (the file is left as it was: pass `overwrite` to replace it)")
 # With `resume`, `overwrite` replaces nothing (resuming reads the file): say what does.
@@ -61,7 +61,7 @@ _NOT_OURS_RESUMED = ("; expected a results file written by `tegraph explore` for
 
 def columns(space: DesignSpace) -> list[str]:
     """The header of the results table of ``space``."""
-    latency = [n for n in space.objectives if n.startswith("latency:")]
+    latency = [n for n in space.objectives if chain_objective(n) is not None]
     return (["variant", "space"] + [f"link:{c.label}" for c in space.links]
             + [f"clock:{c.name}" for c in space.clocks] + ["judged", *_FLAGS]
             + list(space.objectives) + [f"kind:{n}" for n in latency]
@@ -181,7 +181,7 @@ class ResultsTable:
         """One result as the cells of its row."""
         links, clocks = self.space.describe(r.variant)
         flags = [r.live, r.repaired, r.consistent, r.schedulable, r.meets, r.kept]
-        latency = [n for n in self.space.objectives if n.startswith("latency:")]
+        latency = [n for n in self.space.objectives if chain_objective(n) is not None]
         return ([str(r.variant), self.space.fingerprint] + list(links.values())
                 + list(clocks.values()) + [r.judged]
                 + ["" if f is None else str(bool(f)).lower() for f in flags]
@@ -351,10 +351,10 @@ class _Cells:
     def kinds(self) -> dict[str, str]:
         kinds = {}
         for n in self.space.objectives:
-            if n.startswith("latency:"):
+            if chain_objective(n) is not None:
                 column = f"kind:{n}"
                 if self.row[column] not in ("", *_KINDS):
-                    self.refuse(column, "expected exact, bound or empty")
+                    self.refuse(column, "expected exact, undecided or empty")
                 if self.row[column]:
                     kinds[n] = self.row[column]
         return kinds

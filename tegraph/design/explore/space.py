@@ -37,10 +37,12 @@ from ...model.skeleton.checks import Locator, check_chain
 from ...model.structure import Structure
 
 __all__ = [
+    "CHAIN_FIGURES",
     "ClockChoice",
     "Constraints",
     "DesignSpace",
     "LinkChoice",
+    "chain_objective",
     "design_space",
     "latency_name",
     "link_text",
@@ -138,8 +140,8 @@ class Constraints:
     periods : tuple of (task, op, period)
         The task's period (its group's, in the variant) ``=`` or ``<=`` the period.
     latencies : tuple of (chain, latency)
-        The chain's latency (:func:`~tegraph.design.latency.chain_latency`: exact in
-        one group, else the smallest published bound) at most this value.
+        The chain's first use on processors (spec §4c, exact: never a bound) at most
+        this value; a variant where it is undecided does not meet it.
     forbidden : tuple of Protocol
         Protocols taken out of every chosen link's choices (a link not chosen may
         not use one either).
@@ -177,7 +179,7 @@ class Constraints:
                 + [f"no {p.value} link" for p in self.forbidden])
 
 
-DEFINITIONS = 4
+DEFINITIONS = 5
 """The version of the definitions of a verdict and of the objectives, part of the
 fingerprint: a results file judged under other definitions is not resumed. Version 1:
 the period ratio against the input group's fastest clock, no utilization, no Rule 2
@@ -185,17 +187,24 @@ count; version 2: every variant judged with a processor per task (spec §4) and 
 response-time test; version 3: judged on its processors (spec v1.2 §4b, the exact
 schedule within ``max_events``), the period ratio, load and utilization read on
 processors; version 4: as 3, and a design where a task runs free that the input design
-runs on a clock is kept only when asked (``Constraints.free_running``)."""
+runs on a clock is kept only when asked (``Constraints.free_running``); version 5: as 4,
+and the chains' objectives and ``max_latency`` exact on processors (spec v1.3 §4c: first
+use, age, reaction), a variant whose figure is undecided rejected, never ranked by a
+bound."""
 
 CURRENT_DEFINITIONS = ("each variant judged on its processors, spec §4b; a design where a "
-                       "task runs free that the input design clocks is not kept unless asked")
-"""What version :data:`DEFINITIONS` judges, in words (said when an older file is refused)."""
+                       "task runs free that the input design clocks is not kept unless "
+                       "asked; the chains' figures exact on processors, spec §4c")
 
 OLDER_DEFINITIONS = {1: "the period ratio against the input group's fastest clock",
                      2: "every variant judged with a processor per task and the "
                         "response-time test, before the schedule on processors (§4b)",
                      3: "designs kept where a task runs free that the input design runs on "
-                        "a clock"}
+                        "a clock, and a chain's latency with a processor per task, or a "
+                        "published bound across groups, before its exact figures on "
+                        "processors (§4c)",
+                     4: "a chain's latency with a processor per task, or a published "
+                        "bound across groups, before its exact figures on processors (§4c)"}
 """What each older version of :data:`DEFINITIONS` judged differently (said when a
 results file of that version is refused)."""
 
@@ -340,6 +349,14 @@ class DesignSpace:
         (ties a results file to one exploration)."""
         return self.fingerprint_of(DEFINITIONS)
 
+    @property
+    def chains_read(self) -> tuple[tuple[str, ...], ...]:
+        """The chains a variant's judgement reads (spec §4c, on its processors): those of
+        a chain objective, then those of a ``max_latency`` constraint."""
+        used = [o[1] for n in self.objectives if (o := chain_objective(n)) is not None]
+        used += [c for c, _ in self.constraints.latencies]
+        return tuple(dict.fromkeys(used))
+
     def fingerprint_of(self, definitions: int) -> str:
         """The fingerprint this space had under version ``definitions`` of the
         definitions (:data:`DEFINITIONS`; the older ones, to say why a file of theirs
@@ -369,7 +386,20 @@ def _digits(index: int, radices: Sequence[int]) -> tuple[int, ...]:
     return tuple(reversed(out))
 
 
-OBJECTIVES = ("latency", "period", "load", "utilization")
+OBJECTIVES = ("latency", "age", "reaction", "period", "load", "utilization")
+
+CHAIN_FIGURES = {"latency": "first_use", "age": "age", "reaction": "reaction"}
+"""Each chain objective and the figure of spec §4c it minimizes, on processors."""
+
+
+def chain_objective(name: str) -> tuple[str, tuple[str, ...]] | None:
+    """``"age:A,B"`` -> (``"age"``, the chain), for a chain objective; None otherwise.
+
+    >>> chain_objective("reaction:TG.JS,CO.JS"), chain_objective("load")
+    (('reaction', ('TG.JS', 'CO.JS')), None)
+    """
+    key, _, chain = name.partition(":")
+    return (key, tuple(chain.split(","))) if key in CHAIN_FIGURES and chain else None
 
 _REQUIREMENT = re.compile(r"\s*(?P<task>[^=<>]+?)\.period\s*(?P<op><=|=)\s*(?P<value>\S.*?)\s*$")
 
@@ -439,17 +469,18 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     chains : sequence of task-name sequences
         Chains whose latency is an objective, besides the skeleton's ``chains``.
     objectives : sequence of str, optional
-        Among ``latency``, ``period``, ``load``, ``utilization``; default:
-        ``latency`` when there is a chain, ``period``, ``load``, and
-        ``utilization`` when the tasks are on more than one processor (on one,
-        it equals ``load``).
+        Among ``latency`` (each chain's first use on processors, spec §4c), ``age``
+        and ``reaction`` (the same chain's figures), ``period``, ``load``,
+        ``utilization``; default: ``latency`` when there is a chain, ``period``,
+        ``load``, and ``utilization`` when the tasks are on more than one processor
+        (on one, it equals ``load``).
     requires : sequence
         ``"TASK.period=P"`` or ``"TASK.period<=P"`` texts, or ``(task, op, period)``:
         a kept design runs the task at that period (its group's period).
     max_latency : sequence
         ``"A,B,C=L"`` texts or ``(chain, latency)`` pairs: a kept design's chain
-        latency (exact, or the bound :func:`~tegraph.design.latency.chain_latency`
-        guarantees) is at most L.
+        first use on processors (spec §4c, exact) is at most L; undecided is no
+        proof, and the variant is rejected.
     forbid : sequence of protocols
         Protocols no link may use: taken out of every chosen link's choices.
     max_events : int
@@ -656,8 +687,8 @@ def _objective_names(objectives: Sequence[str] | None, chains: Sequence[tuple[st
                      skeleton: Skeleton) -> tuple[str, ...]:
     if objectives is None:
         processors = {t.runs_on for t in skeleton.tasks.values()}
-        wanted = [o for o in OBJECTIVES if (o != "latency" or chains)
-                  and (o != "utilization" or len(processors) > 1)]
+        wanted = [o for o in OBJECTIVES if (o != "latency" or chains) and o not in (
+                  "age", "reaction") and (o != "utilization" or len(processors) > 1)]
     else:
         wanted = []
         for k, name in enumerate(objectives):
@@ -665,8 +696,8 @@ def _objective_names(objectives: Sequence[str] | None, chains: Sequence[tuple[st
             if key not in OBJECTIVES:
                 raise InputError(f"unknown objective {name!r}; expected one of "
                                  f"{', '.join(OBJECTIVES)}", f"objectives[{k}]")
-            if key == "latency" and not chains:
-                raise InputError("the objective latency needs a chain; expected a `chain` "
+            if key in CHAIN_FIGURES and not chains:
+                raise InputError(f"the objective {key} needs a chain; expected a `chain` "
                                  "or the skeleton's chains", f"objectives[{k}]")
             wanted.append(key)
         if not wanted:
@@ -674,8 +705,8 @@ def _objective_names(objectives: Sequence[str] | None, chains: Sequence[tuple[st
                              "objectives")
     out: list[str] = []
     for key in dict.fromkeys(wanted):
-        if key == "latency":
-            out += [latency_name(c) for c in dict.fromkeys(chains)]
+        if key in CHAIN_FIGURES:
+            out += [f"{key}:" + ",".join(c) for c in dict.fromkeys(chains)]
         else:
             out.append(key)
     return tuple(out)

@@ -13,6 +13,9 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import Any
+
 from maxplus.scalar import display_text
 
 from ...model.platform import Platform
@@ -32,6 +35,7 @@ _ORDER = {"error": 0, "warning": 1, "info": 2}
 
 def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
                 processors: bool = True, live: bool | None = None,
+                chains: Mapping[tuple[str, ...], Any] | Sequence[Sequence[str]] = (),
                 platform: Platform | None = None) -> list[RuleFinding]:
     """Check Rules 1-4 of section 6 of the ORCCAD paper [1]_.
 
@@ -50,6 +54,10 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
     live : bool, optional
         Whether the skeleton is live (``Report.live`` of its analysis), if known:
         the advice then need not look for token-free circuits itself.
+    chains : mapping or sequence of task-name sequences
+        With ``processors``: chains (checked) whose first use on processors each
+        advised change states before -> after, where it touches them (spec §4c); a
+        mapping gives their figures on processors as they are (``report.chains``).
     platform : Platform, optional
         ``report.platform``, if known (Rule 4 reads its priorities and processors).
 
@@ -93,7 +101,7 @@ def check_rules(skeleton: Skeleton, structure: Structure | None = None, *,
     structure = Structure.of(skeleton) if structure is None else structure
     structural = structural_findings(skeleton, structure)
     advisor = Advisor(skeleton, structural, structure, live)
-    on = (ScheduleAdvice(skeleton, structure.groups, structure.group_of, advisor.fresh)
+    on = (ScheduleAdvice(skeleton, structure.groups, structure.group_of, advisor.fresh, chains)
           if processors else None)
     findings = [advised(f, advisor, on) for f in structural]
     findings += rule4(skeleton, structure, platform)

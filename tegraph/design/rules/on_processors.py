@@ -26,6 +26,14 @@ A clock the change adds gets the period the advisor proposed (``Change.period``,
 :mod:`.periods`), else the one it assumed (a period no group has,
 ``Advisor.fresh``); the words say which. :meth:`ScheduleAdvice.after`
 is the advisor's judge: it ranks the candidates by the schedule they lead to.
+
+**Chains.** For each chain the change touches (a task of it in the part), the
+advice states its first use on processors (spec §4c) before -> after: before, the
+analysis' own figure when the caller has it; after, the part and the parts of the
+chains' tasks (still independent of the rest) analyzed with the change and those
+chains, within :data:`CHANGE_EVENTS` per simulation and a budget of their own
+(:data:`ADVICE_EVENTS` again), so that the chains never take the schedule's clause
+its budget.
 """
 
 from __future__ import annotations
@@ -90,6 +98,11 @@ class ScheduleAdvice:
         Each task's index in ``groups``.
     fresh : Fraction
         The period of a clock a change adds (the advisor's assumption).
+    chains : mapping or sequence of task-name sequences
+        Chains whose first use on processors each advice states before -> after
+        (spec §4c), for the changes that touch them; a mapping gives each chain's
+        figures on processors as they are (``ChainReport.on_processors``), a sequence
+        or a None figure leaves them to be computed.
 
     Examples
     --------
@@ -112,8 +125,16 @@ class ScheduleAdvice:
     """
 
     def __init__(self, skeleton: Skeleton, groups: Sequence[tuple[str, ...]],
-                 group_of: Mapping[str, int], fresh: Fraction) -> None:
+                 group_of: Mapping[str, int], fresh: Fraction,
+                 chains: Mapping[tuple[str, ...], Any] | Sequence[Sequence[str]] = ()
+                 ) -> None:
         self.sk, self.groups, self.group_of, self.fresh = skeleton, groups, group_of, fresh
+        known = chains if isinstance(chains, Mapping) else {tuple(c): None for c in chains}
+        self.chains = [tuple(c) for c in dict.fromkeys(tuple(c) for c in known)]
+        self._as_it_is = {tuple(c): f for c, f in known.items() if f is not None}
+        self._chain_known: dict[Any, Any] = {}
+        self.chain_spent = 0
+        """Event firings charged to the chains' clauses (their own :data:`ADVICE_EVENTS`)."""
         self.order = {t: i for i, t in enumerate(skeleton.tasks)}
         self.processor_of = processor_of(skeleton)
         self.part_of = self._parts()
@@ -213,7 +234,59 @@ class ScheduleAdvice:
         if before.schedulable is None or after.schedulable is None:
             undecided = f"undecided within {CHANGE_EVENTS:,} event firings per simulation"
         return ScheduleEffect(tasks, processors, before.schedulable, after.schedulable,
-                              undecided, text)
+                              undecided, text + self._chains_clause(set(key), change))
+
+    def _chains_clause(self, parts: set[int], change: Change) -> str:
+        """The clause ``; first use on its processors (§4c), before -> after: ...``, the
+        two figures of each chain with a task in ``parts`` (empty without one)."""
+        touching = [c for c in self.chains
+                    if any(self.part_of[self.group_of[t]] in parts for t in c)]
+        if not touching:
+            return ""
+        reach = parts | {self.part_of[self.group_of[t]] for c in touching for t in c}
+        tasks = tuple(t for t in self.sk.tasks if self.part_of[self.group_of[t]] in reach)
+        head = "; first use on its processors (§4c), before -> after: "
+        if len(tasks) > PART_TASKS:
+            return (head + f"not simulated: the chains' processors run {len(tasks):,} tasks, "
+                    f"more than the advice simulates per change ({PART_TASKS:,})")
+        key = tuple(sorted(reach))
+        cost = _MIN_COST + _TASK_COST * len(tasks)
+        asked = [change] + ([] if all(c in self._as_it_is for c in touching) else [Change()])
+        needed = cost * sum((key, c) not in self._chain_known for c in asked)
+        if self.chain_spent + needed > ADVICE_EVENTS:
+            return (head + f"not decided: the chains' budget of {ADVICE_EVENTS:,} event "
+                    "firings in all is spent")
+        before = [self._as_it_is[c] for c in touching] if len(asked) == 1 else \
+            self._first_uses(key, tasks, Change(), touching)
+        after = self._first_uses(key, tasks, change, touching)
+        unit = self.sk.unit
+        return head + "; ".join(
+            f"{' -> '.join(c)} {_first_use(a, unit)} -> {_first_use(b, unit)}"
+            for c, a, b in zip(touching, before, after))
+
+    def _first_uses(self, key: tuple, tasks: tuple[str, ...], change: Change,
+                    chains: list[tuple[str, ...]]) -> list[Any]:
+        """The chains' figures on processors in the part of ``tasks`` with ``change``."""
+        known = self._chain_known.get((key, change))
+        if known is None:
+            from ...analysis.analyze import analyze_skeleton
+
+            sub = apply_change(self.sk.restricted_to(tasks), change,
+                               self.fresh if change.add_clock else None)
+            report = analyze_skeleton(sub, max_steps=CHANGE_EVENTS, semiflow_max_places=0,
+                                      processors=True, max_events=CHANGE_EVENTS,
+                                      chains=self.chains_in(tasks))
+            assert report.schedule is not None  # processors=True
+            self.chain_spent += (max(report.schedule.events, _MIN_COST)
+                                 + _TASK_COST * len(tasks))
+            known = self._chain_known[(key, change)] = {
+                c.tasks: c.on_processors for c in report.chains}
+        return [known[c] for c in chains]
+
+    def chains_in(self, tasks: Sequence[str]) -> list[tuple[str, ...]]:
+        """The chains whose tasks are all among ``tasks``."""
+        inside = set(tasks)
+        return [c for c in self.chains if inside.issuperset(c)]
 
     def _verdict(self, key: tuple, tasks: tuple[str, ...], change: Change) -> _Verdict | None:
         """The part of ``tasks`` with ``change`` made, decided on its processors (cached);
@@ -238,6 +311,12 @@ class ScheduleAdvice:
         verdict = self._known[(key, change)] = _Verdict(
             schedule.schedulable, _words(sub, report))
         return verdict
+
+
+def _first_use(figures: Any, unit: str) -> str:
+    if figures.first_use is None:
+        return f"undecided ({figures.why_undecided})"
+    return f"{display_text(figures.first_use)} {unit}"
 
 
 def _words(sk: Skeleton, report: Any) -> str:

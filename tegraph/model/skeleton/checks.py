@@ -498,6 +498,9 @@ def check_chain(sk: SkeletonShape, chain: Any, path: KeyPath, loc: Locator) -> t
         raise loc.error("an empty chain; expected a list of at least one task, sensor first",
                         path)
     placed: dict[str, int] = {}
+    # Each (writer, reader) pair once: a chain through every group of a large skeleton
+    # would otherwise scan every link at each of its thousands of hops.
+    linked = {(link.writer[0], link.reader[0]) for link in sk.links} if len(chain) > 1 else set()
     for j, task in enumerate(chain):
         where: KeyPath = (*path, j)
         if not isinstance(task, str) or task not in sk.tasks:
@@ -508,8 +511,7 @@ def check_chain(sk: SkeletonShape, chain: Any, path: KeyPath, loc: Locator) -> t
                 f"the task {task!r} is already at {format_path((*path, placed[task]))}; "
                 "expected each task once in a chain", where)
         placed[task] = j
-        if j and not any(link.writer[0] == chain[j - 1] and link.reader[0] == task
-                         for link in sk.links):
+        if j and (chain[j - 1], task) not in linked:
             raise loc.error(
                 f"no link from {chain[j - 1]} to {task}; expected each task of a chain to read "
                 f'an output of the task before it (a link "{chain[j - 1]}:PORT" -> '

@@ -431,3 +431,35 @@ def test_a_part_decided_by_the_critical_instant_draws_the_start_of_its_schedule(
     assert runs(tl)[:4] == [("S0#1", "0", "1/10"), ("S1#1", "1/10", "1/5"),
                             ("S2#1", "1/5", "3/10"), ("S3#1", "3/10", "2/5")]
     assert "only the start of the schedule is drawn" in render_timeline(tl)
+
+
+def test_the_worst_data_path_of_figure_4_reversed_is_drawn_and_its_figures_printed():
+    # Figure 4 with MT4 the most urgent (priorities 1, 2, 3, 4 declared): each period
+    # 0-1 MT4, 1-3 MT3, 3-5 MT2, 5-6 MT1. The largest first use (26 ms, spec §4c's
+    # example) is the sample MT1 takes at 5, written at 6, read by MT2 at 13 (its second
+    # job's start), written at 15, read by MT3 at 21, written at 23, read by MT4 at 30,
+    # posted at 31. The drawing runs on to 40, the end of the period holding the path.
+    data = load_skeleton(EXAMPLES / "fig4_pipeline_unsynchronized.yaml").to_dict()
+    for p, task in enumerate(["MT1", "MT2", "MT3", "MT4"], 1):
+        data["tasks"][task]["priority"] = p
+    tl = simulate_timeline(Skeleton.from_dict(data), chains=[["MT1", "MT2", "MT3", "MT4"]])
+    (c,) = tl.chains
+    assert (c.figures.first_use, c.figures.reaction) == (26, 36)
+    assert [(s.task, s.k, s.at) for s in c.figures.worst] == [
+        ("MT1", 1, 5), ("MT1", 1, 6), ("MT2", 2, 13), ("MT2", 2, 15), ("MT3", 3, 21),
+        ("MT3", 3, 23), ("MT4", 4, 30), ("MT4", 4, 31)]
+    assert tl.horizon == 40 and tl.schedulable is True
+    text = render_timeline(tl)
+    row = next(line for line in text.splitlines() if line.startswith("chain 1  "))
+    assert row.split("|")[1] == "     sw      r w     r w      ro        "
+    assert ("chain 1, MT1 -> MT2 -> MT3 -> MT4, on its processors: first use 26 ms, age 26 ms "
+            "(min 26 ms), reaction 36 ms") in text
+    assert "MT4#4 posts at 31 ms (MT4.write:u)" in text
+
+
+def test_timeline_takes_chains_on_the_command_line():
+    out = CliRunner().invoke(app, ["timeline", str(EXAMPLES / "fig4_pipeline_unsynchronized.yaml"),
+                                   "--chain", "MT1,MT2,MT3,MT4"])
+    assert out.exit_code == 0, out.output
+    # Rate-monotonic in file order: 0-1, 1-3, 3-5, 5-6; first use 6, reaction 16.
+    assert "first use 6 ms, age 6 ms (min 6 ms), reaction 16 ms" in out.output

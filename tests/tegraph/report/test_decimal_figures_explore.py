@@ -43,7 +43,8 @@ def test_the_choices_and_constraints_print_as_written(tmp_path):
     result = _explore(tmp_path, "--max-latency", "A,B=1e9", "--require", "B.period<=1100000000.5")
     text = result.output
     assert "clock c1: 5.43, 2.715, 1038412611.331 ms" in text, text
-    assert "constraints: B.period <= 1100000000.5 ms; latency A,B <= 1000000000 ms" in text
+    assert ("constraints: B.period <= 1100000000.5 ms; latency A,B on processors <= 1000000000 "
+            "ms") in text
     # (A rejection's reason, "A, B responds in 371/100 ms > period 543/200 ms", is
     # written by tegraph.design.explore.evaluate, not by this report.)
 

@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from tegraph.analysis.analyze import analyze_skeleton
 from tegraph.analysis.processors import _engine, schedule_on_processors
 from tegraph.analysis.processors._engine import PartData, simulate_part
+from tegraph.analysis.processors.trace import TraceRequest
 from tegraph.model.build import build_teg
 from tegraph.model.skeleton import Skeleton
 from tests.tegraph.analysis.processors.engine_loops import (
@@ -125,7 +126,16 @@ def parts(draw, scale: int = 1) -> PartData:
         processor=[draw(st.integers(0, n_procs - 1)) for _ in range(n_tasks)],
         n_processors=n_procs,
         end_event=[draw(st.one_of(st.none(), st.integers(0, n - 1))) for _ in range(n_tasks)],
-        watched=watched, snapshot_place=snapshot_place)
+        watched=watched, snapshot_place=snapshot_place, **draw(recorded(n, n_tasks)))
+
+
+def recorded(n_events: int, n_tasks: int):
+    """What a chain asks the engine to record (``PartData.logged`` and ``started``): some
+    events' firings and some tasks' job starts, or nothing."""
+    return st.fixed_dictionaries({
+        "logged": st.lists(st.integers(0, n_events - 1), unique=True, max_size=n_events),
+        "started": st.lists(st.integers(0, n_tasks - 1), unique=True, max_size=n_tasks)
+        if n_tasks else st.just([])})
 
 
 @st.composite
@@ -161,7 +171,8 @@ def clocked_tasks(draw, scale: int = 1) -> PartData:
         processor=[draw(st.integers(0, n_procs - 1)) for _ in range(n_tasks)],
         n_processors=n_procs, end_event=[None] * n_tasks,
         watched={2 * i: [i] for i in range(n_tasks)},
-        snapshot_place=draw(st.sampled_from([None, *clocks])))
+        snapshot_place=draw(st.sampled_from([None, *clocks])),
+        **draw(recorded(2 * n_tasks, n_tasks)))
 
 
 @PROPS
@@ -203,10 +214,13 @@ def test_random_skeletons_schedule_the_same(rng, processors):
             spec["processor"] = f"cpu{i % processors}"
     sk = Skeleton.from_dict(data)
     teg, groups = build_teg(sk), analyze_skeleton(sk).groups
+    # Every event's firings and every task's job starts recorded (what chains read).
+    trace = TraceRequest(tuple(range(teg.n_transitions)), tuple(sk.tasks))
     schedules = []
     for loop in LOOPS:
         with use_loop(loop):
-            schedules.append(repr(schedule_on_processors(sk, teg, groups)))
+            s = schedule_on_processors(sk, teg, groups, trace=trace)
+            schedules.append(repr(s) + repr(s.trace))
     assert schedules[0] == schedules[1] == schedules[2]
 
 

@@ -470,3 +470,31 @@ def test_two_parameter_map_says_when_no_region_keeps_every_clock():
     assert "MT2.clock: not kept pace with anywhere here" in legend
     assert "boundary of keeping pace with rtc" in legend
     assert not [p for p in ax.patches if str(p.get_label()).startswith("keeps pace")]
+
+
+def test_each_chain_s_first_use_at_the_ends_of_the_margins_and_at_the_scaling_factor():
+    # Figure 4 unsynchronized on its one processor, MT1 the most urgent (0-1, 1-3, 3-5,
+    # 5-6): first use 6 (spec §4c). The scaling factor is 10/6 (the four run back to back,
+    # 10 ms of work in 10): then MT4 posts at 10, 10 ms after the sample. MT1 at 0 ends at
+    # its release: MT2 starts at 0 and sees its write, u at 5; at 5 (its margin's high end)
+    # MT1 0-5, MT2 5-7, MT3 7-9, MT4 9-10: 10. MT2 at 0 reads at 0, before MT1's write at 1:
+    # the data waits for MT2 at 10, and MT3 (after MT1 10-11) 11-13, MT4 13-14: 14; at 6:
+    # MT1 0-1, MT2 1-7, MT3 7-9, MT4 9-10: 10. MT3 at 0: it reads at 10 the write of 3,
+    # MT4 (after MT1, MT2) 13-14: 14; at 6: 10. MT4 at 0: it reads at 10 the write of 5:
+    # 10; at 5: 10.
+    sk = load_skeleton(EXAMPLES / "fig4_pipeline_unsynchronized.yaml")
+    r = _sensitivity(sk, formulas=False, chains=[["MT1", "MT2", "MT3", "MT4"]])
+    assert r.scaling.factor == F(5, 3)
+    (c,) = r.chains
+    assert (c.processors, c.nominal.first_use, c.at_factor.first_use) == (True, 6, 10)
+    ends = {name: (lo.first_use, hi.first_use) for name, (lo, hi) in c.margins.items()}
+    assert ends == {"MT1.duration": (5, 10), "MT2.duration": (14, 10),
+                    "MT3.duration": (14, 10), "MT4.duration": (10, 10)}
+    assert r.to_dict()["chains"][0]["margins"]["MT2.duration"] == {
+        "low": {"first_use": "14", "why_undecided": None},
+        "high": {"first_use": "10", "why_undecided": None}}
+    # With a processor per task the figures are §3's: 31 at the nominal values.
+    alone = sensitivity(sk, formulas=False, margins=False, chains=[["MT1", "MT2", "MT3", "MT4"]])
+    assert (alone.chains[0].processors, alone.chains[0].nominal.first_use) == (False, 31)
+    assert "latency of the chain MT1 -> MT2 -> MT3 -> MT4 (first use with a processor per task" \
+        in render_text(alone)

@@ -13,11 +13,13 @@ import jsonschema
 import pytest
 from typer.testing import CliRunner
 
-from tegraph import InputError, load_skeleton
-from tegraph.api import explore
+from tegraph import InputError, Skeleton, load_skeleton
+from tegraph.api import analyze, explore
 from tegraph.cli import app
+from tegraph.design.explore.space import design_space
 from tegraph.report.explore_text import render_exploration
 from tests.paths import REPO
+from tests.tegraph.analysis.test_chains_oracle import plain_on_processors
 
 EXAMPLES = REPO / "examples"
 FIG4 = str(EXAMPLES / "fig4_pipeline_synchronized.yaml")
@@ -49,9 +51,10 @@ def test_json_report_follows_the_schema_and_holds_the_front(tmp_path):
     # Judged on the one processor (spec §4b), the ASYN/ASYN variant at rtc = 5 is
     # schedulable: MT2 -> MT3 -> MT4, cut from MT1, run free below it, in all the time
     # MT1 leaves: 5 ms of work per round in 4/5 of the processor, one round every 25/4
-    # ms, period ratio (25/4)/10 = 5/8 (MT1: 5/10), load 1; its latency is undefined (no
-    # response time bounds the free group). It frees three tasks that the input design
-    # runs on rtc: not kept by default, on the front with --free-running.
+    # ms, period ratio (25/4)/10 = 5/8 (MT1: 5/10), load 1; its latency on processors is
+    # exact (spec §4c), the value a plain tick-by-tick run of that variant gives
+    # (tests/tegraph/analysis/test_chains_oracle.py). It frees three tasks that the input
+    # design runs on rtc: not kept by default, on the front with --free-running.
     front = {d["clocks"]["rtc"]: d for d in doc["front"]}
     assert set(front) == {"10", "20"}
     assert doc["rejected"]["a free-running task"] == 3  # ASYN/ASYN at 5, 10 and 20
@@ -61,8 +64,13 @@ def test_json_report_follows_the_schema_and_holds_the_front(tmp_path):
     with_free = {d["clocks"]["rtc"]: d for d in json.loads(freed.stdout)["front"]}
     assert set(with_free) == {"10", "20", "5"}
     assert with_free["5"]["links"] == {"MT1:x1 -> MT2:x1": "ASYN/ASYN"}
-    assert with_free["5"]["objectives"] == {f"latency:{CHAIN}": None, "period": "5/8",
-                                            "load": "1"}
+    variant = design_space(load_skeleton(FIG4), ["MT1:x1 -> MT2:x1"],
+                           clocks={"rtc": [5]}, chains=[CHAIN.split(",")]).build(0)
+    variant = Skeleton.from_dict({**variant.to_dict(), "chains": [CHAIN.split(",")]})
+    (figures,) = analyze(variant, design=False).chains
+    first_use = plain_on_processors(variant, figures.on_processors)[0]
+    assert with_free["5"]["objectives"] == {f"latency:{CHAIN}": str(first_use),
+                                            "period": "5/8", "load": "1"}
     assert front["10"]["links"] == {"MT1:x1 -> MT2:x1": "ASYN/SYN"}  # the front's format
     assert front["10"]["objectives"] == {f"latency:{CHAIN}": "6", "period": "1", "load": "3/5"}
     assert front["20"]["objectives"]["load"] == "3/10"

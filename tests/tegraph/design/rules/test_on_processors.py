@@ -143,3 +143,25 @@ def test_without_processors_the_advice_leaves_it_out():
     # ... and with them (the defaults of analyze and rules), it is said.
     assert all(f.advice.endswith(FIG12_EFFECT + "]")
                for f in _advised(analyze(sk).design.rules))
+
+
+def test_each_change_states_the_first_use_of_the_chains_it_touches():
+    # Figure 4 unsynchronized with MT4 the most urgent (priorities 1, 2, 3, 4): as it is,
+    # 26 ms (spec §4c's example). Rule 2 advises synchronizing each hop:
+    # - MT1:x1 -> MT2:x1 ASYN/SYN (MT2 loses its clock): MT4 0-1, MT3 1-3, MT1 (the least
+    #   urgent) 3-4, sampling at 3 and writing at 4, MT2 released at 4 runs 4-6; MT3 at 11
+    #   reads MT2's write of 6, writes 13; MT4 at 20 reads it, posts at 21: 21 - 3 = 18;
+    # - MT2:x2 -> MT3:x2 ASYN/SYN: MT4 0-1, MT2 1-3, MT3 (released at 3) 3-5, MT1 5-6; the
+    #   sample of 5 is read by MT2 at 11, by MT3 at 13, by MT4 at 20, posted at 21: 16.
+    data = load_skeleton(REPO / "examples" / "fig4_pipeline_unsynchronized.yaml").to_dict()
+    for p, task in enumerate(["MT1", "MT2", "MT3", "MT4"], 1):
+        data["tasks"][task]["priority"] = p
+    data["chains"] = [["MT1", "MT2", "MT3", "MT4"]]
+    section = rules(Skeleton.from_dict(data))
+    said = [f.advice.split("first use on its processors (§4c), before -> after: ")[1]
+            for f in section.rules if f.rule == 2]
+    assert said[:2] == ["MT1 -> MT2 -> MT3 -> MT4 26 ms -> 18 ms]",
+                        "MT1 -> MT2 -> MT3 -> MT4 26 ms -> 16 ms]"]
+    # Without a chain, no such clause.
+    data.pop("chains")
+    assert not any("first use" in f.advice for f in rules(Skeleton.from_dict(data)).rules)
