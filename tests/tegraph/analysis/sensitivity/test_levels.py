@@ -23,6 +23,7 @@ from tegraph.analysis.processors.scaling import critical_scaling_factor
 from tegraph.analysis.sensitivity.parts import ProcessorLine
 from tegraph.model.build import build_teg
 from tegraph.report import render_text, to_json
+from tests.tegraph.analysis.sensitivity.exact_schedule import on_schedule
 
 REPO = Path(__file__).resolve().parents[4]
 QUADROTOR = REPO / "examples" / "quadrotor.yaml"
@@ -31,13 +32,6 @@ SCHEMA = json.loads((REPO / "docs" / "report.schema.json").read_text())
 NUDGE = F(1, 10**6)
 
 
-def on_schedule(sk: Skeleton) -> bool | None:
-    """Consistent (§4) and schedulable (§4b) by the exact schedule, not by the theorem."""
-    report = analyze_skeleton(sk, processors=False, semiflow_max_places=0)
-    if not report.consistent:
-        return False
-    return schedule_on_processors(sk, build_teg(sk), report.groups,
-                                  intervals=False).schedulable
 
 
 def with_durations(sk: Skeleton, scale: F = F(1), **durations: F) -> Skeleton:

@@ -14,14 +14,12 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from tegraph import Skeleton, load_skeleton, sensitivity
-from tegraph.analysis.analyze import analyze_skeleton
-from tegraph.analysis.processors import schedule_on_processors
 from tegraph.analysis.processors.scaling import critical_scaling_factor
 from tegraph.analysis.sensitivity.parts import ProcessorLine
 from tegraph.cli import app
 from tegraph.errors import InputError
-from tegraph.model.build import build_teg
 from tegraph.report import render_text, to_json
+from tests.tegraph.analysis.sensitivity.exact_schedule import on_schedule
 
 REPO = Path(__file__).resolve().parents[4]
 TORQUE = REPO / "examples" / "computed_torque.yaml"
@@ -29,13 +27,6 @@ SCHEMA = json.loads((REPO / "docs" / "report.schema.json").read_text())
 NUDGE = F(1, 10**9)
 
 
-def on_schedule(sk: Skeleton) -> bool | None:
-    """Consistent (§4) and schedulable (§4b) by the exact schedule, not by the walk."""
-    report = analyze_skeleton(sk, processors=False, semiflow_max_places=0)
-    if not report.consistent:
-        return False
-    return schedule_on_processors(sk, build_teg(sk), report.groups,
-                                  intervals=False).schedulable
 
 
 def scaled(sk: Skeleton, a: F) -> Skeleton:
