@@ -7,7 +7,6 @@ from fractions import Fraction
 
 from maxplus.scalar import display_text
 
-from ..analysis.processors.schedule import NON_PREEMPTIVE
 from ..design.timeline import Timeline, TimelineChain
 from ._format import count
 from .chains_text import CHAIN_FIGURES_MEANING, figures_text
@@ -219,9 +218,7 @@ def _findings(tl: Timeline) -> list[str]:
     lines = []
     for r in s.regimes:
         on = ", ".join(r["tasks"][:4]) + (" ..." if len(r["tasks"]) > 4 else "")
-        if r.get("by") == "not computed":
-            lines.append(f"{on}: not computed ({NON_PREEMPTIVE})")
-        elif r["start"] is None:
+        if r["start"] is None:
             hyper = tl.hyperperiods.get(r["tasks"][0])
             lines.append(f"{on}: no periodic regime within the budget"
                          + (f" (their clocks' hyperperiod is {display_text(hyper)} {u})"

@@ -13,7 +13,6 @@ from __future__ import annotations
 from maxplus.scalar import display_text
 
 from ..analysis.processors import Problem
-from ..analysis.processors.schedule import NON_PREEMPTIVE
 from ..analysis.results import Report
 from ._format import count
 
@@ -59,8 +58,6 @@ def processors_problem(report: Report) -> str | None:
     if s is None or s.schedulable is True:
         return None
     if s.schedulable is None:
-        if s.why_undecided and s.why_undecided.startswith("not computed"):
-            return f"schedulability on its processors UNDECIDED: {NON_PREEMPTIVE} (see above)"
         return "schedulability on its processors UNDECIDED within the budget (see above)"
     found = []
     if s.problems:

@@ -13,7 +13,11 @@ token becoming available (a clock tick) and a running job ending. At an
 instant: the jobs that end deliver their tokens, then every event whose input
 places all hold an available token fires (as often as it can), compute events
 release jobs (a job of duration 0 ends at once), then each processor takes
-its most urgent pending job.
+its most urgent pending job: a preemptive one at once, a non-preemptive one
+(§4d) only when it runs none, so that a job released at the instant the
+processor becomes free takes part in the choice. A non-preemptive processor's
+running job leaves its heap when it starts (a more urgent job may come above
+it while it runs); a preemptive one's stays at the top until it ends.
 
 :meth:`_Part.run` is the loop written in Python, on any numbers the rules can
 add and compare. Where setup.py built them, :func:`simulate_part` runs the same
@@ -84,9 +88,8 @@ class PartData:
     started: list[int] = field(default_factory=list)
     """Tasks whose jobs' starts are recorded (``PartResult.starts``)."""
     preemptive: list[bool] = field(default_factory=list)
-    """Per processor (§4d): False where a running job is never interrupted. The loops
-    here schedule preemptively; ``schedule.py`` hands them no part with a False here
-    (empty: every processor preemptive)."""
+    """Per processor (§4d): False where a running job is never interrupted (empty: every
+    processor preemptive)."""
 
 
 @dataclass
@@ -169,6 +172,10 @@ class _States(ABC):
     def tight_times(self) -> Sequence[int]:
         """Per place, the last instant a token was taken there the instant it came (or -1)."""
 
+    @abstractmethod
+    def running_jobs(self) -> Sequence[int]:
+        """Per processor, the task whose job it runs (-1: none)."""
+
     def key(self, now: int, pending: list[int], lengths: list[int]) -> tuple:
         """The state compared at ``now``, ``lengths`` the token count of each place."""
         counts = list(lengths)
@@ -180,7 +187,20 @@ class _States(ABC):
         # a job released later comes after every pending one of its priority.
         order = tuple(tuple(x[3] for x in sorted(heap)) for heap in self.ready_jobs()
                       if len(heap) > 1)
+        # A non-preemptive processor's running job is out of its heap: which one runs
+        # is part of the state (on a preemptive one it is the top of the heap).
+        lazy = self.lazy
+        if lazy:
+            held = self.running_jobs()
+            return tuple(counts), ahead, tuple(pending), order, tuple(held[p] for p in lazy)
         return tuple(counts), ahead, tuple(pending), order
+
+    @property
+    def lazy(self) -> list[int]:
+        """The non-preemptive processors (``PartData.preemptive``)."""
+        if not hasattr(self, "_lazy"):
+            self._lazy = [p for p, pre in enumerate(self.d.preemptive) if not pre]
+        return self._lazy
 
     def ahead(self, now: int) -> tuple[tuple[int, ...], ...]:
         """The tokens of each timed place (clock self-loops), relative to now (0 when
@@ -328,6 +348,7 @@ class _Part(_States):
         events, fired, tight, jobs = self.events, self.fired, self.tight, result.jobs
         finished, job_arcs, ticked = self.finished, self.job_arcs, self.ticked
         starts = self.starts
+        lazy = [not pre for pre in d.preemptive] or [False] * d.n_processors
         tracing = bool(d.started)  # job starts are recorded for a chain (spec §4c)
         duration, processor, priority, file_index = (d.duration, d.processor, d.priority,
                                                      d.file_index)
@@ -351,7 +372,8 @@ class _Part(_States):
             while comp and comp[0][0] <= now:
                 _, proc, stamp = heappop(comp)
                 if stamp == stamps[proc]:  # the running job of proc is done
-                    task = heappop(heaps[proc])[3]
+                    # A non-preemptive processor's job left its heap when it started.
+                    task = running[proc] if lazy[proc] else heappop(heaps[proc])[3]
                     if keep_intervals:
                         self._record(proc, task, now)
                     running[proc] = -1
@@ -425,13 +447,18 @@ class _Part(_States):
                 self._check_ticks(now)
             if touched:
                 # Each processor touched goes to its most urgent pending job, preempting
-                # the running one (whose remaining work is then kept).
+                # the running one (whose remaining work is then kept) where it may.
                 for proc in touched:
                     heap = heaps[proc]
-                    top = heap[0][3] if heap else -1
                     old = running[proc]
-                    if top == old:
-                        continue
+                    if lazy[proc]:  # it takes a job only when it runs none (§4d)
+                        if old >= 0 or not heap:
+                            continue
+                        top = heappop(heap)[3]
+                    else:
+                        top = heap[0][3] if heap else -1
+                        if top == old:
+                            continue
                     if old >= 0:
                         remaining[old] = done_at[proc] - now
                         if keep_intervals:
@@ -524,6 +551,9 @@ class _Part(_States):
     def tight_times(self) -> Sequence[int]:
         return self.tight
 
+    def running_jobs(self) -> Sequence[int]:
+        return self.running
+
 
 class _CompiledPart(_States):
     """A part under a compiled loop (the ``Kernel`` of ``module``, one of
@@ -572,6 +602,9 @@ class _CompiledPart(_States):
 
     def tight_times(self) -> Sequence[int]:
         return self.kernel.tight_times()
+
+    def running_jobs(self) -> Sequence[int]:
+        return self.kernel.running_jobs()
 
 
 def simulate_part(d: PartData, budget: int, keep_intervals: bool = True) -> PartResult:

@@ -62,6 +62,8 @@ def covers(d) -> bool:
         return False
     if not all(0 <= e < n for e in d.logged) or not all(0 <= x < n_tasks for x in d.started):
         return False
+    if len(d.preemptive) not in (0, n_procs):
+        return False
     return True
 
 
@@ -91,6 +93,8 @@ cdef class Kernel:
     cdef long long *file_index
     cdef Py_ssize_t *processor
     cdef Py_ssize_t *end_event
+    cdef char *lazy
+    """Per processor: 1 where it is non-preemptive (§4d); its running job is out of its heap."""
     # The state.
     cdef Queue *queues
     cdef Time *tight
@@ -152,6 +156,11 @@ cdef class Kernel:
         self.file_index = _int_array(d.file_index)
         self.processor = _index_array(d.processor)
         self.end_event = _index_array([-1 if x is None else x for x in d.end_event])
+        self.lazy = <char*>PyMem_Malloc(self.n_procs + 1)
+        if self.lazy == NULL:
+            raise MemoryError()
+        for i in range(self.n_procs):
+            self.lazy[i] = 0 if not d.preemptive or d.preemptive[i] else 1
         # The rows, each in place order as _Part builds its tuples: a place goes into
         # its event; out of its event, to the end of its task's job (a job place),
         # later (a hold) or at once.
@@ -273,6 +282,7 @@ cdef class Kernel:
         PyMem_Free(self.file_index)
         PyMem_Free(self.processor)
         PyMem_Free(self.end_event)
+        PyMem_Free(self.lazy)
         PyMem_Free(self.queues)
         PyMem_Free(self.tight)
         PyMem_Free(self.fired)
@@ -364,9 +374,12 @@ cdef class Kernel:
                 proc, old = head.c, head.d
                 _heap_pop(&self.comp)
                 if old == self.stamp[proc]:
-                    heap = &self.ready[proc]
-                    task = heap.data[0].d
-                    _heap_pop(heap)
+                    if self.lazy[proc]:  # its job left the heap when it started
+                        task = self.running[proc]
+                    else:
+                        heap = &self.ready[proc]
+                        task = heap.data[0].d
+                        _heap_pop(heap)
                     if self.keep_intervals:
                         self._record(proc, task, now)
                     self.running[proc] = -1
@@ -438,15 +451,21 @@ cdef class Kernel:
             if self.ticked_n:
                 self._check_ticks(now)
             # Each processor touched goes to its most urgent pending job, preempting
-            # the running one (whose remaining work is then kept).
+            # the running one (whose remaining work is then kept) where it may.
             for i in range(self.touched_n):
                 proc = self.touched[i]
                 self.is_touched[proc] = 0
                 heap = &self.ready[proc]
-                top = heap.data[0].d if heap.size else -1
                 old = self.running[proc]
-                if top == old:
-                    continue
+                if self.lazy[proc]:  # it takes a job only when it runs none (§4d)
+                    if old >= 0 or heap.size == 0:
+                        continue
+                    top = heap.data[0].d
+                    _heap_pop(heap)
+                else:
+                    top = heap.data[0].d if heap.size else -1
+                    if top == old:
+                        continue
                 if old >= 0:
                     self.remaining[old] = t_sub(self.done_at[proc], now)
                     if self.keep_intervals:
@@ -579,3 +598,8 @@ cdef class Kernel:
     def tight_times(self) -> list:
         cdef Py_ssize_t p
         return [t_py(self.tight[p]) for p in range(self.n_places)]
+
+    def running_jobs(self) -> list:
+        """Per processor, the task whose job it runs (-1: none)."""
+        cdef Py_ssize_t proc
+        return [self.running[proc] for proc in range(self.n_procs)]

@@ -323,11 +323,6 @@ def _simulate_parts(net: _Net, out: _Outcome, parts: Any, max_events: int,
     parts = sorted(parts, key=lambda part: part[0].n_events)
     left = max_events
     for i, (data, local_tasks, local_events, local_places) in enumerate(parts):
-        if not all(data.preemptive):
-            # The engine schedules preemptively: on a non-preemptive processor its
-            # answer would be another schedule's. Nothing is claimed for the part.
-            out.add_not_computed(local_tasks, local_events)
-            continue
         share = max(left // (len(parts) - i), 1)
         hyper, ticks = clock_hyperperiod(skeleton, local_tasks)
         # A regime holds a whole number of periods of every clock: it cannot be
@@ -376,8 +371,6 @@ QUICK_LOOK = 10_000
 exceeds its share of the budget."""
 
 
-NON_PREEMPTIVE = "non-preemptive processors: not implemented in the schedule engine"
-"""Why a part with a processor declared ``preemptive: false`` (§4d) is not decided."""
 
 
 def _shown(tasks: list[str]) -> str:
@@ -643,8 +636,6 @@ class _Outcome:
         self.intervals: list[tuple[str, int, int, str, int]] = []
         self.regimes: list[dict[str, Any]] = []
         self.undecided: list[str] = []
-        self.not_computed: list[str] = []
-        """The parts on a non-preemptive processor (:data:`NON_PREEMPTIVE`), as words."""
         self.by_theorem = 0
         """Parts decided by the critical instant (``critical_instant.py``)."""
         self.after_overrun = 0
@@ -708,19 +699,6 @@ class _Outcome:
             self._rates(events.tolist(), None)
             return
         self._regime(r, d, names, events, places)
-
-    def add_not_computed(self, names: list[str], events: np.ndarray) -> None:
-        """A part the engine cannot schedule (:data:`NON_PREEMPTIVE`): no figure, no
-        regime; ``regimes`` says ``"by": "not computed"`` and why."""
-        platform = self.net.platform
-        kinds = [p for p in dict.fromkeys(platform.processor_of[t] for t in names)
-                 if not platform.preemptive(p)]
-        why = (f"the part of {_shown(names)}: {NON_PREEMPTIVE} (processor "
-               f"{', '.join(kinds)} is declared preemptive: false)")
-        self.untraced(names, why)
-        self.not_computed.append(why)
-        self.regimes.append({"tasks": names, "start": None, "length": None,
-                             "by": "not computed", "why": why})
 
     def add_independent(self, v: IndependentVerdict, names: list[str], events: np.ndarray,
                         hyper: Fraction | None, look: PartResult) -> None:
@@ -839,8 +817,10 @@ class _Outcome:
         verdict, why = self._verdict(live, unbounded)
         problems = self._problems()
         parts = len(self.regimes)
-        simulated = parts - self.by_theorem - len(self.not_computed)
-        method = (f"exact event-driven simulation of the schedule on processors (§4b), "
+        simulated = parts - self.by_theorem
+        lazy = [p.name for p in net.platform.processors if not p.preemptive]
+        policy = (f"; non-preemptive on {', '.join(lazy)}, §4d" if lazy else "")
+        method = (f"exact event-driven simulation of the schedule on processors (§4b{policy}), "
                   f"{self.events} event firings in {simulated} independent part(s); "
                   + self._proofs(simulated)) if simulated or not parts else ""
         if self.by_theorem:
@@ -849,10 +829,6 @@ class _Outcome:
                        "together on one processor, whose hyperperiod is too long to "
                        "simulate, decided by the critical instant (Liu and Layland 1973) "
                        "and the exact response-time test (Lehoczky, Sha and Ding 1989)")
-        if self.not_computed:
-            method += ("; " if method else "schedule on processors (§4b): ") + (
-                       f"{len(self.not_computed)} part(s) on a non-preemptive processor not "
-                       f"computed ({NON_PREEMPTIVE})")
         return ProcessorSchedule(platform=net.platform, schedulable=verdict,
                                  exact=verdict is not None, method=method, why_undecided=why,
                                  tasks=self.tasks, group_periods=group_periods,
@@ -909,8 +885,6 @@ class _Outcome:
         if found:
             return False, None
         why = []
-        if self.not_computed:
-            why.append("not computed: " + "; ".join(self.not_computed))
         if self.undecided:
             why.append(f"undecided within the budget of {self.budget:,} event firings "
                        f"(shared among {len(self.regimes)} independent part(s)): "

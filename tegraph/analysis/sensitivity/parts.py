@@ -38,7 +38,6 @@ from ..processors._engine import PartData, PartResult, simulate_part
 from ..processors.levels import Levels, processor_levels
 from ..processors.schedule import (
     MAX_EVENTS,
-    NON_PREEMPTIVE,
     QUICK_LOOK,
     _Net,
     _overrun_to_come,
@@ -132,8 +131,6 @@ class _Part:
     """Why its levels left points of a line undecided (a unit without closing task
     missing its deadline), in words."""
     too_long: str | None = None
-    not_computed: str | None = None
-    """Why the engine cannot decide the part (a non-preemptive processor), or None."""
 
 
 @dataclass
@@ -184,9 +181,6 @@ class ProcessorLine:
             hyper, ticks = clock_hyperperiod(sk, names)
             lab = label[index[names[0]]] if names else -1
             part = _Part(data, names, events, places, members.pop(lab, list(names)))
-            if not all(data.preemptive):  # the engine and the theorems are preemptive
-                part.not_computed = (f"the part of {', '.join(names[:3])}"
-                                     f"{' ...' if len(names) > 3 else ''}: {NON_PREEMPTIVE}")
             if ticks > self.max_events:
                 part.too_long = (f"the hyperperiod of the part of {', '.join(names[:3])}"
                                  f"{' ...' if len(names) > 3 else ''} is {hyper} {sk.unit} "
@@ -261,8 +255,6 @@ class ProcessorLine:
         self.evaluations += 1
         part = self.parts[part_index]
         cut = Cut(at, side)
-        if part.not_computed:
-            return Outcome(None, cut, ("undecided", part.not_computed))
         periods_move = any(k and self.params[j].kind == "period" for j, k in direction.items())
         if not periods_move and self.use_theorem:
             line = self._level_line(part_index, base, direction)
@@ -461,8 +453,6 @@ class ProcessorLine:
 
     def _nominal_part(self, part: _Part) -> Outcome:
         cut = Cut(Fraction(0), 0)
-        if part.not_computed:
-            return Outcome(None, cut, ("undecided", part.not_computed))
         if self.use_theorem and not isinstance(part.levels, str):
             line = level_line(part.levels, {t: (self.skeleton.tasks[t].duration, Fraction(0))
                                             for t in part.tasks})

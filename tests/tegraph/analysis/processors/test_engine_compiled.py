@@ -126,7 +126,8 @@ def parts(draw, scale: int = 1) -> PartData:
         processor=[draw(st.integers(0, n_procs - 1)) for _ in range(n_tasks)],
         n_processors=n_procs,
         end_event=[draw(st.one_of(st.none(), st.integers(0, n - 1))) for _ in range(n_tasks)],
-        watched=watched, snapshot_place=snapshot_place, **draw(recorded(n, n_tasks)))
+        watched=watched, snapshot_place=snapshot_place, preemptive=draw(kinds(n_procs)),
+        **draw(recorded(n, n_tasks)))
 
 
 def recorded(n_events: int, n_tasks: int):
@@ -136,6 +137,13 @@ def recorded(n_events: int, n_tasks: int):
         "logged": st.lists(st.integers(0, n_events - 1), unique=True, max_size=n_events),
         "started": st.lists(st.integers(0, n_tasks - 1), unique=True, max_size=n_tasks)
         if n_tasks else st.just([])})
+
+
+def kinds(n_procs: int):
+    """``PartData.preemptive``: empty (every processor preemptive) or a flag per processor,
+    False where it never interrupts a running job (§4d)."""
+    return st.one_of(st.just([]), st.lists(st.booleans(), min_size=n_procs,
+                                           max_size=n_procs))
 
 
 @st.composite
@@ -172,7 +180,7 @@ def clocked_tasks(draw, scale: int = 1) -> PartData:
         n_processors=n_procs, end_event=[None] * n_tasks,
         watched={2 * i: [i] for i in range(n_tasks)},
         snapshot_place=draw(st.sampled_from([None, *clocks])),
-        **draw(recorded(2 * n_tasks, n_tasks)))
+        preemptive=draw(kinds(n_procs)), **draw(recorded(2 * n_tasks, n_tasks)))
 
 
 @PROPS

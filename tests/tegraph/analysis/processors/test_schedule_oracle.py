@@ -24,9 +24,13 @@ from tegraph.model.build import build_teg, last_event
 from tegraph.model.skeleton import Skeleton
 
 
-def oracle(sk: Skeleton, horizon: int, priority: dict[str, int], processor: dict[str, str]):
+def oracle(sk: Skeleton, horizon: int, priority: dict[str, int], processor: dict[str, str],
+           lazy: frozenset[str] = frozenset()):
     """Unit allocations {(t, proc): (task, k)}, jobs {task: [(release, finish)]},
-    tick times {task: [x_tick(k)]}, end times {task: [end(k)]} and place counts at t."""
+    tick times {task: [x_tick(k)]}, end times {task: [end(k)]} and place counts at t.
+
+    Each unit of time each processor runs its most urgent pending job; one of ``lazy``
+    (non-preemptive, §4d) the job it ran the unit before while that job is unfinished."""
     teg = build_teg(sk)
     places = teg.places
     names = list(sk.tasks)
@@ -40,6 +44,7 @@ def oracle(sk: Skeleton, horizon: int, priority: dict[str, int], processor: dict
     fired = [[] for _ in range(teg.n_transitions)]
     units = {}
     counts = {}
+    holding: dict[str, str] = {}  # non-preemptive processor -> the task whose job it runs
 
     def deposit(e: int, at: int) -> None:
         for i in out[e]:
@@ -71,10 +76,14 @@ def oracle(sk: Skeleton, horizon: int, priority: dict[str, int], processor: dict
             if not ready:
                 continue
             top = min(ready, key=lambda x: (-priority[x], pending[x][1], names.index(x)))
+            if proc in lazy:
+                top = holding.get(proc) if holding.get(proc) in pending else top
+                holding[proc] = top
             units[t, proc] = (top, len(jobs[top]))
             pending[top][0] -= 1
             if pending[top][0] == 0:
                 del pending[top]
+                holding.pop(proc, None)  # the next job is chosen afresh
                 jobs[top][-1][1] = t + 1
                 deposit(compute[top], t + 1)
     ticks = {t: fired[teg.attrs["clocks"][sk.tasks[t].clock]] for t in names if sk.tasks[t].clock}
@@ -101,6 +110,9 @@ def skeletons(draw):
             spec["duration"] = 1
         spec["processor"] = draw(st.sampled_from(["cpu0", "cpu0", "cpu1"]))
         tasks[f"T{i}"] = spec
+    # Either processor may be non-preemptive (§4d).
+    used = sorted({spec["processor"] for spec in tasks.values()})
+    kinds = {p: {"preemptive": False} for p in used if draw(st.integers(0, 2)) == 0}
     declared = draw(st.booleans())
     for spec in tasks.values():
         if declared:
@@ -119,7 +131,7 @@ def skeletons(draw):
             if link["from"] in seen:
                 link["protocol"] = "ASYN/SYN"
             seen.add(link["from"])
-    return {"tasks": tasks, "links": links}
+    return {"tasks": tasks, "links": links, **({"processors": kinds} if kinds else {})}
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -131,7 +143,8 @@ def test_engine_matches_the_oracle_before_and_after_its_proof(data):
     plat = platform_of(sk, report.groups)
     regimes = [r for r in s.regimes if r["length"] is not None]
     end = max([int(r["start"] + 4 * r["length"]) for r in regimes] + [30])
-    units, jobs, ticks, ends, counts = oracle(sk, end, plat.priority, plat.processor_of)
+    lazy = frozenset(p.name for p in plat.processors if not p.preemptive)
+    units, jobs, ticks, ends, counts = oracle(sk, end, plat.priority, plat.processor_of, lazy)
     for r in s.regimes:
         if r["start"] is None:
             continue  # budget: nothing claimed
