@@ -15,6 +15,13 @@ known: the test decided it, the schedule's figures of its tasks are proven, and
 its group is rate-consistent with a processor per task (elsewhere it misses its
 period whatever the processor does, which the test does not model).
 
+On a non-preemptive processor the design section gives bounds over every phase
+(the revised analysis of Davis et al. 2007), no verdict: a unit whose bound is
+within its period claims it meets its period whatever the phases, so the exact
+schedule, for the declared phases, must show it so; each such unit is compared
+(:attr:`CrossCheck.bounds_compared`), and one where the exact schedule shows a
+problem is a :attr:`CrossCheck.bound_disagreements` entry (a bound proven wrong).
+
 See Also
 --------
 tegraph.design.schedulability.schedulability : the test.
@@ -80,6 +87,18 @@ class CrossCheck:
     exact: bool | None
     on_processors: bool
     disagreements: list[UnitDisagreement] = field(default_factory=list)
+    bounds_compared: int = 0
+    """Units of non-preemptive processors whose bound over all phases is within their
+    period, compared with the exact schedule."""
+    bound_disagreements: list[UnitDisagreement] = field(default_factory=list)
+    """Those where the exact schedule shows a problem all the same."""
+
+    @property
+    def bounds_agree(self) -> bool | None:
+        """Whether every bound compared holds in the exact schedule (None: none compared)."""
+        if not self.bounds_compared:
+            return None
+        return not self.bound_disagreements
 
     @property
     def agrees(self) -> bool | None:
@@ -93,7 +112,9 @@ class CrossCheck:
         """The cross-check as the JSON report holds it (``schedulability.cross_check``)."""
         return {"test": self.test, "test_says": self.says, "schedule_says": self.exact,
                 "agrees": self.agrees,
-                "disagreements": [d.to_dict() for d in self.disagreements]}
+                "disagreements": [d.to_dict() for d in self.disagreements],
+                "bounds_compared": self.bounds_compared, "bounds_agree": self.bounds_agree,
+                "bound_disagreements": [d.to_dict() for d in self.bound_disagreements]}
 
 
 def cross_check(sched: Schedulability, report: Report) -> CrossCheck:
@@ -135,6 +156,8 @@ def cross_check(sched: Schedulability, report: Report) -> CrossCheck:
         for unit in proc.units:
             if unit.schedulable is None or not report.groups[unit.group].rate_consistent:
                 continue
+            if proc.cross_check and not unit.schedulable:
+                continue  # a bound past the period claims nothing
             if not unit.free_running and unit.period is None:
                 continue
             figures = [s.tasks[t] for t in unit.tasks]
@@ -142,6 +165,13 @@ def cross_check(sched: Schedulability, report: Report) -> CrossCheck:
                 continue
             why = _exact_problem(unit.tasks, figures, first,
                                  unit.group in growing and not unit.free_running)
+            if proc.cross_check:
+                out.bounds_compared += 1
+                if why is not None:
+                    out.bound_disagreements.append(UnitDisagreement(
+                        unit.group, tuple(unit.tasks), unit.processor or "default",
+                        unit.period, True, why))
+                continue
             if (why is None) != unit.schedulable:
                 out.disagreements.append(UnitDisagreement(
                     unit.group, tuple(unit.tasks), unit.processor or "default", unit.period,

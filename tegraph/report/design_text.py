@@ -174,6 +174,9 @@ def render_schedulability(result: Schedulability, unit: str = "ms",
     if cross is not None:
         lines.append(_cross_check_line(cross))
         lines.extend(f"  {_disagreement(d, unit)}" for d in cross.disagreements)
+        if cross.bounds_compared:
+            lines.append(_bounds_line(cross))
+            lines.extend(f"  {_disagreement(d, unit)}" for d in cross.bound_disagreements)
     return "\n".join(lines) + "\n"
 
 
@@ -192,6 +195,17 @@ def _cross_check_line(cross: CrossCheck) -> str:
     extra = ("" if cross.disagreements else " (the test sees only processor time: waits on "
              "messages, double synchronizations and growing places are the schedule's)")
     return f"{head}; {exact}: they DISAGREE{extra}"
+
+
+def _bounds_line(cross: CrossCheck) -> str:
+    """Whether the bounds over all phases hold in the exact schedule, in one line."""
+    n = cross.bounds_compared
+    head = (f"cross-check over all phases: {n} unit(s) on non-preemptive processors whose "
+            "bound is within the period")
+    if cross.bounds_agree:
+        return f"{head}: each meets its period in the exact schedule, as its bound says"
+    return (f"{head}: {len(cross.bound_disagreements)} miss(es) it in the exact schedule: "
+            "the bound DISAGREES with the verdict")
 
 
 def _disagreement(d: UnitDisagreement, unit: str) -> str:
