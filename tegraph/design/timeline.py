@@ -55,6 +55,7 @@ from ..model.build import activation_end, build_teg
 from ..model.limits import event_budget_problem, shown
 from ..model.skeleton import Skeleton
 from .schedulability import hyperperiod
+from .timeline_blocking import Blocking, blockings
 from .timeline_waits import Stuck, Wait, stuck_problems, waits_until
 from .timeline_window import WINDOW_PERIODS, default_window
 
@@ -145,6 +146,9 @@ class Timeline:
     window: str | None = None
     """What the default window shows and how to see more (None: the whole proof, or a
     drawing asked for)."""
+    blocking: list[Blocking] = field(default_factory=list)
+    """On non-preemptive processors (§4d): each drawn job's wait for a less urgent job
+    holding the processor (:mod:`.timeline_blocking`)."""
 
     def _repr_html_(self) -> str:
         """Its drawing (SVG) as a notebook shows it (:func:`tegraph.report.html.render_html`)."""
@@ -305,7 +309,7 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
         begin, horizon, window = default_window(skeleton, s, full,
                                                  min(problems, default=None))
     drawn, notes = _draw(s, by_part, ends, horizon, skeleton.unit)
-    waits, stuck = waits_until(skeleton, teg, drawn, horizon, dead, zero)
+    waits, stuck, releases = waits_until(skeleton, teg, drawn, horizon, dead, zero)
     ticks = {name: _ticks_until(c.phase, c.period, horizon) for name, c in clocks.items()}
     if window is not None:
         notes.insert(0, window)
@@ -316,7 +320,8 @@ def simulate_timeline(skeleton: Skeleton, horizon: Fraction | int | str | None =
         durations={t: task.duration for t, task in tasks.items()}, overrun_ticks=at,
         deadlocks=list(report.deadlocks), dead_tasks=[t for t in tasks if t in dead],
         hyperperiods=hyper, unsimulated=unsimulated, notes=notes, waits=waits, stuck=stuck,
-        window=window, chains=drawn_chains)
+        window=window, chains=drawn_chains,
+        blocking=blockings(drawn, releases, s.platform))
 
 
 def _checked(skeleton: Skeleton, horizon: Fraction | int | str | None, max_events: int,
@@ -387,8 +392,6 @@ def _part_ends(skeleton: Skeleton, s: ProcessorSchedule, by_part: dict[str, list
             unsimulated.append(first)
         elif r["start"] is None:  # undecided: drawn as far as it was simulated
             ends[first] = max((i.end for i in by_part.get(first, [])), default=Fraction(0))
-            if r.get("by") == "not computed":  # no budget stopped it: no hyperperiod to blame
-                continue
             hyper[first] = hyperperiod(clocks[c].period for c in
                                        {tasks[t].clock for t in r["tasks"]} if c)
         else:
@@ -432,8 +435,6 @@ def _draw(s: ProcessorSchedule, by_part: dict[str, list[JobInterval]], ends: dic
             if cut is not None:
                 notes.append(f"the part of {first}: its regime is repeated up to "
                              f"{_time(cut, unit)} only ({MAX_DRAWN:,} intervals)")
-        elif r.get("by") == "not computed":
-            notes.append(f"{r['why']}: not drawn")
         elif r["start"] is None and ends[first] < horizon:
             notes.append(f"the part of {first}: simulated up to {_time(ends[first], unit)} "
                          "only (undecided within `max_events`)")

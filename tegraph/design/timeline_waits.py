@@ -304,11 +304,18 @@ def _replayed(skeleton: Skeleton, teg: TimedEventGraph, intervals: list[JobInter
 
 def waits_until(skeleton: Skeleton, teg: TimedEventGraph, drawn: list[JobInterval],
            horizon: Fraction, dead: frozenset[str], zero: frozenset[str]
-           ) -> tuple[list[Wait], list[Stuck]]:
-    """What the drawn activations wait for, up to ``horizon`` (cut to it)."""
-    waits, stuck, _, _, _ = _replayed(skeleton, teg, drawn, horizon, dead, zero)
+           ) -> tuple[list[Wait], list[Stuck], dict[tuple[str, int], Fraction]]:
+    """What the drawn activations wait for, up to ``horizon`` (cut to it), and the
+    release ``r_T(k)`` of each drawn job (from the replayed daters)."""
+    waits, stuck, x, _, _ = _replayed(skeleton, teg, drawn, horizon, dead, zero)
+    compute = teg.attrs["compute"]
+    releases = {}
+    for i in drawn:
+        fired = x[compute[i.task]]
+        if i.k <= len(fired):
+            releases[i.task, i.k] = fired[i.k - 1]
     return [w if w.end <= horizon else Wait(w.task, w.k, w.start, horizon, w.kind)
-            for w in waits if w.start < horizon], stuck
+            for w in waits if w.start < horizon], stuck, releases
 
 
 def stuck_problems(skeleton: Skeleton, teg: TimedEventGraph, s: ProcessorSchedule,

@@ -185,7 +185,8 @@ def timeline_figure(timeline: Timeline, layers: Sequence[Layer] | None = None) -
     for layer in (LAYERS if layers is None else layers):
         handles += layer(frame)
     ax.set_yticks([frame.y[kind, name] for kind, name, _ in rows])
-    ax.set_yticklabels([_row_label(kind, name) for kind, name, _ in rows])
+    lazy = frozenset(p.name for p in tl.schedule.platform.processors if not p.preemptive)
+    ax.set_yticklabels([_row_label(kind, name, lazy) for kind, name, _ in rows])
     for label, (kind, _, _) in zip(ax.get_yticklabels(), rows):
         if kind == "wait":
             label.set_fontsize("small")
@@ -242,7 +243,8 @@ Layer = Callable[[Frame], list[Any]]
 def _rows(tl: Timeline) -> list[tuple[str, str, float]]:
     """The rows, top down: each processor's lane and its tasks' wait strips, then the
     clocks; with their heights."""
-    waiting = {w.task for w in tl.waits if w.end > tl.start} | {st.task for st in tl.stuck}
+    waiting = ({w.task for w in tl.waits if w.end > tl.start} | {st.task for st in tl.stuck}
+               | {b.task for b in tl.blocking if b.end > tl.start})
     rows: list[tuple[str, str, float]] = []
     for p in tl.schedule.platform.processors:
         rows.append(("lane", p.name, 1.0))
@@ -253,7 +255,10 @@ def _rows(tl: Timeline) -> list[tuple[str, str, float]]:
     return rows
 
 
-def _row_label(kind: str, name: str) -> str:
+def _row_label(kind: str, name: str, lazy: frozenset[str] = frozenset()) -> str:
+    """A row's label; a non-preemptive processor's lane (§4d) says so."""
+    if kind == "lane" and name in lazy:
+        return f"{name} (non-preemptive)"
     return {"lane": f"processor {name}", "wait": f"{name} waits",
             "clock": f"clock {name}"}[kind]
 
@@ -334,6 +339,32 @@ def _draw_waits(frame: Frame) -> list[Any]:
 _WAIT_HATCH = {"start": "....", "end": "\\\\"}
 _WAIT_LABEL = {"start": "waits to start (a read, a rendezvous, its thread)",
                "end": "done, waits to end (a write for its reader)"}
+
+
+def _draw_blocking(frame: Frame) -> list[Any]:
+    """In each task's strip, when its job waits for a less urgent one holding a
+    non-preemptive processor (§4d), with the blocker's name where it fits."""
+    from matplotlib.patches import Patch
+
+    ax, tl = frame.ax, frame.timeline
+    drawn = False
+    for b in tl.blocking:
+        if b.end <= tl.start or ("wait", b.task) not in frame.y:
+            continue
+        a, y = max(b.start, tl.start), frame.y["wait", b.task]
+        w = float(b.end - a)
+        ax.broken_barh([(float(a), w)], (y - 0.12, 0.24), facecolors="white",
+                       edgecolors=_BLOCKED, linewidth=0.8, hatch="xxxx", zorder=2)
+        label = f"by {b.by}#{b.by_k}"
+        if frame.fits(w, label):
+            ax.text(float(a) + w / 2, y + 0.2, label, ha="center", va="bottom", fontsize=6,
+                    color=_BLOCKED, zorder=3)
+        drawn = True
+    return [Patch(facecolor="white", edgecolor=_BLOCKED, hatch="xxxx",
+                  label="blocked by a less urgent job (non-preemptive)")] if drawn else []
+
+
+_BLOCKED = "#7a4f00"
 
 
 def _draw_stuck(frame: Frame) -> list[Any]:
@@ -442,17 +473,15 @@ def _draw_data_paths(frame: Frame) -> list[Any]:
                    label="worst data path (sample o, output *)")] * drawn
 
 
-LAYERS: tuple[Layer, ...] = (_draw_jobs, _draw_waits, _draw_stuck, _draw_ticks, _draw_regimes,
-                              _draw_data_paths)
+LAYERS: tuple[Layer, ...] = (_draw_jobs, _draw_waits, _draw_blocking, _draw_stuck, _draw_ticks,
+                              _draw_regimes, _draw_data_paths)
 """What :func:`draw_timeline` draws, in order (an overlay is one more layer)."""
 
 
 def _title(tl: Timeline) -> str:
     """The title: what is drawn, over which span, and the verdict it shows."""
-    computed = not any(r.get("by") == "not computed" for r in tl.schedule.regimes)
     verdict = {True: "schedulable (proven)", False: "NOT schedulable",
-               None: "undecided within the budget" if computed
-               else "undecided (non-preemptive processors not computed)"}[tl.schedulable]
+               None: "undecided within the budget"}[tl.schedulable]
     if tl.stuck:
         verdict += " (deadlock)"
     kind = ("preemptive fixed priorities"

@@ -60,6 +60,7 @@ def render_timeline(timeline: Timeline, width: int = 96) -> str:
     lines.append("")
     lines += _order_of_execution(tl)
     lines.append("")
+    lines += _blocking(tl)
     lines += _chains(tl)
     lines += _findings(tl)
     lines.append(f"method: {tl.schedule.method}")
@@ -91,8 +92,9 @@ def _lanes(tl: Timeline, columns: int, label: int) -> list[str]:
         row = ["."] * columns
         for i in lanes[proc.name]:
             _paint(row, i.start - tl.start, i.end - tl.start, col, symbol[i.task])
+        kind = "" if proc.preemptive else "non-preemptive; "
         lines.append(f"{proc.name:<{label}} |{''.join(row)}| "
-                     f"{_lane_key(tl, proc.tasks, symbol)}")
+                     f"{kind}{_lane_key(tl, proc.tasks, symbol)}")
     return lines
 
 
@@ -202,6 +204,32 @@ def _order_of_execution(tl: Timeline) -> list[str]:
     if listed < in_window:
         lines.append(f"  ... and {in_window - listed:,} more intervals up to "
                      f"{display_text(tl.horizon)} {tl.unit} (in the lanes and the -o drawing)")
+    return lines
+
+
+MAX_BLOCKING_SHOWN = 10
+"""Blockings listed one by one (the longest of each task is always named)."""
+
+
+def _blocking(tl: Timeline) -> list[str]:
+    """Each job blocked by a less urgent one on a non-preemptive processor (§4d)."""
+    if not tl.blocking:
+        return []
+    u = tl.unit
+    lines = ["blocking on non-preemptive processors (§4d; a job waits for a less urgent "
+             "job that holds the processor):"]
+    for b in tl.blocking[:MAX_BLOCKING_SHOWN]:
+        lines.append(f"  {b.task}#{b.k} on {b.processor}: {display_text(b.start)} - "
+                     f"{display_text(b.end)} {u} ({display_text(b.length)} {u}), "
+                     f"by {b.by}#{b.by_k}")
+    if len(tl.blocking) > MAX_BLOCKING_SHOWN:
+        lines.append(f"  ... {len(tl.blocking) - MAX_BLOCKING_SHOWN:,} more")
+    worst: dict[str, Fraction] = {}
+    for b in tl.blocking:
+        worst[b.task] = max(worst.get(b.task, Fraction(0)), b.length)
+    lines.append("  longest drawn: " + ", ".join(
+        f"{t} {display_text(x)} {u}" for t, x in worst.items()))
+    lines.append("")
     return lines
 
 

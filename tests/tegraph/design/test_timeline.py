@@ -298,7 +298,8 @@ def test_the_drawing_past_the_proof_is_what_a_tick_by_tick_oracle_sees(data):
     end = max([int(r["start"] + 4 * r["length"]) for r in regimes] + [30])
     tl = simulate_timeline(sk, horizon=end)
     plat = platform_of(sk, report.groups)
-    units = oracle(sk, end, plat.priority, plat.processor_of)[0]
+    lazy = frozenset(p.name for p in plat.processors if not p.preemptive)
+    units = oracle(sk, end, plat.priority, plat.processor_of, lazy)[0]
     for r in tl.schedule.regimes:
         if r["start"] is None:
             continue  # undecided: drawn only as far as simulated
