@@ -87,6 +87,8 @@ class CrossCheck:
     exact: bool | None
     on_processors: bool
     disagreements: list[UnitDisagreement] = field(default_factory=list)
+    preemptive_only: bool = False
+    """The test's verdict covers the preemptive processors only (others are bounded)."""
     bounds_compared: int = 0
     """Units of non-preemptive processors whose bound over all phases is within their
     period, compared with the exact schedule."""
@@ -145,7 +147,8 @@ def cross_check(sched: Schedulability, report: Report) -> CrossCheck:
     (True, True, True)
     """
     s = report.schedule
-    out = CrossCheck(RTA_TEST, sched.schedulable, report.schedulable, s is not None)
+    out = CrossCheck(RTA_TEST, _test_says(sched), report.schedulable, s is not None,
+                     preemptive_only=any(p.cross_check for p in sched.processors))
     if s is None:
         return out
     growing = {g.group for g in s.unbounded}
@@ -178,6 +181,18 @@ def cross_check(sched: Schedulability, report: Report) -> CrossCheck:
                     unit.schedulable, why or ("every job ends in time" if not unit.free_running
                                               else "it gets processor time")))
     return out
+
+
+def _test_says(sched: Schedulability) -> bool | None:
+    """The test's verdict on the processors it decides (the preemptive ones): a
+    non-preemptive processor's bounds are compared apart (:attr:`CrossCheck.bounds_compared`)
+    and leave the test's verdict to the others."""
+    tested = [p.schedulable for p in sched.processors if not p.cross_check]
+    if not tested or not any(p.cross_check for p in sched.processors):
+        return sched.schedulable
+    if any(v is False for v in tested):
+        return False
+    return None if any(v is None for v in tested) else True
 
 
 def _exact_problem(tasks: list[str], figures: list[Any], first: dict[str, Problem],

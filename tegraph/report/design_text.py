@@ -183,7 +183,8 @@ def render_schedulability(result: Schedulability, unit: str = "ms",
 def _cross_check_line(cross: CrossCheck) -> str:
     """Whether the response-time test agrees with the exact schedule, in one line."""
     says = {True: "schedulable", False: "NOT schedulable", None: "undecided"}
-    head = f"cross-check: the response-time test says {says[cross.says]}"
+    scope = " on the preemptive processors" if cross.preemptive_only else ""
+    head = f"cross-check: the response-time test{scope} says {says[cross.says]}"
     if not cross.on_processors:
         return head + ("; the exact schedule on processors was not computed (every task on "
                        "a processor of its own): nothing to compare")

@@ -86,6 +86,13 @@ def test_the_revised_analysis_bounds_the_exact_responses():
     # A cross-check never decides: the processor and the section say "not decided".
     assert can0.schedulable is None and r.design.schedulability.schedulable is None
     assert r.exit_status == 0  # the exact schedule decides
+    # Each frame's bound is within its period, and the exact schedule meets every period:
+    # the three bounds are compared and agree; the Joseph-Pandya test covers only cpu.
+    cross = r.to_dict()["design"]["schedulability"]["cross_check"]
+    assert (cross["bounds_compared"], cross["bounds_agree"], cross["test_says"]) == (3, True, True)
+    text = render_text(r)
+    assert "response-time test on the preemptive processors says schedulable" in text
+    assert "3 unit(s) on non-preemptive processors whose bound is within the period" in text
 
 
 def test_preemptive_frames_overrun():
