@@ -46,7 +46,7 @@ TARGET = 1.20
 """B/A at most this: non-preemptive at most 20 % over preemptive."""
 
 CASES = [(100, 2, None), (1_000, 2, None), (1_000, 4, None), (1_000, 4, "1/10"),
-         (10_000, 4, None)]
+         (3_000, 4, None)]
 """(tasks, processors, network delay or None)."""
 
 
