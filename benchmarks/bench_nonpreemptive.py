@@ -13,8 +13,10 @@ ratio B/A of the wall medians and whether it meets the target.
 
 A non-preemptive schedule is another schedule: it may need more or fewer event firings
 before a regime is proven (or an overrun shown), so the table says for both whether the
-schedule on processors was decided (``schedulable`` true or false, exactly) and how
-many firings it simulated (``report.schedule.events``); a ratio far from 1 with
+schedule on processors was decided (``schedulable`` true or false, exactly), in how many
+of its independent parts a periodic regime was proven (an overrun decides "not
+schedulable" without one) and how many firings it simulated
+(``report.schedule.events``); a ratio far from 1 with
 firings far apart is the schedule's length, not the engine's cost per firing. The
 engine's own time is measured too: every call of the §4b engine's ``simulate_part``
 (from the schedule and from the sensitivity parts) is timed, and the last column gives
@@ -108,7 +110,10 @@ def run(skeleton: Any) -> dict:
             "bound": SPENT["bound"], "exit": report.exit_status,
             "schedulable": None if schedule is None else schedule.schedulable,
             "events": None if schedule is None else schedule.events,
-            "why": None if schedule is None else schedule.why_undecided}
+            "why": None if schedule is None else schedule.why_undecided,
+            "regimes": None if schedule is None else (
+                sum(part["start"] is not None for part in schedule.regimes),
+                len(schedule.regimes))}
 
 
 def spread(values: list[float]) -> str:
@@ -117,12 +122,15 @@ def spread(values: list[float]) -> str:
 
 def verdict(rs: list[dict]) -> str:
     """The schedule's verdict and firings; every run of one file must give the same."""
-    seen = {(r["schedulable"], r["events"]) for r in rs}
+    seen = {(r["schedulable"], r["events"], r["regimes"]) for r in rs}
     if len(seen) != 1:
         return "DIFFERS between runs: " + ", ".join(map(str, sorted(seen, key=str)))
-    schedulable, events = seen.pop()
+    schedulable, events, regimes = seen.pop()
     word = {True: "schedulable", False: "not schedulable", None: "undecided"}[schedulable]
-    return f"{word}, {events:,} firings" if events is not None else word
+    if events is None:
+        return word
+    proven = f"a regime proven in {regimes[0]} of {regimes[1]} part(s)" if regimes else ""
+    return f"{word}, {events:,} firings, {proven}"
 
 
 def main() -> None:
@@ -159,7 +167,8 @@ def main() -> None:
                     print(f"{n} tasks, {processors} processors, delay {delay or 0}, {name}: "
                           f"{r['time']:.2f} s, cpu {r['cpu']:.2f} s, engine {r['engine']:.2f} s, "
                           f"bound {r['bound']:.2f} s, exit {r['exit']}, "
-                          f"schedulable {r['schedulable']}, {r['events']} firings"
+                          f"schedulable {r['schedulable']}, {r['events']} firings, "
+                          f"regimes {r['regimes']}"
                           + (f" ({r['why']})" if r["why"] else ""),
                           file=sys.stderr, flush=True)
             rows.append((n, processors, delay, results))
