@@ -20,10 +20,20 @@ clock (one group bound by as many clocks as tasks).
 OS thread: it cannot cross processors); without it every task is on the one
 processor ``default``.
 
+``--non-preemptive K`` declares the first K processors (``cpu0`` ... in order, or
+``default`` without ``--processors``) ``preemptive: false`` in a ``processors:``
+mapping (spec v1.3 §4d); only a processor some task runs on may be declared, so K
+is at most the number of processors that got a task. ``--delay D`` sets
+``network.delay: D`` (exact, e.g. ``1/10``), the delay of every link across
+processors; a rendezvous (SYN/SYN) across processors cannot be delayed (§4d), so
+those links declare ``delay: 0``. Without these options the file is the same as
+before they existed.
+
 Usage::
 
     python benchmarks/generate_skeleton.py 10000 -o /tmp/sk10k.yaml [--seed 0]
         [--shape groups|chain|chain-clocks] [--processors N]
+        [--non-preemptive K] [--delay D]
 """
 
 from __future__ import annotations
@@ -137,6 +147,35 @@ def spread(doc: dict, processors: int) -> dict:
     return doc
 
 
+def processors_used(doc: dict) -> list[str]:
+    """The processors some task of ``doc`` runs on: ``cpu0``, ``cpu1`` ... or ``default``."""
+    used = {task.get("processor", "default") for task in doc["tasks"].values()}
+    return sorted(used, key=lambda p: (len(p), p))  # cpu2 before cpu10
+
+
+def declare_platform(doc: dict, non_preemptive: int = 0, delay: str | None = None) -> dict:
+    """``doc`` with its first ``non_preemptive`` processors non-preemptive and ``delay``
+    the network's delay (spec §4d); SYN/SYN links across processors get ``delay: 0``.
+
+    ``delay`` is a time as the skeleton reads it (``"1/10"``, ``"0.2"``, ``"3"``).
+    """
+    used = processors_used(doc)
+    if not 0 <= non_preemptive <= len(used):
+        raise ValueError(f"--non-preemptive {non_preemptive}: the tasks run on "
+                         f"{len(used)} processor(s)")
+    if non_preemptive:
+        doc["processors"] = {p: {"preemptive": False} for p in used[:non_preemptive]}
+    if delay is not None:
+        doc["network"] = {"delay": delay}
+        tasks = doc["tasks"]
+        for link in doc["links"]:
+            writer, reader = link["from"].split(":")[0], link["to"].split(":")[0]
+            if (link["protocol"] == "SYN/SYN" and tasks[writer].get("processor", "default")
+                    != tasks[reader].get("processor", "default")):
+                link["delay"] = 0
+    return doc
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("n_tasks", type=int)
@@ -145,10 +184,19 @@ def main() -> None:
     parser.add_argument("--shape", choices=sorted(SHAPES), default="groups")
     parser.add_argument("--processors", type=int, default=0,
                         help="spread the tasks over this many processors (default: one)")
+    parser.add_argument("--non-preemptive", type=int, default=0, metavar="K",
+                        help="declare the first K processors `preemptive: false`")
+    parser.add_argument("--delay", metavar="D",
+                        help="network delay of the links across processors, e.g. 1/10")
     args = parser.parse_args()
     doc = SHAPES[args.shape](args.n_tasks, seed=args.seed)
     if args.processors > 0:
         doc = spread(doc, args.processors)
+    if args.non_preemptive or args.delay is not None:
+        try:
+            doc = declare_platform(doc, args.non_preemptive, args.delay)
+        except ValueError as exc:
+            parser.error(str(exc))
     # JSON is a subset of YAML and loads much faster for large files.
     args.output.write_text(json.dumps(doc, indent=1))
 
