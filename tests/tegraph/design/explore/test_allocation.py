@@ -254,3 +254,20 @@ def test_incremental_judgement_equals_the_judgement_from_scratch_on_every_alloca
         a, b = evaluate_variant(space, v), evaluate_variant(space, v, incremental=False)
         a.seconds = b.seconds = 0.0
         assert a == b, v
+
+
+def test_a_results_file_of_an_allocation_is_resumed_cell_for_cell(tmp_path):
+    from tegraph.api import explore
+    out = tmp_path / "r.csv"
+    first = explore(three(), offer="p,q,r", allocate="tasks", objectives=["traffic"],
+                    output=out)
+    rows = out.read_text().splitlines()
+    assert len(rows) == 1 + 5 and rows[0].count("on:") == 3
+    again = explore(three(), offer="p,q,r", allocate="tasks", objectives=["traffic"],
+                    output=out, resume=True)
+    assert again.resumed == 5
+    assert [r.variant for r in again.front] == [r.variant for r in first.front]
+    # Another offer is another space: the file is refused, not misread.
+    with pytest.raises(InputError, match="another exploration"):
+        explore(three(), offer="p,q,s", allocate="tasks", objectives=["traffic"],
+                output=out, resume=True)
