@@ -41,7 +41,7 @@ Three free tasks on two interchangeable processors: 4 canonical allocations of t
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
 
@@ -291,6 +291,7 @@ def allocation_of(skeleton: Skeleton, offer: Sequence[str] | str | None,
     for name in names:
         if name not in held:
             kind = _processor(skeleton, name)
-            classes.setdefault(Processor("", kind.preemptive), []).append(name)
+            # Alike: the same declared properties, whatever the name.
+            classes.setdefault(replace(kind, name=""), []).append(name)
     return Allocation(tuple(names), units, pinned,
                       tuple(tuple(c) for c in classes.values() if len(c) > 1), mode)

@@ -307,7 +307,7 @@ def evaluate_variant(space: DesignSpace, variant: int,
     VariantResult
     """
     repairs = {} if repairs is None else repairs
-    if space.allocation is not None:
+    if space.allocation is not None and space.skeleton.network_delay:
         refused = _rendezvous_across(space.build(variant, validate=False))
         if refused:
             return VariantResult(variant, PRUNED, reason=refused)

@@ -162,6 +162,7 @@ class IncrementalJudge:
         self.structures: dict[tuple[bool, ...], Structure] = {}
         self.graphs: dict[tuple[str, ...], GroupGraph] = {}
         self.edits: dict[tuple[int, Protocol], LinkEdit | None] = {}
+        self.inside: dict[tuple[str, ...], tuple[int, ...]] = {}
 
     def variant_skeleton(self, variant: int) -> Skeleton:
         """The skeleton of ``variant``, not validated again (:meth:`DesignSpace.build`)."""
@@ -180,8 +181,14 @@ class IncrementalJudge:
                        if name in used)
         if self.space.allocation is None:
             return (tuple(tasks), links, clocks)
-        delays = tuple(link_delay(skeleton, x) for x in skeleton.links
-                       if x.writer[0] in inside and x.reader[0] in inside)
+        found = self.inside.get(key := tuple(tasks))
+        if found is None:  # the group's links, found once per group
+            if len(self.inside) >= MAX_CACHED:
+                self.inside.clear()
+            found = self.inside[key] = tuple(
+                i for i, x in enumerate(skeleton.links)
+                if x.writer[0] in inside and x.reader[0] in inside)
+        delays = tuple(link_delay(skeleton, skeleton.links[i]) for i in found)
         return (tuple(tasks), links, clocks, delays)
 
     def judge(self, variant: int) -> Composed | None:

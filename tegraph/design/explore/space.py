@@ -609,9 +609,9 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         raise InputError(problem, "max_events")
     forbidden = tuple(dict.fromkeys(parse_protocol(p, f"forbid[{k}]")
                                     for k, p in enumerate(forbid)))
-    chosen = _link_choices(skeleton, links, all_links, forbidden)
-    clock_choices = _clock_choices(skeleton, clocks)
     allocation = allocation_of(skeleton, offer, allocate, pin)
+    chosen = _link_choices(skeleton, links, all_links, forbidden, placed=allocation is not None)
+    clock_choices = _clock_choices(skeleton, clocks)
     if not chosen and not clock_choices and allocation is None:
         raise InputError("nothing to explore; expected at least one link or clock to choose, "
                          "or processors to offer (`offer`)", "links")
@@ -628,9 +628,13 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
 
 
 def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] | Sequence[str],
-                  all_links: bool, forbidden: tuple[Protocol, ...]) -> dict[int, LinkChoice]:
+                  all_links: bool, forbidden: tuple[Protocol, ...], placed: bool = False
+                  ) -> dict[int, LinkChoice]:
     """The chosen links by index, each with its allowed protocols less ``forbidden``
-    (see :func:`design_space` for the forms of ``links`` and the errors)."""
+    (see :func:`design_space` for the forms of ``links`` and the errors); SYN/SYN left
+    out where the link has a delay: where tasks run is a choice (``placed``), only its
+    own (whether it crosses, and so takes the network's, is the variant's: a rendezvous
+    across processors is rejected there)."""
     by_label = {link_text(k.writer, k.reader): i for i, k in enumerate(skeleton.links)}
     if isinstance(links, Mapping):
         items = [(str(label), protocols) for label, protocols in links.items()]
@@ -665,7 +669,9 @@ def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] 
         for i, link in enumerate(skeleton.links):
             chosen.setdefault(i, LinkChoice(i, link_text(link.writer, link.reader), left))
     for i, c in chosen.items():
-        delay = link_delay(skeleton, skeleton.links[i])
+        link = skeleton.links[i]
+        delay = (link.effective_delay(False, skeleton.network_delay) if placed
+                 else link_delay(skeleton, link))
         if delay and Protocol.SYN_SYN in c.protocols:
             kept = tuple(p for p in c.protocols if p is not Protocol.SYN_SYN)
             if not kept:

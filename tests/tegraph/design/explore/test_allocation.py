@@ -230,6 +230,8 @@ def test_results_file_has_the_units_and_a_new_definitions_version(tmp_path):
     (["--processors", "p,q", "--pin", "A"], "--pin", "expected TASK=PROCESSOR"),
     (["--processors", "p,q", "--allocate", "cores"], "--allocate", "expected one of"),
     (["--pin", "A=p", "--clock", "A.clock=4"], "--pin", "no processor is offered"),
+    (["--allocate", "tasks", "--clock", "A.clock=4"], "--allocate", "without processors"),
+    (["--processors", "p,q", "--pin", "A=p", "--pin", "A=q"], "--pin", "pinned to both"),
 ])
 def test_bad_allocation_options_exit_2_with_one_message(tmp_path, args, where, expected):
     f = tmp_path / "s.yaml"
@@ -271,3 +273,24 @@ def test_a_results_file_of_an_allocation_is_resumed_cell_for_cell(tmp_path):
     with pytest.raises(InputError, match="another exploration"):
         explore(three(), offer="p,q,s", allocate="tasks", objectives=["traffic"],
                 output=out, resume=True)
+
+
+def test_syn_syn_stays_a_choice_where_the_allocation_may_join_the_two_tasks():
+    # A on p, B on q, network delay 1: in the input A:x -> B:x crosses, so without
+    # --processors SYN/SYN is no choice (a rendezvous holds no delay). With A and B
+    # free over {p, q} it is one: judged where both share a processor, pruned across.
+    sk = Skeleton.from_dict({"network": {"delay": 1}, "tasks": {
+        "A": {"duration": 1, "period": 4, "outputs": ["x"], "processor": "p"},
+        "B": {"duration": 1, "inputs": ["x"], "processor": "q"}},
+        "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]})
+    fixed = design_space(sk, ["A:x -> B:x=ASYN/SYN,SYN/SYN"], objectives=["load"])
+    assert [p.value for p in fixed.links[0].protocols] == ["ASYN/SYN"]
+    space = design_space(sk, ["A:x -> B:x=ASYN/SYN,SYN/SYN"], offer="p,q",
+                         allocate="tasks", objectives=["traffic"])
+    assert space.size == 2 * 2  # two protocols, two allocations (p p, p q; q ~ p)
+    syn = [p.value for p in space.links[0].protocols].index("SYN/SYN")
+    a = space.allocation
+    together = space.variant_of([space.links[0].protocols[syn]], [], a.index_of(("p", "p")))
+    apart = space.variant_of([space.links[0].protocols[syn]], [], a.index_of(("p", "q")))
+    assert evaluate_variant(space, together).kept
+    assert evaluate_variant(space, apart).judged == "pruned"
