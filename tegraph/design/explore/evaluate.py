@@ -45,15 +45,16 @@ the same result as the whole analysis):
      on the processors that are not the busiest).
 
    These three are None (undefined) where a task of the count has no period on
-   processors (undecided, starved, or the schedule not run: rule C);
-   - where tasks run (when processors are offered, :mod:`.allocation`):
-     ``processors``, the number of processors the variant uses; ``traffic``, the
-     number of links whose two tasks run on different processors (each with its
-     delay of spec §4d: :meth:`~.space.DesignSpace.crossing`); ``busiest``, the
-     largest, over the processors, of ``Σ duration(T)/period(T)`` with ``period(T)``
-     the task's §4 period (a processor per task, the cycle time of its group): what
-     the placement asks of the processor, defined once the variant is consistent,
-     also where the schedule on processors is undecided.
+   processors (undecided, starved, or the schedule not run: rule C).
+
+   Where tasks run (when processors are offered, :mod:`.allocation`):
+   ``processors``, the number of processors the variant uses; ``traffic``, the
+   number of links whose two tasks run on different processors (each with its
+   delay of spec §4d: :meth:`~.space.DesignSpace.crossing`); ``busiest``, the
+   largest, over the processors, of ``Σ duration(T)/period(T)`` with ``period(T)``
+   the task's §4 period (a processor per task, the cycle time of its group): what
+   the placement asks of the processor, defined once the variant is consistent,
+   also where the schedule on processors is undecided.
 
 A variant whose allocation puts a SYN/SYN link across processors with a positive
 network delay is not a skeleton spec §1 accepts (a rendezvous is one event): it is
