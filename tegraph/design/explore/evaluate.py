@@ -51,10 +51,12 @@ the same result as the whole analysis):
    ``processors``, the number of processors the variant uses; ``traffic``, the
    number of links whose two tasks run on different processors (each with its
    delay of spec §4d: :meth:`~.space.DesignSpace.crossing`); ``busiest``, the
-   largest, over the processors, of ``Σ duration(T)/period(T)`` with ``period(T)``
-   the task's §4 period (a processor per task, the cycle time of its group): what
-   the placement asks of the processor, defined once the variant is consistent,
-   also where the schedule on processors is undecided.
+   largest, over the processors, of ``Σ duration(T)/period(T)`` over the tasks T of
+   a group with a clock, ``period(T)`` the task's §4 period (a processor per task:
+   its group's clock period, in a consistent variant): what the placement asks of the
+   processor (rule C's load; a free-running group asks nothing, it takes the time
+   left), defined once the variant is consistent, also where the schedule on
+   processors is undecided.
 
 A variant whose allocation puts a SYN/SYN link across processors with a positive
 network delay is not a skeleton spec §1 accepts (a rendezvous is one event): it is
@@ -492,7 +494,8 @@ def placement_objectives(skeleton: Skeleton, report: Report) -> dict[str, Fracti
     Examples
     --------
     A (1 every 4) and B (2, ASYN/SYN after A: period 4) on cpu1, C (1 every 2) on cpu2:
-    two processors, one link across (A -> C), cpu1 asks 1/4 + 2/4 = 3/4, cpu2 1/2.
+    two processors, one link across (A -> C), cpu1 asks 1/4 + 2/4 = 3/4, cpu2 1/2. A
+    task of a group without a clock would ask nothing.
 
     >>> sk = Skeleton.from_dict({"tasks": {
     ...     "A": {"duration": 1, "period": 4, "outputs": ["x", "y"], "processor": "cpu1"},
@@ -506,12 +509,15 @@ def placement_objectives(skeleton: Skeleton, report: Report) -> dict[str, Fracti
     on = processor_of(skeleton)
     demand: dict[str, Fraction] = {p: Fraction(0) for p in on.values()}
     busiest: Fraction | None = Fraction(0)
-    for name, task in skeleton.tasks.items():
-        period = report.tasks[name].period
-        if period is None:
-            busiest = None
-        elif period:  # a period of 0 is a circuit of zero durations: it takes no time
-            demand[on[name]] += task.duration / period
+    for group in report.groups:
+        if not group.clocks:  # runs free: it takes the time the others leave
+            continue
+        for name in group.tasks:
+            period = report.tasks[name].period
+            if period is None:
+                busiest = None
+            elif period:  # a period of 0 is a circuit of zero durations: no time
+                demand[on[name]] += skeleton.tasks[name].duration / period
     return {"processors": Fraction(len(demand)),
             "traffic": Fraction(sum(1 for k in skeleton.links if crosses(skeleton, k))),
             "busiest": None if busiest is None else max(demand.values())}

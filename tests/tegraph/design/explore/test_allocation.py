@@ -62,8 +62,10 @@ def brute_force(sk: Skeleton, offered: list[str], chain: list[str]) -> dict[tupl
             continue
         demand = {p: F(0) for p in set(on)}
         load = {p: F(0) for p in set(on)}
+        clocked = {n for g in report.groups if g.clocks for n in g.tasks}
         for (n, t), p in zip(variant.tasks.items(), on):
-            demand[p] += t.duration / report.tasks[n].period
+            if n in clocked:  # a free-running group asks nothing (there is none here)
+                demand[p] += t.duration / report.tasks[n].period
             load[p] += t.duration / s.tasks[n].period
         out[on] = (F(len(set(on))), F(sum(crosses(variant, k) for k in variant.links)),
                    max(demand.values()), max(load.values()), figures.first_use)
@@ -294,3 +296,16 @@ def test_syn_syn_stays_a_choice_where_the_allocation_may_join_the_two_tasks():
     apart = space.variant_of([space.links[0].protocols[syn]], [], a.index_of(("p", "q")))
     assert evaluate_variant(space, together).kept
     assert evaluate_variant(space, apart).judged == "pruned"
+
+
+def test_busiest_counts_only_the_groups_with_a_clock():
+    # A: 1 every 4; D: duration 1, no clock, no link: a group of its own that runs free
+    # (as often as its processor lets it, at the lowest priority). Both on p: D asks
+    # nothing, so busiest = 1/4; on processors D fills the 3/4 A leaves: load 1.
+    sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1, "period": 4},
+                                       "D": {"duration": 1}}})
+    space = design_space(sk, offer="p,q", allocate="tasks", free_running=True,
+                         objectives=["processors", "busiest", "load"])
+    r = evaluate_variant(space, space.variant_of([], [], space.allocation.index_of("pp")))
+    assert r.kept, r.reason
+    assert r.objectives == {"processors": 1, "busiest": F(1, 4), "load": 1}
