@@ -9,6 +9,7 @@ report; the counts of canonical allocations are derived by hand in the comments.
 from __future__ import annotations
 
 import itertools
+import json
 from dataclasses import replace
 from fractions import Fraction
 
@@ -309,3 +310,37 @@ def test_busiest_counts_only_the_groups_with_a_clock():
     r = evaluate_variant(space, space.variant_of([], [], space.allocation.index_of("pp")))
     assert r.kept, r.reason
     assert r.objectives == {"processors": 1, "busiest": F(1, 4), "load": 1}
+
+
+def test_local_search_over_links_and_processors_never_moves_a_pinned_task():
+    # The link A:x -> B:x among two protocols, tasks over p, q, r with A pinned on q:
+    # B, C free, p and r alike: B, C each on p, q or r up to renaming of p/r:
+    # (q q), (q p), (p q), (p p), (p r) -> 5 allocations, 10 variants; a budget of 4
+    # analyses makes it a local search.
+    space = design_space(three(), ["A:x -> B:x=ASYN/SYN,ASYN/ASYN"], offer="p,q,r",
+                         allocate="tasks", pin=["A=q"], objectives=["traffic", "busiest"],
+                         free_running=True)
+    assert space.n_allocation_variants == 5 and space.size == 10
+    found = explore_design(space, workers=0, max_variants=4)
+    assert found.method == "pareto-local-search"
+    assert found.results and all(space.processors_of(v)["A"] == "q" for v in found.results)
+    assert len(found.results) <= 4 + found.count("pruned")
+    exact = explore_design(space, workers=0)
+    # A heuristic: what it judged is what the exhaustive search judged of those variants.
+    for v, r in found.results.items():
+        assert (r.kept, r.objectives) == (exact.results[v].kept, exact.results[v].objectives)
+
+
+def test_the_reports_show_where_each_unit_of_the_front_runs():
+    from tegraph.report import to_json
+    from tegraph.report.explore_text import render_exploration
+    from tegraph.report.html import render_html
+    space = design_space(three(), offer="p,q", objectives=["traffic", "busiest"])
+    found = explore_design(space, workers=0)
+    text = render_exploration(found)
+    assert "on A+B" in text and "across processors: A:y -> C:y (delay 1/2 ms)" in text
+    assert "on A+B" in render_html(found)
+    # All on p asks 3/4 + 1/2 > 1 (rule C): the one kept design splits A+B from C.
+    (design,) = json.loads(to_json(found))["front"]
+    assert design["processors"] == {"A+B": "p", "C": "q"}
+    assert design["crossing"] == [{"link": "A:y -> C:y", "delay": "1/2"}]
