@@ -344,3 +344,22 @@ def test_the_reports_show_where_each_unit_of_the_front_runs():
     (design,) = json.loads(to_json(found))["front"]
     assert design["processors"] == {"A+B": "p", "C": "q"}
     assert design["crossing"] == [{"link": "A:y -> C:y", "delay": "1/2"}]
+
+
+def test_the_exhaustive_search_proposes_the_never_together_pairs_first_and_once():
+    from tegraph.design.explore.prune import DeadlockOracle
+    from tegraph.design.explore.search import ExhaustiveSearch
+    sk = Skeleton.from_dict({"tasks": {
+        "A": {"duration": 1, "period": 4, "processor": "p"},
+        "B": {"duration": 1, "period": 4, "phase": 2, "processor": "q"},
+        "C": {"duration": 1, "period": 4, "processor": "q"}}})
+    # A, B, C free over p, q, r (alike): S(3,1) + S(3,2) + S(3,3) = 5 variants. A and B
+    # never run at once in the input (A in [0, 1], B in [2, 3] of every 4; C runs with
+    # A in [0, 1] on q): the pair is put on A's processor p, B moved: p p q, canonical
+    # p p q, number 1 (after p p p), proposed first.
+    space = design_space(sk, offer="p,q,r", allocate="tasks", objectives=["processors"])
+    search = ExhaustiveSearch(space, DeadlockOracle(space))
+    analyze, pruned = search.propose(100)
+    a = space.allocation
+    assert a.processors_of(analyze[0]) == ("p", "p", "q")
+    assert sorted(analyze) == list(range(space.size)) == list(range(5)) and not pruned
