@@ -40,6 +40,7 @@ Three free tasks on two interchangeable processors: 4 canonical allocations of t
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property
@@ -110,16 +111,21 @@ class Allocation:
     def count(self, position: int, used: tuple[int, ...]) -> int:
         """Canonical completions of a prefix of ``position`` free units that used
         ``used[c]`` processors of each class c."""
-        memo = self._memo
-        key = (position, used)
-        if key not in memo:
-            memo[key] = 1 if position == len(self.free) else sum(
-                self.count(position + 1, after) for _, after in self._options(used))
-        return memo[key]
+        return self._table[position][used]
 
     @cached_property
-    def _memo(self) -> dict[tuple[int, tuple[int, ...]], int]:
-        return {}
+    def _table(self) -> list[dict[tuple[int, ...], int]]:
+        """Completions by position and counts used, filled from the last unit back (no
+        recursion: a skeleton may have thousands of units): ``Π (len(class) + 1)``
+        states per position."""
+        states = list(itertools.product(*(range(len(c) + 1) for c in self.classes)))
+        table: list[dict[tuple[int, ...], int]] = [{} for _ in range(len(self.free) + 1)]
+        table[-1] = dict.fromkeys(states, 1)
+        for position in range(len(self.free) - 1, -1, -1):
+            after = table[position + 1]
+            table[position] = {used: sum(after[nxt] for _, nxt in self._options(used))
+                               for used in states}
+        return table
 
     @property
     def size(self) -> int:
