@@ -551,7 +551,9 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
             batch_size: int | None = None, progress: Any = None,
             timeout: float | str = 10.0, requires: Sequence[Any] = (),
             max_latency: Sequence[Any] = (), forbid: Sequence[Any] = (),
-            max_events: int = MAX_EVENTS, free_running: bool = False) -> Exploration:
+            max_events: int = MAX_EVENTS, free_running: bool = False,
+            offer: Sequence[str] | str | None = None, allocate: str = "groups",
+            pin: Sequence[Any] = ()) -> Exploration:
     """Search protocol and clock choices for the best live, consistent, schedulable designs.
 
     Each variant (one protocol per chosen link, one period per chosen clock) is
@@ -612,6 +614,13 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
     free_running : bool
         Keep designs where a task runs free (no clock in its group) that the input
         design runs on a clock; by default they are not kept.
+    offer : sequence of str, or a comma-separated str, optional
+        Processors to put the tasks on: where each group (or task) runs becomes a
+        choice (:mod:`tegraph.design.explore.allocation`).
+    allocate : str
+        ``groups`` (whole groups of spec §4 move together, the default) or ``tasks``.
+    pin : sequence
+        ``"TASK=PROCESSOR"`` texts: that task (its group, under ``groups``) stays there.
 
     Returns
     -------
@@ -669,7 +678,8 @@ def explore(skeleton: Skeleton, links: Any = (), *, all_links: bool = False,
 
     space = design_space(skeleton, links, all_links, clocks, chains, objectives,
                          requires=requires, max_latency=max_latency, forbid=forbid,
-                         max_events=max_events, free_running=free_running)
+                         max_events=max_events, free_running=free_running, offer=offer,
+                         allocate=allocate, pin=pin)
     if output is None and resume:
         raise InputError("nothing to resume without an `output` file", "resume")
     table = None if output is None else ResultsTable(output, space, resume, overwrite)

@@ -85,7 +85,8 @@ _FLAGS = {"max_bytes": "--max-size", "max_steps": "--max-steps", "max_states": "
 _FLAGS.update({"requires": "--require", "max_latency": "--max-latency", "forbid": "--forbid",
                "timeout": "--timeout", "all_links": "--all-links",
                "max_events": "--max-events", "processors": "--no-processors",
-               "free_running": "--free-running"})
+               "free_running": "--free-running", "offer": "--processors",
+               "allocate": "--allocate", "pin": "--pin"})
 _PARAMETER = re.compile(r"`(" + "|".join(_FLAGS) + r")`")
 
 
@@ -780,6 +781,19 @@ def explore(
         "--free-running", help="Keep designs where a task runs free (no clock in its "
                                "group: as often as its processor lets it) that the input "
                                "design runs on a clock; by default they are rejected.")] = False,
+    processors: Annotated[str | None, typer.Option(
+        "--processors", metavar="CPU1,CPU2",
+        help="Also choose where the tasks run, among these processors (comma-separated; "
+             "their `processors:` properties apply, and the `network.delay` to the links "
+             "that cross); interchangeable processors are not judged twice.")] = None,
+    allocate: Annotated[str, typer.Option(
+        "--allocate", metavar="groups|tasks",
+        help="With --processors: move whole synchronized groups (default) or single "
+             "tasks.")] = "groups",
+    pin: Annotated[list[str] | None, typer.Option(
+        "--pin", metavar="TASK=CPU",
+        help="With --processors: keep TASK (its group, with --allocate groups) on CPU, "
+             "one of --processors (repeatable).")] = None,
     all_ties: Annotated[bool, typer.Option(
         "--all-ties", help="List every design of the front; by default one row per "
                            "distinct objective vector, with its count of ties.")] = False,
@@ -831,7 +845,8 @@ def explore(
                 overwrite=force, max_variants=max_variants, batch_size=batch_size,
                 progress=progress, timeout=timeout, requires=require or [],
                 max_latency=max_latency or [], forbid=forbid or [], max_events=max_events,
-                free_running=free_running)
+                free_running=free_running, offer=processors, allocate=allocate,
+                pin=pin or [])
     finally:
         bar.erase()
     text = to_json(result) + "\n" if json_out else _cli_words(

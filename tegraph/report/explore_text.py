@@ -40,7 +40,8 @@ _CHAIN_MEANING = {"latency": "first use (from a sample to the first output compu
                   "reaction": "reaction (from a sensor change to the first output that "
                               "reflects it)"}
 _COLUMNS = {"period": "period ratio on processors", "load": "busiest load on processors",
-            "utilization": "utilization on processors"}
+            "utilization": "utilization on processors", "processors": "processors used",
+            "traffic": "links across processors", "busiest": "busiest demand (§4 periods)"}
 _MEANING = {
     "period": "largest task period on processors over the task's designed period (its own "
               "clock's, or its input group's fastest): 1 designed rate, 2 twice slower",
@@ -48,6 +49,12 @@ _MEANING = {
             "processors",
     "utilization": "sum of C/T over all processors, T on processors (what a faster loop "
                    "costs anywhere)",
+    "processors": "how many processors the design uses",
+    "traffic": "how many links join tasks on different processors (each listed below the "
+               "front with its delay, spec §4d)",
+    "busiest": "the busiest processor's demand, sum of C/T with T each task's period of "
+               "spec §4 (what the placement asks; defined also where the schedule is "
+               "undecided)",
 }
 
 
@@ -70,7 +77,12 @@ def render_exploration(result: Exploration, all_ties: bool = False) -> str:
     space = result.space
     sk = space.skeleton
     lines = [f"explore {sk.name}: {result.space.size:,} variant(s) "
-             f"({len(space.links)} link(s), {len(space.clocks)} clock(s) chosen)"]
+             f"({len(space.links)} link(s), {len(space.clocks)} clock(s) chosen"
+             + ("" if (a := space.allocation) is None else
+                f"; {len(a.free)} {a.mode[:-1]}(s) placed on {', '.join(a.offered)}, "
+                f"{space.n_allocation_variants:,} allocation(s) up to renaming of "
+                f"interchangeable processors")
+             + ")"]
     for c in space.links:
         lines.append(f"  link {c.label}: {', '.join(p.value for p in c.protocols)}"
                      + (" (narrowed by `links`; `all_links` gives the other links every "
@@ -157,7 +169,8 @@ def _front(result: Exploration, all_ties: bool) -> list[str]:
         e = result.entry(r)
         # The clocks and objectives from their exact values, not the entry's JSON texts.
         cells: list[Any] = [r.variant, *e["links"].values(),
-                            *(display_text(t) for t in space.periods(r.variant))]
+                            *(display_text(t) for t in space.periods(r.variant)),
+                            *e.get("processors", {}).values()]
         for n in space.objectives:
             value = display_text(r.objectives.get(n)) or "-"
             if n in e["kinds"]:
@@ -170,6 +183,7 @@ def _front(result: Exploration, all_ties: bool) -> list[str]:
         rows.append(cells)
     headers = ["variant", *names.values(), *(f"{c.name} ({space.skeleton.unit})"
                                              for c in space.clocks),
+               *(f"on {unit}" for unit in space.placement(0)),
                *(column_name(n, space.skeleton.unit) for n in space.objectives),
                "Rule 2", "repaired", *(["ties"] if tied else [])]
     # No number parsing: tabulate would print 1038412611.331 as a rounded float (1.03841e+09).
@@ -178,6 +192,12 @@ def _front(result: Exploration, all_ties: bool) -> list[str]:
     if len(shown) > FRONT_ROWS_SHOWN:
         lines.append(f"  ... and {len(shown) - FRONT_ROWS_SHOWN} more rows (the JSON "
                      "report and the results file hold every design)")
+    if space.allocation is not None:  # the traffic of each row: which links, what delay
+        unit = space.skeleton.unit
+        for r, _ in shown[:FRONT_ROWS_SHOWN]:
+            across = result.entry(r)["crossing"]
+            lines.append(f"  variant {r.variant}: across processors: " + (", ".join(
+                f"{c['link']} (delay {c['delay']} {unit})" for c in across) or "no link"))
     return lines
 
 

@@ -199,12 +199,13 @@ def _exploration(result: Any) -> str:
     parts.append(f"<p>{html.escape(judged)}</p>")
     headers = ["variant", *(c.label for c in space.links),
                *(f"{c.name} ({space.skeleton.unit})" for c in space.clocks),
-               *space.objectives]
+               *(f"on {unit}" for unit in space.placement(0)), *space.objectives]
     rows = []
     for r in result.front:
         entry = result.entry(r)
         rows.append([r.variant, *entry["links"].values(),
                      *(display_text(t) for t in space.periods(r.variant)),
+                     *entry.get("processors", {}).values(),
                      *(display_text(r.objectives.get(n)) or "-" for n in space.objectives)])
     parts.append(_table("Pareto front", headers, rows))
     return "".join(parts)

@@ -47,6 +47,21 @@ the same result as the whole analysis):
    These three are None (undefined) where a task of the count has no period on
    processors (undecided, starved, or the schedule not run: rule C).
 
+   Where tasks run (when processors are offered, :mod:`.allocation`):
+   ``processors``, the number of processors the variant uses; ``traffic``, the
+   number of links whose two tasks run on different processors (each with its
+   delay of spec §4d: :meth:`~.space.DesignSpace.crossing`); ``busiest``, the
+   largest, over the processors, of ``Σ duration(T)/period(T)`` over the tasks T of
+   a group with a clock, ``period(T)`` the task's §4 period (a processor per task:
+   its group's clock period, in a consistent variant): what the placement asks of the
+   processor (rule C's load; a free-running group asks nothing, it takes the time
+   left), defined once the variant is consistent, also where the schedule on
+   processors is undecided.
+
+A variant whose allocation puts a SYN/SYN link across processors with a positive
+network delay is not a skeleton spec §1 accepts (a rendezvous is one event): it is
+rejected without analysis (``judged="pruned"``, :data:`RENDEZVOUS`).
+
 Besides the objectives: the number of Rule 2 findings of section 6 (SYN/SYN
 links, and ASYN/ASYN links between groups of one rate: :func:`rule2_findings`),
 which breaks ties between designs of equal objectives, and the constraints of
@@ -77,15 +92,16 @@ from ...analysis.processors import ProcessorSchedule, schedule_on_processors
 from ...analysis.reorder import reorder_ports
 from ...analysis.results import Report
 from ...model.build import build_teg
+from ...model.platform import crosses, link_delay, processor_of
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from ..schedulability import Schedulability, schedulability
 from .incremental import judge_of
 from .prune import overloaded
-from .space import CHAIN_FIGURES, DesignSpace, chain_objective
+from .space import CHAIN_FIGURES, PLACEMENT_OBJECTIVES, DesignSpace, chain_objective, link_text
 
-__all__ = ["FREE_RUNNING", "VariantResult", "evaluate_batch", "evaluate_variant",
-           "free_running", "rejection", "rule2_findings"]
+__all__ = ["FREE_RUNNING", "RENDEZVOUS", "VariantResult", "evaluate_batch", "evaluate_variant",
+           "free_running", "placement_objectives", "rejection", "rule2_findings"]
 
 ANALYZED, PRUNED, FAILED = "analyzed", "pruned", "failed"
 
@@ -155,7 +171,11 @@ class VariantResult:
                     and "undecided" not in self.kinds.values() and self.meets is not False)
 
 
-REJECTIONS = ("failed to be judged", "dead whatever the port order",
+RENDEZVOUS = "a rendezvous across processors"
+"""How the reason of a variant whose allocation puts a delayed SYN/SYN link across
+processors begins."""
+
+REJECTIONS = ("failed to be judged", RENDEZVOUS, "dead whatever the port order",
               "an unbounded place", "an overrun", "not schedulable on processors",
               "undecided within max_events", "a chain's latency undecided",
               "a free-running task", "against a constraint")
@@ -171,18 +191,20 @@ def rejection(result: VariantResult) -> str | None:
     """
     if result.judged == FAILED:
         return REJECTIONS[0]
-    if not result.live:
+    if result.reason.startswith(RENDEZVOUS):
         return REJECTIONS[1]
+    if not result.live:
+        return REJECTIONS[2]
     if not result.consistent:
-        return REJECTIONS[3] if result.reason.startswith("overrun") else REJECTIONS[2]
+        return REJECTIONS[4] if result.reason.startswith("overrun") else REJECTIONS[3]
     if result.schedulable is False:
-        return REJECTIONS[4]
-    if result.schedulable is None:
         return REJECTIONS[5]
-    if "undecided" in result.kinds.values():
+    if result.schedulable is None:
         return REJECTIONS[6]
+    if "undecided" in result.kinds.values():
+        return REJECTIONS[7]
     if result.meets is False:
-        return REJECTIONS[7] if result.reason.startswith(FREE_RUNNING) else REJECTIONS[8]
+        return REJECTIONS[8] if result.reason.startswith(FREE_RUNNING) else REJECTIONS[9]
     return None
 
 
@@ -288,6 +310,10 @@ def evaluate_variant(space: DesignSpace, variant: int,
     VariantResult
     """
     repairs = {} if repairs is None else repairs
+    if space.allocation is not None and space.skeleton.network_delay:
+        refused = _rendezvous_across(space.build(variant, validate=False))
+        if refused:
+            return VariantResult(variant, PRUNED, reason=refused)
     composed = judge_of(space).judge(variant) if incremental else None
     if composed is not None:  # live: the whole analysis' verdict, from the groups'
         skeleton = composed.skeleton
@@ -369,6 +395,18 @@ def evaluate_variant(space: DesignSpace, variant: int,
     return result
 
 
+def _rendezvous_across(skeleton: Skeleton) -> str:
+    """Why the variant's skeleton is refused by spec §1 (a SYN/SYN link with a positive
+    delay: its network's, across processors), or empty."""
+    for link in skeleton.links:
+        if link.protocol is Protocol.SYN_SYN and link_delay(skeleton, link):
+            return (f"{RENDEZVOUS}: {link_text(link.writer, link.reader)} is SYN/SYN between "
+                    f"{skeleton.tasks[link.writer[0]].runs_on} and "
+                    f"{skeleton.tasks[link.reader[0]].runs_on}, with a delay of "
+                    f"{exact_text(link_delay(skeleton, link))} {skeleton.unit} (spec §4d)")
+    return ""
+
+
 def _broken(space: DesignSpace, skeleton: Skeleton, schedule: ProcessorSchedule,
             chains: dict[tuple[str, ...], ChainFigures]) -> list[str]:
     """The constraints the variant does not meet, each in words with its unit."""
@@ -444,7 +482,45 @@ def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: S
         if loads:
             result.objectives["load"] = max(loads.values())
             result.objectives["utilization"] = sum(loads.values(), Fraction(0))
+    if wanted & set(PLACEMENT_OBJECTIVES):
+        result.objectives.update(placement_objectives(skeleton, report))
     result.objectives = {name: result.objectives.get(name) for name in space.objectives}
+
+
+def placement_objectives(skeleton: Skeleton, report: Report) -> dict[str, Fraction | None]:
+    """``processors``, ``traffic`` and ``busiest`` of a consistent variant (see the module
+    docstring), exact.
+
+    Examples
+    --------
+    A (1 every 4) and B (2, ASYN/SYN after A: period 4) on cpu1, C (1 every 2) on cpu2:
+    two processors, one link across (A -> C), cpu1 asks 1/4 + 2/4 = 3/4, cpu2 1/2. A
+    task of a group without a clock would ask nothing.
+
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "A": {"duration": 1, "period": 4, "outputs": ["x", "y"], "processor": "cpu1"},
+    ...     "B": {"duration": 2, "inputs": ["x"], "processor": "cpu1"},
+    ...     "C": {"duration": 1, "period": 2, "inputs": ["y"], "processor": "cpu2"}},
+    ...     "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"},
+    ...               {"from": "A:y", "to": "C:y", "protocol": "ASYN/ASYN"}]})
+    >>> {k: str(v) for k, v in placement_objectives(sk, analyze_skeleton(sk)).items()}
+    {'processors': '2', 'traffic': '1', 'busiest': '3/4'}
+    """
+    on = processor_of(skeleton)
+    demand: dict[str, Fraction] = {p: Fraction(0) for p in on.values()}
+    busiest: Fraction | None = Fraction(0)
+    for group in report.groups:
+        if not group.clocks:  # runs free: it takes the time the others leave
+            continue
+        for name in group.tasks:
+            period = report.tasks[name].period
+            if period is None:
+                busiest = None
+            elif period:  # a period of 0 is a circuit of zero durations: no time
+                demand[on[name]] += skeleton.tasks[name].duration / period
+    return {"processors": Fraction(len(demand)),
+            "traffic": Fraction(sum(1 for k in skeleton.links if crosses(skeleton, k))),
+            "busiest": None if busiest is None else max(demand.values())}
 
 
 def _inconsistency(report: Report) -> str:

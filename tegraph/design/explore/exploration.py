@@ -180,10 +180,15 @@ class Exploration:
     def entry(self, r: VariantResult) -> dict[str, Any]:
         """A variant as the report shows it: its choices, objectives and repair."""
         links, clocks = self.space.describe(r.variant)
-        return {"variant": r.variant, "links": links, "clocks": clocks,
-                "objectives": {k: exact_text(v) for k, v in r.objectives.items()},
-                "kinds": dict(r.kinds), "repaired": r.repaired, "orders": r.orders,
-                "rule2": r.rule2}
+        out = {"variant": r.variant, "links": links, "clocks": clocks,
+               "objectives": {k: exact_text(v) for k, v in r.objectives.items()},
+               "kinds": dict(r.kinds), "repaired": r.repaired, "orders": r.orders,
+               "rule2": r.rule2}
+        if self.space.allocation is not None:  # where its units run, what crosses
+            out["processors"] = self.space.placement(r.variant)
+            out["crossing"] = [{"link": link, "delay": exact_text(delay)}
+                               for link, delay in self.space.crossing(r.variant)]
+        return out
 
     def to_dict(self) -> dict[str, Any]:
         """The body of the JSON report (``docs/report.schema.json``, ``$defs/explore``)."""
@@ -206,7 +211,9 @@ class Exploration:
             "choices": {
                 "links": {c.label: [p.value for p in c.protocols] for c in self.space.links},
                 "clocks": {c.name: [exact_text(t) for t in c.periods]
-                           for c in self.space.clocks}},
+                           for c in self.space.clocks},
+                **({} if self.space.allocation is None
+                   else {"allocation": self.space.allocation.to_dict()})},
             "chains": [list(c) for c in self.space.chains],
             "constraints": self.space.constraints.to_dict(),
             "front": [{**self.entry(r), "ties": len(tied)}

@@ -16,6 +16,11 @@ The groups of a variant are those of :class:`~tegraph.model.structure.Structure`
 becomes ASYN/ASYN may split one), so a key names the group's tasks. They are found
 once per pattern of synchronizing chosen links (:meth:`IncrementalJudge.structure`).
 
+Where the tasks run is a choice too (:mod:`.allocation`), a group's figures depend on
+it only through the delays of the links inside it (spec §4d: a link that crosses
+processors holds the network's delay), which the key then holds; a group whose
+links' delays differ from the input skeleton's is built, not edited from its template.
+
 A group's graph is not built for each configuration of its choices: it is its
 template's, with each chosen link's edit read once per space from ``build_teg``
 (:mod:`.group_graph`); the figures are those of the built graph.
@@ -61,6 +66,7 @@ from maxplus import ZeroTokenCircuitError, max_cycle_ratio
 from ...analysis.analyze import analyze_skeleton, unbounded_mask
 from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
+from ...model.platform import link_delay
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure, design_period
 from .group_graph import GroupArrays, GroupGraph, LinkEdit, link_edit
@@ -156,15 +162,16 @@ class IncrementalJudge:
         self.structures: dict[tuple[bool, ...], Structure] = {}
         self.graphs: dict[tuple[str, ...], GroupGraph] = {}
         self.edits: dict[tuple[int, Protocol], LinkEdit | None] = {}
+        self.inside: dict[tuple[str, ...], tuple[int, ...]] = {}
 
     def variant_skeleton(self, variant: int) -> Skeleton:
         """The skeleton of ``variant``, not validated again (:meth:`DesignSpace.build`)."""
         return self.space.build(variant, validate=False)
 
     def key(self, skeleton: Skeleton, tasks: Sequence[str]) -> tuple:
-        """What a group's figures depend on: its tasks, and the protocols of the chosen
+        """What a group's figures depend on: its tasks, the protocols of the chosen
         links and the periods of the chosen clocks inside it (in ``skeleton``, a
-        variant)."""
+        variant), and, where tasks run is a choice, the delays of its links."""
         inside = set(tasks)
         links = tuple((k, skeleton.links[i].protocol.value) for i, k in self.chosen_link.items()
                       if skeleton.links[i].writer[0] in inside
@@ -172,7 +179,17 @@ class IncrementalJudge:
         used = {skeleton.tasks[t].clock for t in tasks}
         clocks = tuple((k, skeleton.clocks[name].period) for name, k in self.chosen_clock.items()
                        if name in used)
-        return (tuple(tasks), links, clocks)
+        if self.space.allocation is None:
+            return (tuple(tasks), links, clocks)
+        found = self.inside.get(key := tuple(tasks))
+        if found is None:  # the group's links, found once per group
+            if len(self.inside) >= MAX_CACHED:
+                self.inside.clear()
+            found = self.inside[key] = tuple(
+                i for i, x in enumerate(skeleton.links)
+                if x.writer[0] in inside and x.reader[0] in inside)
+        delays = tuple(link_delay(skeleton, skeleton.links[i]) for i in found)
+        return (tuple(tasks), links, clocks, delays)
 
     def judge(self, variant: int) -> Composed | None:
         """The §4 verdict of ``variant``, composed from its groups.
@@ -265,6 +282,11 @@ class IncrementalJudge:
         (:class:`~.group_graph.GroupGraph`), or built (``template`` False, or an edit
         the template does not recognise): the same figures."""
         part, links, threads = self._part(skeleton, tasks)
+        if template and self.space.allocation is not None:
+            # The template and the edits hold the input's delays (spec §4d).
+            input_sk = self.space.skeleton
+            template = all(link_delay(skeleton, skeleton.links[f])
+                           == link_delay(input_sk, input_sk.links[f]) for f in links)
         arrays = (self._arrays(skeleton, tuple(tasks), part, links, threads) if template
                   else None)
         if arrays is None:

@@ -4,7 +4,9 @@ One row per variant, in the order verdicts arrive. Columns:
 
 ``variant`` (its number in the space), ``space`` (the fingerprint of the
 skeleton, choices and objectives), ``link:W:p -> R:q`` (the protocol, one
-column per chosen link), ``clock:NAME`` (the period, exact), ``judged``
+column per chosen link), ``clock:NAME`` (the period, exact), ``on:UNIT`` (the
+processor of each unit that moves, ``A+B`` for a group, when processors are
+offered), ``judged``
 (analyzed, pruned, failed), ``live``, ``repaired``, ``consistent``,
 ``schedulable`` (on its processors, spec §4b), ``meets_constraints``, ``kept``
 (true, false or empty when not reached; ``schedulable`` empty after ``consistent``
@@ -63,7 +65,8 @@ def columns(space: DesignSpace) -> list[str]:
     """The header of the results table of ``space``."""
     latency = [n for n in space.objectives if chain_objective(n) is not None]
     return (["variant", "space"] + [f"link:{c.label}" for c in space.links]
-            + [f"clock:{c.name}" for c in space.clocks] + ["judged", *_FLAGS]
+            + [f"clock:{c.name}" for c in space.clocks]
+            + [f"on:{name}" for name in space.placement(0)] + ["judged", *_FLAGS]
             + list(space.objectives) + [f"kind:{n}" for n in latency]
             + ["rule2", "orders", "reason", "seconds"])
 
@@ -183,7 +186,8 @@ class ResultsTable:
         flags = [r.live, r.repaired, r.consistent, r.schedulable, r.meets, r.kept]
         latency = [n for n in self.space.objectives if chain_objective(n) is not None]
         return ([str(r.variant), self.space.fingerprint] + list(links.values())
-                + list(clocks.values()) + [r.judged]
+                + list(clocks.values()) + list(self.space.placement(r.variant).values())
+                + [r.judged]
                 + ["" if f is None else str(bool(f)).lower() for f in flags]
                 + [exact_text(r.objectives.get(n)) or "" for n in self.space.objectives]
                 + [r.kinds.get(n, "") for n in latency]
@@ -328,8 +332,10 @@ class _Cells:
             self.refuse("variant", f"expected a variant number from 0 to {space.size - 1:,}")
         variant = int(text)
         links, clocks = space.describe(variant)
-        for name, value in [*links.items(), *clocks.items()]:
-            column = f"link:{name}" if name in links else f"clock:{name}"
+        cells = ([(f"link:{n}", v) for n, v in links.items()]
+                 + [(f"clock:{n}", v) for n, v in clocks.items()]
+                 + [(f"on:{n}", v) for n, v in space.placement(variant).items()])
+        for column, value in cells:
             if row[column] != value:
                 self.refuse(column, f"variant {variant} has {value!r}")
         return variant

@@ -10,7 +10,8 @@ searches run in this process or on a Dask cluster (:mod:`.run`).
   exact Pareto front of the space.
 - :class:`ParetoLocalSearch` (Paquete, Chiarandini and Stützle [1]_) starts
   from the input design and a few rule-guided designs, and repeatedly judges
-  every neighbour (one link's protocol or one clock's period changed) of the
+  every neighbour (one link's protocol or one clock's period changed, or one unit
+  moved to another processor) of the
   front members not yet expanded; when none is left (a Pareto local optimum),
   the budget left widens the search from the other kept variants, then the
   consistent, the live and any judged one, until the budget of analyses is
@@ -36,6 +37,7 @@ from ...model.skeleton import Protocol
 from .evaluate import VariantResult
 from .prune import DeadlockOracle, protocol_ranges
 from .space import DesignSpace
+from .together import moves, together_first
 
 __all__ = ["ExhaustiveSearch", "ParetoFront", "ParetoLocalSearch", "dominates"]
 
@@ -115,6 +117,11 @@ class ParetoFront:
 class ExhaustiveSearch:
     """Every variant, in number order; dead protocol assignments pruned (exact).
 
+    Where tasks run is a choice, the input design with each pair of tasks that never
+    run at once put on one processor (:func:`~.together.together_first`) is proposed
+    first, then every other variant in number order: an interrupted run has judged
+    the placements most likely to save a processor.
+
     Parameters
     ----------
     space : DesignSpace
@@ -124,13 +131,21 @@ class ExhaustiveSearch:
     method = "exhaustive"
 
     def __init__(self, space: DesignSpace, oracle: DeadlockOracle) -> None:
-        per = space.n_clock_variants
+        per = space.per_protocol  # the clock and allocation variants of one assignment
         self._runs = [(first * per, count * per, dead)
                       for first, count, dead in protocol_ranges(space, oracle)]
         self.to_analyze = sum(count for _, count, dead in self._runs if not dead)
         self._run = 0
         self._offset = 0
         self.stopped = "every variant judged"
+        self._early: list[int] = []
+        start = space.starting_variant()
+        if space.allocation is not None and any(  # its protocols not proven dead
+                not dead and first <= start < first + count for first, count, dead in self._runs):
+            protocols, periods = space.protocols(start), space.periods(start)
+            self._early = [space.variant_of(protocols, periods, a)
+                           for a in together_first(space)]
+        self._proposed_early = set(self._early)
 
     @property
     def finished(self) -> bool:
@@ -141,6 +156,8 @@ class ExhaustiveSearch:
         """Up to ``limit`` variants to analyze, and the pruned variants met on the way."""
         analyze: list[int] = []
         pruned: list[int] = []
+        while self._early and len(analyze) < limit:
+            analyze.append(self._early.pop(0))
         while len(analyze) < limit and self._run < len(self._runs):
             first, count, dead = self._runs[self._run]
             if dead:
@@ -148,7 +165,8 @@ class ExhaustiveSearch:
                 self._run += 1
                 continue
             take = min(limit - len(analyze), count - self._offset)
-            analyze.extend(range(first + self._offset, first + self._offset + take))
+            span = range(first + self._offset, first + self._offset + take)
+            analyze.extend(v for v in span if v not in self._proposed_early)
             self._offset += take
             if self._offset == count:
                 self._run, self._offset = self._run + 1, 0
@@ -202,12 +220,17 @@ class ParetoLocalSearch:
         space = self.space
         starts = [space.starting_variant()]
         periods = space.periods(starts[0])
+        allocation = space.allocation_index(starts[0])
         # Section 6's designs: each chosen link ASYN/SYN (Rule 2), else ASYN/ASYN (never
         # a deadlock, Rule B), where the choices allow.
         for preferred in (Protocol.ASYN_SYN, Protocol.ASYN_ASYN):
             protocols = [preferred if preferred in c.protocols else p
                          for c, p in zip(space.links, space.protocols(starts[0]))]
-            starts.append(space.variant_of(protocols, periods))
+            starts.append(space.variant_of(protocols, periods, allocation))
+        # The input design with a pair of tasks that never run at once (ORCCAD §2.4)
+        # put on one processor: candidates to share one, found once on the input.
+        protocols = list(space.protocols(starts[0]))
+        starts += [space.variant_of(protocols, periods, a) for a in together_first(space)]
         return list(dict.fromkeys(starts))
 
     def _is_dead(self, variant: int) -> bool:
@@ -277,13 +300,17 @@ class ParetoLocalSearch:
         space = self.space
         protocols = list(space.protocols(variant))
         periods = list(space.periods(variant))
+        allocation = space.allocation_index(variant)
         out = []
         for i, choice in enumerate(space.links):
             for p in choice.protocols:
                 if p is not protocols[i]:
-                    out.append(space.variant_of([*protocols[:i], p, *protocols[i + 1:]], periods))
+                    out.append(space.variant_of([*protocols[:i], p, *protocols[i + 1:]], periods,
+                                                allocation))
         for j, clock in enumerate(space.clocks):
             for t in clock.periods:
                 if t != periods[j]:
-                    out.append(space.variant_of(protocols, [*periods[:j], t, *periods[j + 1:]]))
+                    out.append(space.variant_of(protocols, [*periods[:j], t, *periods[j + 1:]],
+                                                allocation))
+        out += [space.variant_of(protocols, periods, a) for a in moves(space, allocation)]
         return out

@@ -1,10 +1,12 @@
-"""The design space of ``explore``: protocol choices per link, period choices per clock.
+"""The design space of ``explore``: protocols per link, periods per clock, processors per unit.
 
-A *variant* is one protocol for each chosen link and one period for each
-chosen clock; everything else is the input skeleton. Variants are numbered in
-mixed radix, the links first (most significant, in the order chosen) and the
-clocks last, so that the clock variants of one protocol assignment are
-consecutive numbers: ``variant = protocol_index * n_clock_variants + clock_index``.
+A *variant* is one protocol for each chosen link, one period for each chosen clock
+and, when processors are offered, one canonical allocation of the units (groups or
+tasks) to them (:mod:`.allocation`); everything else is the input skeleton. Variants
+are numbered in mixed radix, the links first (most significant, in the order chosen),
+then the clocks, the allocation last, so that the clock and allocation variants of one
+protocol assignment are consecutive numbers: ``variant = (protocol_index *
+n_clock_variants + clock_index) * n_allocation_variants + allocation_index``.
 
 The numbering is what a results file stores and what ``resume`` skips; the
 :attr:`DesignSpace.fingerprint` ties a file to one skeleton, one space and one
@@ -31,10 +33,11 @@ from maxplus.scalar import exact_text, exact_time
 from ...analysis.processors.schedule import MAX_EVENTS
 from ...errors import InputError
 from ...model.limits import event_budget_problem
-from ...model.platform import link_delay
+from ...model.platform import crosses, link_delay
 from ...model.skeleton import Protocol, Skeleton
 from ...model.skeleton.checks import Locator, check_chain
 from ...model.structure import Structure
+from .allocation import Allocation, allocation_of
 
 __all__ = [
     "CHAIN_FIGURES",
@@ -42,6 +45,7 @@ __all__ = [
     "Constraints",
     "DesignSpace",
     "LinkChoice",
+    "PLACEMENT_OBJECTIVES",
     "chain_objective",
     "design_space",
     "latency_name",
@@ -179,7 +183,7 @@ class Constraints:
                 + [f"no {p.value} link" for p in self.forbidden])
 
 
-DEFINITIONS = 5
+DEFINITIONS = 6
 """The version of the definitions of a verdict and of the objectives, part of the
 fingerprint: a results file judged under other definitions is not resumed. Version 1:
 the period ratio against the input group's fastest clock, no utilization, no Rule 2
@@ -190,11 +194,14 @@ processors; version 4: as 3, and a design where a task runs free that the input 
 runs on a clock is kept only when asked (``Constraints.free_running``); version 5: as 4,
 and the chains' objectives and ``max_latency`` exact on processors (spec v1.3 §4c: first
 use, age, reaction), a variant whose figure is undecided rejected, never ranked by a
-bound."""
+bound; version 6: as 5, and where the tasks run may be a choice (the allocation digits,
+least significant, an allocation and its renamings over interchangeable processors one
+variant), with the ``processors``, ``traffic`` and ``busiest`` objectives."""
 
 CURRENT_DEFINITIONS = ("each variant judged on its processors, spec §4b; a design where a "
                        "task runs free that the input design clocks is not kept unless "
-                       "asked; the chains' figures exact on processors, spec §4c")
+                       "asked; the chains' figures exact on processors, spec §4c; where "
+                       "tasks run may be chosen, one variant per allocation up to renaming")
 
 OLDER_DEFINITIONS = {1: "the period ratio against the input group's fastest clock",
                      2: "every variant judged with a processor per task and the "
@@ -204,7 +211,8 @@ OLDER_DEFINITIONS = {1: "the period ratio against the input group's fastest cloc
                         "published bound across groups, before its exact figures on "
                         "processors (§4c)",
                      4: "a chain's latency with a processor per task, or a published "
-                        "bound across groups, before its exact figures on processors (§4c)"}
+                        "bound across groups, before its exact figures on processors (§4c)",
+                     5: "before the allocation of tasks to processors was a choice"}
 """What each older version of :data:`DEFINITIONS` judged differently (said when a
 results file of that version is refused)."""
 
@@ -226,6 +234,8 @@ class DesignSpace:
         Names of the objectives, all minimized: ``latency:A,B,C`` per chain,
         ``period``, ``load``, ``utilization``.
     constraints : Constraints
+    allocation : Allocation or None
+        The processors offered to the units, when where tasks run is a choice.
     """
 
     skeleton: Skeleton
@@ -236,6 +246,12 @@ class DesignSpace:
     constraints: Constraints = Constraints()
     max_events: int = MAX_EVENTS
     """Budget of event firings of each variant's schedule on processors (§4b)."""
+    allocation: Allocation | None = None
+
+    @property
+    def n_allocation_variants(self) -> int:
+        """Number of canonical allocations (1 when no processor is offered)."""
+        return 1 if self.allocation is None else self.allocation.size
 
     @property
     def n_protocol_variants(self) -> int:
@@ -250,11 +266,42 @@ class DesignSpace:
     @property
     def size(self) -> int:
         """Number of variants."""
-        return self.n_protocol_variants * self.n_clock_variants
+        return self.n_protocol_variants * self.n_clock_variants * self.n_allocation_variants
+
+    @property
+    def per_protocol(self) -> int:
+        """Number of variants of one protocol assignment (consecutive numbers)."""
+        return self.n_clock_variants * self.n_allocation_variants
 
     def split(self, variant: int) -> tuple[int, int]:
         """``(protocol_index, clock_index)`` of a variant number."""
-        return divmod(variant, self.n_clock_variants)
+        return divmod(variant // self.n_allocation_variants, self.n_clock_variants)
+
+    def allocation_index(self, variant: int) -> int:
+        """The number of the variant's allocation (0 when none is chosen)."""
+        return variant % self.n_allocation_variants
+
+    def processors_of(self, variant: int) -> dict[str, str]:
+        """Task -> processor in ``variant``, as its skeleton declares it."""
+        if self.allocation is None:
+            return {n: t.runs_on for n, t in self.skeleton.tasks.items()}
+        return self.allocation.task_processors(self.allocation_index(variant))
+
+    def placement(self, variant: int) -> dict[str, str]:
+        """Each free unit's processor in ``variant`` as report texts (``A+B`` -> ``cpu1``);
+        empty when no processor is offered."""
+        a = self.allocation
+        if a is None:
+            return {}
+        return {a.unit_label(u): p for u, p in
+                zip(a.free, a.processors_of(self.allocation_index(variant)))}
+
+    def crossing(self, variant: int) -> list[tuple[str, Fraction]]:
+        """The links of ``variant`` whose two tasks run on different processors, each
+        with its delay (spec §4d), in file order."""
+        sk = self.build(variant, validate=False)
+        return [(link_text(k.writer, k.reader), link_delay(sk, k)) for k in sk.links
+                if crosses(sk, k)]
 
     def protocol_digits(self, protocol_index: int) -> tuple[int, ...]:
         """The position of each link's protocol in its choice list."""
@@ -274,15 +321,17 @@ class DesignSpace:
         digits = self.clock_digits(self.split(variant)[1])
         return tuple(c.periods[d] for c, d in zip(self.clocks, digits))
 
-    def variant_of(self, protocols: Sequence[Protocol], periods: Sequence[Fraction]) -> int:
-        """The number of the variant with these choices (each must be allowed)."""
+    def variant_of(self, protocols: Sequence[Protocol], periods: Sequence[Fraction],
+                   allocation: int = 0) -> int:
+        """The number of the variant with these choices (each must be allowed;
+        ``allocation``, the allocation's number)."""
         p = 0
         for choice, protocol in zip(self.links, protocols):
             p = p * len(choice.protocols) + choice.protocols.index(protocol)
         c = 0
         for clock, period in zip(self.clocks, periods):
             c = c * len(clock.periods) + clock.periods.index(period)
-        return p * self.n_clock_variants + c
+        return (p * self.n_clock_variants + c) * self.n_allocation_variants + allocation
 
     def describe(self, variant: int) -> tuple[dict[str, str], dict[str, str]]:
         """``({link: protocol}, {clock: period})`` as report texts."""
@@ -300,7 +349,17 @@ class DesignSpace:
         clocks = dict(self.skeleton.clocks)
         for clock, period in zip(self.clocks, self.periods(variant)):
             clocks[clock.name] = replace(clocks[clock.name], period=period)
-        variant_skeleton = replace(self.skeleton, links=links, clocks=clocks)
+        changes: dict[str, Any] = {"links": links, "clocks": clocks}
+        if self.allocation is not None:
+            on = self.processors_of(variant)
+            changes["tasks"] = {n: t if t.runs_on == on[n] else replace(t, processor=on[n])
+                                for n, t in self.skeleton.tasks.items()}
+            used = set(on.values())
+            # A `processors` entry must name a task's processor (spec §1): the declared
+            # properties of a processor no unit uses in this variant are left out.
+            changes["processors"] = {p: q for p, q in self.skeleton.processors.items()
+                                     if p in used}
+        variant_skeleton = replace(self.skeleton, **changes)
         return variant_skeleton.validate() if validate else variant_skeleton
 
     def starting_variant(self) -> int:
@@ -314,7 +373,18 @@ class DesignSpace:
         for k in self.clocks:
             declared = self.skeleton.clocks[k.name].period
             periods.append(declared if declared in k.periods else k.periods[0])
-        return self.variant_of(protocols, periods)
+        return self.variant_of(protocols, periods, self.starting_allocation())
+
+    def starting_allocation(self) -> int:
+        """The number of the input's allocation: each free unit on the processor of its
+        first task when offered, else on the first processor offered."""
+        a = self.allocation
+        if a is None:
+            return 0
+        tasks = self.skeleton.tasks
+        return a.index_of([tasks[a.units[u][0]].runs_on
+                           if tasks[a.units[u][0]].runs_on in a.offered else a.offered[0]
+                           for u in a.free])
 
     @cached_property
     def reference_periods(self) -> dict[str, Fraction | None]:
@@ -374,6 +444,8 @@ class DesignSpace:
             del data["constraints"]["free_running"]
         if definitions >= 3:  # no budget before the schedule on processors
             data["max_events"] = self.max_events
+        if definitions >= 6 and self.allocation is not None:
+            data["allocation"] = self.allocation.to_dict()
         text = json.dumps(data, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -386,7 +458,12 @@ def _digits(index: int, radices: Sequence[int]) -> tuple[int, ...]:
     return tuple(reversed(out))
 
 
-OBJECTIVES = ("latency", "age", "reaction", "period", "load", "utilization")
+OBJECTIVES = ("latency", "age", "reaction", "period", "load", "utilization", "processors",
+              "traffic", "busiest")
+
+PLACEMENT_OBJECTIVES = ("processors", "traffic", "busiest")
+"""The objectives of where tasks run: the processors used, the links that cross
+processors, the busiest processor's demand (``Σ duration/period`` at the §4 periods)."""
 
 CHAIN_FIGURES = {"latency": "first_use", "age": "age", "reaction": "reaction"}
 """Each chain objective and the figure of spec §4c it minimizes, on processors."""
@@ -449,7 +526,8 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
                  chains: Sequence[Sequence[str]] = (), objectives: Sequence[str] | None = None,
                  *, requires: Sequence[Any] = (), max_latency: Sequence[Any] = (),
                  forbid: Sequence[Any] = (), max_events: int = MAX_EVENTS,
-                 free_running: bool = False) -> DesignSpace:
+                 free_running: bool = False, offer: Sequence[str] | str | None = None,
+                 allocate: str = "groups", pin: Sequence[Any] = ()) -> DesignSpace:
     """Check the choices against the skeleton and build the design space.
 
     Parameters
@@ -471,9 +549,12 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     objectives : sequence of str, optional
         Among ``latency`` (each chain's first use on processors, spec §4c), ``age``
         and ``reaction`` (the same chain's figures), ``period``, ``load``,
-        ``utilization``; default: ``latency`` when there is a chain, ``period``,
-        ``load``, and ``utilization`` when the tasks are on more than one processor
-        (on one, it equals ``load``).
+        ``utilization``, ``processors`` (how many are used), ``traffic`` (how many links
+        cross processors) and ``busiest`` (the busiest processor's demand, ``Σ
+        duration/period`` of its tasks at their §4 periods); default: ``latency`` when
+        there is a chain, ``period``, ``load``, ``utilization`` when the tasks are on
+        (or offered) more than one processor (on one, it equals ``load``), and the
+        last three when processors are offered.
     requires : sequence
         ``"TASK.period=P"`` or ``"TASK.period<=P"`` texts, or ``(task, op, period)``:
         a kept design runs the task at that period (its group's period).
@@ -492,6 +573,12 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
     free_running : bool
         Keep designs where a task runs free that the input design runs on a clock
         (:class:`Constraints`); by default they are not kept.
+    offer : sequence of str, or a comma-separated str, optional
+        The processors the search may put the units on (:mod:`.allocation`).
+    allocate : str
+        ``groups`` (whole groups of spec §4 move together, the default) or ``tasks``.
+    pin : sequence
+        ``"TASK=PROCESSOR"`` texts: the task (its group, under ``groups``) stays there.
 
     Returns
     -------
@@ -522,26 +609,32 @@ def design_space(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] |
         raise InputError(problem, "max_events")
     forbidden = tuple(dict.fromkeys(parse_protocol(p, f"forbid[{k}]")
                                     for k, p in enumerate(forbid)))
-    chosen = _link_choices(skeleton, links, all_links, forbidden)
+    allocation = allocation_of(skeleton, offer, allocate, pin)
+    chosen = _link_choices(skeleton, links, all_links, forbidden, placed=allocation is not None)
     clock_choices = _clock_choices(skeleton, clocks)
-    if not chosen and not clock_choices:
-        raise InputError("nothing to explore; expected at least one link or clock to choose",
-                         "links")
+    if not chosen and not clock_choices and allocation is None:
+        raise InputError("nothing to explore; expected at least one link or clock to choose, "
+                         "or processors to offer (`offer`)", "links")
     all_chains = [tuple(c) for c in skeleton.chains]
     for j, chain in enumerate(chains):
         all_chains.append(check_chain(skeleton, list(chain), ("chain", j), Locator()))
-    names = _objective_names(objectives, all_chains, skeleton)
+    names = _objective_names(objectives, all_chains, skeleton, allocation)
     constraints = Constraints(_requirements(skeleton, requires),
                               _latency_bounds(skeleton, max_latency), forbidden,
                               free_running=bool(free_running))
     return DesignSpace(skeleton, tuple(chosen[i] for i in chosen), tuple(clock_choices),
-                       tuple(dict.fromkeys(all_chains)), names, constraints, max_events)
+                       tuple(dict.fromkeys(all_chains)), names, constraints, max_events,
+                       allocation)
 
 
 def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] | Sequence[str],
-                  all_links: bool, forbidden: tuple[Protocol, ...]) -> dict[int, LinkChoice]:
+                  all_links: bool, forbidden: tuple[Protocol, ...], placed: bool = False
+                  ) -> dict[int, LinkChoice]:
     """The chosen links by index, each with its allowed protocols less ``forbidden``
-    (see :func:`design_space` for the forms of ``links`` and the errors)."""
+    (see :func:`design_space` for the forms of ``links`` and the errors); SYN/SYN left
+    out where the link has a delay: where tasks run is a choice (``placed``), only its
+    own (whether it crosses, and so takes the network's, is the variant's: a rendezvous
+    across processors is rejected there)."""
     by_label = {link_text(k.writer, k.reader): i for i, k in enumerate(skeleton.links)}
     if isinstance(links, Mapping):
         items = [(str(label), protocols) for label, protocols in links.items()]
@@ -576,7 +669,9 @@ def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] 
         for i, link in enumerate(skeleton.links):
             chosen.setdefault(i, LinkChoice(i, link_text(link.writer, link.reader), left))
     for i, c in chosen.items():
-        delay = link_delay(skeleton, skeleton.links[i])
+        link = skeleton.links[i]
+        delay = (link.effective_delay(False, skeleton.network_delay) if placed
+                 else link_delay(skeleton, link))
         if delay and Protocol.SYN_SYN in c.protocols:
             kept = tuple(p for p in c.protocols if p is not Protocol.SYN_SYN)
             if not kept:
@@ -684,11 +779,14 @@ def _latency_bounds(skeleton: Skeleton, bounds: Sequence[Any]
 
 
 def _objective_names(objectives: Sequence[str] | None, chains: Sequence[tuple[str, ...]],
-                     skeleton: Skeleton) -> tuple[str, ...]:
+                     skeleton: Skeleton, allocation: Allocation | None = None
+                     ) -> tuple[str, ...]:
     if objectives is None:
-        processors = {t.runs_on for t in skeleton.tasks.values()}
+        processors = ({t.runs_on for t in skeleton.tasks.values()} if allocation is None
+                      else set(allocation.offered))
         wanted = [o for o in OBJECTIVES if (o != "latency" or chains) and o not in (
-                  "age", "reaction") and (o != "utilization" or len(processors) > 1)]
+                  "age", "reaction") and (o != "utilization" or len(processors) > 1)
+                  and (o not in PLACEMENT_OBJECTIVES or allocation is not None)]
     else:
         wanted = []
         for k, name in enumerate(objectives):

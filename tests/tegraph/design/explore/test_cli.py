@@ -226,3 +226,20 @@ def test_without_pyarrow_parquet_is_refused_before_any_work(tmp_path, monkeypatc
     with pytest.raises(InputError, match=r"pip install 'tegraph\[parquet\]'") as err:
         explore(load_skeleton(FIG4), all_links=True, workers=0, output=tmp_path / "r.parquet")
     assert err.value.where == "output" and not list(tmp_path.iterdir())
+
+
+def test_json_report_with_processors_follows_the_schema(tmp_path):
+    # The three tasks of test_allocation.three() over two alike processors: 4 variants
+    # (ppp, ppq, pqp, pqq, each with its renaming); --pin none.
+    from tests.tegraph.design.explore.test_allocation import three
+    f = tmp_path / "three.yaml"
+    import yaml
+    f.write_text(yaml.safe_dump(three().to_dict()))
+    out = CliRunner().invoke(app, ["explore", str(f), "--processors", "p,q", "--allocate",
+                                   "tasks", "--workers", "0", "--json"])
+    assert out.exit_code == 0, out.stderr
+    doc = json.loads(out.stdout)
+    jsonschema.validate(doc, schema())
+    assert doc["variants"] == 4
+    assert doc["choices"]["allocation"]["interchangeable"] == [["p", "q"]]
+    assert all(set(d["processors"]) == {"A", "B", "C"} for d in doc["front"])

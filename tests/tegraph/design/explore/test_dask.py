@@ -27,6 +27,7 @@ import pytest
 from tegraph import InputError, load_skeleton
 from tegraph.api import explore
 from tegraph.design.explore import explore_design
+from tegraph.design.explore.space import design_space
 from tests.paths import REPO
 from tests.tegraph.design.explore.test_exploration import (
     CONTROL,
@@ -156,3 +157,16 @@ def test_a_scheduler_that_does_not_answer_is_refused_in_time():
         explore(sk, all_links=True, scheduler=f"tcp://127.0.0.1:{port}", timeout=1)
     assert err.value.where == "scheduler" and "no Dask scheduler answers" in str(err.value)
     assert time.monotonic() - start < 15
+
+
+def test_distributed_allocation_front_is_the_local_one(cluster, tmp_path):
+    # Where the tasks run, on the cluster: the same variants, the same front, and a
+    # results file whose `on:` cells name each task's processor.
+    from tests.tegraph.design.explore.test_allocation import OBJECTIVES, three
+    space = design_space(three(), offer="p,q,r", allocate="tasks", chains=[["A", "C"]],
+                         objectives=OBJECTIVES)
+    found = explore_design(space, scheduler=cluster[0].scheduler_address, batch_size=1)
+    local = explore_design(space, workers=0)
+    assert found.log.engine == "scheduler" and len(found.results) == space.size == 5
+    assert [(r.variant, r.objectives) for r in found.front] == \
+        [(r.variant, r.objectives) for r in local.front]
