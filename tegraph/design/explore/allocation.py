@@ -4,7 +4,9 @@ An *allocation* puts each *unit* on one of the offered processors: a unit is a w
 group of spec §4 (the groups of the input skeleton,
 :attr:`~tegraph.model.structure.Structure.groups`: tasks joined by synchronizing links,
 threads and shared clocks move together) or a single task. A pinned unit stays
-on its processor; the others are *free*.
+on its processor; the others are *free*. A task the file puts on a processor that is
+not offered (a frame on its bus) is in no unit: it stays there, with its whole group
+under ``groups``; a task that names no processor is free.
 
 Two offered processors are *interchangeable* when they have the same declared
 properties (``processors:``, spec §4d) and no unit is pinned to them: renaming one into
@@ -262,9 +264,15 @@ def allocation_of(skeleton: Skeleton, offer: Sequence[str] | str | None,
     if mode not in ALLOCATE:
         raise InputError(f"cannot allocate {allocate!r}; expected one of "
                          f"{', '.join(ALLOCATE)}", "allocate")
-    units: tuple[tuple[str, ...], ...] = (
+    every: tuple[tuple[str, ...], ...] = (
         tuple(tuple(g) for g in Structure.of(skeleton).groups) if mode == "groups"
         else tuple((t,) for t in skeleton.tasks))
+    # A task the file puts on a processor that is not offered (a frame on its bus)
+    # stays there, and so does its unit; a task without `processor:` is free.
+    tasks_of = skeleton.tasks
+    stays = {t: tasks_of[t].processor for t in tasks_of
+             if tasks_of[t].processor is not None and tasks_of[t].processor not in seen}
+    units = tuple(u for u in every if not any(t in stays for t in u))
     unit_of = {t: u for u, tasks in enumerate(units) for t in tasks}
     pinned: dict[int, str] = {}
     for k, item in enumerate(pin):
@@ -285,6 +293,11 @@ def allocation_of(skeleton: Skeleton, offer: Sequence[str] | str | None,
         if proc not in seen:
             raise InputError(f"unknown processor {proc!r}; expected one of the processors "
                              f"offered ({', '.join(names)})", where)
+        if task not in unit_of:
+            held = next(t for u in every if task in u for t in u if t in stays)
+            raise InputError(f"{task!r} stays where the file puts it ({held!r} runs on "
+                             f"{stays[held]!r}, which is not offered); expected a task that "
+                             "runs on an offered processor or on none", where)
         u = unit_of[task]
         if pinned.get(u, proc) != proc:
             whose = (f"the group of {task!r} ({'+'.join(units[u])})" if mode == "groups"

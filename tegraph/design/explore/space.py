@@ -283,9 +283,10 @@ class DesignSpace:
 
     def processors_of(self, variant: int) -> dict[str, str]:
         """Task -> processor in ``variant``, as its skeleton declares it."""
-        if self.allocation is None:
-            return {n: t.runs_on for n, t in self.skeleton.tasks.items()}
-        return self.allocation.task_processors(self.allocation_index(variant))
+        on = {n: t.runs_on for n, t in self.skeleton.tasks.items()}
+        if self.allocation is not None:  # the tasks of no unit stay where they are
+            on.update(self.allocation.task_processors(self.allocation_index(variant)))
+        return on
 
     def placement(self, variant: int) -> dict[str, str]:
         """Each free unit's processor in ``variant`` as report texts (``A+B`` -> ``cpu1``);

@@ -83,8 +83,8 @@ def together_first(space: DesignSpace) -> list[int]:
         on = skeleton.tasks
         for first, second in found.pairs:
             for fixed, moved in ((first, second), (second, first)):
-                u = unit_of[moved]
-                if u in position and unit_of[fixed] != u:
+                u = unit_of.get(moved)  # None: it stays on a processor not offered
+                if u is not None and u in position and unit_of.get(fixed) != u:
                     k = position[u]
                     target = on[fixed].runs_on
                     if target in a.offered:
