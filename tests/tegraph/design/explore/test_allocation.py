@@ -367,3 +367,20 @@ def test_the_exhaustive_search_proposes_the_never_together_pairs_first_and_once(
     a = space.allocation
     assert a.processors_of(analyze[0]) == ("p", "p", "q")
     assert sorted(analyze) == list(range(space.size)) == list(range(5)) and not pruned
+
+
+def test_a_task_on_a_processor_not_offered_stays_there():
+    # F on the bus (not offered) is in no unit; A and B move over p, q (alike): p p, p q.
+    # Under groups, A's group holds F (A:x -> F:x is ASYN/SYN): that group stays whole.
+    sk = Skeleton.from_dict({"processors": {"bus": {"preemptive": False}}, "tasks": {
+        "A": {"duration": 1, "period": 4, "outputs": ["x"]},
+        "F": {"duration": 1, "inputs": ["x"], "processor": "bus"},
+        "B": {"duration": 1, "period": 4}},
+        "links": [{"from": "A:x", "to": "F:x", "protocol": "ASYN/SYN"}]})
+    space = design_space(sk, offer="p,q", allocate="tasks", objectives=["busiest"])
+    assert space.allocation.units == (("A",), ("B",)) and space.size == 2
+    assert all(space.build(v).tasks["F"].runs_on == "bus" for v in range(space.size))
+    groups = design_space(sk, offer="p,q", objectives=["busiest"])
+    assert groups.allocation.units == (("B",),)
+    with pytest.raises(InputError, match="stays where the file puts it"):
+        design_space(sk, offer="p,q", allocate="tasks", pin=["F=p"], objectives=["busiest"])
