@@ -179,7 +179,7 @@ class Constraints:
                 + [f"no {p.value} link" for p in self.forbidden])
 
 
-DEFINITIONS = 5
+DEFINITIONS = 6
 """The version of the definitions of a verdict and of the objectives, part of the
 fingerprint: a results file judged under other definitions is not resumed. Version 1:
 the period ratio against the input group's fastest clock, no utilization, no Rule 2
@@ -190,7 +190,8 @@ processors; version 4: as 3, and a design where a task runs free that the input 
 runs on a clock is kept only when asked (``Constraints.free_running``); version 5: as 4,
 and the chains' objectives and ``max_latency`` exact on processors (spec v1.3 §4c: first
 use, age, reaction), a variant whose figure is undecided rejected, never ranked by a
-bound."""
+bound; version 6: as 5, and a chain's message visible its link's communication delay
+after its write (spec v1.3 §4d), not at the write."""
 
 CURRENT_DEFINITIONS = ("each variant judged on its processors, spec §4b; a design where a "
                        "task runs free that the input design clocks is not kept unless "
@@ -204,7 +205,9 @@ OLDER_DEFINITIONS = {1: "the period ratio against the input group's fastest cloc
                         "published bound across groups, before its exact figures on "
                         "processors (§4c)",
                      4: "a chain's latency with a processor per task, or a published "
-                        "bound across groups, before its exact figures on processors (§4c)"}
+                        "bound across groups, before its exact figures on processors (§4c)",
+                     5: "a chain's messages visible at their write, before the "
+                        "communication delays of the links (§4d)"}
 """What each older version of :data:`DEFINITIONS` judged differently (said when a
 results file of that version is refused)."""
 
