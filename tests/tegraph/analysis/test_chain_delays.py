@@ -18,6 +18,7 @@ from typer.testing import CliRunner
 from tegraph import analyze, load_skeleton
 from tegraph.analysis.chains import ChainFigures, chain_paths
 from tegraph.cli import app
+from tegraph.design.timeline import simulate_timeline
 from tegraph.model.build import build_teg
 from tegraph.model.skeleton import Skeleton
 from tests.paths import REPO
@@ -190,3 +191,16 @@ def test_the_cli_reports_the_delayed_figures(tmp_path, flags):
     assert {k: chain[k] for k in want} == want
     assert {k: chain["on_processors"][k] for k in want} == want
     assert F(chain["age"]) == 21
+
+
+def test_the_timeline_reads_the_delays_as_analyze_does():
+    # The race of test_a_non_blocking_read_at_the_instant_a_message_arrives_from_another_
+    # processor (network delay 9, MT1 on cpu1): 25, 25, 25, 35 on processors; the
+    # timeline's chain is the same one definition, and its worst data path waits a
+    # period more at the delayed hop: MT1 writes at 1 (visible at 10), MT2 reads at the
+    # start of its job 3, at 20.
+    tl = simulate_timeline(fig4(network=9, mt1_on="cpu1"), chains=[FIG4])
+    (c,) = tl.chains
+    assert figures(c.figures) == (25, 25, 25, 35)
+    steps = [(s.task, s.k, s.at) for s in c.figures.worst]
+    assert steps[1:3] == [("MT1", 1, 1), ("MT2", 3, 20)]
