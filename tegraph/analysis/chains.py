@@ -38,7 +38,7 @@ References
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -48,7 +48,7 @@ import numpy as np
 from maxplus.scalar import display_text, exact_text
 
 from ..model.build import task_chain
-from ..model.platform import processor_per_task
+from ..model.platform import link_delay, processor_per_task
 from ..model.skeleton import Link, Protocol, Skeleton
 from ..model.skeleton.checks import Locator, check_chain
 from ..model.teg import TimedEventGraph
@@ -88,7 +88,8 @@ class Hop:
     """The read waits for the message (ASYN/SYN, SYN/SYN): it sees a message visible at
     its very instant; a non-blocking read sees one only from a writer on its processor."""
     delay: Fraction = Fraction(0)
-    """The message is visible from its write plus ``delay`` on (spec §4d)."""
+    """The message is visible from its write plus ``delay`` on (spec §4d): the link's
+    :func:`~tegraph.model.platform.link_delay`."""
 
 
 @dataclass(frozen=True)
@@ -204,9 +205,15 @@ class ChainReport:
 # ---------------------------------------------------------------------- the paths
 
 
-def chain_paths(skeleton: Skeleton, teg: TimedEventGraph, chains: Sequence[Sequence[str]] = (),
-                *, delay_of: Callable[[Link], Fraction] | None = None) -> list[ChainPath]:
+def chain_paths(skeleton: Skeleton, teg: TimedEventGraph, chains: Sequence[Sequence[str]] = ()
+                ) -> list[ChainPath]:
     """The skeleton's own chains, then ``chains``, each checked and resolved (§4c).
+
+    Each hop's :attr:`Hop.delay` is its link's delay in ``skeleton`` (spec §4d, the
+    one definition :func:`~tegraph.model.platform.link_delay`: its own when declared,
+    else ``network.delay`` between two declared processors, else 0), so every caller
+    reads a message as visible from its write plus that delay, with and without
+    processors.
 
     Parameters
     ----------
@@ -215,9 +222,6 @@ def chain_paths(skeleton: Skeleton, teg: TimedEventGraph, chains: Sequence[Seque
         ``build_teg(skeleton)``.
     chains : sequence of task-name sequences
         Besides ``skeleton.chains`` (key path ``chain[i][j]`` in a message).
-    delay_of : callable, optional
-        The delay of a link (spec §4d: its message is visible that long after its
-        write); default 0.
 
     Raises
     ------
@@ -246,7 +250,7 @@ def chain_paths(skeleton: Skeleton, teg: TimedEventGraph, chains: Sequence[Seque
         if isinstance(chain, str) or not isinstance(chain, Sequence) or not links.follows(
                 tuple(chain)):
             check_chain(skeleton, chain, path, Locator(file=where))
-        out.append(links.path(tuple(chain), delay_of))
+        out.append(links.path(tuple(chain)))
     return out
 
 
@@ -295,15 +299,14 @@ class _Links:
             return _event(self.teg, task, self.port(task, port))
         return Instant(task, "start", f"{task}.read:{port} (at its job's start)")
 
-    def path(self, chain: tuple[str, ...],
-             delay_of: Callable[[Link], Fraction] | None) -> ChainPath:
+    def path(self, chain: tuple[str, ...]) -> ChainPath:
         sk, teg = self.sk, self.teg
         hops = []
         for a, b in zip(chain, chain[1:]):
             link = self.first[a, b]
             hops.append(Hop(a, b, link, _event(teg, a, self.port(*link.writer)),
                             self.reading(*link.reader), link.protocol in _BLOCKING,
-                            Fraction(0) if delay_of is None else delay_of(link)))
+                            link_delay(sk, link)))
         first, last = chain[0], chain[-1]
         sensors = [p for p in sk.tasks[first].inputs if (first, p) not in self.linked]
         actuators = [p for p in sk.tasks[last].outputs if (last, p) not in self.linked]

@@ -196,7 +196,9 @@ and the chains' objectives and ``max_latency`` exact on processors (spec v1.3 §
 use, age, reaction), a variant whose figure is undecided rejected, never ranked by a
 bound; version 6: as 5, and where the tasks run may be a choice (the allocation digits,
 least significant, an allocation and its renamings over interchangeable processors one
-variant), with the ``processors``, ``traffic`` and ``busiest`` objectives."""
+variant), with the ``processors``, ``traffic`` and ``busiest`` objectives, and a chain's
+message visible its link's communication delay after its write (spec v1.3 §4d), not at
+the write."""
 
 CURRENT_DEFINITIONS = ("each variant judged on its processors, spec §4b; a design where a "
                        "task runs free that the input design clocks is not kept unless "
@@ -212,7 +214,9 @@ OLDER_DEFINITIONS = {1: "the period ratio against the input group's fastest cloc
                         "processors (§4c)",
                      4: "a chain's latency with a processor per task, or a published "
                         "bound across groups, before its exact figures on processors (§4c)",
-                     5: "before the allocation of tasks to processors was a choice"}
+                     5: "before the allocation of tasks to processors was a choice, and "
+                        "a chain's messages visible at their write, before the "
+                        "communication delays of the links (§4d)"}
 """What each older version of :data:`DEFINITIONS` judged differently (said when a
 results file of that version is refused)."""
 

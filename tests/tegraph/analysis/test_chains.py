@@ -238,16 +238,6 @@ def test_the_file_chains_come_first_then_those_asked_for(tmp_path):
                                         "reaction": "13/5", "why_undecided": None}}
 
 
-def test_a_link_delay_of_zero_changes_nothing():
-    # The read rule takes a per-link delay (spec §4d: visible from w + delay); 0 is the
-    # default, and the figures are those without it.
-    sk = fig4([1, 2, 3, 4])
-    teg = build_teg(sk)
-    (p,) = chain_paths(sk, teg, [FIG4], delay_of=lambda link: F(0))
-    assert [h.delay for h in p.hops] == [0, 0, 0]
-    assert p == chain_paths(sk, teg, [FIG4])[0]
-
-
 @pytest.mark.parametrize("chain, key_path, wording", [
     (["TG.JS", "CO.JS"], "chain[0][1]", "no link from TG.JS to CO.JS"),
     (["TG.JS", "NOPE"], "chain[0][1]", "no task 'NOPE'"),

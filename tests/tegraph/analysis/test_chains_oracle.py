@@ -32,7 +32,8 @@ PROTOCOLS = ["ASYN/ASYN", "ASYN/ASYN", "ASYN/SYN", "ASYN/SYN", "SYN/ASYN", "SYN/
 def chained_skeletons(draw):
     """2 to 4 tasks T0 -> T1 -> ... linked in a line, the chain through all of them: some
     with a clock (phases too), a sensor, an actuator, a second input read before or after
-    the chain's, on one or two processors, priorities declared or rate-monotonic."""
+    the chain's, on one or two processors, priorities declared or rate-monotonic, links
+    with a delay of their own or the network's."""
     n = draw(st.integers(2, 4))
     tasks = {}
     declared = draw(st.booleans())
@@ -64,8 +65,23 @@ def chained_skeletons(draw):
                       "protocol": draw(st.sampled_from(["ASYN/ASYN", "ASYN/SYN"]))})
     if draw(st.booleans()):
         tasks[f"T{n - 1}"]["outputs"].append("act")
+    # Communication delays (spec §4d): some ASYN/ASYN links declare one (0 too), and a
+    # network delay may apply to those between processors; the other protocols then
+    # declare 0. A delay on a place (ASYN/SYN, SYN/ASYN) is left out: where messages
+    # pile up or a task starves, the schedule engine's memory then grows without bound
+    # (its limitation, not the read rule's); a rendezvous refuses a positive delay.
+    network = draw(st.sampled_from([None, None, 1, 3]))
+    for link in links:
+        if link["protocol"] != "ASYN/ASYN":
+            if network is not None:
+                link["delay"] = 0
+        elif (d := draw(st.sampled_from([None, None, 0, 1, 2, 5]))) is not None:
+            link["delay"] = d
+    out = {"tasks": tasks, "links": links, "chains": [[f"T{i}" for i in range(n)]]}
+    if network is not None:
+        out["network"] = {"delay": network}
     # A SYN/SYN write joined by two readers is a library limitation; T0 has two outputs.
-    return {"tasks": tasks, "links": links, "chains": [[f"T{i}" for i in range(n)]]}
+    return out
 
 
 def tick_by_tick(sk: Skeleton, end: int, priority: dict[str, int], processor: dict[str, str]):
@@ -135,6 +151,7 @@ def plain_figures(sk: Skeleton, end: int, priority, processor, shared: bool, lo:
     blocking = {link.reader for link in sk.links
                 if link.protocol.value in ("ASYN/SYN", "SYN/SYN")}
     starts = {t: [j[1] for j in jobs[t] if j[1] is not None] for t in chain}
+    declared = {t: task.processor or "default" for t, task in sk.tasks.items()}
 
     def reads(task: str, port: str) -> list[int]:
         inputs = sk.tasks[task].inputs
@@ -151,9 +168,14 @@ def plain_figures(sk: Skeleton, end: int, priority, processor, shared: bool, lo:
         link = next(x for x in sk.links if x.writer[0] == a and x.reader[0] == b)
         writes = fired[ports[link.writer]]
         at_instant = link.reader in blocking or (shared and processor[a] == processor[b])
+        # Visible from w + d (§4d): its own delay, else the network's between the two
+        # tasks' declared processors (also with a processor per task), else 0.
+        d = (int(link.delay) if link.delay is not None
+             else int(sk.network_delay or 0) if declared[a] != declared[b] else 0)
         carried: list[int | None] = []
         for rho in reads(b, link.reader[1]):
-            seen = [j for j, w in enumerate(writes) if w < rho or (at_instant and w == rho)]
+            seen = [j for j, w in enumerate(writes)
+                    if w + d < rho or (at_instant and w + d == rho)]
             j = max(seen, default=None)  # the newest visible message, "no data" before one
             carried.append(None if j is None or j >= len(data) else data[j])
         data = carried
