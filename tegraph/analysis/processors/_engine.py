@@ -203,9 +203,10 @@ class _States(ABC):
         return self._lazy
 
     def ahead(self, now: int) -> tuple[tuple[int, ...], ...]:
-        """The tokens of each timed place (clock self-loops), relative to now (0 when
-        available)."""
-        return tuple(tuple(max(a - now, 0) for a in self.tokens(p)) for p in self.timed)
+        """The tokens not yet available of each timed place (a clock's self-loop, a
+        link's delay), relative to now; the available ones are in the counts (a place
+        where messages pile up behind a delay keeps a key of bounded size)."""
+        return tuple(tuple(a - now for a in self.tokens(p) if a > now) for p in self.timed)
 
     @property
     def capped(self) -> list[tuple[int, int]]:
@@ -235,9 +236,10 @@ class _States(ABC):
                 continue
             if tight is None:
                 tight = self.tight_times()
-            # A place may differ only by gaining tokens, taken without ever being
-            # the latest input of its output event, and available once put.
-            if b < a or tight[p] >= old.time or (d.p_hold[p] and not d.p_job[p]):
+            # A place may differ only by gaining tokens, taken without ever being the
+            # latest input of its output event; the key holds its tokens not yet
+            # available (``ahead``), so those it gained are available ones.
+            if b < a or tight[p] >= old.time:
                 return None
             growing[p] = b - a
         return growing

@@ -123,7 +123,10 @@ def skeletons(draw):
             i = draw(st.integers(0, j - 1))
             proto = draw(st.sampled_from(["ASYN/SYN", "ASYN/SYN", "SYN/ASYN", "SYN/SYN"]))
             tasks[f"T{j}"]["inputs"].append(f"i{i}")
-            links.append({"from": f"T{i}:o{i}", "to": f"T{j}:i{i}", "protocol": proto})
+            link = {"from": f"T{i}:o{i}", "to": f"T{j}:i{i}", "protocol": proto}
+            if proto != "SYN/SYN" and draw(st.integers(0, 2)) == 0:
+                link["delay"] = draw(st.integers(0, 2))  # §4d: a place's holding
+            links.append(link)
     # A SYN/SYN write joined by two readers is a library limitation; keep one.
     seen = set()
     for link in links:
@@ -131,7 +134,13 @@ def skeletons(draw):
             if link["from"] in seen:
                 link["protocol"] = "ASYN/SYN"
             seen.add(link["from"])
-    return {"tasks": tasks, "links": links, **({"processors": kinds} if kinds else {})}
+    network = {"network": {"delay": 1}} if draw(st.integers(0, 3)) == 0 else {}
+    if network:  # a rendezvous across processors holds no delay (spec §1): none there
+        for link in links:
+            if link["protocol"] == "SYN/SYN":
+                link["delay"] = 0
+    return {"tasks": tasks, "links": links, **({"processors": kinds} if kinds else {}),
+            **network}
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
