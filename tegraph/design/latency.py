@@ -58,12 +58,13 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from maxplus.scalar import exact_text
+from maxplus.scalar import display_text, exact_text
 
 from ..analysis.analyze import analyze_skeleton
 from ..analysis.chains import ChainFigures, ChainReport
 from ..analysis.results import Report
 from ..model.elements import LinkLabel
+from ..model.platform import link_delay
 from ..model.skeleton import Link, Skeleton
 from ..model.skeleton.checks import KeyPath, Locator, check_chain
 from .holistic_latency import holistic_latency
@@ -323,7 +324,11 @@ def _chain_latency(skeleton: Skeleton, chain: list[str], path: KeyPath,
     if len(segments) > 1:
         if sched is None:
             sched = schedulability(skeleton, report)
-        result.bounds = _bounds(segments, sched, skeleton.unit)
+        # A message is visible its link's delay after its write (§4d): each delay along
+        # the chain adds to the bounds, which count processor time only.
+        delays = sum((link_delay(skeleton, by_pair[a, b][0])
+                      for a, b in itertools.pairwise(chain)), Fraction(0))
+        result.bounds = _bounds(segments, sched, skeleton.unit, delays)
     if len({skeleton.tasks[t].runs_on for t in chain}) > 1:
         # Across processors: the holistic bound (its release windows hold for any phases
         # of the groups' clocks relative to one another), a bound like the others; on
@@ -344,7 +349,8 @@ def _actuator(sk: Skeleton, task: str, linked: set[tuple[str, str]]) -> str:
     return f"{task}.write:{free[0]}" if free else f"the end of {task}"
 
 
-def _bounds(segments: list[Segment], sched: Schedulability, unit: str) -> list[Bound]:
+def _bounds(segments: list[Segment], sched: Schedulability, unit: str,
+            delays: Fraction = Fraction(0)) -> list[Bound]:
     # (T, R, (processor, priority)) of each segment; used only when every one is known
     # (else `why` says which is not).
     terms: list[tuple[Fraction, Fraction, tuple[str | None, int]]] = []
@@ -365,12 +371,16 @@ def _bounds(segments: list[Segment], sched: Schedulability, unit: str) -> list[B
     formula_duerr = ("sum over segments of (T + R), or T + max(R - T_next, 0) when the next "
                      "segment runs on the same processor at a lower priority")
     note = "T: period of the segment's group; R: its response time (Joseph-Pandya)"
+    if delays:
+        formula_davare += ", plus the links' delays (§4d)"
+        formula_duerr += ", plus the links' delays (§4d)"
+        note += f"; the links' delays along the chain: {display_text(delays)} {unit}"
     if why:
         reason = "; ".join(dict.fromkeys(why))
         return [Bound(DAVARE, None, formula_davare, reason),
                 Bound(DUERR, None, formula_duerr, reason)]
-    davare = sum((T + R for T, R, _ in terms), Fraction(0))
-    duerr = Fraction(0)
+    davare = sum((T + R for T, R, _ in terms), delays)
+    duerr = delays
     for i, (T, R, (proc, prio)) in enumerate(terms):
         if i + 1 < len(terms) and terms[i + 1][2][0] == proc and terms[i + 1][2][1] < prio:
             duerr += T + max(R - terms[i + 1][0], Fraction(0))

@@ -76,8 +76,9 @@ def test_an_asynchronous_hop_with_a_delay_by_hand():
     exact = r.figures.on_processors
     assert (exact.first_use, exact.age, exact.reaction) == (11, 11, 21)
     # Davare: (10 + 1) + (10 + 1) = 22, Dürr the same (the segments on different
-    # processors); neither counts the hop's delay.
-    assert {b.name: b.value for b in r.bounds} == {DAVARE: 22, DUERR: 22, HOLISTIC: 25}
+    # processors), each plus the hop's delay (the message is visible 3 after its write).
+    assert {b.name: b.value for b in r.bounds} == {DAVARE: 25, DUERR: 25, HOLISTIC: 25}
+    assert "the links' delays along the chain: 3 ms" in r.bounds[0].note
 
 
 def test_a_chain_on_one_processor_gets_no_holistic_bound():
