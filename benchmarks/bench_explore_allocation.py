@@ -18,7 +18,8 @@ puts group ``g`` on processor ``g mod P``; ``network.delay`` is 1/10 ms.
 2. **Incremental against from scratch**: a uniform sample of the target space's
    variants, each judged on a fresh copy of the space (cold caches, as a new ``tegraph
    explore`` starts), ``evaluate_variant(..., incremental=True)`` and ``False``
-   interleaved (A B A B); the whole space judged incrementally is row (a).
+   interleaved (A B A B); the whole space judged incrementally is row (a). The same on a
+   sample of the (b) space (``--sample-b``).
 3. **(b) local search**: 20 groups of 50 tasks (1,000 tasks, share 3/20), only the
    groups' processors chosen among 4 alike ones, Pareto local search of 1,000 variants
    (``max_variants=1000``), on a ``distributed.LocalCluster`` of 2 workers bound to
@@ -33,7 +34,7 @@ Usage::
 
     pip install '.[bench]'
     python benchmarks/bench_explore_allocation.py [--rounds 3] [--sample 300]
-        [--only a,incremental,b,growth]
+        [--sample-b 10] [--only a,incremental,b,growth,incremental-b]
 """
 
 from __future__ import annotations
@@ -173,8 +174,9 @@ def run_a(rounds: int) -> None:
               f"| {target} |", flush=True)
 
 
-def run_incremental(rounds: int, sample: int) -> None:
-    s = space_a("3 alike")
+def run_incremental(rounds: int, sample: int, s=None, label: str = "(a) space (3 alike)"
+                    ) -> None:
+    s = space_a("3 alike") if s is None else s
     rng = random.Random(1)
     variants = sorted(rng.sample(range(s.size), min(sample, s.size)))
     ways = {"incremental": True, "from scratch": False}
@@ -191,7 +193,7 @@ def run_incremental(rounds: int, sample: int) -> None:
             print(f"  incremental={flag}: {seconds[w][-1]:.2f} s", file=sys.stderr, flush=True)
     same = verdicts["incremental"] == verdicts["from scratch"]
     print(f"\n## Incremental against from-scratch judgement: {len(variants)} variants of "
-          f"the (a) space (3 alike), a uniform sample, cold caches\n")
+          f"the {label}, a uniform sample, cold caches\n")
     print("| judgement | seconds | ms per variant | variants/s |")
     print("|---|---:|---:|---:|")
     for w in ways:
@@ -260,6 +262,11 @@ def stirling2(n: int, k: int) -> int:
     return row[k]
 
 
+def big(n: int) -> str:
+    """An integer as the table shows it: in full up to 10^15, else in powers of ten."""
+    return f"{n:,}" if n < 10 ** 15 else f"{n:.2e}"
+
+
 def run_growth() -> None:
     print("\n## How the allocation space grows (placements counted, not judged)\n")
     print("| free units n | processors | k^n | canonical (judged once each) | ratio |")
@@ -275,7 +282,7 @@ def run_growth() -> None:
                       for j in range(n + 1))
         assert a.size == formula, (n, k, alike, a.size, formula)
         what = f"{k} alike" if alike == k else f"{k}, {alike} alike"
-        print(f"| {n} | {what} | {k ** n:,} | {a.size:,} | {k ** n / a.size:,.1f} |")
+        print(f"| {n} | {what} | {big(k ** n)} | {big(a.size)} | {k ** n / a.size:,.1f} |")
 
 
 def main() -> None:
@@ -283,7 +290,8 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--rounds-b", type=int, default=2)
     parser.add_argument("--sample", type=int, default=300)
-    parser.add_argument("--only", default="a,incremental,b,growth")
+    parser.add_argument("--sample-b", type=int, default=10)
+    parser.add_argument("--only", default="a,incremental,b,growth,incremental-b")
     parser.add_argument("--no-in-process-b", action="store_true")
     args = parser.parse_args()
     only = set(args.only.split(","))
@@ -295,6 +303,8 @@ def main() -> None:
         run_a(args.rounds)
     if "incremental" in only:
         run_incremental(args.rounds, args.sample)
+    if "incremental-b" in only:
+        run_incremental(args.rounds_b, args.sample_b, space_b(), "(b) space (1,000 tasks)")
     if "b" in only:
         run_b(args.rounds_b, not args.no_in_process_b)
     print(f"\nload average after: {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
