@@ -56,7 +56,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
-from ...model.build import activation_end
+from ...model.build import activation_end, holding_sources
 from ...model.platform import Platform
 from ...model.skeleton import Skeleton
 from ...model.teg import TimedEventGraph
@@ -125,17 +125,26 @@ def processor_levels(skeleton: Skeleton, teg: TimedEventGraph,
     [(('imu', 'est'), 'imu.clock', None), (('log',), None, None)]
     """
     waits = _Waits(teg)
-    return [_part_levels(skeleton, teg, groups, platform, waits) for groups in parts]
+    # A link's delay (§4d) leaves its reader idle while the message travels: a group is
+    # then no unit of its summed work at one priority, and the levels do not apply.
+    owners = teg.transition_attrs
+    delayed = {t for p, source in zip(teg.places, holding_sources(teg))
+               if source.kind in ("delay", "network-delay") and p.holding > 0
+               for t in owners[p.dst].get("tasks", ())}
+    return [_part_levels(skeleton, teg, groups, platform, waits, delayed) for groups in parts]
 
 
 def _part_levels(skeleton: Skeleton, teg: TimedEventGraph, groups: Sequence[Sequence[str]],
-                 platform: Platform, waits: _Waits) -> Levels | str:
+                 platform: Platform, waits: _Waits, delayed: set[str]) -> Levels | str:
     processors = sorted({platform.processor_of[t] for g in groups for t in g})
     if len(processors) != 1:
         return f"its tasks run on {len(processors)} processors"
     processor = processors[0]
     if not platform.preemptive(processor):
         return f"the processor {processor} does not preempt"
+    held = next((t for g in groups for t in g if t in delayed), None)
+    if held is not None:
+        return f"a link into {held} holds a delay (§4d)"
     owner: dict[int, str] = {}
     levels = []
     for group in groups:

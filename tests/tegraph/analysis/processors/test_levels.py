@@ -146,3 +146,21 @@ def test_a_non_preemptive_processor_has_no_levels():
     assert isinstance(levels_of(data), Levels)
     data["processors"] = {"default": {"preemptive": False}}
     assert levels_of(data) == "the processor default does not preempt"
+
+
+def test_a_delayed_link_in_a_group_declines_the_levels():
+    # A -> B (ASYN/SYN, delay 8) on one processor, every 10, one priority: A 0-1, B
+    # (visible at 9) 9-11, so A#2 (released 10) waits for it: 11-12, its message visible
+    # at 20 with A#3: A 20-21 first (file order), B 21-23 (response 3). One unit of
+    # summed work (3 every 10, from the tick) would say the group ends by 3: the levels
+    # decline; the exact schedule answers.
+    sk = Skeleton.from_dict({"tasks": {
+        "A": {"duration": 1, "period": 10, "outputs": ["x"]},
+        "B": {"duration": 2, "inputs": ["x"]}},
+        "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN", "delay": 8}]})
+    report = analyze_skeleton(sk, processors=True)
+    [levels] = processor_levels(sk, build_teg(sk), [[g.tasks for g in report.groups]],
+                                platform_of(sk, report.groups))
+    assert levels == "a link into B holds a delay (§4d)"
+    b = report.schedule.tasks["B"]
+    assert (b.period, b.response) == (10, 3)
