@@ -21,7 +21,7 @@ from tegraph import sensitivity as _sensitivity
 from tegraph.analysis.analyze import analyze_skeleton
 from tegraph.analysis.sensitivity.parametric import parse_vary, skeleton_at
 from tegraph.errors import InputError
-from tegraph.report import render_text
+from tegraph.report import render_text, to_json
 
 REPO = Path(__file__).resolve().parents[4]
 
@@ -236,3 +236,16 @@ def test_cli_varies_the_network_delay(tmp_path):
 def test_render_text_names_the_delay():
     r = _sensitivity(sk(), ["network.delay"], processors=False)
     assert "delta_net = network.delay" in render_text(r)
+
+
+def test_json_document_of_a_delay_follows_its_schema():
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads((REPO / "docs" / "report.schema.json").read_text())
+    for processors in (True, False):
+        r = _sensitivity(sk(), ["network.delay", "links[1].delay=0..8"], processors=processors)
+        doc = json.loads(to_json(r))
+        jsonschema.validate(doc, schema)
+        kinds = [p["kind"] for p in doc["parameters"]]
+        assert kinds == ["network-delay", "delay"]
+        assert (doc["margins"]["network.delay"]["high"],
+                doc["margins"]["links[1].delay"]["high"]) == ("9", "8")
