@@ -886,9 +886,11 @@ def sensitivity_command(
     file: SkeletonFile,
     vary: Annotated[list[str] | None, typer.Option(
         "--vary", metavar="PARAM[=LOW..HIGH]",
-        help="A parameter to vary: TASK.duration or CLOCK.period (a task's own clock is "
-             "TASK.clock), optionally with its range, exact: A.duration=0..5/2, "
-             "rtc.period=1.. (repeatable; default: every duration over [0, inf)).")] = None,
+        help="A parameter to vary: TASK.duration, CLOCK.period (a task's own clock is "
+             "TASK.clock), or a declared delay network.delay or links[i].delay (the i-th "
+             "link of the file, from 0), optionally with its range, exact: "
+             "A.duration=0..5/2, rtc.period=1.., network.delay=0..2 (repeatable; default: "
+             "every duration over [0, inf)).")] = None,
     json_out: JsonFlag = False,
     plot: Annotated[Path | None, typer.Option(
         "--plot", metavar="OUT.svg|png",

@@ -1,6 +1,6 @@
 """What using a margin costs in latency: each chain's first use at the ends of the margins.
 
-A margin says how far a duration or a period may move; a designer who uses it
+A margin says how far a duration, a period or a delay may move; a designer who uses it
 changes the schedule, and so the latency of the chains (spec §4c). For each
 chain (the skeleton's and those asked for) this evaluates its first use, exactly,
 at the nominal values, at the scaling factor (every varied duration times the
@@ -13,17 +13,17 @@ leaves the figure as it is at the nominal values, and is not evaluated again.
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from ...model.platform import processor_of, processor_parts
+from ...model.build import link_ports
+from ...model.platform import crosses, processor_of, processor_parts
 from ...model.skeleton import Skeleton
 from ...model.structure import Structure
 from ..analyze import analyze_skeleton
 from ..chains import ChainFigures
-from .parametric import Parameter
+from .parametric import Parameter, skeleton_at
 from .results import ChainAtMargins
 
 __all__ = ["ChainAtMargins", "chains_at_margins"]
@@ -56,7 +56,6 @@ def chains_at_margins(skeleton: Skeleton, chains: Sequence[Sequence[str]],
     structure = Structure.of(skeleton)
     part = processor_parts(structure.groups, processor_of(skeleton))
     part_of = {t: part[g] for t, g in structure.group_of.items()}
-    by_name = {p.name: p for p in parameters}
     out = []
     for chain in all_chains:
         parts = {part_of[t] for t in chain}
@@ -65,7 +64,7 @@ def chains_at_margins(skeleton: Skeleton, chains: Sequence[Sequence[str]],
 
         def at(values: dict[str, Fraction], chain: tuple[str, ...] = chain,
                tasks: list[str] = tasks) -> ChainFigures:
-            sub = _moved(skeleton, by_name, values).restricted_to(tasks)
+            sub = _moved(skeleton, parameters, values).restricted_to(tasks)
             report = analyze_skeleton(sub, semiflow_max_places=0, processors=processors,
                                       max_events=max_events, chains=[chain])
             c = report.chains[-1]  # after the sub-skeleton's own chains: the one asked for
@@ -90,21 +89,24 @@ def chains_at_margins(skeleton: Skeleton, chains: Sequence[Sequence[str]],
 
 
 def _touches(sk: Skeleton, p: Parameter, tasks: set[str]) -> bool:
-    """Whether parameter ``p`` is a duration or a clock of one of ``tasks``."""
+    """Whether parameter ``p`` is a duration or a clock of one of ``tasks``, or the delay
+    of a link between two of them (its own, or the network's where it takes it: a delay
+    moves which message a read sees, spec §4c, also on an ASYN/ASYN link, which has no
+    place)."""
     if p.kind == "duration":
         return p.owner in tasks
-    return any(sk.tasks[t].clock == p.owner for t in tasks)
+    if p.kind == "period":
+        return any(sk.tasks[t].clock == p.owner for t in tasks)
+    inside = [x for x in sk.links if x.writer[0] in tasks and x.reader[0] in tasks]
+    if p.kind == "delay":
+        return any(link_ports(x) == p.owner for x in inside)
+    return any(x.delay is None and crosses(sk, x) for x in inside)
 
 
-def _moved(sk: Skeleton, by_name: dict[str, Parameter], values: dict[str, Fraction]) -> Skeleton:
-    """The skeleton with these parameters at these values."""
+def _moved(sk: Skeleton, parameters: Sequence[Parameter],
+           values: dict[str, Fraction]) -> Skeleton:
+    """The skeleton with these parameters (by name) at these values."""
     if not values:
         return sk
-    tasks, clocks = dict(sk.tasks), dict(sk.clocks)
-    for name, value in values.items():
-        p = by_name[name]
-        if p.kind == "duration":
-            tasks[p.owner] = dataclasses.replace(tasks[p.owner], duration=value)
-        else:
-            clocks[p.owner] = dataclasses.replace(clocks[p.owner], period=value)
-    return dataclasses.replace(sk, tasks=tasks, clocks=clocks)
+    index = {p.name: j for j, p in enumerate(parameters)}
+    return skeleton_at(sk, parameters, {index[name]: v for name, v in values.items()})

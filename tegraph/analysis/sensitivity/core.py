@@ -1,7 +1,8 @@
 """How much the execution times may grow, and each period as an exact formula.
 
 ``sensitivity`` answers, exactly, for the parameters named by ``vary``
-(durations ``TASK.duration`` and periods ``CLOCK.period``):
+(durations ``TASK.duration``, periods ``CLOCK.period`` and the declared delays
+``network.delay`` and ``links[i].delay``, spec §4d):
 
 - **scaling**: the factors α >= 0 by which all the varied durations can be
   multiplied together with the skeleton consistent (spec §4), as a union of
@@ -91,7 +92,8 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     skeleton : Skeleton
     vary : None, sequence of str or mapping
         The parameters (see :func:`~.parametric.parse_vary`): texts
-        ``TASK.duration``, ``CLOCK.period``, each optionally ``=LOW..HIGH``.
+        ``TASK.duration``, ``CLOCK.period``, ``network.delay``, ``links[i].delay``,
+        each optionally ``=LOW..HIGH``.
         Default: every task's duration over ``[0, ∞)``.
     formulas : bool
         Compute the period formulas (the part that costs most with many

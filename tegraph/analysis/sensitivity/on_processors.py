@@ -562,9 +562,7 @@ def verdict_on(ctx: Any, values: dict[int, Fraction], sub: Skeleton | None = Non
     from ..analyze import analyze_skeleton
 
     sub = ctx.skeleton if sub is None else sub
-    mine = {j: v for j, v in values.items()
-            if ctx.params[j].owner in (sub.tasks if ctx.params[j].kind == "duration"
-                                       else sub.clocks)}
+    mine = {j: v for j, v in values.items() if ctx.params[j].applies_to(sub)}
     moved = skeleton_at(sub, ctx.params, mine)
     # A small budget first: just beyond an end the first overrun comes early, and
     # the schedule would spend its whole budget looking for a regime after it.

@@ -1,10 +1,16 @@
 """The parameters of a sensitivity analysis and each group as a parametric event graph.
 
-A *parameter* is a task's duration (``TASK.duration``) or a clock's period
-(``CLOCK.period``; a task's private clock is ``TASK.clock``), with the range
-of values to explore. Every holding time of the timed event graph is then an
+A *parameter* is a task's duration (``TASK.duration``), a clock's period
+(``CLOCK.period``; a task's private clock is ``TASK.clock``), a link's declared
+delay (``links[i].delay``, i the link's place in the file, as the key paths of
+the messages name it) or the network's (``network.delay``), with the range of
+values to explore. Every holding time of the timed event graph is then an
 affine function of the parameters: spec §2 puts a duration on the places that
-leave ``T.compute`` and a period on a clock's self-loop, and nothing else.
+leave ``T.compute`` and a period on a clock's self-loop, §4d a delay on the
+place of an ASYN/SYN or SYN/ASYN link, and nothing else. Only a declared delay
+is a parameter (0 included): a link that declares none holds no place of its
+own to vary, and ``network.delay`` declared is what makes the links between
+processors hold it.
 
 This module does not restate spec §2: it reads the affine structure off the
 record :func:`~tegraph.model.build.build_teg` keeps, the parameter each
@@ -19,6 +25,7 @@ works on one small group at a time, with its own exact scale.
 from __future__ import annotations
 
 import dataclasses
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -32,9 +39,10 @@ from maxplus.errors import MaxPlusValueError
 from maxplus.scalar import exact_time, size_problem
 
 from ...errors import InputError
-from ...model.build import activation_end, build_teg, holding_sources
+from ...model.build import activation_end, build_teg, holding_sources, link_ports
 from ...model.limits import written
-from ...model.skeleton import Link, Skeleton
+from ...model.platform import crosses
+from ...model.skeleton import Link, Protocol, Skeleton
 from ...model.structure import Structure
 from ...model.teg import Place
 
@@ -48,6 +56,11 @@ __all__ = [
     "skeleton_at",
 ]
 
+DELAY_KINDS = ("delay", "network-delay")
+"""The kinds of a delay parameter: a link's own, the network's (spec §4d)."""
+
+_LINK_DELAY = re.compile(r"links\[(\d+)\]\.delay")
+
 @dataclass(frozen=True)
 class Parameter:
     """One varied time value and its range.
@@ -55,10 +68,12 @@ class Parameter:
     Attributes
     ----------
     name : str
-        ``TASK.duration`` or ``CLOCK.period``.
-    kind : {"duration", "period"}
+        ``TASK.duration``, ``CLOCK.period``, ``links[i].delay`` or ``network.delay``.
+    kind : {"duration", "period", "delay", "network-delay"}
+        As the :class:`~tegraph.model.build.HoldingSource` of the places holding it.
     owner : str
-        The task or the clock.
+        The task, the clock, the link's ports ``"W:p -> R:q"``
+        (:func:`~tegraph.model.build.link_ports`), or ``""`` for the network.
     nominal : Fraction
         Its value in the skeleton.
     low, high : Fraction, Fraction or None
@@ -78,8 +93,36 @@ class Parameter:
 
     @property
     def symbol(self) -> str:
-        """Name of its symbol in a formula: ``d_TASK`` or ``P_CLOCK``."""
+        """Name of its symbol in a formula: ``d_TASK``, ``P_CLOCK``, ``delta_links_i``
+        (``links[i].delay``) or ``delta_net`` (``network.delay``).
+
+        >>> Parameter("links[2].delay", "delay", "A:x -> B:y", Fraction(0), Fraction(0),
+        ...           None).symbol
+        'delta_links_2'
+        """
+        if self.kind == "network-delay":
+            return "delta_net"
+        if self.kind == "delay":
+            match = _LINK_DELAY.fullmatch(self.name)
+            return f"delta_links_{match.group(1) if match else self.owner}"
         return ("d_" if self.kind == "duration" else "P_") + self.owner
+
+    def applies_to(self, skeleton: Skeleton) -> bool:
+        """Whether ``skeleton`` (the whole one, or a part) holds what it names: the task,
+        the clock, the link, or a declared ``network.delay``.
+
+        >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 1}}})
+        >>> Parameter("A.duration", "duration", "A", Fraction(1), Fraction(0), None
+        ...           ).applies_to(sk)
+        True
+        """
+        if self.kind == "duration":
+            return self.owner in skeleton.tasks
+        if self.kind == "period":
+            return self.owner in skeleton.clocks
+        if self.kind == "delay":
+            return any(link_ports(x) == self.owner for x in skeleton.links)
+        return skeleton.network_delay is not None
 
     def contains(self, value: Fraction) -> bool:
         """Whether ``value`` lies in the range.
@@ -101,8 +144,10 @@ def parse_vary(skeleton: Skeleton, vary: Any = None) -> tuple[Parameter, ...]:
     vary : None, sequence or mapping
         None: every task's duration over ``[0, ∞)``. A sequence of texts
         ``NAME`` or ``NAME=LOW..HIGH`` (``HIGH`` empty: unbounded), or a
-        mapping ``NAME -> None | (low, high)``. ``NAME`` is ``TASK.duration``
-        or ``CLOCK.period``; values are exact (``5/2``, ``0.1``).
+        mapping ``NAME -> None | (low, high)``. ``NAME`` is ``TASK.duration``,
+        ``CLOCK.period``, ``links[i].delay`` (the i-th link of the file, which
+        declares a ``delay``) or ``network.delay`` (declared); values are exact
+        (``5/2``, ``0.1``). A delay's default range is ``[0, ∞)``.
 
     Returns
     -------
@@ -113,7 +158,8 @@ def parse_vary(skeleton: Skeleton, vary: Any = None) -> tuple[Parameter, ...]:
     ------
     InputError
         An unknown name, a name given twice, a malformed, empty or negative
-        range; ``where`` is ``vary`` or ``vary[i]``.
+        range, a delay the file does not declare or that a rendezvous would
+        take (spec §4d); ``where`` is ``vary`` or ``vary[i]``.
 
     Examples
     --------
@@ -127,6 +173,20 @@ def parse_vary(skeleton: Skeleton, vary: Any = None) -> tuple[Parameter, ...]:
     Traceback (most recent call last):
     ...
     tegraph.errors.InputError: vary[0]: unknown parameter 'B.duration': no task 'B'; ...
+
+    A delay is varied where the file declares it:
+
+    >>> sk = Skeleton.from_dict({"network": {"delay": 1}, "tasks": {
+    ...     "A": {"duration": 1, "period": 10, "outputs": ["x"], "processor": "p"},
+    ...     "B": {"duration": 2, "inputs": ["x"], "processor": "q"}},
+    ...     "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]})
+    >>> p, = parse_vary(sk, ["network.delay=0..8"])
+    >>> p.kind, p.nominal, p.high, p.symbol
+    ('network-delay', Fraction(1, 1), Fraction(8, 1), 'delta_net')
+    >>> parse_vary(sk, ["links[0].delay"])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    tegraph.errors.InputError: vary[0]: links[0] (A:x -> B:x (ASYN/SYN)) declares no delay ...
     """
     if vary is None:
         return tuple(Parameter(f"{t}.duration", "duration", t, task.duration, Fraction(0), None)
@@ -169,9 +229,13 @@ def _range_text(text: str, where: str) -> tuple[str, str | None]:
 
 def _parameter(skeleton: Skeleton, name: str, rng: Any, where: str) -> Parameter:
     tasks, clocks = skeleton.tasks, skeleton.clocks
-    known = (f"expected TASK.duration or CLOCK.period (tasks: {', '.join(tasks) or 'none'}; "
-             f"clocks: {', '.join(clocks) or 'none'})")
-    if name.endswith(".duration"):
+    known = (f"expected TASK.duration, CLOCK.period, links[i].delay or network.delay "
+             f"(tasks: {', '.join(tasks) or 'none'}; clocks: {', '.join(clocks) or 'none'}; "
+             f"{len(skeleton.links)} link{'s' * (len(skeleton.links) != 1)})")
+    link_delay = _LINK_DELAY.fullmatch(name)
+    if link_delay is not None or name == "network.delay":
+        kind, owner, nominal = _delay(skeleton, name, link_delay, where)
+    elif name.endswith(".duration"):
         owner, kind = name[: -len(".duration")], "duration"
         if owner not in tasks:
             raise InputError(f"unknown parameter {name!r}: no task {owner!r}; {known}", where)
@@ -208,6 +272,47 @@ def _parameter(skeleton: Skeleton, name: str, rng: Any, where: str) -> Parameter
                          f"out its nominal value {nominal}; expected LOW <= {nominal} <= HIGH "
                          "(change the skeleton to move the nominal value)", where)
     return Parameter(name, kind, owner, nominal, low, high)
+
+
+def _delay(skeleton: Skeleton, name: str, link_delay: re.Match[str] | None,
+           where: str) -> tuple[str, str, Fraction]:
+    """The kind, owner and nominal value of a delay parameter, refused where the file
+    does not declare it (docs/skeleton.md: a delay to be varied is declared, 0
+    included) or where a rendezvous would take it (§4d refuses a positive one)."""
+    links = skeleton.links
+    if link_delay is not None:
+        i = int(link_delay.group(1))
+        if i >= len(links):
+            raise InputError(f"unknown parameter {name!r}: the file has {len(links)} "
+                             f"link{'s' * (len(links) != 1)}"
+                             + (f" (links[0] .. links[{len(links) - 1}])" if links else "")
+                             + "; expected links[i].delay with i a link's place in the file",
+                             where)
+        link = links[i]
+        if link.delay is None:
+            inherits = (" (it takes network.delay: vary network.delay)"
+                        if skeleton.network_delay is not None and crosses(skeleton, link)
+                        else "")
+            raise InputError(f"links[{i}] ({link.label}) declares no delay{inherits}; only a "
+                             "declared delay can be varied: expected `delay: 0` (or its "
+                             f"nominal value) on links[{i}] in the file", where)
+        if link.protocol is Protocol.SYN_SYN:
+            raise InputError(f"links[{i}] ({link.label}) is a rendezvous, one event of both "
+                             "tasks, which no delay can separate (spec §4d): its delay cannot "
+                             "be varied; expected the delay of an ASYN/SYN, SYN/ASYN or "
+                             "ASYN/ASYN link", where)
+        return "delay", link_ports(link), link.delay
+    if skeleton.network_delay is None:
+        raise InputError("network.delay is not declared; only a declared delay can be varied: "
+                         "expected `network: {delay: 0}` (or its nominal value) in the file",
+                         where)
+    for i, link in enumerate(links):
+        if link.protocol is Protocol.SYN_SYN and link.delay is None and crosses(skeleton, link):
+            raise InputError(f"network.delay is also the delay of links[{i}] ({link.label}), a "
+                             "rendezvous between two processors, which no delay can separate "
+                             "(spec §4d): it cannot be varied; expected `delay: 0` of its own "
+                             f"on links[{i}] (or another protocol)", where)
+    return "network-delay", "", skeleton.network_delay
 
 
 def _value(text: Any, name: str, end: str, where: str) -> Fraction:
@@ -365,19 +470,25 @@ def parametric_groups(skeleton: Skeleton, params: Sequence[Parameter],
                         if ("duration", t) in by_owner]
                        + [(by_owner[("period", c)], "period", c) for c in clocks
                           if ("period", c) in by_owner])
-        out.append(_parametric_group(sub, g, local))
+        out.append(_parametric_group(sub, g, local, by_owner))
     _structure(out)
     return out
 
 
-def _parametric_group(sub: Skeleton, index: int, local: list[tuple[int, str, str]]
-                      ) -> ParametricGroup:
+def _parametric_group(sub: Skeleton, index: int, local: list[tuple[int, str, str]],
+                      by_owner: Mapping[tuple[str, str], int]) -> ParametricGroup:
     """The group ``sub`` built once; each place holds the varied parameter its
-    recorded source names, or its built (constant) holding."""
+    recorded source names, or its built (constant) holding.
+
+    ``local``: the group's durations and periods; the delays it depends on are those
+    its places hold (a link without a place, ASYN/ASYN, moves no holding time)."""
     teg = build_teg(sub)
+    sources = holding_sources(teg)
+    local = sorted({*local, *((by_owner[(s.kind, s.owner)], s.kind, s.owner) for s in sources
+                              if s.kind in DELAY_KINDS and (s.kind, s.owner) in by_owner)})
     param_of = {(kind, owner): j for j, kind, owner in local}
     places = teg.places
-    param = [param_of.get((source.kind, source.owner), -1) for source in holding_sources(teg)]
+    param = [param_of.get((source.kind, source.owner), -1) for source in sources]
     const = [Fraction(0) if j >= 0 else p.holding for p, j in zip(places, param)]
     ticks = teg.attrs["clocks"]
     clocks = {c: ClockInfo(c, ticks[c], clock.period, param_of.get(("period", c), -1),
@@ -407,12 +518,20 @@ def _with_values(sub: Skeleton, local: list[tuple[int, str, str]],
                  values: dict[int, Fraction]) -> Skeleton:
     tasks = dict(sub.tasks)
     clocks = dict(sub.clocks)
+    links = list(sub.links)
+    network = sub.network_delay
     for j, kind, owner in local:
         if kind == "duration":
             tasks[owner] = dataclasses.replace(tasks[owner], duration=values[j])
-        else:
+        elif kind == "period":
             clocks[owner] = dataclasses.replace(clocks[owner], period=values[j])
-    return dataclasses.replace(sub, tasks=tasks, clocks=clocks)
+        elif kind == "delay":  # the link, where ``sub`` (a part) holds it
+            links = [dataclasses.replace(x, delay=values[j]) if link_ports(x) == owner else x
+                     for x in links]
+        else:
+            network = values[j]
+    return dataclasses.replace(sub, tasks=tasks, clocks=clocks, links=links,
+                               network_delay=network)
 
 
 def _structure(groups: Sequence[ParametricGroup]) -> None:
@@ -456,6 +575,16 @@ def skeleton_at(skeleton: Skeleton, params: Sequence[Parameter],
     >>> moved = skeleton_at(sk, ps, {0: Fraction(3), 1: Fraction(5)})
     >>> moved.tasks["A"].duration, moved.clocks["A.clock"].period
     (Fraction(3, 1), Fraction(5, 1))
+
+    A delay parameter moves the link, or the network, it names:
+
+    >>> sk = Skeleton.from_dict({"tasks": {
+    ...     "A": {"duration": 1, "period": 10, "outputs": ["x"]},
+    ...     "B": {"duration": 2, "inputs": ["x"]}},
+    ...     "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN", "delay": 0}]})
+    >>> ps = parse_vary(sk, ["links[0].delay"])
+    >>> skeleton_at(sk, ps, {0: Fraction(3)}).links[0].delay
+    Fraction(3, 1)
     """
     local = [(j, params[j].kind, params[j].owner) for j in values]
     return _with_values(skeleton, local, dict(values))

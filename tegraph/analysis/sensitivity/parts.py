@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from ...model.build import build_teg
+from ...model.build import build_teg, holding_sources
 from ...model.platform import Platform, clock_hyperperiod, platform_of
 from ...model.skeleton import Skeleton
 from ..processors._engine import PartData, PartResult, simulate_part
@@ -44,7 +44,7 @@ from ..processors.schedule import (
 )
 from .affine import Cut, lin
 from .levels import LevelLine, level_line
-from .parametric import Parameter, skeleton_at
+from .parametric import DELAY_KINDS, Parameter, skeleton_at
 from .walk import Outcome
 
 __all__ = ["RUN_BUDGETS", "SCHEDULE", "THEOREM", "Budget", "ProcessorLine"]
@@ -131,6 +131,11 @@ class _Part:
     """Why its levels left points of a line undecided (a unit without closing task
     missing its deadline), in words."""
     too_long: str | None = None
+    delays: dict[int, list[int]] = dataclasses.field(default_factory=dict)
+    """The local places holding each varied delay j of the part's links."""
+    delay_at_zero: dict[int, str] = dataclasses.field(default_factory=dict)
+    """A place of the part's links holding delay j that no simulation holds (its events
+    fire at time 0 only at the nominal values), named ``W.write:p -> R.read:q``."""
 
 
 @dataclass
@@ -195,6 +200,7 @@ class ProcessorLine:
         self._level_lines: dict[tuple, LevelLine | str] = {}
         self._duration_index = {p.owner: j for j, p in enumerate(self.params)
                                 if p.kind == "duration"}
+        self._delay_places = self._delays()
         self.why_cut = self.spend.cap_text()
         # Places from events that fire infinitely often at time 0 into the rest
         # grow at once (schedule.py's module docstring): not schedulable, as
@@ -213,6 +219,32 @@ class ProcessorLine:
                     self.zero_grows.setdefault(self.part_of[owner[0]], text)
                 elif self.whole_grows is None:
                     self.whole_grows = text
+
+    def _delays(self) -> dict[int, list[int]]:
+        """The places (global numbers) holding each varied delay, read off the graph's
+        holding sources as the parametric groups are (a link without a place,
+        ASYN/ASYN, moves no event of the schedule), and each part's own."""
+        param_of = {(p.kind, p.owner): j for j, p in enumerate(self.params)
+                    if p.kind in DELAY_KINDS}
+        out: dict[int, list[int]] = {}
+        if not param_of:
+            return out
+        for q, source in enumerate(holding_sources(self.teg)):
+            j = param_of.get((source.kind, source.owner))
+            if j is not None:
+                out.setdefault(j, []).append(q)
+        attrs, names, net = self.teg.transition_attrs, self.teg.transition_names, self.net
+        local = [{int(q): i for i, q in enumerate(part.places)} for part in self.parts]
+        for j, places in out.items():
+            for q in places:
+                src, dst = int(net.src[q]), int(net.dst[q])
+                # A link place joins two tasks of one group: one part.
+                i = self.part_of[attrs[src]["tasks"][0]]
+                if q in local[i]:
+                    self.parts[i].delays.setdefault(j, []).append(local[i][q])
+                else:
+                    self.parts[i].delay_at_zero.setdefault(j, f"{names[src]} -> {names[dst]}")
+        return out
 
     def tasks_of(self, parts: list[int]) -> list[str]:
         """Every task of the skeleton joined to ``parts`` (by a group or a processor), in
@@ -243,6 +275,9 @@ class ProcessorLine:
             if p.kind == "duration":
                 if p.owner in self.part_of:
                     out.add(self.part_of[p.owner])
+            elif p.kind in DELAY_KINDS:
+                out.update(i for i, part in enumerate(self.parts)
+                           if j in part.delays or j in part.delay_at_zero)
             else:
                 out.update(self.part_of[t] for t, task in self.skeleton.tasks.items()
                            if task.clock == p.owner and t in self.part_of)
@@ -256,7 +291,7 @@ class ProcessorLine:
         part = self.parts[part_index]
         cut = Cut(at, side)
         periods_move = any(k and self.params[j].kind == "period" for j, k in direction.items())
-        if not periods_move and self.use_theorem:
+        if self._delays_move(direction) is None and not periods_move and self.use_theorem:
             line = self._level_line(part_index, base, direction)
             if isinstance(line, LevelLine):
                 out = line.outcome(at, side)
@@ -314,6 +349,9 @@ class ProcessorLine:
         its units close their activations)."""
         if any(k and self.params[j].kind == "period" for j, k in direction.items()):
             return "a period moves along the line (the units' scheduling points move with it)"
+        delay = self._delays_move(direction)
+        if delay is not None:
+            return delay
         line = self._level_line(part_index, base, direction)
         return line if isinstance(line, str) else None
 
@@ -338,10 +376,22 @@ class ProcessorLine:
             return self.skeleton.tasks[task].duration, Fraction(0)
         return self._value(j, base, direction)
 
+    def _delays_move(self, direction: dict[int, Fraction]) -> str | None:
+        """Why the levels do not decide along a line on which a delay moves (None: no
+        delay moves): a unit is its group's summed work, released at its tick, which a
+        delay between two of its jobs would hold back."""
+        moving = [self.params[j].name for j, k in direction.items()
+                  if k and self.params[j].kind in DELAY_KINDS and self._delay_places.get(j)]
+        if moving:
+            return (f"{moving[0]} moves along the line (a periodic unit takes no delay "
+                    "between its jobs)")
+        return None
+
     def _unscheduled(self, part: _Part, direction: dict[int, Fraction]) -> str | None:
         """Why the schedule of the part cannot be simulated along the line: a moving task
         has duration 0 at the nominal values, with its events at time 0 only (its schedule
-        of a positive duration is not built); None: it can."""
+        of a positive duration is not built), or so has an event a moving delay holds
+        back; None: it can."""
         moving = {self.params[j].owner for j, k in direction.items()
                   if k and self.params[j].kind == "duration"}
         names = set(part.names)
@@ -350,6 +400,11 @@ class ProcessorLine:
                 return (f"{t} has duration 0 at the nominal values and its events fire at "
                         "time 0 only there; its schedule with a positive duration is not "
                         "simulated")
+        for j, k in direction.items():
+            if k and j in part.delay_at_zero:
+                return (f"{part.delay_at_zero[j]} holds {self.params[j].name}, and its events "
+                        "fire at time 0 only at the nominal values; its schedule with a "
+                        "positive delay is not simulated")
         return None
 
     def _saturated(self, part: _Part, base: dict[int, Fraction],
@@ -499,6 +554,10 @@ class ProcessorLine:
             for q, (s, d) in enumerate(zip(data.p_src, data.p_dst)):
                 if s == d == tick:
                     hold[q] = lin(c * scale, k * scale, cut)
+        for j, places in part.delays.items():
+            c, k = self._value(j, base, direction)
+            for q in places:
+                hold[q] = lin(c * scale, k * scale, cut)
         return dataclasses.replace(data, duration=duration, p_hold=hold)
 
     def _line_periods(self, base: dict[int, Fraction], direction: dict[int, Fraction]
