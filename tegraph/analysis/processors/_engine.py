@@ -228,7 +228,6 @@ class _States(ABC):
 
     def repeats(self, old: Snapshot, new: Snapshot) -> dict[int, int] | None:
         """The growing places when ``new`` repeats ``old`` up to them (proof in docs), else None."""
-        d = self.d
         tight = None  # read once, when a place differs
         growing = {}
         for p, (a, b) in enumerate(zip(old.counts, new.counts)):

@@ -294,9 +294,9 @@ def allocation_of(skeleton: Skeleton, offer: Sequence[str] | str | None,
             raise InputError(f"unknown processor {proc!r}; expected one of the processors "
                              f"offered ({', '.join(names)})", where)
         if task not in unit_of:
-            held = next(t for u in every if task in u for t in u if t in stays)
-            raise InputError(f"{task!r} stays where the file puts it ({held!r} runs on "
-                             f"{stays[held]!r}, which is not offered); expected a task that "
+            holder = next(t for u in every if task in u for t in u if t in stays)
+            raise InputError(f"{task!r} stays where the file puts it ({holder!r} runs on "
+                             f"{stays[holder]!r}, which is not offered); expected a task that "
                              "runs on an offered processor or on none", where)
         u = unit_of[task]
         if pinned.get(u, proc) != proc:
