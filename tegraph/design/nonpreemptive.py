@@ -42,13 +42,16 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping, Sequence
+from bisect import bisect_left
+from collections import Counter
+from collections.abc import Callable, Collection, Mapping, Sequence
 from fractions import Fraction
 from typing import Protocol
 
 from maxplus.scalar import display_text
 
-from .busy_period import BusyPeriodResponse, busy_period_response
+from ._busy_levels import Levels
+from .busy_period import BusyPeriodResponse
 
 __all__ = ["REVISED_TEST", "Unit", "judge_non_preemptive"]
 
@@ -119,41 +122,93 @@ def judge_non_preemptive(units: Sequence[Unit], durations: Mapping[str, Fraction
     'worst in instance 2 of 2 of its busy period (7 ms)'
     """
     periodic = [u for u in units if u.period and u.group not in free_running]
+    if not periodic:
+        return
     counted = {id(u) for u in periodic}
-    for u in periodic:
+    hogs = _Hogs([v for v in units if v.group in free_running and v.cost > 0])
+    blocking_at = _blocking_by_level(units, durations, counted)
+    ties = Counter(u.priority for u in periodic)
+    # Type: `periodic` units have a period.
+    levels = Levels([(u.cost, u.period, u.priority) for u in periodic],  # type: ignore[misc]
+                    (durations[t] for u in units for t in u.tasks))
+    for n, u in enumerate(periodic):
         u.test = REVISED_TEST
-        hog = next((v for v in units if v.group in free_running and v.cost > 0
-                    and v.priority > u.priority), None)
+        hog = hogs.above(u.priority)
         if hog is not None:
             u.schedulable = False
             _add_note(u, f"the free-running {', '.join(hog.tasks)} (priority {hog.priority}) "
                          "leaves it no time")
             continue
-        interferers = [(v.cost, v.period) for v in periodic
-                       if v is not u and v.priority >= u.priority]
         # A job of any less urgent unit, or of a free-running or irregular one at this
         # priority (not counted as interference), may have just started.
-        blockers = [(durations[t], t) for v in units if v is not u
-                    and (v.priority < u.priority
-                         or (v.priority == u.priority and id(v) not in counted))
-                    for t in v.tasks]
-        blocking, blocker = max(blockers, key=lambda b: b[0], default=(Fraction(0), None))
+        blocking, blocker = blocking_at(u.priority)
         parts = [durations[t] for t in u.tasks if durations[t] > 0]
         last = min(parts, default=None)
-        # Type: `periodic` units have a period.
-        result = busy_period_response(u.cost, u.period, interferers,  # type: ignore[arg-type]
-                                      preemptive=False, blocking=blocking, last=last,
-                                      budget=budget)
+        # The interferers: every other periodic unit at this priority or above.
+        result = levels.response(n, blocking=blocking, last=last, budget=budget)
         _judge(u, result, unit)
         if blocker is not None and blocking > 0:
             _add_note(u, f"blocked by up to {display_text(blocking)} {unit} ({blocker})")
         if len(parts) > 1:
             _add_note(u, f"{len(parts)} non-preemptive parts, the last taken as the shortest "
                          f"({display_text(last)} {unit})")
-        ties = sum(1 for v in periodic if v is not u and v.priority == u.priority)
-        if ties:
-            _add_note(u, f"shares priority {u.priority} with {ties} other unit(s), counted "
-                         "as interference")
+        if ties[u.priority] > 1:
+            _add_note(u, f"shares priority {u.priority} with {ties[u.priority] - 1} other "
+                         "unit(s), counted as interference")
+
+
+class _Hogs:
+    """The free-running units with work: which one, first in the processor's order,
+    lies above a priority."""
+
+    def __init__(self, hogs: list[Unit]) -> None:
+        ranked = sorted(range(len(hogs)), key=lambda n: -hogs[n].priority)
+        self._priorities = [-hogs[n].priority for n in ranked]  # ascending, for bisect
+        self._first: list[Unit | None] = [None]
+        first = None
+        for n in ranked:  # the earliest of the most urgent `m`, for each prefix `m`
+            first = n if first is None else min(first, n)
+            self._first.append(hogs[first])
+
+    def above(self, priority: int) -> Unit | None:
+        return self._first[bisect_left(self._priorities, -priority)]
+
+
+def _blocking_by_level(units: Sequence[Unit], durations: Mapping[str, Fraction],
+                       counted: set[int]) -> Callable[[int], tuple[Fraction, str | None]]:
+    """The longest task (the first of the longest, in the processor's order) of the
+    units less urgent than each priority, or at it and not counted as interference."""
+    # Each unit's longest task, ranked by duration, then by the unit's place.
+    longest = {}
+    for n, v in enumerate(units):
+        if v.tasks:
+            t = max(v.tasks, key=lambda t: durations[t])
+            longest[n] = ((durations[t], -n), t)
+    below: dict[int, tuple[tuple[Fraction, int], str] | None] = {}
+    best = None
+    by_priority: dict[int, list[int]] = {}
+    for n, v in enumerate(units):
+        by_priority.setdefault(v.priority, []).append(n)
+    for p in sorted(by_priority):
+        below[p] = best
+        for n in by_priority[p]:
+            if n in longest and (best is None or longest[n][0] > best[0]):
+                best = longest[n]
+
+    answers: dict[int, tuple[Fraction, str | None]] = {}
+
+    def at(priority: int) -> tuple[Fraction, str | None]:
+        if priority in answers:
+            return answers[priority]
+        found = below[priority]  # the priority of a unit of the processor
+        for n in by_priority.get(priority, ()):
+            if n in longest and id(units[n]) not in counted and (
+                    found is None or longest[n][0] > found[0]):
+                found = longest[n]
+        answers[priority] = (Fraction(0), None) if found is None else (found[0][0], found[1])
+        return answers[priority]
+
+    return at
 
 
 def _judge(u: Unit, result: BusyPeriodResponse, unit: str) -> None:
