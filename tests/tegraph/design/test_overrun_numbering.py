@@ -124,6 +124,7 @@ def check_three_agree(data: dict) -> int | None:
     # Each task alone on its processor: no interference. A thread is one OS thread,
     # so its tasks share one processor; its places already serialize them (each
     # starts once the one before has finished), so they never compete for it.
+    data.pop("processors", None)  # their kinds (§4d) name processors no task keeps
     for name, spec in data["tasks"].items():
         spec["processor"] = f"cpu.{name}"
     for thread in data.get("threads", ()):
