@@ -92,7 +92,7 @@ from ...analysis.processors import ProcessorSchedule, schedule_on_processors
 from ...analysis.reorder import reorder_ports
 from ...analysis.results import Report
 from ...model.build import build_teg
-from ...model.platform import crosses, link_delay, processor_of
+from ...model.platform import crosses, processor_of
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from ..schedulability import Schedulability, schedulability
@@ -311,7 +311,7 @@ def evaluate_variant(space: DesignSpace, variant: int,
     """
     repairs = {} if repairs is None else repairs
     if space.allocation is not None and space.skeleton.network_delay:
-        refused = _rendezvous_across(space.build(variant, validate=False))
+        refused = _rendezvous_across(space, variant)
         if refused:
             return VariantResult(variant, PRUNED, reason=refused)
     composed = judge_of(space).judge(variant) if incremental else None
@@ -395,15 +395,21 @@ def evaluate_variant(space: DesignSpace, variant: int,
     return result
 
 
-def _rendezvous_across(skeleton: Skeleton) -> str:
-    """Why the variant's skeleton is refused by spec §1 (a SYN/SYN link with a positive
-    delay: its network's, across processors), or empty."""
-    for link in skeleton.links:
-        if link.protocol is Protocol.SYN_SYN and link_delay(skeleton, link):
+def _rendezvous_across(space: DesignSpace, variant: int) -> str:
+    """Why ``variant``'s skeleton would be refused by spec §1 (a SYN/SYN link with a
+    positive delay: its network's, across processors), or empty; read from its
+    protocols and placement, without building it."""
+    sk = space.skeleton
+    on = space.processors_of(variant)
+    chosen = {c.index: p for c, p in zip(space.links, space.protocols(variant))}
+    for i, link in enumerate(sk.links):
+        if chosen.get(i, link.protocol) is not Protocol.SYN_SYN:
+            continue
+        w, r = on[link.writer[0]], on[link.reader[0]]
+        delay = link.effective_delay(w != r, sk.network_delay)
+        if delay:
             return (f"{RENDEZVOUS}: {link_text(link.writer, link.reader)} is SYN/SYN between "
-                    f"{skeleton.tasks[link.writer[0]].runs_on} and "
-                    f"{skeleton.tasks[link.reader[0]].runs_on}, with a delay of "
-                    f"{exact_text(link_delay(skeleton, link))} {skeleton.unit} (spec §4d)")
+                    f"{w} and {r}, with a delay of {exact_text(delay)} {sk.unit} (spec §4d)")
     return ""
 
 

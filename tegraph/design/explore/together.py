@@ -12,6 +12,7 @@ schedule of the starting design alone.
 from __future__ import annotations
 
 from ...analysis.analyze import analyze_skeleton
+from ...errors import TegraphError
 from ..placement import shared_processor_candidates
 from .space import DesignSpace
 
@@ -43,15 +44,12 @@ def moves(space: DesignSpace, allocation: int) -> list[int]:
     return list(out)
 
 
-_LAST: list[tuple[DesignSpace, list[int]]] = []
-
-
 def together_first(space: DesignSpace) -> list[int]:
     """The allocations that put a pair of tasks that never run at once, in the starting
     design, on one processor (one per pair: the second task's unit moved to the
     first's processor, or the first's when the second is pinned), in the order of the
     pairs; empty when processors are not offered, the starting design is not proven
-    schedulable, or no pair is found. Found once per space.
+    schedulable, or no pair is found. Each search calls it once, on its space.
 
     >>> from tegraph import Skeleton
     >>> from tegraph.design.explore.space import design_space
@@ -65,8 +63,6 @@ def together_first(space: DesignSpace) -> list[int]:
     a = space.allocation
     if a is None:
         return []
-    if _LAST and _LAST[0][0] is space:
-        return _LAST[0][1]
     start = space.starting_variant()
     index = space.allocation_index(start)
     skeleton = space.build(start, validate=False)
@@ -74,8 +70,8 @@ def together_first(space: DesignSpace) -> list[int]:
     try:
         report = analyze_skeleton(skeleton, processors=True, max_events=space.max_events)
         found = shared_processor_candidates(skeleton, report, space.max_events)
-    except Exception:  # noqa: BLE001 - only an ordering hint: the search judges it all anyway
-        found = None
+    except TegraphError:  # a starting design the analysis refuses: no hint, the search
+        found = None      # judges every variant anyway
     if found is not None and found.pairs:
         unit_of = {t: u for u, tasks in enumerate(a.units) for t in tasks}
         position = {u: k for k, u in enumerate(a.free)}
@@ -91,5 +87,4 @@ def together_first(space: DesignSpace) -> list[int]:
                         out[a.index_of([*here[:k], target, *here[k + 1:]])] = None
                     break
     out.pop(index, None)
-    _LAST[:] = [(space, list(out))]
     return list(out)
