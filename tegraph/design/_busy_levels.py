@@ -39,7 +39,7 @@ from itertools import accumulate
 import numpy as np
 
 from ..errors import InputError
-from .busy_period import BusyPeriodResponse, _budget, _time
+from .busy_period import BusyPeriodResponse, _budget, _time, outcome
 
 __all__ = ["Levels"]
 
@@ -228,10 +228,4 @@ class _Run:
                 best, worst = r, q
             w_prev = w
             q += 1
-        lower = Fraction(best, s)
-        if busy is not None and q == instances:
-            return BusyPeriodResponse("exact", lower, lower, lower, q, worst, Fraction(busy, s),
-                                      self.terms)
-        status = "endless" if endless and q == instances else "budget"
-        return BusyPeriodResponse(status, None, lower, max(upper, lower), q, worst, None,
-                                  self.terms)
+        return outcome(best, s, busy, q, instances, worst, endless, upper, self.terms)

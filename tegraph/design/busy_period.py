@@ -318,13 +318,22 @@ class _Scaled:
                 best, worst = r, q
             w_prev = w
             q += 1
-        lower = Fraction(best, s)
-        if busy is not None and q == instances:
-            return BusyPeriodResponse("exact", lower, lower, lower, q, worst, Fraction(busy, s),
-                                      self.terms)
-        status = "endless" if endless and q == instances else "budget"
-        return BusyPeriodResponse(status, None, lower, max(upper, lower), q, worst, None,
-                                  self.terms)
+        return outcome(best, s, busy, q, instances, worst, endless, upper, self.terms)
+
+
+def outcome(best: int, scale: int, busy: int | None, examined: int, instances: int,
+            worst: int | None, endless: bool, upper: Fraction, terms: int
+            ) -> BusyPeriodResponse:
+    """The response once the instances are examined (scaled integers): exact when the
+    busy period ended and every instance of it was examined, else the proven bounds
+    (``best`` below, ``upper`` above)."""
+    lower = Fraction(best, scale)
+    if busy is not None and examined == instances:
+        return BusyPeriodResponse("exact", lower, lower, lower, examined, worst,
+                                  Fraction(busy, scale), terms)
+    status = "endless" if endless and examined == instances else "budget"
+    return BusyPeriodResponse(status, None, lower, max(upper, lower), examined, worst, None,
+                              terms)
 
 
 def _time(value: Fraction | int, what: str, *, positive: bool = False) -> Fraction:
