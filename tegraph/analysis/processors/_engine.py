@@ -203,10 +203,13 @@ class _States(ABC):
         return self._lazy
 
     def ahead(self, now: int) -> tuple[tuple[int, ...], ...]:
-        """The tokens not yet available of each timed place (a clock's self-loop, a
-        link's delay), relative to now; the available ones are in the counts (a place
-        where messages pile up behind a delay keeps a key of bounded size)."""
-        return tuple(tuple(a - now for a in self.tokens(p) if a > now) for p in self.timed)
+        """The tokens of each timed place (a clock's self-loop, a link's delay) not
+        available before now, relative to now; those available earlier are in the
+        counts only (a place where messages pile up behind a delay keeps a key of
+        bounded size). A token available at now is held here: the state is compared
+        before the instant's arrivals wake their events, so it is not yet one that
+        waited."""
+        return tuple(tuple(a - now for a in self.tokens(p) if a >= now) for p in self.timed)
 
     @property
     def capped(self) -> list[tuple[int, int]]:

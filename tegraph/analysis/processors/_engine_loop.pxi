@@ -551,8 +551,8 @@ cdef class Kernel:
         return [t_py(q.buf[(q.head + k) % q.cap]) for k in range(q.size)]
 
     def ahead(self, list places, now) -> tuple:
-        """``_States.ahead``: the tokens not yet available of each of ``places``, relative
-        to ``now``."""
+        """``_States.ahead``: the tokens of each of ``places`` not available before
+        ``now``, relative to it."""
         cdef Time at = t_of(now), zero = t_small(0), x
         cdef Queue* q
         cdef Py_ssize_t p, k
@@ -562,7 +562,7 @@ cdef class Kernel:
             row = []
             for k in range(q.size):
                 x = t_sub(q.buf[(q.head + k) % q.cap], at)
-                if t_lt(zero, x):
+                if t_le(zero, x):
                     row.append(t_py(x))
             out.append(tuple(row))
         return tuple(out)

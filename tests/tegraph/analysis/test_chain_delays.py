@@ -204,3 +204,22 @@ def test_the_timeline_reads_the_delays_as_analyze_does():
     assert figures(c.figures) == (25, 25, 25, 35)
     steps = [(s.task, s.k, s.at) for s in c.figures.worst]
     assert steps[1:3] == [("MT1", 1, 1), ("MT2", 3, 20)]
+
+
+@pytest.mark.parametrize("delay", [9, 19, 20, 29, 30, 31, 45])
+def test_messages_in_flight_for_periods_pile_up_nowhere(delay):
+    # A (duration 1, clock 10, on p) writes x ASYN/SYN to B (duration 2, on q): A ends
+    # at 10k + 1, the message is visible at 10k + 1 + delay, B reads it then and runs
+    # alone on q until 10k + 3 + delay, before the next message comes 10 ms later. The
+    # link lies on no circuit: whatever the delay, ceil((delay + 1) / 10) messages are
+    # in flight at most, nothing grows, B's response is 2 ms and A's 1 ms. (A state
+    # taken at an instant where a message becomes visible holds one token more than
+    # one taken 10 ms before that message is visible: a tick apart, not a pile-up.)
+    data = {"name": "in_flight", "network": {"delay": delay},
+            "tasks": {"A": {"duration": 1, "period": 10, "outputs": ["x"], "processor": "p"},
+                      "B": {"duration": 2, "inputs": ["x"], "processor": "q"}},
+            "links": [{"from": "A:x", "to": "B:x", "protocol": "ASYN/SYN"}]}
+    report = analyze(Skeleton.from_dict(data)).to_dict()
+    assert report["schedulable"] is True and report["schedule"]["unbounded_places"] == []
+    on = {t: report["tasks"][t]["on_processors"] for t in "AB"}
+    assert (on["A"]["response"], on["B"]["response"], on["B"]["period"]) == ("1", "2", "10")

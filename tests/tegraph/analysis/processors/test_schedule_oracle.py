@@ -125,7 +125,8 @@ def skeletons(draw):
             tasks[f"T{j}"]["inputs"].append(f"i{i}")
             link = {"from": f"T{i}:o{i}", "to": f"T{j}:i{i}", "protocol": proto}
             if proto != "SYN/SYN" and draw(st.integers(0, 2)) == 0:
-                link["delay"] = draw(st.integers(0, 2))  # §4d: a place's holding
+                # §4d: a place's holding, up to a few periods (messages in flight)
+                link["delay"] = draw(st.sampled_from([0, 1, 2, 5, 13]))
             links.append(link)
     # A SYN/SYN write joined by two readers is a library limitation; keep one.
     seen = set()
