@@ -182,8 +182,9 @@ class _Run:
         unit itself (``floor + 1``); None when the budget runs out first."""
         c, t = own
         x = start
-        while self.terms + tasks <= self.budget:
-            self.terms += tasks
+        cost = max(tasks, 1)  # as the reference counts: no interferer is one term
+        while self.terms + cost <= self.budget:
+            self.terms += cost
             if busy:
                 nxt = base + self._sum(x, True)
             else:

@@ -64,7 +64,8 @@ __all__ = ["BUSY_PERIOD_BUDGET", "BusyPeriodResponse", "busy_period_response"]
 
 BUSY_PERIOD_BUDGET = 1_000_000
 """Most terms ``N(x, T_j)·C_j`` one task's analysis evaluates (the busy period and
-every instance together): past it the result holds proven bounds only."""
+every instance together; an instance with no more urgent task counts one): past it
+the result holds proven bounds only."""
 
 Interferer = Sequence[Fraction | int]
 """``(C_j, T_j)`` or ``(C_j, T_j, J_j)``: cost, period and release jitter of a more
@@ -271,8 +272,11 @@ class _Scaled:
         """Least fixed point of ``x = base + Σ count(x + J_j, T_j)·C_j`` from a start
         below it; None when the budget runs out first."""
         x = start
-        while self.terms + len(tasks) <= self.budget:
-            self.terms += len(tasks)
+        # An iteration over no task still evaluates the instance (one term): the budget
+        # bounds the instances a unit with no interferer examines, too.
+        cost = max(len(tasks), 1)
+        while self.terms + cost <= self.budget:
+            self.terms += cost
             nxt = base + sum(count(x + jj, tj) * cj for cj, tj, jj in tasks)
             if nxt == x:
                 return x
