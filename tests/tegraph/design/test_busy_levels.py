@@ -26,7 +26,6 @@ from tegraph.design._busy_levels import Levels
 from tegraph.design.busy_period import busy_period_response
 from tegraph.design.nonpreemptive import REVISED_TEST, _add_note, _judge, judge_non_preemptive
 
-
 DENOMINATORS = st.sampled_from([1, 2, 3, 7, 10, 1000, 999_983, 10**9 + 7, 2**61 - 1])
 
 
