@@ -92,10 +92,11 @@ from ...analysis.processors import ProcessorSchedule, schedule_on_processors
 from ...analysis.reorder import reorder_ports
 from ...analysis.results import Report
 from ...model.build import build_teg
-from ...model.platform import crosses, processor_of
+from ...model.platform import crosses, platform_of, processor_of
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from ..schedulability import Schedulability, schedulability
+from .demand import processor_shares
 from .incremental import judge_of
 from .prune import overloaded
 from .space import CHAIN_FIGURES, PLACEMENT_OBJECTIVES, DesignSpace, chain_objective, link_text
@@ -314,7 +315,8 @@ def evaluate_variant(space: DesignSpace, variant: int,
         refused = _rendezvous_across(space, variant)
         if refused:
             return VariantResult(variant, PRUNED, reason=refused)
-    composed = judge_of(space).judge(variant) if incremental else None
+    judge = judge_of(space) if incremental else None
+    composed = judge.judge(variant) if judge is not None else None
     if composed is not None:  # live: the whole analysis' verdict, from the groups'
         skeleton = composed.skeleton
         result = VariantResult(variant, ANALYZED, live=True,
@@ -348,6 +350,9 @@ def evaluate_variant(space: DesignSpace, variant: int,
         if not report.consistent:
             result.reason = _inconsistency(report)
             return result
+    if report.platform is None:  # composed: the platform the two judgements share
+        report.platform = platform_of(
+            skeleton, report.structure if report.structure is not None else report.groups)
     sched = schedulability(skeleton, report)
     # The response-time test decides nothing on processors (docs/explore.md): it is a
     # cross-check, and the chain latency's bounds read its response times.
@@ -358,10 +363,14 @@ def evaluate_variant(space: DesignSpace, variant: int,
     if too_much is not None:  # rule C: proven not schedulable, no schedule needed
         result.schedulable, result.reason = False, too_much
     else:
-        teg = build_teg(skeleton)
+        # A composed variant's graph is shared by the variants that only move tasks
+        # (IncrementalJudge.whole_graph); a repaired or fresh one is built here.
+        teg = (judge.whole_graph(variant, skeleton) if composed is not None
+               and judge is not None else build_teg(skeleton))
         paths = chain_paths(skeleton, teg, space.chains_read) if space.chains_read else []
         schedule = schedule_on_processors(skeleton, teg, report.groups,
                                           max_events=space.max_events,
+                                          platform=report.platform,
                                           trace=trace_request(paths) if paths else None)
         if paths:
             assert schedule.trace is not None  # asked for
@@ -475,16 +484,12 @@ def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: S
         else:
             result.objectives["period"] = max(ratios, default=None)
     if schedule is not None and wanted & {"load", "utilization"}:
-        loads: dict[str, Fraction] = {}
-        for name, task in skeleton.tasks.items():
-            period = periods[name]
-            if period is None:  # this task's share of its processor is not known
-                loads = {}
-                break
-            where = schedule.platform.processor_of[name]
-            # A period of 0 is a circuit of zero durations: it takes no time.
-            share = task.duration / period if period else Fraction(0)
-            loads[where] = loads.get(where, Fraction(0)) + share
+        where = schedule.platform.processor_of
+        entries = [(where[name], task.duration, periods[name])
+                   for name, task in skeleton.tasks.items()]
+        # A task's share of its processor is not known without its period.
+        loads = ({} if any(e[2] is None for e in entries)
+                 else processor_shares(entries, every=set(where.values())))
         if loads:
             result.objectives["load"] = max(loads.values())
             result.objectives["utilization"] = sum(loads.values(), Fraction(0))
@@ -513,20 +518,16 @@ def placement_objectives(skeleton: Skeleton, report: Report) -> dict[str, Fracti
     {'processors': '2', 'traffic': '1', 'busiest': '3/4'}
     """
     on = processor_of(skeleton)
-    demand: dict[str, Fraction] = {p: Fraction(0) for p in on.values()}
-    busiest: Fraction | None = Fraction(0)
-    for group in report.groups:
-        if not group.clocks:  # runs free: it takes the time the others leave
-            continue
-        for name in group.tasks:
-            period = report.tasks[name].period
-            if period is None:
-                busiest = None
-            elif period:  # a period of 0 is a circuit of zero durations: no time
-                demand[on[name]] += skeleton.tasks[name].duration / period
-    return {"processors": Fraction(len(demand)),
+    entries = [(on[name], skeleton.tasks[name].duration, report.tasks[name].period)
+               for group in report.groups if group.clocks  # a free group asks nothing:
+               for name in group.tasks]                    # it takes the time left
+    busiest: Fraction | None = None
+    if all(e[2] is not None for e in entries):
+        busiest = max(processor_shares(entries, every=set(on.values())).values())
+    return {"processors": Fraction(len(set(on.values()))),
             "traffic": Fraction(sum(1 for k in skeleton.links if crosses(skeleton, k))),
-            "busiest": None if busiest is None else max(demand.values())}
+            "busiest": busiest}
+
 
 
 def _inconsistency(report: Report) -> str:

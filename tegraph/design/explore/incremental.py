@@ -66,13 +66,17 @@ from maxplus import ZeroTokenCircuitError, max_cycle_ratio
 from ...analysis.analyze import analyze_skeleton, unbounded_mask
 from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
-from ...model.platform import link_delay
-from ...model.skeleton import Protocol, Skeleton
+from ...model.platform import crosses, link_delay
+from ...model.skeleton import Protocol, Skeleton, Task
 from ...model.structure import Structure, design_period
+from ...model.teg import TimedEventGraph
 from .group_graph import GroupArrays, GroupGraph, LinkEdit, link_edit
 from .space import DesignSpace
 
 __all__ = ["IncrementalJudge", "judge_of"]
+
+MAX_WHOLE_GRAPHS = 16
+"""Whole variants' graphs kept (each as large as the skeleton) before emptying."""
 
 MAX_CACHED = 200_000
 """Entries kept per stage before the cache is emptied (a bound on memory over a long
@@ -163,10 +167,36 @@ class IncrementalJudge:
         self.graphs: dict[tuple[str, ...], GroupGraph] = {}
         self.edits: dict[tuple[int, Protocol], LinkEdit | None] = {}
         self.inside: dict[tuple[str, ...], tuple[int, ...]] = {}
+        self.moved: dict[tuple[str, str], Task] = {}
+        self.numbered: dict[tuple[tuple, int], dict[str, Any]] = {}
+        self.graphs_whole: dict[tuple, TimedEventGraph] = {}
 
     def variant_skeleton(self, variant: int) -> Skeleton:
         """The skeleton of ``variant``, not validated again (:meth:`DesignSpace.build`)."""
-        return self.space.build(variant, validate=False)
+        return self.space.build(variant, validate=False, moved=self.moved)
+
+    def whole_graph(self, variant: int, skeleton: Skeleton) -> TimedEventGraph:
+        """The timed event graph of ``variant`` (its ``skeleton``), built once for all
+        the variants that differ from it only in where tasks run without changing
+        which links cross processors where that matters.
+
+        :func:`~tegraph.model.build.build_teg` reads the processors only through
+        ``crosses`` (spec §4d: the place of a link that declares no delay holds the
+        network's between two processors), so the graph is a function of the
+        protocols, the clocks' periods and those links' crossing; the schedule on
+        processors reads the graph and never changes it.
+        """
+        space = self.space
+        key: tuple = (variant // space.n_allocation_variants,)
+        if space.allocation is not None and skeleton.network_delay is not None:
+            key += tuple(crosses(skeleton, link) for link in skeleton.links
+                         if link.delay is None and link.protocol is not Protocol.ASYN_ASYN)
+        graph = self.graphs_whole.get(key)
+        if graph is None:
+            if len(self.graphs_whole) >= MAX_WHOLE_GRAPHS:
+                self.graphs_whole.clear()
+            graph = self.graphs_whole[key] = build_teg(skeleton)
+        return graph
 
     def key(self, skeleton: Skeleton, tasks: Sequence[str]) -> tuple:
         """What a group's figures depend on: its tasks, the protocols of the chosen
@@ -213,8 +243,8 @@ class IncrementalJudge:
             return Composed(sk, structure, first.text + (f" (and {more} more)" if more else ""))
         reports = [self._report(sk, g, k) for g, k in zip(structure.groups, keys)]
         # The tasks in file order (as the whole report lists them): the first late one.
-        tasks = {name: replace(reports[structure.group_of[name]].tasks[name],
-                               group=structure.group_of[name]) for name in sk.tasks}
+        numbered = [self._numbered(r, k, i) for i, (r, k) in enumerate(zip(reports, keys))]
+        tasks = {name: numbered[structure.group_of[name]][name] for name in sk.tasks}
         late = [t for t in tasks.values() if t.overrun_at is not None]
         if late:
             return Composed(sk, structure, f"overrun: {late[0].name} at activation "
@@ -354,6 +384,17 @@ class IncrementalJudge:
     def _owner(self, origin: dict[str, Any], links: list[int], threads: list[int]
                ) -> tuple[int, int]:
         return place_owner(origin, self.task_index, self.clock_index, links, threads)
+
+    def _numbered(self, report: Report, key: tuple, index: int) -> dict[str, Any]:
+        """The task figures of a group's ``report`` (under ``key``) numbered as group
+        ``index``, kept: a variant that only moves tasks numbers its groups alike."""
+        found = self.numbered.get((key, index))
+        if found is None:
+            if len(self.numbered) >= MAX_CACHED:
+                self.numbered.clear()
+            found = self.numbered[key, index] = {
+                name: replace(figures, group=index) for name, figures in report.tasks.items()}
+        return found
 
     def _report(self, skeleton: Skeleton, tasks: Sequence[str], key: tuple) -> Report:
         """The group's own report (its one group numbered 0; the caller renumbers copies:

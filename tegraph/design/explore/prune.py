@@ -99,6 +99,7 @@ from ...analysis.processors import processor_of
 from ...analysis.reorder import PrecedenceGraph
 from ...analysis.results import Report
 from ...model.skeleton import Protocol, Skeleton
+from .demand import processor_shares
 from .space import DesignSpace
 
 __all__ = ["DeadlockOracle", "overloaded", "protocol_ranges"]
@@ -336,11 +337,11 @@ def overloaded(skeleton: Skeleton, report: Report) -> str | None:
             grouped.setdefault(runs_on[name], []).append(
                 (name, task.duration, period, task.clock is not None))
     for where, tasks in grouped.items():
-        load = sum((d / p for _, d, p, _ in tasks), Fraction(0))
+        load = processor_shares(((where, d, p) for _, d, p, _ in tasks), every=[where])[where]
         if load <= 1:
             continue
         own = [t for t in tasks if t[3]]
-        clocked = sum((d / p for _, d, p, _ in own), Fraction(0))
+        clocked = processor_shares(((where, d, p) for _, d, p, _ in own), every=[where])[where]
         counted = own if clocked > 1 else tasks
         shown = ", ".join(f"{name} {exact_text(d)} every {exact_text(p)}"
                           for name, d, p, _ in counted[:6] if d)

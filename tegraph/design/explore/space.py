@@ -34,7 +34,7 @@ from ...analysis.processors.schedule import MAX_EVENTS
 from ...errors import InputError
 from ...model.limits import event_budget_problem
 from ...model.platform import crosses, link_delay
-from ...model.skeleton import Protocol, Skeleton
+from ...model.skeleton import Protocol, Skeleton, Task
 from ...model.skeleton.checks import Locator, check_chain
 from ...model.structure import Structure
 from .allocation import Allocation, allocation_of
@@ -344,10 +344,13 @@ class DesignSpace:
         clocks = {c.name: exact_text(t) for c, t in zip(self.clocks, self.periods(variant))}
         return links, clocks
 
-    def build(self, variant: int, validate: bool = True) -> Skeleton:
+    def build(self, variant: int, validate: bool = True,
+              moved: dict[tuple[str, str], Task] | None = None) -> Skeleton:
         """The skeleton of ``variant``, checked like one read from a file (``validate``
         False: not checked again, as only protocols and periods change, each checked
-        when the space was made)."""
+        when the space was made); ``moved`` keeps each task made to run elsewhere, by
+        (task, processor), for the next variant that moves it there too (a task is
+        immutable: one object serves every variant)."""
         links = list(self.skeleton.links)
         for choice, protocol in zip(self.links, self.protocols(variant)):
             links[choice.index] = replace(links[choice.index], protocol=protocol)
@@ -357,8 +360,15 @@ class DesignSpace:
         changes: dict[str, Any] = {"links": links, "clocks": clocks}
         if self.allocation is not None:
             on = self.processors_of(variant)
-            changes["tasks"] = {n: t if t.runs_on == on[n] else replace(t, processor=on[n])
-                                for n, t in self.skeleton.tasks.items()}
+            if moved is None:
+                moved = {}
+            tasks = {}
+            for n, t in self.skeleton.tasks.items():
+                p = on[n]
+                if t.runs_on != p:
+                    t = moved.get((n, p)) or moved.setdefault((n, p), replace(t, processor=p))
+                tasks[n] = t
+            changes["tasks"] = tasks
             used = set(on.values())
             # A `processors` entry must name a task's processor (spec §1): the declared
             # properties of a processor no unit uses in this variant are left out.
