@@ -65,7 +65,7 @@ rejected without analysis (``judged="pruned"``, :data:`RENDEZVOUS`).
 Besides the objectives: the number of Rule 2 findings of section 6 (SYN/SYN
 links, and ASYN/ASYN links between groups of one rate: :func:`rule2_findings`),
 which breaks ties between designs of equal objectives, and the constraints of
-the space (:class:`~.space.Constraints`), which a kept design meets.
+the space (:class:`~.objectives.Constraints`), which a kept design meets.
 
 A variant is *kept* when it is live (perhaps after the repair), consistent
 (spec §4: no unbounded place, no overrun), schedulable on its processors (§4b,
@@ -96,10 +96,12 @@ from ...model.platform import crosses, platform_of, processor_of
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from ..schedulability import Schedulability, schedulability
+from .choices import link_text
 from .demand import processor_shares
 from .incremental import judge_of
+from .objectives import CHAIN_FIGURES, PLACEMENT_OBJECTIVES, chain_objective
 from .prune import overloaded
-from .space import CHAIN_FIGURES, PLACEMENT_OBJECTIVES, DesignSpace, chain_objective, link_text
+from .space import DesignSpace
 
 __all__ = ["FREE_RUNNING", "RENDEZVOUS", "VariantResult", "evaluate_batch", "evaluate_variant",
            "free_running", "placement_objectives", "rejection", "rule2_findings"]
