@@ -82,7 +82,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass, field, replace
 from fractions import Fraction
-from typing import Any
+from typing import Any, cast
 
 from maxplus.scalar import exact_text
 
@@ -107,6 +107,10 @@ __all__ = ["FREE_RUNNING", "RENDEZVOUS", "VariantResult", "evaluate_batch", "eva
            "free_running", "placement_objectives", "rejection", "rule2_findings"]
 
 ANALYZED, PRUNED, FAILED = "analyzed", "pruned", "failed"
+
+_Known = list[tuple[str, Fraction, Fraction]]
+"""(processor, duration, period) entries whose periods are all known: checked before
+:func:`~.demand.processor_shares` is called, which takes only such entries."""
 
 
 @dataclass
@@ -491,7 +495,7 @@ def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: S
                    for name, task in skeleton.tasks.items()]
         # A task's share of its processor is not known without its period.
         loads = ({} if any(e[2] is None for e in entries)
-                 else processor_shares(entries, every=set(where.values())))
+                 else processor_shares(cast(_Known, entries), every=set(where.values())))
         if loads:
             result.objectives["load"] = max(loads.values())
             result.objectives["utilization"] = sum(loads.values(), Fraction(0))
@@ -525,7 +529,7 @@ def placement_objectives(skeleton: Skeleton, report: Report) -> dict[str, Fracti
                for name in group.tasks]                    # it takes the time left
     busiest: Fraction | None = None
     if all(e[2] is not None for e in entries):
-        busiest = max(processor_shares(entries, every=set(on.values())).values())
+        busiest = max(processor_shares(cast(_Known, entries), every=set(on.values())).values())
     return {"processors": Fraction(len(set(on.values()))),
             "traffic": Fraction(sum(1 for k in skeleton.links if crosses(skeleton, k))),
             "busiest": busiest}
