@@ -49,9 +49,10 @@ import tegraph
 assert tegraph.__file__.startswith(root), tegraph.__file__
 from tegraph import Skeleton
 from tegraph.design.explore import explore_design
-from tegraph.design.explore.space import design_space, link_text
+from tegraph.design.explore.space import design_space
 sk = Skeleton.from_dict(generate(20, seed=0))
-links = [link_text(x.writer, x.reader) for x in sk.links[:3]]
+# The links named as the input names them (W:p -> R:q), which every checkout reads alike.
+links = [f"{x.writer[0]}:{x.writer[1]} -> {x.reader[0]}:{x.reader[1]}" for x in sk.links[:3]]
 readers = {}
 for x in sk.links:
     readers.setdefault(x.writer[0], []).append(x.reader[0])

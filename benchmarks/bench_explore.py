@@ -61,8 +61,9 @@ from generate_skeleton import generate  # noqa: E402
 
 from tegraph import Skeleton  # noqa: E402
 from tegraph.design.explore import explore_design  # noqa: E402
+from tegraph.design.explore.choices import link_text  # noqa: E402
 from tegraph.design.explore.evaluate import evaluate_batch, evaluate_variant  # noqa: E402
-from tegraph.design.explore.space import design_space, link_text  # noqa: E402
+from tegraph.design.explore.space import design_space  # noqa: E402
 
 
 def space_of(n_tasks: int, n_links: int):
@@ -137,9 +138,11 @@ import tegraph
 assert tegraph.__file__.startswith(root), tegraph.__file__
 from tegraph import Skeleton
 from tegraph.design.explore import explore_design
-from tegraph.design.explore.space import design_space, link_text
+from tegraph.design.explore.space import design_space
 sk = Skeleton.from_dict(generate(n, seed=0))
-space = design_space(sk, [link_text(x.writer, x.reader) for x in sk.links[:k]],
+# The links named as the input names them (W:p -> R:q), which every checkout reads alike.
+space = design_space(sk, [f"{x.writer[0]}:{x.writer[1]} -> {x.reader[0]}:{x.reader[1]}"
+                          for x in sk.links[:k]],
                      objectives=["period", "load"])
 if how == "in-process":
     start = time.perf_counter()
@@ -168,7 +171,8 @@ sys.path[:0] = [root, root + "/benchmarks"]
 from generate_skeleton import generate
 from tegraph import Skeleton
 from tegraph.design.explore import explore_design
-from tegraph.design.explore.space import design_space, link_text
+from tegraph.design.explore.choices import link_text
+from tegraph.design.explore.space import design_space
 sk = Skeleton.from_dict(generate(n, seed=0))
 space = design_space(sk, [link_text(x.writer, x.reader) for x in sk.links[:k]],
                      objectives=["period", "load"])

@@ -14,7 +14,7 @@ from maxplus.scalar import display_text
 
 from ..design.explore import PRUNING_RULES, Exploration
 from ..design.explore.evaluate import ANALYZED, FAILED, PRUNED, rejection
-from ..design.explore.space import Constraints
+from ..design.explore.objectives import Constraints
 
 __all__ = ["FRONT_ROWS_SHOWN", "column_name", "render_exploration"]
 

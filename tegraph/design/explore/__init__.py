@@ -1,7 +1,10 @@
 """Synthesis of the synchronization (ORCCAD §6, ``tegraph explore``): one module an idea.
 
-- :mod:`.space`: the design space (the link and clock choices, the constraints)
-  and its numbering of variants.
+- :mod:`.space`: the design space and its numbering of variants.
+- :mod:`.choices`: the link and clock choices (the protocols a link may take, the
+  periods a clock may have).
+- :mod:`.objectives`: what a variant is judged by (the objectives, the constraints)
+  and the version of those definitions.
 - :mod:`.prune`: variants settled without analysis, with their proofs (rules A, B, C).
 - :mod:`.evaluate`: one variant judged exactly (analysis, port repair, the
   schedule on processors) and its objectives.

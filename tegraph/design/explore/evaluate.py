@@ -65,7 +65,7 @@ rejected without analysis (``judged="pruned"``, :data:`RENDEZVOUS`).
 Besides the objectives: the number of Rule 2 findings of section 6 (SYN/SYN
 links, and ASYN/ASYN links between groups of one rate: :func:`rule2_findings`),
 which breaks ties between designs of equal objectives, and the constraints of
-the space (:class:`~.space.Constraints`), which a kept design meets.
+the space (:class:`~.objectives.Constraints`), which a kept design meets.
 
 A variant is *kept* when it is live (perhaps after the repair), consistent
 (spec §4: no unbounded place, no overrun), schedulable on its processors (§4b,
@@ -82,7 +82,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass, field, replace
 from fractions import Fraction
-from typing import Any
+from typing import Any, cast
 
 from maxplus.scalar import exact_text
 
@@ -96,15 +96,21 @@ from ...model.platform import crosses, platform_of, processor_of
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from ..schedulability import Schedulability, schedulability
+from .choices import link_text
 from .demand import processor_shares
 from .incremental import judge_of
+from .objectives import CHAIN_FIGURES, PLACEMENT_OBJECTIVES, chain_objective
 from .prune import overloaded
-from .space import CHAIN_FIGURES, PLACEMENT_OBJECTIVES, DesignSpace, chain_objective, link_text
+from .space import DesignSpace
 
 __all__ = ["FREE_RUNNING", "RENDEZVOUS", "VariantResult", "evaluate_batch", "evaluate_variant",
            "free_running", "placement_objectives", "rejection", "rule2_findings"]
 
 ANALYZED, PRUNED, FAILED = "analyzed", "pruned", "failed"
+
+_Known = list[tuple[str, Fraction, Fraction]]
+"""(processor, duration, period) entries whose periods are all known: checked before
+:func:`~.demand.processor_shares` is called, which takes only such entries."""
 
 
 @dataclass
@@ -489,7 +495,7 @@ def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: S
                    for name, task in skeleton.tasks.items()]
         # A task's share of its processor is not known without its period.
         loads = ({} if any(e[2] is None for e in entries)
-                 else processor_shares(entries, every=set(where.values())))
+                 else processor_shares(cast(_Known, entries), every=set(where.values())))
         if loads:
             result.objectives["load"] = max(loads.values())
             result.objectives["utilization"] = sum(loads.values(), Fraction(0))
@@ -523,7 +529,7 @@ def placement_objectives(skeleton: Skeleton, report: Report) -> dict[str, Fracti
                for name in group.tasks]                    # it takes the time left
     busiest: Fraction | None = None
     if all(e[2] is not None for e in entries):
-        busiest = max(processor_shares(entries, every=set(on.values())).values())
+        busiest = max(processor_shares(cast(_Known, entries), every=set(on.values())).values())
     return {"processors": Fraction(len(set(on.values()))),
             "traffic": Fraction(sum(1 for k in skeleton.links if crosses(skeleton, k))),
             "busiest": busiest}

@@ -7,7 +7,8 @@ between ASYN/ASYN, ASYN/SYN, SYN/ASYN and SYN/SYN, and clock periods among
 candidates, by judging variants exactly (:mod:`.evaluate`) and keeping the
 Pareto front of the objectives (chain latencies, period, processor load).
 
-- The space and its numbering: :mod:`.space`.
+- The space and its numbering: :mod:`.space`; its choices: :mod:`.choices`; the
+  objectives and constraints: :mod:`.objectives`.
 - Variants settled without analysis, with proofs: :mod:`.prune`.
 - The searches (exhaustive up to ``max_variants``, Pareto local search
   beyond) and the exact front: :mod:`.search`.

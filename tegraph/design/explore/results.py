@@ -43,7 +43,8 @@ from maxplus.scalar import exact_text, exact_time
 
 from ...errors import InputError
 from .evaluate import ANALYZED, FAILED, PRUNED, VariantResult
-from .space import CURRENT_DEFINITIONS, DEFINITIONS, OLDER_DEFINITIONS, DesignSpace, chain_objective
+from .objectives import CURRENT_DEFINITIONS, DEFINITIONS, OLDER_DEFINITIONS, chain_objective
+from .space import DesignSpace
 
 __all__ = ["INSTALL_PARQUET", "ResultsTable", "columns"]
 

@@ -22,9 +22,10 @@ from tegraph.cli import app
 from tegraph.design.explore import explore_design
 from tegraph.design.explore.allocation import Allocation, allocation_of
 from tegraph.design.explore.evaluate import evaluate_variant
+from tegraph.design.explore.objectives import DEFINITIONS
 from tegraph.design.explore.results import ResultsTable
 from tegraph.design.explore.search import ParetoLocalSearch, dominates
-from tegraph.design.explore.space import DEFINITIONS, design_space
+from tegraph.design.explore.space import design_space
 from tegraph.model.platform import crosses
 
 F = Fraction

@@ -23,7 +23,8 @@ from hypothesis import strategies as st
 import tegraph
 from tegraph import Protocol, Skeleton, load_skeleton
 from tegraph.design.explore import explore_design
-from tegraph.design.explore.space import design_space, latency_name
+from tegraph.design.explore.objectives import latency_name
+from tegraph.design.explore.space import design_space
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton
 

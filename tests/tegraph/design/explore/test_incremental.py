@@ -14,10 +14,11 @@ from hypothesis import strategies as st
 
 from tegraph import Skeleton, load_skeleton
 from tegraph.analysis.analyze import analyze_skeleton
+from tegraph.design.explore.choices import link_text
 from tegraph.design.explore.evaluate import evaluate_variant
 from tegraph.design.explore.incremental import IncrementalJudge, judge_of
 from tegraph.design.explore.search import ParetoFront
-from tegraph.design.explore.space import design_space, link_text
+from tegraph.design.explore.space import design_space
 from tegraph.model.structure import Structure
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton

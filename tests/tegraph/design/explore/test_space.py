@@ -12,8 +12,9 @@ from hypothesis import strategies as st
 
 from tegraph import InputError, Protocol, Skeleton, load_skeleton
 from tegraph.analysis.reorder import reorder_ports
+from tegraph.design.explore.choices import parse_clock_choice, parse_link_choice
 from tegraph.design.explore.prune import DeadlockOracle, protocol_ranges
-from tegraph.design.explore.space import design_space, parse_clock_choice, parse_link_choice
+from tegraph.design.explore.space import design_space
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton
 
