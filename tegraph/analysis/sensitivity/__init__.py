@@ -2,8 +2,8 @@
 
 One module an idea:
 
-- :mod:`.parametric`: the parameters (durations, periods), ``--vary``, and the
-  groups as (max,+) linear systems in them;
+- :mod:`.parameters`: the parameters (durations, periods, delays) and
+  ``--vary``; :mod:`.parametric`: the groups as (max,+) linear systems in them;
 - :mod:`.oracle`: one point's exact evaluation, with the certificate of its
   critical circuits; :mod:`.polyhedra`: the regions they bound;
 - :mod:`.line`: exact breakpoints along a line of parameters; :mod:`.margins`:

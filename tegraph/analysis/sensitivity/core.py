@@ -52,13 +52,8 @@ from .line import Cause, Line, LineSet, intersect, point_causes, solve_lines
 from .margins import duration_margins
 from .on_processors import margin_on, scaling_on
 from .oracle import evaluate
-from .parametric import (
-    Parameter,
-    ParametricGroup,
-    parametric_groups,
-    parse_vary,
-    skeleton_at,
-)
+from .parameters import Parameter, parse_vary, skeleton_at
+from .parametric import ParametricGroup, parametric_groups
 from .parts import RUN_BUDGETS, ProcessorLine
 from .results import (
     Check,
@@ -91,7 +86,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     ----------
     skeleton : Skeleton
     vary : None, sequence of str or mapping
-        The parameters (see :func:`~.parametric.parse_vary`): texts
+        The parameters (see :func:`~.parameters.parse_vary`): texts
         ``TASK.duration``, ``CLOCK.period``, ``network.delay``, ``links[i].delay``,
         each optionally ``=LOW..HIGH``.
         Default: every task's duration over ``[0, ∞)``.

@@ -44,7 +44,7 @@ from ..processors.schedule import (
 )
 from .affine import Cut, lin
 from .levels import LevelLine, level_line
-from .parametric import DELAY_KINDS, Parameter, skeleton_at
+from .parameters import DELAY_KINDS, Parameter, skeleton_at
 from .walk import Outcome
 
 __all__ = ["RUN_BUDGETS", "SCHEDULE", "THEOREM", "Budget", "ProcessorLine"]
