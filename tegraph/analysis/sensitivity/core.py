@@ -54,7 +54,7 @@ from .on_processors import margin_on, scaling_on
 from .oracle import evaluate
 from .parameters import Parameter, parse_vary, skeleton_at
 from .parametric import ParametricGroup, parametric_groups
-from .parts import RUN_BUDGETS, ProcessorLine
+from .parts import ProcessorLine
 from .results import (
     Check,
     GroupFormulaReport,
@@ -65,6 +65,7 @@ from .results import (
     SensitivityResult,
     Term,
 )
+from .simulation import RUN_BUDGETS
 from .walk import Outcome
 
 __all__ = ["duration_margins", "sensitivity"]
@@ -115,7 +116,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
         part of the schedule at one point, and of each figure (the scaling
         factor, one margin) in all; the whole run on processors, the nominal
         verdict included, fires at most ``RUN_BUDGETS`` (20) times as many
-        (``parts.Budget``). A figure cut by a budget is undecided
+        (``simulation.Budget``). A figure cut by a budget is undecided
         and says which.
     progress : callable, optional
         On processors, called as ``progress(figures_done, figures, firings)``
