@@ -74,11 +74,11 @@ design section's revised analysis of non-preemptive processors."""
 def time_the_phases() -> None:
     """Wrap the two functions where the analysis looks them up, adding to SPENT."""
     import tegraph.analysis.processors.schedule as schedule
-    import tegraph.analysis.sensitivity.parts as parts
+    import tegraph.analysis.sensitivity.simulation as simulation
     import tegraph.design.schedulability as schedulability
 
     for module, name, what in ((schedule, "simulate_part", "engine"),
-                               (parts, "simulate_part", "engine"),
+                               (simulation, "simulate_part", "engine"),
                                (schedulability, "judge_non_preemptive", "bound")):
         inner = getattr(module, name)
 

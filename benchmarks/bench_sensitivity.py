@@ -112,7 +112,7 @@ def grid(sk, vary: list[str], per_axis: int) -> tuple[int, float]:
     import dataclasses
 
     from tegraph.analysis.analyze import analyze_skeleton
-    from tegraph.analysis.sensitivity.parametric import parse_vary
+    from tegraph.analysis.sensitivity.parameters import parse_vary
     from tegraph.model.structure import Structure
 
     params = parse_vary(sk, vary)

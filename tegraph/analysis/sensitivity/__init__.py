@@ -2,8 +2,8 @@
 
 One module an idea:
 
-- :mod:`.parametric`: the parameters (durations, periods), ``--vary``, and the
-  groups as (max,+) linear systems in them;
+- :mod:`.parameters`: the parameters (durations, periods, delays) and
+  ``--vary``; :mod:`.parametric`: the groups as (max,+) linear systems in them;
 - :mod:`.oracle`: one point's exact evaluation, with the certificate of its
   critical circuits; :mod:`.polyhedra`: the regions they bound;
 - :mod:`.line`: exact breakpoints along a line of parameters; :mod:`.margins`:
@@ -14,9 +14,11 @@ One module an idea:
   :mod:`.walk` (intervals of constant event order, and the sweep of a whole
   range), :mod:`tegraph.analysis.sensitivity.levels` (a part whose groups are
   periodic units, decided along a line by the exact test of units, piece by
-  piece), :mod:`.parts` (the
-  schedule's parts at a point, with the budgets), :mod:`.on_processors` (the
-  scaling factor and margins on processors);
+  piece), :mod:`.partition` (the schedule's parts, read once off the nominal
+  graph), :mod:`.simulation` (a part simulated on affine times, within the
+  budgets), :mod:`.parts` (each part decided at a point of a line, by its
+  levels or its schedule), :mod:`.on_processors` (the scaling factor and
+  margins on processors);
 - :mod:`.results`: what is returned; :mod:`.core`: :func:`sensitivity`, the whole.
 
 Nothing else in :mod:`tegraph.analysis` imports this package (an import-linter

@@ -23,7 +23,7 @@ from ...model.skeleton import Skeleton
 from ...model.structure import Structure
 from ..analyze import analyze_skeleton
 from ..chains import ChainFigures
-from .parametric import Parameter, skeleton_at
+from .parameters import Parameter, skeleton_at
 from .results import ChainAtMargins
 
 __all__ = ["ChainAtMargins", "chains_at_margins"]

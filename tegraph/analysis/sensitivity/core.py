@@ -52,14 +52,9 @@ from .line import Cause, Line, LineSet, intersect, point_causes, solve_lines
 from .margins import duration_margins
 from .on_processors import margin_on, scaling_on
 from .oracle import evaluate
-from .parametric import (
-    Parameter,
-    ParametricGroup,
-    parametric_groups,
-    parse_vary,
-    skeleton_at,
-)
-from .parts import RUN_BUDGETS, ProcessorLine
+from .parameters import Parameter, parse_vary, skeleton_at
+from .parametric import ParametricGroup, parametric_groups
+from .parts import ProcessorLine
 from .results import (
     Check,
     GroupFormulaReport,
@@ -70,6 +65,7 @@ from .results import (
     SensitivityResult,
     Term,
 )
+from .simulation import RUN_BUDGETS
 from .walk import Outcome
 
 __all__ = ["duration_margins", "sensitivity"]
@@ -91,7 +87,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
     ----------
     skeleton : Skeleton
     vary : None, sequence of str or mapping
-        The parameters (see :func:`~.parametric.parse_vary`): texts
+        The parameters (see :func:`~.parameters.parse_vary`): texts
         ``TASK.duration``, ``CLOCK.period``, ``network.delay``, ``links[i].delay``,
         each optionally ``=LOW..HIGH``.
         Default: every task's duration over ``[0, ∞)``.
@@ -120,7 +116,7 @@ def sensitivity(skeleton: Skeleton, vary: Any = None, *, formulas: bool = True,
         part of the schedule at one point, and of each figure (the scaling
         factor, one margin) in all; the whole run on processors, the nominal
         verdict included, fires at most ``RUN_BUDGETS`` (20) times as many
-        (``parts.Budget``). A figure cut by a budget is undecided
+        (``simulation.Budget``). A figure cut by a budget is undecided
         and says which.
     progress : callable, optional
         On processors, called as ``progress(figures_done, figures, firings)``

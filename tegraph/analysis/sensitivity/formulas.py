@@ -52,7 +52,8 @@ import numpy as np
 from maxplus import max_cycle_ratio
 
 from .oracle import Affine, Circuit, PointResult, _affine, _policy_circuit, evaluate
-from .parametric import Parameter, ParametricGroup
+from .parameters import Parameter
+from .parametric import ParametricGroup
 from .polyhedra import Polyhedron, affine_rank
 
 __all__ = ["GroupFormula", "PaceInequality", "PaceRegion", "period_formulas"]
@@ -108,7 +109,7 @@ def period_formulas(groups: Sequence[ParametricGroup], params: Sequence[Paramete
         :func:`tegraph.analysis.sensitivity.parametric.parametric_groups`.
     params : sequence of Parameter
         The varied parameters and their boxes, from
-        :func:`tegraph.analysis.sensitivity.parametric.parse_vary`.
+        :func:`tegraph.analysis.sensitivity.parameters.parse_vary`.
     max_parameters : int
         A group with more parameters than this gets the derivatives at the
         nominal point instead of an exact formula.
@@ -143,7 +144,8 @@ def period_formulas(groups: Sequence[ParametricGroup], params: Sequence[Paramete
     and the task keeps pace with its clock while ``θ <= 5``:
 
     >>> from tegraph.model.skeleton import Skeleton
-    >>> from tegraph.analysis.sensitivity.parametric import parametric_groups, parse_vary
+    >>> from tegraph.analysis.sensitivity.parameters import parse_vary
+    >>> from tegraph.analysis.sensitivity.parametric import parametric_groups
     >>> sk = Skeleton.from_dict({"tasks": {"A": {"duration": 2, "period": 5}}})
     >>> ps = parse_vary(sk)
     >>> (f,), rounds, queries = period_formulas(parametric_groups(sk, ps), ps)

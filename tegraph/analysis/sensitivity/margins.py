@@ -42,7 +42,8 @@ from ...model.skeleton import Skeleton
 from ..results import Report
 from .line import Line, solve_lines
 from .oracle import longest_paths
-from .parametric import ParametricGroup, parametric_groups, parse_vary
+from .parameters import parse_vary
+from .parametric import ParametricGroup, parametric_groups
 
 __all__ = ["duration_margins", "group_consistent"]
 

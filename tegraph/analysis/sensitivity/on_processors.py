@@ -23,7 +23,7 @@ from typing import Any
 
 from ...model.skeleton import Skeleton
 from .affine import Cut
-from .parametric import skeleton_at
+from .parameters import skeleton_at
 from .parts import SCHEDULE, THEOREM, ProcessorLine
 from .results import PROCESSORS, Check, Limit, Margin, Scaling
 from .walk import MAX_STEPS, Interval, Outcome, per_task_outcome, seek, sweep, walk

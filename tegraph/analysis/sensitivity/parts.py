@@ -13,129 +13,43 @@ where the same verdict holds:
   (:mod:`tegraph.analysis.sensitivity.levels`): the piece of the line of the
   same verdict;
 - any other part, or a point the theorem does not decide, by the engine
-  itself, run on affine times (:mod:`.affine`): the interval of constant
+  itself, run on affine times (:mod:`.simulation`): the interval of constant
   event order.
 
-Each part is decided once at the nominal values (:meth:`ProcessorLine.decide_nominal`);
+The parts are read once off the nominal graph (:mod:`.partition`). Each is
+decided once at the nominal values (:meth:`ProcessorLine.decide_nominal`);
 a line evaluates only the parts it moves and reads the others' nominal
 outcome (their events do not depend on the line's parameters). Every
 simulation counts its event firings against the budgets of
-:class:`Budget`.
+:class:`~.simulation.Budget`.
 """
 
 from __future__ import annotations
 
-import dataclasses
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from ...model.build import build_teg, holding_sources
-from ...model.platform import Platform, clock_hyperperiod, platform_of
+from ...model.build import build_teg
+from ...model.platform import Platform, platform_of
 from ...model.skeleton import Skeleton
-from ..processors._engine import PartData, PartResult, simulate_part
-from ..processors.levels import Levels, processor_levels
-from ..processors.schedule import (
-    MAX_EVENTS,
-    QUICK_LOOK,
-    _Net,
-    _overrun_to_come,
-)
+from ..processors._engine import PartData, PartResult
+from ..processors.schedule import MAX_EVENTS, QUICK_LOOK, _Net
 from .affine import Cut, lin
 from .levels import LevelLine, level_line
-from .parametric import DELAY_KINDS, Parameter, skeleton_at
+from .parameters import DELAY_KINDS, Parameter
+from .partition import Part, delay_places, nominal_parts, part_levels, zero_grows
+from .simulation import Budget, line_value, moved_data, on_line, simulate, verdict
 from .walk import Outcome
 
-__all__ = ["RUN_BUDGETS", "SCHEDULE", "THEOREM", "Budget", "ProcessorLine"]
+__all__ = ["SCHEDULE", "THEOREM", "ProcessorLine"]
 
 THEOREM = "theorem"
 SCHEDULE = "schedule"
 
 _NAME_LOOK = 200
 """Firings simulated at a saturated point to name the task that overruns first."""
-
-RUN_BUDGETS = 20
-"""The whole sensitivity on processors fires at most ``RUN_BUDGETS × max_events``
-events (the nominal verdict included)."""
-
-
-@dataclass
-class Budget:
-    """Event firings of the simulations on processors, bounded three ways.
-
-    - one simulation of a part at one point: at most ``max_events``;
-    - one figure (the scaling factor, or one margin), all its points: at most
-      ``max_events`` in all;
-    - the whole run (the nominal verdict and every figure): at most
-      :data:`RUN_BUDGETS` ``× max_events``.
-
-    A simulation cut by a budget is undecided, and its reason names it.
-    """
-
-    max_events: int
-    total: int = 0
-    spent: int = 0
-    figure_left: int | None = None
-    """Firings the current figure may still spend (None: no figure, the nominal verdict)."""
-
-    def __post_init__(self) -> None:
-        self.total = self.total or RUN_BUDGETS * self.max_events
-
-    @property
-    def run_left(self) -> int:
-        """The event firings the whole run may still spend."""
-        return max(self.total - self.spent, 0)
-
-    def start_figure(self) -> None:
-        """Give the next figure its own share of event firings."""
-        self.figure_left = self.max_events
-
-    def cap(self) -> tuple[int, str]:
-        """The firings the next simulation may spend, and the reason it stops there."""
-        out = (self.max_events, self.cap_text())
-        # A simulation given b firings fires at most b + 1 (it stops past b).
-        if self.figure_left is not None and self.figure_left - 1 < out[0]:
-            out = (max(self.figure_left - 1, 0), f"this figure's budget of "
-                   f"{self.max_events:,} event firings (`max_events`) is spent")
-        if self.run_left - 1 < out[0]:
-            out = (max(self.run_left - 1, 0), f"the run's budget of {self.total:,} event "
-                   f"firings on processors ({self.total // self.max_events} × `max_events`) "
-                   "is spent")
-        return out
-
-    def cap_text(self) -> str:
-        """What a figure left undecided by this budget says."""
-        return f"no periodic regime within {self.max_events:,} event firings (`max_events`)"
-
-    def spend(self, fired: int) -> None:
-        """Count ``fired`` event firings against the run and the current figure."""
-        self.spent += fired
-        if self.figure_left is not None:
-            self.figure_left = max(self.figure_left - fired, 0)
-
-
-@dataclass
-class _Part:
-    data: PartData | None
-    """None: every task of the part has events at time 0 only (none is simulated)."""
-    names: list[str]
-    """The tasks simulated (those whose events are not all at time 0)."""
-    events: list[int]
-    places: list[int]
-    tasks: list[str]
-    """Every task of the part, in file order."""
-    levels: Levels | str = "not computed"
-    """Its levels (:mod:`tegraph.analysis.processors.levels`), or why it has none."""
-    open_units: list[str] = dataclasses.field(default_factory=list)
-    """Why its levels left points of a line undecided (a unit without closing task
-    missing its deadline), in words."""
-    too_long: str | None = None
-    delays: dict[int, list[int]] = dataclasses.field(default_factory=dict)
-    """The local places holding each varied delay j of the part's links."""
-    delay_at_zero: dict[int, str] = dataclasses.field(default_factory=dict)
-    """A place of the part's links holding delay j that no simulation holds (its events
-    fire at time 0 only at the nominal values), named ``W.write:p -> R.read:q``."""
 
 
 @dataclass
@@ -152,7 +66,7 @@ class ProcessorLine:
     nominal: list[Fraction]
     groups: Sequence[Any]
     max_events: int = MAX_EVENTS
-    parts: list[_Part] = field(default_factory=list)
+    parts: list[Part] = field(default_factory=list)
     part_of: dict[str, int] = field(default_factory=dict)
     evaluations: int = 0
     use_theorem: bool = True
@@ -177,92 +91,23 @@ class ProcessorLine:
         self.platform: Platform = (platform_of(sk, self.groups) if self.nominal_platform is None
                                    else self.nominal_platform)
         self.net = _Net(sk, self.teg, self.groups, self.platform)
-        label = self.net._union_parts()
-        index = {t: i for i, t in enumerate(self.net.tasks)}
-        members: dict[int, list[str]] = {}
-        for t, lab in zip(self.net.tasks, label):
-            members.setdefault(lab, []).append(t)
-        for data, names, events, places in self.net.parts():
-            hyper, ticks = clock_hyperperiod(sk, names)
-            lab = label[index[names[0]]] if names else -1
-            part = _Part(data, names, events, places, members.pop(lab, list(names)))
-            if ticks > self.max_events:
-                part.too_long = (f"the hyperperiod of the part of {', '.join(names[:3])}"
-                                 f"{' ...' if len(names) > 3 else ''} is {hyper} {sk.unit} "
-                                 f"({ticks:,} clock ticks), more than `max_events` firings")
-            self.parts.append(part)
-        for tasks in members.values():  # parts whose events are all at time 0
-            self.parts.append(_Part(None, [], [], [], tasks))
+        self.parts.extend(nominal_parts(self.net, self.max_events))
         for i, part in enumerate(self.parts):
             for t in part.tasks:
                 self.part_of[t] = i
-        self._levels()
+        part_levels(self.net, self.parts)
         self._level_lines: dict[tuple, LevelLine | str] = {}
         self._duration_index = {p.owner: j for j, p in enumerate(self.params)
                                 if p.kind == "duration"}
-        self._delay_places = self._delays()
+        self._delay_places = delay_places(self.net, self.params, self.parts, self.part_of)
         self.why_cut = self.spend.cap_text()
-        # Places from events that fire infinitely often at time 0 into the rest
-        # grow at once (schedule.py's module docstring): not schedulable, as
-        # ``schedule_on_processors`` says, for the part they lead into.
-        self.zero_grows: dict[int, str] = {}
-        self.whole_grows: str | None = None
-        net, names_ = self.net, self.teg.transition_names
-        for s, d in zip(net.src, net.dst):
-            if s in net.zero and d not in net.zero:
-                owner = (self.teg.transition_attrs[d].get("tasks")
-                         or self.teg.transition_attrs[s].get("tasks"))
-                if not self.groups[net.group_of[owner[0]]].live:
-                    continue
-                text = f"{names_[s]} -> {names_[d]}"
-                if owner[0] in self.part_of:
-                    self.zero_grows.setdefault(self.part_of[owner[0]], text)
-                elif self.whole_grows is None:
-                    self.whole_grows = text
-
-    def _delays(self) -> dict[int, list[int]]:
-        """The places (global numbers) holding each varied delay, read off the graph's
-        holding sources as the parametric groups are (a link without a place,
-        ASYN/ASYN, moves no event of the schedule), and each part's own."""
-        param_of = {(p.kind, p.owner): j for j, p in enumerate(self.params)
-                    if p.kind in DELAY_KINDS}
-        out: dict[int, list[int]] = {}
-        if not param_of:
-            return out
-        for q, source in enumerate(holding_sources(self.teg)):
-            j = param_of.get((source.kind, source.owner))
-            if j is not None:
-                out.setdefault(j, []).append(q)
-        attrs, names, net = self.teg.transition_attrs, self.teg.transition_names, self.net
-        local = [{int(q): i for i, q in enumerate(part.places)} for part in self.parts]
-        for j, places in out.items():
-            for q in places:
-                src, dst = int(net.src[q]), int(net.dst[q])
-                # A link place joins two tasks of one group: one part.
-                i = self.part_of[attrs[src]["tasks"][0]]
-                if q in local[i]:
-                    self.parts[i].delays.setdefault(j, []).append(local[i][q])
-                else:
-                    self.parts[i].delay_at_zero.setdefault(j, f"{names[src]} -> {names[dst]}")
-        return out
+        self.zero_grows, self.whole_grows = zero_grows(self.net, self.part_of)
 
     def tasks_of(self, parts: list[int]) -> list[str]:
         """Every task of the skeleton joined to ``parts`` (by a group or a processor), in
         file order: tasks of duration 0 that no part simulates included."""
         mine = {t for i in parts for t in self.parts[i].tasks}
         return [t for t in self.net.tasks if t in mine]
-
-    def _levels(self) -> None:
-        """Each part's levels (:mod:`tegraph.analysis.processors.levels`), or why it has none."""
-        group_of = self.net.group_of
-        shapes = []
-        for part in self.parts:
-            groups = list(dict.fromkeys(group_of[t] for t in part.tasks))
-            shapes.append([list(self.groups[g].tasks) for g in groups])
-        found = processor_levels(self.skeleton, self.teg, shapes, self.platform)
-        for part, shape, levels in zip(self.parts, shapes, found):
-            live = all(self.groups[group_of[g[0]]].live for g in shape)
-            part.levels = levels if live else "a group is not live"
 
     # ---------------------------------------------------------- which parts move
     def moving(self, direction: dict[int, Fraction]) -> list[int]:
@@ -313,7 +158,8 @@ class ProcessorLine:
         assert part.data is not None  # _unscheduled: a part with a moving task is simulated
         data = part.data
         if periods_move:
-            data = self._moved_data(part_index, base, direction, cut)
+            data = moved_data(part, self.skeleton, self.params, self.nominal, self.groups,
+                              self.net, base, direction, cut)
         data = self._parametric(data, part, base, direction, cut)
         return self._verdict(self._simulate(data), data, part, cut)
 
@@ -387,7 +233,7 @@ class ProcessorLine:
                     "between its jobs)")
         return None
 
-    def _unscheduled(self, part: _Part, direction: dict[int, Fraction]) -> str | None:
+    def _unscheduled(self, part: Part, direction: dict[int, Fraction]) -> str | None:
         """Why the schedule of the part cannot be simulated along the line: a moving task
         has duration 0 at the nominal values, with its events at time 0 only (its schedule
         of a positive duration is not built), or so has an event a moving delay holds
@@ -407,7 +253,7 @@ class ProcessorLine:
                         "positive delay is not simulated")
         return None
 
-    def _saturated(self, part: _Part, base: dict[int, Fraction],
+    def _saturated(self, part: Part, base: dict[int, Fraction],
                    direction: dict[int, Fraction], cut: Cut) -> Outcome | None:
         """A processor asked for more than all its time: proven not schedulable.
 
@@ -445,37 +291,10 @@ class ProcessorLine:
         return Outcome(False, cut, ("saturated", proc))
 
     def _simulate(self, data: PartData, limit: int | None = None) -> PartResult:
-        """The part simulated within the budgets; ``self.why_cut`` says which one stopped it.
-
-        Past an overrun the engine still looks for a regime (its figures need it)
-        for as many firings again, and at least a tenth of its budget
-        (``AFTER_OVERRUN``); a verdict needs none of it: budgets grow tenfold from
-        1,000, so an early overrun costs little and the whole budget is spent at
-        most once more.
-        Every firing counts against the figure's and the run's budgets.
-        """
+        """The part simulated within the budgets (:func:`~.simulation.simulate`);
+        ``self.why_cut`` says which one stopped it."""
         self.used.add(SCHEDULE)
-        budget_of = self.spend
-        assert budget_of is not None
-        top = self.max_events if limit is None else min(limit, self.max_events)
-        cap, self.why_cut = budget_of.cap()
-        budget = min(1_000, top, cap)
-        result = PartResult()
-        while budget > 0:
-            result = simulate_part(data, budget, keep_intervals=False)
-            budget_of.spend(result.fired)
-            if self.progress is not None:
-                self.progress()
-            if result.overrun_at or result.regime is not None or budget >= top:
-                break
-            cap, why = budget_of.cap()
-            nxt = min(budget * 10, top, cap)
-            if nxt <= budget:  # the figure's or the run's budget is spent
-                self.why_cut = why
-                break
-            budget = nxt
-        if budget >= self.max_events:
-            self.why_cut = budget_of.cap_text()
+        result, self.why_cut = simulate(data, self.spend, self.max_events, limit, self.progress)
         return result
 
     def decide_nominal(self, live: bool = True) -> tuple[bool | None, Outcome | None]:
@@ -506,7 +325,7 @@ class ProcessorLine:
             return True, None
         return bad[0].verdict, bad[0]
 
-    def _nominal_part(self, part: _Part) -> Outcome:
+    def _nominal_part(self, part: Part) -> Outcome:
         cut = Cut(Fraction(0), 0)
         if self.use_theorem and not isinstance(part.levels, str):
             line = level_line(part.levels, {t: (self.skeleton.tasks[t].duration, Fraction(0))
@@ -530,131 +349,12 @@ class ProcessorLine:
 
     def _value(self, j: int, base: dict[int, Fraction], direction: dict[int, Fraction]
                ) -> tuple[Fraction, Fraction]:
-        return base.get(j, self.nominal[j]), direction.get(j, Fraction(0))
+        return line_value(j, self.nominal, base, direction)
 
-    def _parametric(self, data: PartData, part: _Part, base: dict[int, Fraction],
+    def _parametric(self, data: PartData, part: Part, base: dict[int, Fraction],
                     direction: dict[int, Fraction], cut: Cut) -> PartData:
-        scale = self.net.scale
-        index = {p.owner: j for j, p in enumerate(self.params) if p.kind == "duration"}
-        duration = list(data.duration)
-        for i, t in enumerate(part.names):
-            if t in index:
-                c, k = self._value(index[t], base, direction)
-                duration[i] = lin(c * scale, k * scale, cut)
-        hold = list(data.p_hold)
-        clocks = self.teg.attrs["clocks"]
-        local = {e: i for i, e in enumerate(part.events)}
-        for j, p in enumerate(self.params):
-            if p.kind != "period":
-                continue
-            tick = local.get(clocks[p.owner])
-            if tick is None:
-                continue
-            c, k = self._value(j, base, direction)
-            for q, (s, d) in enumerate(zip(data.p_src, data.p_dst)):
-                if s == d == tick:
-                    hold[q] = lin(c * scale, k * scale, cut)
-        for j, places in part.delays.items():
-            c, k = self._value(j, base, direction)
-            for q in places:
-                hold[q] = lin(c * scale, k * scale, cut)
-        return dataclasses.replace(data, duration=duration, p_hold=hold)
+        return on_line(data, part, self.params, self.nominal, base, direction, self.net, cut)
 
-    def _line_periods(self, base: dict[int, Fraction], direction: dict[int, Fraction]
-                      ) -> dict[str, tuple[Fraction, Fraction]]:
-        """Each clock's period on the line, ``c + k·t`` as (c, k) (k = 0: it stays)."""
-        moving = {self.params[j].owner: j for j, k in direction.items()
-                  if k and self.params[j].kind == "period"}
-        return {name: (self._value(moving[name], base, direction) if name in moving
-                       else (clock.period, Fraction(0)))
-                for name, clock in self.skeleton.clocks.items()}
-
-    def _moved_data(self, part_index: int, base: dict[int, Fraction],
-                    direction: dict[int, Fraction], cut: Cut) -> PartData:
-        """The part's data with the platform of the periods in the cut's interval.
-
-        Rate-monotonic priorities depend on the order of the periods: every pair
-        of clock periods is compared (recorded in the cut), and the platform is
-        taken at a point of the interval where that order holds.
-        """
-        sk = self.skeleton
-        periods = self._line_periods(base, direction)
-        names = list(periods)
-        for a in range(len(names)):
-            for b in range(a + 1, len(names)):
-                (c1, k1), (c2, k2) = periods[names[a]], periods[names[b]]
-                cut.sign(c1 - c2, k1 - k2)
-        rep = _inside(cut, periods.values())
-        values = {j: base.get(j, self.nominal[j]) + rep * k for j, k in direction.items()}
-        moved = skeleton_at(sk, self.params, values)
-        platform = platform_of(moved, self.groups)
-        net = _Net(moved, build_teg(moved), self.groups, platform)
-        for data, names_, _, _ in net.parts():
-            if names_[0] == self.parts[part_index].names[0]:
-                scale = Fraction(self.net.scale, net.scale)
-                # back to the nominal scale, in which the parametric values are given
-                return dataclasses.replace(
-                    data, p_hold=[h * scale for h in data.p_hold],
-                    p_init=[a * scale for a in data.p_init],
-                    duration=[x * scale for x in data.duration])
-        raise AssertionError("the parts do not depend on the periods")
-
-    def _verdict(self, r: PartResult, d: PartData, part: _Part, cut: Cut) -> Outcome:
-        """§4b's verdict of one part from its simulation (as ``schedule._Outcome``)."""
-        names = part.names
-        late = [(k, names[j]) for j, k in r.overrun_at.items()]
-        if late:
-            k, task = min(late)
-            return Outcome(False, cut, ("overrun", task, k))
-        if r.regime is None:
-            return Outcome(None, cut, ("undecided", self.why_cut))
-        if r.regime[0] == "stop":
-            return Outcome(True, cut)
-        t1, t2, old, new, growing = r.regime
-        if growing:
-            p = min(growing)
-            g = part.places[p]
-            names_ = self.teg.transition_names
-            return Outcome(False, cut, ("grows", f"{names_[self.net.src[g]]} -> "
-                                        f"{names_[self.net.dst[g]]}"))
-        fired = [b - a for a, b in zip(old.fired, new.fired)]
-        compute_of = {j: e for e, j in enumerate(d.compute_task) if j >= 0}
-        tick_of = {j: e for e, ts in d.watched.items() for j in ts}
-        for j, t in enumerate(names):
-            if fired[compute_of[j]] == 0 and new.pending[j] >= 0:
-                return Outcome(False, cut, ("starved", t))
-        coming = []
-        for j in r.tick_log:
-            last = d.end_event[j]
-            ends = new.finished[j] - old.finished[j] if last is None else fired[last]
-            at = _overrun_to_come(r.tick_log[j], t1, t2, fired[tick_of[j]], ends)
-            if at is not None:
-                coming.append((at, names[j]))
-        if coming:
-            k, task = min(coming)
-            return Outcome(False, cut, ("overrun", task, k))
-        return Outcome(True, cut)
-
-
-def _inside(cut: Cut, periods: Iterable[tuple[Fraction, Fraction]]) -> Fraction:
-    """The point of the line where the cut is taken: ``at``, or just beside it (side
-    +1/-1), halfway to the interval's end and inside the periods' domain.
-
-    A period is > 0 (the model refuses 0): on the line, c + k·t > 0 bounds t below
-    where k > 0 and above where k < 0, so the point beside ``at`` stays inside
-    (at - 1 could be a period of 0 or less, which no schedule has).
-
-    >>> from fractions import Fraction as F
-    >>> _inside(Cut(F(1), -1), [(F(0), F(1))])  # the period t itself: halfway to 0
-    Fraction(1, 2)
-    """
-    periods = list(periods)
-    lo = max([-c / k for c, k in periods if k > 0]
-             + ([cut.lo] if cut.lo is not None else []), default=None)
-    hi = min([-c / k for c, k in periods if k < 0]
-             + ([cut.hi] if cut.hi is not None else []), default=None)
-    if cut.side > 0:
-        return (cut.at + hi) / 2 if hi is not None else cut.at + 1
-    if cut.side < 0:
-        return (cut.at + lo) / 2 if lo is not None else cut.at - 1
-    return cut.at
+    def _verdict(self, r: PartResult, d: PartData, part: Part, cut: Cut) -> Outcome:
+        """§4b's verdict of one part from its simulation (:func:`~.simulation.verdict`)."""
+        return verdict(r, d, part, cut, self.why_cut, self.net)

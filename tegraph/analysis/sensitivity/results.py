@@ -15,7 +15,8 @@ from maxplus.scalar import exact_text
 
 from .. import notebook
 from ..chains import ChainFigures
-from .parametric import Parameter, ParametricGroup
+from .parameters import Parameter
+from .parametric import ParametricGroup
 
 __all__ = ["PER_TASK", "PROCESSORS", "ChainAtMargins", "Check", "GroupFormulaReport", "Limit",
            "Margin", "PaceReport", "Scaling", "SensitivityResult", "Term"]

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 from tegraph import Skeleton
 from tegraph import sensitivity as _sensitivity
 from tegraph.analysis.analyze import analyze_skeleton
-from tegraph.analysis.sensitivity.parametric import parse_vary, skeleton_at
+from tegraph.analysis.sensitivity.parameters import parse_vary, skeleton_at
 from tegraph.errors import InputError
 from tegraph.report import render_text, to_json
 

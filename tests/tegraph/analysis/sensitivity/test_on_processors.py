@@ -328,7 +328,7 @@ def test_a_tiny_budget_gives_undecided_never_a_wrong_number():
             assert hi <= true.high and (lo is None or lo >= true.low)
     # The run's budget: 2 x max_events in all, spent after the first figures; the
     # rest are undecided at once, naming it.
-    with mock.patch("tegraph.analysis.sensitivity.parts.RUN_BUDGETS", 2), \
+    with mock.patch("tegraph.analysis.sensitivity.simulation.RUN_BUDGETS", 2), \
             mock.patch.object(ProcessorLine, "__post_init__", _no_theorem):
         r = sensitivity(load_skeleton(TORQUE), formulas=False, verify=False, max_events=5000)
     assert r.schedulable is True

@@ -20,7 +20,7 @@ import sympy
 from tegraph import Skeleton, duration_margins, load_skeleton
 from tegraph import sensitivity as _sensitivity
 from tegraph.analysis.analyze import analyze_skeleton
-from tegraph.analysis.sensitivity.parametric import parse_vary
+from tegraph.analysis.sensitivity.parameters import parse_vary
 from tegraph.errors import InputError
 from tegraph.report import render_text, to_json
 
