@@ -82,7 +82,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass, field, replace
 from fractions import Fraction
-from typing import Any, cast
+from typing import Any
 
 from maxplus.scalar import exact_text
 
@@ -92,7 +92,7 @@ from ...analysis.processors import ProcessorSchedule, schedule_on_processors
 from ...analysis.reorder import reorder_ports
 from ...analysis.results import Report
 from ...model.build import build_teg
-from ...model.platform import crosses, platform_of, processor_of
+from ...model.platform import crosses, processor_of
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from ..schedulability import Schedulability, schedulability
@@ -107,10 +107,6 @@ __all__ = ["FREE_RUNNING", "RENDEZVOUS", "VariantResult", "evaluate_batch", "eva
            "free_running", "placement_objectives", "rejection", "rule2_findings"]
 
 ANALYZED, PRUNED, FAILED = "analyzed", "pruned", "failed"
-
-_Known = list[tuple[str, Fraction, Fraction]]
-"""(processor, duration, period) entries whose periods are all known: checked before
-:func:`~.demand.processor_shares` is called, which takes only such entries."""
 
 
 @dataclass
@@ -356,9 +352,6 @@ def evaluate_variant(space: DesignSpace, variant: int,
         if not report.consistent:
             result.reason = _inconsistency(report)
             return result
-    if report.platform is None:  # composed: the platform the two judgements share
-        report.platform = platform_of(
-            skeleton, report.structure if report.structure is not None else report.groups)
     sched = schedulability(skeleton, report)
     # The response-time test decides nothing on processors (docs/explore.md): it is a
     # cross-check, and the chain latency's bounds read its response times.
@@ -371,8 +364,8 @@ def evaluate_variant(space: DesignSpace, variant: int,
     else:
         # A composed variant's graph is shared by the variants that only move tasks
         # (IncrementalJudge.whole_graph); a repaired or fresh one is built here.
-        teg = (judge.whole_graph(variant, skeleton) if composed is not None
-               and judge is not None else build_teg(skeleton))
+        teg = (build_teg(skeleton) if composed is None or judge is None
+               else judge.whole_graph(variant, skeleton))
         paths = chain_paths(skeleton, teg, space.chains_read) if space.chains_read else []
         schedule = schedule_on_processors(skeleton, teg, report.groups,
                                           max_events=space.max_events,
@@ -491,11 +484,11 @@ def _objectives(space: DesignSpace, skeleton: Skeleton, report: Report, sched: S
             result.objectives["period"] = max(ratios, default=None)
     if schedule is not None and wanted & {"load", "utilization"}:
         where = schedule.platform.processor_of
-        entries = [(where[name], task.duration, periods[name])
-                   for name, task in skeleton.tasks.items()]
+        known = [(where[name], task.duration, period) for name, task in skeleton.tasks.items()
+                 if (period := periods[name]) is not None]
         # A task's share of its processor is not known without its period.
-        loads = ({} if any(e[2] is None for e in entries)
-                 else processor_shares(cast(_Known, entries), every=set(where.values())))
+        loads = (processor_shares(known, every=set(where.values()))
+                 if len(known) == len(skeleton.tasks) else {})
         if loads:
             result.objectives["load"] = max(loads.values())
             result.objectives["utilization"] = sum(loads.values(), Fraction(0))
@@ -524,16 +517,15 @@ def placement_objectives(skeleton: Skeleton, report: Report) -> dict[str, Fracti
     {'processors': '2', 'traffic': '1', 'busiest': '3/4'}
     """
     on = processor_of(skeleton)
-    entries = [(on[name], skeleton.tasks[name].duration, report.tasks[name].period)
-               for group in report.groups if group.clocks  # a free group asks nothing:
-               for name in group.tasks]                    # it takes the time left
-    busiest: Fraction | None = None
-    if all(e[2] is not None for e in entries):
-        busiest = max(processor_shares(cast(_Known, entries), every=set(on.values())).values())
+    # A free-running group asks nothing: it takes the time the others leave.
+    clocked = [name for group in report.groups if group.clocks for name in group.tasks]
+    known = [(on[name], skeleton.tasks[name].duration, period) for name in clocked
+             if (period := report.tasks[name].period) is not None]
+    busiest = (max(processor_shares(known, every=set(on.values())).values())
+               if len(known) == len(clocked) else None)
     return {"processors": Fraction(len(set(on.values()))),
             "traffic": Fraction(sum(1 for k in skeleton.links if crosses(skeleton, k))),
             "busiest": busiest}
-
 
 
 def _inconsistency(report: Report) -> str:

@@ -66,7 +66,7 @@ from maxplus import ZeroTokenCircuitError, max_cycle_ratio
 from ...analysis.analyze import analyze_skeleton, unbounded_mask
 from ...analysis.results import InvariantCheck, Report
 from ...model.build import build_teg, unbounded_kind
-from ...model.platform import crosses, link_delay
+from ...model.platform import crosses, link_delay, platform_of
 from ...model.skeleton import Protocol, Skeleton, Task
 from ...model.structure import Structure, design_period
 from ...model.teg import TimedEventGraph
@@ -254,7 +254,10 @@ class IncrementalJudge:
                         reorder=None, groups=groups, tasks=tasks, unbounded_places=[],
                         invariants=InvariantCheck(False, None, None,
                                                   reason="not computed (composed from groups)"),
-                        source=sk.source, structure=structure)
+                        source=sk.source, structure=structure,
+                        # As the analysis' own report carries it: the cross-check and
+                        # the schedule on processors read this one platform.
+                        platform=platform_of(sk, structure))
         return Composed(sk, structure, report=report)
 
     def structure(self, skeleton: Skeleton, variant: int) -> Structure:
