@@ -61,14 +61,14 @@ from generate_skeleton import generate  # noqa: E402
 
 from tegraph import Skeleton  # noqa: E402
 from tegraph.design.explore import explore_design  # noqa: E402
-from tegraph.design.explore.choices import link_text  # noqa: E402
 from tegraph.design.explore.evaluate import evaluate_batch, evaluate_variant  # noqa: E402
 from tegraph.design.explore.space import design_space  # noqa: E402
+from tegraph.model.elements import link_name  # noqa: E402
 
 
 def space_of(n_tasks: int, n_links: int):
     sk = Skeleton.from_dict(generate(n_tasks, seed=0))
-    links = [link_text(k.writer, k.reader) for k in sk.links[:n_links]]
+    links = [link_name(k.writer, k.reader) for k in sk.links[:n_links]]
     return design_space(sk, links, objectives=["period", "load"])
 
 
@@ -171,10 +171,10 @@ sys.path[:0] = [root, root + "/benchmarks"]
 from generate_skeleton import generate
 from tegraph import Skeleton
 from tegraph.design.explore import explore_design
-from tegraph.design.explore.choices import link_text
+from tegraph.model.elements import link_name
 from tegraph.design.explore.space import design_space
 sk = Skeleton.from_dict(generate(n, seed=0))
-space = design_space(sk, [link_text(x.writer, x.reader) for x in sk.links[:k]],
+space = design_space(sk, [link_name(x.writer, x.reader) for x in sk.links[:k]],
                      objectives=["period", "load"])
 start = time.perf_counter()
 found = explore_design(space, workers=None if how == "auto" else int(how))

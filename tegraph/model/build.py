@@ -90,6 +90,7 @@ from typing import Any, Literal, NamedTuple, TypeAlias
 import numpy as np
 
 from ..errors import ModelError
+from .elements import link_name
 from .platform import crosses, link_delay
 from .skeleton import Link, Protocol, Skeleton
 from .teg import TimeCodes, TimedEventGraph
@@ -177,7 +178,7 @@ def link_ports(link: Link) -> str:
     >>> link_ports(Link(("A", "x"), ("B", "y"), Protocol.ASYN_SYN))
     'A:x -> B:y'
     """
-    return f"{link.writer[0]}:{link.writer[1]} -> {link.reader[0]}:{link.reader[1]}"
+    return link_name(link.writer, link.reader)
 
 
 def delay_source(skeleton: Skeleton, link: Link) -> HoldingSource:

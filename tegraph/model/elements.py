@@ -14,10 +14,20 @@ from fractions import Fraction
 from functools import cached_property
 
 __all__ = ["DEFAULT_PROCESSOR", "Clock", "Link", "LinkLabel", "Processor", "Protocol", "Task",
-           "flow_list"]
+           "flow_list", "link_name"]
 
 DEFAULT_PROCESSOR = "default"
 """The processor of every task that declares none (spec §4b); a file may name it too."""
+
+
+def link_name(writer: tuple[str, str], reader: tuple[str, str]) -> str:
+    """``W:p -> R:q``: how a link is named in choices, reports, result columns and the
+    owner of its delay.
+
+    >>> link_name(("MT1", "x1"), ("MT2", "x1"))
+    'MT1:x1 -> MT2:x1'
+    """
+    return f"{writer[0]}:{writer[1]} -> {reader[0]}:{reader[1]}"
 
 
 def flow_list(names: Iterable[str]) -> str:
@@ -270,7 +280,7 @@ class LinkLabel(str):
 
     def __new__(cls, writer: tuple[str, str], reader: tuple[str, str],
                 protocol: Protocol) -> LinkLabel:
-        text = f"{writer[0]}:{writer[1]} -> {reader[0]}:{reader[1]} ({protocol.value})"
+        text = f"{link_name(writer, reader)} ({protocol.value})"
         self = super().__new__(cls, text)
         self.writer, self.reader, self.protocol = writer, reader, protocol
         return self

@@ -1,7 +1,7 @@
 """The choices of ``explore``: which protocols a link may take, which periods a clock.
 
-Each chosen link (named ``W:p -> R:q``, :func:`link_text`) carries the protocols
-it may take (:class:`LinkChoice`), each chosen clock its candidate periods
+Each chosen link (named ``W:p -> R:q``, :func:`~tegraph.model.elements.link_name`)
+carries the protocols it may take (:class:`LinkChoice`), each chosen clock its candidate periods
 (:class:`ClockChoice`), read from the forms :func:`~.space.design_space` accepts
 and checked against the skeleton. A choice is refused with an
 :class:`~tegraph.errors.InputError` whose ``where`` names the parameter and the
@@ -18,13 +18,13 @@ from typing import Any
 from maxplus.scalar import exact_text, exact_time
 
 from ...errors import InputError
+from ...model.elements import link_name
 from ...model.platform import link_delay
 from ...model.skeleton import Protocol, Skeleton
 
 __all__ = [
     "ClockChoice",
     "LinkChoice",
-    "link_text",
     "parse_clock_choice",
     "parse_link_choice",
     "parse_protocol",
@@ -48,15 +48,6 @@ def parse_protocol(text: Any, where: str) -> Protocol:
             return protocol
     raise InputError(f"unknown protocol {text!r}; expected one of {_PROTOCOLS} "
                      "(case-insensitive, '-' may stand for '/')", where)
-
-
-def link_text(writer: tuple[str, str], reader: tuple[str, str]) -> str:
-    """``W:p -> R:q``: how a link is named in choices, reports and result columns.
-
-    >>> link_text(("MT1", "x1"), ("MT2", "x1"))
-    'MT1:x1 -> MT2:x1'
-    """
-    return f"{writer[0]}:{writer[1]} -> {reader[0]}:{reader[1]}"
 
 
 def parse_link_choice(text: str) -> tuple[str, tuple[str, ...] | None]:
@@ -129,7 +120,7 @@ def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] 
     out where the link has a delay: where tasks run is a choice (``placed``), only its
     own (whether it crosses, and so takes the network's, is the variant's: a rendezvous
     across processors is rejected there)."""
-    by_label = {link_text(k.writer, k.reader): i for i, k in enumerate(skeleton.links)}
+    by_label = {link_name(k.writer, k.reader): i for i, k in enumerate(skeleton.links)}
     if isinstance(links, Mapping):
         items = [(str(label), protocols) for label, protocols in links.items()]
     else:  # "W:p -> R:q" or "W:p -> R:q=P1,P2" texts
@@ -161,7 +152,7 @@ def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] 
             if set(c.protocols) < set(left):
                 chosen[i] = replace(c, narrowed=True)
         for i, link in enumerate(skeleton.links):
-            chosen.setdefault(i, LinkChoice(i, link_text(link.writer, link.reader), left))
+            chosen.setdefault(i, LinkChoice(i, link_name(link.writer, link.reader), left))
     for i, c in chosen.items():
         link = skeleton.links[i]
         delay = (link.effective_delay(False, skeleton.network_delay) if placed
@@ -176,7 +167,7 @@ def _link_choices(skeleton: Skeleton, links: Mapping[str, Sequence[Any] | None] 
             chosen[i] = replace(c, protocols=kept, delay=delay)
     for i, link in enumerate(skeleton.links):
         if i not in chosen and link.protocol in forbidden:
-            raise InputError(f"the link {link_text(link.writer, link.reader)!r} is "
+            raise InputError(f"the link {link_name(link.writer, link.reader)!r} is "
                              f"{link.protocol.value} in the skeleton and not chosen, so every "
                              "design would use the forbidden protocol; expected the link "
                              "chosen (`links`, or all_links)", "forbid")

@@ -92,11 +92,11 @@ from ...analysis.processors import ProcessorSchedule, schedule_on_processors
 from ...analysis.reorder import reorder_ports
 from ...analysis.results import Report
 from ...model.build import build_teg
+from ...model.elements import link_name
 from ...model.platform import crosses, processor_of
 from ...model.skeleton import Protocol, Skeleton
 from ...model.structure import Structure
 from ..schedulability import Schedulability, schedulability
-from .choices import link_text
 from .demand import processor_shares
 from .incremental import judge_of
 from .objectives import CHAIN_FIGURES, PLACEMENT_OBJECTIVES, chain_objective
@@ -416,7 +416,7 @@ def _rendezvous_across(space: DesignSpace, variant: int) -> str:
         w, r = on[link.writer[0]], on[link.reader[0]]
         delay = link.effective_delay(w != r, sk.network_delay)
         if delay:
-            return (f"{RENDEZVOUS}: {link_text(link.writer, link.reader)} is SYN/SYN between "
+            return (f"{RENDEZVOUS}: {link_name(link.writer, link.reader)} is SYN/SYN between "
                     f"{w} and {r}, with a delay of {exact_text(delay)} {sk.unit} (spec §4d)")
     return ""
 

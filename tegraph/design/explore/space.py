@@ -32,6 +32,7 @@ from maxplus.scalar import exact_text
 
 from ...analysis.processors.schedule import MAX_EVENTS
 from ...errors import InputError
+from ...model.elements import link_name
 from ...model.limits import event_budget_problem
 from ...model.platform import crosses, link_delay
 from ...model.skeleton import Protocol, Skeleton, Task
@@ -43,7 +44,6 @@ from .choices import (
     LinkChoice,
     _clock_choices,
     _link_choices,
-    link_text,
     parse_protocol,
 )
 from .objectives import (
@@ -142,7 +142,7 @@ class DesignSpace:
         """The links of ``variant`` whose two tasks run on different processors, each
         with its delay (spec §4d), in file order."""
         sk = self.build(variant, validate=False)
-        return [(link_text(k.writer, k.reader), link_delay(sk, k)) for k in sk.links
+        return [(link_name(k.writer, k.reader), link_delay(sk, k)) for k in sk.links
                 if crosses(sk, k)]
 
     def protocol_digits(self, protocol_index: int) -> tuple[int, ...]:

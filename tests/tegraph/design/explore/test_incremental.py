@@ -14,11 +14,11 @@ from hypothesis import strategies as st
 
 from tegraph import Skeleton, load_skeleton
 from tegraph.analysis.analyze import analyze_skeleton
-from tegraph.design.explore.choices import link_text
 from tegraph.design.explore.evaluate import evaluate_variant
 from tegraph.design.explore.incremental import IncrementalJudge, judge_of
 from tegraph.design.explore.search import ParetoFront
 from tegraph.design.explore.space import design_space
+from tegraph.model.elements import link_name
 from tegraph.model.structure import Structure
 from tests.paths import REPO
 from tests.tegraph.skeleton_corpus import random_skeleton
@@ -35,7 +35,7 @@ EXAMPLES = sorted(p.name for p in (REPO / "examples").glob("*.yaml"))
 def _space(sk: Skeleton, rng: random.Random, max_links: int = 4, **kwargs):
     """Some of the skeleton's links with all four protocols, each clock (of a task) with
     its period and two others (faster and slower: consistency and overruns change)."""
-    links = [link_text(k.writer, k.reader) for k in sk.links]
+    links = [link_name(k.writer, k.reader) for k in sk.links]
     rng.shuffle(links)
     used = {t.clock for t in sk.tasks.values() if t.clock}
     clocks = {c: sorted({sk.clocks[c].period, sk.clocks[c].period * rng.choice([2, 3]),
